@@ -1,0 +1,35 @@
+// 8x8 two-dimensional DCT-II (orthonormal scaling: DC = 8 x block mean) and its inverse.
+// The forward transform runs only in the encoder and may be float; the inverse is a
+// bit-exact 32-bit integer transform that encoder and decoder share, so both reconstruct
+// identical pixels on every platform. Double-precision references are kept for tests.
+// All functions are pure and thread-safe. Blocks are 64 values, row-major (index y*8+x
+// for samples, v*8+u for coefficients, u = horizontal frequency).
+#pragma once
+
+#include <cstdint>
+
+namespace svc::codec {
+
+inline constexpr int kBlockSize = 8;
+inline constexpr int kBlockArea = 64;
+
+// The inverse accepts coefficients in this range (MPEG-2 saturation); callers clamp.
+inline constexpr int kMinCoefficient = -2048;
+inline constexpr int kMaxCoefficient = 2047;
+
+// Fast separable forward DCT (even/odd butterfly per 1-D pass).
+void forward_dct_8x8(const float* samples, float* coefficients);
+// Textbook O(n^4) forward DCT in double precision.
+void forward_dct_8x8_reference(const double* samples, double* coefficients);
+
+// Integer inverse DCT; coefficients must lie in [kMinCoefficient, kMaxCoefficient].
+// Output is not clipped (the caller adds a prediction or level shift and clips).
+// Accuracy meets IEEE 1180-1990 (peak error <= 1 against the exact inverse).
+void inverse_dct_8x8(const int16_t* coefficients, int16_t* samples);
+// The same integer transform as inverse_dct_8x8 written as a plain matrix product
+// without shortcuts: bit-identical output (the definition docs/codec.md spells out).
+void inverse_dct_8x8_integer_reference(const int16_t* coefficients, int16_t* samples);
+// Exact inverse DCT in double precision.
+void inverse_dct_8x8_reference(const double* coefficients, double* samples);
+
+}  // namespace svc::codec

@@ -1,0 +1,300 @@
+// Intra frame coding: macroblock-padded planes, 8x8 DCT blocks in raster order per plane
+// (Y, Cb, Cr), DC predicted from neighbouring blocks, AC by block_coder. The decoder's
+// inverse path (reconstruct_intra_frame) is also the encoder's reconstruction, so the
+// two agree bit for bit by construction.
+#include "codec/frame_codec.h"
+
+#include <algorithm>
+#include <string>
+
+#include "codec/block_coder.h"
+#include "codec/dct.h"
+#include "codec/quant.h"
+#include "codec/range_coder.h"
+
+namespace svc::codec {
+namespace {
+
+struct PlaneGeometry {
+  int width, height;            // visible samples
+  int blocks_x, blocks_y;       // padded size in blocks
+  const uint8_t* pixels;        // source plane (encoder) or nullptr
+};
+
+// Median edge detector (LOCO-I) over the neighbouring blocks' DC levels.
+inline int predict_dc(const int* dc, int blocks_x, int bx, int by) {
+  const int index = by * blocks_x + bx;
+  if (bx == 0 && by == 0) return 0;
+  if (by == 0) return dc[index - 1];
+  if (bx == 0) return dc[index - blocks_x];
+  const int left = dc[index - 1], top = dc[index - blocks_x], top_left = dc[index - blocks_x - 1];
+  if (top_left >= std::max(left, top)) return std::min(left, top);
+  if (top_left <= std::min(left, top)) return std::max(left, top);
+  return left + top - top_left;
+}
+
+inline int coded_block_context(const uint8_t* has_ac, int blocks_x, int bx, int by) {
+  const int index = by * blocks_x + bx;
+  return (bx > 0 ? has_ac[index - 1] : 0) + (by > 0 ? has_ac[index - blocks_x] : 0);
+}
+
+// Copies the 8x8 block at (bx, by) minus 128, replicating the plane's last row/column
+// into the padding.
+inline void load_block(const PlaneGeometry& plane, int bx, int by, int16_t* samples) {
+  for (int y = 0; y < 8; ++y) {
+    const int sy = std::min(by * 8 + y, plane.height - 1);
+    const uint8_t* row = plane.pixels + static_cast<size_t>(sy) * plane.width;
+    const int x0 = bx * 8;
+    if (x0 + 8 <= plane.width) {
+      for (int x = 0; x < 8; ++x) samples[8 * y + x] = static_cast<int16_t>(row[x0 + x] - 128);
+    } else {
+      for (int x = 0; x < 8; ++x) {
+        samples[8 * y + x] = static_cast<int16_t>(row[std::min(x0 + x, plane.width - 1)] - 128);
+      }
+    }
+  }
+}
+
+std::array<PlaneGeometry, 3> planes_of(const BlockLayout& layout, int width, int height) {
+  const int cw = (width + 1) / 2, ch = (height + 1) / 2;
+  return {PlaneGeometry{width, height, layout.luma_blocks_x, layout.luma_blocks_y, nullptr},
+          PlaneGeometry{cw, ch, layout.chroma_blocks_x, layout.chroma_blocks_y, nullptr},
+          PlaneGeometry{cw, ch, layout.chroma_blocks_x, layout.chroma_blocks_y, nullptr}};
+}
+
+Status corrupt(const std::string& what) {
+  return Status(ErrorCode::kCorruptData, "intra frame: " + what);
+}
+
+}  // namespace
+
+size_t CoefficientFrame::memory_bytes() const {
+  return sizeof(*this) + block_counts.capacity() * sizeof(uint8_t) +
+         entries.capacity() * sizeof(uint16_t);
+}
+
+BlockLayout block_layout(int width, int height) {
+  BlockLayout layout;
+  if (width <= 0 || height <= 0) return layout;
+  const int mb_x = (width + 15) / 16, mb_y = (height + 15) / 16;
+  layout.luma_blocks_x = 2 * mb_x;
+  layout.luma_blocks_y = 2 * mb_y;
+  layout.chroma_blocks_x = mb_x;
+  layout.chroma_blocks_y = mb_y;
+  return layout;
+}
+
+std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const CodingParams& params,
+                                        ImageYCbCr420* reconstruction) {
+  const int width = source.width, height = source.height;
+  const size_t chroma_size = static_cast<size_t>((width + 1) / 2) * static_cast<size_t>((height + 1) / 2);
+  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension ||
+      source.y.size() != static_cast<size_t>(width) * static_cast<size_t>(height) ||
+      source.cb.size() != chroma_size || source.cr.size() != chroma_size) {
+    return {};
+  }
+  const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
+  const Quantizer quantizer = make_quantizer(BlockKind::kIntra, quant_scale);
+  const BlockLayout layout = block_layout(width, height);
+  auto planes = planes_of(layout, width, height);
+  planes[0].pixels = source.y.data();
+  planes[1].pixels = source.cb.data();
+  planes[2].pixels = source.cr.data();
+
+  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FrameType::kIntra), kIntraSyntaxVersion,
+                                static_cast<uint8_t>(quant_scale), 0};
+  bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
+  RangeEncoder encoder(&bytes);
+  BlockContextSet luma_contexts, chroma_contexts;
+
+  CoefficientFrame coefficients;
+  coefficients.width = width;
+  coefficients.height = height;
+  coefficients.quant_scale = quant_scale;
+  if (reconstruction != nullptr) coefficients.block_counts.reserve(static_cast<size_t>(layout.block_count()));
+  const size_t max_plane_blocks = static_cast<size_t>(layout.luma_blocks_x) * layout.luma_blocks_y;
+  std::vector<int> dc_levels(max_plane_blocks);
+  std::vector<uint8_t> has_ac(max_plane_blocks);
+
+  for (int p = 0; p < 3; ++p) {
+    const PlaneGeometry& plane = planes[p];
+    BlockContextSet& contexts = p == 0 ? luma_contexts : chroma_contexts;
+    for (int by = 0; by < plane.blocks_y; ++by) {
+      for (int bx = 0; bx < plane.blocks_x; ++bx) {
+        int16_t samples[64], levels[64];
+        load_block(plane, bx, by, samples);
+        transform_quantize_block(quantizer, samples, levels);
+        const int index = by * plane.blocks_x + bx;
+        const int dc = levels[0];
+        encode_dc_difference(encoder, contexts, dc - predict_dc(dc_levels.data(), plane.blocks_x, bx, by));
+        dc_levels[index] = dc;
+        bool any_ac = false;
+        for (int i = 1; i < 64 && !any_ac; ++i) any_ac = levels[i] != 0;
+        encode_block_levels(encoder, contexts, levels, 1,
+                            coded_block_context(has_ac.data(), plane.blocks_x, bx, by));
+        has_ac[index] = any_ac;
+        if (reconstruction != nullptr) {
+          int count = 0;
+          for (int i = 0; i < 64; ++i) {
+            const int position = kZigZag[i];
+            if (levels[position] != 0) {
+              coefficients.append(position, levels[position]);
+              ++count;
+            }
+          }
+          coefficients.block_counts.push_back(static_cast<uint8_t>(count));
+        }
+      }
+    }
+  }
+  encoder.finish();
+  if (reconstruction != nullptr) reconstruct_intra_frame(coefficients, reconstruction);
+  return bytes;
+}
+
+Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
+                         CoefficientFrame* out) {
+  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "intra frame: size " + std::to_string(width) + "x" + std::to_string(height) +
+                      " outside 1.." + std::to_string(kMaxFrameDimension));
+  }
+  if (bytes.size() < static_cast<size_t>(kFrameHeaderBytes)) {
+    return corrupt("payload of " + std::to_string(bytes.size()) + " bytes is shorter than the " +
+                   std::to_string(kFrameHeaderBytes) + "-byte header");
+  }
+  if (bytes[0] != static_cast<uint8_t>(FrameType::kIntra)) {
+    return corrupt("byte 0: frame type " + std::to_string(bytes[0]) + " is not intra (0)");
+  }
+  if (bytes[1] != kIntraSyntaxVersion) {
+    return Status(ErrorCode::kUnsupported, "intra frame: byte 1: syntax version " +
+                                               std::to_string(bytes[1]) + " (this build reads " +
+                                               std::to_string(kIntraSyntaxVersion) + ")");
+  }
+  const int quant_scale = bytes[2];
+  if (quant_scale < kMinQuantScale || quant_scale > kMaxQuantScale) {
+    return corrupt("byte 2: quant_scale " + std::to_string(quant_scale) + " outside 1..112");
+  }
+  if (bytes[3] != 0) return corrupt("byte 3: reserved byte is " + std::to_string(bytes[3]));
+
+  const BlockLayout layout = block_layout(width, height);
+  const auto planes = planes_of(layout, width, height);
+  RangeDecoder decoder(bytes.subspan(kFrameHeaderBytes));
+  BlockContextSet luma_contexts, chroma_contexts;
+
+  CoefficientFrame result;
+  result.width = width;
+  result.height = height;
+  result.quant_scale = quant_scale;
+  result.block_counts.reserve(static_cast<size_t>(layout.block_count()));
+  // A frame rarely holds more than a few coefficients per block; grow beyond that.
+  result.entries.reserve(std::min<size_t>(bytes.size() * 2, static_cast<size_t>(layout.block_count()) * 64));
+  const size_t max_plane_blocks = static_cast<size_t>(layout.luma_blocks_x) * layout.luma_blocks_y;
+  std::vector<int> dc_levels(max_plane_blocks);
+  std::vector<uint8_t> has_ac(max_plane_blocks);
+
+  int block_number = 0;
+  for (int p = 0; p < 3; ++p) {
+    const PlaneGeometry& plane = planes[p];
+    BlockContextSet& contexts = p == 0 ? luma_contexts : chroma_contexts;
+    for (int by = 0; by < plane.blocks_y; ++by) {
+      for (int bx = 0; bx < plane.blocks_x; ++bx, ++block_number) {
+        const int index = by * plane.blocks_x + bx;
+        int difference = 0;
+        if (!decode_dc_difference(decoder, contexts, &difference)) {
+          return corrupt("block " + std::to_string(block_number) + ": invalid DC difference");
+        }
+        const int dc = predict_dc(dc_levels.data(), plane.blocks_x, bx, by) + difference;
+        if (dc < -kMaxLevel || dc > kMaxLevel) {
+          return corrupt("block " + std::to_string(block_number) + ": DC level " +
+                         std::to_string(dc) + " out of range");
+        }
+        dc_levels[index] = dc;
+        if (dc != 0) result.append(0, dc);
+        BlockLevel levels[64];
+        int count = 0;
+        if (!decode_block_levels(decoder, contexts, 1,
+                                 coded_block_context(has_ac.data(), plane.blocks_x, bx, by), levels,
+                                 &count)) {
+          return corrupt("block " + std::to_string(block_number) + ": invalid AC levels");
+        }
+        has_ac[index] = count > 0;
+        for (int i = 0; i < count; ++i) result.append(levels[i].position, levels[i].level);
+        result.block_counts.push_back(static_cast<uint8_t>(count + (dc != 0)));
+      }
+      // A complete payload is never read past its end; stopping at the first row that
+      // does bounds the work garbage can cause.
+      if (decoder.overrun() > 0) {
+        return corrupt("payload truncated (plane " + std::to_string(p) + ", block row " +
+                       std::to_string(by) + " needs bytes beyond the " +
+                       std::to_string(bytes.size()) + " given)");
+      }
+    }
+  }
+  const size_t used = decoder.consumed() + kFrameHeaderBytes;
+  if (used != bytes.size()) {
+    return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " +
+                   std::to_string(used));
+  }
+  result.entries.shrink_to_fit();
+  *out = std::move(result);
+  return Status::Ok();
+}
+
+void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out) {
+  const int width = coefficients.width, height = coefficients.height;
+  const BlockLayout layout = block_layout(width, height);
+  const auto planes = planes_of(layout, width, height);
+  const bool valid_size = width > 0 && height > 0;
+  out->width = width;
+  out->height = height;
+  out->y.assign(valid_size ? static_cast<size_t>(width) * height : 0, 0);
+  out->cb.assign(valid_size ? static_cast<size_t>(planes[1].width) * planes[1].height : 0, 0);
+  out->cr.assign(out->cb.size(), 0);
+  if (!valid_size || coefficients.block_counts.size() != static_cast<size_t>(layout.block_count())) {
+    return;  // not a frame that parse_intra_frame or encode_intra_frame built
+  }
+  const Quantizer quantizer = make_quantizer(BlockKind::kIntra, coefficients.quant_scale);
+  uint8_t* const destinations[3] = {out->y.data(), out->cb.data(), out->cr.data()};
+  int16_t block[64] = {};
+  int16_t samples[64];
+  int positions[64];
+  size_t block_number = 0, entry = 0;
+  for (int p = 0; p < 3; ++p) {
+    const PlaneGeometry& plane = planes[p];
+    for (int by = 0; by < plane.blocks_y; ++by) {
+      for (int bx = 0; bx < plane.blocks_x; ++bx, ++block_number) {
+        const int count = std::min<int>(coefficients.block_counts[block_number], 64);
+        int decoded = 0;
+        for (; decoded < count; ++decoded) {
+          int position, level;
+          if (!coefficients.read(&entry, &position, &level)) break;
+          positions[decoded] = position;
+          block[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
+        }
+        const int x0 = bx * 8, y0 = by * 8;
+        if (x0 < plane.width && y0 < plane.height) {  // else: padding only, not shown
+          inverse_dct_8x8(block, samples);
+          const int w = std::min(8, plane.width - x0), h = std::min(8, plane.height - y0);
+          for (int y = 0; y < h; ++y) {
+            uint8_t* row = destinations[p] + static_cast<size_t>(y0 + y) * plane.width + x0;
+            for (int x = 0; x < w; ++x) {
+              row[x] = static_cast<uint8_t>(std::clamp(samples[8 * y + x] + 128, 0, 255));
+            }
+          }
+        }
+        for (int i = 0; i < decoded; ++i) block[positions[i]] = 0;
+      }
+    }
+  }
+}
+
+Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height,
+                          ImageYCbCr420* out) {
+  CoefficientFrame coefficients;
+  SVC_RETURN_IF_ERROR(parse_intra_frame(bytes, width, height, &coefficients));
+  reconstruct_intra_frame(coefficients, out);
+  return Status::Ok();
+}
+
+}  // namespace svc::codec

@@ -1,0 +1,107 @@
+// Coding of one face (a "frame") into bytes and back. Pure computation: no files.
+// Bitstream syntax and entropy coding are documented in docs/codec.md.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc::codec {
+
+inline constexpr int kMinQuantScale = 1;
+inline constexpr int kMaxQuantScale = 112;
+
+struct CodingParams {
+  int quant_scale = 8;  // MPEG-2 style quantiser_scale, kMinQuantScale..kMaxQuantScale
+};
+
+enum class FrameType : uint8_t { kIntra = 0, kBidirectional = 1 };
+
+// Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.
+inline constexpr int kFrameHeaderBytes = 4;
+inline constexpr uint8_t kIntraSyntaxVersion = 1;
+// Largest width or height parse_intra_frame accepts (a cap for untrusted input).
+inline constexpr int kMaxFrameDimension = 16384;
+
+// The quantized DCT levels of an intra frame in a compact sparse form: the state after
+// entropy decoding ("semi-decoded"), cached by the runtime. Dequantization, a multiply
+// and shift per non-zero level (quant.h, dequantize_level), is deferred to
+// reconstruct_intra_frame, which keeps entries at 16 bits. Immutable once built, so it
+// may be shared between threads.
+struct CoefficientFrame {
+  int width = 0;
+  int height = 0;
+  int quant_scale = 0;
+  // Per 8x8 block, in coding order (all luma blocks of the macroblock-padded plane in
+  // raster order, then Cb, then Cr): the number of non-zero levels, 0..64.
+  std::vector<uint8_t> block_counts;
+  // The non-zero levels of each block in turn, in scan order. One 16-bit entry per level:
+  // natural (row-major) position in the low 6 bits, the level as a 10-bit two's
+  // complement number in the upper 10 bits. The level value -512 is an escape: the real
+  // level follows as one int16 entry (|level| > 511 is rare: fine quantizers only).
+  std::vector<uint16_t> entries;
+
+  // Heap and object bytes held.
+  size_t memory_bytes() const;
+
+  static constexpr int kEscapeLevel = -512;
+  void append(int position, int level) {
+    if (level > kEscapeLevel && level < -kEscapeLevel) {
+      entries.push_back(static_cast<uint16_t>((static_cast<unsigned>(level) & 0x3FFu) << 6 |
+                                              static_cast<unsigned>(position)));
+    } else {
+      entries.push_back(static_cast<uint16_t>(0x200u << 6 | static_cast<unsigned>(position)));
+      entries.push_back(static_cast<uint16_t>(static_cast<int16_t>(level)));
+    }
+  }
+  // Reads the level at entries[*index] and advances *index past it (and its escape).
+  // Returns false when the entries end early (only for frames not built by this codec).
+  bool read(size_t* index, int* position, int* level) const {
+    if (*index >= entries.size()) return false;
+    const unsigned entry = entries[(*index)++];
+    *position = static_cast<int>(entry & 63u);
+    const int code = static_cast<int>(entry >> 6);
+    *level = code >= 512 ? code - 1024 : code;
+    if (*level == kEscapeLevel) {
+      if (*index >= entries.size()) return false;
+      *level = static_cast<int16_t>(entries[(*index)++]);
+    }
+    return true;
+  }
+};
+
+// 8x8 block layout of a frame of the given size (macroblock-padded planes).
+struct BlockLayout {
+  int luma_blocks_x = 0, luma_blocks_y = 0;      // padded luma width / 8, height / 8
+  int chroma_blocks_x = 0, chroma_blocks_y = 0;  // half of the above
+  int block_count() const {
+    return luma_blocks_x * luma_blocks_y + 2 * chroma_blocks_x * chroma_blocks_y;
+  }
+};
+BlockLayout block_layout(int width, int height);
+
+// Encodes an intra frame. `reconstruction` (optional) receives exactly what the
+// decoder will produce. `source` must have positive size and planes of the sizes
+// ImageYCbCr420 documents; otherwise the result is empty (which no decoder accepts).
+// quant_scale is clamped to [kMinQuantScale, kMaxQuantScale]. Thread-safe (no shared state).
+std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const CodingParams& params,
+                                        ImageYCbCr420* reconstruction);
+
+// Entropy-decodes and dequantizes an intra frame of the given size. Errors:
+// kInvalidArgument for a size outside [1, kMaxFrameDimension]; kCorruptData for a bad
+// header, invalid syntax, truncated payload or trailing bytes (message names the byte
+// offset or block). Never reads outside `bytes`.
+Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
+                         CoefficientFrame* out);
+
+// Inverse DCT of parsed coefficients into pixels (bit-exact). `out` is resized.
+void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out);
+
+// parse_intra_frame followed by reconstruct_intra_frame.
+Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height,
+                          ImageYCbCr420* out);
+
+}  // namespace svc::codec

@@ -1,0 +1,90 @@
+#include "codec/quant.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "codec/dct.h"
+
+namespace svc::codec {
+
+const std::array<uint8_t, 64> kDefaultIntraMatrix = {
+    8,  16, 19, 22, 26, 27, 29, 34,  //
+    16, 16, 22, 24, 27, 29, 34, 37,  //
+    19, 22, 26, 27, 29, 34, 34, 38,  //
+    22, 22, 26, 27, 29, 34, 37, 40,  //
+    22, 26, 27, 29, 32, 35, 40, 48,  //
+    26, 27, 29, 32, 35, 40, 48, 58,  //
+    26, 27, 29, 34, 38, 46, 56, 69,  //
+    27, 29, 35, 38, 46, 56, 69, 83,  //
+};
+
+const std::array<uint8_t, 64> kDefaultNonIntraMatrix = [] {
+  std::array<uint8_t, 64> m{};
+  m.fill(16);
+  return m;
+}();
+
+int intra_dc_step(int quant_scale) {
+  if (quant_scale <= 16) return std::clamp(quant_scale, 1, 8);
+  return std::min(16, quant_scale / 2);
+}
+
+Quantizer make_quantizer(BlockKind kind, int quant_scale) {
+  Quantizer q;
+  q.kind = kind;
+  q.quant_scale = std::clamp(quant_scale, 1, 112);
+  const auto& matrix = kind == BlockKind::kIntra ? kDefaultIntraMatrix : kDefaultNonIntraMatrix;
+  for (int i = 0; i < 64; ++i) q.scale[i] = static_cast<int32_t>(matrix[i]) * q.quant_scale;
+  if (kind == BlockKind::kIntra) {
+    q.scale[0] = 16 * intra_dc_step(q.quant_scale);
+    q.rounding_dc = 0.5f;
+    q.rounding_ac = 0.34f;  // intra: MPEG-style bias towards smaller levels
+  } else {
+    q.rounding_dc = 0.2f;  // residuals: wider dead zone, most blocks become empty
+    q.rounding_ac = 0.2f;
+  }
+  for (int i = 0; i < 64; ++i) q.inverse_step[i] = 16.0f / static_cast<float>(q.scale[i]);
+  return q;
+}
+
+int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
+  int nonzero = 0;
+  for (int i = 0; i < 64; ++i) {
+    const float rounding = i == 0 ? quantizer.rounding_dc : quantizer.rounding_ac;
+    const float magnitude = std::fabs(coefficients[i]) * quantizer.inverse_step[i] + rounding;
+    int level = magnitude >= static_cast<float>(kMaxLevel) ? kMaxLevel : static_cast<int>(magnitude);
+    if (coefficients[i] < 0) level = -level;
+    levels[i] = static_cast<int16_t>(level);
+    nonzero += level != 0;
+  }
+  return nonzero;
+}
+
+int dequantize_level(const Quantizer& quantizer, int index, int level) {
+  const int magnitude = (std::abs(level) * quantizer.scale[index] + 8) >> 4;
+  return level < 0 ? std::max(-magnitude, kMinCoefficient) : std::min(magnitude, kMaxCoefficient);
+}
+
+void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {
+  for (int i = 0; i < 64; ++i) {
+    coefficients[i] =
+        levels[i] == 0 ? int16_t{0} : static_cast<int16_t>(dequantize_level(quantizer, i, levels[i]));
+  }
+}
+
+int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels) {
+  float input[64], coefficients[64];
+  for (int i = 0; i < 64; ++i) input[i] = samples[i];
+  forward_dct_8x8(input, coefficients);
+  return quantize_block(quantizer, coefficients, levels);
+}
+
+void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels,
+                                        int16_t* samples) {
+  int16_t coefficients[64];
+  dequantize_block(quantizer, levels, coefficients);
+  inverse_dct_8x8(coefficients, samples);
+}
+
+}  // namespace svc::codec

@@ -1,0 +1,157 @@
+// Adaptive binary range coder (LZMA-style carry-less encoder with cache byte) shared by
+// every entropy-coded syntax element. Exact arithmetic is specified in docs/codec.md.
+//
+// Safety: the decoder never reads outside its span; reads past the end yield zero bytes
+// and are counted (overrun()), so garbage or truncated input decodes to some values
+// without undefined behaviour and the caller can report truncation.
+// Threading: encoder/decoder objects are single-threaded; AdaptiveBit is plain data.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace svc::codec {
+
+inline constexpr int kProbabilityBits = 15;
+inline constexpr uint32_t kProbabilityOne = 1u << kProbabilityBits;
+
+// Probability that the next bit is 0, as the mean of a fast- and a slow-adapting
+// estimate (shifts 4 and 7), each in 1/32768 units.
+struct AdaptiveBit {
+  uint16_t fast = kProbabilityOne / 2;
+  uint16_t slow = kProbabilityOne / 2;
+
+  uint32_t probability_of_zero() const { return (uint32_t{fast} + uint32_t{slow}) >> 1; }
+  void update(int bit) {
+    if (bit) {
+      fast = static_cast<uint16_t>(fast - (fast >> 4));
+      slow = static_cast<uint16_t>(slow - (slow >> 7));
+    } else {
+      fast = static_cast<uint16_t>(fast + ((kProbabilityOne - fast) >> 4));
+      slow = static_cast<uint16_t>(slow + ((kProbabilityOne - slow) >> 7));
+    }
+  }
+};
+
+class RangeEncoder {
+ public:
+  // Appends to `out` (not owned; must outlive the encoder until finish()).
+  explicit RangeEncoder(std::vector<uint8_t>* out) : out_(out) {}
+
+  void encode(AdaptiveBit& model, int bit) {
+    const uint32_t bound = (range_ >> kProbabilityBits) * model.probability_of_zero();
+    if (bit) {
+      low_ += bound;
+      range_ -= bound;
+    } else {
+      range_ = bound;
+    }
+    model.update(bit);
+    normalize();
+  }
+
+  // Equiprobable bit, no model.
+  void encode_bypass(int bit) {
+    range_ >>= 1;
+    if (bit) low_ += range_;
+    normalize();
+  }
+
+  // Writes the final bytes; the encoder must not be used afterwards.
+  void finish() {
+    for (int i = 0; i < 5; ++i) shift_low();
+  }
+
+ private:
+  void normalize() {
+    while (range_ < (1u << 24)) {
+      range_ <<= 8;
+      shift_low();
+    }
+  }
+  void shift_low() {
+    if (static_cast<uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
+      const uint8_t carry = static_cast<uint8_t>(low_ >> 32);
+      uint8_t byte = cache_;
+      do {
+        // The very first byte is always 0 and is not stored (the decoder assumes it).
+        if (!first_byte_) out_->push_back(static_cast<uint8_t>(byte + carry));
+        first_byte_ = false;
+        byte = 0xFF;
+      } while (--cache_size_ != 0);
+      cache_ = static_cast<uint8_t>(low_ >> 24);
+    }
+    ++cache_size_;
+    low_ = (low_ & 0x00FFFFFFu) << 8;
+  }
+
+  std::vector<uint8_t>* out_;
+  uint64_t low_ = 0;
+  uint32_t range_ = 0xFFFFFFFFu;
+  uint8_t cache_ = 0;
+  uint64_t cache_size_ = 1;
+  bool first_byte_ = true;
+};
+
+class RangeDecoder {
+ public:
+  // `bytes` must outlive the decoder.
+  explicit RangeDecoder(std::span<const uint8_t> bytes) : bytes_(bytes) {
+    for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
+  }
+
+  int decode(AdaptiveBit& model) {
+    const uint32_t bound = (range_ >> kProbabilityBits) * model.probability_of_zero();
+    int bit;
+    if (code_ < bound) {
+      range_ = bound;
+      bit = 0;
+    } else {
+      code_ -= bound;
+      range_ -= bound;
+      bit = 1;
+    }
+    model.update(bit);
+    normalize();
+    return bit;
+  }
+
+  int decode_bypass() {
+    range_ >>= 1;
+    int bit = 0;
+    if (code_ >= range_) {
+      code_ -= range_;
+      bit = 1;
+    }
+    normalize();
+    return bit;
+  }
+
+  // Bytes requested beyond the end of the input (0 for any complete stream).
+  size_t overrun() const { return overrun_; }
+  // Bytes of input consumed so far (including the 4 read at construction).
+  size_t consumed() const { return position_; }
+
+ private:
+  uint8_t next_byte() {
+    if (position_ < bytes_.size()) return bytes_[position_++];
+    ++overrun_;
+    return 0;
+  }
+  void normalize() {
+    while (range_ < (1u << 24)) {
+      range_ <<= 8;
+      code_ = (code_ << 8) | next_byte();
+    }
+  }
+
+  std::span<const uint8_t> bytes_;
+  size_t position_ = 0;
+  size_t overrun_ = 0;
+  uint32_t code_ = 0;
+  uint32_t range_ = 0xFFFFFFFFu;
+};
+
+}  // namespace svc::codec

@@ -1,0 +1,55 @@
+// Plain value types shared by the svc encoder and reader APIs.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace svc {
+
+// The six faces of a cell's cube map, named by the axis each face looks along.
+enum class Face : uint8_t { kPX = 0, kNX = 1, kPY = 2, kNY = 3, kPZ = 4, kNZ = 5 };
+inline constexpr int kFaceCount = 6;
+inline constexpr std::array<Face, kFaceCount> kAllFaces = {Face::kPX, Face::kNX, Face::kPY,
+                                                           Face::kNY, Face::kPZ, Face::kNZ};
+
+// "px", "nx", "py", "ny", "pz", "nz".
+const char* face_name(Face face) noexcept;
+std::optional<Face> face_from_name(std::string_view name) noexcept;
+
+// A cell's integer coordinates in the grid (x, y, z); y counts layers when y is up.
+struct CellIndex {
+  int32_t x = 0, y = 0, z = 0;
+  friend bool operator==(const CellIndex&, const CellIndex&) = default;
+};
+
+// glFrustum parameters of a face's perspective projection.
+struct Frustum {
+  double left = -1, right = 1, bottom = -1, top = 1, near_plane = 0.05, far_plane = 100;
+};
+
+// The camera of one face: OpenGL view matrix (column-major, as GLM stores it) and frustum.
+struct Camera {
+  std::array<double, 16> world_to_camera{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  Frustum frustum;
+};
+
+// An 8-bit RGB image, tightly packed (3 bytes a pixel, no row padding), row 0 at the top.
+struct ImageRGB8 {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> pixels;  // width * height * 3
+};
+
+// An 8-bit YCbCr 4:2:0 image in three planes, each tightly packed, row 0 at the top.
+// Chroma planes are ((width+1)/2) x ((height+1)/2). The colour conversion is the one
+// documented in docs/codec.md (full-range BT.601, as JFIF).
+struct ImageYCbCr420 {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> y, cb, cr;
+};
+
+}  // namespace svc

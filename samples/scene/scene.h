@@ -1,0 +1,74 @@
+// Procedural architectural scenes written as svc-input databases: the built-in data
+// that `svc demo`, the tests and the benchmarks run on.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc::samples {
+
+enum class SceneKind : uint8_t {
+  kHall = 0,   // open hall: columns, pipes, textured walls and floor, sky
+  kHouse = 1,  // rooms behind walls with doorways
+};
+
+const char* scene_kind_name(SceneKind kind);
+bool parse_scene_kind(const std::string& name, SceneKind* out);
+
+struct SceneOptions {
+  SceneKind kind = SceneKind::kHall;
+  std::array<int, 3> grid{9, 1, 9};         // cells along x, y (layers), z
+  std::array<double, 3> spacing{0.5, 1.0, 0.5};
+  int face_size = 256;                      // square faces, pixels
+  uint32_t seed = 1;                        // texture and layout variation
+  bool sparse = false;                      // drop cells that fall inside solid geometry
+  int threads = 1;  // faces rendered at once; the output bytes do not depend on it
+};
+
+// Checks ranges: grid 1..1024 per axis and at most 1,000,000 cells, spacing finite in
+// (0, 100], face_size 4..8192, threads 1..256. kInvalidArgument naming the field.
+Status validate_scene_options(const SceneOptions& options);
+
+// Where each grid cell falls in the scene the options describe (all cells, sparse or not),
+// in the order the manifest lists them (x fastest, then z, then y).
+struct SceneCellInfo {
+  CellIndex index;
+  std::array<double, 3> position{};  // camera centre: origin + index * spacing
+  int room = 0;               // house: room holding the centre; hall: 0; -1 outside
+  bool inside_solid = false;  // centre inside geometry: left out of sparse databases
+};
+Result<std::vector<SceneCellInfo>> describe_scene_cells(const SceneOptions& options);
+
+// One face rendered in memory, exactly as generate_scene writes it.
+struct SceneFace {
+  ImageRGB8 color;                 // sRGB, row 0 at the top
+  std::vector<float> depth;        // eye-space z, +inf where the ray saw sky
+  std::array<double, 16> world_to_camera{};  // column-major OpenGL view matrix
+};
+Result<SceneFace> render_scene_face(const SceneOptions& options, CellIndex cell, Face face);
+
+// Grid origin, spacing and projection the generator uses, as written to the manifest.
+std::array<double, 3> scene_grid_origin(const SceneOptions& options);
+inline constexpr double kSceneFovYDegrees = 90.0;
+inline constexpr double kSceneNear = 0.05;
+inline constexpr double kSceneFar = 100.0;
+
+// Called after each cell is written: (cells done, cells total).
+using SceneProgress = std::function<void(int, int)>;
+
+// Writes manifest.json, PNG colour and OpenEXR depth (eye_z, channel "Z") for every
+// cell into `out_dir` (created if missing). Deterministic: the same options give the
+// same bytes, whatever `threads` is. Files: cells/X_Y_Z/{px,nx,py,ny,pz,nz}.{png,exr};
+// the manifest is written last, so a failed run leaves no manifest. Errors name the file
+// that could not be written. The progress callback runs on the calling thread.
+Status generate_scene(const SceneOptions& options, const std::filesystem::path& out_dir,
+                      const SceneProgress& progress = {});
+
+}  // namespace svc::samples

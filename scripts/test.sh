@@ -1,0 +1,6 @@
+#!/usr/bin/env bash
+# Quick start, step two: build if needed and run the test suite.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/build.sh
+ctest --test-dir build --output-on-failure -j"$(nproc)" "$@"

@@ -1,0 +1,54 @@
+// The svc tool's subcommands. Each returns the process exit status.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include "scene/scene.h"
+#include "svc/encoder.h"
+#include "svc/types.h"
+
+namespace svc::cli {
+
+struct EncodeOptions {
+  std::filesystem::path db_dir;
+  std::filesystem::path output;
+  EncoderSettings settings;
+  bool json = false;
+  bool quiet = false;
+};
+
+struct DecodeOptions {
+  std::filesystem::path input;
+  std::filesystem::path output;
+  std::optional<CellIndex> cell;
+  std::optional<Face> face;
+  bool quiet = false;
+};
+
+struct InfoOptions {
+  std::filesystem::path input;
+  bool json = false;
+};
+
+struct VerifyOptions {
+  std::filesystem::path input;
+  bool quiet = false;
+};
+
+struct DemoOptions {
+  samples::SceneKind kind = samples::SceneKind::kHall;
+  std::filesystem::path keep_dir;  // empty: a temporary folder, removed at the end
+  EncoderSettings settings;
+};
+
+Result<EncodeSummary> run_encode(const std::filesystem::path& db, const std::filesystem::path& out,
+                                 const EncoderSettings& settings, bool show_progress);
+
+int encode_command(const EncodeOptions& options);
+int decode_command(const DecodeOptions& options);
+int info_command(const InfoOptions& options);
+int verify_command(const VerifyOptions& options);
+int demo_command(const DemoOptions& options);
+
+}  // namespace svc::cli

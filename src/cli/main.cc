@@ -1,0 +1,118 @@
+// svc: encode, decode, inspect and verify spatial video databases.
+#include <cstdio>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/cli_util.h"
+#include "cli/commands.h"
+
+namespace {
+
+using namespace svc;
+using namespace svc::cli;
+
+// Options shared by encode and demo.
+void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, std::string* i_spacing, std::string* motion) {
+  cmd->add_option("-q,--quality", settings->quality, "Quality 1 (smallest) to 100 (best)")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--qscale", settings->quant_scale, "Quantiser scale 1..112 (overrides --quality)")
+      ->check(CLI::Range(1, 112));
+  cmd->add_option("--threads", settings->threads, "Worker threads (0: all cores); output does not depend on it")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
+  cmd->add_option("--i-spacing", *i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")->capture_default_str();
+  cmd->add_option("--motion", *motion, "Motion source: depth (reprojection) or log (logarithmic search)")
+      ->check(CLI::IsMember({"depth", "log"}))
+      ->capture_default_str();
+}
+
+bool apply_encoder_options(EncoderSettings* settings, const std::string& i_spacing, const std::string& motion) {
+  if (!parse_triple(i_spacing, &settings->i_spacing)) {
+    std::fprintf(stderr, "svc: --i-spacing takes X,Y,Z or N with positive integers, not '%s'\n", i_spacing.c_str());
+    return false;
+  }
+  settings->motion = motion == "log" ? MotionSearch::kLogarithmic : MotionSearch::kDepth;
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"svc: spatial video codec for image-based impostor databases"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "svc 0.1.0");
+
+  EncodeOptions encode;
+  std::string encode_spacing = "3,1,3", encode_motion = "depth";
+  auto* encode_cmd = app.add_subcommand("encode", "Encode an svc-input database into an .svc file");
+  encode_cmd->add_option("DB_DIR", encode.db_dir, "svc-input database folder")->required();
+  encode_cmd->add_option("-o,--output", encode.output, "Output .svc file")->required();
+  add_encoder_options(encode_cmd, &encode.settings, &encode_spacing, &encode_motion);
+  encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
+  encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
+
+  DecodeOptions decode;
+  std::string decode_cell, decode_face;
+  auto* decode_cmd = app.add_subcommand("decode", "Decode faces into an svc-input database of PNGs");
+  decode_cmd->add_option("IN", decode.input, "Input .svc file")->required();
+  decode_cmd->add_option("-o,--output", decode.output, "Output folder")->required();
+  decode_cmd->add_option("--cell", decode_cell, "Only this cell, X,Y,Z");
+  decode_cmd->add_option("--face", decode_face, "Only this face: px nx py ny pz nz");
+  decode_cmd->add_flag("--quiet", decode.quiet, "Print nothing on success");
+
+  InfoOptions info;
+  auto* info_cmd = app.add_subcommand("info", "Describe an .svc file: grid, coding settings, bytes");
+  info_cmd->add_option("IN", info.input, "Input .svc file")->required();
+  info_cmd->add_flag("--json", info.json, "Print as JSON");
+
+  VerifyOptions verify;
+  auto* verify_cmd = app.add_subcommand("verify", "Check every CRC and decode every face");
+  verify_cmd->add_option("IN", verify.input, "Input .svc file")->required();
+  verify_cmd->add_flag("--quiet", verify.quiet, "Print nothing on success");
+
+  DemoOptions demo;
+  std::string demo_kind = "hall", demo_spacing = "3,1,3", demo_motion = "depth";
+  auto* demo_cmd = app.add_subcommand("demo", "Generate the sample scene, encode it, decode random cells, report");
+  demo_cmd->add_option("--kind", demo_kind, "Scene kind: hall or house")->capture_default_str();
+  demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder");
+  add_encoder_options(demo_cmd, &demo.settings, &demo_spacing, &demo_motion);
+
+  CLI11_PARSE(app, argc, argv);
+
+  if (encode_cmd->parsed()) {
+    if (!apply_encoder_options(&encode.settings, encode_spacing, encode_motion)) return 2;
+    return encode_command(encode);
+  }
+  if (decode_cmd->parsed()) {
+    if (!decode_cell.empty()) {
+      CellIndex cell;
+      if (!parse_cell(decode_cell, &cell)) {
+        std::fprintf(stderr, "svc: --cell takes X,Y,Z, not '%s'\n", decode_cell.c_str());
+        return 2;
+      }
+      decode.cell = cell;
+    }
+    if (!decode_face.empty()) {
+      decode.face = face_from_name(decode_face);
+      if (!decode.face) {
+        std::fprintf(stderr, "svc: --face takes px, nx, py, ny, pz or nz, not '%s'\n", decode_face.c_str());
+        return 2;
+      }
+    }
+    return decode_command(decode);
+  }
+  if (info_cmd->parsed()) return info_command(info);
+  if (verify_cmd->parsed()) return verify_command(verify);
+  if (demo_cmd->parsed()) {
+    if (!samples::parse_scene_kind(demo_kind, &demo.kind)) {
+      std::fprintf(stderr, "svc: --kind takes hall or house, not '%s'\n", demo_kind.c_str());
+      return 2;
+    }
+    if (!apply_encoder_options(&demo.settings, demo_spacing, demo_motion)) return 2;
+    return demo_command(demo);
+  }
+  return 2;
+}

@@ -1,0 +1,62 @@
+// File access for the container: positioned reads of an open file, and output files
+// that appear at their final path only when complete.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "svc/status.h"
+
+namespace svc {
+
+// A read-only file with positioned reads. read_at is thread-safe (pread).
+class ReadOnlyFile {
+ public:
+  static Result<std::unique_ptr<ReadOnlyFile>> open(const std::filesystem::path& path);
+  ~ReadOnlyFile();
+  ReadOnlyFile(const ReadOnlyFile&) = delete;
+  ReadOnlyFile& operator=(const ReadOnlyFile&) = delete;
+
+  uint64_t size() const { return size_; }
+  const std::filesystem::path& path() const { return path_; }
+  // Reads exactly out.size() bytes at `offset`; kCorruptData if the file is shorter.
+  Status read_at(uint64_t offset, std::span<uint8_t> out) const;
+  Result<std::vector<uint8_t>> read_vector(uint64_t offset, uint64_t size) const;
+
+ private:
+  ReadOnlyFile(int fd, uint64_t size, std::filesystem::path path)
+      : fd_(fd), size_(size), path_(std::move(path)) {}
+  int fd_;
+  uint64_t size_;
+  std::filesystem::path path_;
+};
+
+// Writes to a temporary file beside `final_path`; commit() flushes, syncs and renames
+// it into place. Destroyed without commit(), it removes the temporary file, so a
+// failed or interrupted write never leaves a partial file at `final_path`.
+class AtomicOutputFile {
+ public:
+  static Result<std::unique_ptr<AtomicOutputFile>> create(const std::filesystem::path& final_path);
+  ~AtomicOutputFile();
+  AtomicOutputFile(const AtomicOutputFile&) = delete;
+  AtomicOutputFile& operator=(const AtomicOutputFile&) = delete;
+
+  Status write(std::span<const uint8_t> data);
+  Status write_at(uint64_t offset, std::span<const uint8_t> data);
+  uint64_t position() const { return position_; }
+  Status commit();
+
+ private:
+  AtomicOutputFile(int fd, std::filesystem::path temp, std::filesystem::path final_path)
+      : fd_(fd), temp_path_(std::move(temp)), final_path_(std::move(final_path)) {}
+  int fd_;
+  std::filesystem::path temp_path_;
+  std::filesystem::path final_path_;
+  uint64_t position_ = 0;
+  bool committed_ = false;
+};
+
+}  // namespace svc

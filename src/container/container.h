@@ -1,0 +1,116 @@
+// The .svc container (docs/format.md): file header, two commit slots, CRC-protected
+// chunks holding coded faces, and an index chunk with grid, cameras, coding settings
+// and every face's offset, size, type and references (an adjacency list).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "common/file_io.h"
+#include "database/database.h"
+#include "svc/limits.h"
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc {
+
+inline constexpr uint16_t kFormatMajor = 1;
+inline constexpr uint16_t kFormatMinor = 0;
+inline constexpr uint64_t kFileHeaderSize = 32;
+inline constexpr uint64_t kCommitSlotSize = 32;
+inline constexpr uint64_t kPreludeSize = kFileHeaderSize + 2 * kCommitSlotSize;  // chunks start here
+inline constexpr uint64_t kChunkOverhead = 16;  // tag, payload size, CRC-32
+
+inline constexpr uint32_t chunk_tag(char a, char b, char c, char d) {
+  return uint32_t(uint8_t(a)) | uint32_t(uint8_t(b)) << 8 | uint32_t(uint8_t(c)) << 16 |
+         uint32_t(uint8_t(d)) << 24;
+}
+inline constexpr uint32_t kFaceChunkTag = chunk_tag('F', 'A', 'C', 'E');
+inline constexpr uint32_t kIndexChunkTag = chunk_tag('I', 'N', 'D', 'X');
+
+enum class FrameKind : uint8_t { kIntra = 0, kPredicted = 1 };
+enum class MotionSource : uint8_t { kDepth = 0, kLogSearch = 1 };
+
+struct CodingRecord {
+  uint32_t quality = 0;         // 1..100 as asked, or 0 when quant_scale was given
+  uint32_t quant_scale = 0;     // codec quantiser scale used for every face
+  std::array<int32_t, 3> i_spacing{1, 1, 1};
+  MotionSource motion = MotionSource::kDepth;
+};
+
+struct CellRecord {
+  CellIndex index;
+  std::array<double, 3> position{0, 0, 0};
+  std::array<Camera, kFaceCount> cameras;
+};
+
+struct FrameRecord {
+  uint32_t cell = 0;  // ordinal into ContainerIndex::cells
+  Face face = Face::kPX;
+  FrameKind kind = FrameKind::kIntra;
+  uint64_t chunk_offset = 0;  // file offset of the FACE chunk
+  uint32_t payload_size = 0;  // coded bytes inside the chunk
+  std::vector<uint32_t> references;  // ordinals into ContainerIndex::frames
+};
+
+struct ContainerIndex {
+  uint32_t face_width = 0;
+  uint32_t face_height = 0;
+  GridSpec grid;
+  DepthMode depth_mode = DepthMode::kEyeZ;
+  UpAxis up_axis = UpAxis::kY;
+  CodingRecord coding;
+  std::vector<CellRecord> cells;    // sorted by (y, z, x), unique
+  std::vector<FrameRecord> frames;  // six per cell, cell-major, face order px..nz
+};
+
+std::vector<uint8_t> serialize_index(const ContainerIndex& index);
+// Validates every field against `limits` before it sizes anything; `file_size` bounds
+// chunk offsets. Errors name the field and its file offset (`payload_offset` is the
+// index payload's offset in the file).
+Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset,
+                                   uint64_t file_size, const ReaderLimits& limits);
+
+// A chunk as written to the file: tag, payload size, payload, CRC-32 of all before it.
+std::vector<uint8_t> make_chunk(uint32_t tag, std::span<const uint8_t> payload);
+
+std::vector<uint8_t> make_file_header();
+std::vector<uint8_t> make_commit_slot(uint64_t generation, uint64_t index_offset,
+                                      uint64_t index_chunk_size);
+
+// An opened container: where the committed index lies and what it says.
+struct OpenedContainer {
+  ContainerIndex index;
+  uint64_t index_offset = 0;      // of the INDX chunk
+  uint64_t index_chunk_size = 0;  // including chunk overhead
+  uint64_t generation = 0;
+  int slot = 0;                   // commit slot in use (0 or 1)
+  // Per slot: neither all zero nor valid (CRC fails): an interrupted commit or damage.
+  std::array<bool, 2> slot_damaged{false, false};
+};
+
+// Reads the header, the newest valid commit slot and the index it points at.
+Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLimits& limits);
+
+// Reads one face's chunk and checks tag, size and CRC. Errors name the chunk offset and,
+// through `what`, the face.
+Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
+                                                const std::string& what);
+
+// Writes a new container: header and slots, then face chunks, then the index.
+class ContainerWriter {
+ public:
+  static Result<std::unique_ptr<ContainerWriter>> create(const std::filesystem::path& path);
+  // Appends a FACE chunk; returns its file offset.
+  Result<uint64_t> append_frame(std::span<const uint8_t> payload);
+  // Writes the index, commits slot 0 and renames the file into place.
+  Status finish(const ContainerIndex& index);
+
+ private:
+  explicit ContainerWriter(std::unique_ptr<AtomicOutputFile> out) : out_(std::move(out)) {}
+  std::unique_ptr<AtomicOutputFile> out_;
+};
+
+}  // namespace svc

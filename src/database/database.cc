@@ -1,0 +1,803 @@
+#include "database/database.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <system_error>
+#include <tuple>
+#include <utility>
+
+namespace svc {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+std::string in_quotes(const std::string& text) { return "\"" + text + "\""; }
+
+// ---------------------------------------------------------------------------------------
+// Manifest
+
+// Reads the manifest's values, turning every problem into a kBadInput Status that names
+// the manifest file and the place in it ("cells[3] (cell (1,0,2)), face px, depth").
+class ManifestParser {
+ public:
+  explicit ManifestParser(std::string manifest_label) : label_(std::move(manifest_label)) {}
+
+  Status error(const std::string& where, const std::string& what,
+               ErrorCode code = ErrorCode::kBadInput) const {
+    return Status(code, label_ + ": " + (where.empty() ? "" : where + ": ") + what);
+  }
+
+  Result<const json*> required(const json& object, const char* key,
+                               const std::string& where) const {
+    const auto it = object.find(key);
+    if (it == object.end()) return error(where, "missing key " + in_quotes(key));
+    return &*it;
+  }
+
+  Status expect_object(const json& value, const std::string& where) const {
+    if (!value.is_object()) return error(where, "expected an object, got " + std::string(value.type_name()));
+    return Status::Ok();
+  }
+
+  Result<double> number(const json& value, const std::string& where) const {
+    if (!value.is_number()) {
+      return error(where, "expected a number, got " + std::string(value.type_name()));
+    }
+    const double v = value.get<double>();
+    if (!std::isfinite(v)) return error(where, "number is not finite");
+    return v;
+  }
+
+  // JSON has one number type; an integer is any number with an integral value in range.
+  Result<int64_t> integer(const json& value, const std::string& where) const {
+    if (!value.is_number()) {
+      return error(where, "expected an integer, got " + std::string(value.type_name()));
+    }
+    if (value.is_number_integer()) {
+      if (value.is_number_unsigned() &&
+          value.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int32_t>::max())) {
+        return error(where, "integer out of range");
+      }
+      const int64_t v = value.get<int64_t>();
+      if (v < std::numeric_limits<int32_t>::min() || v > std::numeric_limits<int32_t>::max()) {
+        return error(where, "integer out of range");
+      }
+      return v;
+    }
+    const double d = value.get<double>();
+    if (!std::isfinite(d) || d != std::floor(d)) return error(where, "expected an integer");
+    if (d < std::numeric_limits<int32_t>::min() || d > std::numeric_limits<int32_t>::max()) {
+      return error(where, "integer out of range");
+    }
+    return static_cast<int64_t>(d);
+  }
+
+  Result<std::string> string(const json& value, const std::string& where) const {
+    if (!value.is_string()) {
+      return error(where, "expected a string, got " + std::string(value.type_name()));
+    }
+    return value.get<std::string>();
+  }
+
+  template <size_t N>
+  Result<std::array<double, N>> numbers(const json& value, const std::string& where) const {
+    SVC_RETURN_IF_ERROR(expect_array(value, N, where));
+    std::array<double, N> out{};
+    for (size_t i = 0; i < N; ++i) {
+      SVC_ASSIGN_OR_RETURN(out[i], number(value[i], where + "[" + std::to_string(i) + "]"));
+    }
+    return out;
+  }
+
+  template <size_t N>
+  Result<std::array<int64_t, N>> integers(const json& value, const std::string& where) const {
+    SVC_RETURN_IF_ERROR(expect_array(value, N, where));
+    std::array<int64_t, N> out{};
+    for (size_t i = 0; i < N; ++i) {
+      SVC_ASSIGN_OR_RETURN(out[i], integer(value[i], where + "[" + std::to_string(i) + "]"));
+    }
+    return out;
+  }
+
+ private:
+  Status expect_array(const json& value, size_t size, const std::string& where) const {
+    if (!value.is_array()) {
+      return error(where, "expected an array of " + std::to_string(size) + " numbers, got " +
+                              std::string(value.type_name()));
+    }
+    if (value.size() != size) {
+      return error(where, "expected " + std::to_string(size) + " numbers, got " +
+                              std::to_string(value.size()));
+    }
+    return Status::Ok();
+  }
+
+  std::string label_;
+};
+
+std::string join(const std::string& where, const std::string& key) {
+  return where.empty() ? key : where + "." + key;
+}
+
+// A projection object: either {fov_y_degrees, near, far} or the glFrustum parameters.
+Result<Frustum> parse_projection(const ManifestParser& p, const json& value,
+                                 const std::string& where, double aspect) {
+  SVC_RETURN_IF_ERROR(p.expect_object(value, where));
+  const bool symmetric = value.contains("fov_y_degrees");
+  const bool explicit_frustum = value.contains("left") || value.contains("right") ||
+                                value.contains("bottom") || value.contains("top");
+  if (symmetric && explicit_frustum) {
+    return p.error(where, "give either fov_y_degrees or left/right/bottom/top, not both");
+  }
+  if (!symmetric && !explicit_frustum) {
+    return p.error(where, "missing key \"fov_y_degrees\" (or an explicit frustum with "
+                          "\"left\", \"right\", \"bottom\", \"top\")");
+  }
+  double near_plane = 0, far_plane = 0;
+  {
+    SVC_ASSIGN_OR_RETURN(const json* n, p.required(value, "near", where));
+    SVC_ASSIGN_OR_RETURN(near_plane, p.number(*n, join(where, "near")));
+    SVC_ASSIGN_OR_RETURN(const json* f, p.required(value, "far", where));
+    SVC_ASSIGN_OR_RETURN(far_plane, p.number(*f, join(where, "far")));
+  }
+  if (!(near_plane > 0)) return p.error(join(where, "near"), "must be positive");
+  if (!(far_plane > near_plane)) {
+    return p.error(join(where, "far"), "must be greater than near");
+  }
+  if (symmetric) {
+    SVC_ASSIGN_OR_RETURN(const double fov, p.number(value["fov_y_degrees"], join(where, "fov_y_degrees")));
+    if (!(fov > 0 && fov < 180)) {
+      return p.error(join(where, "fov_y_degrees"), "must lie strictly between 0 and 180");
+    }
+    return symmetric_frustum(fov, aspect, near_plane, far_plane);
+  }
+  Frustum frustum;
+  frustum.near_plane = near_plane;
+  frustum.far_plane = far_plane;
+  const std::pair<const char*, double*> sides[] = {{"left", &frustum.left},
+                                                   {"right", &frustum.right},
+                                                   {"bottom", &frustum.bottom},
+                                                   {"top", &frustum.top}};
+  for (const auto& [key, target] : sides) {
+    SVC_ASSIGN_OR_RETURN(const json* v, p.required(value, key, where));
+    SVC_ASSIGN_OR_RETURN(*target, p.number(*v, join(where, key)));
+  }
+  if (!(frustum.right > frustum.left)) return p.error(where, "right must be greater than left");
+  if (!(frustum.top > frustum.bottom)) return p.error(where, "top must be greater than bottom");
+  return frustum;
+}
+
+// An OpenGL view matrix: finite, affine (last row 0 0 0 1), rotation part orthonormal.
+Result<std::array<double, 16>> parse_view_matrix(const ManifestParser& p, const json& value,
+                                                 const std::string& where) {
+  SVC_ASSIGN_OR_RETURN(const auto m, p.numbers<16>(value, where));
+  // Column-major: element (row r, column c) is m[c * 4 + r].
+  const auto at = [&](int r, int c) { return m[c * 4 + r]; };
+  constexpr double kRowTolerance = 1e-6;
+  if (std::abs(at(3, 0)) > kRowTolerance || std::abs(at(3, 1)) > kRowTolerance ||
+      std::abs(at(3, 2)) > kRowTolerance || std::abs(at(3, 3) - 1) > kRowTolerance) {
+    std::ostringstream row;
+    row << at(3, 0) << " " << at(3, 1) << " " << at(3, 2) << " " << at(3, 3);
+    return p.error(where, "last row is (" + row.str() +
+                              "), a view matrix needs (0 0 0 1) (elements 3, 7, 11, 15 of the "
+                              "column-major list)");
+  }
+  constexpr double kOrthoTolerance = 1e-3;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += at(a, k) * at(b, k);
+      if (std::abs(dot - (a == b ? 1.0 : 0.0)) > kOrthoTolerance) {
+        return p.error(where, "rotation part is not orthonormal (a view matrix must be a rigid "
+                              "transform: no scale, shear or singularity)");
+      }
+    }
+  }
+  return m;
+}
+
+struct ParsedCell {
+  CellSource cell;
+  size_t listed_at = 0;  // position in the manifest's "cells" array
+};
+
+Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t ordinal,
+                              const GridSpec& grid, const std::optional<Frustum>& global_projection,
+                              double aspect) {
+  std::string where = "cells[" + std::to_string(ordinal) + "]";
+  SVC_RETURN_IF_ERROR(p.expect_object(value, where));
+  ParsedCell parsed;
+  parsed.listed_at = ordinal;
+  CellSource& cell = parsed.cell;
+
+  SVC_ASSIGN_OR_RETURN(const json* index_json, p.required(value, "index", where));
+  SVC_ASSIGN_OR_RETURN(const auto index, p.integers<3>(*index_json, join(where, "index")));
+  for (int axis = 0; axis < 3; ++axis) {
+    if (index[axis] < 0 || index[axis] >= grid.dims[axis]) {
+      return p.error(where, "index (" + std::to_string(index[0]) + "," +
+                                std::to_string(index[1]) + "," + std::to_string(index[2]) +
+                                ") lies outside the grid dims (" + std::to_string(grid.dims[0]) +
+                                "," + std::to_string(grid.dims[1]) + "," +
+                                std::to_string(grid.dims[2]) + ")");
+    }
+  }
+  cell.index = CellIndex{static_cast<int32_t>(index[0]), static_cast<int32_t>(index[1]),
+                         static_cast<int32_t>(index[2])};
+  where += " (" + cell_label(cell.index) + ")";
+
+  SVC_ASSIGN_OR_RETURN(const json* position, p.required(value, "position", where));
+  SVC_ASSIGN_OR_RETURN(cell.position, p.numbers<3>(*position, join(where, "position")));
+
+  SVC_ASSIGN_OR_RETURN(const json* faces, p.required(value, "faces", where));
+  SVC_RETURN_IF_ERROR(p.expect_object(*faces, join(where, "faces")));
+  for (const Face face : kAllFaces) {
+    const std::string name = face_name(face);
+    const std::string face_where = where + ", face " + name;
+    const auto it = faces->find(name);
+    if (it == faces->end()) return p.error(where, "missing face " + in_quotes(name) + " in \"faces\"");
+    const json& face_json = *it;
+    SVC_RETURN_IF_ERROR(p.expect_object(face_json, face_where));
+    FaceSource& source = cell.faces[static_cast<size_t>(face)];
+
+    SVC_ASSIGN_OR_RETURN(const json* color, p.required(face_json, "color", face_where));
+    SVC_ASSIGN_OR_RETURN(source.color_path, p.string(*color, face_where + ", color"));
+    SVC_ASSIGN_OR_RETURN(const json* depth, p.required(face_json, "depth", face_where));
+    SVC_ASSIGN_OR_RETURN(source.depth_path, p.string(*depth, face_where + ", depth"));
+    if (source.color_path.empty()) return p.error(face_where + ", color", "empty file name");
+    if (source.depth_path.empty()) return p.error(face_where + ", depth", "empty file name");
+
+    SVC_ASSIGN_OR_RETURN(const json* view, p.required(face_json, "world_to_camera", face_where));
+    SVC_ASSIGN_OR_RETURN(source.camera.world_to_camera,
+                         parse_view_matrix(p, *view, face_where + ", world_to_camera"));
+
+    const auto projection = face_json.find("projection");
+    if (projection != face_json.end()) {
+      SVC_ASSIGN_OR_RETURN(source.camera.frustum,
+                           parse_projection(p, *projection, face_where + ", projection", aspect));
+    } else if (global_projection) {
+      source.camera.frustum = *global_projection;
+    } else {
+      return p.error(face_where, "missing key \"projection\" (and the manifest has no global "
+                                 "\"projection\")");
+    }
+  }
+  return parsed;
+}
+
+// Checks that a file the manifest names exists; errors name cell, face and file.
+Status check_file_exists(const std::string& manifest_label, const DatabaseManifest& manifest,
+                         const CellSource& cell, Face face, const char* role,
+                         const std::string& path) {
+  const fs::path resolved = resolve_database_path(manifest, path);
+  std::error_code ec;
+  const fs::file_status status = fs::status(resolved, ec);
+  if (fs::is_regular_file(status)) return Status::Ok();
+  const std::string what = fs::exists(status) ? "is not a regular file" : "not found";
+  return Status(ErrorCode::kNotFound, manifest_label + ": " + cell_label(cell.index) + ", face " +
+                                          face_name(face) + ": " + role + " file " +
+                                          in_quotes(path) + " (" + resolved.string() + ") " + what);
+}
+
+Result<std::string> read_text_file(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) {
+    return Status(ErrorCode::kNotFound, path.string() + ": not found");
+  }
+  if (!fs::is_regular_file(status)) {
+    return Status(ErrorCode::kBadInput, path.string() + ": not a regular file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status(ErrorCode::kIoError, path.string() + ": cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return Status(ErrorCode::kIoError, path.string() + ": read failed");
+  return text.str();
+}
+
+// Accepts every JSON value and records the first syntax error.
+class SyntaxChecker final : public nlohmann::json_sax<json> {
+ public:
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string& last_token,
+                   const nlohmann::detail::exception& ex) override {
+    error_offset = position;
+    error_token = last_token;
+    error_message = ex.what();
+    error_has_position = dynamic_cast<const json::parse_error*>(&ex) != nullptr;
+    return false;
+  }
+
+  std::size_t error_offset = 0;
+  std::string error_token;
+  std::string error_message;
+  bool error_has_position = false;  // parse_error messages carry line and column already
+};
+
+// 1-based line and column of a byte offset (the offset just past the failing token).
+std::pair<size_t, size_t> line_and_column(const std::string& text, size_t offset) {
+  offset = std::min(offset, text.size());
+  size_t line = 1, line_start = 0;
+  for (size_t i = 0; i < offset; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+  }
+  return {line, offset - line_start + 1};
+}
+
+Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string& label,
+                                        DatabaseManifest manifest) {
+  const ManifestParser p(label);
+  SVC_RETURN_IF_ERROR(p.expect_object(root_json, ""));
+
+  SVC_ASSIGN_OR_RETURN(const json* format, p.required(root_json, "format", ""));
+  SVC_ASSIGN_OR_RETURN(const std::string format_name, p.string(*format, "format"));
+  if (format_name != "svc-input") {
+    return p.error("format", in_quotes(format_name) + " is not \"svc-input\"");
+  }
+  SVC_ASSIGN_OR_RETURN(const json* version_json, p.required(root_json, "version", ""));
+  SVC_ASSIGN_OR_RETURN(const int64_t version, p.integer(*version_json, "version"));
+  if (version != 1) {
+    return p.error("version", "version " + std::to_string(version) +
+                                  " is not supported (this reader reads version 1)",
+                   ErrorCode::kUnsupported);
+  }
+
+  // grid
+  SVC_ASSIGN_OR_RETURN(const json* grid, p.required(root_json, "grid", ""));
+  SVC_RETURN_IF_ERROR(p.expect_object(*grid, "grid"));
+  {
+    SVC_ASSIGN_OR_RETURN(const json* dims_json, p.required(*grid, "dims", "grid"));
+    SVC_ASSIGN_OR_RETURN(const auto dims, p.integers<3>(*dims_json, "grid.dims"));
+    int64_t cell_count = 1;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (dims[axis] <= 0) return p.error("grid.dims", "dimensions must be positive");
+      cell_count *= dims[axis];  // each factor < 2^31 and the product is checked per step
+      if (cell_count > kMaxGridCells) {
+        return p.error("grid.dims", "grid has more than " + std::to_string(kMaxGridCells) + " cells",
+                       ErrorCode::kLimitExceeded);
+      }
+      manifest.grid.dims[axis] = static_cast<int32_t>(dims[axis]);
+    }
+    SVC_ASSIGN_OR_RETURN(const json* origin, p.required(*grid, "origin", "grid"));
+    SVC_ASSIGN_OR_RETURN(manifest.grid.origin, p.numbers<3>(*origin, "grid.origin"));
+    SVC_ASSIGN_OR_RETURN(const json* spacing, p.required(*grid, "spacing", "grid"));
+    SVC_ASSIGN_OR_RETURN(manifest.grid.spacing, p.numbers<3>(*spacing, "grid.spacing"));
+    for (int axis = 0; axis < 3; ++axis) {
+      // Spacing only matters along an axis with more than one cell.
+      if (manifest.grid.dims[axis] > 1 && !(manifest.grid.spacing[axis] > 0)) {
+        return p.error("grid.spacing", "spacing must be positive along an axis with more than "
+                                       "one cell");
+      }
+    }
+  }
+
+  // face_size
+  {
+    SVC_ASSIGN_OR_RETURN(const json* size_json, p.required(root_json, "face_size", ""));
+    SVC_ASSIGN_OR_RETURN(const auto size, p.integers<2>(*size_json, "face_size"));
+    if (size[0] <= 0 || size[1] <= 0) return p.error("face_size", "width and height must be positive");
+    if (size[0] > kMaxFaceSide || size[1] > kMaxFaceSide) {
+      return p.error("face_size", "faces larger than " + std::to_string(kMaxFaceSide) +
+                                      " pixels a side are not accepted",
+                     ErrorCode::kLimitExceeded);
+    }
+    manifest.face_width = static_cast<int>(size[0]);
+    manifest.face_height = static_cast<int>(size[1]);
+  }
+  const double aspect = static_cast<double>(manifest.face_width) / manifest.face_height;
+
+  std::optional<Frustum> global_projection;
+  if (const auto it = root_json.find("projection"); it != root_json.end()) {
+    SVC_ASSIGN_OR_RETURN(global_projection, parse_projection(p, *it, "projection", aspect));
+  }
+
+  if (const auto it = root_json.find("depth"); it != root_json.end()) {
+    SVC_ASSIGN_OR_RETURN(const std::string mode, p.string(*it, "depth"));
+    if (mode == "eye_z") {
+      manifest.depth_mode = DepthMode::kEyeZ;
+    } else if (mode == "radial") {
+      manifest.depth_mode = DepthMode::kRadial;
+    } else {
+      return p.error("depth", in_quotes(mode) + " is neither \"eye_z\" nor \"radial\"");
+    }
+  }
+  if (const auto it = root_json.find("up_axis"); it != root_json.end()) {
+    SVC_ASSIGN_OR_RETURN(const std::string axis, p.string(*it, "up_axis"));
+    if (axis == "x") {
+      manifest.up_axis = UpAxis::kX;
+    } else if (axis == "y") {
+      manifest.up_axis = UpAxis::kY;
+    } else if (axis == "z") {
+      manifest.up_axis = UpAxis::kZ;
+    } else {
+      return p.error("up_axis", in_quotes(axis) + " is not one of \"x\", \"y\", \"z\"");
+    }
+  }
+
+  // cells
+  SVC_ASSIGN_OR_RETURN(const json* cells, p.required(root_json, "cells", ""));
+  if (!cells->is_array()) {
+    return p.error("cells", "expected an array, got " + std::string(cells->type_name()));
+  }
+  if (cells->empty()) return p.error("cells", "the database lists no cells");
+  std::vector<ParsedCell> parsed;
+  parsed.reserve(cells->size());
+  for (size_t i = 0; i < cells->size(); ++i) {
+    SVC_ASSIGN_OR_RETURN(ParsedCell cell,
+                         parse_cell(p, (*cells)[i], i, manifest.grid, global_projection, aspect));
+    parsed.push_back(std::move(cell));
+  }
+  const auto key = [](const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); };
+  std::stable_sort(parsed.begin(), parsed.end(), [&](const ParsedCell& a, const ParsedCell& b) {
+    return key(a.cell.index) < key(b.cell.index);
+  });
+  for (size_t i = 1; i < parsed.size(); ++i) {
+    if (parsed[i].cell.index == parsed[i - 1].cell.index) {
+      const size_t first = std::min(parsed[i - 1].listed_at, parsed[i].listed_at);
+      const size_t second = std::max(parsed[i - 1].listed_at, parsed[i].listed_at);
+      return p.error("cells[" + std::to_string(second) + "]",
+                     cell_label(parsed[i].cell.index) + " is listed twice (also at cells[" +
+                         std::to_string(first) + "])");
+    }
+  }
+  manifest.cells.reserve(parsed.size());
+  for (ParsedCell& cell : parsed) manifest.cells.push_back(std::move(cell.cell));
+
+  for (const CellSource& cell : manifest.cells) {
+    for (const Face face : kAllFaces) {
+      const FaceSource& source = cell.faces[static_cast<size_t>(face)];
+      SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "color", source.color_path));
+      if (source.depth_path != source.color_path) {
+        SVC_RETURN_IF_ERROR(
+            check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
+      }
+    }
+  }
+  return manifest;
+}
+
+// ---------------------------------------------------------------------------------------
+// Faces
+
+// All channels of an image as float (integer types normalised to [0,1] by OpenImageIO).
+struct FloatImage {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<std::string> channel_names;
+  std::vector<OIIO::TypeDesc> channel_types;
+  std::vector<float> pixels;  // width * height * channels, interleaved
+};
+
+// `what` is the prefix naming cell, face, role and file.
+Result<FloatImage> read_float_image(const fs::path& resolved, const std::string& what,
+                                    int expected_width, int expected_height) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(resolved, ec);
+  if (!fs::exists(status)) return Status(ErrorCode::kNotFound, what + ": file not found");
+  if (!fs::is_regular_file(status)) {
+    return Status(ErrorCode::kNotFound, what + ": not a regular file");
+  }
+  {
+    std::ifstream probe(resolved, std::ios::binary);
+    if (!probe) return Status(ErrorCode::kIoError, what + ": cannot open the file for reading");
+  }
+  // Colour values are taken as stored: without this OpenImageIO premultiplies the colour
+  // of PNG and TIFF files with unassociated alpha.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto input = OIIO::ImageInput::open(resolved.string(), &config);
+  if (!input) {
+    return Status(ErrorCode::kBadInput, what + ": not a readable image: " + OIIO::geterror());
+  }
+  const OIIO::ImageSpec& spec = input->spec();
+  if (spec.width != expected_width || spec.height != expected_height || spec.depth != 1) {
+    return Status(ErrorCode::kBadInput,
+                  what + ": image is " + std::to_string(spec.width) + "x" +
+                      std::to_string(spec.height) + (spec.depth != 1 ? " (a volume)" : "") +
+                      ", face_size is " + std::to_string(expected_width) + "x" +
+                      std::to_string(expected_height));
+  }
+  if (spec.nchannels <= 0 || spec.nchannels > kMaxImageChannels) {
+    return Status(ErrorCode::kBadInput,
+                  what + ": image has " + std::to_string(spec.nchannels) + " channels");
+  }
+  FloatImage image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.nchannels;
+  for (int c = 0; c < spec.nchannels; ++c) {
+    image.channel_names.push_back(c < static_cast<int>(spec.channelnames.size())
+                                      ? spec.channelnames[c]
+                                      : std::string());
+    image.channel_types.push_back(spec.channelformat(c));
+  }
+  image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
+    return Status(ErrorCode::kBadInput, what + ": cannot decode the image: " + input->geterror());
+  }
+  return image;
+}
+
+bool is_float_type(const OIIO::TypeDesc& type) {
+  return type.basetype == OIIO::TypeDesc::HALF || type.basetype == OIIO::TypeDesc::FLOAT ||
+         type.basetype == OIIO::TypeDesc::DOUBLE;
+}
+
+int find_channel(const FloatImage& image, const std::string& name) {
+  for (int c = 0; c < image.channels; ++c) {
+    if (image.channel_names[c] == name) return c;
+  }
+  return -1;
+}
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() > suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// R, G, B by name, else "<layer>.R/G/B" of the first layer that has all three, else the
+// first three channels, else grey (channel 0) for one- and two-channel images.
+std::array<int, 3> colour_channels(const FloatImage& image) {
+  const int r = find_channel(image, "R"), g = find_channel(image, "G"), b = find_channel(image, "B");
+  if (r >= 0 && g >= 0 && b >= 0) return {r, g, b};
+  for (int c = 0; c < image.channels; ++c) {
+    const std::string& name = image.channel_names[c];
+    if (!ends_with(name, ".R")) continue;
+    const std::string layer = name.substr(0, name.size() - 1);
+    const int lg = find_channel(image, layer + "G"), lb = find_channel(image, layer + "B");
+    if (lg >= 0 && lb >= 0) return {c, lg, lb};
+  }
+  if (image.channels >= 3) return {0, 1, 2};
+  return {0, 0, 0};
+}
+
+// Z, any *.Z, depth, Y, else the only channel; -1 when none fits.
+int depth_channel(const FloatImage& image) {
+  if (const int c = find_channel(image, "Z"); c >= 0) return c;
+  for (int c = 0; c < image.channels; ++c) {
+    if (ends_with(image.channel_names[c], ".Z")) return c;
+  }
+  if (const int c = find_channel(image, "depth"); c >= 0) return c;
+  if (const int c = find_channel(image, "Y"); c >= 0) return c;
+  if (image.channels == 1) return 0;
+  return -1;
+}
+
+std::string channel_list(const FloatImage& image) {
+  std::string list;
+  for (int c = 0; c < image.channels; ++c) {
+    if (c) list += ", ";
+    list += image.channel_names[c].empty() ? "(unnamed)" : image.channel_names[c];
+  }
+  return list;
+}
+
+ImageRGB8 to_rgb8(const FloatImage& image) {
+  const std::array<int, 3> channels = colour_channels(image);
+  const bool linear = is_float_type(image.channel_types[channels[0]]);
+  ImageRGB8 out;
+  out.width = image.width;
+  out.height = image.height;
+  const size_t pixel_count = static_cast<size_t>(image.width) * image.height;
+  out.pixels.resize(pixel_count * 3);
+  for (size_t i = 0; i < pixel_count; ++i) {
+    const float* px = &image.pixels[i * image.channels];
+    for (int k = 0; k < 3; ++k) {
+      const float v = px[channels[k]];
+      uint8_t coded;
+      if (linear) {
+        coded = linear_to_srgb8(v);
+      } else {
+        // Integer images arrive normalised to [0,1]; 8-bit values come back exactly and
+        // wider ones are rounded to the nearest 8-bit value.
+        coded = static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+      }
+      out.pixels[i * 3 + k] = coded;
+    }
+  }
+  return out;
+}
+
+std::vector<float> to_eye_depth(const FloatImage& image, int channel, DepthMode mode,
+                                const Frustum& frustum) {
+  const int w = image.width, h = image.height;
+  std::vector<float> depth(static_cast<size_t>(w) * h);
+  constexpr float kBackground = std::numeric_limits<float>::infinity();
+  // For radial depth, eye z = radial * near / |(x_cam, y_cam, -near)| at the pixel centre.
+  std::vector<double> x_cam, y_cam;
+  if (mode == DepthMode::kRadial) {
+    x_cam.resize(w);
+    y_cam.resize(h);
+    for (int i = 0; i < w; ++i) {
+      const double ndc_x = (i + 0.5) / w * 2 - 1;
+      x_cam[i] = 0.5 * (frustum.left + frustum.right) + ndc_x * 0.5 * (frustum.right - frustum.left);
+    }
+    for (int j = 0; j < h; ++j) {
+      const double ndc_y = 1 - (j + 0.5) / h * 2;
+      y_cam[j] = 0.5 * (frustum.bottom + frustum.top) + ndc_y * 0.5 * (frustum.top - frustum.bottom);
+    }
+  }
+  const double n = frustum.near_plane;
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const size_t p = static_cast<size_t>(j) * w + i;
+      const float raw = image.pixels[p * image.channels + channel];
+      if (!std::isfinite(raw) || raw <= 0) {
+        depth[p] = kBackground;
+        continue;
+      }
+      double eye_z = raw;
+      if (mode == DepthMode::kRadial) {
+        eye_z = raw * n / std::sqrt(x_cam[i] * x_cam[i] + y_cam[j] * y_cam[j] + n * n);
+      }
+      depth[p] = eye_z >= frustum.far_plane ? kBackground : static_cast<float>(eye_z);
+    }
+  }
+  return depth;
+}
+
+}  // namespace
+
+Frustum symmetric_frustum(double fov_y_degrees, double aspect, double near_plane,
+                          double far_plane) noexcept {
+  constexpr double kPi = 3.14159265358979323846;
+  Frustum f;
+  f.near_plane = near_plane;
+  f.far_plane = far_plane;
+  f.top = near_plane * std::tan(fov_y_degrees * kPi / 360.0);
+  f.bottom = -f.top;
+  f.right = f.top * aspect;
+  f.left = -f.right;
+  return f;
+}
+
+uint8_t linear_to_srgb8(float linear) noexcept {
+  if (!(linear > 0.0f)) return 0;  // also NaN
+  if (linear >= 1.0f) return 255;
+  const double v = linear;
+  const double encoded = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+  return static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0, 1.0) * 255.0));
+}
+
+std::string cell_label(const CellIndex& index) {
+  return "cell (" + std::to_string(index.x) + "," + std::to_string(index.y) + "," +
+         std::to_string(index.z) + ")";
+}
+
+std::filesystem::path resolve_database_path(const DatabaseManifest& manifest,
+                                            const std::string& manifest_path) {
+  const fs::path path(manifest_path);
+  if (path.is_absolute()) return path;
+  return manifest.root / path;
+}
+
+std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellIndex& index) {
+  const auto key = [](const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); };
+  const auto it = std::lower_bound(
+      manifest.cells.begin(), manifest.cells.end(), key(index),
+      [&](const CellSource& cell, const auto& k) { return key(cell.index) < k; });
+  if (it == manifest.cells.end() || !(it->index == index)) return std::nullopt;
+  return static_cast<size_t>(it - manifest.cells.begin());
+}
+
+Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(db_dir, ec);
+  if (!fs::exists(status)) {
+    return Status(ErrorCode::kNotFound, "database " + db_dir.string() + ": not found");
+  }
+  DatabaseManifest manifest;
+  fs::path manifest_path;
+  if (fs::is_directory(status)) {
+    manifest.root = db_dir;
+    manifest_path = db_dir / "manifest.json";
+  } else {
+    manifest_path = db_dir;
+    manifest.root = db_dir.parent_path().empty() ? fs::path(".") : db_dir.parent_path();
+  }
+  SVC_ASSIGN_OR_RETURN(const std::string text, read_text_file(manifest_path));
+  const std::string label = manifest_path.string();
+  // A first SAX pass finds syntax errors with their position, including those that
+  // nlohmann::json reports without one (a number too large for a double).
+  SyntaxChecker checker;
+  if (!json::sax_parse(text, &checker)) {
+    if (checker.error_has_position) {
+      return Status(ErrorCode::kBadInput, label + ": not valid JSON: " + checker.error_message);
+    }
+    const auto [line, column] = line_and_column(text, checker.error_offset);
+    return Status(ErrorCode::kBadInput, label + ": not valid JSON near line " +
+                                            std::to_string(line) + ", column " +
+                                            std::to_string(column) + " (last token " +
+                                            in_quotes(checker.error_token) +
+                                            "): " + checker.error_message);
+  }
+  json root_json;
+  try {
+    root_json = json::parse(text);
+  } catch (const json::exception& e) {
+    return Status(ErrorCode::kBadInput, label + ": not valid JSON: " + e.what());
+  }
+  try {
+    return parse_manifest(root_json, label, std::move(manifest));
+  } catch (const json::exception& e) {
+    // The parser checks every type before reading it; this is a safety net.
+    return Status(ErrorCode::kBadInput, label + ": " + e.what());
+  }
+}
+
+Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face) {
+  if (cell_ordinal >= manifest.cells.size()) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "cell ordinal " + std::to_string(cell_ordinal) + " is out of range (" +
+                      std::to_string(manifest.cells.size()) + " cells)");
+  }
+  const auto face_slot = static_cast<size_t>(face);
+  if (face_slot >= kFaceCount) {
+    return Status(ErrorCode::kInvalidArgument, "face " + std::to_string(face_slot) + " is out of range");
+  }
+  const CellSource& cell = manifest.cells[cell_ordinal];
+  const FaceSource& source = cell.faces[face_slot];
+  const std::string where = cell_label(cell.index) + ", face " + face_name(face);
+  const fs::path color_path = resolve_database_path(manifest, source.color_path);
+  const fs::path depth_path = resolve_database_path(manifest, source.depth_path);
+  const auto describe = [&](const char* role, const std::string& path, const fs::path& resolved) {
+    return where + ", " + role + " file " + in_quotes(path) + " (" + resolved.string() + ")";
+  };
+
+  const std::string color_what = describe("color", source.color_path, color_path);
+  SVC_ASSIGN_OR_RETURN(const FloatImage color_image,
+                       read_float_image(color_path, color_what, manifest.face_width,
+                                        manifest.face_height));
+  // Colour and depth often share one EXR; read it once then.
+  const bool shared_file = depth_path == color_path;
+  FloatImage depth_storage;
+  const std::string depth_what = describe("depth", source.depth_path, depth_path);
+  if (!shared_file) {
+    SVC_ASSIGN_OR_RETURN(depth_storage, read_float_image(depth_path, depth_what,
+                                                         manifest.face_width, manifest.face_height));
+  }
+  const FloatImage& depth_image = shared_file ? color_image : depth_storage;
+  const int channel = depth_channel(depth_image);
+  if (channel < 0) {
+    return Status(ErrorCode::kBadInput, depth_what + ": no depth channel (looked for Z, *.Z, "
+                                                     "depth, Y; the image has " +
+                                            channel_list(depth_image) + ")");
+  }
+  if (!is_float_type(depth_image.channel_types[channel])) {
+    return Status(ErrorCode::kBadInput,
+                  depth_what + ": depth channel " + in_quotes(depth_image.channel_names[channel]) +
+                      " holds " + depth_image.channel_types[channel].c_str() +
+                      " values; depth must be half or float");
+  }
+
+  FaceData data;
+  data.color = to_rgb8(color_image);
+  data.depth = to_eye_depth(depth_image, channel, manifest.depth_mode, source.camera.frustum);
+  return data;
+}
+
+}  // namespace svc

@@ -1,0 +1,111 @@
+// svc-input databases (docs/input-format.md): the manifest and the faces it names.
+//
+// Error behaviour: nothing here throws. Problems with the database's content (bad JSON,
+// a missing or ill-typed key, an out-of-range value, an image of the wrong size or an
+// unreadable image) come back as ErrorCode::kBadInput, a manifest version other than 1 as
+// kUnsupported, sizes above the caps below as kLimitExceeded, missing files or
+// directories as kNotFound, and files the operating system refuses to read as kIoError.
+// Messages name the manifest file, the cell ("cell (x,y,z)"), the face and the file.
+//
+// Threading: load_manifest and load_face keep no shared mutable state; any number of
+// threads may call load_face on the same manifest at once (each call opens its own
+// OpenImageIO ImageInput; OpenImageIO's shared ImageCache is not used).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc {
+
+enum class DepthMode : uint8_t { kEyeZ = 0, kRadial = 1 };
+enum class UpAxis : uint8_t { kX = 0, kY = 1, kZ = 2 };
+
+// Caps on untrusted input, checked before anything is allocated from them.
+inline constexpr int kMaxFaceSide = 16384;          // face_size[0], face_size[1]
+inline constexpr int64_t kMaxGridCells = 1 << 24;   // dims[0] * dims[1] * dims[2]
+inline constexpr int kMaxImageChannels = 4096;      // channels in one colour/depth file
+
+struct GridSpec {
+  std::array<int32_t, 3> dims{1, 1, 1};
+  std::array<double, 3> origin{0, 0, 0};
+  std::array<double, 3> spacing{1, 1, 1};
+};
+
+struct FaceSource {
+  std::string color_path;  // relative to the database root (or absolute), as the manifest names it
+  std::string depth_path;
+  Camera camera;           // view matrix and frustum (per-face or global projection)
+};
+
+struct CellSource {
+  CellIndex index;
+  std::array<double, 3> position{0, 0, 0};
+  std::array<FaceSource, kFaceCount> faces;  // indexed by Face
+};
+
+struct DatabaseManifest {
+  std::filesystem::path root;  // the database directory
+  GridSpec grid;
+  int face_width = 0;
+  int face_height = 0;
+  DepthMode depth_mode = DepthMode::kEyeZ;
+  UpAxis up_axis = UpAxis::kY;
+  std::vector<CellSource> cells;  // sorted by (y, z, x) cell index, no duplicates
+};
+
+// Reads and validates manifest.json: JSON syntax (errors give line and column), required
+// keys, value ranges, cell indices inside the grid and unique, all six faces present,
+// finite view matrices whose last row is (0,0,0,1) and whose rotation part is orthonormal
+// (within 1e-3), valid frusta, referenced files exist. Keys the format does not describe
+// are ignored. `db_dir` is the database directory; a path to the manifest file itself is
+// accepted too (the root is then its parent directory). An empty cell list is rejected.
+Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir);
+
+// One face's pixels. Depth is converted to eye-space z (distance along the view axis,
+// positive); pixels that saw no geometry (+inf, NaN, <= 0, >= far) hold +infinity.
+struct FaceData {
+  ImageRGB8 color;
+  std::vector<float> depth;  // width * height, row 0 at the top
+};
+
+// Loads colour and depth of one face of manifest.cells[cell_ordinal].
+// Colour: channels R, G, B by name (or "<layer>.R/G/B"), else the first three channels;
+// a one- or two-channel image (grey, grey + alpha) is grey, expanded to RGB; other
+// channels are ignored. 8-bit values are taken as they are; other integer types are
+// rescaled to 8 bits with rounding (still display values); half/float/double are linear
+// and converted to 8-bit sRGB (exact sRGB curve, clamped, rounded).
+// Depth: channel "Z", else any "*.Z", else "depth", else "Y", else the only channel of a
+// one-channel image; it must be half, float or double. In radial mode each value is
+// turned into eye z along the pixel centre's ray through the face frustum; the
+// background test (inf, NaN, <= 0, eye z >= far) is made after that conversion.
+// A cell_ordinal or face out of range is kInvalidArgument. Thread-safe.
+Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
+
+// Where a manifest path lives on disk: absolute paths as they are, relative paths under
+// manifest.root.
+std::filesystem::path resolve_database_path(const DatabaseManifest& manifest,
+                                            const std::string& manifest_path);
+
+// Ordinal of the cell with this index in manifest.cells, or nullopt for a hole in the grid.
+std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellIndex& index);
+
+// "cell (x,y,z)", the form every error message uses.
+std::string cell_label(const CellIndex& index);
+
+// The sRGB transfer function applied to a linear value, clamped to [0,1] (NaN -> 0) and
+// rounded to 8 bits: the conversion load_face uses for float colour.
+uint8_t linear_to_srgb8(float linear) noexcept;
+
+// Symmetric glFrustum for a vertical field of view and aspect = width / height.
+Frustum symmetric_frustum(double fov_y_degrees, double aspect, double near_plane,
+                          double far_plane) noexcept;
+
+}  // namespace svc

@@ -1,0 +1,83 @@
+// I-cube / B-cube placement over the cell grid and reference selection
+// (dissertation section 4.2.3.1, Figure 4.3).
+//
+// Rules (they are part of the file format's meaning: an encoder and any tool that
+// re-derives the dependency graph must agree on them):
+//
+// Groups. The grid is tiled by groups of i_spacing[0] x i_spacing[1] x i_spacing[2]
+//   cells: cell (x, y, z) belongs to group (x / sx, y / sy, z / sz). Groups at the far
+//   edge of a grid whose size is not a multiple of the spacing are partial.
+// Nominal I-cube. The nominal I-cube of a group is the cell at index g*s + s/2 on each
+//   axis (integer division): the centre for odd s (s=3: 1, 4, 7, ...), the upper of the
+//   two middle cells for even s (s=2: 1, 3, 5, ...; s=4: 2, 6, ...), and every cell for
+//   s=1 (intra-only along that axis).
+// Relocation. When the nominal cell is absent (a hole in a sparse grid, or outside the
+//   grid for a partial edge group), the group's I-cube is its present cell nearest to the
+//   nominal position by cell-centre distance; ties go to the smallest (y, z, x) index.
+//   A group with no present cell has no I-cube. So every group that holds a cell holds
+//   exactly one I-cube.
+// Reach. A B-cube may reference the I-cubes of its own group and of the groups adjacent
+//   to it (group indices differing by at most 1 on every axis: up to 27 groups). Its own
+//   group always has an I-cube, so every B-cube has at least one reference.
+// References. Of the I-cubes in reach, the nearest two by Euclidean distance between
+//   cell centres (index difference times grid spacing per axis); ties go to the smallest
+//   (y, z, x) index. Distances equal within a relative 1e-9 count as ties. A B-cube with
+//   only one I-cube in reach gets one reference. References are always I-cubes, never
+//   B-cubes, so any face decodes from at most two reference faces.
+//
+// B:I ratio of full groups = (sx*sy*sz - 1) : 1.
+//   {1,1,1}            intra-only (0:1)
+//   {3,1,3} (default)  8:1, the VWALK layout: the centre of each 3x3 group of a layer
+//   {3,1,2} / {2,1,3}  5:1
+//   {3,2,3} / {6,1,3}  17:1   ({6,1,3} on a single-layer grid)
+//   {3,3,3} / {9,1,3}  26:1   ({9,1,3} on a single-layer grid)
+// Along an axis with fewer cells than its spacing the groups are partial, so a
+// single-layer grid with sy > 1 behaves as sy = 1. Partial edge groups and sparse grids
+// make the measured ratio lower than the nominal one.
+//
+// Threading: pure functions of their arguments; safe to call concurrently.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc {
+
+// Largest i_spacing accepted on any axis.
+inline constexpr int32_t kMaxIntraSpacing = 1024;
+
+// I-cube spacing per axis (x, y, z). {3,1,3} puts an I-cube at the centre of each 3x3
+// group of cells in a layer (VWALK). A spacing of 1 on every axis is intra-only.
+struct PlacementSettings {
+  std::array<int32_t, 3> i_spacing{3, 1, 3};
+};
+
+struct CellPlacement {
+  bool intra = true;
+  // Ordinals (into the `cells` argument) of the reference I-cubes, nearest first;
+  // empty for an I-cube, one or two entries for a B-cube.
+  std::vector<uint32_t> references;
+};
+
+// `cells` are the present cells of the grid (any order, no duplicates); `dims` the grid
+// size; `grid_spacing` the distance between neighbouring cell centres per axis (the
+// manifest's grid.spacing), used for every distance above. Returns one entry per cell,
+// in the same order. The result depends only on the set of cells, not on their order
+// (beyond the ordinals themselves). Errors (kInvalidArgument): dims or spacings not
+// positive, a spacing above kMaxIntraSpacing, a grid spacing not finite and positive, a
+// cell outside dims, or a duplicate cell; the message names the offending value.
+Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
+                                               const std::array<int32_t, 3>& dims,
+                                               const PlacementSettings& settings,
+                                               const std::array<double, 3>& grid_spacing);
+
+// As above with unit grid spacing (distances in cell-index units).
+Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
+                                               const std::array<int32_t, 3>& dims,
+                                               const PlacementSettings& settings);
+
+}  // namespace svc

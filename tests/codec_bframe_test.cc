@@ -1,0 +1,373 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "codec/bframe_codec.h"
+#include "codec/frame_codec.h"
+#include "codec/log_search.h"
+#include "codec/motion_compensation.h"
+
+namespace svc::codec {
+namespace {
+
+// Smooth random texture at several scales (see codec_motion_test.cc), deterministic.
+std::vector<uint8_t> texture_plane(int width, int height, int cell, uint32_t seed) {
+  std::mt19937 rng(seed);
+  const int gw = width / cell + 2, gh = height / cell + 2;
+  std::vector<double> grid(static_cast<size_t>(gw) * gh);
+  for (double& v : grid) v = 30 + static_cast<double>(rng() % 196);
+  std::vector<uint8_t> plane(static_cast<size_t>(width) * height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const double gx = static_cast<double>(x) / cell, gy = static_cast<double>(y) / cell;
+      const int ix = static_cast<int>(gx), iy = static_cast<int>(gy);
+      const double fx = gx - ix, fy = gy - iy;
+      auto g = [&](int u, int v) { return grid[static_cast<size_t>(v) * gw + u]; };
+      double value = (1 - fy) * ((1 - fx) * g(ix, iy) + fx * g(ix + 1, iy)) +
+                     fy * ((1 - fx) * g(ix, iy + 1) + fx * g(ix + 1, iy + 1));
+      value += 12 * std::sin(x * 0.45 + y * 0.2) + static_cast<double>(rng() % 5) - 2;
+      plane[static_cast<size_t>(y) * width + x] = static_cast<uint8_t>(std::lround(std::clamp(value, 0.0, 255.0)));
+    }
+  }
+  return plane;
+}
+
+// image(x, y) = texture(x + ox, y + oy) for a fixed texture per seed.
+ImageYCbCr420 textured_crop(int width, int height, int ox, int oy, uint32_t seed = 7) {
+  const int tw = 320, th = 320;
+  const std::vector<uint8_t> luma = texture_plane(tw, th, 9, seed);
+  const std::vector<uint8_t> chroma = texture_plane(tw, th, 21, seed + 1);
+  ImageYCbCr420 image;
+  image.width = width;
+  image.height = height;
+  const int cw = (width + 1) / 2, ch = (height + 1) / 2;
+  image.y.resize(static_cast<size_t>(width) * height);
+  image.cb.resize(static_cast<size_t>(cw) * ch);
+  image.cr.resize(image.cb.size());
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) image.y[static_cast<size_t>(y) * width + x] = luma[static_cast<size_t>(y + oy) * tw + x + ox];
+  }
+  // Chroma sampled at even pixels so an even shift moves it by whole chroma samples.
+  for (int y = 0; y < ch; ++y) {
+    for (int x = 0; x < cw; ++x) {
+      const size_t t = static_cast<size_t>(2 * y + oy) * tw + 2 * x + ox;
+      image.cb[static_cast<size_t>(y) * cw + x] = chroma[t];
+      image.cr[static_cast<size_t>(y) * cw + x] = static_cast<uint8_t>(255 - chroma[t] / 2);
+    }
+  }
+  return image;
+}
+
+double psnr(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  double squared = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double d = static_cast<double>(a[i]) - static_cast<double>(b[i]);
+    squared += d * d;
+  }
+  if (squared == 0) return 99.0;
+  return 10 * std::log10(255.0 * 255.0 * static_cast<double>(a.size()) / squared);
+}
+
+void expect_same_image(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  ASSERT_EQ(a.width, b.width);
+  ASSERT_EQ(a.height, b.height);
+  EXPECT_TRUE(a.y == b.y);
+  EXPECT_TRUE(a.cb == b.cb);
+  EXPECT_TRUE(a.cr == b.cr);
+}
+
+// The same candidate list for every macroblock.
+FaceCandidates uniform_candidates(int width, int height, const CandidateList& list) {
+  return FaceCandidates(static_cast<size_t>((width + 15) / 16) * ((height + 15) / 16), list);
+}
+
+// An intra-coded reference as the decoder would hold it.
+ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int quant_scale) {
+  ImageYCbCr420 reconstruction;
+  encode_intra_frame(image, CodingParams{quant_scale}, &reconstruction);
+  return reconstruction;
+}
+
+TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
+  const int w = 128, h = 96, q = 8;
+  // source(x, y) = reference(x + 3, y + 2): vector (+6, +4) half-pels.
+  const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q);
+  const ImageYCbCr420 source = textured_crop(w, h, 43, 42);
+  const FaceCandidates candidates =
+      uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}, MotionVector{-8, 2}, MotionVector{5, 4}});
+  BFrameParams params;
+  params.quant_scale = q;
+  ImageYCbCr420 reconstruction;
+  BFrameStats stats;
+  const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr, candidates, {}, params, &reconstruction, &stats);
+  ImageYCbCr420 intra_reconstruction;
+  const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
+  ASSERT_FALSE(bytes.empty());
+  EXPECT_LT(bytes.size() * 4, intra.size()) << bytes.size() << " vs intra " << intra.size();
+  EXPECT_EQ(stats.macroblocks, 48);
+  EXPECT_EQ(stats.mb_intra + stats.mb_forward + stats.mb_backward + stats.mb_bidirectional + stats.mb_skipped, 48);
+  EXPECT_EQ(stats.mb_backward + stats.mb_bidirectional, 0);  // one reference
+  EXPECT_GE(stats.mb_skipped + stats.mb_forward, 44);
+  EXPECT_EQ(stats.candidates_evaluated, 48 * 4);
+  EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 0.5);
+
+  // At the suggested B quant_scale most macroblocks need no residual at all.
+  params.quant_scale = suggested_b_quant_scale(q);
+  BFrameStats coarser_stats;
+  ImageYCbCr420 coarser;
+  const std::vector<uint8_t> coarser_bytes =
+      encode_b_frame(source, reference, nullptr, candidates, {}, params, &coarser, &coarser_stats);
+  EXPECT_LT(coarser_bytes.size() * 7, intra.size()) << coarser_bytes.size() << " vs intra " << intra.size();
+  EXPECT_GE(coarser_stats.mb_skipped, 24);
+  EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 0.5);
+
+  ImageYCbCr420 decoded;
+  std::vector<MacroblockMode> modes;
+  ASSERT_TRUE(decode_b_frame(bytes, w, h, reference, nullptr, &decoded, &modes).ok());
+  expect_same_image(decoded, reconstruction);
+  EXPECT_EQ(modes, stats.modes);
+}
+
+TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
+  const int w = 128, h = 64, q = 8;
+  const ImageYCbCr420 source = textured_crop(w, h, 20, 20);
+  const ImageYCbCr420 other = textured_crop(w, h, 20, 20, 1234);
+  // Reference 0 shows the source's left half, reference 1 its right half; the rest of
+  // each is another texture (as if occluded).
+  ImageYCbCr420 ref0 = source, ref1 = source;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = static_cast<size_t>(y) * w + x;
+      (x < w / 2 ? ref1 : ref0).y[i] = other.y[i];
+    }
+  }
+  for (int y = 0; y < h / 2; ++y) {
+    for (int x = 0; x < w / 2; ++x) {
+      const size_t i = static_cast<size_t>(y) * (w / 2) + x;
+      ImageYCbCr420& hidden = x < w / 4 ? ref1 : ref0;
+      hidden.cb[i] = other.cb[i];
+      hidden.cr[i] = other.cr[i];
+    }
+  }
+  ref0 = decoded_intra(ref0, q);
+  ref1 = decoded_intra(ref1, q);
+  const FaceCandidates zero = uniform_candidates(w, h, {MotionVector{0, 0}});
+  BFrameParams params;
+  params.quant_scale = q;
+  ImageYCbCr420 reconstruction;
+  BFrameStats stats;
+  const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, &ref1, zero, zero, params, &reconstruction, &stats);
+  ASSERT_FALSE(bytes.empty());
+  const int mbs_x = w / 16;
+  int forward_left = 0, backward_right = 0;
+  for (int my = 0; my < h / 16; ++my) {
+    for (int mx = 0; mx < mbs_x; ++mx) {
+      const MacroblockMode mode = stats.modes[static_cast<size_t>(my) * mbs_x + mx];
+      const bool left = mx < mbs_x / 2;
+      EXPECT_NE(mode, left ? MacroblockMode::kBackward : MacroblockMode::kForward) << mx << ", " << my;
+      EXPECT_NE(mode, MacroblockMode::kBidirectional) << mx << ", " << my;
+      EXPECT_NE(mode, MacroblockMode::kIntra) << mx << ", " << my;
+      forward_left += left && mode == MacroblockMode::kForward;
+      backward_right += !left && mode == MacroblockMode::kBackward;
+    }
+  }
+  EXPECT_GE(forward_left, 1);
+  EXPECT_GE(backward_right, 1);
+  EXPECT_GT(psnr(source.y, reconstruction.y), 36.0);
+  ImageYCbCr420 intra_reconstruction;
+  const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
+  EXPECT_LT(bytes.size() * 4, intra.size()) << bytes.size() << " vs intra " << intra.size();
+
+  ImageYCbCr420 decoded;
+  std::vector<MacroblockMode> modes;
+  ASSERT_TRUE(decode_b_frame(bytes, w, h, ref0, &ref1, &decoded, &modes).ok());
+  expect_same_image(decoded, reconstruction);
+  EXPECT_EQ(modes, stats.modes);
+}
+
+TEST(BFrame, WrongCandidatesFallBackToIntra) {
+  const int w = 96, h = 64, q = 8;
+  const ImageYCbCr420 source = textured_crop(w, h, 0, 0);
+  const ImageYCbCr420 unrelated = decoded_intra(textured_crop(w, h, 0, 0, 555), q);
+  BFrameParams params;
+  params.quant_scale = q;
+  ImageYCbCr420 reconstruction, intra_reconstruction;
+  BFrameStats stats;
+  const std::vector<uint8_t> bytes = encode_b_frame(source, unrelated, nullptr,
+                                                    uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}}),
+                                                    {}, params, &reconstruction, &stats);
+  const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
+  EXPECT_GE(stats.mb_intra, 20) << "of " << stats.macroblocks;
+  EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 1.0);
+  EXPECT_LT(bytes.size(), intra.size() * 6 / 5) << bytes.size() << " vs intra " << intra.size();
+  ImageYCbCr420 decoded;
+  ASSERT_TRUE(decode_b_frame(bytes, w, h, unrelated, nullptr, &decoded).ok());
+  expect_same_image(decoded, reconstruction);
+}
+
+TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
+  const int sizes[][2] = {{37, 29}, {1, 1}, {16, 16}, {17, 40}, {70, 9}};
+  for (const auto& size : sizes) {
+    const int w = size[0], h = size[1];
+    const ImageYCbCr420 source = textured_crop(w, h, 50, 50);
+    const ImageYCbCr420 ref0 = decoded_intra(textured_crop(w, h, 47, 51), 6);
+    const ImageYCbCr420 ref1 = decoded_intra(textured_crop(w, h, 52, 48), 6);
+    // Varied candidates: the true motion, half-pel and far-outside vectors.
+    FaceCandidates c0 = uniform_candidates(w, h, {MotionVector{-6, 2}, MotionVector{-5, 3}, MotionVector{-900, 40}});
+    FaceCandidates c1 = uniform_candidates(w, h, {MotionVector{4, -4}, MotionVector{31000, -31000}});
+    if (c1.size() > 1) c1[1].clear();
+    for (int references = 1; references <= 2; ++references) {
+      for (bool refine : {false, true}) {
+        BFrameParams params;
+        params.quant_scale = references == 1 ? 5 : 12;
+        params.half_pel_refinement = refine;
+        ImageYCbCr420 reconstruction;
+        BFrameStats stats;
+        const ImageYCbCr420* second = references == 2 ? &ref1 : nullptr;
+        const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, second, c0, c1, params, &reconstruction, &stats);
+        ASSERT_FALSE(bytes.empty());
+        ImageYCbCr420 decoded;
+        std::vector<MacroblockMode> modes;
+        const Status status = decode_b_frame(bytes, w, h, ref0, second, &decoded, &modes);
+        ASSERT_TRUE(status.ok()) << status.to_string() << " " << w << "x" << h;
+        expect_same_image(decoded, reconstruction);
+        EXPECT_EQ(modes, stats.modes);
+        EXPECT_GT(psnr(source.y, decoded.y), 30.0) << w << "x" << h << " refs " << references;
+      }
+    }
+  }
+}
+
+TEST(BFrame, HeaderAndReferenceCountAreChecked) {
+  const int w = 32, h = 32;
+  const ImageYCbCr420 source = textured_crop(w, h, 3, 3), ref = textured_crop(w, h, 4, 3);
+  const std::vector<uint8_t> bytes =
+      encode_b_frame(source, ref, nullptr, uniform_candidates(w, h, {MotionVector{2, 0}}), {}, BFrameParams{}, nullptr, nullptr);
+  ASSERT_GE(bytes.size(), static_cast<size_t>(kBFrameHeaderBytes));
+  BFrameHeader header;
+  ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
+  EXPECT_EQ(header.reference_count, 1);
+  EXPECT_EQ(header.quant_scale, BFrameParams{}.quant_scale);
+  EXPECT_EQ(bytes[0], static_cast<uint8_t>(FrameType::kBidirectional));
+
+  ImageYCbCr420 out;
+  EXPECT_EQ(decode_b_frame(bytes, w, h, ref, &ref, &out).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(decode_b_frame(bytes, w, h + 1, ref, nullptr, &out).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(decode_b_frame(bytes, 0, h, ref, nullptr, &out).code(), ErrorCode::kInvalidArgument);
+  std::vector<uint8_t> changed = bytes;
+  changed[1] = 9;
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
+  changed = bytes;
+  changed[4] = 3;
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  changed = bytes;
+  changed[0] = 0;
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  changed = bytes;
+  changed.push_back(0);
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+
+  // The encoder refuses inconsistent images.
+  EXPECT_TRUE(encode_b_frame(source, textured_crop(w, h + 2, 0, 0), nullptr, {}, {}, BFrameParams{}, nullptr, nullptr).empty());
+  EXPECT_TRUE(encode_b_frame(ImageYCbCr420{}, ref, nullptr, {}, {}, BFrameParams{}, nullptr, nullptr).empty());
+}
+
+TEST(BFrame, GarbageNeverCrashesTheDecoder) {
+  const int w = 48, h = 40;
+  const ImageYCbCr420 source = textured_crop(w, h, 10, 10);
+  const ImageYCbCr420 ref0 = textured_crop(w, h, 12, 9), ref1 = textured_crop(w, h, 8, 11);
+  BFrameParams params;
+  params.quant_scale = 4;
+  const std::vector<uint8_t> valid = encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{4, -2}}),
+                                                    uniform_candidates(w, h, {MotionVector{-4, 2}}), params, nullptr, nullptr);
+  ASSERT_GT(valid.size(), 40u);
+  ImageYCbCr420 out;
+  std::vector<MacroblockMode> modes;
+  // Every truncation is detected: a complete payload is consumed to its last byte.
+  for (size_t length = 0; length < valid.size(); ++length) {
+    const std::vector<uint8_t> cut(valid.begin(), valid.begin() + static_cast<ptrdiff_t>(length));
+    EXPECT_FALSE(decode_b_frame(cut, w, h, ref0, &ref1, &out, &modes).ok()) << length;
+  }
+  std::mt19937 rng(5);
+  int accepted = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<uint8_t> bytes = valid;
+    const int flips = 1 + trial % 4;
+    for (int f = 0; f < flips; ++f) {
+      bytes[kBFrameHeaderBytes + rng() % (bytes.size() - kBFrameHeaderBytes)] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    }
+    if (decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok()) {
+      ++accepted;
+      EXPECT_EQ(out.y.size(), static_cast<size_t>(w * h));
+      EXPECT_EQ(modes.size(), 9u);
+    }
+  }
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<uint8_t> bytes(static_cast<size_t>(kBFrameHeaderBytes + rng() % 400));
+    for (uint8_t& b : bytes) b = static_cast<uint8_t>(rng());
+    bytes[0] = 1;
+    bytes[1] = kBFrameSyntaxVersion;
+    bytes[2] = static_cast<uint8_t>(1 + rng() % 112);
+    bytes[3] = 0;
+    bytes[4] = 2;
+    accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok();
+  }
+  SUCCEED() << accepted << " damaged payloads decoded to some image";
+}
+
+TEST(BFrame, EmptyCandidateListsFallBackToZeroAndNeighbours) {
+  const int w = 64, h = 48;
+  const ImageYCbCr420 source = textured_crop(w, h, 30, 30), reference = decoded_intra(textured_crop(w, h, 30, 30), 8);
+  BFrameStats stats;
+  ImageYCbCr420 reconstruction;
+  const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr, {}, {}, BFrameParams{}, &reconstruction, &stats);
+  EXPECT_EQ(stats.candidates_evaluated, 0);
+  EXPECT_GE(stats.mb_skipped, 10);  // the zero vector is right everywhere
+  ImageYCbCr420 decoded;
+  ASSERT_TRUE(decode_b_frame(bytes, w, h, reference, nullptr, &decoded).ok());
+  expect_same_image(decoded, reconstruction);
+}
+
+TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
+  const int w = 96, h = 64, q = 8;
+  // Smooth shading, where a logarithmic search finds the motion (see codec_motion_test).
+  auto shaded = [&](int ox, int oy) {
+    ImageYCbCr420 image;
+    image.width = w;
+    image.height = h;
+    image.y.resize(static_cast<size_t>(w) * h);
+    image.cb.assign(static_cast<size_t>(w / 2) * (h / 2), 100);
+    image.cr.assign(image.cb.size(), 160);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const double v = 128 + 50 * std::sin((x + ox) / 11.0) * std::cos((y + oy) / 9.0) + 30 * std::sin((x + ox + y + oy) / 17.0);
+        image.y[static_cast<size_t>(y) * w + x] = static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 255.0)));
+      }
+    }
+    return image;
+  };
+  const ImageYCbCr420 reference = decoded_intra(shaded(40, 40), q);
+  const ImageYCbCr420 source = shaded(45, 37);
+  const FaceCandidates searched = log_search_candidates(source, reference);
+  BFrameParams params;
+  params.quant_scale = q;
+  BFrameStats stats;
+  ImageYCbCr420 reconstruction;
+  const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr, searched, {}, params, &reconstruction, &stats);
+  const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, nullptr);
+  EXPECT_LT(bytes.size() * 3, intra.size()) << bytes.size() << " vs intra " << intra.size();
+  EXPECT_EQ(stats.candidates_evaluated, stats.macroblocks);
+  EXPECT_GT(psnr(source.y, reconstruction.y), 38.0);
+}
+
+TEST(BFrame, SuggestedQuantScale) {
+  EXPECT_EQ(suggested_b_quant_scale(8), 10);
+  EXPECT_EQ(suggested_b_quant_scale(1), 1);
+  EXPECT_EQ(suggested_b_quant_scale(112), 112);
+  EXPECT_EQ(suggested_b_quant_scale(200), 112);
+}
+
+}  // namespace
+}  // namespace svc::codec

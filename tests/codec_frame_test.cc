@@ -1,0 +1,243 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "codec/frame_codec.h"
+
+namespace svc::codec {
+namespace {
+
+// A deterministic photograph-like test image: lit gradients, soft shapes with hard
+// edges, periodic texture of several frequencies and mild noise, in all three planes.
+ImageYCbCr420 synthetic_image(int width, int height, uint32_t seed = 1) {
+  std::mt19937 rng(seed);
+  ImageYCbCr420 image;
+  image.width = width;
+  image.height = height;
+  image.y.resize(static_cast<size_t>(width) * height);
+  const int cw = (width + 1) / 2, ch = (height + 1) / 2;
+  image.cb.resize(static_cast<size_t>(cw) * ch);
+  image.cr.resize(image.cb.size());
+  auto clamp8 = [](double v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 255.0))); };
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      double v = 60 + 100.0 * x / std::max(1, width) + 40.0 * y / std::max(1, height);
+      const double dx = x - 0.35 * width, dy = y - 0.4 * height;
+      if (dx * dx + dy * dy < 0.06 * width * width) v = 200 - 0.3 * dy;  // a lit disc
+      if (x > 0.6 * width && y > 0.55 * height) {                       // a textured box
+        v = 90 + 25 * std::sin(x * 0.7) * std::cos(y * 0.45) + 10 * std::sin((x + y) * 0.19);
+      }
+      if (y < 0.2 * height) v += 12 * std::sin(x * 0.11 + y * 0.05);  // sky-like waves
+      v += static_cast<double>(rng() % 9) - 4;                         // sensor noise
+      image.y[static_cast<size_t>(y) * width + x] = clamp8(v);
+    }
+  }
+  for (int y = 0; y < ch; ++y) {
+    for (int x = 0; x < cw; ++x) {
+      const size_t i = static_cast<size_t>(y) * cw + x;
+      image.cb[i] = clamp8(110 + 30.0 * x / cw + 6 * std::sin(y * 0.3) + static_cast<double>(rng() % 3));
+      image.cr[i] = clamp8(150 - 25.0 * y / ch + ((x > cw / 2) ? 15 : 0) + static_cast<double>(rng() % 3));
+    }
+  }
+  return image;
+}
+
+double psnr(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  double squared = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double d = static_cast<double>(a[i]) - static_cast<double>(b[i]);
+    squared += d * d;
+  }
+  if (squared == 0) return 99.0;
+  return 10 * std::log10(255.0 * 255.0 * a.size() / squared);
+}
+
+void expect_same_image(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_TRUE(a.y == b.y);
+  EXPECT_TRUE(a.cb == b.cb);
+  EXPECT_TRUE(a.cr == b.cr);
+}
+
+TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
+  for (auto [width, height] : {std::pair{256, 256}, {17, 9}, {1, 1}, {250, 130}, {16, 16}, {33, 70}}) {
+    const ImageYCbCr420 source = synthetic_image(width, height, static_cast<uint32_t>(width + height));
+    for (int qs : {1, 3, 8, 20, 60, 112}) {
+      SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " qs " + std::to_string(qs));
+      ImageYCbCr420 reconstruction, decoded;
+      const std::vector<uint8_t> bytes = encode_intra_frame(source, {qs}, &reconstruction);
+      ASSERT_GE(bytes.size(), static_cast<size_t>(kFrameHeaderBytes));
+      EXPECT_EQ(bytes[0], 0);
+      EXPECT_EQ(bytes[1], kIntraSyntaxVersion);
+      EXPECT_EQ(bytes[2], qs);
+      const Status status = decode_intra_frame(bytes, width, height, &decoded);
+      ASSERT_TRUE(status.ok()) << status.to_string();
+      expect_same_image(decoded, reconstruction);
+      ASSERT_EQ(decoded.y.size(), source.y.size());
+      ASSERT_EQ(decoded.cb.size(), source.cb.size());
+      if (qs <= 3) EXPECT_GT(psnr(source.y, decoded.y), 40.0);
+      // Encoding is deterministic.
+      EXPECT_EQ(encode_intra_frame(source, {qs}, nullptr), bytes);
+    }
+  }
+}
+
+TEST(CodecFrame, QualityRisesAndSizeGrowsAsQuantScaleFalls) {
+  const ImageYCbCr420 source = synthetic_image(256, 256);
+  double previous_psnr = 0;
+  size_t previous_bytes = 0;
+  for (int qs : {112, 64, 32, 16, 8, 4, 2, 1}) {
+    ImageYCbCr420 decoded;
+    const std::vector<uint8_t> bytes = encode_intra_frame(source, {qs}, &decoded);
+    CoefficientFrame coefficients;
+    ASSERT_TRUE(parse_intra_frame(bytes, 256, 256, &coefficients).ok());
+    const double y_psnr = psnr(source.y, decoded.y);
+    const double cb_psnr = psnr(source.cb, decoded.cb);
+    std::printf("[ synthetic 256x256 ] qs %3d: %6zu bytes, %.3f bit/pixel, PSNR-Y %.2f dB, "
+                "PSNR-Cb %.2f dB, coefficient cache %zu bytes (%.3f x RGB)\n",
+                qs, bytes.size(), bytes.size() * 8.0 / (256 * 256), y_psnr, cb_psnr,
+                coefficients.memory_bytes(), coefficients.memory_bytes() / (3.0 * 256 * 256));
+    EXPECT_GT(y_psnr, previous_psnr + 0.3) << "qs " << qs;
+    EXPECT_GT(bytes.size(), previous_bytes) << "qs " << qs;
+    previous_psnr = y_psnr;
+    previous_bytes = bytes.size();
+    if (qs == 8) {
+      EXPECT_GT(y_psnr, 36.0);
+      // The semi-decoded form is far smaller than the RGB pixels it stands for.
+      EXPECT_LT(coefficients.memory_bytes(), static_cast<size_t>(0.25 * 3 * 256 * 256));
+    }
+  }
+  EXPECT_GT(previous_psnr, 48.0);  // qs 1
+}
+
+TEST(CodecFrame, FlatImageCodesToAFewBytesAndExactly) {
+  ImageYCbCr420 flat;
+  flat.width = 100;
+  flat.height = 60;
+  flat.y.assign(100 * 60, 77);
+  flat.cb.assign(50 * 30, 140);
+  flat.cr.assign(50 * 30, 99);
+  ImageYCbCr420 decoded;
+  const std::vector<uint8_t> bytes = encode_intra_frame(flat, {8}, nullptr);
+  EXPECT_LT(bytes.size(), 40u);
+  ASSERT_TRUE(decode_intra_frame(bytes, 100, 60, &decoded).ok());
+  expect_same_image(decoded, flat);
+}
+
+TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
+  const ImageYCbCr420 source = synthetic_image(64, 48);
+  ImageYCbCr420 reconstruction, from_coefficients;
+  const std::vector<uint8_t> bytes = encode_intra_frame(source, {5}, &reconstruction);
+  CoefficientFrame coefficients;
+  ASSERT_TRUE(parse_intra_frame(bytes, 64, 48, &coefficients).ok());
+  EXPECT_EQ(coefficients.width, 64);
+  EXPECT_EQ(coefficients.quant_scale, 5);
+  EXPECT_EQ(coefficients.block_counts.size(), static_cast<size_t>(block_layout(64, 48).block_count()));
+  reconstruct_intra_frame(coefficients, &from_coefficients);
+  expect_same_image(from_coefficients, reconstruction);
+}
+
+TEST(CodecFrame, CoefficientEntriesRoundTripIncludingEscapes) {
+  CoefficientFrame frame;
+  const int levels[] = {1, -1, 511, -511, 512, -512, 4095, -4095, 77};
+  for (int i = 0; i < 9; ++i) frame.append(i * 7, levels[i]);
+  EXPECT_EQ(frame.entries.size(), 9u + 4u);  // four escapes
+  size_t index = 0;
+  for (int i = 0; i < 9; ++i) {
+    int position = -1, level = 0;
+    ASSERT_TRUE(frame.read(&index, &position, &level));
+    EXPECT_EQ(position, i * 7);
+    EXPECT_EQ(level, levels[i]);
+  }
+  int position, level;
+  EXPECT_FALSE(frame.read(&index, &position, &level));
+}
+
+TEST(CodecFrame, RejectsBadHeadersAndSizes) {
+  const ImageYCbCr420 source = synthetic_image(32, 32);
+  const std::vector<uint8_t> good = encode_intra_frame(source, {8}, nullptr);
+  ImageYCbCr420 out;
+  EXPECT_TRUE(decode_intra_frame(good, 32, 32, &out).ok());
+  auto with = [&](int index, uint8_t value) {
+    std::vector<uint8_t> bytes = good;
+    bytes[static_cast<size_t>(index)] = value;
+    return decode_intra_frame(bytes, 32, 32, &out);
+  };
+  EXPECT_EQ(with(0, 1).code(), ErrorCode::kCorruptData);  // B-frame type
+  EXPECT_EQ(with(1, 2).code(), ErrorCode::kUnsupported);  // future syntax
+  EXPECT_EQ(with(2, 0).code(), ErrorCode::kCorruptData);  // quant_scale 0
+  EXPECT_EQ(with(2, 113).code(), ErrorCode::kCorruptData);
+  EXPECT_EQ(with(3, 1).code(), ErrorCode::kCorruptData);  // reserved
+  EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(decode_intra_frame(good, 32, kMaxFrameDimension + 1, &out).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(decode_intra_frame({}, 32, 32, &out).code(), ErrorCode::kCorruptData);
+  std::vector<uint8_t> trailing = good;
+  trailing.push_back(0);
+  const Status status = decode_intra_frame(trailing, 32, 32, &out);
+  EXPECT_EQ(status.code(), ErrorCode::kCorruptData);
+  EXPECT_NE(status.message().find("trailing"), std::string::npos) << status.message();
+  // Invalid source images give an empty payload, which no decoder accepts.
+  ImageYCbCr420 broken = source;
+  broken.cb.pop_back();
+  EXPECT_TRUE(encode_intra_frame(broken, {8}, nullptr).empty());
+  EXPECT_TRUE(encode_intra_frame(ImageYCbCr420{}, {8}, nullptr).empty());
+}
+
+TEST(CodecFrame, EveryTruncationIsReportedAsCorrupt) {
+  const ImageYCbCr420 source = synthetic_image(40, 24);
+  const std::vector<uint8_t> good = encode_intra_frame(source, {6}, nullptr);
+  ImageYCbCr420 out;
+  for (size_t length = 0; length < good.size(); ++length) {
+    const std::span<const uint8_t> prefix(good.data(), length);
+    const Status status = decode_intra_frame(prefix, 40, 24, &out);
+    EXPECT_EQ(status.code(), ErrorCode::kCorruptData) << "length " << length;
+  }
+}
+
+TEST(CodecFrame, GarbageAndBitFlipsNeverCrash) {
+  std::mt19937 rng(31);
+  const ImageYCbCr420 source = synthetic_image(48, 40);
+  const std::vector<uint8_t> good = encode_intra_frame(source, {10}, nullptr);
+  int decoded_ok = 0, rejected = 0;
+  for (int trial = 0; trial < 1500; ++trial) {
+    std::vector<uint8_t> bytes;
+    if (trial % 2 == 0) {
+      bytes.resize(rng() % 600);
+      for (auto& v : bytes) v = static_cast<uint8_t>(rng());
+      if (bytes.size() >= 4) {  // mostly a valid header, to reach the entropy decoder
+        bytes[0] = 0;
+        bytes[1] = kIntraSyntaxVersion;
+        bytes[2] = static_cast<uint8_t>(1 + rng() % 112);
+        bytes[3] = 0;
+      }
+    } else {
+      bytes = good;
+      const int flips = 1 + static_cast<int>(rng() % 4);
+      for (int f = 0; f < flips; ++f) {
+        const size_t at = kFrameHeaderBytes + rng() % (bytes.size() - kFrameHeaderBytes);
+        bytes[at] ^= static_cast<uint8_t>(1u << (rng() % 8));
+      }
+    }
+    const int width = trial % 3 == 0 ? 48 : 1 + static_cast<int>(rng() % 70);
+    const int height = trial % 3 == 0 ? 40 : 1 + static_cast<int>(rng() % 70);
+    ImageYCbCr420 out;
+    const Status status = decode_intra_frame(bytes, width, height, &out);
+    if (status.ok()) {
+      ++decoded_ok;
+      ASSERT_EQ(out.y.size(), static_cast<size_t>(width * height));
+      ASSERT_EQ(out.cb.size(), static_cast<size_t>(((width + 1) / 2) * ((height + 1) / 2)));
+    } else {
+      ++rejected;
+      ASSERT_FALSE(status.message().empty());
+    }
+  }
+  EXPECT_GT(rejected, 0);
+  EXPECT_EQ(decoded_ok + rejected, 1500);
+}
+
+}  // namespace
+}  // namespace svc::codec

@@ -1,0 +1,216 @@
+// Whole-database round trips: generate a sample scene, encode, read back, damage.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+
+#include <OpenImageIO/imageio.h>
+
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "svc/encoder.h"
+#include "svc/metrics.h"
+#include "svc/reader.h"
+
+namespace svc {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One small scene shared by the tests in this file (generation costs a little).
+class RoundTrip : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir("svc-roundtrip");
+    samples::SceneOptions options;
+    options.kind = samples::SceneKind::kHall;
+    options.grid = {3, 1, 3};
+    options.face_size = 64;
+    ASSERT_TRUE(samples::generate_scene(options, db()).ok());
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path db() { return dir_->path() / "db"; }
+  static fs::path out(const std::string& name) { return dir_->path() / name; }
+
+  static ImageRGB8 source_face(const CellIndex& c, Face face) {
+    const fs::path path = db() / "cells" /
+                          (std::to_string(c.x) + "_" + std::to_string(c.y) + "_" + std::to_string(c.z)) /
+                          (std::string(face_name(face)) + ".png");
+    auto in = OIIO::ImageInput::open(path.string());
+    EXPECT_TRUE(in) << path;
+    ImageRGB8 image;
+    image.width = in->spec().width;
+    image.height = in->spec().height;
+    image.pixels.resize(static_cast<size_t>(image.width) * image.height * 3);
+    EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, image.pixels.data()));
+    return image;
+  }
+
+  static double database_psnr_y(const fs::path& svc_file) {
+    auto reader = Reader::open(svc_file);
+    EXPECT_TRUE(reader.ok()) << reader.status().to_string();
+    SquaredError total;
+    for (const CellEntry& cell : (*reader)->cells()) {
+      for (Face face : kAllFaces) {
+        auto decoded = (*reader)->decode_face(cell.index, face);
+        EXPECT_TRUE(decoded.ok()) << decoded.status().to_string();
+        total.add(*luma_squared_error(source_face(cell.index, face), *decoded));
+      }
+    }
+    return total.psnr();
+  }
+
+  static std::vector<uint8_t> file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+  }
+
+  static testing::TempDir* dir_;
+};
+testing::TempDir* RoundTrip::dir_ = nullptr;
+
+EncoderSettings intra_settings(int quality) {
+  EncoderSettings settings;
+  settings.quality = quality;
+  settings.intra_only = true;
+  return settings;
+}
+
+TEST_F(RoundTrip, EncodesVerifiesAndDecodesEveryFace) {
+  const fs::path file = out("default.svc");
+  auto summary = encode_database(db(), file, EncoderSettings{});
+  ASSERT_TRUE(summary.ok()) << summary.status().to_string();
+  EXPECT_EQ(summary->cells, 9u);
+  EXPECT_EQ(summary->faces, 54u);
+  EXPECT_EQ(summary->file_bytes, fs::file_size(file));
+  EXPECT_LT(summary->file_bytes, summary->raw_bytes / 8);
+
+  auto reader = Reader::open(file);
+  ASSERT_TRUE(reader.ok()) << reader.status().to_string();
+  EXPECT_TRUE((*reader)->verify().ok());
+  EXPECT_EQ((*reader)->info().face_width, 64);
+  EXPECT_EQ((*reader)->cells().size(), 9u);
+  EXPECT_GE(database_psnr_y(file), 38.0);
+}
+
+TEST_F(RoundTrip, PsnrRisesWithQuality) {
+  double previous = 0;
+  for (int quality : {10, 30, 50, 75, 95}) {
+    const fs::path file = out("q" + std::to_string(quality) + ".svc");
+    auto summary = encode_database(db(), file, intra_settings(quality));
+    ASSERT_TRUE(summary.ok()) << summary.status().to_string();
+    const double psnr = database_psnr_y(file);
+    EXPECT_GT(psnr, previous) << "quality " << quality;
+    previous = psnr;
+  }
+}
+
+TEST_F(RoundTrip, BytesDoNotDependOnThreadCount) {
+  EncoderSettings one = EncoderSettings{};
+  one.threads = 1;
+  EncoderSettings four = one;
+  four.threads = 4;
+  ASSERT_TRUE(encode_database(db(), out("t1.svc"), one).ok());
+  ASSERT_TRUE(encode_database(db(), out("t4.svc"), four).ok());
+  EXPECT_EQ(file_bytes(out("t1.svc")), file_bytes(out("t4.svc")));
+}
+
+TEST_F(RoundTrip, RandomAccessEqualsSequentialDecode) {
+  const fs::path file = out("access.svc");
+  ASSERT_TRUE(encode_database(db(), file, EncoderSettings{}).ok());
+  auto sequential = Reader::open(file);
+  ASSERT_TRUE(sequential.ok());
+  std::map<std::pair<int, int>, std::vector<uint8_t>> expected;
+  const auto& cells = (*sequential)->cells();
+  for (size_t c = 0; c < cells.size(); ++c) {
+    for (Face face : kAllFaces) {
+      expected[{static_cast<int>(c), static_cast<int>(face)}] = (*sequential)->decode_face(cells[c].index, face)->pixels;
+    }
+  }
+  auto random = Reader::open(file);
+  ASSERT_TRUE(random.ok());
+  for (int k = 0; k < 40; ++k) {
+    const size_t c = (k * 7919) % cells.size();
+    const Face face = static_cast<Face>((k * 31) % kFaceCount);
+    auto image = (*random)->decode_face(cells[c].index, face);
+    ASSERT_TRUE(image.ok());
+    EXPECT_EQ(image->pixels, (expected[{static_cast<int>(c), static_cast<int>(face)}]));
+  }
+}
+
+TEST_F(RoundTrip, FindsCellsByIndexAndWorldPosition) {
+  const fs::path file = out("lookup.svc");
+  ASSERT_TRUE(encode_database(db(), file, EncoderSettings{}).ok());
+  auto reader = Reader::open(file);
+  ASSERT_TRUE(reader.ok());
+  const auto& cells = (*reader)->cells();
+  for (size_t c = 0; c < cells.size(); ++c) {
+    EXPECT_EQ((*reader)->find_cell(cells[c].index), c);
+    const FileInfo& info = (*reader)->info();
+    std::array<double, 3> p;
+    const int32_t idx[3] = {cells[c].index.x, cells[c].index.y, cells[c].index.z};
+    for (int a = 0; a < 3; ++a) p[a] = info.grid_origin[a] + (idx[a] + 0.3) * info.grid_spacing[a];
+    EXPECT_EQ((*reader)->find_cell_at(p), c);
+  }
+  EXPECT_FALSE((*reader)->find_cell(CellIndex{5, 0, 0}).has_value());
+  EXPECT_FALSE((*reader)->find_cell_at({1e9, 0, 0}).has_value());
+  EXPECT_EQ((*reader)->decode_face(CellIndex{5, 0, 0}, Face::kPX).status().code(), ErrorCode::kNotFound);
+}
+
+TEST_F(RoundTrip, FlippedBytesAreReportedAndNeverCrashTheDecoder) {
+  const fs::path file = out("flip.svc");
+  ASSERT_TRUE(encode_database(db(), file, intra_settings(60)).ok());
+  const std::vector<uint8_t> original = file_bytes(file);
+  auto clean_reader = Reader::open(file);
+  ASSERT_TRUE(clean_reader.ok());
+  std::vector<std::vector<uint8_t>> clean;
+  for (const CellEntry& cell : (*clean_reader)->cells()) {
+    for (Face face : kAllFaces) clean.push_back((*clean_reader)->decode_face(cell.index, face)->pixels);
+  }
+
+  // A dense sample of offsets over the whole file: header, slots, chunks, index.
+  const fs::path damaged = out("damaged.svc");
+  for (size_t offset = 0; offset < original.size(); offset += 1 + original.size() / 400) {
+    std::vector<uint8_t> bytes = original;
+    bytes[offset] ^= 0x5a;
+    std::ofstream(damaged, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    auto reader = Reader::open(damaged);
+    if (!reader.ok()) {
+      EXPECT_EQ(reader.status().code(), ErrorCode::kCorruptData) << "offset " << offset;
+      continue;
+    }
+    EXPECT_FALSE((*reader)->verify().ok()) << "flip at offset " << offset << " not reported";
+    size_t k = 0;
+    for (const CellEntry& cell : (*reader)->cells()) {
+      for (Face face : kAllFaces) {
+        auto image = (*reader)->decode_face(cell.index, face);
+        if (image.ok()) EXPECT_EQ(image->pixels, clean[k]) << "offset " << offset;
+        ++k;
+      }
+    }
+  }
+}
+
+TEST_F(RoundTrip, FailedEncodeLeavesNothingAtTheOutputPath) {
+  const fs::path file = out("never.svc");
+  auto bad_quality = encode_database(db(), file, intra_settings(0));
+  EXPECT_EQ(bad_quality.status().code(), ErrorCode::kInvalidArgument);
+  auto missing_db = encode_database(out("no-such-db"), file, EncoderSettings{});
+  EXPECT_FALSE(missing_db.ok());
+  EXPECT_FALSE(fs::exists(file));
+
+  // A cancelled encode keeps an existing file untouched.
+  std::ofstream(file) << "previous";
+  auto cancelled = encode_database(db(), file, EncoderSettings{}, [](uint64_t done, uint64_t) { return done < 10; });
+  EXPECT_EQ(cancelled.status().code(), ErrorCode::kCancelled);
+  EXPECT_EQ(file_bytes(file), (std::vector<uint8_t>{'p', 'r', 'e', 'v', 'i', 'o', 'u', 's'}));
+  for (const auto& entry : fs::directory_iterator(dir_->path())) {
+    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+  }
+}
+
+}  // namespace
+}  // namespace svc
