@@ -16,6 +16,7 @@
 #include "rd_curve.h"
 #include "scene/scene.h"
 #include "support/scene_cache.h"
+#include "support/svc_measure.h"
 #include "svc/encoder.h"
 #include "svc/metrics.h"
 #include "svc/reader.h"
@@ -28,31 +29,6 @@ using bench::RdPoint;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-Result<RdPoint> measure_svc(const bench::SceneFaces& scene, int quant_scale) {
-  EncoderSettings settings;
-  settings.intra_only = true;
-  settings.quant_scale = quant_scale;
-  const auto out = scene.work_dir / ("intra-" + std::to_string(quant_scale) + ".svc");
-  const auto t0 = std::chrono::steady_clock::now();
-  SVC_ASSIGN_OR_RETURN(EncodeSummary summary, encode_database(scene.db_dir, out, settings));
-  RdPoint point;
-  point.seconds = seconds_since(t0);
-  point.setting = quant_scale;
-  point.bytes = static_cast<double>(summary.file_bytes);
-  SVC_ASSIGN_OR_RETURN(auto reader, Reader::open(out));
-  SquaredError error;
-  for (size_t c = 0; c < scene.cells.size(); ++c) {
-    for (Face face : kAllFaces) {
-      SVC_ASSIGN_OR_RETURN(ImageRGB8 decoded, reader->decode_face(scene.cells[c], face));
-      SVC_ASSIGN_OR_RETURN(SquaredError e, luma_squared_error(scene.face(c, face), decoded));
-      error.add(e);
-    }
-  }
-  point.psnr_y = error.psnr();
-  std::filesystem::remove(out);
-  return point;
 }
 
 Result<RdPoint> measure_mpeg2(const bench::SceneFaces& scene, int qscale) {
@@ -96,19 +72,19 @@ int run_scene(samples::SceneKind kind, const samples::SceneOptions& base, bool* 
   }
   std::printf("\n%s scene: %d x %d x %d cells, %dx%d faces, %zu faces\n", samples::scene_kind_name(kind),
               options.grid[0], options.grid[1], options.grid[2], options.face_size, options.face_size,
-              scene->cells.size() * kFaceCount);
+              (*scene)->cells.size() * kFaceCount);
 
   std::vector<RdPoint> svc_points, mpeg2_points;
-  for (int q : {2, 3, 4, 6, 8, 11, 16, 24, 32}) {
-    auto p = measure_svc(*scene, q);
-    if (!p.ok()) {
-      std::fprintf(stderr, "%s\n", p.status().to_string().c_str());
-      return 1;
-    }
-    svc_points.push_back(*p);
+  EncoderSettings intra;
+  intra.intra_only = true;
+  auto sweep = bench::sweep_svc(**scene, intra, {2, 3, 4, 6, 8, 11, 16, 24, 32});
+  if (!sweep.ok()) {
+    std::fprintf(stderr, "%s\n", sweep.status().to_string().c_str());
+    return 1;
   }
+  for (const auto& m : *sweep) svc_points.push_back(m.point);
   for (int q : {1, 2, 3, 4, 5, 6, 8, 10, 12, 16, 20, 31}) {
-    auto p = measure_mpeg2(*scene, q);
+    auto p = measure_mpeg2(**scene, q);
     if (!p.ok()) {
       std::fprintf(stderr, "%s\n", p.status().to_string().c_str());
       return 1;

@@ -287,7 +287,7 @@ TEST(SceneGenerate, SparseGridLeavesOutCellsInsideGeometry) {
   ASSERT_TRUE(cells.ok());
   int solid = 0;
   for (const auto& c : *cells) solid += c.inside_solid ? 1 : 0;
-  EXPECT_GT(solid, 0) << "columns stand on some cell centres";
+  EXPECT_GT(solid, 0) << "storage racks stand on some cell centres";
 
   testing::TempDir dir("svc-scene-sparse");
   ASSERT_TRUE(generate_scene(options, dir.path()).ok());

@@ -80,13 +80,15 @@ Material mat(Pattern pattern, Vec3 base, Vec3 second, double scale, double varia
   return m;
 }
 
-// Lattice positions origin + (phase + k * period) * spacing that fall inside (lo, hi).
-std::vector<double> lattice(double origin, double spacing, double lo, double hi) {
-  const int period = std::max(2, static_cast<int>(std::lround(2.0 / spacing)));
+// Lattice positions origin + (phase + offset + k * period) * spacing inside (lo, hi),
+// with a period of about `every` metres. An offset of 0.5 puts the lattice between
+// cell centres, where no camera stands.
+std::vector<double> lattice(double origin, double spacing, double lo, double hi, double every, double offset) {
+  const int period = std::max(2, static_cast<int>(std::lround(every / spacing)));
   const int phase = period / 2;
   std::vector<double> out;
   const double step = period * spacing;
-  const double first = origin + phase * spacing;
+  const double first = origin + (phase + offset) * spacing;
   const int k_lo = static_cast<int>(std::floor((lo - first) / step)) - 1;
   const int k_hi = static_cast<int>(std::ceil((hi - first) / step)) + 1;
   for (int k = k_lo; k <= k_hi; ++k) {
@@ -173,10 +175,10 @@ void build_hall(const SceneOptions& options, Scene* scene) {
     prims.push_back(make_box({-hx - wall, height, cursor}, {hx + wall, height + 0.3, hz + wall}, roof));
   }
 
-  // Columns on a lattice through cell centres (so a sparse grid loses those cells).
+  // Columns about 3 m apart, standing between cell centres: no camera is inside one.
   const double radius = 0.22;
-  const auto column_x = lattice(scene->origin.x, options.spacing[0], -hx + 0.6, hx - 0.6);
-  const auto column_z = lattice(scene->origin.z, options.spacing[2], -hz + 0.6, hz - 0.6);
+  const auto column_x = lattice(scene->origin.x, options.spacing[0], -hx + 0.6, hx - 0.6, 3.0, 0.5);
+  const auto column_z = lattice(scene->origin.z, options.spacing[2], -hz + 0.6, hz - 0.6, 3.0, 0.5);
   struct Disc { double x, z, r; };
   std::vector<Disc> keep_out;
   for (double x : column_x) {
@@ -185,6 +187,23 @@ void build_hall(const SceneOptions& options, Scene* scene) {
       prims.push_back(make_box({x - 0.32, 0.0, z - 0.32}, {x + 0.32, 0.28, z + 0.32}, plinth));
       prims.push_back(make_box({x - 0.3, height - 0.3, z - 0.3}, {x + 0.3, height, z + 0.3}, plinth));
       keep_out.push_back({x, z, 0.45});
+    }
+  }
+  // A sparse hall also has tall storage racks standing on some cell centres; those
+  // cells lie inside solid geometry and are left out of the grid.
+  if (options.sparse) {
+    const auto rack_x = lattice(scene->origin.x, options.spacing[0], -hx + 0.6, hx - 0.6, 2.0, 0.0);
+    const auto rack_z = lattice(scene->origin.z, options.spacing[2], -hz + 0.6, hz - 0.6, 2.0, 0.0);
+    for (double x : rack_x) {
+      for (double z : rack_z) {
+        bool clear = true;
+        for (const Disc& c : keep_out) {
+          if (std::abs(x - c.x) < 0.3 + c.r && std::abs(z - c.z) < 0.3 + c.r) clear = false;
+        }
+        if (!clear) continue;
+        prims.push_back(make_box({x - 0.3, 0.0, z - 0.3}, {x + 0.3, 2.3, z + 0.3}, crate_dark));
+        keep_out.push_back({x, z, 0.4});
+      }
     }
   }
 

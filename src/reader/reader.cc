@@ -1,6 +1,11 @@
 #include "svc/reader.h"
 
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
 #include <unordered_map>
 
 #include "codec/bframe_codec.h"
@@ -8,10 +13,17 @@
 #include "codec/frame_codec.h"
 #include "common/file_io.h"
 #include "container/container.h"
+#include "reader/prefetch_order.h"
+#include "reader/shared_cache.h"
 
 namespace svc {
 
 namespace {
+
+using reader_internal::Origin;
+using reader_internal::Outcome;
+using CoefficientPointer = std::shared_ptr<const codec::CoefficientFrame>;
+using ImagePointer = std::shared_ptr<const ImageYCbCr420>;
 
 std::string cell_face_name(const CellIndex& c, Face face) {
   return "cell (" + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) +
@@ -23,9 +35,26 @@ uint64_t cell_key(const CellIndex& c) {
          (static_cast<uint64_t>(static_cast<uint32_t>(c.z)) << 21) ^ static_cast<uint32_t>(c.x);
 }
 
+uint64_t coefficient_bytes(const codec::CoefficientFrame& frame) { return frame.memory_bytes(); }
+
+uint64_t image_bytes(const ImageYCbCr420& image) {
+  return sizeof(ImageYCbCr420) + image.y.capacity() + image.cb.capacity() + image.cr.capacity();
+}
+
+bool finite3(const std::array<double, 3>& v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+Status cancelled() { return Status(ErrorCode::kCancelled, "the reader was closed"); }
+
 }  // namespace
 
 struct Reader::Impl {
+  Impl(const ReaderSettings& s)
+      : settings(s),
+        coefficients(s.coefficient_cache_bytes, &coefficient_bytes),
+        faces(s.face_cache_bytes, &image_bytes) {}
+
   std::unique_ptr<ReadOnlyFile> file;
   ReaderSettings settings;
   ContainerIndex index;
@@ -33,46 +62,40 @@ struct Reader::Impl {
   std::vector<CellEntry> cells;
   std::unordered_map<uint64_t, size_t> cell_by_key;
   std::array<bool, 2> slot_damaged{false, false};
+  reader_internal::GridGeometry grid;
+
+  reader_internal::SharedCache<codec::CoefficientFrame> coefficients;
+  reader_internal::SharedCache<ImageYCbCr420> faces;
+
+  std::atomic<bool> closed{false};
+  std::atomic<uint64_t> bytes_read{0}, chunks_read{0}, intra_parsed{0}, predicted_decoded{0};
+  std::atomic<uint64_t> prefetch_faces{0}, prefetch_dropped{0};
+
+  // Prefetch state, guarded by prefetch_mutex.
+  std::mutex prefetch_mutex;
+  std::condition_variable work_ready;
+  std::condition_variable work_idle;
+  std::deque<uint32_t> queue;  // frames, most urgent first
+  int active = 0;              // faces being decoded by workers
+  bool stopping = false;
+  std::vector<std::thread> workers;
+  std::vector<size_t> scheduled_cells;  // the last neighbourhood queued
 
   std::string frame_name(uint32_t frame) const {
     const FrameRecord& record = index.frames[frame];
     return cell_face_name(index.cells[record.cell].index, record.face);
   }
 
-  Result<std::vector<uint8_t>> read_payload(uint32_t frame) const {
-    return read_frame_payload(*file, index.frames[frame], frame_name(frame));
+  Status frame_error(const Status& status, uint32_t frame) const {
+    return status.with_context(file->path().string() + ": " + frame_name(frame) + " (chunk at byte offset " +
+                               std::to_string(index.frames[frame].chunk_offset) + ")");
   }
 
-  Result<ImageYCbCr420> decode_frame(uint32_t frame) const {
+  Result<std::vector<uint8_t>> read_payload(uint32_t frame) {
     const FrameRecord& record = index.frames[frame];
-    SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
-    ImageYCbCr420 image;
-    if (record.kind == FrameKind::kIntra) {
-      Status status = codec::decode_intra_frame(payload, static_cast<int>(index.face_width),
-                                                static_cast<int>(index.face_height), &image);
-      if (!status.ok()) {
-        return status.with_context(file->path().string() + ": " + frame_name(frame) + " (chunk at byte offset " +
-                                   std::to_string(record.chunk_offset) + ")");
-      }
-      return image;
-    }
-    std::array<ImageYCbCr420, 2> refs;
-    for (size_t r = 0; r < record.references.size(); ++r) {
-      // References are I-faces (checked when the index was read): no recursion beyond one level.
-      auto ref = decode_frame(record.references[r]);
-      if (!ref.ok()) {
-        return ref.status().with_context(frame_name(frame) + " cannot be decoded: its reference");
-      }
-      refs[r] = std::move(ref).value();
-    }
-    Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
-                                          static_cast<int>(index.face_height), refs[0],
-                                          record.references.size() > 1 ? &refs[1] : nullptr, &image, nullptr);
-    if (!status.ok()) {
-      return status.with_context(file->path().string() + ": " + frame_name(frame) + " (chunk at byte offset " +
-                                 std::to_string(record.chunk_offset) + ")");
-    }
-    return image;
+    bytes_read.fetch_add(uint64_t{record.payload_size} + kChunkOverhead, std::memory_order_relaxed);
+    chunks_read.fetch_add(1, std::memory_order_relaxed);
+    return read_frame_payload(*file, record, frame_name(frame));
   }
 
   Result<uint32_t> frame_of(const CellIndex& cell, Face face) const {
@@ -82,21 +105,193 @@ struct Reader::Impl {
     }
     return static_cast<uint32_t>(it->second * kFaceCount + static_cast<unsigned>(face));
   }
+
+  // --- The cached path -------------------------------------------------------------
+
+  // The semi-decoded form of I-face `frame`: read and entropy-decoded once, then shared.
+  Result<CoefficientPointer> coefficients_of(uint32_t frame, Origin origin) {
+    return coefficients.get(frame, origin, [&]() -> Result<CoefficientPointer> {
+      SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
+      auto parsed = std::make_shared<codec::CoefficientFrame>();
+      Status status = codec::parse_intra_frame(payload, static_cast<int>(index.face_width),
+                                               static_cast<int>(index.face_height), parsed.get());
+      if (!status.ok()) return frame_error(status, frame);
+      // Parsing grows the vectors by doubling; the cache is charged for what is held.
+      parsed->entries.shrink_to_fit();
+      parsed->block_counts.shrink_to_fit();
+      intra_parsed.fetch_add(1, std::memory_order_relaxed);
+      return CoefficientPointer(std::move(parsed));
+    });
+  }
+
+  // Pixels of a reference I-face: the decoded-face cache when it holds them, else the
+  // inverse DCT of its (cached) coefficients.
+  Result<ImagePointer> reference_image(uint32_t frame, Origin origin) {
+    if (ImagePointer cached = faces.peek(frame)) return cached;
+    SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
+    auto image = std::make_shared<ImageYCbCr420>();
+    codec::reconstruct_intra_frame(*coefficients, image.get());
+    return ImagePointer(std::move(image));
+  }
+
+  Result<ImagePointer> decode_through_caches(uint32_t frame, Origin origin) {
+    const FrameRecord& record = index.frames[frame];
+    if (record.kind == FrameKind::kIntra) {
+      SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
+      auto image = std::make_shared<ImageYCbCr420>();
+      codec::reconstruct_intra_frame(*coefficients, image.get());
+      return ImagePointer(std::move(image));
+    }
+    SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
+    std::array<ImagePointer, 2> refs;
+    for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
+      // References are I-faces (checked when the index was read): one level at most.
+      auto ref = reference_image(record.references[r], origin);
+      if (!ref.ok()) return ref.status().with_context(frame_name(frame) + " cannot be decoded: its reference");
+      refs[r] = std::move(ref).value();
+    }
+    if (!refs[0]) return frame_error(Status(ErrorCode::kCorruptData, "B-face without references"), frame);
+    auto image = std::make_shared<ImageYCbCr420>();
+    Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
+                                          static_cast<int>(index.face_height), *refs[0], refs[1].get(),
+                                          image.get(), nullptr);
+    if (!status.ok()) return frame_error(status, frame);
+    predicted_decoded.fetch_add(1, std::memory_order_relaxed);
+    return ImagePointer(std::move(image));
+  }
+
+  Result<ImagePointer> face_of(uint32_t frame, Origin origin, Outcome* outcome = nullptr) {
+    return faces.get(frame, origin, [&] { return decode_through_caches(frame, origin); }, outcome);
+  }
+
+  // --- The uncached path (verify) ------------------------------------------------------
+
+  Result<ImageYCbCr420> decode_uncached(uint32_t frame) {
+    const FrameRecord& record = index.frames[frame];
+    SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
+    ImageYCbCr420 image;
+    if (record.kind == FrameKind::kIntra) {
+      Status status = codec::decode_intra_frame(payload, static_cast<int>(index.face_width),
+                                                static_cast<int>(index.face_height), &image);
+      if (!status.ok()) return frame_error(status, frame);
+      return image;
+    }
+    std::array<ImageYCbCr420, 2> refs;
+    for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
+      auto ref = decode_uncached(record.references[r]);
+      if (!ref.ok()) return ref.status().with_context(frame_name(frame) + " cannot be decoded: its reference");
+      refs[r] = std::move(ref).value();
+    }
+    Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
+                                          static_cast<int>(index.face_height), refs[0],
+                                          record.references.size() > 1 ? &refs[1] : nullptr, &image, nullptr);
+    if (!status.ok()) return frame_error(status, frame);
+    return image;
+  }
+
+  // --- Prefetch --------------------------------------------------------------------------
+
+  uint64_t cube_bytes() const {
+    const uint64_t w = index.face_width, h = index.face_height;
+    const uint64_t chroma = ((w + 1) / 2) * ((h + 1) / 2);
+    return kFaceCount * (w * h + 2 * chroma + sizeof(ImageYCbCr420) +
+                         reader_internal::SharedCache<ImageYCbCr420>::kEntryOverhead);
+  }
+
+  void worker_loop() {
+    std::unique_lock<std::mutex> lock(prefetch_mutex);
+    for (;;) {
+      work_ready.wait(lock, [&] { return stopping || !queue.empty(); });
+      if (stopping) return;
+      const uint32_t frame = queue.front();
+      queue.pop_front();
+      ++active;
+      lock.unlock();
+      Outcome outcome = Outcome::kHit;
+      // Errors are not cached; the caller who asks for the face gets them.
+      auto result = face_of(frame, Origin::kPrefetch, &outcome);
+      if (result.ok() && outcome == Outcome::kComputed) prefetch_faces.fetch_add(1, std::memory_order_relaxed);
+      lock.lock();
+      --active;
+      if (queue.empty() && active == 0) work_idle.notify_all();
+    }
+  }
+
+  Status schedule(const CellIndex& viewer_cell, const std::array<double, 3>& position,
+                  const std::array<double, 3>& velocity) {
+    if (closed.load()) return cancelled();
+    if (settings.prefetch_threads <= 0 || settings.face_cache_bytes == 0) return Status::Ok();
+    const uint64_t fit = settings.face_cache_bytes / 2 / std::max<uint64_t>(cube_bytes(), 1);
+    const size_t max_cells = static_cast<size_t>(std::clamp<uint64_t>(fit, 1, 1u << 20));
+    std::vector<size_t> order = reader_internal::prefetch_order(
+        grid, viewer_cell, position, velocity, settings.prefetch_radius, max_cells,
+        [&](const CellIndex& c) -> std::optional<size_t> {
+          const auto it = cell_by_key.find(cell_key(c));
+          if (it == cell_by_key.end()) return std::nullopt;
+          return it->second;
+        });
+    std::lock_guard<std::mutex> lock(prefetch_mutex);
+    if (stopping) return cancelled();
+    if (order == scheduled_cells) return Status::Ok();
+    scheduled_cells = std::move(order);
+    prefetch_dropped.fetch_add(queue.size(), std::memory_order_relaxed);
+    queue.clear();
+    for (size_t cell : scheduled_cells) {
+      for (int f = 0; f < kFaceCount; ++f) {
+        const uint32_t frame = static_cast<uint32_t>(cell * kFaceCount + f);
+        if (!faces.contains(frame)) queue.push_back(frame);
+      }
+    }
+    if (workers.empty()) {
+      for (int t = 0; t < settings.prefetch_threads; ++t) workers.emplace_back([this] { worker_loop(); });
+    }
+    work_ready.notify_all();
+    return Status::Ok();
+  }
+
+  void close() {
+    std::vector<std::thread> joining;
+    {
+      std::lock_guard<std::mutex> lock(prefetch_mutex);
+      closed.store(true);
+      stopping = true;
+      prefetch_dropped.fetch_add(queue.size(), std::memory_order_relaxed);
+      queue.clear();
+      joining.swap(workers);
+    }
+    work_ready.notify_all();
+    work_idle.notify_all();
+    for (std::thread& worker : joining) worker.join();
+    coefficients.set_budget(0);
+    faces.set_budget(0);
+  }
 };
 
 ReaderSettings default_reader_settings() { return ReaderSettings{}; }
 
 Reader::Reader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Reader::~Reader() = default;
+Reader::~Reader() {
+  if (impl_) impl_->close();
+}
 
 Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, const ReaderSettings& settings) {
-  auto impl = std::make_unique<Impl>();
-  impl->settings = settings;
+  if (settings.prefetch_threads < 0 || settings.prefetch_threads > 64) {
+    return Status(ErrorCode::kInvalidArgument, "reader settings: prefetch_threads " +
+                                                   std::to_string(settings.prefetch_threads) + " outside 0..64");
+  }
+  if (settings.prefetch_radius < 0 || settings.prefetch_radius > 8) {
+    return Status(ErrorCode::kInvalidArgument, "reader settings: prefetch_radius " +
+                                                   std::to_string(settings.prefetch_radius) + " outside 0..8");
+  }
+  auto impl = std::make_unique<Impl>(settings);
   SVC_ASSIGN_OR_RETURN(impl->file, ReadOnlyFile::open(path));
   SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*impl->file, settings.limits));
   impl->index = std::move(opened.index);
   impl->slot_damaged = opened.slot_damaged;
   const ContainerIndex& index = impl->index;
+  impl->grid.dims = index.grid.dims;
+  impl->grid.origin = index.grid.origin;
+  impl->grid.spacing = index.grid.spacing;
 
   FileInfo& info = impl->info;
   info.format_major = kFormatMajor;
@@ -157,18 +352,24 @@ std::optional<size_t> Reader::find_cell_at(const std::array<double, 3>& p) const
   return find_cell(CellIndex{idx[0], idx[1], idx[2]});
 }
 
-Result<ImageYCbCr420> Reader::decode_face_ycbcr(const CellIndex& cell, Face face) {
+Result<std::shared_ptr<const ImageYCbCr420>> Reader::acquire_face_ycbcr(const CellIndex& cell, Face face) {
+  if (impl_->closed.load()) return cancelled();
   SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->frame_of(cell, face));
-  return impl_->decode_frame(frame);
+  return impl_->face_of(frame, Origin::kCaller);
+}
+
+Result<ImageYCbCr420> Reader::decode_face_ycbcr(const CellIndex& cell, Face face) {
+  SVC_ASSIGN_OR_RETURN(ImagePointer image, acquire_face_ycbcr(cell, face));
+  return *image;
 }
 
 Result<ImageRGB8> Reader::decode_face(const CellIndex& cell, Face face) {
-  SVC_ASSIGN_OR_RETURN(ImageYCbCr420 ycc, decode_face_ycbcr(cell, face));
+  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, acquire_face_ycbcr(cell, face));
   ImageRGB8 rgb;
-  rgb.width = ycc.width;
-  rgb.height = ycc.height;
+  rgb.width = ycc->width;
+  rgb.height = ycc->height;
   rgb.pixels.resize(static_cast<size_t>(rgb.width) * rgb.height * 3);
-  codec::ycbcr420_to_rgb(ycc, rgb.pixels.data());
+  codec::ycbcr420_to_rgb(*ycc, rgb.pixels.data());
   return rgb;
 }
 
@@ -179,6 +380,45 @@ Result<std::array<ImageRGB8, kFaceCount>> Reader::decode_cube(const CellIndex& c
   }
   return cube;
 }
+
+Status Reader::set_viewer(const CellIndex& cell, const std::array<double, 3>& velocity) {
+  if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
+  const auto& dims = impl_->grid.dims;
+  if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= dims[0] || cell.y >= dims[1] || cell.z >= dims[2]) {
+    return Status(ErrorCode::kInvalidArgument, "set_viewer: cell (" + std::to_string(cell.x) + "," +
+                                                   std::to_string(cell.y) + "," + std::to_string(cell.z) +
+                                                   ") lies outside the grid");
+  }
+  return impl_->schedule(cell, impl_->grid.centre(cell), velocity);
+}
+
+Status Reader::set_viewer(const std::array<double, 3>& position, const std::array<double, 3>& velocity) {
+  if (!finite3(position)) return Status(ErrorCode::kInvalidArgument, "set_viewer: position is not finite");
+  if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
+  return impl_->schedule(impl_->grid.cell_at(position), position, velocity);
+}
+
+bool Reader::wait_for_prefetch(std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(impl_->prefetch_mutex);
+  return impl_->work_idle.wait_for(lock, timeout, [&] {
+    return impl_->stopping || (impl_->queue.empty() && impl_->active == 0);
+  });
+}
+
+ReaderStats Reader::stats() const {
+  ReaderStats s;
+  s.coefficient_cache = impl_->coefficients.counters();
+  s.face_cache = impl_->faces.counters();
+  s.bytes_read = impl_->bytes_read.load(std::memory_order_relaxed);
+  s.chunks_read = impl_->chunks_read.load(std::memory_order_relaxed);
+  s.intra_faces_parsed = impl_->intra_parsed.load(std::memory_order_relaxed);
+  s.predicted_faces_decoded = impl_->predicted_decoded.load(std::memory_order_relaxed);
+  s.prefetch_faces = impl_->prefetch_faces.load(std::memory_order_relaxed);
+  s.prefetch_dropped = impl_->prefetch_dropped.load(std::memory_order_relaxed);
+  return s;
+}
+
+void Reader::close() { impl_->close(); }
 
 Status Reader::verify() {
   std::string problems;
@@ -196,7 +436,7 @@ Status Reader::verify() {
     auto payload = impl_->read_payload(frame);
     Status status = payload.status();
     if (status.ok()) {
-      auto image = impl_->decode_frame(frame);
+      auto image = impl_->decode_uncached(frame);
       status = image.status();
     }
     if (!status.ok()) {

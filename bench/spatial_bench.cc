@@ -1,0 +1,166 @@
+// Spatial prediction against intra-only coding, and depth-derived motion against
+// logarithmic search, on the sample scenes, side by side in one run:
+//
+//   build/bin/svc-bench-spatial [--kind hall|house|both] [--grid 9,1,9] [--face-size 256]
+//                               [--target 38] [--threads N]
+//
+// For each scene it sweeps the quantiser scale for three encoder configurations
+// (intra-only; default I/B layout with motion from depth; the same layout with
+// logarithmic search) and prints: bytes at equal PSNR-Y (interpolated on log bytes),
+// the encode-time ratio of depth over log search at the scale nearest the target, and
+// the mean number of unique candidate vectors per macroblock.
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "baseline/baseline.h"
+#include "rd_curve.h"
+#include "support/scene_cache.h"
+#include "support/svc_measure.h"
+
+namespace {
+
+using namespace svc;
+using bench::RdCurve;
+using bench::SvcMeasurement;
+
+std::vector<int> kScales = {3, 4, 6, 8, 11, 16, 22, 32};
+
+struct Config {
+  const char* name;
+  EncoderSettings settings;
+};
+
+RdCurve curve_of(const std::vector<SvcMeasurement>& ms) {
+  std::vector<bench::RdPoint> points;
+  for (const auto& m : ms) points.push_back(m.point);
+  return RdCurve(points);
+}
+
+// The measurement whose PSNR-Y lies closest to the target.
+const SvcMeasurement& nearest(const std::vector<SvcMeasurement>& ms, double target) {
+  const SvcMeasurement* best = &ms.front();
+  for (const auto& m : ms) {
+    if (std::abs(m.point.psnr_y - target) < std::abs(best->point.psnr_y - target)) best = &m;
+  }
+  return *best;
+}
+
+bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double target, int threads) {
+  options.kind = kind;
+  auto scene = bench::SceneFaces::generate(options);
+  if (!scene.ok()) {
+    std::fprintf(stderr, "%s\n", scene.status().to_string().c_str());
+    return false;
+  }
+  std::printf("\n%s scene: %d x %d x %d cells of %d px faces (%zu faces)\n", samples::scene_kind_name(kind),
+              options.grid[0], options.grid[1], options.grid[2], options.face_size,
+              (*scene)->cells.size() * kFaceCount);
+
+  Config configs[3] = {{"intra-only", {}}, {"spatial+depth", {}}, {"spatial+log", {}}};
+  configs[0].settings.intra_only = true;
+  configs[2].settings.motion = MotionSearch::kLogarithmic;
+  std::vector<SvcMeasurement> results[3];
+  for (int k = 0; k < 3; ++k) {
+    configs[k].settings.threads = threads;
+    auto sweep = bench::sweep_svc(**scene, configs[k].settings, kScales);
+    if (!sweep.ok()) {
+      std::fprintf(stderr, "%s\n", sweep.status().to_string().c_str());
+      return false;
+    }
+    results[k] = std::move(sweep).value();
+  }
+
+  std::printf("  %-14s %6s %11s %8s %9s %7s %7s %7s %7s %7s %6s\n", "config", "qscale", "bytes", "PSNR-Y",
+              "encode s", "B intra", "fwd", "bwd", "bi", "skip", "cand");
+  for (int k = 0; k < 3; ++k) {
+    for (const auto& m : results[k]) {
+      const FrameTypeStats& b = m.summary.predicted;
+      const double mbs = static_cast<double>(b.mb_intra + b.mb_forward + b.mb_backward + b.mb_bidirectional +
+                                             b.mb_skipped);
+      auto pct = [&](uint64_t v) { return mbs > 0 ? 100.0 * v / mbs : 0.0; };
+      std::printf("  %-14s %6d %11.0f %8.2f %9.2f %6.1f%% %6.1f%% %6.1f%% %6.1f%% %6.1f%% %6.2f\n", configs[k].name,
+                  m.point.setting, m.point.bytes, m.point.psnr_y, m.point.seconds, pct(b.mb_intra),
+                  pct(b.mb_forward), pct(b.mb_backward), pct(b.mb_bidirectional), pct(b.mb_skipped),
+                  b.candidate_macroblocks ? static_cast<double>(b.candidate_vectors) / b.candidate_macroblocks : 0.0);
+    }
+  }
+
+  const RdCurve intra = curve_of(results[0]), depth = curve_of(results[1]), log = curve_of(results[2]);
+  bool ok = true;
+  const auto b_intra = intra.bytes_at(target), b_depth = depth.bytes_at(target), b_log = log.bytes_at(target);
+  std::printf("  at PSNR-Y %.1f dB:\n", target);
+  if (b_intra && b_depth && b_log) {
+    const double spatial_gain = *b_intra / *b_depth;
+    const double log_ratio = *b_depth / *b_log;
+    std::printf("    bytes: intra-only %.0f, spatial+depth %.0f, spatial+log %.0f\n", *b_intra, *b_depth, *b_log);
+    std::printf("    intra-only / spatial+depth = %.2fx (goal: at least 2x)%s\n", spatial_gain,
+                spatial_gain >= 2.0 ? "" : "  BELOW GOAL");
+    std::printf("    spatial+depth / spatial+log = %.3f (goal: below 1)%s\n", log_ratio,
+                log_ratio < 1.0 ? "" : "  ABOVE GOAL");
+    ok = ok && spatial_gain >= 2.0 && log_ratio < 1.0;
+  } else {
+    std::printf("    target outside the measured range (intra %.1f-%.1f, depth %.1f-%.1f, log %.1f-%.1f dB)\n",
+                intra.min_psnr(), intra.max_psnr(), depth.min_psnr(), depth.max_psnr(), log.min_psnr(),
+                log.max_psnr());
+    ok = false;
+  }
+  if (auto bd = bench::bd_rate_ratio(intra, depth)) {
+    std::printf("    BD-rate spatial+depth vs intra-only: %+.1f%%\n", (*bd - 1) * 100);
+  }
+  if (auto bd = bench::bd_rate_ratio(log, depth)) {
+    std::printf("    BD-rate spatial+depth vs spatial+log: %+.1f%%\n", (*bd - 1) * 100);
+  }
+  const SvcMeasurement& d = nearest(results[1], target);
+  const SvcMeasurement& l = nearest(results[2], target);
+  double depth_seconds = 0, log_seconds = 0;
+  for (const auto& m : results[1]) depth_seconds += m.point.seconds;
+  for (const auto& m : results[2]) log_seconds += m.point.seconds;
+  const double time_ratio = depth_seconds / log_seconds;
+  std::printf("    encode time depth / log search over the sweep = %.3f (goal: below 1)%s\n", time_ratio,
+              time_ratio < 1.0 ? "" : "  ABOVE GOAL");
+  std::printf("    at qscale %d: depth %.2f s, log search %.2f s\n", d.point.setting, d.point.seconds,
+              l.point.seconds);
+  const FrameTypeStats& b = d.summary.predicted;
+  std::printf("    unique candidate vectors per macroblock and reference (depth): %.2f\n",
+              b.candidate_macroblocks ? static_cast<double>(b.candidate_vectors) / b.candidate_macroblocks : 0.0);
+  return ok && time_ratio < 1.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"svc spatial prediction against intra-only and against logarithmic search"};
+  std::string kind = "both", grid = "9,1,9";
+  samples::SceneOptions options;
+  double target = 38.0;
+  int threads = 0;
+  app.add_option("--kind", kind, "hall, house or both")->capture_default_str();
+  app.add_option("--grid", grid, "Cells X,Y,Z")->capture_default_str();
+  app.add_option("--face-size", options.face_size, "Face size in pixels")->capture_default_str();
+  app.add_option("--target", target, "PSNR-Y at which sizes are compared, dB")->capture_default_str();
+  app.add_option("--threads", threads, "Encoder threads (0: all cores)")->capture_default_str();
+  double spacing = options.spacing[0];
+  app.add_option("--spacing", spacing, "Cell spacing along x and z, metres")->capture_default_str();
+  std::string scales_text;
+  app.add_option("--scales", scales_text, "Quantiser scales to sweep, comma-separated");
+  CLI11_PARSE(app, argc, argv);
+  if (std::sscanf(grid.c_str(), "%d,%d,%d", &options.grid[0], &options.grid[1], &options.grid[2]) != 3) {
+    std::fprintf(stderr, "--grid takes X,Y,Z\n");
+    return 2;
+  }
+  options.spacing[0] = options.spacing[2] = spacing;
+  if (!scales_text.empty()) {
+    kScales.clear();
+    std::stringstream in(scales_text);
+    for (std::string item; std::getline(in, item, ',');) kScales.push_back(std::stoi(item));
+  }
+  options.threads = 2;
+  bool ok = true;
+  if (kind == "hall" || kind == "both") ok = run_scene(samples::SceneKind::kHall, options, target, threads) && ok;
+  if (kind == "house" || kind == "both") ok = run_scene(samples::SceneKind::kHouse, options, target, threads) && ok;
+  std::printf("\n%s\n", ok ? "all goals met" : "some goals NOT met");
+  return 0;
+}

@@ -1,0 +1,189 @@
+// `svc bench`: svc against the MPEG-2 row-major baseline and the codecs users would
+// otherwise pick, measured the same way on one svc-input database.
+//
+// For every codec: a quality sweep (bytes, compression ratio, bits per pixel, PSNR in RGB
+// and Y, SSIM), speed (encode and sequential decode faces/s) and random-access cost (time
+// and frames decoded to obtain one random face, cold and warm); BD-rate of svc against
+// each. Then the dissertation's experiments on the database at hand: Table 7.5 (sizes),
+// Figure 7.16 (compression against B:I ratio and sample spacing) and Table 7.4 (depth
+// motion against logarithmic search).
+//
+// Measurement: every codec is scored on the decoded 8-bit RGB faces against the source
+// faces with svc::rgb_squared_error, svc::luma_squared_error and svc::luma_ssim, so the
+// numbers are comparable whatever colour conversion a codec uses internally. PSNR is
+// taken over the summed squared error of all faces; SSIM is the mean over faces.
+//
+// Cold and warm random access:
+//   svc      cold: Reader::open on the file, then decode_face (nothing cached);
+//            warm: one Reader kept open for all accesses, after a full sequential pass.
+//   others   cold: the face's stored sequence read from disk (index and stream), then
+//            baseline::decode_frame; warm: the sequence already in memory. libavcodec
+//            keeps no cache: each access decodes from the GOP's I-frame with a fresh
+//            decoder, as the dissertation's MPL library did.
+// Frames decoded: svc 1 + the face's references (an upper bound when warm: the reader
+// may serve references from its caches); others as baseline::decode_frame counts.
+//
+// Error behaviour: no exceptions. A codec missing from this build of libavcodec is
+// recorded as skipped with the reason; any other failure stops the run with a Status
+// naming the codec and setting. Threading: run_bench uses `threads` worker threads
+// internally; call it from one thread.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "svc/status.h"
+
+namespace svc::bench {
+
+// Every codec name `svc bench` knows, in report order.
+const std::vector<std::string>& all_codec_names();
+
+struct BenchOptions {
+  std::filesystem::path db_dir;       // the svc-input database
+  std::filesystem::path out_dir;      // results.json, results.csv, report.md, *.png
+  std::vector<std::string> codecs;    // subset of all_codec_names(); empty: all
+  // Worker threads for encoding (svc's encoder, the six baseline face sequences at once)
+  // and quality measurement; 0: the machine's hardware concurrency.
+  int threads = 0;
+  int random_accesses = 120;           // random (cell, face) picks per codec and mode
+  uint32_t seed = 1;                   // for the random picks
+  bool experiments = true;             // Table 7.5, Figure 7.16, Table 7.4 (need svc)
+  // Fewer quality points per codec (two; svc three): for tests and quick looks.
+  bool quick = false;
+  // Progress lines ("[  12.3 s] x264 crf 23: ..."). Unset: nothing is printed.
+  std::function<void(const std::string&)> progress;
+};
+
+// One encode of the whole database at one setting.
+struct QualityPoint {
+  std::string setting_name;   // "quality", "qscale", "crf", "lossless"
+  int setting = 0;
+  uint64_t bytes = 0;         // everything needed to decode (streams; svc: the .svc file)
+  double compression_ratio = 0;  // raw RGB bytes / bytes
+  double bits_per_pixel = 0;     // 8 * bytes / pixels over all faces
+  double psnr_rgb = 0;           // dB, 99 when lossless
+  double psnr_y = 0;
+  double ssim = 0;               // mean luma SSIM over faces
+  double encode_seconds = 0;
+  double decode_seconds = 0;     // sequential decode of every face
+};
+
+struct AccessStats {
+  int samples = 0;
+  double mean_ms = 0;
+  double p99_ms = 0;
+  double mean_frames = 0;   // frames decoded per random face
+  int max_frames = 0;
+};
+
+struct CodecResult {
+  std::string name;          // as in all_codec_names(): "svc", "mpeg2", "x264", ...
+  std::string encoder;       // "svc", "mpeg2video", "libx264", "libaom-av1", "mjpeg", ...
+  std::string description;   // GOP, order and preset in words
+  bool skipped = false;
+  std::string skip_reason;
+  std::vector<QualityPoint> points;  // ascending setting order as run
+  int reference_point = -1;          // index in points where speed and access were measured
+  int threads = 1;
+  double encode_faces_per_second = 0;
+  double decode_faces_per_second = 0;
+  AccessStats access_cold;
+  AccessStats access_warm;
+  // Bjontegaard rate of svc against this codec on PSNR-Y: svc bytes / these bytes - 1 at
+  // equal quality, averaged over the overlapping PSNR range (negative: svc smaller).
+  std::optional<double> bd_rate_svc;
+};
+
+// Table 7.5: database sizes.
+struct SizeRow {
+  std::string name;      // "raw", "PNG", "JPEG", "MPEG-2 row-major", "spatial (svc)"
+  uint64_t bytes = 0;
+  double psnr_y = 0;     // of the point used; 99 for raw and PNG
+  std::string note;
+};
+
+// Figure 7.16: one encode of the spatial codec.
+struct SweepPoint {
+  std::string label;                  // "B:I 8:1", "spacing 2"
+  std::array<int32_t, 3> i_spacing{3, 1, 3};
+  int sample_spacing = 1;             // every n-th cell along x and z
+  uint64_t cells = 0;
+  uint64_t i_faces = 0;
+  uint64_t b_faces = 0;
+  double b_to_i = 0;                  // b_faces / i_faces
+  uint64_t bytes = 0;
+  double compression_ratio = 0;
+  double psnr_y = 0;
+};
+
+// Table 7.4: one motion source.
+struct MotionRow {
+  std::string motion;                 // "depth", "logarithmic"
+  std::vector<QualityPoint> points;
+  double bytes_at_equal_psnr = 0;     // at `equal_psnr_y` on this motion's RD curve
+  double encode_seconds = 0;          // at the default quality
+  double candidates_per_macroblock = 0;
+};
+
+struct Experiments {
+  int quality = 75;                   // svc quality used for the sweeps and Table 7.5
+  std::vector<SizeRow> table_7_5;
+  std::vector<SweepPoint> b_to_i_sweep;
+  std::vector<SweepPoint> spacing_sweep;
+  std::vector<MotionRow> table_7_4;
+  double equal_psnr_y = 0;            // Table 7.4 comparison point
+};
+
+struct PartTiming {
+  std::string part;
+  double seconds = 0;
+};
+
+struct BenchResults {
+  std::string database;          // db_dir as given
+  std::array<int, 3> grid{1, 1, 1};
+  uint64_t cells = 0;
+  uint64_t faces = 0;
+  int face_width = 0;
+  int face_height = 0;
+  uint64_t raw_bytes = 0;        // 3 bytes per pixel over all faces
+  int threads = 1;
+  std::vector<CodecResult> codecs;
+  std::optional<Experiments> experiments;
+  std::vector<PartTiming> timings;
+  double total_seconds = 0;
+};
+
+// Runs everything `options` asks for. Scratch files go to out_dir/work and are removed.
+Result<BenchResults> run_bench(const BenchOptions& options);
+
+// Writers (each creates or replaces one file; kIoError naming the path on failure).
+Status write_results_json(const BenchResults& results, const std::filesystem::path& path);
+// One row per codec quality point:
+// codec,encoder,setting_name,setting,bytes,compression_ratio,bits_per_pixel,psnr_rgb,
+// psnr_y,ssim,encode_seconds,decode_seconds
+Status write_results_csv(const BenchResults& results, const std::filesystem::path& path);
+// rd_curves.png, access_cost.png, fig7_16.png (when experiments ran) in `directory`.
+Status write_plots(const BenchResults& results, const std::filesystem::path& directory);
+// report.md embedding the plots written by write_plots.
+Status write_report(const BenchResults& results, const std::filesystem::path& path);
+// The main table of report.md (Markdown): one row per codec at its reference point.
+std::string summary_table_markdown(const BenchResults& results);
+
+// Writes all of the above into options.out_dir.
+Status write_all(const BenchResults& results, const std::filesystem::path& out_dir);
+
+// Writes an svc-input manifest in `out_dir` over every `step`-th cell along x and z of
+// the database in `db_dir` (cells whose x and z indices are multiples of `step`), with
+// the grid dims and spacing scaled accordingly. Face files are referenced by absolute
+// path, not copied. kInvalidArgument when step < 1 or no cell remains.
+Status write_subsampled_manifest(const std::filesystem::path& db_dir, int step,
+                                 const std::filesystem::path& out_dir);
+
+}  // namespace svc::bench
