@@ -218,10 +218,17 @@ std::vector<double> linear_ticks(double lo, double hi, int target) {
   if (!(hi > lo) || target < 1) return ticks;
   const double raw = (hi - lo) / target;
   const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
+  // The 1/2/5 step whose tick count comes nearest the target (ties: fewer ticks).
   double step = magnitude;
+  double best_miss = std::numeric_limits<double>::infinity();
   for (double m : {1.0, 2.0, 5.0, 10.0}) {
-    step = m * magnitude;
-    if (step >= raw) break;
+    const double candidate = m * magnitude;
+    const double count = std::floor(hi / candidate + 1e-9) - std::ceil(lo / candidate - 1e-9) + 1;
+    const double miss = std::abs(count - target);
+    if (miss <= best_miss) {
+      best_miss = miss;
+      step = candidate;
+    }
   }
   for (double v = std::ceil(lo / step) * step; v <= hi + step * 1e-9; v += step) {
     ticks.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
@@ -278,12 +285,16 @@ void draw_line_chart(Canvas& canvas, Rect area, const LineChart& chart) {
     y_lo = chart.y.log ? 1 : 0;
     y_hi = chart.y.log ? 10 : 1;
   }
-  auto [xr0, xr1] = padded_range(x_lo, x_hi, chart.x.log);
-  auto [yr0, yr1] = padded_range(y_lo, y_hi, chart.y.log);
-  if (chart.x.min) xr0 = *chart.x.min;
-  if (chart.x.max) xr1 = *chart.x.max;
-  if (chart.y.min) yr0 = *chart.y.min;
-  if (chart.y.max) yr1 = *chart.y.max;
+  // Explicit bounds join the data range before padding, so the data never touches a
+  // padded edge; then they are applied exactly.
+  auto range = [](const Axis& axis, double lo, double hi) {
+    if (axis.min) lo = std::min(lo, *axis.min);
+    if (axis.max) hi = std::max(hi, *axis.max);
+    auto [a, b] = padded_range(lo, hi, axis.log);
+    return std::pair<double, double>{axis.min.value_or(a), axis.max.value_or(b)};
+  };
+  auto [xr0, xr1] = range(chart.x, x_lo, x_hi);
+  auto [yr0, yr1] = range(chart.y, y_lo, y_hi);
 
   // Legend width from the longest label.
   int legend_w = 0;
@@ -397,7 +408,7 @@ void draw_bar_chart(Canvas& canvas, Rect area, const BarChart& chart) {
 
   int legend_w = 0;
   for (const auto& label : chart.series_labels) legend_w = std::max(legend_w, text_width(label, scale));
-  if (legend_w > 0) legend_w += 40;
+  if (legend_w > 0) legend_w += 56;
   const int left = area.x + 24 + char_h + 6 * scale * 6;
   const int right = area.x + area.width - 16 - legend_w;
   const int top = area.y + (chart.title.empty() ? 12 : 24 + char_h);

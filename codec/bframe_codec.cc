@@ -10,19 +10,21 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <cstdlib>
 #include <string>
 
 #include "codec/block_coder.h"
 #include "codec/motion_compensation.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
+#include "codec/warp_prediction.h"
 
 namespace svc::codec {
 namespace {
 
 constexpr int kMvdPrefixBins = 8;   // unary bins of |mvd| before the Exp-Golomb escape
 constexpr int kNeighbourContexts = 3;
+constexpr int kNodePrefixBins = 8;  // unary bins of |node difference| before the escape
+constexpr int kNodeMagnitudeContexts = 6;
 
 struct SyntaxContexts {
   std::array<AdaptiveBit, kNeighbourContexts> skip{};
@@ -31,6 +33,10 @@ struct SyntaxContexts {
   std::array<AdaptiveBit, kNeighbourContexts> backward{};
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> mvd_zero{};  // [component][ctx]
   std::array<std::array<AdaptiveBit, 4>, 2> mvd_magnitude{};              // [component][bin]
+  std::array<AdaptiveBit, kNeighbourContexts> warp{};
+  // Node differences: [component][predictor kind: 0 planar, 1 other].
+  std::array<std::array<AdaptiveBit, 2>, 2> node_zero{};
+  std::array<std::array<std::array<AdaptiveBit, kNodeMagnitudeContexts>, 2>, 2> node_magnitude{};
   std::array<AdaptiveBit, kNeighbourContexts> cbp_luma{};
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> cbp_chroma{};  // [Cb/Cr][ctx]
   BlockContextSet intra_luma, intra_chroma, inter_luma, inter_chroma;
@@ -41,6 +47,8 @@ struct MacroblockInfo {
   // The prediction mode of an inter or skipped macroblock; for an intra one, the mode a
   // skip would have inherited there. Skips inherit it from the left (else top) neighbour.
   MacroblockMode inter_mode = MacroblockMode::kForward;
+  // Whether that prediction is warped (inherited along with inter_mode).
+  bool inter_warp = false;
   // Per reference: the vector used, or the predictor where the reference is unused, so
   // predictors propagate through intra and single-reference macroblocks.
   std::array<MotionVector, 2> vectors{};
@@ -57,6 +65,15 @@ struct FrameState {
   Quantizer intra_quantizer, inter_quantizer;
   int dc_step = 8;
   int vector_limit = 0;
+  int node_limit = 0;
+  // References with a warp node field (bit r for reference r).
+  int warp_mask = 0;
+  // Node grids (mbs_x + 1) x (mbs_y + 1) per reference: values and whether the decoder
+  // knows them yet. The encoder stores its whole field up front and marks nodes known as
+  // it codes them; the decoder fills values as it decodes them.
+  int nodes_x = 0, nodes_y = 0;
+  std::array<std::vector<WarpNode>, 2> nodes;
+  std::array<std::vector<uint8_t>, 2> node_known;
   // Reconstructed planes padded to whole macroblocks; strides 16 mbs_x and 8 mbs_x.
   std::array<std::vector<uint8_t>, 3> planes;
   std::array<int, 3> strides{};
@@ -69,6 +86,10 @@ struct FrameState {
 
   int grid_width(int plane) const { return plane == 0 ? 2 * mbs_x : mbs_x; }
   const MacroblockInfo& mb(int x, int y) const { return macroblocks[static_cast<size_t>(y) * mbs_x + x]; }
+  size_t node_index(int i, int j) const { return static_cast<size_t>(j) * nodes_x + i; }
+  bool known(int r, int i, int j) const {
+    return i >= 0 && j >= 0 && i < nodes_x && j < nodes_y && node_known[r][node_index(i, j)] != 0;
+  }
 };
 
 void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
@@ -85,6 +106,13 @@ void init_state(FrameState& s, int width, int height, int quant_scale, const Ima
   s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, quant_scale);
   s.dc_step = intra_dc_step(quant_scale);
   s.vector_limit = max_vector_component(width, height);
+  s.node_limit = max_warp_node_component(width, height);
+  s.nodes_x = s.mbs_x + 1;
+  s.nodes_y = s.mbs_y + 1;
+  for (int r = 0; r < 2; ++r) {
+    s.nodes[r].assign(static_cast<size_t>(s.nodes_x) * s.nodes_y, WarpNode{});
+    s.node_known[r].assign(s.nodes[r].size(), 0);
+  }
   s.strides = {16 * s.mbs_x, 8 * s.mbs_x, 8 * s.mbs_x};
   const size_t luma_size = static_cast<size_t>(16 * s.mbs_x) * (16 * s.mbs_y);
   s.planes[0].assign(luma_size, 0);
@@ -177,6 +205,13 @@ MacroblockMode predicted_mode(const FrameState& s, int mx, int my) {
   return s.reference_count == 2 ? MacroblockMode::kBidirectional : MacroblockMode::kForward;
 }
 
+// The warp flag a skip inherits, from the same neighbour as predicted_mode.
+bool predicted_warp(const FrameState& s, int mx, int my) {
+  if (mx > 0) return s.mb(mx - 1, my).inter_warp;
+  if (my > 0) return s.mb(mx, my - 1).inter_warp;
+  return false;
+}
+
 inline bool uses_reference(MacroblockMode mode, int reference) {
   if (mode == MacroblockMode::kBidirectional) return true;
   return reference == 0 ? mode == MacroblockMode::kForward : mode == MacroblockMode::kBackward;
@@ -200,6 +235,58 @@ int bidirectional_context(const FrameState& s, int mx, int my) {
 int backward_context(const FrameState& s, int mx, int my) {
   return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.inter_mode == MacroblockMode::kBackward; });
 }
+int warp_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) {
+    return m.mode != MacroblockMode::kIntra && m.inter_warp;
+  });
+}
+// Bit mask of the references a prediction mode reads.
+inline int reference_mask(MacroblockMode mode) {
+  return mode == MacroblockMode::kBidirectional ? 3 : (mode == MacroblockMode::kBackward ? 2 : 1);
+}
+inline bool warp_allowed(const FrameState& s, MacroblockMode mode) {
+  return s.warp_mask != 0 && (reference_mask(mode) & ~s.warp_mask) == 0;
+}
+
+// Node (i, j) of macroblock corner k (0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right).
+inline int corner_i(int mx, int k) { return mx + (k & 1); }
+inline int corner_j(int my, int k) { return my + (k >> 1); }
+
+WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int my) {
+  WarpCorners corners;
+  for (int k = 0; k < 4; ++k) corners[k] = s.nodes[reference][s.node_index(corner_i(mx, k), corner_j(my, k))];
+  return corners;
+}
+
+// The prediction of a not yet known node from known ones (docs/codec.md, section 10.3):
+// planar from the left (or right) and top neighbours, else one neighbour, else the
+// macroblock's vector predictor. `kind` receives 0 for planar, 1 otherwise.
+WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vector_predictor, int* kind) {
+  auto node = [&](int x, int y) { return s.nodes[r][s.node_index(x, y)]; };
+  auto planar = [](WarpNode a, WarpNode b, WarpNode c) { return WarpNode{a.x + b.x - c.x, a.y + b.y - c.y}; };
+  *kind = 0;
+  if (s.known(r, i - 1, j) && s.known(r, i, j - 1) && s.known(r, i - 1, j - 1)) {
+    return planar(node(i - 1, j), node(i, j - 1), node(i - 1, j - 1));
+  }
+  if (s.known(r, i + 1, j) && s.known(r, i, j - 1) && s.known(r, i + 1, j - 1)) {
+    return planar(node(i + 1, j), node(i, j - 1), node(i + 1, j - 1));
+  }
+  *kind = 1;
+  if (s.known(r, i - 1, j)) return node(i - 1, j);
+  if (s.known(r, i, j - 1)) return node(i, j - 1);
+  if (s.known(r, i + 1, j)) return node(i + 1, j);
+  return WarpNode{4 * vector_predictor.x, 4 * vector_predictor.y};
+}
+
+// The vector a warped macroblock leaves for its neighbours' predictors: the mean of its
+// corner nodes in half-pels, (sum + 8) >> 4, clamped to the vector range.
+MotionVector warp_centre_vector(const FrameState& s, const WarpCorners& c) {
+  auto component = [&](int sum) {
+    return static_cast<int16_t>(std::clamp((sum + 8) >> 4, -s.vector_limit, s.vector_limit));
+  };
+  return MotionVector{component(c[0].x + c[1].x + c[2].x + c[3].x), component(c[0].y + c[1].y + c[2].y + c[3].y)};
+}
+
 int mvd_context(const FrameState& s, int mx, int my, int component) {
   const int sum = (mx > 0 ? s.mb(mx - 1, my).mvd_magnitude[component] : 0) +
                   (my > 0 ? s.mb(mx, my - 1).mvd_magnitude[component] : 0);
@@ -217,6 +304,16 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
       predict_macroblock(*s.references[1], mx, my, vectors[1], &second);
       average_predictions(*out, second, out);
     }
+  }
+}
+
+void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out) {
+  const int first = mode == MacroblockMode::kBackward ? 1 : 0;
+  predict_warp_macroblock(*s.references[first], mx, my, macroblock_corners(s, first, mx, my), out);
+  if (mode == MacroblockMode::kBidirectional) {
+    MacroblockPrediction second;
+    predict_warp_macroblock(*s.references[1], mx, my, macroblock_corners(s, 1, mx, my), &second);
+    average_predictions(*out, second, out);
   }
 }
 
@@ -400,12 +497,121 @@ bool decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int componen
   return true;
 }
 
+// A node difference component: zero flag, sign, then |d| - 1 as a unary prefix of
+// kNodePrefixBins adaptive bins with an Exp-Golomb escape.
+float node_component_bits(const SyntaxContexts& c, int component, int kind, int value) {
+  float bits = bit_cost(c.node_zero[component][kind], value != 0);
+  if (value == 0) return bits;
+  const int magnitude = std::abs(value);
+  const auto& bins = c.node_magnitude[component][kind];
+  int k = 1;
+  for (; k <= kNodePrefixBins; ++k) {
+    bits += bit_cost(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)], magnitude > k);
+    if (magnitude <= k) break;
+  }
+  if (magnitude > kNodePrefixBins) bits += exp_golomb_bits(static_cast<uint32_t>(magnitude - kNodePrefixBins - 1));
+  return bits + 1;
+}
+
+void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int kind, int value) {
+  encoder.encode(c.node_zero[component][kind], value != 0);
+  if (value == 0) return;
+  encoder.encode_bypass(value < 0);
+  const int magnitude = std::abs(value);
+  auto& bins = c.node_magnitude[component][kind];
+  for (int k = 1; k <= kNodePrefixBins; ++k) {
+    encoder.encode(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)], magnitude > k);
+    if (magnitude <= k) break;
+  }
+  if (magnitude > kNodePrefixBins) {
+    encode_exp_golomb_bypass(encoder, static_cast<uint32_t>(magnitude - kNodePrefixBins - 1));
+  }
+}
+
+bool decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind, int* value) {
+  *value = 0;
+  if (!decoder.decode(c.node_zero[component][kind])) return true;
+  const bool negative = decoder.decode_bypass() != 0;
+  auto& bins = c.node_magnitude[component][kind];
+  int magnitude = 1;
+  for (int k = 1; k <= kNodePrefixBins; ++k) {
+    if (!decoder.decode(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)])) break;
+    magnitude = k + 1;
+  }
+  if (magnitude > kNodePrefixBins) {
+    uint32_t escape = 0;
+    if (!decode_exp_golomb_bypass(decoder, &escape)) return false;
+    magnitude = kNodePrefixBins + 1 + static_cast<int>(escape);
+  }
+  *value = negative ? -magnitude : magnitude;
+  return true;
+}
+
+// Codes (encoder) the corner nodes of macroblock (mx, my) towards `reference` that the
+// decoder does not know yet, in corner order, and marks them known.
+void encode_missing_nodes(RangeEncoder& encoder, FrameState& s, int reference, int mx, int my,
+                          MotionVector vector_predictor) {
+  for (int k = 0; k < 4; ++k) {
+    const int i = corner_i(mx, k), j = corner_j(my, k);
+    if (s.known(reference, i, j)) continue;
+    int kind = 0;
+    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
+    const WarpNode value = s.nodes[reference][s.node_index(i, j)];
+    encode_node_component(encoder, s.contexts, 0, kind, value.x - prediction.x);
+    encode_node_component(encoder, s.contexts, 1, kind, value.y - prediction.y);
+    s.node_known[reference][s.node_index(i, j)] = 1;
+  }
+}
+
+// Estimated bits of encode_missing_nodes, leaving the state unchanged.
+float missing_nodes_bits(FrameState& s, int reference, int mx, int my, MotionVector vector_predictor) {
+  float bits = 0;
+  std::array<size_t, 4> marked{};
+  int marked_count = 0;
+  for (int k = 0; k < 4; ++k) {
+    const int i = corner_i(mx, k), j = corner_j(my, k);
+    if (s.known(reference, i, j)) continue;
+    int kind = 0;
+    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
+    const WarpNode value = s.nodes[reference][s.node_index(i, j)];
+    bits += node_component_bits(s.contexts, 0, kind, value.x - prediction.x) +
+            node_component_bits(s.contexts, 1, kind, value.y - prediction.y);
+    marked[static_cast<size_t>(marked_count++)] = s.node_index(i, j);
+    s.node_known[reference][s.node_index(i, j)] = 1;
+  }
+  for (int m = 0; m < marked_count; ++m) s.node_known[reference][marked[static_cast<size_t>(m)]] = 0;
+  return bits;
+}
+
+// Decodes the missing corner nodes of macroblock (mx, my); false on a syntax error or a
+// node beyond the range.
+bool decode_missing_nodes(RangeDecoder& decoder, FrameState& s, int reference, int mx, int my,
+                          MotionVector vector_predictor) {
+  for (int k = 0; k < 4; ++k) {
+    const int i = corner_i(mx, k), j = corner_j(my, k);
+    if (s.known(reference, i, j)) continue;
+    int kind = 0;
+    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
+    int dx = 0, dy = 0;
+    if (!decode_node_component(decoder, s.contexts, 0, kind, &dx) ||
+        !decode_node_component(decoder, s.contexts, 1, kind, &dy)) {
+      return false;
+    }
+    const int64_t x = int64_t{prediction.x} + dx, y = int64_t{prediction.y} + dy;
+    if (std::abs(x) > s.node_limit || std::abs(y) > s.node_limit) return false;
+    s.nodes[reference][s.node_index(i, j)] = WarpNode{static_cast<int32_t>(x), static_cast<int32_t>(y)};
+    s.node_known[reference][s.node_index(i, j)] = 1;
+  }
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Encoder
 
 // One evaluated macroblock option.
 struct MacroblockChoice {
   MacroblockMode mode = MacroblockMode::kIntra;
+  bool warp = false;                      // inter or skip: predicted by warping
   std::array<MotionVector, 2> vectors{};  // used vectors; predictors for unused references
   std::array<std::array<int16_t, 64>, 6> levels{};
   std::array<int, 6> dc_levels{};  // intra only
@@ -455,6 +661,8 @@ class BFrameEncoder {
     lambda_ = std::max(0.0, params.lambda_factor) * s_.inter_quantizer.quant_scale * s_.inter_quantizer.quant_scale;
     lambda_sad_ = std::sqrt(lambda_);
     refine_ = params.half_pel_refinement;
+    full_evaluations_ = std::max(1, params.inter_evaluations);
+    max_candidates_ = std::max(1, params.max_candidates);
   }
 
   MacroblockChoice choose(int mx, int my, const CandidateList* candidates0, const CandidateList* candidates1,
@@ -472,21 +680,65 @@ class BFrameEncoder {
     for (int r = 0; r < s_.reference_count; ++r) best[r] = search_reference(r, lists[r], stats);
 
     MacroblockChoice winner, option;
-    evaluate_skip(skip_mode, &winner);
-    auto consider = [&](MacroblockMode mode) {
+    evaluate_skip(skip_mode, predicted_warp(s_, mx, my), &winner);
+    auto consider = [&](MacroblockMode mode, bool warp) {
       if (mode == MacroblockMode::kIntra) {
         evaluate_intra(&option);
       } else {
-        evaluate_inter(mode, best, &option);
+        evaluate_inter(mode, warp, best, &option);
       }
       if (option.cost < winner.cost) std::swap(winner, option);
     };
-    consider(MacroblockMode::kForward);
-    if (s_.reference_count == 2) {
-      consider(MacroblockMode::kBackward);
-      consider(MacroblockMode::kBidirectional);
+    const MacroblockMode inter_modes[3] = {MacroblockMode::kForward, MacroblockMode::kBackward,
+                                           MacroblockMode::kBidirectional};
+    const int inter_count = s_.reference_count == 2 ? 3 : 1;
+    // Screen the inter options by luma SAD + sqrt(lambda) * side bits; the full
+    // rate-distortion evaluation (transform, quantization, both chroma planes) is spent on
+    // the best few only.
+    struct Screened {
+      double cost;
+      MacroblockMode mode;
+      bool warp;
+    };
+    std::array<Screened, 6> screened{};
+    int screened_count = 0;
+    const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my) * source_.strides[0] + 16 * mx;
+    std::array<std::array<uint8_t, 256>, 2> luma{}, warped{};
+    for (int r = 0; r < s_.reference_count; ++r) {
+      predict_macroblock_luma(*s_.references[r], mx, my, best[r], luma[r].data());
+      if ((s_.warp_mask >> r) & 1) {
+        predict_warp_macroblock_luma(*s_.references[r], mx, my, macroblock_corners(s_, r, mx, my), warped[r].data());
+      }
     }
-    consider(MacroblockMode::kIntra);
+    for (int warp = 0; warp < 2; ++warp) {
+      auto& planes = warp ? warped : luma;
+      for (int m = 0; m < inter_count; ++m) {
+        const MacroblockMode mode = inter_modes[m];
+        if (warp && !warp_allowed(s_, mode)) continue;
+        float bits = mode_bits(s_, mx, my, mode);
+        if (warp_allowed(s_, mode)) bits += bit_cost(s_.contexts.warp[warp_context(s_, mx, my)], warp);
+        int sad;
+        if (mode == MacroblockMode::kBidirectional) {
+          uint8_t mean[256];
+          average_samples(planes[0].data(), planes[1].data(), 256, mean);
+          sad = sad_16x16(source, source_.strides[0], mean);
+        } else {
+          sad = sad_16x16(source, source_.strides[0], planes[mode == MacroblockMode::kBackward ? 1 : 0].data());
+        }
+        if (warp) {
+          bits += warp_nodes_bits(mode);
+        } else {
+          for (int r = 0; r < s_.reference_count; ++r) {
+            if (uses_reference(mode, r)) bits += vector_bits(r, best[r]);
+          }
+        }
+        screened[static_cast<size_t>(screened_count++)] = {sad + lambda_sad_ * bits, mode, warp != 0};
+      }
+    }
+    std::stable_sort(screened.begin(), screened.begin() + screened_count,
+                     [](const Screened& a, const Screened& b) { return a.cost < b.cost; });
+    for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k) consider(screened[k].mode, screened[k].warp);
+    consider(MacroblockMode::kIntra, false);
     return winner;
   }
 
@@ -497,9 +749,11 @@ class BFrameEncoder {
     MacroblockInfo info;
     info.mode = choice.mode;
     info.inter_mode = predicted_mode(s_, mx, my);
+    info.inter_warp = predicted_warp(s_, mx, my);
     info.vectors = predictors_;
     encoder.encode(c.skip[skip_context(s_, mx, my)], choice.mode == MacroblockMode::kSkipped);
     if (choice.mode == MacroblockMode::kSkipped) {
+      if (info.inter_warp) write_warp_nodes(encoder, info.inter_mode, &info);
       commit_macroblock(s_, mx, my, info, choice.reconstruction, nullptr, 0);
       return;
     }
@@ -524,17 +778,23 @@ class BFrameEncoder {
         encoder.encode(c.backward[backward_context(s_, mx, my)], choice.mode == MacroblockMode::kBackward);
       }
     }
-    const int contexts[2] = {mvd_context(s_, mx, my, 0), mvd_context(s_, mx, my, 1)};
-    for (int r = 0; r < s_.reference_count; ++r) {
-      if (!uses_reference(choice.mode, r)) continue;
-      const int dx = choice.vectors[r].x - predictors_[r].x, dy = choice.vectors[r].y - predictors_[r].y;
-      encode_mvd_component(encoder, c, 0, contexts[0], dx);
-      encode_mvd_component(encoder, c, 1, contexts[1], dy);
-      info.mvd_magnitude[0] += std::abs(dx);
-      info.mvd_magnitude[1] += std::abs(dy);
-      info.vectors[r] = choice.vectors[r];
+    if (warp_allowed(s_, choice.mode)) encoder.encode(c.warp[warp_context(s_, mx, my)], choice.warp);
+    if (choice.warp) {
+      write_warp_nodes(encoder, choice.mode, &info);
+    } else {
+      const int contexts[2] = {mvd_context(s_, mx, my, 0), mvd_context(s_, mx, my, 1)};
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (!uses_reference(choice.mode, r)) continue;
+        const int dx = choice.vectors[r].x - predictors_[r].x, dy = choice.vectors[r].y - predictors_[r].y;
+        encode_mvd_component(encoder, c, 0, contexts[0], dx);
+        encode_mvd_component(encoder, c, 1, contexts[1], dy);
+        info.mvd_magnitude[0] += std::abs(dx);
+        info.mvd_magnitude[1] += std::abs(dy);
+        info.vectors[r] = choice.vectors[r];
+      }
     }
     info.inter_mode = choice.mode;
+    info.inter_warp = choice.warp;
     uint8_t local_coded[6] = {};
     for (int b = 0; b < 6; ++b) {
       const int plane = block_plane(b);
@@ -551,6 +811,23 @@ class BFrameEncoder {
   }
 
  private:
+  // Codes the missing nodes of every reference `mode` reads and stores the centre vectors.
+  void write_warp_nodes(RangeEncoder& encoder, MacroblockMode mode, MacroblockInfo* info) {
+    for (int r = 0; r < s_.reference_count; ++r) {
+      if (!uses_reference(mode, r)) continue;
+      encode_missing_nodes(encoder, s_, r, mx_, my_, predictors_[r]);
+      info->vectors[r] = warp_centre_vector(s_, macroblock_corners(s_, r, mx_, my_));
+    }
+  }
+
+  float warp_nodes_bits(MacroblockMode mode) {
+    float bits = 0;
+    for (int r = 0; r < s_.reference_count; ++r) {
+      if (uses_reference(mode, r)) bits += missing_nodes_bits(s_, r, mx_, my_, predictors_[r]);
+    }
+    return bits;
+  }
+
   void compute_visible() {
     const int w = std::min(16, s_.width - 16 * mx_), h = std::min(16, s_.height - 16 * my_);
     const int cw = std::min(8, s_.chroma_width - 8 * mx_), ch = std::min(8, s_.chroma_height - 8 * my_);
@@ -609,7 +886,9 @@ class BFrameEncoder {
     };
     int supplied = 0;
     if (list != nullptr) {
-      for (const MotionVector& v : *list) supplied += try_vector(v);
+      // Lists are ranked (most pixels first): the tail rarely wins and costs a SAD each.
+      const size_t count = std::min(list->size(), static_cast<size_t>(max_candidates_));
+      for (size_t k = 0; k < count; ++k) supplied += try_vector((*list)[k]);
     }
     if (stats != nullptr) stats->candidates_evaluated += supplied;
     if (supplied == 0) try_vector(MotionVector{});
@@ -627,29 +906,43 @@ class BFrameEncoder {
     return best;
   }
 
-  void evaluate_skip(MacroblockMode mode, MacroblockChoice* out) {
+  void evaluate_skip(MacroblockMode mode, bool warp, MacroblockChoice* out) {
     out->mode = MacroblockMode::kSkipped;
+    out->warp = warp;
     out->vectors = predictors_;
     out->coded_mask = 0;
-    build_prediction(s_, mx_, my_, mode, predictors_, &out->reconstruction);
+    float bits = bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 1);
+    if (warp) {
+      build_warp_prediction(s_, mx_, my_, mode, &out->reconstruction);
+      bits += warp_nodes_bits(mode);
+    } else {
+      build_prediction(s_, mx_, my_, mode, predictors_, &out->reconstruction);
+    }
     int64_t distortion = 0;
     for (int b = 0; b < 6; ++b) distortion += block_error(b, block_samples(out->reconstruction, b));
-    out->cost = static_cast<double>(distortion) +
-                lambda_ * bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 1);
+    out->cost = static_cast<double>(distortion) + lambda_ * bits;
   }
 
-  void evaluate_inter(MacroblockMode mode, const std::array<MotionVector, 2>& best, MacroblockChoice* out) {
+  void evaluate_inter(MacroblockMode mode, bool warp, const std::array<MotionVector, 2>& best,
+                      MacroblockChoice* out) {
     const SyntaxContexts& c = s_.contexts;
     out->mode = mode;
+    out->warp = warp;
     out->vectors = predictors_;
     float bits = mode_bits(s_, mx_, my_, mode);
-    for (int r = 0; r < s_.reference_count; ++r) {
-      if (!uses_reference(mode, r)) continue;
-      out->vectors[r] = best[r];
-      bits += vector_bits(r, best[r]);
-    }
+    if (warp_allowed(s_, mode)) bits += bit_cost(c.warp[warp_context(s_, mx_, my_)], warp);
     MacroblockPrediction prediction;
-    build_prediction(s_, mx_, my_, mode, out->vectors, &prediction);
+    if (warp) {
+      bits += warp_nodes_bits(mode);
+      build_warp_prediction(s_, mx_, my_, mode, &prediction);
+    } else {
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (!uses_reference(mode, r)) continue;
+        out->vectors[r] = best[r];
+        bits += vector_bits(r, best[r]);
+      }
+      build_prediction(s_, mx_, my_, mode, out->vectors, &prediction);
+    }
     int64_t distortion = 0;
     uint8_t local_coded[6] = {};
     out->coded_mask = 0;
@@ -736,6 +1029,8 @@ class BFrameEncoder {
   const PaddedSource& source_;
   double lambda_ = 0, lambda_sad_ = 0;
   bool refine_ = false;
+  int full_evaluations_ = 2;
+  int max_candidates_ = 8;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
@@ -776,12 +1071,21 @@ std::string macroblock_name(int mx, int my) {
 
 int suggested_b_quant_scale(int intra_quant_scale) {
   const int clamped = std::clamp(intra_quant_scale, kMinQuantScale, kMaxQuantScale);
-  return std::clamp((clamped * 5 + 2) / 4, kMinQuantScale, kMaxQuantScale);
+  return std::clamp((clamped * 7 + 2) / 4, kMinQuantScale, kMaxQuantScale);
 }
 
 std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
                                     const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
                                     const FaceCandidates& candidates1, const BFrameParams& params,
+                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
+  return encode_b_frame(source, ref0, ref1, candidates0, candidates1, nullptr, nullptr, params, reconstruction,
+                        stats);
+}
+
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                    const FaceCandidates& candidates1, const WarpField* warp0,
+                                    const WarpField* warp1, const BFrameParams& params,
                                     ImageYCbCr420* reconstruction, BFrameStats* stats) {
   const int width = source.width, height = source.height;
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension ||
@@ -792,6 +1096,19 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
   const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
   FrameState state;
   init_state(state, width, height, quant_scale, &ref0, ref1);
+  const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
+  for (int r = 0; r < state.reference_count; ++r) {
+    const WarpField* field = fields[r];
+    if (!params.warp || field == nullptr || field->nodes_x != state.nodes_x || field->nodes_y != state.nodes_y ||
+        field->nodes.size() != state.nodes[r].size()) {
+      continue;
+    }
+    state.warp_mask |= 1 << r;
+    for (size_t n = 0; n < field->nodes.size(); ++n) {
+      state.nodes[r][n] = WarpNode{std::clamp(field->nodes[n].x, -state.node_limit, state.node_limit),
+                                   std::clamp(field->nodes[n].y, -state.node_limit, state.node_limit)};
+    }
+  }
   const PaddedSource padded = pad_source(source, state);
   if (stats != nullptr) {
     *stats = BFrameStats{};
@@ -801,7 +1118,8 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
 
   std::vector<uint8_t> bytes = {static_cast<uint8_t>(FrameType::kBidirectional), kBFrameSyntaxVersion,
                                 static_cast<uint8_t>(quant_scale), 0,
-                                static_cast<uint8_t>(state.reference_count)};
+                                static_cast<uint8_t>(state.reference_count),
+                                static_cast<uint8_t>(state.warp_mask)};
   RangeEncoder encoder(&bytes);
   BFrameEncoder coder(state, padded, params);
   for (int my = 0; my < state.mbs_y; ++my) {
@@ -814,6 +1132,7 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       coder.write(encoder, choice);
       if (stats != nullptr) {
         stats->modes.push_back(choice.mode);
+        if (choice.mode != MacroblockMode::kIntra && choice.warp) ++stats->mb_warp;
         switch (choice.mode) {
           case MacroblockMode::kIntra: ++stats->mb_intra; break;
           case MacroblockMode::kForward: ++stats->mb_forward; break;
@@ -825,6 +1144,11 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
     }
   }
   encoder.finish();
+  if (stats != nullptr) {
+    for (int r = 0; r < state.reference_count; ++r) {
+      for (uint8_t known : state.node_known[r]) stats->warp_nodes_coded += known;
+    }
+  }
   if (reconstruction != nullptr) crop_output(state, reconstruction);
   return bytes;
 }
@@ -848,8 +1172,13 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   if (bytes[4] != 1 && bytes[4] != 2) {
     return corrupt("byte 4: reference count " + std::to_string(bytes[4]) + " is not 1 or 2");
   }
+  if ((bytes[5] & ~((1 << bytes[4]) - 1)) != 0) {
+    return corrupt("byte 5: warp mask " + std::to_string(bytes[5]) + " names a reference beyond the " +
+                   std::to_string(bytes[4]) + " present");
+  }
   out->quant_scale = bytes[2];
   out->reference_count = bytes[4];
+  out->warp_mask = bytes[5];
   return Status::Ok();
 }
 
@@ -874,6 +1203,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   }
   FrameState s;
   init_state(s, width, height, header.quant_scale, &ref0, ref1);
+  s.warp_mask = header.warp_mask;
   if (modes != nullptr) {
     modes->clear();
     modes->reserve(s.macroblocks.size());
@@ -891,14 +1221,30 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
       std::array<MotionVector, 2> predictors{};
       for (int r = 0; r < s.reference_count; ++r) predictors[r] = predict_vector(s, mx, my, r);
       info.inter_mode = skip_mode;
+      info.inter_warp = predicted_warp(s, mx, my);
       info.vectors = predictors;
       uint8_t coded_mask = 0;
       const int* intra_dc = nullptr;
       std::array<int, 6> dc_levels{};
+      // Reads the missing nodes of the references `mode` uses; stores the centre vectors.
+      auto read_warp_nodes = [&](MacroblockMode mode) {
+        if (!warp_allowed(s, mode)) return false;
+        for (int r = 0; r < s.reference_count; ++r) {
+          if (!uses_reference(mode, r)) continue;
+          if (!decode_missing_nodes(decoder, s, r, mx, my, predictors[r])) return false;
+          info.vectors[r] = warp_centre_vector(s, macroblock_corners(s, r, mx, my));
+        }
+        return true;
+      };
 
       if (decoder.decode(c.skip[skip_context(s, mx, my)])) {
         info.mode = MacroblockMode::kSkipped;
-        build_prediction(s, mx, my, skip_mode, predictors, &reconstruction);
+        if (info.inter_warp) {
+          if (!read_warp_nodes(skip_mode)) return corrupt(macroblock_name(mx, my) + ": invalid warp node");
+          build_warp_prediction(s, mx, my, skip_mode, &reconstruction);
+        } else {
+          build_prediction(s, mx, my, skip_mode, predictors, &reconstruction);
+        }
       } else if (decoder.decode(c.intra[intra_context(s, mx, my)])) {
         info.mode = MacroblockMode::kIntra;
         uint8_t local_coded[6] = {};
@@ -938,8 +1284,12 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
         }
         info.mode = mode;
         info.inter_mode = mode;
+        info.inter_warp = warp_allowed(s, mode) && decoder.decode(c.warp[warp_context(s, mx, my)]) != 0;
+        if (info.inter_warp && !read_warp_nodes(mode)) {
+          return corrupt(macroblock_name(mx, my) + ": invalid warp node");
+        }
         const int contexts[2] = {mvd_context(s, mx, my, 0), mvd_context(s, mx, my, 1)};
-        for (int r = 0; r < s.reference_count; ++r) {
+        for (int r = 0; r < s.reference_count && !info.inter_warp; ++r) {
           if (!uses_reference(mode, r)) continue;
           int dx = 0, dy = 0;
           if (!decode_mvd_component(decoder, c, 0, contexts[0], &dx) ||
@@ -963,7 +1313,11 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
               decoder.decode(plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context]));
           coded_mask |= static_cast<uint8_t>(local_coded[b] << b);
         }
-        build_prediction(s, mx, my, mode, info.vectors, &prediction);
+        if (info.inter_warp) {
+          build_warp_prediction(s, mx, my, mode, &prediction);
+        } else {
+          build_prediction(s, mx, my, mode, info.vectors, &prediction);
+        }
         for (int b = 0; b < 6; ++b) {
           const uint8_t* pred = block_samples(prediction, b);
           uint8_t* recon = block_samples(reconstruction, b);

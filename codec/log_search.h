@@ -26,7 +26,8 @@ enum class LogSearchPattern : uint8_t {
 };
 
 struct LogSearchParams {
-  LogSearchPattern pattern = LogSearchPattern::kCross;
+  // The dissertation's Table 7.4 comparison uses the nine-point pattern.
+  LogSearchPattern pattern = LogSearchPattern::kNinePoint;
   // Search window: integer displacements within +-window pixels in each direction
   // (32 gives the 64-pixel window of the dissertation's comparison).
   int window = 32;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstddef>
 #include <vector>
 
 namespace svc::codec {
@@ -15,6 +16,26 @@ struct MotionVector {
   int16_t x = 0;
   int16_t y = 0;
   friend bool operator==(const MotionVector&, const MotionVector&) = default;
+};
+
+// A warp node: the displacement of a macroblock corner in 1/8 luma pel (see
+// warp_prediction.h). Wider than MotionVector: nodes of large faces exceed 16 bits.
+inline constexpr int kWarpNodeUnitsPerPixel = 8;
+struct WarpNode {
+  int32_t x = 0;
+  int32_t y = 0;
+  friend bool operator==(const WarpNode&, const WarpNode&) = default;
+};
+
+// Node vectors of a whole face towards one reference: (ceil(w/16) + 1) x (ceil(h/16) + 1)
+// nodes, row-major; node (i, j) sits at the corner (16 i, 16 j) of the macroblock grid,
+// i.e. at pixel-index coordinates (16 i - 0.5, 16 j - 0.5). Empty when not available.
+struct WarpField {
+  int nodes_x = 0;
+  int nodes_y = 0;
+  std::vector<WarpNode> nodes;
+  bool empty() const { return nodes.empty(); }
+  const WarpNode& at(int i, int j) const { return nodes[static_cast<size_t>(j) * nodes_x + i]; }
 };
 
 // Candidate vectors of one macroblock towards one reference, distinct, in the order

@@ -363,8 +363,8 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
 }
 
 TEST(BFrame, SuggestedQuantScale) {
-  EXPECT_EQ(suggested_b_quant_scale(8), 10);
-  EXPECT_EQ(suggested_b_quant_scale(1), 1);
+  EXPECT_EQ(suggested_b_quant_scale(8), 14);
+  EXPECT_EQ(suggested_b_quant_scale(1), 2);
   EXPECT_EQ(suggested_b_quant_scale(112), 112);
   EXPECT_EQ(suggested_b_quant_scale(200), 112);
 }

@@ -16,7 +16,8 @@ enum class MotionSearch : uint8_t {
 };
 
 struct EncoderSettings {
-  // 1 (smallest) .. 100 (best). Maps to a quantiser scale, see docs/codec.md.
+  // 1 (smallest) .. 100 (best). Maps to a quantiser scale (quant_scale_for_quality):
+  // 100 -> 1, 75 -> 6, 50 -> 36, 1 -> 112.
   int quality = 75;
   // When non-zero, overrides quality: the codec quantiser scale, 1..112.
   int quant_scale = 0;
@@ -69,6 +70,50 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
                                       const std::filesystem::path& out_path,
                                       const EncoderSettings& settings,
                                       const EncodeProgress& progress = {});
+
+// --- Incremental additions (docs/format.md, "Incremental additions") ---------------------
+
+struct AddSettings {
+  // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
+  // depend on this.
+  int threads = 0;
+};
+
+struct AddSummary {
+  uint64_t cells_before = 0;    // cells in the file before
+  uint64_t cells_added = 0;     // cells of the database that were not in the file
+  uint64_t cells_present = 0;   // cells of the database already in the file (left as they were)
+  uint64_t intra_cells_added = 0;
+  uint64_t predicted_cells_added = 0;
+  uint64_t faces_added = 0;
+  uint64_t bytes_appended = 0;  // face chunks and the new index
+  uint64_t file_bytes = 0;      // size of the file after the commit
+  uint64_t generation = 0;      // commit generation now in use
+  std::array<int32_t, 3> grid_dims{0, 0, 0};  // of the file after the commit
+  double seconds = 0;
+};
+
+// Adds the cells of the database in `db_dir` that `svc_file` does not hold yet, without
+// re-encoding or moving any existing face; coding settings (quantiser, I-cube spacing,
+// motion source) are the file's. Rules:
+//   - the database must have the file's face size, depth mode and up axis, and the same
+//     grid origin and spacing (within a relative 1e-9); the grid grows to the union of
+//     both grids' dims. Cells already in the file are skipped, whatever the database
+//     holds for them.
+//   - existing cells keep their frame type and references. A new cell is an I-cube when
+//     the placement rules (spatial/placement.h) over the union of old and new cells make
+//     it one, or when no I-cube (old or new) is in its reach; otherwise a B-cube
+//     predicted from the nearest one or two I-cubes in reach, old or new, by the same
+//     distance and tie rules. Old I-faces used as references are decoded from the file,
+//     which gives exactly the encoder's reconstruction.
+//   - the new faces are appended, then the new index (cells in (y, z, x) order, frames
+//     renumbered) is committed in place (ContainerUpdater). A failure or a kill at any
+//     point leaves the file opening as exactly the old database.
+// Nothing to add is not an error (cells_added 0, the file untouched). Errors name the
+// mismatch, cell, face or file at fault. Progress counts the faces added.
+Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const std::filesystem::path& db_dir,
+                                   const AddSettings& settings = AddSettings{},
+                                   const EncodeProgress& progress = {});
 
 // Quantiser scale used for a quality (1..100). Monotonic: higher quality, finer scale.
 int quant_scale_for_quality(int quality);

@@ -1,15 +1,31 @@
 // Random access to an .svc file by cell: what a walkthrough runtime embeds.
 //
+// The reader opens a file without reading it whole: open() reads the header and the
+// index; each face is read with positioned reads of its own chunk and those of its
+// references. Two caches sit between the file and the caller (docs/runtime.md):
+//   - semi-decoded I-faces: the entropy-decoded, quantized DCT levels in a compact
+//     sparse form (about a tenth of the RGB size). A B-face whose reference I-faces are
+//     cached skips their entropy decoding and only runs their inverse DCT.
+//   - decoded faces (YCbCr 4:2:0): a request for a cached face copies it out.
+// Both are least-recently-used and bounded by byte budgets that are never exceeded.
+// After set_viewer(), worker threads decode the viewer's neighbourhood in the
+// background; a request for a face that is being decoded (by a worker or by another
+// caller) waits for that work instead of repeating it.
+//
 // Errors: no call throws; failures come back as Status / Result with a message naming
 // the file, cell, face and byte offset at fault. A damaged face yields an error for
 // that face (and the B-faces that reference it) while every other face stays readable.
+// Errors are not cached: asking again reads the file again.
 //
 // Threading: after open() returns, every const and non-const method of Reader may be
-// called from any number of threads at once. Results are bit-identical to a
-// single-threaded sequential decode, whatever the thread count or call order.
+// called from any number of threads at once (close() included). Results are
+// bit-identical to a single-threaded sequential decode, whatever the thread count,
+// call order, cache budgets or prefetch settings. The destructor must not run while
+// another thread is inside a method of the same reader.
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -26,6 +42,21 @@ namespace svc {
 struct ReaderSettings {
   // Caps on what the file may make the reader allocate (see svc/limits.h).
   ReaderLimits limits;
+  // Byte budget of the semi-decoded I-face cache. 0 disables it. Default 64 MiB: about
+  // 6,000 I-faces of 256x256 or 1,500 of 512x512 at the default quality.
+  uint64_t coefficient_cache_bytes = 64ull << 20;
+  // Byte budget of the decoded-face cache (1.5 bytes a pixel plus a little per face).
+  // 0 disables it, and prefetch with it (prefetched faces would have nowhere to go).
+  // Default 32 MiB: 56 cubes of 256x256 faces, 14 of 512x512.
+  uint64_t face_cache_bytes = 32ull << 20;
+  // Worker threads that decode the viewer's neighbourhood after set_viewer(); 0 turns
+  // prefetch off. 0..64, default 2. Threads start on the first set_viewer() call, so a
+  // reader that never calls it runs none.
+  int prefetch_threads = 2;
+  // Neighbourhood prefetched around the viewer's cell: the present cells within this
+  // many cells along every axis (Chebyshev radius), limited to as many cubes as fit in
+  // half the face cache. 0..8, default 1 (the 8 neighbours in a one-layer grid).
+  int prefetch_radius = 1;
 };
 
 // Fills settings with the defaults documented on each field.
@@ -64,12 +95,41 @@ struct FileInfo {
   char up_axis = 'y';
 };
 
+// Counters of one cache. hits, misses and in_flight_waits count lookups made for a
+// caller (a decode_* / acquire_* call, including the reference I-faces such a call
+// needs); lookups made by prefetch workers are counted in prefetch_lookups only.
+struct CacheCounters {
+  uint64_t hits = 0;             // served from the cache
+  uint64_t misses = 0;           // decoded by the calling thread
+  uint64_t in_flight_waits = 0;  // waited for the same decode already running elsewhere
+  uint64_t prefetch_lookups = 0;
+  uint64_t insertions = 0;
+  uint64_t evictions = 0;        // entries dropped to stay within the budget
+  uint64_t entries = 0;          // held now
+  uint64_t bytes_held = 0;       // held now (values plus bookkeeping), <= budget_bytes
+  uint64_t peak_bytes = 0;       // most ever held, <= budget_bytes
+  uint64_t budget_bytes = 0;
+};
+
+struct ReaderStats {
+  CacheCounters coefficient_cache;  // semi-decoded I-faces
+  CacheCounters face_cache;         // decoded faces
+  uint64_t bytes_read = 0;          // face chunk bytes read from the file (with framing)
+  uint64_t chunks_read = 0;
+  uint64_t intra_faces_parsed = 0;      // I-face entropy decodes
+  uint64_t predicted_faces_decoded = 0; // B-face decodes
+  uint64_t prefetch_faces = 0;          // faces decoded by prefetch workers
+  uint64_t prefetch_dropped = 0;        // queued prefetch faces dropped (viewer moved, close)
+};
+
 class Reader {
  public:
   // Opens `path` and reads its header and index (not the face data). The returned
-  // reader owns the file handle until destroyed.
+  // reader owns the file handle until destroyed. kInvalidArgument for settings out of
+  // range; the container's errors otherwise.
   static Result<std::unique_ptr<Reader>> open(const std::filesystem::path& path,
                                               const ReaderSettings& settings = default_reader_settings());
+  // Calls close().
   ~Reader();
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;
@@ -84,14 +144,41 @@ class Reader {
   std::optional<size_t> find_cell_at(const std::array<double, 3>& p) const;
 
   // Decodes one face as RGB8 (tightly packed, row 0 at the top) or as YCbCr 4:2:0
-  // planes. Reads only that face's bytes and those of its references.
+  // planes; the caller owns the copy. Reads only that face's bytes and those of its
+  // references, unless the caches hold them. kNotFound for a cell or face not in the
+  // file, kCorruptData for damaged bytes, kCancelled after close().
   Result<ImageRGB8> decode_face(const CellIndex& cell, Face face);
   Result<ImageYCbCr420> decode_face_ycbcr(const CellIndex& cell, Face face);
+  // The face as the decoded-face cache holds it, without a copy: the image is immutable
+  // and stays valid as long as the caller keeps the pointer, even after eviction or
+  // close(). Errors as decode_face_ycbcr.
+  Result<std::shared_ptr<const ImageYCbCr420>> acquire_face_ycbcr(const CellIndex& cell, Face face);
   // The six faces of a cell, indexed by Face.
   Result<std::array<ImageRGB8, kFaceCount>> decode_cube(const CellIndex& cell);
 
-  // Checks the CRC of every chunk and decodes every face. Returns the first problem
-  // found, naming the damaged chunk (offset, cell, face); ok when the file is intact.
+  // Tells the prefetcher where the viewer is: its cell (or a world position, mapped to
+  // the grid cell containing it, clamped into the grid) and optionally its velocity in
+  // world units per second (only the direction matters: cells ahead come first among
+  // cells equally near). Replaces the previous neighbourhood's pending work. Cheap when
+  // nothing changed; call it as often as the viewer moves. A no-op when prefetch is off.
+  // kInvalidArgument for a non-finite position or velocity; kCancelled after close().
+  Status set_viewer(const CellIndex& cell, const std::array<double, 3>& velocity = {0, 0, 0});
+  Status set_viewer(const std::array<double, 3>& position, const std::array<double, 3>& velocity = {0, 0, 0});
+  // Waits until no prefetch work is queued or running, at most `timeout`. True when idle.
+  bool wait_for_prefetch(std::chrono::milliseconds timeout);
+
+  // A snapshot of the counters. Cheap; safe at any time.
+  ReaderStats stats() const;
+
+  // Stops prefetch: drops queued work, waits for each worker's current face (at most
+  // one face decode) and joins the workers; then empties both caches. Later decode,
+  // acquire and set_viewer calls fail with kCancelled; calls already running finish
+  // normally. info(), cells(), find_cell*() and stats() keep working. Idempotent.
+  void close();
+
+  // Checks the CRC of every chunk and decodes every face, bypassing the caches. Returns
+  // the first problems found, naming the damaged chunk (offset, cell, face); ok when the
+  // file is intact.
   Status verify();
 
   struct Impl;

@@ -103,8 +103,14 @@ void build_hall(const SceneOptions& options, Scene* scene) {
   const double top_eye = scene->origin.y + (options.grid[1] - 1) * options.spacing[1];
   const double extent_x = (options.grid[0] - 1) * options.spacing[0];
   const double extent_z = (options.grid[2] - 1) * options.spacing[2];
-  const double hx = extent_x / 2 + 2.0, hz = extent_z / 2 + 2.0;
+  const double hx = extent_x / 2 + 4.0, hz = extent_z / 2 + 4.0;
   const double height = std::max(5.0, top_eye + 2.6);
+  // Cameras stand in the open: columns and crates keep this far from the footprint of
+  // the cell grid (as the navigable region of a real impostor database would be).
+  const double clearance = 0.9;
+  auto near_cameras = [&](double x, double z, double half_x, double half_z) {
+    return std::abs(x) < extent_x / 2 + clearance + half_x && std::abs(z) < extent_z / 2 + clearance + half_z;
+  };
   const double wall = 0.3;
   scene->lo_x = -hx;
   scene->hi_x = hx;
@@ -175,7 +181,7 @@ void build_hall(const SceneOptions& options, Scene* scene) {
     prims.push_back(make_box({-hx - wall, height, cursor}, {hx + wall, height + 0.3, hz + wall}, roof));
   }
 
-  // Columns about 3 m apart, standing between cell centres: no camera is inside one.
+  // Columns about 3 m apart around the cameras' footprint.
   const double radius = 0.22;
   const auto column_x = lattice(scene->origin.x, options.spacing[0], -hx + 0.6, hx - 0.6, 3.0, 0.5);
   const auto column_z = lattice(scene->origin.z, options.spacing[2], -hz + 0.6, hz - 0.6, 3.0, 0.5);
@@ -183,6 +189,7 @@ void build_hall(const SceneOptions& options, Scene* scene) {
   std::vector<Disc> keep_out;
   for (double x : column_x) {
     for (double z : column_z) {
+      if (near_cameras(x, z, 0.32, 0.32)) continue;
       prims.push_back(make_cylinder(1, z, x, radius, 0.0, height, column));
       prims.push_back(make_box({x - 0.32, 0.0, z - 0.32}, {x + 0.32, 0.28, z + 0.32}, plinth));
       prims.push_back(make_box({x - 0.3, height - 0.3, z - 0.3}, {x + 0.3, height, z + 0.3}, plinth));
@@ -222,7 +229,7 @@ void build_hall(const SceneOptions& options, Scene* scene) {
       const double h = rng.uniform(0.45, 0.9);
       const double x = rng.uniform(-hx + w / 2 + 0.1, hx - w / 2 - 0.1);
       const double z = rng.uniform(-hz + d / 2 + 0.1, hz - d / 2 - 0.1);
-      bool clear = true;
+      bool clear = !near_cameras(x, z, w / 2, d / 2);
       for (const Disc& c : keep_out) {
         if (std::abs(x - c.x) < w / 2 + c.r && std::abs(z - c.z) < d / 2 + c.r) clear = false;
       }
@@ -248,11 +255,18 @@ void build_hall(const SceneOptions& options, Scene* scene) {
 }
 
 // Interior wall centre lines between cells: the cells split into rooms about 2.4 m wide.
+// Walls fall between groups of three cells where the grid allows, so that each 3x3
+// group of the default I/B layout lies in one room; cells on either side of a wall
+// still see different rooms.
 std::vector<double> room_cuts(int cells, double origin, double spacing) {
   const int rooms = std::clamp(static_cast<int>(std::lround(cells * spacing / 2.4)), 1, cells);
   std::vector<double> cuts;
+  int previous = -1;
   for (int r = 1; r < rooms; ++r) {
-    const int last_cell = cells * r / rooms - 1;
+    int last_cell = cells * r / rooms - 1;
+    if (cells >= 6) last_cell = std::clamp(static_cast<int>(std::lround((last_cell + 1) / 3.0)) * 3 - 1, 0, cells - 2);
+    if (last_cell <= previous) continue;
+    previous = last_cell;
     cuts.push_back(origin + (last_cell + 0.5) * spacing);
   }
   return cuts;

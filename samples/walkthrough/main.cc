@@ -68,7 +68,9 @@ void print_table(const std::vector<ReplayResult>& runs) {
   row("latency max (ms)", [&](const ReplayResult& r) { return fixed(r.max_ms, 3); });
   row("steps waiting on decoding", [](const ReplayResult& r) { return std::to_string(r.steps_waiting); });
   row("face cache hit rate", [&](const ReplayResult& r) { return fixed(100 * r.face_hit_rate, 1) + " %"; });
-  row("semi-decoded I-face hit rate", [&](const ReplayResult& r) { return fixed(100 * r.coefficient_hit_rate, 1) + " %"; });
+  row("semi-decoded I-face hit rate", [&](const ReplayResult& r) {
+    return r.coefficient_hit_rate < 0 ? std::string("- (none asked)") : fixed(100 * r.coefficient_hit_rate, 1) + " %";
+  });
   row("faces decoded by prefetch", [](const ReplayResult& r) { return std::to_string(r.stats.prefetch_faces); });
   row("bytes read", [](const ReplayResult& r) { return mib(r.stats.bytes_read); });
   row("memory held at end", [](const ReplayResult& r) { return mib(r.memory_held); });
@@ -146,6 +148,12 @@ int main(int argc, char** argv) {
     auto result = svc::walkthrough::replay(input, path, options);
     if (!result.ok()) {
       std::fprintf(stderr, "svc-walkthrough: %s\n", result.status().to_string().c_str());
+      return 1;
+    }
+    if (result->steps == 0) {
+      std::fprintf(stderr, "svc-walkthrough: the path never enters a cell of %s (grid origin %g,%g,%g, spacing "
+                   "%g,%g,%g)\n", input.c_str(), info.grid_origin[0], info.grid_origin[1], info.grid_origin[2],
+                   info.grid_spacing[0], info.grid_spacing[1], info.grid_spacing[2]);
       return 1;
     }
     runs.push_back(std::move(result).value());

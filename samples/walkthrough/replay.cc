@@ -197,7 +197,7 @@ Result<ReplayResult> replay(const std::filesystem::path& svc_file, const std::ve
   const CacheCounters& c = result.stats.coefficient_cache;
   const uint64_t lookups = (c.hits - at_start.coefficient_cache.hits) + (c.misses - at_start.coefficient_cache.misses) +
                            (c.in_flight_waits - at_start.coefficient_cache.in_flight_waits);
-  result.coefficient_hit_rate = lookups ? static_cast<double>(c.hits - at_start.coefficient_cache.hits) / lookups : 0;
+  result.coefficient_hit_rate = lookups ? static_cast<double>(c.hits - at_start.coefficient_cache.hits) / lookups : -1;
   result.memory_held = result.stats.face_cache.bytes_held + c.bytes_held;
   result.memory_peak = result.stats.face_cache.peak_bytes + c.peak_bytes;
   return result;

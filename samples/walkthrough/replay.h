@@ -57,7 +57,7 @@ struct ReplayResult {
   double p50_ms = 0, p99_ms = 0, max_ms = 0, mean_ms = 0;  // nearest-rank percentiles
   int steps_waiting = 0;         // steps where a face had to be decoded (or awaited)
   double face_hit_rate = 0;      // of the steps' face requests
-  double coefficient_hit_rate = 0;  // of all semi-decoded I-face lookups made for requests
+  double coefficient_hit_rate = 0;  // of semi-decoded I-face lookups made for requests; -1: none
   ReaderStats stats;             // the reader's counters at the end
   uint64_t memory_held = 0;      // both caches at the end
   uint64_t memory_peak = 0;      // sum of both caches' peaks

@@ -1,5 +1,6 @@
 #include "cli/commands.h"
 
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_util.h"
+#include "common/file_io.h"
+#include "container/container.h"
 #include "scene/scene.h"
 #include "svc/encoder.h"
 #include "svc/metrics.h"
@@ -106,6 +109,32 @@ Status write_unknown_depth(const std::filesystem::path& path, int width, int hei
   return Status::Ok();
 }
 
+// "x,y,z", each the shortest text that reads back as the same double.
+std::string triple_text(const std::array<double, 3>& v) {
+  std::string out;
+  for (int i = 0; i < 3; ++i) {
+    char buf[32];
+    const auto result = std::to_chars(buf, buf + sizeof buf, v[i]);
+    if (i) out += ",";
+    out.append(buf, result.ptr);
+  }
+  return out;
+}
+
+// The encoder's per-frame-type statistics kept in the index.
+Result<std::array<FrameTypeStats, 2>> read_frame_type_stats(const std::filesystem::path& path) {
+  SVC_ASSIGN_OR_RETURN(auto file, ReadOnlyFile::open(path));
+  SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*file, ReaderLimits{}));
+  std::array<FrameTypeStats, 2> out;
+  for (int k = 0; k < 2; ++k) {
+    const FrameTypeRecord& r = opened.index.stats[k];
+    out[k] = FrameTypeStats{r.faces,       r.bytes,      r.mb_intra,
+                            r.mb_forward,  r.mb_backward, r.mb_bidirectional,
+                            r.mb_skipped,  r.candidate_vectors, r.candidate_macroblocks};
+  }
+  return out;
+}
+
 }  // namespace
 
 Result<EncodeSummary> run_encode(const std::filesystem::path& db, const std::filesystem::path& out,
@@ -117,6 +146,31 @@ Result<EncodeSummary> run_encode(const std::filesystem::path& db, const std::fil
   });
   bar.finish();
   return result;
+}
+
+int add_command(const AddOptions& options) {
+  ProgressBar bar("adding", !options.quiet);
+  AddSettings settings;
+  settings.threads = options.threads;
+  auto summary = add_to_database(options.input, options.db_dir, settings, [&](uint64_t done, uint64_t total) {
+    bar.update(done, total);
+    return true;
+  });
+  bar.finish();
+  if (!summary.ok()) return report_error(summary.status());
+  if (!options.quiet) {
+    const AddSummary& s = *summary;
+    std::printf("added %llu cells (%llu I-cubes, %llu B-cubes), %llu faces to %s; %llu cells were already there\n",
+                static_cast<unsigned long long>(s.cells_added), static_cast<unsigned long long>(s.intra_cells_added),
+                static_cast<unsigned long long>(s.predicted_cells_added),
+                static_cast<unsigned long long>(s.faces_added), options.input.string().c_str(),
+                static_cast<unsigned long long>(s.cells_present));
+    std::printf("  %llu cells, grid %dx%dx%d, %s (%s appended), commit generation %llu, %.2f s\n",
+                static_cast<unsigned long long>(s.cells_before + s.cells_added), s.grid_dims[0], s.grid_dims[1],
+                s.grid_dims[2], human_bytes(s.file_bytes).c_str(), human_bytes(s.bytes_appended).c_str(),
+                static_cast<unsigned long long>(s.generation), s.seconds);
+  }
+  return 0;
 }
 
 int encode_command(const EncodeOptions& options) {
@@ -224,14 +278,13 @@ int info_command(const InfoOptions& options) {
   if (!reader.ok()) return report_error(reader.status());
   const FileInfo& info = (*reader)->info();
   const auto& cells = (*reader)->cells();
-  uint64_t bytes_by_type[2] = {0, 0}, faces_by_type[2] = {0, 0};
+  uint64_t bytes_by_type[2] = {0, 0};
   json per_cell = json::array();
   for (const CellEntry& cell : cells) {
     uint64_t cell_bytes = 0;
     for (const FaceEntry& face : cell.faces) {
       const int t = face.type == FaceType::kIntra ? 0 : 1;
       bytes_by_type[t] += face.coded_bytes;
-      faces_by_type[t] += 1;
       cell_bytes += face.coded_bytes;
     }
     per_cell.push_back({{"index", {cell.index.x, cell.index.y, cell.index.z}},
@@ -239,6 +292,9 @@ int info_command(const InfoOptions& options) {
                         {"bytes", cell_bytes}});
   }
   const uint64_t raw = uint64_t{3} * info.face_width * info.face_height * cells.size() * kFaceCount;
+  auto recorded = read_frame_type_stats(options.input);
+  if (!recorded.ok()) return report_error(recorded.status());
+  const std::array<FrameTypeStats, 2>& stats = *recorded;
   if (options.json) {
     json j;
     j["file"] = options.input.string();
@@ -253,30 +309,23 @@ int info_command(const InfoOptions& options) {
                    {"quant_scale", info.quant_scale},
                    {"i_spacing", info.i_spacing},
                    {"motion", info.motion}};
-    j["frame_types"] = {{"I", {{"faces", faces_by_type[0]}, {"bytes", bytes_by_type[0]}}},
-                        {"B", {{"faces", faces_by_type[1]}, {"bytes", bytes_by_type[1]}}}};
+    j["frame_types"] = {{"I", frame_stats_json(stats[0])}, {"B", frame_stats_json(stats[1])}};
     j["per_cell"] = per_cell;
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
   std::printf("%s: svc format %u.%u, %s\n", options.input.string().c_str(), info.format_major, info.format_minor,
               human_bytes(info.file_bytes).c_str());
-  std::printf("  grid      %d x %d x %d cells (%zu present), origin %.17g,%.17g,%.17g, spacing %.17g,%.17g,%.17g, up axis %c\n",
-              info.grid_dims[0], info.grid_dims[1], info.grid_dims[2], cells.size(), info.grid_origin[0],
-              info.grid_origin[1], info.grid_origin[2], info.grid_spacing[0], info.grid_spacing[1],
-              info.grid_spacing[2], info.up_axis);
+  std::printf("  grid      %d x %d x %d cells (%zu present), origin %s, spacing %s, up axis %c\n", info.grid_dims[0],
+              info.grid_dims[1], info.grid_dims[2], cells.size(), triple_text(info.grid_origin).c_str(),
+              triple_text(info.grid_spacing).c_str(), info.up_axis);
   std::printf("  faces     %d x %d pixels, %zu faces, raw RGB %s, compression %.1f:1\n", info.face_width,
               info.face_height, cells.size() * kFaceCount, human_bytes(raw).c_str(),
               info.file_bytes ? static_cast<double>(raw) / info.file_bytes : 0.0);
   std::printf("  coding    quality %d, quantiser scale %d, I-cube spacing %d,%d,%d, motion from %s\n", info.quality,
               info.quant_scale, info.i_spacing[0], info.i_spacing[1], info.i_spacing[2], info.motion.c_str());
-  const char* names[2] = {"I-faces", "B-faces"};
-  for (int t = 0; t < 2; ++t) {
-    if (faces_by_type[t] == 0) continue;
-    std::printf("  %s   %llu, %s, %.0f bytes each on average\n", names[t],
-                static_cast<unsigned long long>(faces_by_type[t]), human_bytes(bytes_by_type[t]).c_str(),
-                static_cast<double>(bytes_by_type[t]) / faces_by_type[t]);
-  }
+  print_frame_stats("I-faces", stats[0]);
+  print_frame_stats("B-faces", stats[1]);
   std::printf("  per cell  %.0f bytes on average\n",
               cells.empty() ? 0.0 : static_cast<double>(bytes_by_type[0] + bytes_by_type[1]) / cells.size());
   return 0;

@@ -36,6 +36,20 @@ struct VerifyOptions {
   bool quiet = false;
 };
 
+struct InspectOptions {
+  std::filesystem::path input;
+  std::filesystem::path output;  // PNG
+  CellIndex cell;
+  Face face = Face::kPX;
+};
+
+struct AddOptions {
+  std::filesystem::path input;   // .svc file, updated in place
+  std::filesystem::path db_dir;  // svc-input database with the cells to add
+  int threads = 0;
+  bool quiet = false;
+};
+
 struct DemoOptions {
   samples::SceneKind kind = samples::SceneKind::kHall;
   std::filesystem::path keep_dir;  // empty: a temporary folder, removed at the end
@@ -50,5 +64,7 @@ int decode_command(const DecodeOptions& options);
 int info_command(const InfoOptions& options);
 int verify_command(const VerifyOptions& options);
 int demo_command(const DemoOptions& options);
+int add_command(const AddOptions& options);
+int inspect_command(const InspectOptions& options);
 
 }  // namespace svc::cli

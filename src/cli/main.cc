@@ -6,6 +6,9 @@
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
+#ifdef SVC_WITH_BENCH
+#include "cli/bench_command.h"
+#endif
 
 namespace {
 
@@ -54,6 +57,15 @@ int main(int argc, char** argv) {
   encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
   encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
 
+  AddOptions add;
+  auto* add_cmd = app.add_subcommand("add", "Add a database's new cells to an .svc file in place (crash-safe)");
+  add_cmd->add_option("IN", add.input, "The .svc file to add to")->required();
+  add_cmd->add_option("DB_DIR", add.db_dir, "svc-input database holding the cells to add")->required();
+  add_cmd->add_option("--threads", add.threads, "Worker threads (0: all cores); output does not depend on it")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  add_cmd->add_flag("--quiet", add.quiet, "Print nothing on success");
+
   DecodeOptions decode;
   std::string decode_cell, decode_face;
   auto* decode_cmd = app.add_subcommand("decode", "Decode faces into an svc-input database of PNGs");
@@ -73,6 +85,15 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("IN", verify.input, "Input .svc file")->required();
   verify_cmd->add_flag("--quiet", verify.quiet, "Print nothing on success");
 
+  InspectOptions inspect;
+  std::string inspect_cell, inspect_face;
+  auto* inspect_cmd =
+      app.add_subcommand("inspect", "Write a decoded face beside its macroblock classification as PNG");
+  inspect_cmd->add_option("IN", inspect.input, "Input .svc file")->required();
+  inspect_cmd->add_option("--cell", inspect_cell, "Cell X,Y,Z")->required();
+  inspect_cmd->add_option("--face", inspect_face, "Face: px nx py ny pz nz")->required();
+  inspect_cmd->add_option("-o,--output", inspect.output, "Output PNG")->required();
+
   DemoOptions demo;
   std::string demo_kind = "hall", demo_spacing = "3,1,3", demo_motion = "depth";
   auto* demo_cmd = app.add_subcommand("demo", "Generate the sample scene, encode it, decode random cells, report");
@@ -80,12 +101,17 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder");
   add_encoder_options(demo_cmd, &demo.settings, &demo_spacing, &demo_motion);
 
+#ifdef SVC_WITH_BENCH
+  BenchSubcommand bench(app);
+#endif
+
   CLI11_PARSE(app, argc, argv);
 
   if (encode_cmd->parsed()) {
     if (!apply_encoder_options(&encode.settings, encode_spacing, encode_motion)) return 2;
     return encode_command(encode);
   }
+  if (add_cmd->parsed()) return add_command(add);
   if (decode_cmd->parsed()) {
     if (!decode_cell.empty()) {
       CellIndex cell;
@@ -105,6 +131,15 @@ int main(int argc, char** argv) {
     return decode_command(decode);
   }
   if (info_cmd->parsed()) return info_command(info);
+  if (inspect_cmd->parsed()) {
+    const auto face = face_from_name(inspect_face);
+    if (!parse_cell(inspect_cell, &inspect.cell) || !face) {
+      std::fprintf(stderr, "svc: inspect takes --cell X,Y,Z and --face px|nx|py|ny|pz|nz\n");
+      return 2;
+    }
+    inspect.face = *face;
+    return inspect_command(inspect);
+  }
   if (verify_cmd->parsed()) return verify_command(verify);
   if (demo_cmd->parsed()) {
     if (!samples::parse_scene_kind(demo_kind, &demo.kind)) {
@@ -114,5 +149,8 @@ int main(int argc, char** argv) {
     if (!apply_encoder_options(&demo.settings, demo_spacing, demo_motion)) return 2;
     return demo_command(demo);
   }
+#ifdef SVC_WITH_BENCH
+  if (bench.parsed()) return bench.run();
+#endif
   return 2;
 }

@@ -55,6 +55,19 @@ struct FrameRecord {
   std::vector<uint32_t> references;  // ordinals into ContainerIndex::frames
 };
 
+// What the encoder measured for one frame type (I or B), kept for `svc info`.
+struct FrameTypeRecord {
+  uint64_t faces = 0;
+  uint64_t bytes = 0;
+  uint64_t mb_intra = 0;
+  uint64_t mb_forward = 0;
+  uint64_t mb_backward = 0;
+  uint64_t mb_bidirectional = 0;
+  uint64_t mb_skipped = 0;
+  uint64_t candidate_vectors = 0;      // unique candidates summed over macroblocks and references
+  uint64_t candidate_macroblocks = 0;  // macroblock-reference pairs they were counted over
+};
+
 struct ContainerIndex {
   uint32_t face_width = 0;
   uint32_t face_height = 0;
@@ -64,6 +77,7 @@ struct ContainerIndex {
   CodingRecord coding;
   std::vector<CellRecord> cells;    // sorted by (y, z, x), unique
   std::vector<FrameRecord> frames;  // six per cell, cell-major, face order px..nz
+  std::array<FrameTypeRecord, 2> stats;  // indexed by FrameKind
 };
 
 std::vector<uint8_t> serialize_index(const ContainerIndex& index);
@@ -89,6 +103,9 @@ struct OpenedContainer {
   int slot = 0;                   // commit slot in use (0 or 1)
   // Per slot: neither all zero nor valid (CRC fails): an interrupted commit or damage.
   std::array<bool, 2> slot_damaged{false, false};
+  // The other slot holds a newer generation whose index failed to read or validate:
+  // this index is an older one.
+  bool fell_back = false;
 };
 
 // Reads the header, the newest valid commit slot and the index it points at.
@@ -112,5 +129,59 @@ class ContainerWriter {
   explicit ContainerWriter(std::unique_ptr<AtomicOutputFile> out) : out_(std::move(out)) {}
   std::unique_ptr<AtomicOutputFile> out_;
 };
+
+// Adds to an existing container in place (svc add): appends FACE chunks after the last
+// byte the committed index refers to (bytes beyond it, left by an update that never
+// committed, are cut off first), then commits a new index the crash-safe way (docs/format.md, commit
+// slots): append the INDX chunk, fsync, overwrite the commit slot that does not hold the
+// newest generation with generation + 1, fsync. No byte a committed index refers to is
+// ever written, so until the slot write lands every reader (and a crash at any point)
+// sees exactly the old database. An updater destroyed without commit() cuts the file
+// back to where it started. A file whose newest index is damaged (fell_back) is refused
+// (kCorruptData): adding to an older index would silently drop the newer one.
+//
+// Holds an exclusive advisory lock (flock) on the file while alive: a second updater of
+// the same file fails with kIoError instead of interleaving commits. Readers need no
+// lock. Not thread-safe; one thread drives an updater.
+class ContainerUpdater {
+ public:
+  // Opens `path` read-write, locks it and reads the committed index (validated against
+  // `limits`). Errors: the container's, or kIoError naming the path.
+  static Result<std::unique_ptr<ContainerUpdater>> open(const std::filesystem::path& path,
+                                                        const ReaderLimits& limits = ReaderLimits{});
+  ~ContainerUpdater();
+  ContainerUpdater(const ContainerUpdater&) = delete;
+  ContainerUpdater& operator=(const ContainerUpdater&) = delete;
+
+  // The committed state the update starts from.
+  const OpenedContainer& committed() const { return committed_; }
+  // The file as it was when opened, for reading existing chunks (read_frame_payload).
+  const ReadOnlyFile& file() const { return *file_; }
+
+  // Appends a FACE chunk; returns its file offset. Not visible to readers before commit().
+  Result<uint64_t> append_frame(std::span<const uint8_t> payload);
+  // Appends `index` and commits it as generation committed().generation + 1. After an
+  // error the file may hold appended bytes but still opens as the old database.
+  Status commit(const ContainerIndex& index);
+
+ private:
+  ContainerUpdater(int fd, std::unique_ptr<ReadOnlyFile> file, OpenedContainer committed, uint64_t end)
+      : fd_(fd), file_(std::move(file)), committed_(std::move(committed)), start_(end), end_(end) {}
+  Status write_at(uint64_t offset, std::span<const uint8_t> data);
+  Status sync(const char* what);
+
+  int fd_;
+  std::unique_ptr<ReadOnlyFile> file_;
+  OpenedContainer committed_;
+  uint64_t start_;  // end of the committed data
+  uint64_t end_;    // where the next chunk goes
+  bool committed_once_ = false;
+};
+
+// Fault injection for crash tests: after this many more bytes written by any
+// ContainerUpdater in this process (part of a write counts), the process kills itself
+// with SIGKILL, leaving the file as a crash at that point would. Negative disables (the
+// default). Only for tests that run the update in a child process.
+void set_updater_kill_after_bytes_for_testing(int64_t bytes);
 
 }  // namespace svc

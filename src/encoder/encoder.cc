@@ -1,6 +1,7 @@
 #include "svc/encoder.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <unordered_map>
@@ -53,10 +54,15 @@ EncoderSettings default_encoder_settings() { return EncoderSettings{}; }
 
 int quant_scale_for_quality(int quality) {
   quality = std::clamp(quality, 1, 100);
-  // Geometric from scale 1 at quality 100 to kMaxQuantScale at quality 1: each step in
-  // quality changes the step size by the same factor.
-  const double t = (100.0 - quality) / 99.0;
-  const double scale = std::exp(t * std::log(static_cast<double>(codec::kMaxQuantScale)));
+  // 100 -> 1 (finest), 75 (the default) -> 6, 50 -> 36, geometric in between: each
+  // quality step scales the step size by the same factor. Below 50 the scale rises
+  // linearly to kMaxQuantScale at 1, so every quality keeps a distinct meaning.
+  double scale;
+  if (quality >= 50) {
+    scale = std::pow(6.0, (100.0 - quality) / 25.0);
+  } else {
+    scale = 36.0 + (50.0 - quality) * (codec::kMaxQuantScale - 36.0) / 49.0;
+  }
   return std::clamp(static_cast<int>(std::lround(scale)), codec::kMinQuantScale, codec::kMaxQuantScale);
 }
 
@@ -191,6 +197,8 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
     const Camera& camera = manifest.cells[cell].faces[static_cast<int>(face)].camera;
     std::array<const ImageYCbCr420*, 2> refs{nullptr, nullptr};
     std::array<codec::FaceCandidates, 2> candidates;
+    // Depth also gives each reference a warp node field (per-pixel flow, sent compactly).
+    std::array<codec::WarpField, 2> warps;
     CodedPredicted coded;
     for (size_t r = 0; r < placement[cell].references.size(); ++r) {
       const uint32_t ref_cell = placement[cell].references[r];
@@ -199,13 +207,14 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
         const Camera& ref_camera = manifest.cells[ref_cell].faces[static_cast<int>(face)].camera;
         const FlowField flow = compute_flow(camera, ref_camera, data.color.width, data.color.height, data.depth);
         candidates[r] = macroblock_candidates(flow);
+        warps[r] = warp_nodes(flow);
       } else {
         candidates[r] = codec::log_search_candidates(ycc, *refs[r]);
       }
       coded.candidates += candidate_stats(candidates[r]);
     }
-    coded.payload = codec::encode_b_frame(ycc, *refs[0], refs[1], candidates[0], candidates[1], b_params, nullptr,
-                                          &coded.stats);
+    coded.payload = codec::encode_b_frame(ycc, *refs[0], refs[1], candidates[0], candidates[1], &warps[0], &warps[1],
+                                          b_params, nullptr, &coded.stats);
     if (coded.payload.empty()) {
       return Status(ErrorCode::kInternal, cell_face_name(manifest.cells[cell].index, face) + ": B-frame coding failed");
     }
@@ -229,6 +238,13 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
       ordered_parallel_map<CodedPredicted>(predicted_frames.size(), threads, encode_predicted, store_predicted));
   const codec::BlockLayout layout = codec::block_layout(manifest.face_width, manifest.face_height);
   summary.intra.mb_intra = summary.intra.faces * uint64_t(layout.luma_blocks_x / 2) * uint64_t(layout.luma_blocks_y / 2);
+  for (int kind = 0; kind < 2; ++kind) {
+    const FrameTypeStats& from = kind == 0 ? summary.intra : summary.predicted;
+    FrameTypeRecord& to = index.stats[kind];
+    to = FrameTypeRecord{from.faces,      from.bytes,           from.mb_intra,
+                         from.mb_forward, from.mb_backward,     from.mb_bidirectional,
+                         from.mb_skipped, from.candidate_vectors, from.candidate_macroblocks};
+  }
   SVC_RETURN_IF_ERROR(writer->finish(index));
 
   std::error_code ec;

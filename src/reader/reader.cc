@@ -8,6 +8,10 @@
 #include <thread>
 #include <unordered_map>
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include "codec/bframe_codec.h"
 #include "codec/color.h"
 #include "codec/frame_codec.h"
@@ -199,6 +203,9 @@ struct Reader::Impl {
   }
 
   void worker_loop() {
+    // Background work yields to the threads that need a face now (Linux: per-thread
+    // nice value; failure leaves the default priority).
+    (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
     std::unique_lock<std::mutex> lock(prefetch_mutex);
     for (;;) {
       work_ready.wait(lock, [&] { return stopping || !queue.empty(); });

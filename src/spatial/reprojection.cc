@@ -1,6 +1,7 @@
 #include "spatial/reprojection.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -193,21 +194,20 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
     int32_t key;
     int count;
   };
-  // Smooth flow keeps a block's vectors in a small box: count them in a histogram over
-  // that box (which also yields them in key order); sort them when the box is large.
-  constexpr int kHistogramCells = 1024;
-  std::vector<int> histogram(kHistogramCells, 0);
-  std::vector<codec::MotionVector> vectors;
-  vectors.reserve(kMb * kMb);
-  std::vector<int32_t> keys;
-  keys.reserve(kMb * kMb);
-  std::vector<Counted> distinct;
-  distinct.reserve(kMb * kMb);
+  // Per macroblock: count keys in a small open-addressing table (a generation stamp per
+  // slot avoids clearing it), then order the distinct keys by count. The order is total
+  // (count descending, then key ascending), so the result is deterministic.
+  constexpr int kSlots = 1024;  // > 4 x 256 keys: short probe sequences
+  std::array<int32_t, kSlots> slot_key{};
+  std::array<int32_t, kSlots> slot_index{};
+  std::array<uint32_t, kSlots> slot_generation{};
+  uint32_t generation = 0;
+  std::array<Counted, kMb * kMb> distinct;
 
   for (int mby = 0; mby < mbs_y; ++mby) {
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
-      vectors.clear();
-      int min_x = INT32_MAX, max_x = INT32_MIN, min_y = INT32_MAX, max_y = INT32_MIN;
+      ++generation;
+      int distinct_count = 0;
       const int y_end = std::min(flow.height, (mby + 1) * kMb);
       const int x_end = std::min(flow.width, (mbx + 1) * kMb);
       for (int y = mby * kMb; y < y_end; ++y) {
@@ -220,45 +220,29 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
               !half_pels_within(flow.dy[k], limit, &v.y)) {
             continue;
           }
-          vectors.push_back(v);
-          min_x = std::min<int>(min_x, v.x);
-          max_x = std::max<int>(max_x, v.x);
-          min_y = std::min<int>(min_y, v.y);
-          max_y = std::max<int>(max_y, v.y);
+          const int32_t key = v.y * 65536 + v.x;
+          uint32_t slot = (static_cast<uint32_t>(key) * 2654435761u) >> 22;  // 10 bits
+          while (slot_generation[slot] == generation && slot_key[slot] != key) slot = (slot + 1) & (kSlots - 1);
+          if (slot_generation[slot] != generation) {
+            slot_generation[slot] = generation;
+            slot_key[slot] = key;
+            slot_index[slot] = distinct_count;
+            distinct[static_cast<size_t>(distinct_count++)] = {key, 0};
+          }
+          ++distinct[static_cast<size_t>(slot_index[slot])].count;
         }
       }
-      distinct.clear();
-      if (vectors.empty()) continue;
-      const int box_w = max_x - min_x + 1, box_h = max_y - min_y + 1;
-      if (static_cast<int64_t>(box_w) * box_h <= kHistogramCells) {
-        for (const auto& v : vectors) ++histogram[(v.y - min_y) * box_w + (v.x - min_x)];
-        for (int cell = 0; cell < box_w * box_h; ++cell) {
-          if (histogram[cell] == 0) continue;
-          const int32_t key = (min_y + cell / box_w) * 65536 + (min_x + cell % box_w);
-          distinct.push_back({key, histogram[cell]});
-          histogram[cell] = 0;
-        }
-      } else {
-        keys.clear();
-        for (const auto& v : vectors) keys.push_back(v.y * 65536 + v.x);
-        std::sort(keys.begin(), keys.end());
-        for (size_t a = 0; a < keys.size();) {
-          size_t b = a;
-          while (b < keys.size() && keys[b] == keys[a]) ++b;
-          distinct.push_back({keys[a], static_cast<int>(b - a)});
-          a = b;
-        }
-      }
-      // Most pixels first; equal counts keep ascending key, i.e. (y, x), order.
-      std::stable_sort(distinct.begin(), distinct.end(),
-                       [](const Counted& l, const Counted& r) { return l.count > r.count; });
-      if (distinct.size() > static_cast<size_t>(kMaxCandidatesPerMacroblock)) {
-        distinct.resize(static_cast<size_t>(kMaxCandidatesPerMacroblock));
-      }
+      if (distinct_count == 0) continue;
+      const int kept = std::min(distinct_count, kMaxCandidatesPerMacroblock);
+      std::partial_sort(distinct.begin(), distinct.begin() + kept, distinct.begin() + distinct_count,
+                        [](const Counted& l, const Counted& r) {
+                          return l.count != r.count ? l.count > r.count : l.key < r.key;
+                        });
       codec::CandidateList& list =
           result[static_cast<size_t>(mby) * static_cast<size_t>(mbs_x) + static_cast<size_t>(mbx)];
-      list.reserve(distinct.size());
-      for (const Counted& c : distinct) {
+      list.reserve(static_cast<size_t>(kept));
+      for (int d = 0; d < kept; ++d) {
+        const Counted& c = distinct[static_cast<size_t>(d)];
         // Unpack: x is the low 16 bits as signed, y the rest.
         const auto x = static_cast<int16_t>(static_cast<uint16_t>(c.key & 0xffff));
         const auto y = static_cast<int16_t>((c.key - x) / 65536);
@@ -267,6 +251,100 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
     }
   }
   return result;
+}
+
+codec::WarpField warp_nodes(const FlowField& flow) {
+  constexpr int kMb = codec::kMacroblockSize;
+  codec::WarpField field;
+  const size_t n = static_cast<size_t>(std::max(flow.width, 0)) * static_cast<size_t>(std::max(flow.height, 0));
+  if (n == 0 || flow.dx.size() != n || flow.dy.size() != n || flow.valid.size() != n) return field;
+  field.nodes_x = (flow.width + kMb - 1) / kMb + 1;
+  field.nodes_y = (flow.height + kMb - 1) / kMb + 1;
+  field.nodes.assign(static_cast<size_t>(field.nodes_x) * field.nodes_y, codec::WarpNode{});
+  std::vector<uint8_t> has(field.nodes.size(), 0);
+  // Components beyond this many pixels are not representable by any decoder.
+  const double limit = 2.0 * std::max(flow.width, flow.height) + 32.0;
+  auto to_node = [](double pixels) {
+    return static_cast<int32_t>(std::lround(pixels * codec::kWarpNodeUnitsPerPixel));
+  };
+  for (int j = 0; j < field.nodes_y; ++j) {
+    for (int i = 0; i < field.nodes_x; ++i) {
+      // The 4x4 pixels around the corner, clamped to the face; the inner 2x2 first.
+      float xs[16], ys[16];
+      int count = 0, inner = 0;
+      for (int pass = 0; pass < 2; ++pass) {
+        for (int dy = -2; dy < 2; ++dy) {
+          for (int dx = -2; dx < 2; ++dx) {
+            const bool is_inner = dx >= -1 && dx <= 0 && dy >= -1 && dy <= 0;
+            if (is_inner != (pass == 0)) continue;
+            const int x = std::clamp(kMb * i + dx, 0, flow.width - 1), y = std::clamp(kMb * j + dy, 0, flow.height - 1);
+            const size_t k = static_cast<size_t>(y) * static_cast<size_t>(flow.width) + static_cast<size_t>(x);
+            if (!flow.valid[k] || !(std::abs(flow.dx[k]) < limit) || !(std::abs(flow.dy[k]) < limit)) continue;
+            xs[count] = flow.dx[k];
+            ys[count] = flow.dy[k];
+            ++count;
+          }
+        }
+        if (pass == 0) inner = count;
+      }
+      if (count == 0) continue;
+      double mean_x = 0, mean_y = 0, lo_x = 1e30, hi_x = -1e30, lo_y = 1e30, hi_y = -1e30;
+      for (int p = 0; p < inner; ++p) {
+        mean_x += xs[p];
+        mean_y += ys[p];
+        lo_x = std::min<double>(lo_x, xs[p]);
+        hi_x = std::max<double>(hi_x, xs[p]);
+        lo_y = std::min<double>(lo_y, ys[p]);
+        hi_y = std::max<double>(hi_y, ys[p]);
+      }
+      codec::WarpNode& node = field.nodes[static_cast<size_t>(j) * field.nodes_x + i];
+      if (inner > 0 && hi_x - lo_x <= 0.5 && hi_y - lo_y <= 0.5) {
+        node = codec::WarpNode{to_node(mean_x / inner), to_node(mean_y / inner)};
+      } else {
+        int best = 0;
+        double best_distance = 1e300;
+        for (int p = 0; p < count; ++p) {
+          double distance = 0;
+          for (int q = 0; q < count; ++q) distance += std::abs(xs[p] - xs[q]) + std::abs(ys[p] - ys[q]);
+          if (distance < best_distance) {
+            best_distance = distance;
+            best = p;
+          }
+        }
+        node = codec::WarpNode{to_node(xs[best]), to_node(ys[best])};
+      }
+      has[static_cast<size_t>(j) * field.nodes_x + i] = 1;
+    }
+  }
+  // Fill nodes without flow from valid neighbours, a ring at a time.
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<uint8_t> next = has;
+    for (int j = 0; j < field.nodes_y; ++j) {
+      for (int i = 0; i < field.nodes_x; ++i) {
+        const size_t k = static_cast<size_t>(j) * field.nodes_x + i;
+        if (has[k]) continue;
+        int64_t sx = 0, sy = 0;
+        int m = 0;
+        const int offsets[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+        for (const auto& o : offsets) {
+          const int x = i + o[0], y = j + o[1];
+          if (x < 0 || y < 0 || x >= field.nodes_x || y >= field.nodes_y) continue;
+          const size_t q = static_cast<size_t>(y) * field.nodes_x + x;
+          if (!has[q]) continue;
+          sx += field.nodes[q].x;
+          sy += field.nodes[q].y;
+          ++m;
+        }
+        if (m == 0) continue;
+        field.nodes[k] = codec::WarpNode{static_cast<int32_t>(sx / m), static_cast<int32_t>(sy / m)};
+        next[k] = 1;
+        changed = true;
+      }
+    }
+    has.swap(next);
+  }
+  return field;
 }
 
 CandidateStats candidate_stats(const codec::FaceCandidates& candidates) {

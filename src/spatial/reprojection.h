@@ -63,6 +63,16 @@ codec::MotionVector quantize_flow(double dx, double dy);
 // contributes nothing either. At most kMaxCandidatesPerMacroblock vectors per list.
 codec::FaceCandidates macroblock_candidates(const FlowField& flow);
 
+// The warp node field of a face (codec/motion.h, WarpField): per macroblock corner, the
+// flow at the corner point (16 i - 0.5, 16 j - 0.5) in 1/8 pel, rounded to nearest. Where
+// the 2x2 pixels around the corner agree within half a pixel the node is their mean (the
+// bilinear flow at the corner, exact for planes); across a depth discontinuity it is the
+// flow of the pixel of the surrounding 4x4 that is closest to the others (the majority
+// surface), so the node follows one surface instead of blending two. Coordinates past
+// the face are clamped to it. Nodes without a valid pixel near them take the mean of
+// their valid neighbour nodes (0 when none).
+codec::WarpField warp_nodes(const FlowField& flow);
+
 // Counts over one or more faces' candidate lists, for reporting (the dissertation's
 // "average number of unique motion vectors per macroblock").
 struct CandidateStats {

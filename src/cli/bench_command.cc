@@ -1,0 +1,74 @@
+#include "cli/bench_command.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "baseline/baseline.h"
+#include "cli/cli_util.h"
+#include "svc_bench.h"
+
+namespace svc::cli {
+
+struct BenchSubcommand::Options {
+  bench::BenchOptions bench;
+  std::string codecs;
+  std::string out_dir = "bench-results";
+  bool no_experiments = false;
+};
+
+BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Options>()) {
+  std::string all;
+  for (const std::string& name : bench::all_codec_names()) all += (all.empty() ? "" : ",") + name;
+  options_->codecs = all;
+  command_ = app.add_subcommand(
+      "bench", "Compare svc with the MPEG-2 baseline and other codecs on one database: quality, speed, access cost");
+  command_->add_option("DB_DIR", options_->bench.db_dir, "svc-input database folder")->required();
+  command_->add_option("--codecs", options_->codecs, "Comma-separated codecs to run")->capture_default_str();
+  command_->add_option("--out", options_->out_dir, "Output folder for results.json, results.csv, plots, report.md")
+      ->capture_default_str();
+  command_->add_option("--threads", options_->bench.threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  command_->add_option("--accesses", options_->bench.random_accesses, "Random faces per codec for access cost")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  command_->add_option("--seed", options_->bench.seed, "Seed of the random access picks")->capture_default_str();
+  command_->add_flag("--quick", options_->bench.quick, "Two quality points per codec");
+  command_->add_flag("--no-experiments", options_->no_experiments,
+                     "Skip the dissertation experiments (Table 7.5, Figure 7.16, Table 7.4)");
+}
+
+BenchSubcommand::~BenchSubcommand() = default;
+
+bool BenchSubcommand::parsed() const { return command_->parsed(); }
+
+int BenchSubcommand::run() const {
+  bench::BenchOptions options = options_->bench;
+  options.out_dir = options_->out_dir;
+  options.experiments = !options_->no_experiments;
+  std::stringstream list(options_->codecs);
+  for (std::string name; std::getline(list, name, ',');) {
+    if (!name.empty()) options.codecs.push_back(name);
+  }
+  options.progress = [](const std::string& line) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+    std::fflush(stderr);
+  };
+  baseline::quiet_ffmpeg_logging();
+  // SVT-AV1 prints its configuration to the terminal unless told otherwise (errors only).
+  setenv("SVT_LOG", "1", 0);
+  auto results = bench::run_bench(options);
+  if (!results.ok()) return report_error(results.status());
+  Status written = bench::write_all(*results, options.out_dir);
+  if (!written.ok()) return report_error(written);
+  std::printf("%s\n", bench::summary_table_markdown(*results).c_str());
+  for (const bench::PartTiming& t : results->timings) std::printf("  %-16s %7.1f s\n", t.part.c_str(), t.seconds);
+  std::printf("  %-16s %7.1f s\n", "total", results->total_seconds);
+  std::printf("wrote results.json, results.csv, plots and report.md to %s\n", options.out_dir.string().c_str());
+  return 0;
+}
+
+}  // namespace svc::cli

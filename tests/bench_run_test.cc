@@ -1,0 +1,204 @@
+// `svc bench` end to end on a tiny scene with fast codecs: results.json, results.csv,
+// report.md and valid PNG plots, with numbers that agree with each other.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
+
+#include "rd_curve.h"
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "svc_bench.h"
+
+namespace svc::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class BenchRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir("svc-bench-run");
+    samples::SceneOptions scene;
+    scene.grid = {2, 1, 2};
+    scene.face_size = 32;
+    ASSERT_TRUE(samples::generate_scene(scene, dir_->path() / "db").ok());
+    BenchOptions options;
+    options.db_dir = dir_->path() / "db";
+    options.out_dir = dir_->path() / "out";
+    options.codecs = {"png", "svc", "mpeg2", "jpeg"};  // run in report order whatever the order here
+    options.quick = true;
+    options.random_accesses = 12;
+    options.threads = 2;
+    options.progress = [](const std::string& line) { progress_lines_.push_back(line); };
+    auto results = run_bench(options);
+    ASSERT_TRUE(results.ok()) << results.status().to_string();
+    results_ = new BenchResults(std::move(results).value());
+    ASSERT_TRUE(write_all(*results_, options.out_dir).ok());
+  }
+  static void TearDownTestSuite() {
+    delete results_;
+    delete dir_;
+  }
+  static fs::path out() { return dir_->path() / "out"; }
+
+  static testing::TempDir* dir_;
+  static BenchResults* results_;
+  static std::vector<std::string> progress_lines_;
+};
+
+testing::TempDir* BenchRun::dir_ = nullptr;
+BenchResults* BenchRun::results_ = nullptr;
+std::vector<std::string> BenchRun::progress_lines_;
+
+TEST_F(BenchRun, ResultsJsonHasEveryCodecWithConsistentNumbers) {
+  ASSERT_TRUE(results_);
+  const auto j = nlohmann::json::parse(read_text(out() / "results.json"));
+  EXPECT_EQ(j["database"]["cells"], 4);
+  EXPECT_EQ(j["database"]["faces"], 24);
+  const uint64_t raw = 24ull * 32 * 32 * 3;
+  EXPECT_EQ(j["database"]["raw_bytes"], raw);
+  ASSERT_EQ(j["codecs"].size(), 4u);
+  const std::vector<std::string> order = {"svc", "mpeg2", "jpeg", "png"};
+  for (size_t i = 0; i < order.size(); ++i) {
+    const auto& c = j["codecs"][i];
+    EXPECT_EQ(c["name"], order[i]);
+    EXPECT_FALSE(c["skipped"].get<bool>());
+    ASSERT_GE(c["points"].size(), 1u);
+    for (const auto& p : c["points"]) {
+      const uint64_t bytes = p["bytes"];
+      EXPECT_GT(bytes, 0u);
+      EXPECT_NEAR(p["compression_ratio"].get<double>(), double(raw) / bytes, 1e-6);
+      EXPECT_NEAR(p["bits_per_pixel"].get<double>(), 8.0 * bytes / (24.0 * 32 * 32), 1e-9);
+      EXPECT_GT(p["psnr_y"].get<double>(), 20.0);
+      EXPECT_GT(p["psnr_rgb"].get<double>(), 20.0);
+      EXPECT_GT(p["ssim"].get<double>(), 0.5);
+      EXPECT_LE(p["ssim"].get<double>(), 1.0);
+    }
+    const int ref = c["reference_point"];
+    ASSERT_GE(ref, 0);
+    ASSERT_LT(ref, static_cast<int>(c["points"].size()));
+    EXPECT_GT(c["speed"]["encode_faces_per_second"].get<double>(), 0);
+    EXPECT_GT(c["speed"]["decode_faces_per_second"].get<double>(), 0);
+    for (const char* mode : {"cold", "warm"}) {
+      const auto& a = c["random_access"][mode];
+      EXPECT_EQ(a["samples"], 12);
+      EXPECT_GE(a["mean_frames_decoded"].get<double>(), 1.0);
+      EXPECT_GT(a["mean_ms"].get<double>(), 0);
+      EXPECT_GE(a["p99_ms"].get<double>(), a["mean_ms"].get<double>() * 0.999);
+    }
+  }
+  // png is lossless and decodes one frame per face; jpeg is intra too.
+  EXPECT_EQ(j["codecs"][3]["points"][0]["psnr_y"], 99.0);
+  EXPECT_EQ(j["codecs"][3]["random_access"]["cold"]["max_frames_decoded"], 1);
+  EXPECT_EQ(j["codecs"][2]["random_access"]["warm"]["mean_frames_decoded"], 1.0);
+  // svc: a face and at most two references.
+  EXPECT_LE(j["codecs"][0]["random_access"]["cold"]["max_frames_decoded"].get<int>(), 3);
+  // MPEG-2 row-major: an I-frame starts every row of 2 cells, so at most I, I, B.
+  EXPECT_LE(j["codecs"][1]["random_access"]["cold"]["max_frames_decoded"].get<int>(), 3);
+}
+
+TEST_F(BenchRun, BdRateMatchesTheCurvesInTheResults) {
+  ASSERT_TRUE(results_);
+  const CodecResult* svc = nullptr;
+  for (const CodecResult& c : results_->codecs) {
+    if (c.name == "svc") svc = &c;
+  }
+  ASSERT_TRUE(svc);
+  auto curve = [](const CodecResult& c) {
+    std::vector<RdPoint> rd;
+    for (const QualityPoint& p : c.points) rd.push_back({p.setting, double(p.bytes), p.psnr_y, 0});
+    return RdCurve(rd);
+  };
+  for (const CodecResult& c : results_->codecs) {
+    if (&c == svc) continue;
+    const auto expected = bd_rate_ratio(curve(c), curve(*svc));
+    if (c.points.size() < 2 || !expected) {
+      EXPECT_FALSE(c.bd_rate_svc.has_value()) << c.name;
+      continue;
+    }
+    ASSERT_TRUE(c.bd_rate_svc.has_value()) << c.name;
+    EXPECT_NEAR(*c.bd_rate_svc, *expected - 1, 1e-12) << c.name;
+  }
+}
+
+TEST_F(BenchRun, ExperimentsCoverTheDissertationTables) {
+  ASSERT_TRUE(results_ && results_->experiments);
+  const Experiments& e = *results_->experiments;
+  std::vector<std::string> names;
+  for (const SizeRow& row : e.table_7_5) names.push_back(row.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"raw", "PNG", "JPEG", "MPEG-2 row-major", "spatial (svc)"}));
+  EXPECT_EQ(e.table_7_5[0].bytes, results_->raw_bytes);
+  ASSERT_EQ(e.b_to_i_sweep.size(), 5u);
+  EXPECT_EQ(e.b_to_i_sweep[0].b_faces, 0u);  // every cell an I-cube
+  EXPECT_EQ(e.b_to_i_sweep[0].i_faces, 24u);
+  for (const SweepPoint& p : e.b_to_i_sweep) {
+    EXPECT_EQ(p.i_faces + p.b_faces, 24u);
+    EXPECT_GT(p.bytes, 0u);
+  }
+  ASSERT_FALSE(e.spacing_sweep.empty());
+  EXPECT_EQ(e.spacing_sweep[0].sample_spacing, 1);
+  ASSERT_EQ(e.table_7_4.size(), 2u);
+  EXPECT_EQ(e.table_7_4[0].motion, "depth");
+  EXPECT_EQ(e.table_7_4[1].motion, "logarithmic");
+  for (const MotionRow& row : e.table_7_4) {
+    EXPECT_GT(row.bytes_at_equal_psnr, 0) << row.motion;
+    EXPECT_FALSE(row.points.empty());
+  }
+}
+
+TEST_F(BenchRun, WritesCsvReportAndValidPngPlots) {
+  ASSERT_TRUE(results_);
+  std::istringstream csv(read_text(out() / "results.csv"));
+  size_t rows = 0, expected = 0;
+  for (std::string line; std::getline(csv, line);) ++rows;
+  for (const CodecResult& c : results_->codecs) expected += c.points.size();
+  EXPECT_EQ(rows, expected + 1);
+
+  const std::string report = read_text(out() / "report.md");
+  for (const char* name : {"rd_curves.png", "access_cost.png", "fig7_16.png"}) {
+    EXPECT_NE(report.find(std::string("](") + name + ")"), std::string::npos) << name;
+    const fs::path path = out() / name;
+    ASSERT_TRUE(fs::exists(path)) << name;
+    const std::string bytes = read_text(path);
+    ASSERT_GT(bytes.size(), 8u);
+    EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << name;
+    auto in = OIIO::ImageInput::open(path.string());
+    ASSERT_TRUE(in) << name;
+    EXPECT_GE(in->spec().width, 600) << name;
+    EXPECT_GE(in->spec().height, 400) << name;
+    std::vector<uint8_t> pixels(static_cast<size_t>(in->spec().width) * in->spec().height * 3);
+    EXPECT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data())) << name;
+  }
+  EXPECT_NE(report.find("Table 7.5"), std::string::npos);
+  EXPECT_NE(report.find("Table 7.4"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out() / "work"));  // scratch files are removed
+  EXPECT_FALSE(progress_lines_.empty());
+}
+
+TEST(BenchOptionsTest, UnknownCodecIsRejected) {
+  BenchOptions options;
+  options.db_dir = "/nonexistent";
+  options.out_dir = "/nonexistent-out";
+  options.codecs = {"svc", "divx"};
+  auto results = run_bench(options);
+  ASSERT_FALSE(results.ok());
+  EXPECT_EQ(results.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(results.status().message().find("divx"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace svc::bench
+

@@ -1,0 +1,174 @@
+// Replays the fuzzers' seed corpus (tests/fuzz/corpus) through the fuzz entry points, and
+// generates that corpus: with SVC_WRITE_FUZZ_CORPUS=DIR set, FuzzCorpus.Generate writes
+// the seeds into DIR/container and DIR/frame (the committed corpus was made with
+//   SVC_WRITE_FUZZ_CORPUS=tests/fuzz/corpus build/bin/svc_integration_tests --gtest_filter=FuzzCorpus.Generate
+// ). Inputs the fuzzers found are added beside the seeds by hand.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+
+#include "fuzz/fuzz_entry.h"
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "svc/encoder.h"
+
+namespace svc {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<uint8_t> read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+fs::path corpus_dir(const std::string& target) {
+  return fs::path(SVC_SOURCE_DIR) / "tests" / "fuzz" / "corpus" / target;
+}
+
+std::vector<fs::path> corpus_files(const std::string& target) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(corpus_dir(target))) {
+    if (entry.is_regular_file()) files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// The seeds: named inputs, each valid (every face decodes).
+std::map<std::string, std::vector<uint8_t>> container_seeds(const fs::path& work) {
+  std::map<std::string, std::vector<uint8_t>> seeds;
+  struct Variant {
+    std::string name;
+    std::array<int, 3> grid;
+    bool intra_only;
+    MotionSearch motion;
+  };
+  const Variant variants[] = {
+      {"seed-2x1x2-ib-depth.svc", {2, 1, 2}, false, MotionSearch::kDepth},
+      {"seed-3x1x1-ib-log.svc", {3, 1, 1}, false, MotionSearch::kLogarithmic},
+      {"seed-1x1x1-intra.svc", {1, 1, 1}, true, MotionSearch::kDepth},
+  };
+  for (const Variant& v : variants) {
+    samples::SceneOptions options;
+    options.grid = v.grid;
+    options.face_size = 16;
+    const fs::path db = work / (v.name + ".db");
+    EXPECT_TRUE(samples::generate_scene(options, db).ok());
+    EncoderSettings settings;
+    settings.quality = 50;
+    settings.intra_only = v.intra_only;
+    settings.motion = v.motion;
+    settings.threads = 1;
+    const fs::path out = work / v.name;
+    auto summary = encode_database(db, out, settings);
+    EXPECT_TRUE(summary.ok()) << summary.status().to_string();
+    seeds[v.name] = read_bytes(out);
+  }
+  return seeds;
+}
+
+std::map<std::string, std::vector<uint8_t>> frame_seeds() {
+  std::map<std::string, std::vector<uint8_t>> seeds;
+  const std::pair<int, int> sizes[] = {{16, 16}, {1, 1}, {17, 9}, {33, 20}, {64, 64}};
+  for (const auto& [w, h] : sizes) {
+    const std::string size = std::to_string(w) + "x" + std::to_string(h);
+    // A source near the references: shifted and brightened, so the B-frame coder uses
+    // inter modes as well as intra ones.
+    ImageYCbCr420 source = fuzz::synthetic_reference(w, h, 0);
+    for (size_t i = 0; i < source.y.size(); ++i) {
+      source.y[i] = static_cast<uint8_t>(std::min(255, source.y[(i + 1) % source.y.size()] + 9));
+    }
+    for (int q : {2, 40}) {
+      const std::vector<uint8_t> intra = codec::encode_intra_frame(source, codec::CodingParams{q}, nullptr);
+      seeds["seed-intra-" + size + "-q" + std::to_string(q)] = fuzz::make_frame_input(0, w, h, intra);
+    }
+    const ImageYCbCr420 ref0 = fuzz::synthetic_reference(w, h, 0);
+    const ImageYCbCr420 ref1 = fuzz::synthetic_reference(w, h, 1);
+    const int mbs = ((w + 15) / 16) * ((h + 15) / 16);
+    codec::FaceCandidates candidates(static_cast<size_t>(mbs), codec::CandidateList{{2, 0}, {0, -2}});
+    codec::WarpField warp;
+    warp.nodes_x = (w + 15) / 16 + 1;
+    warp.nodes_y = (h + 15) / 16 + 1;
+    warp.nodes.assign(static_cast<size_t>(warp.nodes_x) * warp.nodes_y, codec::WarpNode{4, -3});
+    for (int refs : {1, 2}) {
+      codec::BFrameParams params;
+      params.quant_scale = 12;
+      const std::vector<uint8_t> b =
+          codec::encode_b_frame(source, ref0, refs == 2 ? &ref1 : nullptr, candidates, candidates, &warp,
+                                refs == 2 ? &warp : nullptr, params, nullptr, nullptr);
+      seeds["seed-b" + std::to_string(refs) + "-" + size] = fuzz::make_frame_input(static_cast<uint8_t>(refs), w, h, b);
+    }
+  }
+  return seeds;
+}
+
+TEST(FuzzCorpus, SeedsDecodeThroughTheEntryPoints) {
+  testing::TempDir dir("svc-fuzz-seeds");
+  for (const auto& [name, bytes] : container_seeds(dir.path())) {
+    ASSERT_FALSE(bytes.empty()) << name;
+    auto file = ReadOnlyFile::open(dir.path() / name);
+    ASSERT_TRUE(file.ok());
+    auto opened = open_container(**file, fuzz::fuzz_limits());
+    ASSERT_TRUE(opened.ok()) << opened.status().to_string();
+    EXPECT_EQ(fuzz::run_container_input(bytes), static_cast<int>(opened->index.frames.size())) << name;
+    // Repairing the checksums of an intact file changes nothing.
+    std::vector<uint8_t> copy = bytes;
+    EXPECT_FALSE(fuzz::repair_checksums(copy)) << name;
+  }
+  for (const auto& [name, bytes] : frame_seeds()) {
+    EXPECT_EQ(fuzz::run_frame_input(bytes), 1) << name;
+  }
+}
+
+TEST(FuzzCorpus, RepairedChecksumsLetDamageReachTheParsers) {
+  testing::TempDir dir("svc-fuzz-repair");
+  auto seeds = container_seeds(dir.path());
+  std::vector<uint8_t> bytes = seeds.at("seed-1x1x1-intra.svc");
+  bytes[kPreludeSize + 20] ^= 0x40;  // inside the first face's payload
+  EXPECT_TRUE(fuzz::repair_checksums(bytes));
+  std::vector<uint8_t> again = bytes;
+  EXPECT_FALSE(fuzz::repair_checksums(again));
+  EXPECT_EQ(again, bytes);
+}
+
+TEST(FuzzCorpus, ReplaysContainerCorpus) {
+  const auto files = corpus_files("container");
+  ASSERT_FALSE(files.empty());
+  for (const fs::path& path : files) {
+    SCOPED_TRACE(path.string());
+    const std::vector<uint8_t> bytes = read_bytes(path);
+    const int decoded = fuzz::run_container_input(bytes);
+    // Seeds are intact files: every face decodes.
+    if (path.filename().string().rfind("seed-", 0) == 0) EXPECT_GT(decoded, 0);
+  }
+}
+
+TEST(FuzzCorpus, ReplaysFrameCorpus) {
+  const auto files = corpus_files("frame");
+  ASSERT_FALSE(files.empty());
+  for (const fs::path& path : files) {
+    SCOPED_TRACE(path.string());
+    const int decoded = fuzz::run_frame_input(read_bytes(path));
+    if (path.filename().string().rfind("seed-", 0) == 0) EXPECT_EQ(decoded, 1);
+  }
+}
+
+TEST(FuzzCorpus, Generate) {
+  const char* target = std::getenv("SVC_WRITE_FUZZ_CORPUS");
+  if (target == nullptr) GTEST_SKIP() << "set SVC_WRITE_FUZZ_CORPUS=DIR to write the seed corpus";
+  testing::TempDir dir("svc-fuzz-generate");
+  auto write = [](const fs::path& path, const std::vector<uint8_t>& bytes) {
+    fs::create_directories(path.parent_path());
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    ASSERT_TRUE(out.good()) << path;
+  };
+  for (const auto& [name, bytes] : container_seeds(dir.path())) write(fs::path(target) / "container" / name, bytes);
+  for (const auto& [name, bytes] : frame_seeds()) write(fs::path(target) / "frame" / name, bytes);
+}
+
+}  // namespace
+}  // namespace svc

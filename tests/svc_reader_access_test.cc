@@ -1,0 +1,326 @@
+// Random access through the reader's caches: bit-exact against a sequential decode
+// without caches, byte budgets never exceeded, counters that say what happened, and the
+// prefetch order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <random>
+
+#include "codec/frame_codec.h"
+#include "common/file_io.h"
+#include "reader/prefetch_order.h"
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "svc/encoder.h"
+#include "svc/reader.h"
+
+namespace svc {
+namespace {
+
+namespace fs = std::filesystem;
+
+ReaderSettings uncached_settings() {
+  ReaderSettings settings;
+  settings.coefficient_cache_bytes = 0;
+  settings.face_cache_bytes = 0;
+  settings.prefetch_threads = 0;
+  return settings;
+}
+
+bool same_image(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  return a.width == b.width && a.height == b.height && a.y == b.y && a.cb == b.cb && a.cr == b.cr;
+}
+
+// A 6x1x3 hall (I-cubes at x = 1, 4 and z = 1), encoded once for the whole file, and
+// every face decoded sequentially without caches as the reference.
+class ReaderAccess : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir("svc-reader-access");
+    samples::SceneOptions options;
+    options.grid = {6, 1, 3};
+    options.face_size = 48;
+    ASSERT_TRUE(samples::generate_scene(options, dir_->path() / "db").ok());
+    EncoderSettings encoder;
+    encoder.threads = 1;
+    auto summary = encode_database(dir_->path() / "db", file(), encoder);
+    ASSERT_TRUE(summary.ok()) << summary.status().to_string();
+    auto reader = Reader::open(file(), uncached_settings());
+    ASSERT_TRUE(reader.ok()) << reader.status().to_string();
+    reference_ = new std::vector<ImageYCbCr420>();
+    for (const CellEntry& cell : (*reader)->cells()) {
+      for (Face face : kAllFaces) {
+        auto image = (*reader)->decode_face_ycbcr(cell.index, face);
+        ASSERT_TRUE(image.ok()) << image.status().to_string();
+        reference_->push_back(std::move(image).value());
+      }
+    }
+  }
+  static void TearDownTestSuite() {
+    delete reference_;
+    delete dir_;
+  }
+  static fs::path file() { return dir_->path() / "hall.svc"; }
+  static const ImageYCbCr420& reference(size_t frame) { return (*reference_)[frame]; }
+  // A B-face and the frames of its references.
+  static std::pair<size_t, std::vector<size_t>> some_b_face(const Reader& reader, size_t skip = 0) {
+    for (size_t c = 0; c < reader.cells().size(); ++c) {
+      const FaceEntry& entry = reader.cells()[c].faces[0];
+      if (entry.type != FaceType::kPredicted || entry.references.size() != 2) continue;
+      if (skip-- > 0) continue;
+      std::vector<size_t> refs;
+      for (const auto& [cell, face] : entry.references) refs.push_back(cell * kFaceCount + static_cast<int>(face));
+      return {c * kFaceCount, refs};
+    }
+    return {SIZE_MAX, {}};
+  }
+
+  static testing::TempDir* dir_;
+  static std::vector<ImageYCbCr420>* reference_;
+};
+testing::TempDir* ReaderAccess::dir_ = nullptr;
+std::vector<ImageYCbCr420>* ReaderAccess::reference_ = nullptr;
+
+TEST_F(ReaderAccess, RandomOrderThroughSmallCachesEqualsSequentialDecode) {
+  const uint64_t face_bytes = 48 * 48 + 2 * 24 * 24 + 256;  // about one decoded face with bookkeeping
+  ReaderSettings settings;
+  settings.face_cache_bytes = 5 * face_bytes;
+  settings.coefficient_cache_bytes = 6000;  // a few I-faces: forces evictions
+  settings.prefetch_threads = 0;
+  auto reader = Reader::open(file(), settings);
+  ASSERT_TRUE(reader.ok()) << reader.status().to_string();
+  const auto& cells = (*reader)->cells();
+  ASSERT_EQ(cells.size(), 18u);
+
+  std::vector<size_t> order;
+  for (int pass = 0; pass < 3; ++pass) {
+    for (size_t f = 0; f < cells.size() * kFaceCount; ++f) order.push_back(f);
+  }
+  std::mt19937 rng(7);
+  std::shuffle(order.begin(), order.end(), rng);
+  for (size_t frame : order) {
+    const CellIndex& cell = cells[frame / kFaceCount].index;
+    const Face face = kAllFaces[frame % kFaceCount];
+    auto image = (*reader)->decode_face_ycbcr(cell, face);
+    ASSERT_TRUE(image.ok()) << image.status().to_string();
+    ASSERT_TRUE(same_image(*image, reference(frame))) << "frame " << frame;
+    const ReaderStats stats = (*reader)->stats();
+    ASSERT_LE(stats.face_cache.bytes_held, settings.face_cache_bytes);
+    ASSERT_LE(stats.coefficient_cache.bytes_held, settings.coefficient_cache_bytes);
+  }
+  const ReaderStats stats = (*reader)->stats();
+  EXPECT_LE(stats.face_cache.peak_bytes, settings.face_cache_bytes);
+  EXPECT_LE(stats.coefficient_cache.peak_bytes, settings.coefficient_cache_bytes);
+  EXPECT_GT(stats.face_cache.evictions, 0u);
+  EXPECT_GT(stats.coefficient_cache.evictions, 0u);
+  EXPECT_GT(stats.face_cache.hits, 0u);
+  EXPECT_EQ(stats.face_cache.hits + stats.face_cache.misses, order.size());
+  EXPECT_EQ(stats.face_cache.in_flight_waits, 0u);
+  EXPECT_EQ(stats.face_cache.budget_bytes, settings.face_cache_bytes);
+
+  // RGB goes through the same pixels.
+  auto uncached = Reader::open(file(), uncached_settings());
+  ASSERT_TRUE(uncached.ok());
+  for (size_t c : {0u, 7u, 17u}) {
+    auto a = (*reader)->decode_cube(cells[c].index);
+    auto b = (*uncached)->decode_cube(cells[c].index);
+    ASSERT_TRUE(a.ok() && b.ok());
+    for (int f = 0; f < kFaceCount; ++f) {
+      EXPECT_EQ((*a)[f].pixels, (*b)[f].pixels);
+      EXPECT_EQ((*a)[f].pixels.size(), 48u * 48u * 3u);
+    }
+  }
+}
+
+TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  auto reader = Reader::open(file(), settings);
+  ASSERT_TRUE(reader.ok());
+  const auto [first, refs] = some_b_face(**reader, 0);
+  ASSERT_NE(first, SIZE_MAX);
+  const auto& cells = (*reader)->cells();
+
+  auto face = (*reader)->decode_face_ycbcr(cells[first / kFaceCount].index, Face::kPX);
+  ASSERT_TRUE(face.ok());
+  EXPECT_TRUE(same_image(*face, reference(first)));
+  ReaderStats stats = (*reader)->stats();
+  EXPECT_EQ(stats.intra_faces_parsed, 2u);
+  EXPECT_EQ(stats.predicted_faces_decoded, 1u);
+  EXPECT_EQ(stats.chunks_read, 3u);
+  EXPECT_EQ(stats.coefficient_cache.misses, 2u);
+  EXPECT_EQ(stats.coefficient_cache.entries, 2u);
+  const uint64_t bytes_after_first = stats.bytes_read;
+  EXPECT_EQ(bytes_after_first, cells[first / kFaceCount].faces[0].coded_bytes +
+                                   cells[refs[0] / kFaceCount].faces[0].coded_bytes +
+                                   cells[refs[1] / kFaceCount].faces[0].coded_bytes + 3 * 16);
+
+  // Another B-face predicted from the same two I-faces: only its own chunk is read and
+  // only its own bytes are entropy-decoded.
+  size_t second = SIZE_MAX;
+  for (size_t skip = 1; second == SIZE_MAX; ++skip) {
+    auto [candidate, candidate_refs] = some_b_face(**reader, skip);
+    ASSERT_NE(candidate, SIZE_MAX) << "no second B-face with the same references";
+    if (candidate_refs == refs) second = candidate;
+  }
+  face = (*reader)->decode_face_ycbcr(cells[second / kFaceCount].index, Face::kPX);
+  ASSERT_TRUE(face.ok());
+  EXPECT_TRUE(same_image(*face, reference(second)));
+  stats = (*reader)->stats();
+  EXPECT_EQ(stats.intra_faces_parsed, 2u);
+  EXPECT_EQ(stats.predicted_faces_decoded, 2u);
+  EXPECT_EQ(stats.chunks_read, 4u);
+  EXPECT_EQ(stats.coefficient_cache.hits, 2u);
+
+  // The same face again: no read, no decode, a face-cache hit; the shared image is the
+  // cached one and outlives close().
+  auto shared = (*reader)->acquire_face_ycbcr(cells[second / kFaceCount].index, Face::kPX);
+  ASSERT_TRUE(shared.ok());
+  stats = (*reader)->stats();
+  EXPECT_EQ(stats.chunks_read, 4u);
+  EXPECT_EQ(stats.predicted_faces_decoded, 2u);
+  EXPECT_EQ(stats.face_cache.hits, 1u);
+  auto again = (*reader)->acquire_face_ycbcr(cells[second / kFaceCount].index, Face::kPX);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(shared->get(), again->get());
+  (*reader)->close();
+  EXPECT_TRUE(same_image(**shared, reference(second)));
+  EXPECT_EQ((*reader)->stats().face_cache.bytes_held, 0u);
+  EXPECT_EQ((*reader)->stats().coefficient_cache.bytes_held, 0u);
+}
+
+TEST_F(ReaderAccess, ZeroBudgetsCacheNothing) {
+  auto reader = Reader::open(file(), uncached_settings());
+  ASSERT_TRUE(reader.ok());
+  const CellIndex cell = (*reader)->cells()[3].index;
+  for (int i = 0; i < 2; ++i) ASSERT_TRUE((*reader)->decode_cube(cell).ok());
+  const ReaderStats stats = (*reader)->stats();
+  EXPECT_EQ(stats.face_cache.entries, 0u);
+  EXPECT_EQ(stats.face_cache.peak_bytes, 0u);
+  EXPECT_EQ(stats.coefficient_cache.peak_bytes, 0u);
+  EXPECT_EQ(stats.face_cache.hits, 0u);
+  EXPECT_EQ(stats.face_cache.misses, 12u);
+}
+
+TEST_F(ReaderAccess, SemiDecodedIFacesAreChargedWhatTheyHold) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  auto reader = Reader::open(file(), settings);
+  ASSERT_TRUE(reader.ok());
+  auto file_reader = ReadOnlyFile::open(file());
+  ASSERT_TRUE(file_reader.ok());
+  uint64_t i_faces = 0, expected_bytes = 0, levels = 0;
+  for (const CellEntry& cell : (*reader)->cells()) {
+    for (Face face : kAllFaces) {
+      const FaceEntry& entry = cell.faces[static_cast<int>(face)];
+      if (entry.type != FaceType::kIntra) continue;
+      ASSERT_TRUE((*reader)->decode_face_ycbcr(cell.index, face).ok());
+      ++i_faces;
+      // The same payload parsed here: the cache holds exactly this sparse form.
+      auto payload = (*file_reader)->read_vector(entry.offset + 12, entry.coded_bytes);
+      ASSERT_TRUE(payload.ok());
+      codec::CoefficientFrame parsed;
+      ASSERT_TRUE(codec::parse_intra_frame(*payload, 48, 48, &parsed).ok());
+      parsed.entries.shrink_to_fit();
+      parsed.block_counts.shrink_to_fit();
+      expected_bytes += parsed.memory_bytes() + 96;
+      levels += parsed.entries.size();
+    }
+  }
+  const ReaderStats stats = (*reader)->stats();
+  ASSERT_EQ(stats.coefficient_cache.entries, i_faces);
+  EXPECT_EQ(stats.coefficient_cache.bytes_held, expected_bytes);
+  // Two bytes a non-zero level plus a fixed ~220 bytes a face: on these tiny, busy
+  // 48x48 faces about a third of RGB; svc-bench-access reports the 256x256 sample scenes.
+  const double per_face = static_cast<double>(stats.coefficient_cache.bytes_held) / i_faces;
+  EXPECT_LT(per_face / (48.0 * 48.0 * 3.0), 0.5) << per_face << " bytes per I-face";
+  EXPECT_LT(static_cast<double>(levels) / i_faces, 48.0 * 48.0 * 1.5 / 2) << "not sparse";
+}
+
+TEST_F(ReaderAccess, DamagedReferenceFailsItsBFacesOnlyAndIsNotCached) {
+  auto clean = Reader::open(file(), uncached_settings());
+  ASSERT_TRUE(clean.ok());
+  const auto [b_frame, refs] = some_b_face(**clean, 0);
+  ASSERT_NE(b_frame, SIZE_MAX);
+  const CellEntry& ref_cell = (*clean)->cells()[refs[0] / kFaceCount];
+  const fs::path damaged = dir_->path() / "damaged.svc";
+  fs::copy_file(file(), damaged, fs::copy_options::overwrite_existing);
+  {
+    std::fstream out(damaged, std::ios::in | std::ios::out | std::ios::binary);
+    out.seekp(static_cast<std::streamoff>(ref_cell.faces[0].offset + 20));
+    out.put('\x5a');
+  }
+  auto reader = Reader::open(damaged);
+  ASSERT_TRUE(reader.ok());
+  const CellIndex b_cell = (*reader)->cells()[b_frame / kFaceCount].index;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    auto face = (*reader)->decode_face(b_cell, Face::kPX);
+    ASSERT_FALSE(face.ok());
+    EXPECT_EQ(face.status().code(), ErrorCode::kCorruptData);
+    EXPECT_NE(face.status().message().find("its reference"), std::string::npos) << face.status().message();
+    EXPECT_NE(face.status().message().find(std::to_string(ref_cell.faces[0].offset)), std::string::npos);
+  }
+  EXPECT_EQ((*reader)->stats().coefficient_cache.misses, 2u);  // asked twice, read twice
+  auto other = (*reader)->decode_face_ycbcr(b_cell, Face::kNX);
+  ASSERT_TRUE(other.ok()) << other.status().to_string();
+  EXPECT_TRUE(same_image(*other, reference(b_frame + 1)));
+}
+
+TEST_F(ReaderAccess, ErrorsNameWhatIsWrong) {
+  ReaderSettings bad;
+  bad.prefetch_threads = 65;
+  EXPECT_EQ(Reader::open(file(), bad).status().code(), ErrorCode::kInvalidArgument);
+  bad = ReaderSettings{};
+  bad.prefetch_radius = -1;
+  EXPECT_EQ(Reader::open(file(), bad).status().code(), ErrorCode::kInvalidArgument);
+
+  auto reader = Reader::open(file());
+  ASSERT_TRUE(reader.ok());
+  auto missing = (*reader)->decode_face(CellIndex{9, 0, 0}, Face::kPX);
+  EXPECT_EQ(missing.status().code(), ErrorCode::kNotFound);
+  EXPECT_NE(missing.status().message().find("cell (9,0,0)"), std::string::npos);
+  EXPECT_EQ((*reader)->set_viewer(CellIndex{6, 0, 0}).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ((*reader)->set_viewer(std::array<double, 3>{NAN, 0, 0}).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ((*reader)->set_viewer(CellIndex{1, 0, 1}, {INFINITY, 0, 0}).code(), ErrorCode::kInvalidArgument);
+  // A position outside the grid is clamped to the nearest cell.
+  EXPECT_TRUE((*reader)->set_viewer(std::array<double, 3>{-100, 0, 100}).ok());
+
+  (*reader)->close();
+  (*reader)->close();
+  EXPECT_EQ((*reader)->decode_face(CellIndex{0, 0, 0}, Face::kPX).status().code(), ErrorCode::kCancelled);
+  EXPECT_EQ((*reader)->decode_cube(CellIndex{0, 0, 0}).status().code(), ErrorCode::kCancelled);
+  EXPECT_EQ((*reader)->set_viewer(CellIndex{0, 0, 0}).code(), ErrorCode::kCancelled);
+  EXPECT_EQ((*reader)->cells().size(), 18u);
+  EXPECT_TRUE((*reader)->find_cell(CellIndex{5, 0, 2}).has_value());
+  EXPECT_TRUE((*reader)->wait_for_prefetch(std::chrono::milliseconds(0)));
+}
+
+TEST(ReaderPrefetchOrder, NearestRingFirstThenCellsAhead) {
+  reader_internal::GridGeometry grid;
+  grid.dims = {5, 1, 5};
+  grid.spacing = {0.5, 1, 0.5};
+  auto find = [&](const CellIndex& c) -> std::optional<size_t> {
+    if (c.x == 3 && c.z == 2) return std::nullopt;  // a hole
+    return static_cast<size_t>(c.z * 5 + c.x);
+  };
+  const CellIndex viewer{2, 0, 2};
+  const auto centre = grid.centre(viewer);
+  // Moving towards -z: the cell behind (2,0,3) comes after every ring-1 cell ahead.
+  auto order = reader_internal::prefetch_order(grid, viewer, centre, {0, 0, -1}, 1, 100, find);
+  ASSERT_EQ(order.size(), 8u);  // 9 minus the hole
+  EXPECT_EQ(order[0], 12u);     // the viewer's own cell
+  EXPECT_EQ(order[1], 7u);      // straight ahead (2,0,1)
+  EXPECT_TRUE((order[2] == 6u && order[3] == 8u) || (order[2] == 8u && order[3] == 6u));
+  EXPECT_EQ(order.back(), 17u);  // straight behind
+  // Radius 2 and a cap on the count.
+  order = reader_internal::prefetch_order(grid, viewer, centre, {0, 0, 0}, 2, 4, find);
+  ASSERT_EQ(order.size(), 4u);
+  EXPECT_EQ(order[0], 12u);
+  // Clamped lookups at the grid edge.
+  EXPECT_EQ(grid.cell_at({-5, 0, 99}), (CellIndex{0, 0, 4}));
+  EXPECT_EQ(grid.cell_at({0.74, 0, 0.76}), (CellIndex{1, 0, 2}));
+}
+
+}  // namespace
+}  // namespace svc

@@ -1,0 +1,257 @@
+// The reader under concurrency: many threads, prefetch workers, in-flight
+// deduplication and close() while work is pending. Run under ThreadSanitizer by
+// scripts/test-tsan.sh.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <random>
+#include <set>
+#include <thread>
+
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "svc/encoder.h"
+#include "svc/reader.h"
+
+namespace svc {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool same_image(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  return a.width == b.width && a.height == b.height && a.y == b.y && a.cb == b.cb && a.cr == b.cr;
+}
+
+// A 6x1x6 hall of 32x32 faces, and every face decoded sequentially without caches.
+class ReaderThreads : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir("svc-reader-threads");
+    samples::SceneOptions options;
+    options.grid = {6, 1, 6};
+    options.face_size = 32;
+    ASSERT_TRUE(samples::generate_scene(options, dir_->path() / "db").ok());
+    EncoderSettings encoder;
+    encoder.threads = 1;
+    auto summary = encode_database(dir_->path() / "db", file(), encoder);
+    ASSERT_TRUE(summary.ok()) << summary.status().to_string();
+    ReaderSettings uncached;
+    uncached.coefficient_cache_bytes = 0;
+    uncached.face_cache_bytes = 0;
+    uncached.prefetch_threads = 0;
+    auto reader = Reader::open(file(), uncached);
+    ASSERT_TRUE(reader.ok()) << reader.status().to_string();
+    reference_ = new std::vector<ImageYCbCr420>();
+    for (const CellEntry& cell : (*reader)->cells()) {
+      for (Face face : kAllFaces) {
+        auto image = (*reader)->decode_face_ycbcr(cell.index, face);
+        ASSERT_TRUE(image.ok()) << image.status().to_string();
+        reference_->push_back(std::move(image).value());
+      }
+    }
+  }
+  static void TearDownTestSuite() {
+    delete reference_;
+    delete dir_;
+  }
+  static fs::path file() { return dir_->path() / "hall.svc"; }
+  static const ImageYCbCr420& reference(size_t frame) { return (*reference_)[frame]; }
+  static size_t frame_count() { return reference_->size(); }
+
+  static testing::TempDir* dir_;
+  static std::vector<ImageYCbCr420>* reference_;
+};
+testing::TempDir* ReaderThreads::dir_ = nullptr;
+std::vector<ImageYCbCr420>* ReaderThreads::reference_ = nullptr;
+
+TEST_F(ReaderThreads, EightThreadsOnRandomCellsEqualSequentialDecode) {
+  ReaderSettings settings;
+  settings.face_cache_bytes = 40 * (32 * 32 + 2 * 16 * 16 + 200);  // ~40 faces of 216
+  settings.coefficient_cache_bytes = 8000;
+  settings.prefetch_threads = 2;
+  auto opened = Reader::open(file(), settings);
+  ASSERT_TRUE(opened.ok());
+  Reader& reader = **opened;
+  const auto& cells = reader.cells();
+  std::atomic<int> mismatches{0}, failures{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t) {
+    threads.emplace_back([&, t] {
+      std::mt19937 rng(100 + t);
+      for (int i = 0; i < 60; ++i) {
+        const size_t c = rng() % cells.size();
+        if (t == 0) {
+          // One thread plays the viewer, so prefetch workers join in.
+          if (!reader.set_viewer(cells[c].index, {1.0 * (rng() % 3) - 1, 0, 1.0 * (rng() % 3) - 1}).ok()) ++failures;
+        }
+        if (i % 5 == 0) {
+          auto cube = reader.decode_cube(cells[c].index);
+          if (!cube.ok()) {
+            ++failures;
+            continue;
+          }
+          for (int f = 0; f < kFaceCount; ++f) {
+            if ((*cube)[f].pixels.size() != 32u * 32u * 3u) ++mismatches;
+          }
+          continue;
+        }
+        const int f = static_cast<int>(rng() % kFaceCount);
+        auto image = reader.acquire_face_ycbcr(cells[c].index, kAllFaces[f]);
+        if (!image.ok()) {
+          ++failures;
+        } else if (!same_image(**image, reference(c * kFaceCount + f))) {
+          ++mismatches;
+        }
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(failures.load(), 0);
+  EXPECT_EQ(mismatches.load(), 0);
+  ASSERT_TRUE(reader.wait_for_prefetch(std::chrono::seconds(30)));
+  const ReaderStats stats = reader.stats();
+  EXPECT_LE(stats.face_cache.peak_bytes, settings.face_cache_bytes);
+  EXPECT_LE(stats.coefficient_cache.peak_bytes, settings.coefficient_cache_bytes);
+  EXPECT_GT(stats.face_cache.evictions, 0u);
+  // Every face the caches now hold is still the sequential decode.
+  for (size_t frame = 0; frame < frame_count(); ++frame) {
+    auto image = reader.decode_face_ycbcr(cells[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]);
+    ASSERT_TRUE(image.ok());
+    ASSERT_TRUE(same_image(*image, reference(frame))) << frame;
+  }
+}
+
+TEST_F(ReaderThreads, ConcurrentRequestsForOneFaceDecodeItOnce) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;  // ample default budgets: nothing is evicted
+  auto opened = Reader::open(file(), settings);
+  ASSERT_TRUE(opened.ok());
+  Reader& reader = **opened;
+  const auto& cells = reader.cells();
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t) {
+    threads.emplace_back([&, t] {
+      std::vector<size_t> order(frame_count());
+      for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+      // Half the threads walk the same order (maximal collisions), half shuffled.
+      if (t % 2) std::shuffle(order.begin(), order.end(), std::mt19937(t));
+      for (size_t frame : order) {
+        auto image = reader.acquire_face_ycbcr(cells[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]);
+        if (!image.ok() || !same_image(**image, reference(frame))) ++mismatches;
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(mismatches.load(), 0);
+  const ReaderStats stats = reader.stats();
+  size_t intra = 0;
+  for (const CellEntry& cell : cells) {
+    for (const FaceEntry& face : cell.faces) intra += face.type == FaceType::kIntra;
+  }
+  // Each face decoded exactly once, each I-face entropy-decoded exactly once.
+  EXPECT_EQ(stats.intra_faces_parsed, intra);
+  EXPECT_EQ(stats.predicted_faces_decoded, frame_count() - intra);
+  EXPECT_EQ(stats.face_cache.insertions, frame_count());
+  EXPECT_EQ(stats.face_cache.misses, frame_count());
+  EXPECT_EQ(stats.face_cache.hits + stats.face_cache.misses + stats.face_cache.in_flight_waits,
+            8 * frame_count());
+  EXPECT_EQ(stats.face_cache.evictions, 0u);
+}
+
+TEST_F(ReaderThreads, PrefetchFillsTheNeighbourhoodAndRequestsJoinItsWork) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 3;
+  auto opened = Reader::open(file(), settings);
+  ASSERT_TRUE(opened.ok());
+  Reader& reader = **opened;
+  const CellIndex viewer{2, 0, 3};
+  ASSERT_TRUE(reader.set_viewer(viewer, {1, 0, 0}).ok());
+  // Asked for at once: served by the workers' decodes or by this thread, never twice.
+  auto cube = reader.decode_cube(viewer);
+  ASSERT_TRUE(cube.ok());
+  ASSERT_TRUE(reader.wait_for_prefetch(std::chrono::seconds(30)));
+  ReaderStats stats = reader.stats();
+  const size_t neighbourhood_faces = 9 * kFaceCount;
+  EXPECT_EQ(stats.face_cache.entries, neighbourhood_faces);
+  EXPECT_EQ(stats.face_cache.insertions, neighbourhood_faces);
+  EXPECT_EQ(stats.intra_faces_parsed, stats.coefficient_cache.insertions);  // no I-face parsed twice
+  EXPECT_EQ(stats.prefetch_faces + stats.face_cache.misses, neighbourhood_faces);
+
+  // Every neighbour is now a hit, bit-exact.
+  const uint64_t hits_before = stats.face_cache.hits;
+  for (int dz = -1; dz <= 1; ++dz) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const CellIndex cell{viewer.x + dx, 0, viewer.z + dz};
+      const size_t ordinal = *reader.find_cell(cell);
+      for (int f = 0; f < kFaceCount; ++f) {
+        auto image = reader.decode_face_ycbcr(cell, kAllFaces[f]);
+        ASSERT_TRUE(image.ok());
+        EXPECT_TRUE(same_image(*image, reference(ordinal * kFaceCount + f)));
+      }
+    }
+  }
+  stats = reader.stats();
+  EXPECT_EQ(stats.face_cache.hits - hits_before, neighbourhood_faces);
+  EXPECT_EQ(stats.face_cache.misses + stats.prefetch_faces, neighbourhood_faces);
+
+  // The same viewer again queues nothing; moving on queues only the new cells.
+  ASSERT_TRUE(reader.set_viewer(viewer, {1, 0, 0}).ok());
+  ASSERT_TRUE(reader.set_viewer(CellIndex{3, 0, 3}, {1, 0, 0}).ok());
+  ASSERT_TRUE(reader.wait_for_prefetch(std::chrono::seconds(30)));
+  EXPECT_EQ(reader.stats().face_cache.insertions, neighbourhood_faces + 3 * kFaceCount);
+}
+
+TEST_F(ReaderThreads, CloseDuringPrefetchIsPromptAndClean) {
+  for (int round = 0; round < 6; ++round) {
+    ReaderSettings settings;
+    settings.prefetch_threads = 4;
+    settings.prefetch_radius = 8;  // the whole grid
+    auto opened = Reader::open(file(), settings);
+    ASSERT_TRUE(opened.ok());
+    std::unique_ptr<Reader> reader = std::move(opened).value();
+    ASSERT_TRUE(reader->set_viewer(CellIndex{round % 6, 0, 2}).ok());
+    // Callers keep asking while another thread closes: each call either succeeds with
+    // the right pixels or reports kCancelled.
+    std::atomic<int> wrong{0};
+    std::vector<std::thread> callers;
+    for (int t = 0; t < 3; ++t) {
+      callers.emplace_back([&, t] {
+        std::mt19937 rng(round * 10 + t);
+        for (int i = 0; i < 40; ++i) {
+          const size_t frame = rng() % frame_count();
+          auto image = reader->acquire_face_ycbcr(reader->cells()[frame / kFaceCount].index,
+                                                  kAllFaces[frame % kFaceCount]);
+          if (image.ok() ? !same_image(**image, reference(frame))
+                         : image.status().code() != ErrorCode::kCancelled) {
+            ++wrong;
+          }
+        }
+      });
+    }
+    if (round % 2) std::this_thread::sleep_for(std::chrono::milliseconds(round));
+    std::thread closer([&] { reader->close(); });
+    closer.join();
+    for (auto& caller : callers) caller.join();
+    EXPECT_EQ(wrong.load(), 0);
+    EXPECT_TRUE(reader->wait_for_prefetch(std::chrono::milliseconds(0)));
+    const ReaderStats stats = reader->stats();
+    EXPECT_EQ(stats.face_cache.bytes_held, 0u);
+    EXPECT_EQ(stats.coefficient_cache.bytes_held, 0u);
+    EXPECT_EQ(reader->set_viewer(CellIndex{0, 0, 0}).code(), ErrorCode::kCancelled);
+    EXPECT_EQ(reader->decode_face(CellIndex{0, 0, 0}, Face::kPX).status().code(), ErrorCode::kCancelled);
+    reader.reset();
+  }
+  // Destroying a reader with prefetch in full swing, without close().
+  for (int round = 0; round < 4; ++round) {
+    ReaderSettings settings;
+    settings.prefetch_threads = 4;
+    settings.prefetch_radius = 8;
+    auto opened = Reader::open(file(), settings);
+    ASSERT_TRUE(opened.ok());
+    ASSERT_TRUE((*opened)->set_viewer(std::array<double, 3>{0.5 * round, 0, 1.0}, {0, 0, 1}).ok());
+  }
+}
+
+}  // namespace
+}  // namespace svc
