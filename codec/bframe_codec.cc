@@ -212,6 +212,10 @@ bool predicted_warp(const FrameState& s, int mx, int my) {
   return false;
 }
 
+// Corner nodes within this many node units (1/8 pel) of each other count as one
+// translation when the encoder screens warped prediction.
+constexpr int kUniformWarpSpread = 2;
+
 inline bool uses_reference(MacroblockMode mode, int reference) {
   if (mode == MacroblockMode::kBidirectional) return true;
   return reference == 0 ? mode == MacroblockMode::kForward : mode == MacroblockMode::kBackward;
@@ -704,10 +708,20 @@ class BFrameEncoder {
     int screened_count = 0;
     const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my) * source_.strides[0] + 16 * mx;
     std::array<std::array<uint8_t, 256>, 2> luma{}, warped{};
+    // Warping is screened only towards references whose corner nodes differ: with four
+    // (nearly) equal corners it predicts what a translation does, at a higher price.
+    unsigned screen_warp = 0;
     for (int r = 0; r < s_.reference_count; ++r) {
       predict_macroblock_luma(*s_.references[r], mx, my, best[r], luma[r].data());
       if ((s_.warp_mask >> r) & 1) {
-        predict_warp_macroblock_luma(*s_.references[r], mx, my, macroblock_corners(s_, r, mx, my), warped[r].data());
+        const std::array<WarpNode, 4> corners = macroblock_corners(s_, r, mx, my);
+        int spread = 0;
+        for (const WarpNode& node : corners) {
+          spread = std::max({spread, std::abs(node.x - corners[0].x), std::abs(node.y - corners[0].y)});
+        }
+        if (spread <= kUniformWarpSpread) continue;
+        screen_warp |= 1u << r;
+        predict_warp_macroblock_luma(*s_.references[r], mx, my, corners, warped[r].data());
       }
     }
     for (int warp = 0; warp < 2; ++warp) {
@@ -715,6 +729,10 @@ class BFrameEncoder {
       for (int m = 0; m < inter_count; ++m) {
         const MacroblockMode mode = inter_modes[m];
         if (warp && !warp_allowed(s_, mode)) continue;
+        if (warp && ((uses_reference(mode, 0) && !(screen_warp & 1u)) ||
+                     (uses_reference(mode, 1) && !(screen_warp & 2u)))) {
+          continue;
+        }
         float bits = mode_bits(s_, mx, my, mode);
         if (warp_allowed(s_, mode)) bits += bit_cost(s_.contexts.warp[warp_context(s_, mx, my)], warp);
         int sad;

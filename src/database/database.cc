@@ -614,7 +614,8 @@ ImageRGB8 to_rgb8(const FloatImage& image) {
       } else {
         // Integer images arrive normalised to [0,1]; 8-bit values come back exactly and
         // wider ones are rounded to the nearest 8-bit value.
-        coded = static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+        // (v is non-negative after the clamp, so adding one half and truncating rounds.)
+        coded = static_cast<uint8_t>(static_cast<double>(std::clamp(v, 0.0f, 1.0f)) * 255.0 + 0.5);
       }
       out.pixels[i * 3 + k] = coded;
     }
