@@ -1,5 +1,8 @@
 // Caps on what an .svc file may make the reader allocate. Every field read from a file
-// is checked against these, in 64-bit arithmetic, before it sizes an allocation.
+// is checked against these, in 64-bit arithmetic, before it sizes an allocation; a file
+// above a cap is refused with kLimitExceeded naming the field and its byte offset. The
+// defaults suit any database the encoder makes; a caller handling untrusted files lowers
+// them through ReaderSettings::limits (docs/format.md, "Validation and caps").
 #pragma once
 
 #include <cstdint>
