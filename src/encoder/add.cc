@@ -13,6 +13,7 @@
 #include "common/parallel.h"
 #include "container/container.h"
 #include "database/database.h"
+#include "encoder/face_coding.h"
 #include "spatial/placement.h"
 #include "spatial/reprojection.h"
 #include "svc/encoder.h"
@@ -335,44 +336,20 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   };
   SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedIntra>(intra_frames.size(), threads, encode_intra, store_intra));
 
-  struct CodedPredicted {
-    std::vector<uint8_t> payload;
-    codec::BFrameStats stats;
-    CandidateStats candidates;
-  };
-  auto encode_predicted = [&](size_t k) -> Result<CodedPredicted> {
+  auto encode_predicted = [&](size_t k) -> Result<CodedPredictedFace> {
     const uint32_t frame = predicted_frames[k];
     const size_t c = frame / kFaceCount;
     const int f = static_cast<int>(frame % kFaceCount);
     SVC_ASSIGN_OR_RETURN(FaceData data, load(frame));
-    const ImageYCbCr420 ycc = codec::rgb_to_ycbcr420(data.color.pixels.data(), data.color.width, data.color.height);
-    const Camera& camera = index.cells[c].cameras[f];
-    std::array<const ImageYCbCr420*, 2> refs{nullptr, nullptr};
-    std::array<codec::FaceCandidates, 2> candidates;
-    std::array<codec::WarpField, 2> warps;
-    CodedPredicted coded;
-    const auto& ref_cells = references[c][f];
-    for (size_t r = 0; r < ref_cells.size(); ++r) {
-      refs[r] = &reconstructions.at(ref_cells[r] * kFaceCount + static_cast<uint32_t>(f));
-      if (old.coding.motion == MotionSource::kDepth) {
-        const Camera& ref_camera = index.cells[ref_cells[r]].cameras[f];
-        const FlowField flow = compute_flow(camera, ref_camera, data.color.width, data.color.height, data.depth);
-        candidates[r] = macroblock_candidates(flow);
-        warps[r] = warp_nodes(flow);
-      } else {
-        candidates[r] = codec::log_search_candidates(ycc, *refs[r]);
-      }
-      coded.candidates += candidate_stats(candidates[r]);
+    std::vector<FaceReference> refs;
+    for (uint32_t ref_cell : references[c][f]) {
+      refs.push_back({&reconstructions.at(ref_cell * kFaceCount + static_cast<uint32_t>(f)),
+                      &index.cells[ref_cell].cameras[f]});
     }
-    coded.payload = codec::encode_b_frame(ycc, *refs[0], refs[1], candidates[0], candidates[1], &warps[0], &warps[1],
-                                          b_params, nullptr, &coded.stats);
-    if (coded.payload.empty()) {
-      return Status(ErrorCode::kInternal, cell_face_name(cells[c].index, static_cast<Face>(f)) +
-                                              ": B-frame coding failed");
-    }
-    return coded;
+    return code_predicted_face(data, index.cells[c].cameras[f], refs, old.coding.motion == MotionSource::kDepth,
+                               b_params, cell_face_name(cells[c].index, static_cast<Face>(f)));
   };
-  auto store_predicted = [&](size_t k, CodedPredicted& coded) -> Status {
+  auto store_predicted = [&](size_t k, CodedPredictedFace& coded) -> Status {
     SVC_RETURN_IF_ERROR(record_frame(predicted_frames[k], FrameKind::kPredicted, coded.payload));
     FrameTypeRecord& stats = index.stats[1];
     stats.mb_intra += coded.stats.mb_intra;
@@ -385,7 +362,7 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
     return Status::Ok();
   };
   SVC_RETURN_IF_ERROR(
-      ordered_parallel_map<CodedPredicted>(predicted_frames.size(), threads, encode_predicted, store_predicted));
+      ordered_parallel_map<CodedPredictedFace>(predicted_frames.size(), threads, encode_predicted, store_predicted));
 
   std::error_code size_error;
   const uint64_t size_before = std::filesystem::file_size(svc_file, size_error);

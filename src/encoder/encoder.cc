@@ -13,6 +13,7 @@
 #include "common/parallel.h"
 #include "container/container.h"
 #include "database/database.h"
+#include "encoder/face_coding.h"
 #include "spatial/placement.h"
 #include "spatial/reprojection.h"
 
@@ -183,44 +184,21 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
   const int threads = resolve_thread_count(settings.threads);
   SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedIntra>(intra_frames.size(), threads, encode_intra, store_intra));
 
-  struct CodedPredicted {
-    std::vector<uint8_t> payload;
-    codec::BFrameStats stats;
-    CandidateStats candidates;
-  };
-  auto encode_predicted = [&](size_t k) -> Result<CodedPredicted> {
+  auto encode_predicted = [&](size_t k) -> Result<CodedPredictedFace> {
     const uint32_t frame = predicted_frames[k];
     const size_t cell = frame / kFaceCount;
     const Face face = static_cast<Face>(frame % kFaceCount);
     SVC_ASSIGN_OR_RETURN(FaceData data, load_face(manifest, cell, face));
-    const ImageYCbCr420 ycc = codec::rgb_to_ycbcr420(data.color.pixels.data(), data.color.width, data.color.height);
-    const Camera& camera = manifest.cells[cell].faces[static_cast<int>(face)].camera;
-    std::array<const ImageYCbCr420*, 2> refs{nullptr, nullptr};
-    std::array<codec::FaceCandidates, 2> candidates;
-    // Depth also gives each reference a warp node field (per-pixel flow, sent compactly).
-    std::array<codec::WarpField, 2> warps;
-    CodedPredicted coded;
-    for (size_t r = 0; r < placement[cell].references.size(); ++r) {
-      const uint32_t ref_cell = placement[cell].references[r];
-      refs[r] = &reconstructions.at(ref_cell * kFaceCount + static_cast<uint32_t>(face));
-      if (settings.motion == MotionSearch::kDepth) {
-        const Camera& ref_camera = manifest.cells[ref_cell].faces[static_cast<int>(face)].camera;
-        const FlowField flow = compute_flow(camera, ref_camera, data.color.width, data.color.height, data.depth);
-        candidates[r] = macroblock_candidates(flow);
-        warps[r] = warp_nodes(flow);
-      } else {
-        candidates[r] = codec::log_search_candidates(ycc, *refs[r]);
-      }
-      coded.candidates += candidate_stats(candidates[r]);
+    std::vector<FaceReference> refs;
+    for (uint32_t ref_cell : placement[cell].references) {
+      refs.push_back({&reconstructions.at(ref_cell * kFaceCount + static_cast<uint32_t>(face)),
+                      &manifest.cells[ref_cell].faces[static_cast<int>(face)].camera});
     }
-    coded.payload = codec::encode_b_frame(ycc, *refs[0], refs[1], candidates[0], candidates[1], &warps[0], &warps[1],
-                                          b_params, nullptr, &coded.stats);
-    if (coded.payload.empty()) {
-      return Status(ErrorCode::kInternal, cell_face_name(manifest.cells[cell].index, face) + ": B-frame coding failed");
-    }
-    return coded;
+    return code_predicted_face(data, manifest.cells[cell].faces[static_cast<int>(face)].camera, refs,
+                               settings.motion == MotionSearch::kDepth, b_params,
+                               cell_face_name(manifest.cells[cell].index, face));
   };
-  auto store_predicted = [&](size_t k, CodedPredicted& coded) -> Status {
+  auto store_predicted = [&](size_t k, CodedPredictedFace& coded) -> Status {
     SVC_RETURN_IF_ERROR(record_frame(predicted_frames[k], FrameKind::kPredicted, coded.payload));
     FrameTypeStats& s = summary.predicted;
     s.faces += 1;
@@ -235,7 +213,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
     return Status::Ok();
   };
   SVC_RETURN_IF_ERROR(
-      ordered_parallel_map<CodedPredicted>(predicted_frames.size(), threads, encode_predicted, store_predicted));
+      ordered_parallel_map<CodedPredictedFace>(predicted_frames.size(), threads, encode_predicted, store_predicted));
   const codec::BlockLayout layout = codec::block_layout(manifest.face_width, manifest.face_height);
   summary.intra.mb_intra = summary.intra.faces * uint64_t(layout.luma_blocks_x / 2) * uint64_t(layout.luma_blocks_y / 2);
   for (int kind = 0; kind < 2; ++kind) {

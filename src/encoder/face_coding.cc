@@ -1,0 +1,37 @@
+#include "encoder/face_coding.h"
+
+#include "codec/color.h"
+#include "codec/log_search.h"
+
+namespace svc {
+
+Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camera& camera,
+                                               const std::vector<FaceReference>& references, bool motion_from_depth,
+                                               const codec::BFrameParams& params, const std::string& what) {
+  if (references.empty() || references.size() > 2) {
+    return Status(ErrorCode::kInternal, what + ": a B-face needs one or two references");
+  }
+  const ImageYCbCr420 ycc = codec::rgb_to_ycbcr420(data.color.pixels.data(), data.color.width, data.color.height);
+  std::array<codec::FaceCandidates, 2> candidates;
+  // Depth also gives each reference a warp node field (per-pixel flow, sent compactly).
+  std::array<codec::WarpField, 2> warps;
+  CodedPredictedFace coded;
+  for (size_t r = 0; r < references.size(); ++r) {
+    if (motion_from_depth) {
+      const FlowField flow =
+          compute_flow(camera, *references[r].camera, data.color.width, data.color.height, data.depth);
+      candidates[r] = macroblock_candidates(flow);
+      warps[r] = warp_nodes(flow);
+    } else {
+      candidates[r] = codec::log_search_candidates(ycc, *references[r].image);
+    }
+    coded.candidates += candidate_stats(candidates[r]);
+  }
+  const ImageYCbCr420* second = references.size() > 1 ? references[1].image : nullptr;
+  coded.payload = codec::encode_b_frame(ycc, *references[0].image, second, candidates[0], candidates[1], &warps[0],
+                                        &warps[1], params, nullptr, &coded.stats);
+  if (coded.payload.empty()) return Status(ErrorCode::kInternal, what + ": B-frame coding failed");
+  return coded;
+}
+
+}  // namespace svc

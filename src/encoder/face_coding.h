@@ -1,0 +1,37 @@
+// Coding of one B-face from its references: shared by a full encode and by `svc add`,
+// so both code new faces identically.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "codec/bframe_codec.h"
+#include "database/database.h"
+#include "spatial/reprojection.h"
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc {
+
+struct CodedPredictedFace {
+  std::vector<uint8_t> payload;
+  codec::BFrameStats stats;
+  CandidateStats candidates;  // unique depth candidates before any cap, over references
+};
+
+// One reference of a B-face: its reconstructed I-face (as the decoder will see it) and
+// the camera that took it.
+struct FaceReference {
+  const ImageYCbCr420* image = nullptr;
+  const Camera* camera = nullptr;
+};
+
+// Codes `data` (colour and eye depth of the face taken by `camera`) as a B-face
+// predicted from one or two references. Motion comes from depth reprojection
+// (candidates and warp nodes) or from logarithmic search. `what` names the face in
+// errors. Thread-safe.
+Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camera& camera,
+                                               const std::vector<FaceReference>& references, bool motion_from_depth,
+                                               const codec::BFrameParams& params, const std::string& what);
+
+}  // namespace svc
