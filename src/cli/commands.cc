@@ -127,14 +127,7 @@ std::string triple_text(const std::array<double, 3>& v) {
 Result<std::array<FrameTypeStats, 2>> read_frame_type_stats(const std::filesystem::path& path) {
   SVC_ASSIGN_OR_RETURN(auto file, ReadOnlyFile::open(path));
   SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*file, ReaderLimits{}));
-  std::array<FrameTypeStats, 2> out;
-  for (int k = 0; k < 2; ++k) {
-    const FrameTypeRecord& r = opened.index.stats[k];
-    out[k] = FrameTypeStats{r.faces,       r.bytes,      r.mb_intra,
-                            r.mb_forward,  r.mb_backward, r.mb_bidirectional,
-                            r.mb_skipped,  r.candidate_vectors, r.candidate_macroblocks};
-  }
-  return out;
+  return opened.index.stats;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "common/file_io.h"
 #include "database/database.h"
+#include "svc/encoder.h"
 #include "svc/limits.h"
 #include "svc/status.h"
 #include "svc/types.h"
@@ -55,18 +56,9 @@ struct FrameRecord {
   std::vector<uint32_t> references;  // ordinals into ContainerIndex::frames
 };
 
-// What the encoder measured for one frame type (I or B), kept for `svc info`.
-struct FrameTypeRecord {
-  uint64_t faces = 0;
-  uint64_t bytes = 0;
-  uint64_t mb_intra = 0;
-  uint64_t mb_forward = 0;
-  uint64_t mb_backward = 0;
-  uint64_t mb_bidirectional = 0;
-  uint64_t mb_skipped = 0;
-  uint64_t candidate_vectors = 0;      // unique candidates summed over macroblocks and references
-  uint64_t candidate_macroblocks = 0;  // macroblock-reference pairs they were counted over
-};
+// What the encoder measured for one frame type (I or B), kept for `svc info`: the
+// public statistics record, stored field by field (docs/format.md).
+using FrameTypeRecord = FrameTypeStats;
 
 struct ContainerIndex {
   uint32_t face_width = 0;

@@ -216,13 +216,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
       ordered_parallel_map<CodedPredictedFace>(predicted_frames.size(), threads, encode_predicted, store_predicted));
   const codec::BlockLayout layout = codec::block_layout(manifest.face_width, manifest.face_height);
   summary.intra.mb_intra = summary.intra.faces * uint64_t(layout.luma_blocks_x / 2) * uint64_t(layout.luma_blocks_y / 2);
-  for (int kind = 0; kind < 2; ++kind) {
-    const FrameTypeStats& from = kind == 0 ? summary.intra : summary.predicted;
-    FrameTypeRecord& to = index.stats[kind];
-    to = FrameTypeRecord{from.faces,      from.bytes,           from.mb_intra,
-                         from.mb_forward, from.mb_backward,     from.mb_bidirectional,
-                         from.mb_skipped, from.candidate_vectors, from.candidate_macroblocks};
-  }
+  index.stats = {summary.intra, summary.predicted};
   SVC_RETURN_IF_ERROR(writer->finish(index));
 
   std::error_code ec;
