@@ -42,21 +42,6 @@ Status mismatch(const std::filesystem::path& svc_file, const std::string& what) 
   return Status(ErrorCode::kBadInput, "cannot add to " + svc_file.string() + ": " + what);
 }
 
-// The reach and ranking rules of spatial/placement.h, applied to an explicit I-cube set.
-struct Candidate {
-  double distance_squared = 0;
-  CellIndex index;
-  uint32_t cell = 0;
-};
-
-bool ranks_before(const Candidate& a, const Candidate& b) {
-  const double scale = std::max(a.distance_squared, b.distance_squared);
-  if (std::abs(a.distance_squared - b.distance_squared) > 1e-9 * scale) {
-    return a.distance_squared < b.distance_squared;
-  }
-  return cell_less(a.index, b.index);
-}
-
 }  // namespace
 
 Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const std::filesystem::path& db_dir,
@@ -180,7 +165,8 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
       const CellIndex& here = cells[c].index;
       bool every_face_has_one = true;
       for (int f = 0; f < kFaceCount; ++f) {
-        std::vector<Candidate> in_reach;
+        // The reach rule of spatial/placement.h, over the I-faces of this face direction.
+        std::vector<ReferenceCandidate> in_reach;
         for (int dy = -1; dy <= 1; ++dy) {
           for (int dz = -1; dz <= 1; ++dz) {
             for (int dx = -1; dx <= 1; ++dx) {
@@ -188,26 +174,13 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
                   {here.x / s[0] + dx, here.y / s[1] + dy, here.z / s[2] + dz});
               if (it == intra_by_group.end()) continue;
               for (uint32_t other : it->second) {
-                if (!intra[other][f]) continue;
-                const CellIndex& o = cells[other].index;
-                const double ddx = (o.x - here.x) * grid.spacing[0];
-                const double ddy = (o.y - here.y) * grid.spacing[1];
-                const double ddz = (o.z - here.z) * grid.spacing[2];
-                in_reach.push_back({ddx * ddx + ddy * ddy + ddz * ddz, o, other});
+                if (intra[other][f]) in_reach.push_back({cells[other].index, other});
               }
             }
           }
         }
         auto& refs = references[c][f];
-        refs.clear();
-        for (int pick = 0; pick < 2 && !in_reach.empty(); ++pick) {
-          size_t best = 0;
-          for (size_t k = 1; k < in_reach.size(); ++k) {
-            if (ranks_before(in_reach[k], in_reach[best])) best = k;
-          }
-          refs.push_back(in_reach[best].cell);
-          in_reach.erase(in_reach.begin() + static_cast<std::ptrdiff_t>(best));
-        }
+        refs = nearest_references(here, in_reach, grid.spacing);
         if (refs.empty()) every_face_has_one = false;
       }
       if (!every_face_has_one) {

@@ -135,31 +135,19 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
   for (uint32_t ordinal = 0; ordinal < cells.size(); ++ordinal) {
     if (placement[ordinal].intra) continue;
     const CellIndex& c = cells[ordinal];
-    const std::array<double, 3> here = as_point(c);
     const GroupKey own = {c.x / s[0], c.y / s[1], c.z / s[2]};
-    std::vector<Ranked> in_reach;
+    std::vector<ReferenceCandidate> in_reach;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dz = -1; dz <= 1; ++dz) {
         for (int dx = -1; dx <= 1; ++dx) {
           const auto it = group_intra.find({own[0] + dx, own[1] + dy, own[2] + dz});
           if (it == group_intra.end()) continue;
-          in_reach.push_back(
-              {distance_squared(here, cells[it->second], grid_spacing), cells[it->second],
-               it->second});
+          in_reach.push_back({cells[it->second], it->second});
         }
       }
     }
-    // Selection by linear scans rather than a sort: the tolerant comparison is not a
-    // strict weak order, and a scan stays well defined with it.
     auto& refs = placement[ordinal].references;
-    for (int pick = 0; pick < 2 && !in_reach.empty(); ++pick) {
-      size_t best = 0;
-      for (size_t i = 1; i < in_reach.size(); ++i) {
-        if (ranks_before(in_reach[i], in_reach[best])) best = i;
-      }
-      refs.push_back(in_reach[best].ordinal);
-      in_reach.erase(in_reach.begin() + static_cast<std::ptrdiff_t>(best));
-    }
+    refs = nearest_references(c, in_reach, grid_spacing);
     if (refs.empty()) {
       return Status(ErrorCode::kInternal,
                     "placement: B-cube " + index_text(c) + " has no I-cube in its own group");
@@ -172,6 +160,28 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
                                                const std::array<int32_t, 3>& dims,
                                                const PlacementSettings& settings) {
   return place_cubes(cells, dims, settings, {1.0, 1.0, 1.0});
+}
+
+std::vector<uint32_t> nearest_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
+                                         const std::array<double, 3>& grid_spacing) {
+  const std::array<double, 3> here = as_point(cell);
+  std::vector<Ranked> ranked;
+  ranked.reserve(candidates.size());
+  for (const ReferenceCandidate& candidate : candidates) {
+    ranked.push_back({distance_squared(here, candidate.index, grid_spacing), candidate.index, candidate.id});
+  }
+  // Selection by linear scans rather than a sort: the tolerant comparison is not a
+  // strict weak order, and a scan stays well defined with it.
+  std::vector<uint32_t> nearest;
+  for (int pick = 0; pick < 2 && !ranked.empty(); ++pick) {
+    size_t best = 0;
+    for (size_t i = 1; i < ranked.size(); ++i) {
+      if (ranks_before(ranked[i], ranked[best])) best = i;
+    }
+    nearest.push_back(ranked[best].ordinal);
+    ranked.erase(ranked.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+  return nearest;
 }
 
 }  // namespace svc

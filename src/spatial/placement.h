@@ -80,4 +80,17 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
                                                const std::array<int32_t, 3>& dims,
                                                const PlacementSettings& settings);
 
+// An I-cube that may serve as a reference: its grid index and the caller's id for it.
+struct ReferenceCandidate {
+  CellIndex index;
+  uint32_t id = 0;
+};
+
+// The ids of the (at most) two candidates nearest to `cell` by the References rule
+// above: distance between cell centres scaled by `grid_spacing`, ties within a relative
+// 1e-9 broken by the smallest (y, z, x) index. Nearest first. place_cubes and `svc add`
+// both choose references with it.
+std::vector<uint32_t> nearest_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
+                                         const std::array<double, 3>& grid_spacing);
+
 }  // namespace svc
