@@ -4,7 +4,12 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -52,16 +57,63 @@ glm::dmat4 window_matrix(int width, int height) {
   return w;
 }
 
-// Rounds d pixels to half pixels, halves away from zero, when the result lies within
-// +-limit (limit <= 32767); false otherwise (also for NaN). Agrees with quantize_flow:
-// for a float d, twice +- 0.5 is exact in double, so truncating it rounds correctly.
-inline bool half_pels_within(float d, int limit, int16_t* out) {
-  const double twice = static_cast<double>(d) * 2.0;
-  if (!(std::abs(twice) < limit + 0.5)) return false;
-  const int rounded = static_cast<int>(twice + (twice >= 0 ? 0.5 : -0.5));
-  if (rounded > limit || rounded < -limit) return false;
-  *out = static_cast<int16_t>(rounded);
-  return true;
+// The half-pel keys (y * 65536 + x, or `no_key`) of `count` pixels: each component
+// rounded to the nearest half pixel, halves away from zero (as quantize_flow), and kept
+// only within +-limit (limit <= 32767). All float steps are exact (doubling, truncating
+// a value below 2^15, subtracting that), and there are no branches, so that four pixels at a time
+// give the same keys.
+void half_pel_keys(const float* dx, const float* dy, const uint8_t* valid, int count, int limit, int32_t no_key,
+                   int32_t* keys) {
+  const float bound = static_cast<float>(limit) + 0.5f;
+  int i = 0;
+#if defined(__SSE2__)
+  // The same steps four pixels at a time (the scalar loop below is the reference).
+  const __m128 bound4 = _mm_set1_ps(bound), half = _mm_set1_ps(0.5f), minus_half = _mm_set1_ps(-0.5f);
+  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  const __m128i limit4 = _mm_set1_epi32(limit), minus_limit4 = _mm_set1_epi32(-limit);
+  const __m128i no_key4 = _mm_set1_epi32(no_key), zero = _mm_setzero_si128();
+  auto round_half_away4 = [&](__m128 d, __m128i* ok) {
+    const __m128 twice = _mm_add_ps(d, d);
+    const __m128 in_range = _mm_cmplt_ps(_mm_and_ps(twice, abs_mask), bound4);  // false for NaN
+    const __m128 safe = _mm_and_ps(twice, in_range);
+    __m128i rounded = _mm_cvttps_epi32(safe);
+    const __m128 fraction = _mm_sub_ps(safe, _mm_cvtepi32_ps(rounded));
+    // Comparison masks are -1 where true.
+    rounded = _mm_sub_epi32(rounded, _mm_castps_si128(_mm_cmpge_ps(fraction, half)));
+    rounded = _mm_add_epi32(rounded, _mm_castps_si128(_mm_cmple_ps(fraction, minus_half)));
+    const __m128i beyond = _mm_or_si128(_mm_cmpgt_epi32(rounded, limit4), _mm_cmplt_epi32(rounded, minus_limit4));
+    *ok = _mm_andnot_si128(beyond, _mm_castps_si128(in_range));
+    return rounded;
+  };
+  for (; i + 4 <= count; i += 4) {
+    __m128i x_ok, y_ok;
+    const __m128i x = round_half_away4(_mm_loadu_ps(dx + i), &x_ok);
+    const __m128i y = round_half_away4(_mm_loadu_ps(dy + i), &y_ok);
+    int32_t valid4;
+    std::memcpy(&valid4, valid + i, 4);
+    const __m128i bytes = _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(valid4), zero), zero);
+    const __m128i ok = _mm_andnot_si128(_mm_cmpeq_epi32(bytes, zero), _mm_and_si128(x_ok, y_ok));
+    const __m128i key = _mm_add_epi32(_mm_slli_epi32(y, 16), x);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i),
+                     _mm_or_si128(_mm_and_si128(ok, key), _mm_andnot_si128(ok, no_key4)));
+  }
+#endif
+  auto round_half_away = [bound, limit](float d, int* out) {
+    const float twice = d * 2.0f;
+    const bool in_range = std::abs(twice) < bound;  // false for NaN
+    const float safe = in_range ? twice : 0.0f;
+    int rounded = static_cast<int>(safe);
+    const float fraction = safe - static_cast<float>(rounded);
+    rounded += static_cast<int>(fraction >= 0.5f) - static_cast<int>(fraction <= -0.5f);
+    *out = rounded;
+    return in_range & (rounded <= limit) & (rounded >= -limit);
+  };
+  for (; i < count; ++i) {
+    int x = 0, y = 0;
+    const bool x_ok = round_half_away(dx[i], &x);
+    const bool y_ok = round_half_away(dy[i], &y);
+    keys[i] = (valid[i] != 0) & x_ok & y_ok ? y * 65536 + x : no_key;
+  }
 }
 
 }  // namespace
@@ -79,10 +131,14 @@ FlowField compute_flow(const Camera& current, const Camera& reference, int width
   // Ray of pixel (i, j) in current camera space at unit eye depth: (a_i, b_j, -1).
   const Frustum& cf = current.frustum;
   const double w = width, h = height;
-  std::vector<glm::dvec3> column_term(static_cast<size_t>(width));
+  // Column terms as separate arrays so that two pixels load at once.
+  std::vector<double> column_x(static_cast<size_t>(width)), column_y(column_x.size()), column_z(column_x.size());
   for (int i = 0; i < width; ++i) {
     const double a = (cf.left + (i + 0.5) / w * (cf.right - cf.left)) / cf.near_plane;
-    column_term[static_cast<size_t>(i)] = a * col_x;
+    const glm::dvec3 term = a * col_x;
+    column_x[static_cast<size_t>(i)] = term.x;
+    column_y[static_cast<size_t>(i)] = term.y;
+    column_z[static_cast<size_t>(i)] = term.z;
   }
 
   // Reference projection: x_ndc = -(p00 * x / z) - p02, likewise y.
@@ -91,29 +147,84 @@ FlowField compute_flow(const Camera& current, const Camera& reference, int width
   const double p02 = (rf.right + rf.left) / (rf.right - rf.left);
   const double p11 = 2.0 * rf.near_plane / (rf.top - rf.bottom);
   const double p12 = (rf.top + rf.bottom) / (rf.top - rf.bottom);
+  const double far_plane = cf.far_plane, infinity = std::numeric_limits<double>::infinity();
+  const double largest = std::numeric_limits<double>::max();
 
   for (int j = 0; j < height; ++j) {
     const double b = (cf.bottom + (1.0 - (j + 0.5) / h) * (cf.top - cf.bottom)) / cf.near_plane;
     const glm::dvec3 row_term = b * col_y - col_z;
     const size_t row = static_cast<size_t>(j) * static_cast<size_t>(width);
-    for (int i = 0; i < width; ++i) {
+    int i = 0;
+#if defined(__SSE2__)
+    // Two pixels at a time, the same operations in the same order as the scalar loop
+    // below (so the same bits).
+    {
+      const __m128d row_x = _mm_set1_pd(row_term.x), row_y = _mm_set1_pd(row_term.y), row_z = _mm_set1_pd(row_term.z);
+      const __m128d t_x = _mm_set1_pd(translation.x), t_y = _mm_set1_pd(translation.y);
+      const __m128d t_z = _mm_set1_pd(translation.z);
+      const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0), minus_one = _mm_set1_pd(-1.0);
+      const __m128d half = _mm_set1_pd(0.5), far2 = _mm_set1_pd(far_plane), inf2 = _mm_set1_pd(infinity);
+      const __m128d in_front_limit = _mm_set1_pd(-kMinDepthInFront), largest2 = _mm_set1_pd(largest);
+      const __m128d abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
+      const __m128d p00_2 = _mm_set1_pd(p00), p02_2 = _mm_set1_pd(p02), p11_2 = _mm_set1_pd(p11);
+      const __m128d p12_2 = _mm_set1_pd(p12), w2 = _mm_set1_pd(w), h2 = _mm_set1_pd(h);
+      const __m128d jj = _mm_set1_pd(static_cast<double>(j));
+      auto select = [](__m128d mask, __m128d a, __m128d b) {
+        return _mm_or_pd(_mm_and_pd(mask, a), _mm_andnot_pd(mask, b));
+      };
+      for (; i + 2 <= width; i += 2) {
+        const size_t k = row + static_cast<size_t>(i);
+        const __m128d dir_x = _mm_add_pd(_mm_loadu_pd(column_x.data() + i), row_x);
+        const __m128d dir_y = _mm_add_pd(_mm_loadu_pd(column_y.data() + i), row_y);
+        const __m128d dir_z = _mm_add_pd(_mm_loadu_pd(column_z.data() + i), row_z);
+        const __m128d z = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&depth[k]))));
+        const __m128d geometry =
+            _mm_and_pd(_mm_and_pd(_mm_cmpgt_pd(z, zero), _mm_cmplt_pd(z, far2)), _mm_cmplt_pd(z, inf2));
+        const __m128d scale = select(geometry, z, one), shift = _mm_and_pd(geometry, one);
+        const __m128d px = _mm_add_pd(_mm_mul_pd(scale, dir_x), _mm_mul_pd(shift, t_x));
+        const __m128d py = _mm_add_pd(_mm_mul_pd(scale, dir_y), _mm_mul_pd(shift, t_y));
+        const __m128d pz = _mm_add_pd(_mm_mul_pd(scale, dir_z), _mm_mul_pd(shift, t_z));
+        const __m128d in_front = _mm_cmplt_pd(pz, in_front_limit);
+        const __m128d inv = _mm_div_pd(minus_one, select(in_front, pz, minus_one));
+        const __m128d x_ndc = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(p00_2, px), inv), p02_2);
+        const __m128d y_ndc = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(p11_2, py), inv), p12_2);
+        const __m128d u = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(_mm_add_pd(x_ndc, one), half), w2), half);
+        const __m128d v = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(_mm_sub_pd(one, y_ndc), half), h2), half);
+        const __m128d fx = _mm_sub_pd(u, _mm_set_pd(i + 1.0, static_cast<double>(i)));
+        const __m128d fy = _mm_sub_pd(v, jj);
+        const __m128d ok = _mm_and_pd(_mm_and_pd(in_front, _mm_cmple_pd(_mm_and_pd(fx, abs_mask), largest2)),
+                                      _mm_cmple_pd(_mm_and_pd(fy, abs_mask), largest2));
+        const __m128 fx_float = _mm_cvtpd_ps(_mm_and_pd(ok, fx)), fy_float = _mm_cvtpd_ps(_mm_and_pd(ok, fy));
+        _mm_storel_pi(reinterpret_cast<__m64*>(&flow.dx[k]), fx_float);
+        _mm_storel_pi(reinterpret_cast<__m64*>(&flow.dy[k]), fy_float);
+        const int mask = _mm_movemask_pd(ok);
+        flow.valid[k] = static_cast<uint8_t>(mask & 1);
+        flow.valid[k + 1] = static_cast<uint8_t>(mask >> 1);
+      }
+    }
+#endif
+    for (; i < width; ++i) {
       const size_t k = row + static_cast<size_t>(i);
-      const glm::dvec3 direction = column_term[static_cast<size_t>(i)] + row_term;
+      const glm::dvec3 direction(column_x[static_cast<size_t>(i)] + row_term.x,
+                                 column_y[static_cast<size_t>(i)] + row_term.y,
+                                 column_z[static_cast<size_t>(i)] + row_term.z);
       const float z = depth[k];
       // Background is a point at infinity: only the direction moves (rotation only).
-      const glm::dvec3 p =
-          is_background(z, cf) ? direction : static_cast<double>(z) * direction + translation;
-      if (!(p.z < -kMinDepthInFront)) continue;
-      const double inv = -1.0 / p.z;
-      const double x_ndc = p00 * p.x * inv - p02;
-      const double y_ndc = p11 * p.y * inv - p12;
-      const double u = (x_ndc + 1.0) * 0.5 * w - 0.5;
-      const double v = (1.0 - y_ndc) * 0.5 * h - 0.5;
+      const bool background = is_background(z, cf);
+      const double scale = background ? 1.0 : static_cast<double>(z);
+      const double shift = background ? 0.0 : 1.0;
+      const double px = scale * direction.x + shift * translation.x;
+      const double py = scale * direction.y + shift * translation.y;
+      const double pz = scale * direction.z + shift * translation.z;
+      const bool in_front = pz < -kMinDepthInFront;
+      const double inv = -1.0 / (in_front ? pz : -1.0);
+      const double u = (p00 * px * inv - p02 + 1.0) * 0.5 * w - 0.5;
+      const double v = (1.0 - (p11 * py * inv - p12)) * 0.5 * h - 0.5;
       const double fx = u - i, fy = v - j;
-      if (!std::isfinite(fx) || !std::isfinite(fy)) continue;
-      flow.dx[k] = static_cast<float>(fx);
-      flow.dy[k] = static_cast<float>(fy);
-      flow.valid[k] = 1;
+      const bool ok = in_front & (std::abs(fx) <= largest) & (std::abs(fy) <= largest);
+      flow.dx[k] = ok ? static_cast<float>(fx) : 0.0f;
+      flow.dy[k] = ok ? static_cast<float>(fy) : 0.0f;
+      flow.valid[k] = ok;
     }
   }
   return flow;
@@ -189,49 +300,62 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   }
   const int limit = std::min(2 * std::max(flow.width, flow.height), 32767);
 
-  // A vector's key orders vectors by y, then x: key = y * 65536 + x.
+  // A vector's key orders vectors by y, then x: key = y * 65536 + x. No valid key equals
+  // kNoKey (|x|, |y| <= 32767).
+  constexpr int32_t kNoKey = std::numeric_limits<int32_t>::min();
   struct Counted {
     int32_t key;
     int count;
   };
-  // Per macroblock: count keys in a small open-addressing table (a generation stamp per
-  // slot avoids clearing it), then order the distinct keys by count. The order is total
-  // (count descending, then key ascending), so the result is deterministic.
+  // Per macroblock: the keys of a row of pixels first (a tight loop), then runs of equal
+  // keys (flow is smooth, so runs are long) are counted in a small open-addressing table
+  // whose generation stamp avoids clearing it; the distinct keys are then ordered by
+  // count. The order is total (count descending, then key ascending): deterministic.
   constexpr int kSlots = 1024;  // > 4 x 256 keys: short probe sequences
-  std::array<int32_t, kSlots> slot_key{};
-  std::array<int32_t, kSlots> slot_index{};
-  std::array<uint32_t, kSlots> slot_generation{};
+  struct Slot {
+    uint32_t generation;
+    int32_t key;
+    int32_t index;
+  };
+  std::array<Slot, kSlots> slots{};
   uint32_t generation = 0;
   std::array<Counted, kMb * kMb> distinct;
+  std::array<int32_t, kMb> keys;
 
   for (int mby = 0; mby < mbs_y; ++mby) {
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
       ++generation;
       int distinct_count = 0;
+      auto add = [&](int32_t key, int count) {
+        uint32_t slot = (static_cast<uint32_t>(key) * 2654435761u) >> 22;  // 10 bits
+        while (slots[slot].generation == generation && slots[slot].key != key) slot = (slot + 1) & (kSlots - 1);
+        if (slots[slot].generation != generation) {
+          slots[slot] = {generation, key, distinct_count};
+          distinct[static_cast<size_t>(distinct_count++)] = {key, 0};
+        }
+        distinct[static_cast<size_t>(slots[slot].index)].count += count;
+      };
       const int y_end = std::min(flow.height, (mby + 1) * kMb);
-      const int x_end = std::min(flow.width, (mbx + 1) * kMb);
+      const int x_begin = mbx * kMb, x_end = std::min(flow.width, (mbx + 1) * kMb);
+      const int row_length = x_end - x_begin;
+      int32_t run_key = kNoKey;
+      int run_length = 0;
       for (int y = mby * kMb; y < y_end; ++y) {
-        for (int x = mbx * kMb; x < x_end; ++x) {
-          const size_t k = static_cast<size_t>(y) * static_cast<size_t>(flow.width) +
-                           static_cast<size_t>(x);
-          if (!flow.valid[k]) continue;
-          codec::MotionVector v;
-          if (!half_pels_within(flow.dx[k], limit, &v.x) ||
-              !half_pels_within(flow.dy[k], limit, &v.y)) {
+        const size_t row = static_cast<size_t>(y) * static_cast<size_t>(flow.width) + static_cast<size_t>(x_begin);
+        half_pel_keys(flow.dx.data() + row, flow.dy.data() + row, flow.valid.data() + row, row_length, limit, kNoKey,
+                      keys.data());
+        for (int i = 0; i < row_length; ++i) {
+          const int32_t key = keys[static_cast<size_t>(i)];
+          if (key == run_key) {
+            ++run_length;
             continue;
           }
-          const int32_t key = v.y * 65536 + v.x;
-          uint32_t slot = (static_cast<uint32_t>(key) * 2654435761u) >> 22;  // 10 bits
-          while (slot_generation[slot] == generation && slot_key[slot] != key) slot = (slot + 1) & (kSlots - 1);
-          if (slot_generation[slot] != generation) {
-            slot_generation[slot] = generation;
-            slot_key[slot] = key;
-            slot_index[slot] = distinct_count;
-            distinct[static_cast<size_t>(distinct_count++)] = {key, 0};
-          }
-          ++distinct[static_cast<size_t>(slot_index[slot])].count;
+          if (run_key != kNoKey) add(run_key, run_length);
+          run_key = key;
+          run_length = 1;
         }
       }
+      if (run_key != kNoKey) add(run_key, run_length);
       if (distinct_count == 0) continue;
       const int kept = std::min(distinct_count, kMaxCandidatesPerMacroblock);
       std::partial_sort(distinct.begin(), distinct.begin() + kept, distinct.begin() + distinct_count,
