@@ -673,6 +673,7 @@ class BFrameEncoder {
                           BFrameStats* stats) {
     mx_ = mx;
     my_ = my;
+    warp_cache_ = {};
     compute_visible();
     std::array<MotionVector, 2> predictors{};
     for (int r = 0; r < s_.reference_count; ++r) predictors[r] = predict_vector(s_, mx, my, r);
@@ -721,7 +722,7 @@ class BFrameEncoder {
         }
         if (spread <= kUniformWarpSpread) continue;
         screen_warp |= 1u << r;
-        predict_warp_macroblock_luma(*s_.references[r], mx, my, corners, warped[r].data());
+        std::copy_n(warped_prediction(r, false).y.data(), 256, warped[r].data());
       }
     }
     for (int warp = 0; warp < 2; ++warp) {
@@ -829,6 +830,36 @@ class BFrameEncoder {
   }
 
  private:
+  // Warped predictions of the current macroblock, made once per reference and reused by
+  // screening, skip and inter evaluation (the corner nodes do not change within it).
+  struct WarpCache {
+    bool luma = false, chroma = false;
+    MacroblockPrediction prediction;
+  };
+
+  const MacroblockPrediction& warped_prediction(int reference, bool with_chroma) {
+    WarpCache& cache = warp_cache_[static_cast<size_t>(reference)];
+    const WarpCorners corners = macroblock_corners(s_, reference, mx_, my_);
+    if (!cache.luma) {
+      predict_warp_macroblock_luma(*s_.references[reference], mx_, my_, corners, cache.prediction.y.data());
+      cache.luma = true;
+    }
+    if (with_chroma && !cache.chroma) {
+      predict_warp_macroblock_chroma(*s_.references[reference], mx_, my_, corners, &cache.prediction);
+      cache.chroma = true;
+    }
+    return cache.prediction;
+  }
+
+  // build_warp_prediction from the cache.
+  void build_cached_warp_prediction(MacroblockMode mode, MacroblockPrediction* out) {
+    if (mode == MacroblockMode::kBidirectional) {
+      average_predictions(warped_prediction(0, true), warped_prediction(1, true), out);
+    } else {
+      *out = warped_prediction(mode == MacroblockMode::kBackward ? 1 : 0, true);
+    }
+  }
+
   // Codes the missing nodes of every reference `mode` reads and stores the centre vectors.
   void write_warp_nodes(RangeEncoder& encoder, MacroblockMode mode, MacroblockInfo* info) {
     for (int r = 0; r < s_.reference_count; ++r) {
@@ -931,7 +962,7 @@ class BFrameEncoder {
     out->coded_mask = 0;
     float bits = bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 1);
     if (warp) {
-      build_warp_prediction(s_, mx_, my_, mode, &out->reconstruction);
+      build_cached_warp_prediction(mode, &out->reconstruction);
       bits += warp_nodes_bits(mode);
     } else {
       build_prediction(s_, mx_, my_, mode, predictors_, &out->reconstruction);
@@ -952,7 +983,7 @@ class BFrameEncoder {
     MacroblockPrediction prediction;
     if (warp) {
       bits += warp_nodes_bits(mode);
-      build_warp_prediction(s_, mx_, my_, mode, &prediction);
+      build_cached_warp_prediction(mode, &prediction);
     } else {
       for (int r = 0; r < s_.reference_count; ++r) {
         if (!uses_reference(mode, r)) continue;
@@ -1053,6 +1084,7 @@ class BFrameEncoder {
   std::array<MotionVector, 2> predictors_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
   std::vector<MotionVector> tried_;
+  std::array<WarpCache, 2> warp_cache_;
 };
 
 bool consistent_image(const ImageYCbCr420& image, int width, int height) {

@@ -65,12 +65,17 @@ void predict_warp_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int 
   warp_plane<16, 32, 9>(reference.y.data(), reference.width, reference.height, 16 * mb_x, 16 * mb_y, corners, out);
 }
 
-void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                             MacroblockPrediction* out) {
-  predict_warp_macroblock_luma(reference, mb_x, mb_y, corners, out->y.data());
+void predict_warp_macroblock_chroma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
+                                    MacroblockPrediction* out) {
   const int cw = (reference.width + 1) / 2, ch = (reference.height + 1) / 2;
   warp_plane<8, 16, 8>(reference.cb.data(), cw, ch, 8 * mb_x, 8 * mb_y, corners, out->cb.data());
   warp_plane<8, 16, 8>(reference.cr.data(), cw, ch, 8 * mb_x, 8 * mb_y, corners, out->cr.data());
+}
+
+void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
+                             MacroblockPrediction* out) {
+  predict_warp_macroblock_luma(reference, mb_x, mb_y, corners, out->y.data());
+  predict_warp_macroblock_chroma(reference, mb_x, mb_y, corners, out);
 }
 
 void predict_warp_macroblock_reference(const ImageYCbCr420& reference, int mb_x, int mb_y,

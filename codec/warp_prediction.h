@@ -44,6 +44,9 @@ void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y,
 // Luma only (256 samples, row-major), for screening.
 void predict_warp_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
                                   uint8_t* out);
+// Chroma only (out->cb and out->cr; out->y untouched), completing a luma-only prediction.
+void predict_warp_macroblock_chroma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
+                                    MacroblockPrediction* out);
 
 // The same definition evaluated sample by sample in 64-bit arithmetic with explicit
 // clamping: the plain reference the fast path is tested against (bit-identical output).

@@ -436,6 +436,33 @@ TEST(SpatialReprojection, CandidatesMatchPlainCounting) {
   }
 }
 
+// The vectorised rounding against the plain one on the values where rounding is delicate:
+// exact quarter pixels (halves of a half-pel), their float neighbours, the range bound,
+// NaN and infinities; widths that are not a multiple of four exercise the scalar tail.
+TEST(SpatialReprojection, CandidatesMatchPlainCountingOnEdgeValues) {
+  std::vector<float> edges;
+  for (float base : {0.25f, 0.75f, 1.25f, 7.75f, 15.75f, 16.0f, 16.25f}) {
+    for (float sign : {1.0f, -1.0f}) {
+      const float v = sign * base;
+      edges.insert(edges.end(), {v, std::nextafter(v, 0.0f), std::nextafter(v, 2 * v)});
+    }
+  }
+  edges.insert(edges.end(), {0.0f, -0.0f, std::numeric_limits<float>::quiet_NaN(),
+                             std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                             1e30f, -1e30f, 3e-39f});
+  std::mt19937 rng(11);
+  for (int round = 0; round < 12; ++round) {
+    const int w = 5 + round * 3, h = 7 + round;  // 16-px bound at w = 8 (limit 2 * max(w, h))
+    FlowField flow = constant_flow(w, h, 0.0f, 0.0f);
+    for (size_t k = 0; k < flow.dx.size(); ++k) {
+      flow.dx[k] = edges[rng() % edges.size()];
+      flow.dy[k] = edges[rng() % edges.size()];
+      flow.valid[k] = rng() % 8 != 0;
+    }
+    EXPECT_EQ(macroblock_candidates(flow), plain_candidates(flow)) << "round " << round;
+  }
+}
+
 TEST(SpatialReprojection, ParallaxOfTwoDepthsGivesTwoCandidates) {
   // Sideways motion over a face split between a near and a far plane: the macroblocks
   // on the split hold both disparities, the others one.

@@ -307,10 +307,12 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
     int32_t key;
     int count;
   };
-  // Per macroblock: the keys of a row of pixels first (a tight loop), then runs of equal
-  // keys (flow is smooth, so runs are long) are counted in a small open-addressing table
-  // whose generation stamp avoids clearing it; the distinct keys are then ordered by
-  // count. The order is total (count descending, then key ascending): deterministic.
+  // Per macroblock: the keys of its pixels first (a tight loop). When the vectors span a
+  // small box (the usual case: flow is smooth) they are counted in a histogram over that
+  // box, read back in key order; otherwise runs of equal keys are counted in a small
+  // open-addressing table whose generation stamp avoids clearing it. The distinct keys are
+  // then ordered by count; the order is total (count descending, then key ascending), so
+  // both ways give the same lists.
   constexpr int kSlots = 1024;  // > 4 x 256 keys: short probe sequences
   struct Slot {
     uint32_t generation;
@@ -319,32 +321,64 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   };
   std::array<Slot, kSlots> slots{};
   uint32_t generation = 0;
+  constexpr int kHistogramBins = 1024;
+  std::array<uint16_t, kHistogramBins> bins{};  // all zero between macroblocks
   std::array<Counted, kMb * kMb> distinct;
-  std::array<int32_t, kMb> keys;
+  std::array<int32_t, kMb * kMb> keys;
+  auto key_x = [](int32_t key) { return static_cast<int16_t>(static_cast<uint16_t>(key & 0xffff)); };
+  auto key_y = [&](int32_t key) { return static_cast<int16_t>((key - key_x(key)) / 65536); };
 
   for (int mby = 0; mby < mbs_y; ++mby) {
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
-      ++generation;
       int distinct_count = 0;
-      auto add = [&](int32_t key, int count) {
-        uint32_t slot = (static_cast<uint32_t>(key) * 2654435761u) >> 22;  // 10 bits
-        while (slots[slot].generation == generation && slots[slot].key != key) slot = (slot + 1) & (kSlots - 1);
-        if (slots[slot].generation != generation) {
-          slots[slot] = {generation, key, distinct_count};
-          distinct[static_cast<size_t>(distinct_count++)] = {key, 0};
-        }
-        distinct[static_cast<size_t>(slots[slot].index)].count += count;
-      };
-      const int y_end = std::min(flow.height, (mby + 1) * kMb);
+      const int y_begin = mby * kMb, y_end = std::min(flow.height, (mby + 1) * kMb);
       const int x_begin = mbx * kMb, x_end = std::min(flow.width, (mbx + 1) * kMb);
       const int row_length = x_end - x_begin;
-      int32_t run_key = kNoKey;
-      int run_length = 0;
-      for (int y = mby * kMb; y < y_end; ++y) {
+      const int pixels = row_length * (y_end - y_begin);
+      for (int y = y_begin; y < y_end; ++y) {
         const size_t row = static_cast<size_t>(y) * static_cast<size_t>(flow.width) + static_cast<size_t>(x_begin);
         half_pel_keys(flow.dx.data() + row, flow.dy.data() + row, flow.valid.data() + row, row_length, limit, kNoKey,
-                      keys.data());
-        for (int i = 0; i < row_length; ++i) {
+                      keys.data() + static_cast<ptrdiff_t>(y - y_begin) * row_length);
+      }
+      int min_x = 32767, max_x = -32767, min_y = 32767, max_y = -32767;
+      for (int i = 0; i < pixels; ++i) {
+        const int32_t key = keys[static_cast<size_t>(i)];
+        if (key == kNoKey) continue;
+        min_x = std::min<int>(min_x, key_x(key));
+        max_x = std::max<int>(max_x, key_x(key));
+        min_y = std::min<int>(min_y, key_y(key));
+        max_y = std::max<int>(max_y, key_y(key));
+      }
+      if (min_x > max_x) continue;  // no usable pixel
+      const int box_width = max_x - min_x + 1, box_height = max_y - min_y + 1;
+      if (box_height <= kHistogramBins / box_width) {
+        for (int i = 0; i < pixels; ++i) {
+          const int32_t key = keys[static_cast<size_t>(i)];
+          if (key == kNoKey) continue;
+          ++bins[static_cast<size_t>((key_y(key) - min_y) * box_width + (key_x(key) - min_x))];
+        }
+        for (int by = 0; by < box_height; ++by) {
+          for (int bx = 0; bx < box_width; ++bx) {
+            uint16_t& bin = bins[static_cast<size_t>(by * box_width + bx)];
+            if (bin == 0) continue;
+            distinct[static_cast<size_t>(distinct_count++)] = {(min_y + by) * 65536 + (min_x + bx), bin};
+            bin = 0;
+          }
+        }
+      } else {
+        ++generation;
+        auto add = [&](int32_t key, int count) {
+          uint32_t slot = (static_cast<uint32_t>(key) * 2654435761u) >> 22;  // 10 bits
+          while (slots[slot].generation == generation && slots[slot].key != key) slot = (slot + 1) & (kSlots - 1);
+          if (slots[slot].generation != generation) {
+            slots[slot] = {generation, key, distinct_count};
+            distinct[static_cast<size_t>(distinct_count++)] = {key, 0};
+          }
+          distinct[static_cast<size_t>(slots[slot].index)].count += count;
+        };
+        int32_t run_key = kNoKey;
+        int run_length = 0;
+        for (int i = 0; i < pixels; ++i) {
           const int32_t key = keys[static_cast<size_t>(i)];
           if (key == run_key) {
             ++run_length;
@@ -354,8 +388,8 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
           run_key = key;
           run_length = 1;
         }
+        if (run_key != kNoKey) add(run_key, run_length);
       }
-      if (run_key != kNoKey) add(run_key, run_length);
       if (distinct_count == 0) continue;
       const int kept = std::min(distinct_count, kMaxCandidatesPerMacroblock);
       std::partial_sort(distinct.begin(), distinct.begin() + kept, distinct.begin() + distinct_count,
@@ -367,10 +401,7 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
       list.reserve(static_cast<size_t>(kept));
       for (int d = 0; d < kept; ++d) {
         const Counted& c = distinct[static_cast<size_t>(d)];
-        // Unpack: x is the low 16 bits as signed, y the rest.
-        const auto x = static_cast<int16_t>(static_cast<uint16_t>(c.key & 0xffff));
-        const auto y = static_cast<int16_t>((c.key - x) / 65536);
-        list.push_back(codec::MotionVector{x, y});
+        list.push_back(codec::MotionVector{key_x(c.key), key_y(c.key)});
       }
     }
   }
