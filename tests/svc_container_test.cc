@@ -1,8 +1,13 @@
-// The .svc index: serialization round trip and validation of damaged fields.
+// The .svc index: serialization round trip (versions 1 and 2) and validation of damaged fields.
 #include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <filesystem>
 
 #include "common/bytes.h"
 #include "container/container.h"
+#include "support/index_v1.h"
 
 namespace svc {
 namespace {
@@ -40,6 +45,10 @@ ContainerIndex sample_index() {
 }
 
 constexpr uint64_t kFileSize = 1 << 20;
+// Version 2 layout: the rig table follows the 96-byte header.
+constexpr size_t kRigCountAt = 4 + 8 + 12 + 48 + 4 + 8 + 12;
+constexpr size_t kRigEntryBytes = 15 * 8;
+constexpr size_t kStatisticsBytes = 2 * 9 * 8;
 
 TEST(ContainerIndex, RoundTripsEveryField) {
   const ContainerIndex index = sample_index();
@@ -100,13 +109,424 @@ TEST(ContainerIndex, EnforcesCallerLimitsBeforeAllocating) {
 
   // A huge cell count with few bytes behind it must fail without allocating for it.
   std::vector<uint8_t> forged = bytes;
-  const size_t cell_count_at = 4 + 8 + 12 + 48 + 4 + 8 + 12;
+  const size_t cell_count_at = kRigCountAt + 1 + bytes[kRigCountAt] * kRigEntryBytes;
   forged[cell_count_at + 0] = 0xff;
   forged[cell_count_at + 1] = 0xff;
   forged[cell_count_at + 2] = 0x3f;
   parsed = parse_index(forged, 0, kFileSize, ReaderLimits{});
   ASSERT_FALSE(parsed.ok());
   EXPECT_NE(parsed.status().message().find("does not fit"), std::string::npos) << parsed.status().message();
+}
+
+// --- Index version 2: camera rig, varint frame records, version 1 compatibility ---
+
+uint64_t bits(double v) { return std::bit_cast<uint64_t>(v); }
+
+void expect_same_camera(const Camera& a, const Camera& b, const std::string& where) {
+  for (size_t i = 0; i < a.world_to_camera.size(); ++i) {
+    EXPECT_EQ(bits(a.world_to_camera[i]), bits(b.world_to_camera[i])) << where << " matrix element " << i;
+  }
+  const Frustum& f = a.frustum;
+  const Frustum& g = b.frustum;
+  EXPECT_EQ(bits(f.left), bits(g.left)) << where;
+  EXPECT_EQ(bits(f.right), bits(g.right)) << where;
+  EXPECT_EQ(bits(f.bottom), bits(g.bottom)) << where;
+  EXPECT_EQ(bits(f.top), bits(g.top)) << where;
+  EXPECT_EQ(bits(f.near_plane), bits(g.near_plane)) << where;
+  EXPECT_EQ(bits(f.far_plane), bits(g.far_plane)) << where;
+}
+
+std::vector<uint64_t> stat_fields(const FrameTypeRecord& t) {
+  return {t.faces,         t.bytes,      t.mb_intra,          t.mb_forward,          t.mb_backward,
+          t.mb_bidirectional, t.mb_skipped, t.candidate_vectors, t.candidate_macroblocks};
+}
+
+// Every field, doubles compared bit for bit.
+void expect_same_index(const ContainerIndex& a, const ContainerIndex& b) {
+  EXPECT_EQ(a.face_width, b.face_width);
+  EXPECT_EQ(a.face_height, b.face_height);
+  EXPECT_EQ(a.grid.dims, b.grid.dims);
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_EQ(bits(a.grid.origin[axis]), bits(b.grid.origin[axis]));
+    EXPECT_EQ(bits(a.grid.spacing[axis]), bits(b.grid.spacing[axis]));
+  }
+  EXPECT_EQ(a.depth_mode, b.depth_mode);
+  EXPECT_EQ(a.up_axis, b.up_axis);
+  EXPECT_EQ(a.coding.quality, b.coding.quality);
+  EXPECT_EQ(a.coding.quant_scale, b.coding.quant_scale);
+  EXPECT_EQ(a.coding.i_spacing, b.coding.i_spacing);
+  EXPECT_EQ(a.coding.motion, b.coding.motion);
+  ASSERT_EQ(a.cells.size(), b.cells.size());
+  for (size_t i = 0; i < a.cells.size(); ++i) {
+    EXPECT_EQ(a.cells[i].index, b.cells[i].index) << "cell " << i;
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_EQ(bits(a.cells[i].position[axis]), bits(b.cells[i].position[axis])) << "cell " << i;
+    }
+    for (int f = 0; f < kFaceCount; ++f) {
+      expect_same_camera(a.cells[i].cameras[f], b.cells[i].cameras[f],
+                         "cell " + std::to_string(i) + " face " + std::to_string(f));
+    }
+  }
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (size_t i = 0; i < a.frames.size(); ++i) {
+    EXPECT_EQ(a.frames[i].cell, b.frames[i].cell) << "frame " << i;
+    EXPECT_EQ(a.frames[i].face, b.frames[i].face) << "frame " << i;
+    EXPECT_EQ(a.frames[i].kind, b.frames[i].kind) << "frame " << i;
+    EXPECT_EQ(a.frames[i].chunk_offset, b.frames[i].chunk_offset) << "frame " << i;
+    EXPECT_EQ(a.frames[i].payload_size, b.frames[i].payload_size) << "frame " << i;
+    EXPECT_EQ(a.frames[i].references, b.frames[i].references) << "frame " << i;
+  }
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(stat_fields(a.stats[k]), stat_fields(b.stats[k]));
+}
+
+// The view matrix glm::lookAt(centre, centre + forward, up) gives for a cube face,
+// computed the same way (the scene generator's cameras).
+Camera cube_face_camera(const std::array<double, 3>& c, int face, const Frustum& frustum) {
+  static constexpr double kForward[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static constexpr double kUp[6][3] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+  const double* f = kForward[face];
+  const double* up = kUp[face];
+  const double s[3] = {f[1] * up[2] - f[2] * up[1], f[2] * up[0] - f[0] * up[2], f[0] * up[1] - f[1] * up[0]};
+  const double u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
+  auto dot = [&](const double* v) { return v[0] * c[0] + v[1] * c[1] + v[2] * c[2]; };
+  Camera camera;
+  std::array<double, 16>& m = camera.world_to_camera;
+  for (int j = 0; j < 3; ++j) {
+    m[j * 4 + 0] = s[j];
+    m[j * 4 + 1] = u[j];
+    m[j * 4 + 2] = -f[j];
+    m[j * 4 + 3] = 0;
+  }
+  m[12] = -dot(s);
+  m[13] = -dot(u);
+  m[14] = dot(f);
+  m[15] = 1;
+  camera.frustum = frustum;
+  return camera;
+}
+
+constexpr Frustum kCubeFrustum{-0.05, 0.05, -0.05, 0.05, 0.05, 250};
+
+// A 3x1x3 grid of cube-map cells (centres off every axis), the first cell an I-cube
+// and the others B-cubes referencing it; chunks in frame order, back to back.
+ContainerIndex rig_index() {
+  ContainerIndex index;
+  index.face_width = 32;
+  index.face_height = 32;
+  index.grid.dims = {3, 1, 3};
+  index.grid.origin = {-0.75, 1.6, -1.25};
+  index.grid.spacing = {0.5, 1, 0.5};
+  index.coding.quant_scale = 11;
+  index.coding.i_spacing = {3, 1, 3};
+  for (int z = 0; z < 3; ++z) {
+    for (int x = 0; x < 3; ++x) {
+      CellRecord cell;
+      cell.index = {x, 0, z};
+      cell.position = {-0.75 + 0.5 * x, 1.6, -1.25 + 0.5 * z};
+      for (int f = 0; f < kFaceCount; ++f) cell.cameras[f] = cube_face_camera(cell.position, f, kCubeFrustum);
+      index.cells.push_back(cell);
+    }
+  }
+  uint64_t offset = kPreludeSize;
+  for (uint32_t n = 0; n < index.cells.size() * kFaceCount; ++n) {
+    FrameRecord frame;
+    frame.cell = n / kFaceCount;
+    frame.face = static_cast<Face>(n % kFaceCount);
+    frame.kind = frame.cell == 0 ? FrameKind::kIntra : FrameKind::kPredicted;
+    if (frame.kind == FrameKind::kPredicted) frame.references = {n % kFaceCount};
+    frame.chunk_offset = offset;
+    frame.payload_size = 40 + n;
+    offset += frame.payload_size + kChunkOverhead;
+    index.frames.push_back(frame);
+  }
+  index.stats[0].faces = 6;
+  index.stats[1].faces = 48;
+  index.stats[1].candidate_vectors = 1234567;
+  return index;
+}
+
+uint32_t index_version(const std::vector<uint8_t>& bytes) {
+  return uint32_t{bytes[0]} | uint32_t{bytes[1]} << 8 | uint32_t{bytes[2]} << 16 | uint32_t{bytes[3]} << 24;
+}
+
+TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
+  const ContainerIndex index = rig_index();
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  EXPECT_EQ(index_version(bytes), 2u);
+  EXPECT_EQ(bytes[kRigCountAt], 6);
+  // Header, rig table, cell records of one source byte per face, then frame records:
+  // type byte, offset delta 0 (chunks back to back), payload size (< 128), reference.
+  const size_t cell_bytes = 3 * 4 + 3 * 8 + kFaceCount;
+  const size_t frame_bytes = 6 * 3 + 48 * 4;
+  EXPECT_EQ(bytes.size(), kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + 9 * cell_bytes + 4 + frame_bytes +
+                              kStatisticsBytes);
+  EXPECT_LT(bytes.size() * 5, testing::serialize_index_v1(index).size());
+
+  auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_EQ(serialize_index(*parsed), bytes);
+}
+
+TEST(ContainerIndexV2, CamerasNoRigEntryReproducesAreStoredExplicitly) {
+  ContainerIndex index = rig_index();
+  const size_t rig_only_size = serialize_index(index).size();
+  // A yawed rig: rotation entries that are not 0 or +-1.
+  const double c = std::cos(0.5), s = std::sin(0.5);
+  Camera& yawed = index.cells[1].cameras[0];
+  const double p[3] = {index.cells[1].position[0], index.cells[1].position[1], index.cells[1].position[2]};
+  yawed.world_to_camera = {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, -(c * p[0] + s * p[2]), -p[1], s * p[0] - c * p[2], 1};
+  // A translation that is not -R * centre.
+  index.cells[2].cameras[3].world_to_camera[13] += 0.125;
+  // A frustum that differs from the rig's: a signed permutation still, so a new entry.
+  index.cells[4].cameras[5].frustum.far_plane = 500;
+  // Bottom row not 0 0 0 1.
+  index.cells[5].cameras[2].world_to_camera[3] = 0.25;
+
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  EXPECT_EQ(bytes[kRigCountAt], 7);
+  // Three explicit cameras (22 doubles each) and one more rig entry.
+  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 22 * 8 + kRigEntryBytes);
+  auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_EQ(serialize_index(*parsed), bytes);
+}
+
+TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
+  ContainerIndex index = rig_index();
+  const size_t rig_only_size = serialize_index(index).size();
+  // A centre on the x = 0 and z = 0 planes: every face has two zero translations.
+  CellRecord& cell = index.cells[0];
+  cell.position = {0, 1.6, 0};
+  auto set_zero_translations = [&](double zero) {
+    int set = 0;
+    for (int f = 0; f < kFaceCount; ++f) {
+      cell.cameras[f] = cube_face_camera(cell.position, f, kCubeFrustum);
+      for (int i = 12; i < 15; ++i) {
+        if (cell.cameras[f].world_to_camera[i] == 0) {
+          cell.cameras[f].world_to_camera[i] = zero;
+          ++set;
+        }
+      }
+    }
+    return set;
+  };
+  // +0: what the rig derives (and what text manifests hold), so no explicit camera.
+  ASSERT_EQ(set_zero_translations(0.0), 2 * kFaceCount);
+  std::vector<uint8_t> bytes = serialize_index(index);
+  EXPECT_EQ(bytes.size(), rig_only_size);
+  auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+
+  // -0: equal as numbers, different bits, so each face is stored explicitly and comes
+  // back with its sign.
+  ASSERT_EQ(set_zero_translations(-0.0), 2 * kFaceCount);
+  bytes = serialize_index(index);
+  EXPECT_EQ(bytes.size(), rig_only_size + kFaceCount * 22 * 8);
+  parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_TRUE(std::signbit(parsed->cells[0].cameras[0].world_to_camera[14]));
+}
+
+TEST(ContainerIndexV2, OutOfOrderChunksAndLargeValuesRoundTrip) {
+  ContainerIndex index = rig_index();
+  // As after svc add: the first cell's chunks were appended last, far into a large
+  // file; one face is big (a multi-byte payload size varint).
+  constexpr uint64_t kLargeFile = uint64_t{1} << 40;
+  for (uint32_t n = 0; n < kFaceCount; ++n) index.frames[n].chunk_offset = (uint64_t{1} << 36) + 1000 * n;
+  index.frames[3].payload_size = 200u << 20;
+  index.frames[20].chunk_offset = index.frames[19].chunk_offset;  // two records naming one chunk
+  index.frames[20].payload_size = index.frames[19].payload_size;
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  auto parsed = parse_index(bytes, 0, kLargeFile, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_EQ(serialize_index(*parsed), bytes);
+
+  // The same offsets must still lie inside the file.
+  parsed = parse_index(bytes, 0, uint64_t{1} << 36, ReaderLimits{});
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("cell (0,0,0) face px"), std::string::npos) << parsed.status().message();
+}
+
+TEST(ContainerIndexV2, VersionOneIndexStillParses) {
+  for (const ContainerIndex& index : {sample_index(), rig_index()}) {
+    const std::vector<uint8_t> v1 = testing::serialize_index_v1(index);
+    ASSERT_EQ(index_version(v1), 1u);
+    auto parsed = parse_index(v1, 0, kFileSize, ReaderLimits{});
+    ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+    expect_same_index(*parsed, index);
+    // Rewritten as version 2, it reads back the same.
+    auto again = parse_index(serialize_index(*parsed), 0, kFileSize, ReaderLimits{});
+    ASSERT_TRUE(again.ok()) << again.status().to_string();
+    expect_same_index(*again, index);
+  }
+  // Version 1 validation is unchanged: a truncated v1 index is refused at every length.
+  const std::vector<uint8_t> v1 = testing::serialize_index_v1(sample_index());
+  for (size_t n = 0; n < v1.size(); ++n) {
+    auto parsed = parse_index(std::span(v1).first(n), 0, kFileSize, ReaderLimits{});
+    ASSERT_FALSE(parsed.ok()) << "truncated to " << n;
+    EXPECT_EQ(parsed.status().code(), ErrorCode::kCorruptData) << parsed.status().to_string();
+  }
+}
+
+TEST(ContainerIndexV2, VersionOneCorpusFilesOpenAndRewriteLosslessly) {
+  namespace fs = std::filesystem;
+  int version_one_files = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(SVC_SOURCE_DIR) / "tests/fuzz/corpus/container")) {
+    if (entry.path().filename().string().rfind("seed-", 0) != 0) continue;
+    SCOPED_TRACE(entry.path().string());
+    auto file = ReadOnlyFile::open(entry.path());
+    ASSERT_TRUE(file.ok());
+    auto opened = open_container(**file, ReaderLimits{});
+    ASSERT_TRUE(opened.ok()) << opened.status().to_string();
+    std::vector<uint8_t> version(4);
+    ASSERT_TRUE((*file)->read_at(opened->index_offset + 12, version).ok());
+    if (index_version(version) != 1) continue;
+    ++version_one_files;
+    const std::vector<uint8_t> v2 = serialize_index(opened->index);
+    auto parsed = parse_index(v2, 0, (*file)->size(), ReaderLimits{});
+    ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+    expect_same_index(*parsed, opened->index);
+    EXPECT_EQ(testing::serialize_index_v1(*parsed), testing::serialize_index_v1(opened->index));
+  }
+  EXPECT_GE(version_one_files, 3);
+}
+
+TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
+  ContainerIndex index = rig_index();
+  index.cells[3].cameras[1].world_to_camera[12] += 1;  // one explicit camera too
+  index.frames[9].chunk_offset = kPreludeSize;        // a negative offset delta
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  ASSERT_TRUE(parse_index(bytes, 0, kFileSize, ReaderLimits{}).ok());
+  for (size_t n = 0; n < bytes.size(); ++n) {
+    auto parsed = parse_index(std::span(bytes).first(n), 500, kFileSize, ReaderLimits{});
+    ASSERT_FALSE(parsed.ok()) << "truncated to " << n;
+    EXPECT_EQ(parsed.status().code(), ErrorCode::kCorruptData) << parsed.status().to_string();
+    EXPECT_NE(parsed.status().message().find("byte offset"), std::string::npos) << parsed.status().message();
+  }
+}
+
+// A one-cell index of I-faces whose frame records are the 18 bytes before the
+// statistics: {type 0, offset delta 0, payload size 50} each.
+struct OneCell {
+  ContainerIndex index;
+  std::vector<uint8_t> bytes;
+  size_t frames_at = 0;  // first frame record
+};
+
+OneCell one_cell_index() {
+  OneCell one;
+  ContainerIndex full = rig_index();
+  one.index = full;
+  one.index.cells.resize(1);
+  one.index.frames.resize(kFaceCount);
+  uint64_t offset = kPreludeSize;
+  for (FrameRecord& frame : one.index.frames) {
+    frame.chunk_offset = offset;
+    frame.payload_size = 50;
+    offset += 50 + kChunkOverhead;
+  }
+  one.bytes = serialize_index(one.index);
+  one.frames_at = one.bytes.size() - kStatisticsBytes - 3 * kFaceCount;
+  return one;
+}
+
+// Replaces `length` bytes at `at` with `replacement` and parses.
+Status parse_edited(std::vector<uint8_t> bytes, size_t at, size_t length, const std::vector<uint8_t>& replacement) {
+  bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(at + length));
+  bytes.insert(bytes.begin() + static_cast<std::ptrdiff_t>(at), replacement.begin(), replacement.end());
+  auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  return parsed.ok() ? Status::Ok() : parsed.status();
+}
+
+void expect_refused(const Status& status, const std::string& words) {
+  ASSERT_FALSE(status.ok()) << "expected an error about " << words;
+  EXPECT_EQ(status.code(), ErrorCode::kCorruptData) << status.to_string();
+  EXPECT_NE(status.message().find(words), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("byte offset"), std::string::npos) << status.message();
+}
+
+TEST(ContainerIndexV2, BadVarintsAreRefused) {
+  const OneCell one = one_cell_index();
+  const std::vector<uint8_t>& bytes = one.bytes;
+  const size_t record = one.frames_at + 3 * 2;  // frame 2: face py
+  ASSERT_EQ(bytes[record], 0);
+  ASSERT_EQ(bytes[record + 1], 0);
+  ASSERT_EQ(bytes[record + 2], 50);
+  ASSERT_TRUE(parse_edited(bytes, record, 3, {0, 0, 50}).ok());
+  // Payload size 50 written in two bytes.
+  expect_refused(parse_edited(bytes, record + 2, 1, {0x80 | 50, 0x00}), "redundant trailing zero byte");
+  // Eleven bytes.
+  expect_refused(parse_edited(bytes, record + 2, 1, {0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 1}),
+                 "longer than 10 bytes");
+  // 2^64: the tenth byte carries more than one bit.
+  expect_refused(parse_edited(bytes, record + 1, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x02}),
+                 "overflows 64 bits");
+  // Payload size 2^32.
+  expect_refused(parse_edited(bytes, record + 2, 1, {0x80, 0x80, 0x80, 0x80, 0x10}), "does not fit 32 bits");
+  // Offset deltas before the file's start and past its end (zigzag: odd is negative).
+  expect_refused(parse_edited(bytes, record + 1, 1, {0xFF, 0xFF, 0x03}), "leads outside the file");
+  expect_refused(parse_edited(bytes, record + 1, 1, {0x80, 0x80, 0x80, 0x02}), "leads outside the file");
+  // The largest negative delta, whose magnitude has no positive int64.
+  expect_refused(parse_edited(bytes, record + 1, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}),
+                 "leads outside the file");
+  // Reserved bits of the type byte; an unknown frame type.
+  expect_refused(parse_edited(bytes, record, 1, {0x10}), "reserved bits");
+  expect_refused(parse_edited(bytes, record, 1, {0x02}), "unknown frame type");
+  // An I-face with a reference; a B-face reference past the frame count.
+  expect_refused(parse_edited(bytes, record, 3, {0x04, 0, 50, 0}), "references, which its type does not allow");
+  expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 6}), "references frame 6 of 6");
+  // A reference to itself (a B-face) is not an I-face.
+  expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 2}), "not an I-face");
+}
+
+TEST(ContainerIndexV2, BadRigTablesAreRefused) {
+  const OneCell one = one_cell_index();
+  const std::vector<uint8_t>& bytes = one.bytes;
+  ASSERT_EQ(bytes[kRigCountAt], 6);
+  const size_t cell_at = kRigCountAt + 1 + 6 * kRigEntryBytes + 4;
+  const size_t sources_at = cell_at + 3 * 4 + 3 * 8;
+  for (int f = 0; f < kFaceCount; ++f) ASSERT_EQ(bytes[sources_at + f], f);
+
+  // More entries than the cap, and more than the bytes left.
+  expect_refused(parse_edited(bytes, kRigCountAt, 1, {65}), "more than 64");
+  expect_refused(parse_edited(bytes, kRigCountAt, 1, {64}), "does not fit");
+  // A face naming an entry the table does not have.
+  expect_refused(parse_edited(bytes, sources_at + 4, 1, {6}), "cell (0,0,0) face pz names camera rig entry 6 of 6");
+  // A rotation entry of 0.5 (not a signed permutation), then two non-zeros in a row.
+  ByteWriter half;
+  half.f64(0.5);
+  const size_t entry1 = kRigCountAt + 1 + kRigEntryBytes;
+  expect_refused(parse_edited(bytes, entry1, 8, half.bytes()), "rig entry 1 has a rotation");
+  ByteWriter one_value;
+  one_value.f64(1.0);
+  std::vector<uint8_t> two_in_row = bytes;
+  for (size_t j = 0; j < 3; ++j) std::copy_n(one_value.bytes().begin(), 8, two_in_row.begin() + entry1 + 8 * j);
+  expect_refused(parse_edited(two_in_row, 0, 0, {}), "rig entry 1 has a rotation");
+  // An invalid frustum (near plane 0).
+  ByteWriter zero;
+  zero.f64(0.0);
+  expect_refused(parse_edited(bytes, entry1 + 9 * 8 + 4 * 8, 8, zero.bytes()), "rig entry 1 has an invalid frustum");
+  // Bytes past the statistics.
+  expect_refused(parse_edited(bytes, bytes.size(), 0, {0}), "unexpected bytes");
+}
+
+TEST(ContainerIndexV2, CountsAreBoundedByTheBytesLeft) {
+  const OneCell one = one_cell_index();
+  const size_t cell_count_at = kRigCountAt + 1 + 6 * kRigEntryBytes;
+  // Two cells need at least 2 * 42 bytes, and six frames per cell at least 3 bytes each.
+  const size_t frames_count_at = one.frames_at - 4;
+  std::vector<uint8_t> forged = one.bytes;
+  forged.resize(frames_count_at);  // drop frames and statistics: the one cell record stays
+  forged[cell_count_at] = 2;
+  expect_refused(parse_edited(forged, 0, 0, {}), "cell count 2 does not fit");
+  forged = one.bytes;
+  forged.resize(frames_count_at + 4 + 3 * kFaceCount - 1);
+  expect_refused(parse_edited(forged, 0, 0, {}), "frame count 6 does not fit");
 }
 
 TEST(ContainerChunk, CarriesTagSizeAndCrc) {

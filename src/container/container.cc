@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include <fcntl.h>
@@ -20,10 +22,24 @@ namespace svc {
 namespace {
 
 constexpr uint8_t kMagic[8] = {0x89, 'S', 'V', 'C', 0x0D, 0x0A, 0x1A, 0x0A};
-constexpr uint32_t kIndexVersion = 1;
-// Fixed bytes per record in the index, used to bound counts before allocating.
-constexpr uint64_t kCellRecordBytes = 3 * 4 + 3 * 8 + kFaceCount * (16 + 6) * 8;
-constexpr uint64_t kFrameRecordMinBytes = 4 + 1 + 1 + 1 + 1 + 8 + 4;
+constexpr uint32_t kIndexVersion1 = 1;
+constexpr uint32_t kIndexVersion2 = 2;  // written; version 1 is still read
+constexpr uint64_t kCameraBytes = (16 + 6) * 8;
+// Smallest record sizes, used to bound counts against the bytes left before allocating.
+constexpr uint64_t kCellRecordBytesV1 = 3 * 4 + 3 * 8 + kFaceCount * kCameraBytes;
+constexpr uint64_t kFrameRecordMinBytesV1 = 4 + 1 + 1 + 1 + 1 + 8 + 4;
+constexpr uint64_t kCellRecordMinBytesV2 = 3 * 4 + 3 * 8 + kFaceCount;  // every face from the rig
+constexpr uint64_t kFrameRecordMinBytesV2 = 1 + 1 + 1;  // type byte, offset delta, payload size
+// Version 2 camera rig table.
+constexpr uint8_t kExplicitCameraMarker = 255;
+constexpr size_t kMaxRigEntries = 64;
+constexpr uint64_t kRigEntryBytes = (9 + 6) * 8;
+// Version 2 frame record type byte: bits 0-1 frame type, bits 2-3 reference count.
+constexpr uint8_t kFrameKindMask = 0x03;
+constexpr int kRefCountShift = 2;
+constexpr uint8_t kRefCountMask = 0x03;
+constexpr uint8_t kFrameHeadReservedMask = 0xF0;
+constexpr int kMaxVarintBytes = 10;
 
 std::string at_offset(uint64_t offset) { return " at byte offset " + std::to_string(offset); }
 
@@ -41,88 +57,165 @@ bool cell_less(const CellIndex& a, const CellIndex& b) {
   return a.x < b.x;
 }
 
+void write_frustum(ByteWriter& w, const Frustum& f) {
+  for (double v : {f.left, f.right, f.bottom, f.top, f.near_plane, f.far_plane}) w.f64(v);
+}
+
+Frustum read_frustum(ByteReader& r) {
+  Frustum f;
+  for (double* v : {&f.left, &f.right, &f.bottom, &f.top, &f.near_plane, &f.far_plane}) *v = r.f64();
+  return f;
+}
+
 void write_camera(ByteWriter& w, const Camera& camera) {
   for (double v : camera.world_to_camera) w.f64(v);
-  const Frustum& f = camera.frustum;
-  for (double v : {f.left, f.right, f.bottom, f.top, f.near_plane, f.far_plane}) w.f64(v);
+  write_frustum(w, camera.frustum);
 }
 
 Camera read_camera(ByteReader& r) {
   Camera camera;
   for (double& v : camera.world_to_camera) v = r.f64();
-  Frustum& f = camera.frustum;
-  for (double* v : {&f.left, &f.right, &f.bottom, &f.top, &f.near_plane, &f.far_plane}) *v = r.f64();
+  camera.frustum = read_frustum(r);
   return camera;
 }
 
-bool camera_is_valid(const Camera& camera) {
-  for (double v : camera.world_to_camera) {
-    if (!std::isfinite(v)) return false;
-  }
-  const Frustum& f = camera.frustum;
+bool frustum_is_valid(const Frustum& f) {
   for (double v : {f.left, f.right, f.bottom, f.top, f.near_plane, f.far_plane}) {
     if (!std::isfinite(v)) return false;
   }
   return f.right > f.left && f.top > f.bottom && f.near_plane > 0 && f.far_plane > f.near_plane;
 }
 
-}  // namespace
-
-std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
-  ByteWriter w;
-  w.u32(kIndexVersion);
-  w.u32(index.face_width);
-  w.u32(index.face_height);
-  for (int32_t d : index.grid.dims) w.i32(d);
-  for (double v : index.grid.origin) w.f64(v);
-  for (double v : index.grid.spacing) w.f64(v);
-  w.u8(static_cast<uint8_t>(index.depth_mode));
-  w.u8(static_cast<uint8_t>(index.up_axis));
-  w.u8(static_cast<uint8_t>(index.coding.motion));
-  w.u8(0);
-  w.u32(index.coding.quality);
-  w.u32(index.coding.quant_scale);
-  for (int32_t s : index.coding.i_spacing) w.i32(s);
-  w.u32(static_cast<uint32_t>(index.cells.size()));
-  for (const CellRecord& cell : index.cells) {
-    w.i32(cell.index.x);
-    w.i32(cell.index.y);
-    w.i32(cell.index.z);
-    for (double v : cell.position) w.f64(v);
-    for (const Camera& camera : cell.cameras) write_camera(w, camera);
+bool camera_is_valid(const Camera& camera) {
+  for (double v : camera.world_to_camera) {
+    if (!std::isfinite(v)) return false;
   }
-  w.u32(static_cast<uint32_t>(index.frames.size()));
-  for (const FrameRecord& frame : index.frames) {
-    w.u32(frame.cell);
-    w.u8(static_cast<uint8_t>(frame.face));
-    w.u8(static_cast<uint8_t>(frame.kind));
-    w.u8(static_cast<uint8_t>(frame.references.size()));
-    w.u8(0);
-    w.u64(frame.chunk_offset);
-    w.u32(frame.payload_size);
-    for (uint32_t ref : frame.references) w.u32(ref);
-  }
-  for (const FrameTypeRecord& t : index.stats) {
-    for (uint64_t v : {t.faces, t.bytes, t.mb_intra, t.mb_forward, t.mb_backward, t.mb_bidirectional, t.mb_skipped,
-                       t.candidate_vectors, t.candidate_macroblocks}) {
-      w.u64(v);
-    }
-  }
-  return w.take();
+  return frustum_is_valid(camera.frustum);
 }
 
-Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset,
-                                   uint64_t file_size, const ReaderLimits& limits) {
-  ByteReader r(payload, payload_offset);
-  ContainerIndex index;
-  const uint64_t version_at = r.file_offset();
-  const uint32_t version = r.u32();
-  if (!r.ok()) return corrupt("index is truncated", r.failed_at());
-  if (version != kIndexVersion) {
-    return Status(ErrorCode::kUnsupported,
-                  "index version " + std::to_string(version) + " is not supported" + at_offset(version_at));
-  }
+// --- Version 2: camera rig ---------------------------------------------------------
 
+// A face orientation shared by many cells: the rotation part of world_to_camera
+// (row-major 3x3) and the frustum. The translation is derived from the cell centre.
+struct RigEntry {
+  std::array<double, 9> rotation{};
+  Frustum frustum;
+};
+
+uint64_t bits_of(double v) { return std::bit_cast<uint64_t>(v); }
+
+bool same_bits(const Frustum& a, const Frustum& b) {
+  return bits_of(a.left) == bits_of(b.left) && bits_of(a.right) == bits_of(b.right) &&
+         bits_of(a.bottom) == bits_of(b.bottom) && bits_of(a.top) == bits_of(b.top) &&
+         bits_of(a.near_plane) == bits_of(b.near_plane) && bits_of(a.far_plane) == bits_of(b.far_plane);
+}
+
+bool same_bits(const Camera& a, const Camera& b) {
+  for (size_t i = 0; i < a.world_to_camera.size(); ++i) {
+    if (bits_of(a.world_to_camera[i]) != bits_of(b.world_to_camera[i])) return false;
+  }
+  return same_bits(a.frustum, b.frustum);
+}
+
+bool same_bits(const RigEntry& a, const RigEntry& b) {
+  for (size_t i = 0; i < a.rotation.size(); ++i) {
+    if (bits_of(a.rotation[i]) != bits_of(b.rotation[i])) return false;
+  }
+  return same_bits(a.frustum, b.frustum);
+}
+
+// Row i, column j of the upper-left 3x3 of a column-major 4x4 matrix is element j*4+i.
+std::array<double, 9> rotation_of(const Camera& camera) {
+  std::array<double, 9> rotation{};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) rotation[i * 3 + j] = camera.world_to_camera[j * 4 + i];
+  }
+  return rotation;
+}
+
+// Every entry 0, +1 or -1 with one non-zero per row and column. Then each product
+// R_ij * c_j is exact and each row sum has at most one non-zero term, so the derived
+// translation is exact and bit-identical whatever the evaluation order (or fused
+// multiply-add) a compiler picks.
+bool is_signed_permutation(const std::array<double, 9>& rotation) {
+  std::array<int, 3> row_nonzero{}, column_nonzero{};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const double v = rotation[i * 3 + j];
+      if (v == 0) continue;
+      if (v != 1 && v != -1) return false;
+      ++row_nonzero[i];
+      ++column_nonzero[j];
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (row_nonzero[k] != 1 || column_nonzero[k] != 1) return false;
+  }
+  return true;
+}
+
+// world_to_camera = [R | -R c; 0 0 0 1], the layout glm::lookAt produces. The row sum
+// is exact (one non-zero term), and subtracting it from +0 rather than negating makes a
+// zero translation +0 whatever the signs of the zero terms: view matrices read back
+// from text manifests carry +0 there.
+Camera camera_from_rig(const RigEntry& entry, const std::array<double, 3>& centre) {
+  Camera camera;
+  std::array<double, 16>& m = camera.world_to_camera;
+  m.fill(0.0);
+  const std::array<double, 9>& r = entry.rotation;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) m[j * 4 + i] = r[i * 3 + j];
+    m[12 + i] = 0.0 - ((r[i * 3 + 0] * centre[0] + r[i * 3 + 1] * centre[1]) + r[i * 3 + 2] * centre[2]);
+  }
+  m[15] = 1.0;
+  camera.frustum = entry.frustum;
+  return camera;
+}
+
+// The rig entry that reproduces `camera` bit for bit at `centre`, if its rotation is a
+// signed permutation.
+std::optional<RigEntry> rig_entry_for(const Camera& camera, const std::array<double, 3>& centre) {
+  RigEntry entry{rotation_of(camera), camera.frustum};
+  if (!is_signed_permutation(entry.rotation)) return std::nullopt;
+  if (!same_bits(camera_from_rig(entry, centre), camera)) return std::nullopt;
+  return entry;
+}
+
+// --- Version 2: varints ------------------------------------------------------------
+
+void write_varint(ByteWriter& w, uint64_t v) {
+  while (v >= 0x80) {
+    w.u8(static_cast<uint8_t>(v | 0x80));
+    v >>= 7;
+  }
+  w.u8(static_cast<uint8_t>(v));
+}
+
+uint64_t zigzag_encode(int64_t v) { return (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63); }
+int64_t zigzag_decode(uint64_t v) { return static_cast<int64_t>(v >> 1) ^ -static_cast<int64_t>(v & 1); }
+
+// Unsigned LEB128: at most 10 bytes, no bits beyond 64, no redundant trailing zero
+// byte (one encoding per value). `what` names the field for errors.
+Result<uint64_t> read_varint(ByteReader& r, const std::string& what) {
+  const uint64_t start = r.file_offset();
+  uint64_t value = 0;
+  for (int i = 0; i < kMaxVarintBytes; ++i) {
+    const uint8_t byte = r.u8();
+    if (!r.ok()) return corrupt(what + " is truncated", r.failed_at());
+    const uint64_t bits = byte & 0x7F;
+    if (i == kMaxVarintBytes - 1 && bits > 1) return corrupt(what + " overflows 64 bits", start);
+    value |= bits << (7 * i);
+    if ((byte & 0x80) == 0) {
+      if (i > 0 && byte == 0) return corrupt(what + " has a redundant trailing zero byte", start);
+      return value;
+    }
+  }
+  return corrupt(what + " is longer than 10 bytes", start);
+}
+
+// --- Shared parsing ------------------------------------------------------------------
+
+Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& index) {
   const uint64_t size_at = r.file_offset();
   index.face_width = r.u32();
   index.face_height = r.u32();
@@ -166,7 +259,63 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   index.depth_mode = static_cast<DepthMode>(depth_mode);
   index.up_axis = static_cast<UpAxis>(up_axis);
   index.coding.motion = static_cast<MotionSource>(motion);
+  return Status::Ok();
+}
 
+Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r) {
+  const uint64_t count_at = r.file_offset();
+  const uint64_t count = r.u8();
+  if (!r.ok()) return corrupt("index is truncated before the camera rig table", r.failed_at());
+  if (count > kMaxRigEntries) {
+    return corrupt("camera rig table has " + std::to_string(count) + " entries, more than " +
+                       std::to_string(kMaxRigEntries),
+                   count_at);
+  }
+  if (count * kRigEntryBytes > r.remaining()) {
+    return corrupt("camera rig table of " + std::to_string(count) + " entries does not fit in the index", count_at);
+  }
+  std::vector<RigEntry> rig(count);
+  for (uint64_t k = 0; k < count; ++k) {
+    const uint64_t entry_at = r.file_offset();
+    for (double& v : rig[k].rotation) v = r.f64();
+    rig[k].frustum = read_frustum(r);
+    if (!r.ok()) return corrupt("camera rig entry " + std::to_string(k) + " is truncated", entry_at);
+    if (!is_signed_permutation(rig[k].rotation)) {
+      return corrupt("camera rig entry " + std::to_string(k) + " has a rotation that is not a signed permutation",
+                     entry_at);
+    }
+    if (!frustum_is_valid(rig[k].frustum)) {
+      return corrupt("camera rig entry " + std::to_string(k) + " has an invalid frustum", entry_at + 72);
+    }
+  }
+  return rig;
+}
+
+// Checks shared by both versions once a cell record is read whole.
+Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
+  const CellRecord& cell = index.cells[i];
+  const CellIndex& c = cell.index;
+  if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= index.grid.dims[0] || c.y >= index.grid.dims[1] ||
+      c.z >= index.grid.dims[2]) {
+    return corrupt(cell_name(c) + " lies outside the grid", record_at);
+  }
+  if (i > 0 && !cell_less(index.cells[i - 1].index, c)) {
+    return corrupt(cell_name(c) + " is out of order or repeated in the index", record_at);
+  }
+  for (double v : cell.position) {
+    if (!std::isfinite(v)) return corrupt(cell_name(c) + " has a non-finite position", record_at);
+  }
+  for (int f = 0; f < kFaceCount; ++f) {
+    if (!camera_is_valid(cell.cameras[f])) {
+      return corrupt(cell_name(c) + " face " + face_name(static_cast<Face>(f)) + " has an invalid camera",
+                     record_at);
+    }
+  }
+  return Status::Ok();
+}
+
+Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>& rig, const ReaderLimits& limits,
+                   ContainerIndex& index) {
   const uint64_t cells_at = r.file_offset();
   const uint64_t cell_count = r.u32();
   if (!r.ok()) return corrupt("index is truncated before the cell count", r.failed_at());
@@ -174,7 +323,8 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
     return Status(ErrorCode::kLimitExceeded, "cell count " + std::to_string(cell_count) +
                                                  " is zero or above the reader's limit" + at_offset(cells_at));
   }
-  if (cell_count * kCellRecordBytes > r.remaining()) {
+  const uint64_t min_record_bytes = version == kIndexVersion1 ? kCellRecordBytesV1 : kCellRecordMinBytesV2;
+  if (cell_count * min_record_bytes > r.remaining()) {
     return corrupt("cell count " + std::to_string(cell_count) + " does not fit in the index", cells_at);
   }
   index.cells.resize(cell_count);
@@ -185,38 +335,59 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
     cell.index.y = r.i32();
     cell.index.z = r.i32();
     for (double& v : cell.position) v = r.f64();
-    for (Camera& camera : cell.cameras) camera = read_camera(r);
-    if (!r.ok()) return corrupt("cell record " + std::to_string(i) + " is truncated", record_at);
-    const CellIndex& c = cell.index;
-    if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= index.grid.dims[0] || c.y >= index.grid.dims[1] ||
-        c.z >= index.grid.dims[2]) {
-      return corrupt(cell_name(c) + " lies outside the grid", record_at);
-    }
-    if (i > 0 && !cell_less(index.cells[i - 1].index, c)) {
-      return corrupt(cell_name(c) + " is out of order or repeated in the index", record_at);
-    }
-    for (double v : cell.position) {
-      if (!std::isfinite(v)) return corrupt(cell_name(c) + " has a non-finite position", record_at);
-    }
-    for (int f = 0; f < kFaceCount; ++f) {
-      if (!camera_is_valid(cell.cameras[f])) {
-        return corrupt(cell_name(c) + " face " + face_name(static_cast<Face>(f)) + " has an invalid camera",
-                       record_at);
+    if (version == kIndexVersion1) {
+      for (Camera& camera : cell.cameras) camera = read_camera(r);
+    } else {
+      for (int f = 0; f < kFaceCount; ++f) {
+        const uint64_t source_at = r.file_offset();
+        const uint8_t source = r.u8();
+        if (!r.ok()) break;
+        if (source == kExplicitCameraMarker) {
+          cell.cameras[f] = read_camera(r);
+        } else if (source < rig.size()) {
+          // A non-finite centre makes a non-finite camera; check_cell names the centre first.
+          cell.cameras[f] = camera_from_rig(rig[source], cell.position);
+        } else {
+          return corrupt(cell_name(cell.index) + " face " + face_name(static_cast<Face>(f)) +
+                             " names camera rig entry " + std::to_string(source) + " of " +
+                             std::to_string(rig.size()),
+                         source_at);
+        }
       }
     }
+    if (!r.ok()) return corrupt("cell record " + std::to_string(i) + " is truncated", record_at);
+    SVC_RETURN_IF_ERROR(check_cell(index, i, record_at));
   }
+  return Status::Ok();
+}
 
-  const uint64_t frames_at = r.file_offset();
-  const uint64_t frame_count = r.u32();
-  if (!r.ok()) return corrupt("index is truncated before the frame count", r.failed_at());
-  if (frame_count != cell_count * kFaceCount) {
-    return corrupt("frame count " + std::to_string(frame_count) + " is not six per cell", frames_at);
+// Checks shared by both versions once a frame record's fixed fields are read.
+Status check_frame(const FrameRecord& frame, uint8_t kind, uint64_t ref_count, const std::string& what,
+                   uint64_t record_at, uint64_t file_size, const ReaderLimits& limits) {
+  if (kind > 1) return corrupt(what + " has an unknown frame type " + std::to_string(kind), record_at);
+  if (frame.payload_size > limits.max_frame_bytes) {
+    return Status(ErrorCode::kLimitExceeded,
+                  what + " is " + std::to_string(frame.payload_size) + " bytes, above the reader's limit" +
+                      at_offset(record_at));
   }
-  if (frame_count * kFrameRecordMinBytes > r.remaining()) {
-    return corrupt("frame count " + std::to_string(frame_count) + " does not fit in the index", frames_at);
+  if (frame.chunk_offset < kPreludeSize || frame.chunk_offset > file_size ||
+      uint64_t{frame.payload_size} + kChunkOverhead > file_size - frame.chunk_offset) {
+    return corrupt(what + " points at bytes " + std::to_string(frame.chunk_offset) + " outside the file",
+                   record_at);
   }
-  index.frames.resize(frame_count);
-  for (uint64_t i = 0; i < frame_count; ++i) {
+  if ((static_cast<FrameKind>(kind) == FrameKind::kIntra) != (ref_count == 0) || ref_count > 2) {
+    return corrupt(what + " has " + std::to_string(ref_count) + " references, which its type does not allow",
+                   record_at);
+  }
+  return Status::Ok();
+}
+
+std::string frame_name(const ContainerIndex& index, uint64_t i) {
+  return cell_name(index.cells[i / kFaceCount].index) + " face " + face_name(static_cast<Face>(i % kFaceCount));
+}
+
+Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
+  for (uint64_t i = 0; i < index.frames.size(); ++i) {
     const uint64_t record_at = r.file_offset();
     FrameRecord& frame = index.frames[i];
     frame.cell = r.u32();
@@ -232,26 +403,172 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
       return corrupt("frame record " + std::to_string(i) + " names the wrong cell or face", record_at);
     }
     frame.face = static_cast<Face>(face);
-    const std::string what = cell_name(index.cells[frame.cell].index) + " face " + face_name(frame.face);
-    if (kind > 1) return corrupt(what + " has an unknown frame type " + std::to_string(kind), record_at);
+    SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, frame_name(index, i), record_at, file_size, limits));
     frame.kind = static_cast<FrameKind>(kind);
-    if (frame.payload_size > limits.max_frame_bytes) {
-      return Status(ErrorCode::kLimitExceeded,
-                    what + " is " + std::to_string(frame.payload_size) + " bytes, above the reader's limit" +
-                        at_offset(record_at));
-    }
-    if (frame.chunk_offset < kPreludeSize || frame.chunk_offset > file_size ||
-        uint64_t{frame.payload_size} + kChunkOverhead > file_size - frame.chunk_offset) {
-      return corrupt(what + " points at bytes " + std::to_string(frame.chunk_offset) +
-                         " outside the file", record_at);
-    }
-    if ((frame.kind == FrameKind::kIntra) != (ref_count == 0) || ref_count > 2) {
-      return corrupt(what + " has " + std::to_string(ref_count) + " references, which its type does not allow",
-                     record_at);
-    }
     frame.references.resize(ref_count);
     for (uint32_t& ref : frame.references) ref = r.u32();
     if (!r.ok()) return corrupt("frame record " + std::to_string(i) + " is truncated", record_at);
+  }
+  return Status::Ok();
+}
+
+Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
+  const uint64_t frame_count = index.frames.size();
+  uint64_t previous_end = kPreludeSize;  // where the previous frame's chunk ends
+  for (uint64_t i = 0; i < frame_count; ++i) {
+    const uint64_t record_at = r.file_offset();
+    FrameRecord& frame = index.frames[i];
+    frame.cell = static_cast<uint32_t>(i / kFaceCount);
+    frame.face = static_cast<Face>(i % kFaceCount);
+    const std::string what = frame_name(index, i);
+    const uint8_t head = r.u8();
+    if (!r.ok()) return corrupt("frame record " + std::to_string(i) + " is truncated", record_at);
+    if (head & kFrameHeadReservedMask) {
+      return corrupt(what + " has reserved bits set in its type byte", record_at);
+    }
+    const uint8_t kind = head & kFrameKindMask;
+    const uint8_t ref_count = (head >> kRefCountShift) & kRefCountMask;
+
+    SVC_ASSIGN_OR_RETURN(const uint64_t zigzag, read_varint(r, what + " chunk offset"));
+    const int64_t delta = zigzag_decode(zigzag);
+    // previous_end <= file_size here, so these bounds keep the sum inside [0, file_size].
+    const uint64_t magnitude = delta < 0 ? uint64_t{0} - static_cast<uint64_t>(delta) : static_cast<uint64_t>(delta);
+    if ((delta < 0 && magnitude > previous_end) || (delta >= 0 && magnitude > file_size - previous_end)) {
+      return corrupt(what + " chunk offset delta " + std::to_string(delta) + " leads outside the file", record_at);
+    }
+    frame.chunk_offset = delta < 0 ? previous_end - magnitude : previous_end + magnitude;
+
+    SVC_ASSIGN_OR_RETURN(const uint64_t payload_size, read_varint(r, what + " payload size"));
+    if (payload_size > UINT32_MAX) {
+      return corrupt(what + " payload size " + std::to_string(payload_size) + " does not fit 32 bits", record_at);
+    }
+    frame.payload_size = static_cast<uint32_t>(payload_size);
+    SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, what, record_at, file_size, limits));
+    frame.kind = static_cast<FrameKind>(kind);
+    frame.references.resize(ref_count);
+    for (uint32_t& ref : frame.references) {
+      SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
+      if (value >= frame_count) {
+        return corrupt(what + " references frame " + std::to_string(value) + " of " + std::to_string(frame_count),
+                       record_at);
+      }
+      ref = static_cast<uint32_t>(value);
+    }
+    previous_end = frame.chunk_offset + frame.payload_size + kChunkOverhead;
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
+  ByteWriter w;
+  w.u32(kIndexVersion2);
+  w.u32(index.face_width);
+  w.u32(index.face_height);
+  for (int32_t d : index.grid.dims) w.i32(d);
+  for (double v : index.grid.origin) w.f64(v);
+  for (double v : index.grid.spacing) w.f64(v);
+  w.u8(static_cast<uint8_t>(index.depth_mode));
+  w.u8(static_cast<uint8_t>(index.up_axis));
+  w.u8(static_cast<uint8_t>(index.coding.motion));
+  w.u8(0);
+  w.u32(index.coding.quality);
+  w.u32(index.coding.quant_scale);
+  for (int32_t s : index.coding.i_spacing) w.i32(s);
+
+  // Rig entries in first-use order; a face whose camera no entry reproduces bit for bit
+  // (or once the table is full) is stored explicitly.
+  std::vector<RigEntry> rig;
+  std::vector<std::array<uint8_t, kFaceCount>> sources(index.cells.size());
+  for (size_t i = 0; i < index.cells.size(); ++i) {
+    const CellRecord& cell = index.cells[i];
+    for (int f = 0; f < kFaceCount; ++f) {
+      uint8_t& source = sources[i][f];
+      source = kExplicitCameraMarker;
+      const std::optional<RigEntry> entry = rig_entry_for(cell.cameras[f], cell.position);
+      if (!entry) continue;
+      const auto found = std::find_if(rig.begin(), rig.end(), [&](const RigEntry& e) { return same_bits(e, *entry); });
+      if (found != rig.end()) {
+        source = static_cast<uint8_t>(found - rig.begin());
+      } else if (rig.size() < kMaxRigEntries) {
+        source = static_cast<uint8_t>(rig.size());
+        rig.push_back(*entry);
+      }
+    }
+  }
+  w.u8(static_cast<uint8_t>(rig.size()));
+  for (const RigEntry& entry : rig) {
+    for (double v : entry.rotation) w.f64(v);
+    write_frustum(w, entry.frustum);
+  }
+
+  w.u32(static_cast<uint32_t>(index.cells.size()));
+  for (size_t i = 0; i < index.cells.size(); ++i) {
+    const CellRecord& cell = index.cells[i];
+    w.i32(cell.index.x);
+    w.i32(cell.index.y);
+    w.i32(cell.index.z);
+    for (double v : cell.position) w.f64(v);
+    for (int f = 0; f < kFaceCount; ++f) {
+      w.u8(sources[i][f]);
+      if (sources[i][f] == kExplicitCameraMarker) write_camera(w, cell.cameras[f]);
+    }
+  }
+
+  w.u32(static_cast<uint32_t>(index.frames.size()));
+  uint64_t previous_end = kPreludeSize;
+  for (const FrameRecord& frame : index.frames) {
+    w.u8(static_cast<uint8_t>((static_cast<uint8_t>(frame.kind) & kFrameKindMask) |
+                              (frame.references.size() & kRefCountMask) << kRefCountShift));
+    // Two's complement difference: chunks appended by `svc add` lie before earlier ones.
+    write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
+    write_varint(w, frame.payload_size);
+    for (uint32_t ref : frame.references) write_varint(w, ref);
+    previous_end = frame.chunk_offset + frame.payload_size + kChunkOverhead;
+  }
+  for (const FrameTypeRecord& t : index.stats) {
+    for (uint64_t v : {t.faces, t.bytes, t.mb_intra, t.mb_forward, t.mb_backward, t.mb_bidirectional, t.mb_skipped,
+                       t.candidate_vectors, t.candidate_macroblocks}) {
+      w.u64(v);
+    }
+  }
+  return w.take();
+}
+
+Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset,
+                                   uint64_t file_size, const ReaderLimits& limits) {
+  ByteReader r(payload, payload_offset);
+  ContainerIndex index;
+  const uint64_t version_at = r.file_offset();
+  const uint32_t version = r.u32();
+  if (!r.ok()) return corrupt("index is truncated", r.failed_at());
+  if (version != kIndexVersion1 && version != kIndexVersion2) {
+    return Status(ErrorCode::kUnsupported,
+                  "index version " + std::to_string(version) + " is not supported" + at_offset(version_at));
+  }
+  SVC_RETURN_IF_ERROR(parse_header(r, limits, index));
+  std::vector<RigEntry> rig;
+  if (version == kIndexVersion2) {
+    SVC_ASSIGN_OR_RETURN(rig, parse_rig_table(r));
+  }
+  SVC_RETURN_IF_ERROR(parse_cells(r, version, rig, limits, index));
+
+  const uint64_t frames_at = r.file_offset();
+  const uint64_t frame_count = r.u32();
+  if (!r.ok()) return corrupt("index is truncated before the frame count", r.failed_at());
+  if (frame_count != index.cells.size() * kFaceCount) {
+    return corrupt("frame count " + std::to_string(frame_count) + " is not six per cell", frames_at);
+  }
+  const uint64_t min_record_bytes = version == kIndexVersion1 ? kFrameRecordMinBytesV1 : kFrameRecordMinBytesV2;
+  if (frame_count * min_record_bytes > r.remaining()) {
+    return corrupt("frame count " + std::to_string(frame_count) + " does not fit in the index", frames_at);
+  }
+  index.frames.resize(frame_count);
+  if (version == kIndexVersion1) {
+    SVC_RETURN_IF_ERROR(parse_frames_v1(r, file_size, limits, index));
+  } else {
+    SVC_RETURN_IF_ERROR(parse_frames_v2(r, file_size, limits, index));
   }
   // References must name existing intra frames of the same face: then no cycle and no
   // chain can exist, and any face decodes from at most two others.

@@ -72,10 +72,14 @@ struct ContainerIndex {
   std::array<FrameTypeRecord, 2> stats;  // indexed by FrameKind
 };
 
+// Writes index version 2 (docs/format.md, "The index"): face cameras that a rig entry
+// reproduces bit for bit are stored as one byte, frame records as varints. Lossless:
+// parse_index returns exactly `index` (every double bit for bit). `index` must be one
+// that parse_index accepts (at most two references per frame).
 std::vector<uint8_t> serialize_index(const ContainerIndex& index);
-// Validates every field against `limits` before it sizes anything; `file_size` bounds
-// chunk offsets. Errors name the field and its file offset (`payload_offset` is the
-// index payload's offset in the file).
+// Reads index versions 1 and 2. Validates every field against `limits` before it sizes
+// anything; `file_size` bounds chunk offsets. Errors name the field and its file offset
+// (`payload_offset` is the index payload's offset in the file).
 Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset,
                                    uint64_t file_size, const ReaderLimits& limits);
 
