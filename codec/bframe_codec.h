@@ -27,7 +27,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 2;
+inline constexpr uint8_t kBFrameSyntaxVersion = 3;
 // Frame type, syntax version, quant_scale, reserved zero, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 6;
 

@@ -22,7 +22,7 @@ enum class FrameType : uint8_t { kIntra = 0, kBidirectional = 1 };
 
 // Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.
 inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 1;
+inline constexpr uint8_t kIntraSyntaxVersion = 2;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 

@@ -7,6 +7,8 @@
 // Threading: encoder/decoder objects are single-threaded; AdaptiveBit is plain data.
 #pragma once
 
+#include <algorithm>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -22,15 +24,19 @@ inline constexpr uint32_t kProbabilityOne = 1u << kProbabilityBits;
 struct AdaptiveBit {
   uint16_t fast = kProbabilityOne / 2;
   uint16_t slow = kProbabilityOne / 2;
+  uint8_t seen = 0;  // bits coded so far, saturating: young contexts adapt faster
 
   uint32_t probability_of_zero() const { return (uint32_t{fast} + uint32_t{slow}) >> 1; }
   void update(int bit) {
+    const int warm = std::bit_width(static_cast<unsigned>(seen) + 2u);
+    const int fast_shift = std::min(warm, 4), slow_shift = std::min(warm, 6);
+    if (seen < 255) ++seen;
     if (bit) {
-      fast = static_cast<uint16_t>(fast - (fast >> 4));
-      slow = static_cast<uint16_t>(slow - (slow >> 7));
+      fast = static_cast<uint16_t>(fast - (fast >> fast_shift));
+      slow = static_cast<uint16_t>(slow - (slow >> slow_shift));
     } else {
-      fast = static_cast<uint16_t>(fast + ((kProbabilityOne - fast) >> 4));
-      slow = static_cast<uint16_t>(slow + ((kProbabilityOne - slow) >> 7));
+      fast = static_cast<uint16_t>(fast + ((kProbabilityOne - fast) >> fast_shift));
+      slow = static_cast<uint16_t>(slow + ((kProbabilityOne - slow) >> slow_shift));
     }
   }
 };

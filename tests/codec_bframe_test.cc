@@ -259,6 +259,8 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   std::vector<uint8_t> changed = bytes;
   changed[1] = 9;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
+  changed[1] = kBFrameSyntaxVersion - 1;  // older entropy coding
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
   changed = bytes;
   changed[4] = 3;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);

@@ -168,7 +168,8 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
     return decode_intra_frame(bytes, 32, 32, &out);
   };
   EXPECT_EQ(with(0, 1).code(), ErrorCode::kCorruptData);  // B-frame type
-  EXPECT_EQ(with(1, 2).code(), ErrorCode::kUnsupported);  // future syntax
+  EXPECT_EQ(with(1, kIntraSyntaxVersion + 1).code(), ErrorCode::kUnsupported);  // future syntax
+  EXPECT_EQ(with(1, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
   EXPECT_EQ(with(2, 0).code(), ErrorCode::kCorruptData);  // quant_scale 0
   EXPECT_EQ(with(2, 113).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(with(3, 1).code(), ErrorCode::kCorruptData);  // reserved

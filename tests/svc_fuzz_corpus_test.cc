@@ -3,14 +3,20 @@
 // the seeds into DIR/container and DIR/frame (the committed corpus was made with
 //   SVC_WRITE_FUZZ_CORPUS=tests/fuzz/corpus build/bin/svc_integration_tests --gtest_filter=FuzzCorpus.Generate
 // ). Inputs the fuzzers found are added beside the seeds by hand.
+//
+// The container seeds seed-*.svc are what the current encoder writes (index version 2).
+// Their twins seed-v1index-*.svc are the same bytes with the index rewritten in version 1,
+// so that readers keep being exercised on such files.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <fstream>
 #include <map>
 
+#include "container/container.h"
 #include "fuzz/fuzz_entry.h"
 #include "scene/scene.h"
+#include "support/index_v1.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
 
@@ -37,7 +43,8 @@ std::vector<fs::path> corpus_files(const std::string& target) {
   return files;
 }
 
-// The seeds: named inputs, each valid (every face decodes).
+// The seeds: named inputs, each valid (every face decodes), encoded by the current
+// encoder (index version 2).
 std::map<std::string, std::vector<uint8_t>> container_seeds(const fs::path& work) {
   std::map<std::string, std::vector<uint8_t>> seeds;
   struct Variant {
@@ -105,6 +112,68 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
   return seeds;
 }
 
+// The committed container seeds written by the encoder, by file name.
+std::vector<fs::path> encoder_seeds() {
+  std::vector<fs::path> seeds;
+  for (const fs::path& path : corpus_files("container")) {
+    const std::string name = path.filename().string();
+    if (name.rfind("seed-", 0) == 0 && name.rfind("seed-v1index-", 0) != 0) seeds.push_back(path);
+  }
+  return seeds;
+}
+
+// `bytes` (a file whose last chunk is its index) with the index rewritten by `writer`:
+// the same header and face chunks, the new INDX chunk in place of the old one, committed
+// in slot 0 as generation 1.
+std::vector<uint8_t> reindexed(const std::vector<uint8_t>& bytes, const fs::path& scratch,
+                               std::vector<uint8_t> (*writer)(const ContainerIndex&)) {
+  {
+    std::ofstream out(scratch, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  }
+  auto file = ReadOnlyFile::open(scratch);
+  EXPECT_TRUE(file.ok());
+  if (!file.ok()) return {};
+  auto opened = open_container(**file, ReaderLimits{});
+  EXPECT_TRUE(opened.ok()) << opened.status().to_string();
+  if (!opened.ok()) return {};
+  EXPECT_EQ(opened->index_offset + opened->index_chunk_size, bytes.size()) << "the index is not the last chunk";
+  std::vector<uint8_t> out(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(opened->index_offset));
+  const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, writer(opened->index));
+  const std::vector<uint8_t> slot = make_commit_slot(1, opened->index_offset, chunk.size());
+  std::copy(slot.begin(), slot.end(), out.begin() + kFileHeaderSize);
+  std::fill(out.begin() + kFileHeaderSize + kCommitSlotSize, out.begin() + kPreludeSize, 0);
+  out.insert(out.end(), chunk.begin(), chunk.end());
+  return out;
+}
+
+fs::path version_one_twin(const fs::path& seed) {
+  return seed.parent_path() / ("seed-v1index-" + seed.filename().string().substr(5));
+}
+
+TEST(FuzzCorpus, VersionOneTwinsAreTheSeedsWithAVersionOneIndex) {
+  testing::TempDir dir("svc-fuzz-twins");
+  const std::vector<fs::path> seeds = encoder_seeds();
+  ASSERT_GE(seeds.size(), 3u);
+  for (const fs::path& seed : seeds) {
+    SCOPED_TRACE(seed.string());
+    const std::vector<uint8_t> v2 = read_bytes(seed), v1 = read_bytes(version_one_twin(seed));
+    ASSERT_FALSE(v1.empty()) << "missing " << version_one_twin(seed);
+    EXPECT_EQ(v1, reindexed(v2, dir.path() / "scratch.svc", &testing::serialize_index_v1));
+    auto old_file = ReadOnlyFile::open(version_one_twin(seed));
+    auto new_file = ReadOnlyFile::open(seed);
+    ASSERT_TRUE(old_file.ok() && new_file.ok());
+    auto old_index = open_container(**old_file, ReaderLimits{});
+    auto new_index = open_container(**new_file, ReaderLimits{});
+    ASSERT_TRUE(old_index.ok()) << old_index.status().to_string();
+    ASSERT_TRUE(new_index.ok()) << new_index.status().to_string();
+    EXPECT_EQ(v1[old_index->index_offset + 12], 1);
+    EXPECT_EQ(v2[new_index->index_offset + 12], 2);
+    EXPECT_GT(v1.size(), v2.size());
+    EXPECT_EQ(serialize_index(old_index->index), serialize_index(new_index->index));
+  }
+}
+
 TEST(FuzzCorpus, SeedsDecodeThroughTheEntryPoints) {
   testing::TempDir dir("svc-fuzz-seeds");
   for (const auto& [name, bytes] : container_seeds(dir.path())) {
@@ -166,7 +235,12 @@ TEST(FuzzCorpus, Generate) {
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     ASSERT_TRUE(out.good()) << path;
   };
-  for (const auto& [name, bytes] : container_seeds(dir.path())) write(fs::path(target) / "container" / name, bytes);
+  // Container seeds, each with its version 1 index twin.
+  for (const auto& [name, bytes] : container_seeds(dir.path())) {
+    const fs::path seed = fs::path(target) / "container" / name;
+    write(seed, bytes);
+    write(version_one_twin(seed), reindexed(bytes, dir.path() / "scratch.svc", &testing::serialize_index_v1));
+  }
   for (const auto& [name, bytes] : frame_seeds()) write(fs::path(target) / "frame" / name, bytes);
 }
 
