@@ -62,10 +62,10 @@ glm::dmat4 window_matrix(int width, int height) {
 // only within +-limit (limit <= 32767). All float steps are exact (doubling, truncating
 // a value below 2^15, subtracting that), and there are no branches, so that four pixels at a time
 // give the same keys.
-void half_pel_keys(const float* dx, const float* dy, const uint8_t* valid, int count, int limit, int32_t no_key,
+void half_pel_keys(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit, int32_t no_key,
                    int32_t* keys) {
   const float bound = static_cast<float>(limit) + 0.5f;
-  int i = 0;
+  size_t i = 0;
 #if defined(__SSE2__)
   // The same steps four pixels at a time (the scalar loop below is the reference).
   const __m128 bound4 = _mm_set1_ps(bound), half = _mm_set1_ps(0.5f), minus_half = _mm_set1_ps(-0.5f);
@@ -326,7 +326,12 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   std::array<Counted, kMb * kMb> distinct;
   std::array<int32_t, kMb * kMb> keys;
   auto key_x = [](int32_t key) { return static_cast<int16_t>(static_cast<uint16_t>(key & 0xffff)); };
-  auto key_y = [&](int32_t key) { return static_cast<int16_t>((key - key_x(key)) / 65536); };
+  auto key_y = [&](int32_t key) { return static_cast<int16_t>((key - key_x(key)) >> 16); };  // exact: a multiple
+
+  // All keys in one linear pass (streams through the flow), then macroblock by macroblock.
+  std::vector<int32_t> face_keys(n);
+  half_pel_keys(flow.dx.data(), flow.dy.data(), flow.valid.data(), n, limit, kNoKey,
+                face_keys.data());
 
   for (int mby = 0; mby < mbs_y; ++mby) {
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
@@ -336,9 +341,8 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
       const int row_length = x_end - x_begin;
       const int pixels = row_length * (y_end - y_begin);
       for (int y = y_begin; y < y_end; ++y) {
-        const size_t row = static_cast<size_t>(y) * static_cast<size_t>(flow.width) + static_cast<size_t>(x_begin);
-        half_pel_keys(flow.dx.data() + row, flow.dy.data() + row, flow.valid.data() + row, row_length, limit, kNoKey,
-                      keys.data() + static_cast<ptrdiff_t>(y - y_begin) * row_length);
+        std::copy_n(face_keys.data() + static_cast<size_t>(y) * static_cast<size_t>(flow.width) + x_begin, row_length,
+                    keys.data() + static_cast<ptrdiff_t>(y - y_begin) * row_length);
       }
       int min_x = 32767, max_x = -32767, min_y = 32767, max_y = -32767;
       for (int i = 0; i < pixels; ++i) {
@@ -392,10 +396,14 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
       }
       if (distinct_count == 0) continue;
       const int kept = std::min(distinct_count, kMaxCandidatesPerMacroblock);
-      std::partial_sort(distinct.begin(), distinct.begin() + kept, distinct.begin() + distinct_count,
-                        [](const Counted& l, const Counted& r) {
-                          return l.count != r.count ? l.count > r.count : l.key < r.key;
-                        });
+      auto by_count = [](const Counted& l, const Counted& r) {
+        return l.count != r.count ? l.count > r.count : l.key < r.key;
+      };
+      if (kept == distinct_count) {
+        std::sort(distinct.begin(), distinct.begin() + distinct_count, by_count);
+      } else {
+        std::partial_sort(distinct.begin(), distinct.begin() + kept, distinct.begin() + distinct_count, by_count);
+      }
       codec::CandidateList& list =
           result[static_cast<size_t>(mby) * static_cast<size_t>(mbs_x) + static_cast<size_t>(mbx)];
       list.reserve(static_cast<size_t>(kept));
