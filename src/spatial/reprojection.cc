@@ -307,12 +307,12 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
     int32_t key;
     int count;
   };
-  // Per macroblock: the keys of its pixels first (a tight loop). When the vectors span a
-  // small box (the usual case: flow is smooth) they are counted in a histogram over that
-  // box, read back in key order; otherwise runs of equal keys are counted in a small
-  // open-addressing table whose generation stamp avoids clearing it. The distinct keys are
-  // then ordered by count; the order is total (count descending, then key ascending), so
-  // both ways give the same lists.
+  // Per macroblock: runs of equal keys along its rows, then their counts. When the vectors
+  // span a small box (the usual case: flow is smooth) runs are counted in a histogram over
+  // that box (only the bins touched are read back); otherwise in a small open-addressing
+  // table whose generation stamp avoids clearing it. The distinct keys are then ordered by
+  // count; the order is total (count descending, then key ascending), so the order they
+  // were found in does not matter and both ways give the same lists.
   constexpr int kSlots = 1024;  // > 4 x 256 keys: short probe sequences
   struct Slot {
     uint32_t generation;
@@ -324,7 +324,8 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   constexpr int kHistogramBins = 1024;
   std::array<uint16_t, kHistogramBins> bins{};  // all zero between macroblocks
   std::array<Counted, kMb * kMb> distinct;
-  std::array<int32_t, kMb * kMb> keys;
+  std::array<Counted, kMb * kMb> runs;
+  std::array<int, kMb * kMb> touched;
   auto key_x = [](int32_t key) { return static_cast<int16_t>(static_cast<uint16_t>(key & 0xffff)); };
   auto key_y = [&](int32_t key) { return static_cast<int16_t>((key - key_x(key)) >> 16); };  // exact: a multiple
 
@@ -339,60 +340,57 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
       const int y_begin = mby * kMb, y_end = std::min(flow.height, (mby + 1) * kMb);
       const int x_begin = mbx * kMb, x_end = std::min(flow.width, (mbx + 1) * kMb);
       const int row_length = x_end - x_begin;
-      const int pixels = row_length * (y_end - y_begin);
-      for (int y = y_begin; y < y_end; ++y) {
-        std::copy_n(face_keys.data() + static_cast<size_t>(y) * static_cast<size_t>(flow.width) + x_begin, row_length,
-                    keys.data() + static_cast<ptrdiff_t>(y - y_begin) * row_length);
-      }
+      // Runs of equal keys along the macroblock's rows (flow is smooth, so runs are long):
+      // the box and both counters work on runs, not pixels, which also keeps consecutive
+      // increments off the same histogram bin.
+      int run_count = 0;
       int min_x = 32767, max_x = -32767, min_y = 32767, max_y = -32767;
-      for (int i = 0; i < pixels; ++i) {
-        const int32_t key = keys[static_cast<size_t>(i)];
-        if (key == kNoKey) continue;
-        min_x = std::min<int>(min_x, key_x(key));
-        max_x = std::max<int>(max_x, key_x(key));
-        min_y = std::min<int>(min_y, key_y(key));
-        max_y = std::max<int>(max_y, key_y(key));
+      for (int y = y_begin; y < y_end; ++y) {
+        const int32_t* row = face_keys.data() + static_cast<size_t>(y) * static_cast<size_t>(flow.width) + x_begin;
+        for (int i = 0; i < row_length;) {
+          const int32_t key = row[i];
+          int end = i + 1;
+          while (end < row_length && row[end] == key) ++end;
+          if (key != kNoKey) {
+            runs[static_cast<size_t>(run_count++)] = {key, end - i};
+            min_x = std::min<int>(min_x, key_x(key));
+            max_x = std::max<int>(max_x, key_x(key));
+            min_y = std::min<int>(min_y, key_y(key));
+            max_y = std::max<int>(max_y, key_y(key));
+          }
+          i = end;
+        }
       }
-      if (min_x > max_x) continue;  // no usable pixel
+      if (run_count == 0) continue;  // no usable pixel
       const int box_width = max_x - min_x + 1, box_height = max_y - min_y + 1;
       if (box_height <= kHistogramBins / box_width) {
-        for (int i = 0; i < pixels; ++i) {
-          const int32_t key = keys[static_cast<size_t>(i)];
-          if (key == kNoKey) continue;
-          ++bins[static_cast<size_t>((key_y(key) - min_y) * box_width + (key_x(key) - min_x))];
+        // Only the bins a run touched are read back: a wide box is mostly empty.
+        int touched_count = 0;
+        for (int r = 0; r < run_count; ++r) {
+          const Counted& run = runs[static_cast<size_t>(r)];
+          const int bin = (key_y(run.key) - min_y) * box_width + (key_x(run.key) - min_x);
+          if (bins[static_cast<size_t>(bin)] == 0) touched[static_cast<size_t>(touched_count++)] = bin;
+          bins[static_cast<size_t>(bin)] = static_cast<uint16_t>(bins[static_cast<size_t>(bin)] + run.count);
         }
-        for (int by = 0; by < box_height; ++by) {
-          for (int bx = 0; bx < box_width; ++bx) {
-            uint16_t& bin = bins[static_cast<size_t>(by * box_width + bx)];
-            if (bin == 0) continue;
-            distinct[static_cast<size_t>(distinct_count++)] = {(min_y + by) * 65536 + (min_x + bx), bin};
-            bin = 0;
-          }
+        for (int t = 0; t < touched_count; ++t) {
+          const int bin = touched[static_cast<size_t>(t)];
+          const int by = bin / box_width, bx = bin - by * box_width;
+          distinct[static_cast<size_t>(distinct_count++)] = {(min_y + by) * 65536 + (min_x + bx),
+                                                             bins[static_cast<size_t>(bin)]};
+          bins[static_cast<size_t>(bin)] = 0;
         }
       } else {
         ++generation;
-        auto add = [&](int32_t key, int count) {
-          uint32_t slot = (static_cast<uint32_t>(key) * 2654435761u) >> 22;  // 10 bits
-          while (slots[slot].generation == generation && slots[slot].key != key) slot = (slot + 1) & (kSlots - 1);
+        for (int r = 0; r < run_count; ++r) {
+          const Counted& run = runs[static_cast<size_t>(r)];
+          uint32_t slot = (static_cast<uint32_t>(run.key) * 2654435761u) >> 22;  // 10 bits
+          while (slots[slot].generation == generation && slots[slot].key != run.key) slot = (slot + 1) & (kSlots - 1);
           if (slots[slot].generation != generation) {
-            slots[slot] = {generation, key, distinct_count};
-            distinct[static_cast<size_t>(distinct_count++)] = {key, 0};
+            slots[slot] = {generation, run.key, distinct_count};
+            distinct[static_cast<size_t>(distinct_count++)] = {run.key, 0};
           }
-          distinct[static_cast<size_t>(slots[slot].index)].count += count;
-        };
-        int32_t run_key = kNoKey;
-        int run_length = 0;
-        for (int i = 0; i < pixels; ++i) {
-          const int32_t key = keys[static_cast<size_t>(i)];
-          if (key == run_key) {
-            ++run_length;
-            continue;
-          }
-          if (run_key != kNoKey) add(run_key, run_length);
-          run_key = key;
-          run_length = 1;
+          distinct[static_cast<size_t>(slots[slot].index)].count += run.count;
         }
-        if (run_key != kNoKey) add(run_key, run_length);
       }
       if (distinct_count == 0) continue;
       const int kept = std::min(distinct_count, kMaxCandidatesPerMacroblock);
