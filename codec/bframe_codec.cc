@@ -1079,7 +1079,7 @@ class BFrameEncoder {
   double lambda_ = 0, lambda_sad_ = 0;
   bool refine_ = false;
   int full_evaluations_ = 2;
-  int max_candidates_ = 8;
+  int max_candidates_ = 16;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
@@ -1121,7 +1121,7 @@ std::string macroblock_name(int mx, int my) {
 
 int suggested_b_quant_scale(int intra_quant_scale) {
   const int clamped = std::clamp(intra_quant_scale, kMinQuantScale, kMaxQuantScale);
-  return std::clamp((clamped * 7 + 2) / 4, kMinQuantScale, kMaxQuantScale);
+  return std::clamp((clamped * 5 + 1) / 2, kMinQuantScale, kMaxQuantScale);
 }
 
 std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,

@@ -121,7 +121,8 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
       encode_b_frame(source, reference, nullptr, candidates, {}, params, &coarser, &coarser_stats);
   EXPECT_LT(coarser_bytes.size() * 7, intra.size()) << coarser_bytes.size() << " vs intra " << intra.size();
   EXPECT_GE(coarser_stats.mb_skipped, 24);
-  EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 0.5);
+  // Within 1 dB of intra coding at the 2.5x finer step: the prediction carries the detail.
+  EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 1.0);
 
   ImageYCbCr420 decoded;
   std::vector<MacroblockMode> modes;
@@ -365,8 +366,10 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
 }
 
 TEST(BFrame, SuggestedQuantScale) {
-  EXPECT_EQ(suggested_b_quant_scale(8), 14);
-  EXPECT_EQ(suggested_b_quant_scale(1), 2);
+  EXPECT_EQ(suggested_b_quant_scale(8), 20);
+  EXPECT_EQ(suggested_b_quant_scale(3), 8);  // 7.5 rounds up
+  EXPECT_EQ(suggested_b_quant_scale(1), 3);
+  EXPECT_EQ(suggested_b_quant_scale(44), 110);
   EXPECT_EQ(suggested_b_quant_scale(112), 112);
   EXPECT_EQ(suggested_b_quant_scale(200), 112);
 }

@@ -180,7 +180,8 @@ TEST(OddInputs, WrongImageSizeIsNamedAndNothingIsWritten) {
 
 TEST(OddInputs, QualityMapsMonotonicallyOntoTheQuantiserScale) {
   EXPECT_EQ(quant_scale_for_quality(100), 1);
-  EXPECT_EQ(quant_scale_for_quality(75), 6);
+  EXPECT_EQ(quant_scale_for_quality(75), 4);
+  EXPECT_EQ(quant_scale_for_quality(50), 16);
   EXPECT_EQ(quant_scale_for_quality(1), 112);
   for (int q = 2; q <= 100; ++q) EXPECT_LE(quant_scale_for_quality(q), quant_scale_for_quality(q - 1)) << q;
 }

@@ -17,7 +17,7 @@ enum class MotionSearch : uint8_t {
 
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best). Maps to a quantiser scale (quant_scale_for_quality):
-  // 100 -> 1, 75 -> 6, 50 -> 36, 1 -> 112.
+  // 100 -> 1, 75 -> 4, 50 -> 16, 1 -> 112 (the I-faces' scale; B-faces use 2.5x).
   int quality = 75;
   // When non-zero, overrides quality: the codec quantiser scale, 1..112.
   int quant_scale = 0;

@@ -55,14 +55,15 @@ EncoderSettings default_encoder_settings() { return EncoderSettings{}; }
 
 int quant_scale_for_quality(int quality) {
   quality = std::clamp(quality, 1, 100);
-  // 100 -> 1 (finest), 75 (the default) -> 6, 50 -> 36, geometric in between: each
+  // 100 -> 1 (finest), 75 (the default) -> 4, 50 -> 16, geometric in between: each
   // quality step scales the step size by the same factor. Below 50 the scale rises
-  // linearly to kMaxQuantScale at 1, so every quality keeps a distinct meaning.
+  // linearly to kMaxQuantScale at 1, so every quality keeps a distinct meaning. The
+  // scale is the I-faces'; B-faces use suggested_b_quant_scale of it (2.5x).
   double scale;
   if (quality >= 50) {
-    scale = std::pow(6.0, (100.0 - quality) / 25.0);
+    scale = std::pow(4.0, (100.0 - quality) / 25.0);
   } else {
-    scale = 36.0 + (50.0 - quality) * (codec::kMaxQuantScale - 36.0) / 49.0;
+    scale = 16.0 + (50.0 - quality) * (codec::kMaxQuantScale - 16.0) / 49.0;
   }
   return std::clamp(static_cast<int>(std::lround(scale)), codec::kMinQuantScale, codec::kMaxQuantScale);
 }
