@@ -661,12 +661,13 @@ int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_st
 class BFrameEncoder {
  public:
   BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params)
-      : s_(state), source_(source) {
+      : s_(state),
+        source_(source),
+        refine_(params.half_pel_refinement),
+        full_evaluations_(std::max(1, params.inter_evaluations)),
+        max_candidates_(std::max(1, params.max_candidates)) {
     lambda_ = std::max(0.0, params.lambda_factor) * s_.inter_quantizer.quant_scale * s_.inter_quantizer.quant_scale;
     lambda_sad_ = std::sqrt(lambda_);
-    refine_ = params.half_pel_refinement;
-    full_evaluations_ = std::max(1, params.inter_evaluations);
-    max_candidates_ = std::max(1, params.max_candidates);
   }
 
   MacroblockChoice choose(int mx, int my, const CandidateList* candidates0, const CandidateList* candidates1,
@@ -1077,9 +1078,10 @@ class BFrameEncoder {
   FrameState& s_;
   const PaddedSource& source_;
   double lambda_ = 0, lambda_sad_ = 0;
-  bool refine_ = false;
-  int full_evaluations_ = 2;
-  int max_candidates_ = 16;
+  // From BFrameParams, whose fields hold the defaults.
+  const bool refine_;
+  const int full_evaluations_;
+  const int max_candidates_;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
