@@ -21,7 +21,10 @@
 #include <CLI/CLI.hpp>
 
 #include "baseline/baseline.h"
+#include "database/database.h"
 #include "rd_curve.h"
+#include "spatial/placement.h"
+#include "spatial/reprojection.h"
 #include "support/scene_cache.h"
 #include "support/svc_measure.h"
 
@@ -53,6 +56,76 @@ const SvcMeasurement& nearest(const std::vector<SvcMeasurement>& ms, double targ
   return *best;
 }
 
+// How much of the B-faces their references see at all (spatial/reprojection.h,
+// visible_in_reference): what no reference sees (hidden behind other geometry, or beyond
+// the reference face's edges) can only be coded intra, which caps the gain of prediction.
+bool print_reference_coverage(const std::filesystem::path& db_dir) {
+  auto manifest = load_manifest(db_dir);
+  if (!manifest.ok()) {
+    std::fprintf(stderr, "%s\n", manifest.status().to_string().c_str());
+    return false;
+  }
+  std::vector<CellIndex> cells;
+  for (const CellSource& cell : manifest->cells) cells.push_back(cell.index);
+  auto placement = place_cubes(cells, manifest->grid.dims, PlacementSettings{}, manifest->grid.spacing);
+  if (!placement.ok()) {
+    std::fprintf(stderr, "%s\n", placement.status().to_string().c_str());
+    return false;
+  }
+  constexpr int kMb = 16;
+  uint64_t pixels = 0, seen_pixels = 0, macroblocks = 0, covered_macroblocks = 0;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    const CellPlacement& p = (*placement)[c];
+    if (p.intra) continue;
+    for (Face face : kAllFaces) {
+      auto current = load_face(*manifest, c, face);
+      if (!current.ok()) {
+        std::fprintf(stderr, "%s\n", current.status().to_string().c_str());
+        return false;
+      }
+      const int w = current->color.width, h = current->color.height;
+      std::vector<std::vector<uint8_t>> seen;
+      for (uint32_t r : p.references) {
+        auto reference = load_face(*manifest, r, face);
+        if (!reference.ok()) {
+          std::fprintf(stderr, "%s\n", reference.status().to_string().c_str());
+          return false;
+        }
+        seen.push_back(visible_in_reference(manifest->cells[c].faces[static_cast<int>(face)].camera,
+                                            manifest->cells[r].faces[static_cast<int>(face)].camera, w, h,
+                                            current->depth, reference->depth));
+      }
+      for (int my = 0; my * kMb < h; ++my) {
+        for (int mx = 0; mx * kMb < w; ++mx) {
+          std::vector<int> by_reference(seen.size(), 0);
+          int area = 0;
+          for (int y = my * kMb; y < std::min(h, (my + 1) * kMb); ++y) {
+            for (int x = mx * kMb; x < std::min(w, (mx + 1) * kMb); ++x) {
+              const size_t k = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+              bool any = false;
+              for (size_t r = 0; r < seen.size(); ++r) {
+                by_reference[r] += seen[r][k];
+                any = any || seen[r][k];
+              }
+              seen_pixels += any;
+              ++area;
+            }
+          }
+          pixels += static_cast<uint64_t>(area);
+          ++macroblocks;
+          const int best = by_reference.empty() ? 0 : *std::max_element(by_reference.begin(), by_reference.end());
+          covered_macroblocks += 10 * best >= 9 * area;
+        }
+      }
+    }
+  }
+  if (macroblocks == 0) return true;
+  std::printf("  B-face pixels seen by a reference: %.1f%%; macroblocks at least 90%% seen by one reference: %.1f%%\n",
+              100.0 * static_cast<double>(seen_pixels) / static_cast<double>(pixels),
+              100.0 * static_cast<double>(covered_macroblocks) / static_cast<double>(macroblocks));
+  return true;
+}
+
 bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double target, int threads, int repeats) {
   options.kind = kind;
   auto scene = bench::SceneFaces::generate(options);
@@ -63,6 +136,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
   std::printf("\n%s scene: %d x %d x %d cells of %d px faces (%zu faces)\n", samples::scene_kind_name(kind),
               options.grid[0], options.grid[1], options.grid[2], options.face_size,
               (*scene)->cells.size() * kFaceCount);
+  if (!print_reference_coverage((*scene)->db_dir)) return false;
 
   Config configs[3] = {{"intra-only", {}}, {"spatial+depth", {}}, {"spatial+log", {}}};
   configs[0].settings.intra_only = true;

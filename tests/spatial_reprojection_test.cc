@@ -480,5 +480,61 @@ TEST(SpatialReprojection, ParallaxOfTwoDepthsGivesTwoCandidates) {
   EXPECT_EQ(candidates[2], (codec::CandidateList{{-4, 0}}));
 }
 
+// A wall 5 units in front of the current camera, seen by a reference 1 unit behind it:
+// visible unless something nearer hides it in the reference's depth.
+TEST(SpatialReprojection, VisibilityFollowsTheReferenceDepth) {
+  const int w = 32, h = 32;
+  const Camera current = look({0, 0, 0}, {0, 0, -1}, {0, 1, 0});
+  const Camera behind = look({0, 0, 1}, {0, 0, -1}, {0, 1, 0});
+  const std::vector<float> wall(static_cast<size_t>(w * h), 5.0f);
+  // The reference sees the same wall at eye depth 6: every pixel lands inside its face.
+  std::vector<uint8_t> seen = visible_in_reference(current, behind, w, h, wall, std::vector<float>(wall.size(), 6.0f));
+  for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 1) << k;
+  // A screen 0.5 in front of the reference hides the wall; so does background.
+  seen = visible_in_reference(current, behind, w, h, wall, std::vector<float>(wall.size(), 0.5f));
+  for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 0) << k;
+  seen = visible_in_reference(current, behind, w, h, wall, std::vector<float>(wall.size(), kInf));
+  for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 0) << k;
+  // Depth 6.2 is 3 % off the point's reference depth of 6: another surface.
+  seen = visible_in_reference(current, behind, w, h, wall, std::vector<float>(wall.size(), 6.2f));
+  for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 0) << k;
+  // Hidden in the left half of the reference only: the current pixels landing there are unseen.
+  std::vector<float> half_hidden(wall.size(), 6.0f);
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w / 2; ++i) half_hidden[at(w, i, j)] = 0.5f;
+  }
+  seen = visible_in_reference(current, behind, w, h, wall, half_hidden);
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const glm::dvec2 landing = project_to_pixel(behind, unproject(current, i, j, w, h, 5.0), w, h);
+      if (landing.x < w / 2 - 2) EXPECT_EQ(seen[at(w, i, j)], 0) << i << "," << j;
+      if (landing.x > w / 2 + 1) EXPECT_EQ(seen[at(w, i, j)], 1) << i << "," << j;
+    }
+  }
+}
+
+TEST(SpatialReprojection, VisibilityEndsAtTheReferenceFaceAndMatchesBackground) {
+  const int w = 32, h = 32;
+  const Camera current = look({0, 0, 0}, {0, 0, -1}, {0, 1, 0});
+  const Camera ahead = look({0, 0, -2}, {0, 0, -1}, {0, 1, 0});
+  // The current face's edges look past the nearer reference's face: unseen there.
+  const std::vector<float> wall(static_cast<size_t>(w * h), 5.0f);
+  std::vector<uint8_t> seen = visible_in_reference(current, ahead, w, h, wall, std::vector<float>(wall.size(), 3.0f));
+  EXPECT_EQ(seen[at(w, 0, 0)], 0);
+  EXPECT_EQ(seen[at(w, w - 1, h / 2)], 0);
+  EXPECT_EQ(seen[at(w, w / 2, h / 2)], 1);
+  EXPECT_EQ(seen[at(w, w / 2 - 1, h / 2 - 1)], 1);
+  // Background is seen where it lands on background, whatever the distance between cameras.
+  const std::vector<float> sky(wall.size(), kInf);
+  seen = visible_in_reference(current, ahead, w, h, sky, sky);
+  for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 1) << k;
+  seen = visible_in_reference(current, ahead, w, h, sky, std::vector<float>(wall.size(), 3.0f));
+  for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 0) << k;
+  // Sizes that do not match: nothing seen, no reads outside the inputs.
+  seen = visible_in_reference(current, ahead, w, h, wall, std::vector<float>(10, 3.0f));
+  ASSERT_EQ(seen.size(), wall.size());
+  for (uint8_t s : seen) EXPECT_EQ(s, 0);
+}
+
 }  // namespace
 }  // namespace svc

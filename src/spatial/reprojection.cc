@@ -277,6 +277,49 @@ FlowField compute_flow_reference(const Camera& current, const Camera& reference,
   return flow;
 }
 
+std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& reference, int width, int height,
+                                          const std::vector<float>& depth,
+                                          const std::vector<float>& reference_depth) {
+  const size_t n = static_cast<size_t>(std::max(width, 0)) * static_cast<size_t>(std::max(height, 0));
+  std::vector<uint8_t> seen(n, 0);
+  if (n == 0 || depth.size() != n || reference_depth.size() != n) return seen;
+  const FlowField flow = compute_flow(current, reference, width, height, depth);
+  // Eye z in the reference camera of the point each pixel shows.
+  const glm::dmat4 combined = view_matrix(reference) * glm::inverse(view_matrix(current));
+  const Frustum& cf = current.frustum;
+  for (int j = 0; j < height; ++j) {
+    for (int i = 0; i < width; ++i) {
+      const size_t k = static_cast<size_t>(j) * static_cast<size_t>(width) + static_cast<size_t>(i);
+      if (!flow.valid[k]) continue;
+      const double x = i + static_cast<double>(flow.dx[k]), y = j + static_cast<double>(flow.dy[k]);
+      if (!(x >= -0.5 && y >= -0.5 && x < width - 0.5 && y < height - 0.5)) continue;
+      const int landing_x = static_cast<int>(std::lround(x)), landing_y = static_cast<int>(std::lround(y));
+      const bool background = is_background(depth[k], cf);
+      double reference_z = 0;
+      if (!background) {
+        const double a = (cf.left + (i + 0.5) / width * (cf.right - cf.left)) / cf.near_plane;
+        const double b = (cf.bottom + (1.0 - (j + 0.5) / height) * (cf.top - cf.bottom)) / cf.near_plane;
+        const double z = depth[k];
+        reference_z = -(combined * glm::dvec4(a * z, b * z, -z, 1.0)).z;
+      }
+      bool found = false;
+      for (int dy = -1; dy <= 1 && !found; ++dy) {
+        for (int dx = -1; dx <= 1 && !found; ++dx) {
+          const int rx = std::clamp(landing_x + dx, 0, width - 1), ry = std::clamp(landing_y + dy, 0, height - 1);
+          const float r = reference_depth[static_cast<size_t>(ry) * static_cast<size_t>(width) + static_cast<size_t>(rx)];
+          if (background) {
+            found = is_background(r, reference.frustum);
+          } else if (!is_background(r, reference.frustum)) {
+            found = std::abs(static_cast<double>(r) - reference_z) <= kVisibilityTolerance * reference_z;
+          }
+        }
+      }
+      seen[k] = found ? 1 : 0;
+    }
+  }
+  return seen;
+}
+
 codec::MotionVector quantize_flow(double dx, double dy) {
   auto to_half_pel = [](double d) -> int16_t {
     const double half_pels = std::round(d * 2.0);  // halves away from zero

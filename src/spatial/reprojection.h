@@ -47,6 +47,21 @@ FlowField compute_flow(const Camera& current, const Camera& reference, int width
 FlowField compute_flow_reference(const Camera& current, const Camera& reference, int width,
                                  int height, const std::vector<float>& depth);
 
+// Which pixels of the current face show something the reference face shows too: the
+// point (or, for background, the direction) lands inside the reference face, in front of
+// its camera, and is not hidden there, i.e. one of the 3x3 reference pixels around where
+// it lands holds an eye depth within kVisibilityTolerance (relative) of the point's depth
+// in the reference camera. A background pixel counts as seen when it lands on background.
+// It bounds what prediction from that reference can do: an unseen pixel (occluded, or
+// outside the face) must be coded without it. depth and reference_depth follow
+// compute_flow's conventions (eye z, +inf or another background value where nothing was
+// hit). Returns width * height flags (1: seen); all zero when a size does not match.
+// A diagnostic for benchmarks and tools, not used by the encoder.
+inline constexpr double kVisibilityTolerance = 0.02;
+std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& reference, int width, int height,
+                                          const std::vector<float>& depth,
+                                          const std::vector<float>& reference_depth);
+
 // Most candidates kept per macroblock (the most frequent ones), bounding the encoder's
 // work on chaotic blocks (foliage, depth edges); the dissertation reports ~5 on average.
 inline constexpr int kMaxCandidatesPerMacroblock = 32;
