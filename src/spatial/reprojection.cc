@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -116,12 +117,43 @@ void half_pel_keys(const float* dx, const float* dy, const uint8_t* valid, size_
   }
 }
 
+// Bit i set where a run of equal keys ends at key i of a row of 16: key i differs from
+// key i + 1, or i is the last.
+unsigned run_ends_16(const int32_t* row) {
+#if defined(__SSE2__)
+  auto load = [&](int i) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + i)); };
+  auto equal_mask = [](__m128i a, __m128i b) {
+    return static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, b))));
+  };
+  const __m128i last = load(12);
+  const unsigned equal = equal_mask(load(0), load(1)) | equal_mask(load(4), load(5)) << 4 |
+                         equal_mask(load(8), load(9)) << 8 | equal_mask(last, _mm_srli_si128(last, 4)) << 12;
+  return (~equal & 0x7fffu) | 0x8000u;
+#else
+  unsigned ends = 0x8000u;
+  for (int i = 0; i + 1 < 16; ++i) ends |= static_cast<unsigned>(row[i] != row[i + 1]) << i;
+  return ends;
+#endif
+}
+
 }  // namespace
 
-FlowField compute_flow(const Camera& current, const Camera& reference, int width, int height,
-                       const std::vector<float>& depth) {
-  FlowField flow = empty_field(width, height);
-  if (depth.size() != flow.dx.size() || flow.dx.empty()) return flow;
+void compute_flow(const Camera& current, const Camera& reference, int width, int height,
+                  const std::vector<float>& depth, FlowField* out) {
+  FlowField& flow = *out;
+  flow.width = std::max(width, 0);
+  flow.height = std::max(height, 0);
+  const size_t n = static_cast<size_t>(flow.width) * static_cast<size_t>(flow.height);
+  if (depth.size() != n || n == 0) {
+    flow.dx.assign(n, 0.0f);
+    flow.dy.assign(n, 0.0f);
+    flow.valid.assign(n, 0);
+    return;
+  }
+  // Every pixel is written below: storage kept from an earlier call needs no clearing.
+  flow.dx.resize(n);
+  flow.dy.resize(n);
+  flow.valid.resize(n);
 
   // Current camera space -> reference camera space, once per face.
   const glm::dmat4 combined = view_matrix(reference) * glm::inverse(view_matrix(current));
@@ -227,6 +259,12 @@ FlowField compute_flow(const Camera& current, const Camera& reference, int width
       flow.valid[k] = ok;
     }
   }
+}
+
+FlowField compute_flow(const Camera& current, const Camera& reference, int width, int height,
+                       const std::vector<float>& depth) {
+  FlowField flow;
+  compute_flow(current, reference, width, height, depth, &flow);
   return flow;
 }
 
@@ -368,16 +406,22 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   std::array<uint16_t, kHistogramBins> bins{};  // all zero between macroblocks
   std::array<Counted, kMb * kMb> distinct;
   std::array<Counted, kMb * kMb> runs;
+  std::array<uint64_t, kMb * kMb> ordered;
   std::array<int, kMb * kMb> touched;
   auto key_x = [](int32_t key) { return static_cast<int16_t>(static_cast<uint16_t>(key & 0xffff)); };
   auto key_y = [&](int32_t key) { return static_cast<int16_t>((key - key_x(key)) >> 16); };  // exact: a multiple
 
-  // All keys in one linear pass (streams through the flow), then macroblock by macroblock.
-  std::vector<int32_t> face_keys(n);
-  half_pel_keys(flow.dx.data(), flow.dy.data(), flow.valid.data(), n, limit, kNoKey,
-                face_keys.data());
+  // Keys of one stripe of macroblocks (16 rows) in a linear pass, then macroblock by
+  // macroblock. A stripe, not the whole face: it stays in cache, and a face-sized buffer
+  // would cost fresh (page-faulted) memory per call.
+  const size_t width = static_cast<size_t>(flow.width);
+  std::vector<int32_t> stripe_keys(static_cast<size_t>(kMb) * width);
 
   for (int mby = 0; mby < mbs_y; ++mby) {
+    const size_t stripe_begin = static_cast<size_t>(mby) * kMb * width;
+    const size_t stripe_pixels = static_cast<size_t>(std::min(kMb, flow.height - mby * kMb)) * width;
+    half_pel_keys(flow.dx.data() + stripe_begin, flow.dy.data() + stripe_begin, flow.valid.data() + stripe_begin,
+                  stripe_pixels, limit, kNoKey, stripe_keys.data());
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
       int distinct_count = 0;
       const int y_begin = mby * kMb, y_end = std::min(flow.height, (mby + 1) * kMb);
@@ -388,19 +432,34 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
       // increments off the same histogram bin.
       int run_count = 0;
       int min_x = 32767, max_x = -32767, min_y = 32767, max_y = -32767;
+      auto add_run = [&](int32_t key, int length) {
+        if (key == kNoKey) return;
+        runs[static_cast<size_t>(run_count++)] = {key, length};
+        min_x = std::min<int>(min_x, key_x(key));
+        max_x = std::max<int>(max_x, key_x(key));
+        min_y = std::min<int>(min_y, key_y(key));
+        max_y = std::max<int>(max_y, key_y(key));
+      };
       for (int y = y_begin; y < y_end; ++y) {
-        const int32_t* row = face_keys.data() + static_cast<size_t>(y) * static_cast<size_t>(flow.width) + x_begin;
+        const int32_t* row = stripe_keys.data() + static_cast<size_t>(y - y_begin) * width + x_begin;
+        if (row_length == kMb) {
+          // Whole rows: one mask of where runs end, so the loop turns once per run
+          // without a hard-to-predict branch per pixel.
+          unsigned ends = run_ends_16(row);
+          int start = 0;
+          while (ends != 0) {
+            const int end = std::countr_zero(ends);
+            ends &= ends - 1;
+            add_run(row[start], end + 1 - start);
+            start = end + 1;
+          }
+          continue;
+        }
         for (int i = 0; i < row_length;) {
           const int32_t key = row[i];
           int end = i + 1;
           while (end < row_length && row[end] == key) ++end;
-          if (key != kNoKey) {
-            runs[static_cast<size_t>(run_count++)] = {key, end - i};
-            min_x = std::min<int>(min_x, key_x(key));
-            max_x = std::max<int>(max_x, key_x(key));
-            min_y = std::min<int>(min_y, key_y(key));
-            max_y = std::max<int>(max_y, key_y(key));
-          }
+          add_run(key, end - i);
           i = end;
         }
       }
@@ -437,20 +496,24 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
       }
       if (distinct_count == 0) continue;
       const int kept = std::min(distinct_count, kMaxCandidatesPerMacroblock);
-      auto by_count = [](const Counted& l, const Counted& r) {
-        return l.count != r.count ? l.count > r.count : l.key < r.key;
-      };
+      // Count descending, then key ascending, as one unsigned integer order: the count's
+      // complement above the key with its sign bit flipped.
+      for (int d = 0; d < distinct_count; ++d) {
+        const Counted& c = distinct[static_cast<size_t>(d)];
+        ordered[static_cast<size_t>(d)] = static_cast<uint64_t>(0xffff - c.count) << 32 |
+                                          (static_cast<uint32_t>(c.key) ^ 0x80000000u);
+      }
       if (kept == distinct_count) {
-        std::sort(distinct.begin(), distinct.begin() + distinct_count, by_count);
+        std::sort(ordered.begin(), ordered.begin() + distinct_count);
       } else {
-        std::partial_sort(distinct.begin(), distinct.begin() + kept, distinct.begin() + distinct_count, by_count);
+        std::partial_sort(ordered.begin(), ordered.begin() + kept, ordered.begin() + distinct_count);
       }
       codec::CandidateList& list =
           result[static_cast<size_t>(mby) * static_cast<size_t>(mbs_x) + static_cast<size_t>(mbx)];
-      list.reserve(static_cast<size_t>(kept));
+      list.resize(static_cast<size_t>(kept));
       for (int d = 0; d < kept; ++d) {
-        const Counted& c = distinct[static_cast<size_t>(d)];
-        list.push_back(codec::MotionVector{key_x(c.key), key_y(c.key)});
+        const auto key = static_cast<int32_t>(static_cast<uint32_t>(ordered[static_cast<size_t>(d)]) ^ 0x80000000u);
+        list[static_cast<size_t>(d)] = codec::MotionVector{key_x(key), key_y(key)};
       }
     }
   }

@@ -41,6 +41,12 @@ struct FlowField {
 FlowField compute_flow(const Camera& current, const Camera& reference, int width, int height,
                        const std::vector<float>& depth);
 
+// The same into `out`, reusing its storage: a caller that computes many flows (an encoder
+// thread) keeps one FlowField and so avoids zero-filling and page-faulting a fresh one
+// per face, which costs more than the computation. `out` must not be null.
+void compute_flow(const Camera& current, const Camera& reference, int width, int height,
+                  const std::vector<float>& depth, FlowField* out);
+
 // Plain implementation of compute_flow, following the dissertation's matrices literally
 // (V^-1 of the current camera, V of the reference, as full 4x4 products per pixel). Kept
 // as the reference the fast path is tested against; same contract.
