@@ -257,6 +257,33 @@ TEST(SpatialReprojection, FastPathMatchesReferenceImplementation) {
   }
 }
 
+// The overload that fills a caller's field gives the same field whatever the field held
+// before: another size, other flows, invalid pixels where the new flow is valid.
+TEST(SpatialReprojection, FlowIntoReusedFieldMatchesFreshField) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  FlowField reused;
+  for (int round = 0; round < 8; ++round) {
+    const int w = 16 + static_cast<int>(rng() % 40), h = 16 + static_cast<int>(rng() % 40);
+    const Camera a = look({uni(rng), uni(rng), uni(rng)}, {uni(rng), uni(rng), -1.0}, {0, 1, 0});
+    const Camera b = look({uni(rng), uni(rng), uni(rng)}, {uni(rng), uni(rng), -1.0}, {0, 1, 0});
+    std::vector<float> depth(static_cast<size_t>(w * h));
+    for (auto& z : depth) z = rng() % 7 == 0 ? kInf : static_cast<float>(0.5 + 10.0 * (uni(rng) + 1));
+    const FlowField fresh = compute_flow(a, b, w, h, depth);
+    compute_flow(a, b, w, h, depth, &reused);
+    ASSERT_EQ(reused.width, w);
+    ASSERT_EQ(reused.height, h);
+    EXPECT_EQ(reused.dx, fresh.dx) << round;
+    EXPECT_EQ(reused.dy, fresh.dy) << round;
+    EXPECT_EQ(reused.valid, fresh.valid) << round;
+  }
+  // A depth of the wrong size leaves every pixel invalid, also in a field that held flow.
+  compute_flow(look({0, 0, 0}, {0, 0, -1}, {0, 1, 0}), look({1, 0, 0}, {0, 0, -1}, {0, 1, 0}), 8, 8,
+               std::vector<float>(5, 1.0f), &reused);
+  ASSERT_EQ(reused.valid.size(), 64u);
+  for (uint8_t v : reused.valid) EXPECT_EQ(v, 0);
+}
+
 // Face cameras of the input format (docs/input-format.md): axis looked along, up vector.
 struct FaceAxes {
   Face face;
