@@ -10,7 +10,9 @@
 // logarithmic search) and prints: bytes at equal PSNR-Y (interpolated on log bytes),
 // the encode-time ratio of depth over log search summed over the sweep (configurations
 // interleaved per scale, fastest of --repeat encodes each), and
-// the mean number of unique candidate vectors per macroblock.
+// the mean number of unique candidate vectors per macroblock. Before the sweep it prints
+// how much of the B-faces their references see, and the time to derive motion alone
+// (depth reprojection against logarithmic search, per B-face and reference).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -21,6 +23,8 @@
 #include <CLI/CLI.hpp>
 
 #include "baseline/baseline.h"
+#include "codec/color.h"
+#include "codec/log_search.h"
 #include "database/database.h"
 #include "rd_curve.h"
 #include "spatial/placement.h"
@@ -56,10 +60,15 @@ const SvcMeasurement& nearest(const std::vector<SvcMeasurement>& ms, double targ
   return *best;
 }
 
-// How much of the B-faces their references see at all (spatial/reprojection.h,
-// visible_in_reference): what no reference sees (hidden behind other geometry, or beyond
-// the reference face's edges) can only be coded intra, which caps the gain of prediction.
-bool print_reference_coverage(const std::filesystem::path& db_dir) {
+// Per B-face and reference, on the source faces (references uncoded):
+// - how much of the B-faces their references see at all (spatial/reprojection.h,
+//   visible_in_reference): what no reference sees (hidden behind other geometry, or
+//   beyond the reference face's edges) can only be coded intra, which caps the gain of
+//   prediction;
+// - the time to derive motion alone: flow, candidates and warp nodes from depth, against
+//   the logarithmic search (the encoder then scores up to 16 depth candidates per
+//   macroblock, but only one from the search).
+bool print_reference_analysis(const std::filesystem::path& db_dir) {
   auto manifest = load_manifest(db_dir);
   if (!manifest.ok()) {
     std::fprintf(stderr, "%s\n", manifest.status().to_string().c_str());
@@ -74,6 +83,9 @@ bool print_reference_coverage(const std::filesystem::path& db_dir) {
   }
   constexpr int kMb = 16;
   uint64_t pixels = 0, seen_pixels = 0, macroblocks = 0, covered_macroblocks = 0;
+  double depth_seconds = 0, log_seconds = 0;
+  size_t pairs = 0, checksum = 0;
+  FlowField flow;
   for (size_t c = 0; c < cells.size(); ++c) {
     const CellPlacement& p = (*placement)[c];
     if (p.intra) continue;
@@ -91,9 +103,21 @@ bool print_reference_coverage(const std::filesystem::path& db_dir) {
           std::fprintf(stderr, "%s\n", reference.status().to_string().c_str());
           return false;
         }
-        seen.push_back(visible_in_reference(manifest->cells[c].faces[static_cast<int>(face)].camera,
-                                            manifest->cells[r].faces[static_cast<int>(face)].camera, w, h,
-                                            current->depth, reference->depth));
+        const Camera& current_camera = manifest->cells[c].faces[static_cast<int>(face)].camera;
+        const Camera& reference_camera = manifest->cells[r].faces[static_cast<int>(face)].camera;
+        seen.push_back(visible_in_reference(current_camera, reference_camera, w, h, current->depth, reference->depth));
+
+        const ImageYCbCr420 source = codec::rgb_to_ycbcr420(current->color.pixels.data(), w, h);
+        const ImageYCbCr420 reference_image = codec::rgb_to_ycbcr420(reference->color.pixels.data(), w, h);
+        const auto t0 = std::chrono::steady_clock::now();
+        compute_flow(current_camera, reference_camera, w, h, current->depth, &flow);
+        checksum += macroblock_candidates(flow).size() + warp_nodes(flow).nodes.size();
+        const auto t1 = std::chrono::steady_clock::now();
+        checksum += codec::log_search_candidates(source, reference_image).size();
+        const auto t2 = std::chrono::steady_clock::now();
+        depth_seconds += std::chrono::duration<double>(t1 - t0).count();
+        log_seconds += std::chrono::duration<double>(t2 - t1).count();
+        ++pairs;
       }
       for (int my = 0; my * kMb < h; ++my) {
         for (int mx = 0; mx * kMb < w; ++mx) {
@@ -119,10 +143,13 @@ bool print_reference_coverage(const std::filesystem::path& db_dir) {
       }
     }
   }
-  if (macroblocks == 0) return true;
+  if (macroblocks == 0 || checksum == 0) return true;
   std::printf("  B-face pixels seen by a reference: %.1f%%; macroblocks at least 90%% seen by one reference: %.1f%%\n",
               100.0 * static_cast<double>(seen_pixels) / static_cast<double>(pixels),
               100.0 * static_cast<double>(covered_macroblocks) / static_cast<double>(macroblocks));
+  std::printf("  motion per B-face and reference (one thread): from depth %.3f ms, log search %.3f ms (ratio %.2f)\n",
+              1e3 * depth_seconds / static_cast<double>(pairs), 1e3 * log_seconds / static_cast<double>(pairs),
+              depth_seconds / log_seconds);
   return true;
 }
 
@@ -136,7 +163,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
   std::printf("\n%s scene: %d x %d x %d cells of %d px faces (%zu faces)\n", samples::scene_kind_name(kind),
               options.grid[0], options.grid[1], options.grid[2], options.face_size,
               (*scene)->cells.size() * kFaceCount);
-  if (!print_reference_coverage((*scene)->db_dir)) return false;
+  if (!print_reference_analysis((*scene)->db_dir)) return false;
 
   Config configs[3] = {{"intra-only", {}}, {"spatial+depth", {}}, {"spatial+log", {}}};
   configs[0].settings.intra_only = true;
