@@ -10,10 +10,54 @@
 namespace svc::codec {
 namespace {
 
+#if defined(__SSE2__)
+// (a + b + c + d + 2) >> 2 per byte, exactly: the mean of the two pair means, less the
+// one that rounding twice adds (when a pair's sum and the means' sum are both odd).
+inline __m128i average4_epu8(__m128i a, __m128i b, __m128i c, __m128i d) {
+  const __m128i ab = _mm_avg_epu8(a, b), cd = _mm_avg_epu8(c, d);
+  const __m128i odd = _mm_or_si128(_mm_xor_si128(a, b), _mm_xor_si128(c, d));
+  const __m128i excess = _mm_and_si128(_mm_and_si128(odd, _mm_xor_si128(ab, cd)), _mm_set1_epi8(1));
+  return _mm_sub_epi8(_mm_avg_epu8(ab, cd), excess);
+}
+
+inline __m128i load8(const uint8_t* p) { return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)); }
+inline __m128i load16(const uint8_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
+
+// interpolate() for blocks 8 or 16 samples wide.
+template <int kWidth>
+void interpolate_sse2(const uint8_t* window, int window_stride, int block_height, int fx, int fy, uint8_t* out,
+                      int out_stride) {
+  auto load = [](const uint8_t* p) { return kWidth == 16 ? load16(p) : load8(p); };
+  for (int y = 0; y < block_height; ++y) {
+    const uint8_t* row = window + static_cast<ptrdiff_t>(y) * window_stride;
+    const uint8_t* below = row + window_stride;
+    __m128i value;
+    if (fy == 0) {
+      value = fx == 0 ? load(row) : _mm_avg_epu8(load(row), load(row + 1));
+    } else if (fx == 0) {
+      value = _mm_avg_epu8(load(row), load(below));
+    } else {
+      value = average4_epu8(load(row), load(row + 1), load(below), load(below + 1));
+    }
+    uint8_t* dst = out + static_cast<ptrdiff_t>(y) * out_stride;
+    if (kWidth == 16) {
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(dst), value);
+    } else {
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(dst), value);
+    }
+  }
+}
+#endif
+
 // Interpolates from a window whose sample (0, 0) is the integer reference position of the
 // block's top-left sample; the window holds (block + 1) samples in each direction.
 inline void interpolate(const uint8_t* window, int window_stride, int block_width,
                         int block_height, int fx, int fy, uint8_t* out, int out_stride) {
+#if defined(__SSE2__)
+  // Macroblock luma and chroma widths; the loops below are the plain definition.
+  if (block_width == 16) return interpolate_sse2<16>(window, window_stride, block_height, fx, fy, out, out_stride);
+  if (block_width == 8) return interpolate_sse2<8>(window, window_stride, block_height, fx, fy, out, out_stride);
+#endif
   if (fx == 0 && fy == 0) {
     for (int y = 0; y < block_height; ++y) {
       std::copy_n(window + static_cast<ptrdiff_t>(y) * window_stride, block_width,
@@ -144,6 +188,19 @@ void average_predictions(const MacroblockPrediction& a, const MacroblockPredicti
 }
 
 int sad_16x16(const uint8_t* source, int source_stride, const uint8_t* prediction) {
+#if defined(__SSE2__)
+  __m128i sum = _mm_setzero_si128();
+  for (int y = 0; y < 16; ++y) {
+    sum = _mm_add_epi64(sum, _mm_sad_epu8(load16(source + static_cast<ptrdiff_t>(y) * source_stride),
+                                          _mm_loadu_si128(reinterpret_cast<const __m128i*>(prediction + 16 * y))));
+  }
+  return _mm_cvtsi128_si32(sum) + _mm_cvtsi128_si32(_mm_srli_si128(sum, 8));
+#else
+  return sad_16x16_reference(source, source_stride, prediction);
+#endif
+}
+
+int sad_16x16_reference(const uint8_t* source, int source_stride, const uint8_t* prediction) {
   int sum = 0;
   for (int y = 0; y < 16; ++y) {
     const uint8_t* row = source + static_cast<ptrdiff_t>(y) * source_stride;
@@ -168,9 +225,8 @@ int sad_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, Moti
   // Inside the plane: interpolate row by row and stop once the limit is passed.
   const uint8_t* base = reference.y.data() + static_cast<ptrdiff_t>(iy) * width + ix;
 #if defined(__SSE2__)
-  // Same arithmetic with SSE2: pavgb is exactly (a + b + 1) >> 1; the 4-tap case is
-  // computed in 16 bits.
-  const __m128i zero = _mm_setzero_si128(), two = _mm_set1_epi16(2);
+  // Same arithmetic with SSE2: pavgb is exactly (a + b + 1) >> 1, average4_epu8 the
+  // 4-tap case.
   int sum = 0;
   for (int y = 0; y < 16; ++y) {
     const uint8_t* row = base + static_cast<ptrdiff_t>(y) * width;
@@ -184,18 +240,7 @@ int sad_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, Moti
     } else if (fx == 0) {
       prediction = _mm_avg_epu8(a, _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + width)));
     } else {
-      const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + 1));
-      const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + width));
-      const __m128i d = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + width + 1));
-      const __m128i low = _mm_srli_epi16(
-          _mm_add_epi16(_mm_add_epi16(_mm_unpacklo_epi8(a, zero), _mm_unpacklo_epi8(b, zero)),
-                        _mm_add_epi16(_mm_add_epi16(_mm_unpacklo_epi8(c, zero), _mm_unpacklo_epi8(d, zero)), two)),
-          2);
-      const __m128i high = _mm_srli_epi16(
-          _mm_add_epi16(_mm_add_epi16(_mm_unpackhi_epi8(a, zero), _mm_unpackhi_epi8(b, zero)),
-                        _mm_add_epi16(_mm_add_epi16(_mm_unpackhi_epi8(c, zero), _mm_unpackhi_epi8(d, zero)), two)),
-          2);
-      prediction = _mm_packus_epi16(low, high);
+      prediction = average4_epu8(a, load16(row + 1), load16(row + width), load16(row + width + 1));
     }
     const __m128i sad = _mm_sad_epu8(src, prediction);
     sum += _mm_cvtsi128_si32(sad) + _mm_cvtsi128_si32(_mm_srli_si128(sad, 8));

@@ -68,6 +68,8 @@ void average_samples(const uint8_t* a, const uint8_t* b, int count, uint8_t* out
 // Sum of absolute differences between a 16x16 block at `source` (row stride
 // source_stride) and 256 packed prediction samples.
 int sad_16x16(const uint8_t* source, int source_stride, const uint8_t* prediction);
+// The plain per-sample loop sad_16x16 is tested against.
+int sad_16x16_reference(const uint8_t* source, int source_stride, const uint8_t* prediction);
 
 // SAD between the 16x16 luma block at `source` (row stride source_stride) and the
 // prediction of macroblock (mb_x, mb_y) from `reference` with `vector`, stopping early:
