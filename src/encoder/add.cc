@@ -309,7 +309,6 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   };
   SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedIntra>(intra_frames.size(), threads, encode_intra, store_intra));
 
-  PredictedFaceScratchPool scratch;
   auto encode_predicted = [&](size_t k) -> Result<CodedPredictedFace> {
     const uint32_t frame = predicted_frames[k];
     const size_t c = frame / kFaceCount;
@@ -321,7 +320,7 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
                       &index.cells[ref_cell].cameras[f]});
     }
     return code_predicted_face(data, index.cells[c].cameras[f], refs, old.coding.motion == MotionSource::kDepth,
-                               b_params, cell_face_name(cells[c].index, static_cast<Face>(f)), &scratch);
+                               b_params, cell_face_name(cells[c].index, static_cast<Face>(f)));
   };
   auto store_predicted = [&](size_t k, CodedPredictedFace& coded) -> Status {
     SVC_RETURN_IF_ERROR(record_frame(predicted_frames[k], FrameKind::kPredicted, coded.payload));

@@ -185,7 +185,6 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
   const int threads = resolve_thread_count(settings.threads);
   SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedIntra>(intra_frames.size(), threads, encode_intra, store_intra));
 
-  PredictedFaceScratchPool scratch;
   auto encode_predicted = [&](size_t k) -> Result<CodedPredictedFace> {
     const uint32_t frame = predicted_frames[k];
     const size_t cell = frame / kFaceCount;
@@ -198,7 +197,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
     }
     return code_predicted_face(data, manifest.cells[cell].faces[static_cast<int>(face)].camera, refs,
                                settings.motion == MotionSearch::kDepth, b_params,
-                               cell_face_name(manifest.cells[cell].index, face), &scratch);
+                               cell_face_name(manifest.cells[cell].index, face));
   };
   auto store_predicted = [&](size_t k, CodedPredictedFace& coded) -> Status {
     SVC_RETURN_IF_ERROR(record_frame(predicted_frames[k], FrameKind::kPredicted, coded.payload));

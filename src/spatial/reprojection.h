@@ -41,9 +41,9 @@ struct FlowField {
 FlowField compute_flow(const Camera& current, const Camera& reference, int width, int height,
                        const std::vector<float>& depth);
 
-// The same into `out`, reusing its storage: a caller that computes many flows (an encoder
-// thread) keeps one FlowField and so avoids zero-filling and page-faulting a fresh one
-// per face, which costs more than the computation. `out` must not be null.
+// The same into `out`, reusing its storage: nothing is allocated or cleared when `out`
+// already has the size, so a caller computing many flows can keep one field. `out`
+// must not be null.
 void compute_flow(const Camera& current, const Camera& reference, int width, int height,
                   const std::vector<float>& depth, FlowField* out);
 
