@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -86,34 +87,45 @@ bool print_reference_analysis(const std::filesystem::path& db_dir) {
   double depth_seconds = 0, log_seconds = 0;
   size_t pairs = 0, checksum = 0;
   FlowField flow;
+  // A face and its YCbCr form, loaded once: each I-face serves several B-faces.
+  struct LoadedFace {
+    FaceData data;
+    ImageYCbCr420 image;
+  };
+  std::map<size_t, LoadedFace> references;
+  auto load = [&](size_t cell, Face face, LoadedFace* out) {
+    auto data = load_face(*manifest, cell, face);
+    if (!data.ok()) {
+      std::fprintf(stderr, "%s\n", data.status().to_string().c_str());
+      return false;
+    }
+    out->data = std::move(data).value();
+    out->image = codec::rgb_to_ycbcr420(out->data.color.pixels.data(), out->data.color.width, out->data.color.height);
+    return true;
+  };
   for (size_t c = 0; c < cells.size(); ++c) {
     const CellPlacement& p = (*placement)[c];
     if (p.intra) continue;
     for (Face face : kAllFaces) {
-      auto current = load_face(*manifest, c, face);
-      if (!current.ok()) {
-        std::fprintf(stderr, "%s\n", current.status().to_string().c_str());
-        return false;
-      }
-      const int w = current->color.width, h = current->color.height;
+      LoadedFace current;
+      if (!load(c, face, &current)) return false;
+      const int w = current.data.color.width, h = current.data.color.height;
       std::vector<std::vector<uint8_t>> seen;
       for (uint32_t r : p.references) {
-        auto reference = load_face(*manifest, r, face);
-        if (!reference.ok()) {
-          std::fprintf(stderr, "%s\n", reference.status().to_string().c_str());
-          return false;
-        }
+        const size_t frame = static_cast<size_t>(r) * kFaceCount + static_cast<size_t>(face);
+        auto [slot, added] = references.try_emplace(frame);
+        if (added && !load(r, face, &slot->second)) return false;
+        const LoadedFace& reference = slot->second;
         const Camera& current_camera = manifest->cells[c].faces[static_cast<int>(face)].camera;
         const Camera& reference_camera = manifest->cells[r].faces[static_cast<int>(face)].camera;
-        seen.push_back(visible_in_reference(current_camera, reference_camera, w, h, current->depth, reference->depth));
+        seen.push_back(
+            visible_in_reference(current_camera, reference_camera, w, h, current.data.depth, reference.data.depth));
 
-        const ImageYCbCr420 source = codec::rgb_to_ycbcr420(current->color.pixels.data(), w, h);
-        const ImageYCbCr420 reference_image = codec::rgb_to_ycbcr420(reference->color.pixels.data(), w, h);
         const auto t0 = std::chrono::steady_clock::now();
-        compute_flow(current_camera, reference_camera, w, h, current->depth, &flow);
+        compute_flow(current_camera, reference_camera, w, h, current.data.depth, &flow);
         checksum += macroblock_candidates(flow).size() + warp_nodes(flow).nodes.size();
         const auto t1 = std::chrono::steady_clock::now();
-        checksum += codec::log_search_candidates(source, reference_image).size();
+        checksum += codec::log_search_candidates(current.image, reference.image).size();
         const auto t2 = std::chrono::steady_clock::now();
         depth_seconds += std::chrono::duration<double>(t1 - t0).count();
         log_seconds += std::chrono::duration<double>(t2 - t1).count();

@@ -192,7 +192,7 @@ int sad_16x16(const uint8_t* source, int source_stride, const uint8_t* predictio
   __m128i sum = _mm_setzero_si128();
   for (int y = 0; y < 16; ++y) {
     sum = _mm_add_epi64(sum, _mm_sad_epu8(load16(source + static_cast<ptrdiff_t>(y) * source_stride),
-                                          _mm_loadu_si128(reinterpret_cast<const __m128i*>(prediction + 16 * y))));
+                                          load16(prediction + 16 * y)));
   }
   return _mm_cvtsi128_si32(sum) + _mm_cvtsi128_si32(_mm_srli_si128(sum, 8));
 #else
@@ -230,15 +230,15 @@ int sad_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, Moti
   int sum = 0;
   for (int y = 0; y < 16; ++y) {
     const uint8_t* row = base + static_cast<ptrdiff_t>(y) * width;
-    const __m128i src = _mm_loadu_si128(reinterpret_cast<const __m128i*>(source + static_cast<ptrdiff_t>(y) * source_stride));
-    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row));
+    const __m128i src = load16(source + static_cast<ptrdiff_t>(y) * source_stride);
+    const __m128i a = load16(row);
     __m128i prediction;
     if (fx == 0 && fy == 0) {
       prediction = a;
     } else if (fy == 0) {
-      prediction = _mm_avg_epu8(a, _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + 1)));
+      prediction = _mm_avg_epu8(a, load16(row + 1));
     } else if (fx == 0) {
-      prediction = _mm_avg_epu8(a, _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + width)));
+      prediction = _mm_avg_epu8(a, load16(row + width));
     } else {
       prediction = average4_epu8(a, load16(row + 1), load16(row + width), load16(row + width + 1));
     }

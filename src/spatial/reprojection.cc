@@ -145,9 +145,7 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
   flow.height = std::max(height, 0);
   const size_t n = static_cast<size_t>(flow.width) * static_cast<size_t>(flow.height);
   if (depth.size() != n || n == 0) {
-    flow.dx.assign(n, 0.0f);
-    flow.dy.assign(n, 0.0f);
-    flow.valid.assign(n, 0);
+    flow = empty_field(width, height);
     return;
   }
   // Every pixel is written below: storage kept from an earlier call needs no clearing.
@@ -412,8 +410,7 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   auto key_y = [&](int32_t key) { return static_cast<int16_t>((key - key_x(key)) >> 16); };  // exact: a multiple
 
   // Keys of one stripe of macroblocks (16 rows) in a linear pass, then macroblock by
-  // macroblock. A stripe, not the whole face: it stays in cache, and a face-sized buffer
-  // would cost fresh (page-faulted) memory per call.
+  // macroblock: a stripe's keys stay in cache where a whole face's would not.
   const size_t width = static_cast<size_t>(flow.width);
   std::vector<int32_t> stripe_keys(static_cast<size_t>(kMb) * width);
 
