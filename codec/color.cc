@@ -1,37 +1,16 @@
-// Full-range BT.601 (JFIF) colour conversion in 16-bit fixed point. The constants sum
-// exactly to 65536 (luma) and 0 (chroma), so greys map to Y = grey, Cb = Cr = 128 and
-// back without error.
+// Full-range BT.601 (JFIF) colour conversion of whole images through the dsp row
+// kernels, and the per-pixel references they are tested against.
 #include "codec/color.h"
 
 #include <algorithm>
 
+#include "codec/dsp/color_formulas.h"
+#include "codec/dsp/dsp.h"
+
 namespace svc::codec {
 namespace {
 
-constexpr int kYR = 19595, kYG = 38470, kYB = 7471;        // 0.299, 0.587, 0.114
-constexpr int kCbR = -11059, kCbG = -21709, kCbB = 32768;  // -0.168736, -0.331264, 0.5
-constexpr int kCrR = 32768, kCrG = -27439, kCrB = -5329;   // 0.5, -0.418688, -0.081312
-constexpr int kRCr = 91881;                                // 1.402
-constexpr int kGCb = -22554, kGCr = -46802;                // -0.344136, -0.714136
-constexpr int kBCb = 116130;                               // 1.772
-
-inline uint8_t clamp_byte(int v) { return static_cast<uint8_t>(std::clamp(v, 0, 255)); }
-
-inline uint8_t luma(int r, int g, int b) {
-  return clamp_byte((kYR * r + kYG * g + kYB * b + 32768) >> 16);
-}
-inline int cb_unscaled(int r, int g, int b) { return kCbR * r + kCbG * g + kCbB * b; }
-inline int cr_unscaled(int r, int g, int b) { return kCrR * r + kCrG * g + kCrB * b; }
-
-// Chroma of a 2x2 group from the sum of the four unscaled values: rounded mean + 128.
-inline uint8_t chroma_from_sum4(int sum) { return clamp_byte((sum + (1 << 17) + (128 << 18)) >> 18); }
-
-inline void to_rgb(int y, int cb, int cr, uint8_t* out) {
-  const int dcb = cb - 128, dcr = cr - 128;
-  out[0] = clamp_byte(y + ((kRCr * dcr + 32768) >> 16));
-  out[1] = clamp_byte(y + ((kGCb * dcb + kGCr * dcr + 32768) >> 16));
-  out[2] = clamp_byte(y + ((kBCb * dcb + 32768) >> 16));
-}
+using namespace dsp::color;
 
 ImageYCbCr420 allocate(int width, int height) {
   ImageYCbCr420 image;
@@ -57,40 +36,29 @@ void ycbcr_to_rgb_pixel(uint8_t y, uint8_t cb, uint8_t cr, uint8_t rgb_out[3]) {
 
 ImageYCbCr420 rgb_to_ycbcr420(const uint8_t* rgb, int width, int height) {
   if (width <= 0 || height <= 0) return ImageYCbCr420{};
+  const dsp::DspTable& dsp = dsp::get_dsp();
   ImageYCbCr420 image = allocate(width, height);
   const int cw = (width + 1) / 2, ch = (height + 1) / 2;
   const size_t stride = static_cast<size_t>(width) * 3;
   for (int y = 0; y < height; ++y) {
-    const uint8_t* row = rgb + static_cast<size_t>(y) * stride;
-    uint8_t* out = image.y.data() + static_cast<size_t>(y) * width;
-    for (int x = 0; x < width; ++x) out[x] = luma(row[3 * x], row[3 * x + 1], row[3 * x + 2]);
+    dsp.rgb_to_luma_row(rgb + static_cast<size_t>(y) * stride, width, image.y.data() + static_cast<size_t>(y) * width);
   }
   for (int cy = 0; cy < ch; ++cy) {
     const uint8_t* row0 = rgb + static_cast<size_t>(2 * cy) * stride;
     const uint8_t* row1 = rgb + static_cast<size_t>(std::min(2 * cy + 1, height - 1)) * stride;
-    uint8_t* out_cb = image.cb.data() + static_cast<size_t>(cy) * cw;
-    uint8_t* out_cr = image.cr.data() + static_cast<size_t>(cy) * cw;
-    for (int cx = 0; cx < cw; ++cx) {
-      const int x0 = 2 * cx * 3, x1 = std::min(2 * cx + 1, width - 1) * 3;
-      const int r = row0[x0] + row0[x1] + row1[x0] + row1[x1];
-      const int g = row0[x0 + 1] + row0[x1 + 1] + row1[x0 + 1] + row1[x1 + 1];
-      const int b = row0[x0 + 2] + row0[x1 + 2] + row1[x0 + 2] + row1[x1 + 2];
-      // Linear, so the sum of four pixels' unscaled chroma is the unscaled chroma of the sum.
-      out_cb[cx] = chroma_from_sum4(cb_unscaled(r, g, b));
-      out_cr[cx] = chroma_from_sum4(cr_unscaled(r, g, b));
-    }
+    dsp.rgb_to_chroma_row(row0, row1, width, image.cb.data() + static_cast<size_t>(cy) * cw,
+                          image.cr.data() + static_cast<size_t>(cy) * cw);
   }
   return image;
 }
 
 void ycbcr420_to_rgb(const ImageYCbCr420& image, uint8_t* rgb_out) {
+  const dsp::DspTable& dsp = dsp::get_dsp();
   const int width = image.width, height = image.height, cw = (width + 1) / 2;
   for (int y = 0; y < height; ++y) {
-    const uint8_t* yrow = image.y.data() + static_cast<size_t>(y) * width;
-    const uint8_t* cbrow = image.cb.data() + static_cast<size_t>(y / 2) * cw;
-    const uint8_t* crrow = image.cr.data() + static_cast<size_t>(y / 2) * cw;
-    uint8_t* out = rgb_out + static_cast<size_t>(y) * width * 3;
-    for (int x = 0; x < width; ++x) to_rgb(yrow[x], cbrow[x >> 1], crrow[x >> 1], out + 3 * x);
+    const size_t chroma_row = static_cast<size_t>(y / 2) * cw;
+    dsp.ycbcr_to_rgb_row(image.y.data() + static_cast<size_t>(y) * width, image.cb.data() + chroma_row,
+                         image.cr.data() + chroma_row, width, rgb_out + static_cast<size_t>(y) * width * 3);
   }
 }
 

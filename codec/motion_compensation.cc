@@ -3,92 +3,9 @@
 #include <algorithm>
 #include <cstdlib>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "codec/dsp/dsp.h"
 
 namespace svc::codec {
-namespace {
-
-#if defined(__SSE2__)
-// (a + b + c + d + 2) >> 2 per byte, exactly: the mean of the two pair means, less the
-// one that rounding twice adds (when a pair's sum and the means' sum are both odd).
-inline __m128i average4_epu8(__m128i a, __m128i b, __m128i c, __m128i d) {
-  const __m128i ab = _mm_avg_epu8(a, b), cd = _mm_avg_epu8(c, d);
-  const __m128i odd = _mm_or_si128(_mm_xor_si128(a, b), _mm_xor_si128(c, d));
-  const __m128i excess = _mm_and_si128(_mm_and_si128(odd, _mm_xor_si128(ab, cd)), _mm_set1_epi8(1));
-  return _mm_sub_epi8(_mm_avg_epu8(ab, cd), excess);
-}
-
-inline __m128i load8(const uint8_t* p) { return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)); }
-inline __m128i load16(const uint8_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
-
-// interpolate() for blocks 8 or 16 samples wide.
-template <int kWidth>
-void interpolate_sse2(const uint8_t* window, int window_stride, int block_height, int fx, int fy, uint8_t* out,
-                      int out_stride) {
-  auto load = [](const uint8_t* p) { return kWidth == 16 ? load16(p) : load8(p); };
-  for (int y = 0; y < block_height; ++y) {
-    const uint8_t* row = window + static_cast<ptrdiff_t>(y) * window_stride;
-    const uint8_t* below = row + window_stride;
-    __m128i value;
-    if (fy == 0) {
-      value = fx == 0 ? load(row) : _mm_avg_epu8(load(row), load(row + 1));
-    } else if (fx == 0) {
-      value = _mm_avg_epu8(load(row), load(below));
-    } else {
-      value = average4_epu8(load(row), load(row + 1), load(below), load(below + 1));
-    }
-    uint8_t* dst = out + static_cast<ptrdiff_t>(y) * out_stride;
-    if (kWidth == 16) {
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(dst), value);
-    } else {
-      _mm_storel_epi64(reinterpret_cast<__m128i*>(dst), value);
-    }
-  }
-}
-#endif
-
-// Interpolates from a window whose sample (0, 0) is the integer reference position of the
-// block's top-left sample; the window holds (block + 1) samples in each direction.
-inline void interpolate(const uint8_t* window, int window_stride, int block_width,
-                        int block_height, int fx, int fy, uint8_t* out, int out_stride) {
-#if defined(__SSE2__)
-  // Macroblock luma and chroma widths; the loops below are the plain definition.
-  if (block_width == 16) return interpolate_sse2<16>(window, window_stride, block_height, fx, fy, out, out_stride);
-  if (block_width == 8) return interpolate_sse2<8>(window, window_stride, block_height, fx, fy, out, out_stride);
-#endif
-  if (fx == 0 && fy == 0) {
-    for (int y = 0; y < block_height; ++y) {
-      std::copy_n(window + static_cast<ptrdiff_t>(y) * window_stride, block_width,
-                  out + static_cast<ptrdiff_t>(y) * out_stride);
-    }
-  } else if (fy == 0) {
-    for (int y = 0; y < block_height; ++y) {
-      const uint8_t* row = window + static_cast<ptrdiff_t>(y) * window_stride;
-      uint8_t* dst = out + static_cast<ptrdiff_t>(y) * out_stride;
-      for (int x = 0; x < block_width; ++x) dst[x] = static_cast<uint8_t>((row[x] + row[x + 1] + 1) >> 1);
-    }
-  } else if (fx == 0) {
-    for (int y = 0; y < block_height; ++y) {
-      const uint8_t* row = window + static_cast<ptrdiff_t>(y) * window_stride;
-      const uint8_t* below = row + window_stride;
-      uint8_t* dst = out + static_cast<ptrdiff_t>(y) * out_stride;
-      for (int x = 0; x < block_width; ++x) dst[x] = static_cast<uint8_t>((row[x] + below[x] + 1) >> 1);
-    }
-  } else {
-    for (int y = 0; y < block_height; ++y) {
-      const uint8_t* row = window + static_cast<ptrdiff_t>(y) * window_stride;
-      const uint8_t* below = row + window_stride;
-      uint8_t* dst = out + static_cast<ptrdiff_t>(y) * out_stride;
-      for (int x = 0; x < block_width; ++x) {
-        dst[x] = static_cast<uint8_t>((row[x] + row[x + 1] + below[x] + below[x + 1] + 2) >> 2);
-      }
-    }
-  }
-}
-
-}  // namespace
 
 int max_vector_component(int width, int height) {
   const long long limit = 2LL * std::max(width, height) + 64;
@@ -111,11 +28,11 @@ void predict_block(const uint8_t* plane, int plane_width, int plane_height, int 
   const int full_x = 2 * x0 + vector_x, full_y = 2 * y0 + vector_y;
   const int ix = full_x >> 1, iy = full_y >> 1;
   const int fx = full_x & 1, fy = full_y & 1;
-  // The window read by interpolate: one extra column/row only where interpolating.
+  // The window read by put_half_pel: one extra column/row only where interpolating.
   const int need_w = block_width + fx, need_h = block_height + fy;
   if (ix >= 0 && iy >= 0 && ix + need_w <= plane_width && iy + need_h <= plane_height) {
-    interpolate(plane + static_cast<ptrdiff_t>(iy) * plane_width + ix, plane_width, block_width,
-                block_height, fx, fy, out, out_stride);
+    dsp::get_dsp().put_half_pel(plane + static_cast<ptrdiff_t>(iy) * plane_width + ix, plane_width, block_width,
+                                block_height, fx, fy, out, out_stride);
     return;
   }
   // Partly or wholly outside: gather an edge-extended window first.
@@ -129,7 +46,7 @@ void predict_block(const uint8_t* plane, int plane_width, int plane_height, int 
     uint8_t* dst = window + y * window_stride;
     for (int x = 0; x < need_w; ++x) dst[x] = row[columns[x]];
   }
-  interpolate(window, window_stride, block_width, block_height, fx, fy, out, out_stride);
+  dsp::get_dsp().put_half_pel(window, window_stride, block_width, block_height, fx, fy, out, out_stride);
 }
 
 void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, int x0,
@@ -177,7 +94,7 @@ void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y,
 }
 
 void average_samples(const uint8_t* a, const uint8_t* b, int count, uint8_t* out) {
-  for (int i = 0; i < count; ++i) out[i] = static_cast<uint8_t>((a[i] + b[i] + 1) >> 1);
+  dsp::get_dsp().average(a, b, count, out);
 }
 
 void average_predictions(const MacroblockPrediction& a, const MacroblockPrediction& b,
@@ -188,16 +105,7 @@ void average_predictions(const MacroblockPrediction& a, const MacroblockPredicti
 }
 
 int sad_16x16(const uint8_t* source, int source_stride, const uint8_t* prediction) {
-#if defined(__SSE2__)
-  __m128i sum = _mm_setzero_si128();
-  for (int y = 0; y < 16; ++y) {
-    sum = _mm_add_epi64(sum, _mm_sad_epu8(load16(source + static_cast<ptrdiff_t>(y) * source_stride),
-                                          load16(prediction + 16 * y)));
-  }
-  return _mm_cvtsi128_si32(sum) + _mm_cvtsi128_si32(_mm_srli_si128(sum, 8));
-#else
-  return sad_16x16_reference(source, source_stride, prediction);
-#endif
+  return dsp::get_dsp().sad_16x16(source, source_stride, prediction);
 }
 
 int sad_16x16_reference(const uint8_t* source, int source_stride, const uint8_t* prediction) {
@@ -222,54 +130,9 @@ int sad_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, Moti
     predict_macroblock_luma(reference, mb_x, mb_y, vector, prediction);
     return sad_16x16(source, source_stride, prediction);
   }
-  // Inside the plane: interpolate row by row and stop once the limit is passed.
+  // Inside the plane: the kernel interpolates row by row and stops once the limit is passed.
   const uint8_t* base = reference.y.data() + static_cast<ptrdiff_t>(iy) * width + ix;
-#if defined(__SSE2__)
-  // Same arithmetic with SSE2: pavgb is exactly (a + b + 1) >> 1, average4_epu8 the
-  // 4-tap case.
-  int sum = 0;
-  for (int y = 0; y < 16; ++y) {
-    const uint8_t* row = base + static_cast<ptrdiff_t>(y) * width;
-    const __m128i src = load16(source + static_cast<ptrdiff_t>(y) * source_stride);
-    const __m128i a = load16(row);
-    __m128i prediction;
-    if (fx == 0 && fy == 0) {
-      prediction = a;
-    } else if (fy == 0) {
-      prediction = _mm_avg_epu8(a, load16(row + 1));
-    } else if (fx == 0) {
-      prediction = _mm_avg_epu8(a, load16(row + width));
-    } else {
-      prediction = average4_epu8(a, load16(row + 1), load16(row + width), load16(row + width + 1));
-    }
-    const __m128i sad = _mm_sad_epu8(src, prediction);
-    sum += _mm_cvtsi128_si32(sad) + _mm_cvtsi128_si32(_mm_srli_si128(sad, 8));
-    if (sum > limit) return sum;
-  }
-  return sum;
-#else
-  int sum = 0;
-  for (int y = 0; y < 16; ++y) {
-    const uint8_t* row = base + static_cast<ptrdiff_t>(y) * width;
-    const uint8_t* below = row + width;
-    const uint8_t* src = source + static_cast<ptrdiff_t>(y) * source_stride;
-    int row_sum = 0;
-    if (fx == 0 && fy == 0) {
-      for (int x = 0; x < 16; ++x) row_sum += std::abs(src[x] - row[x]);
-    } else if (fy == 0) {
-      for (int x = 0; x < 16; ++x) row_sum += std::abs(src[x] - ((row[x] + row[x + 1] + 1) >> 1));
-    } else if (fx == 0) {
-      for (int x = 0; x < 16; ++x) row_sum += std::abs(src[x] - ((row[x] + below[x] + 1) >> 1));
-    } else {
-      for (int x = 0; x < 16; ++x) {
-        row_sum += std::abs(src[x] - ((row[x] + row[x + 1] + below[x] + below[x + 1] + 2) >> 2));
-      }
-    }
-    sum += row_sum;
-    if (sum > limit) return sum;
-  }
-  return sum;
-#endif
+  return dsp::get_dsp().sad_half_pel_16x16(base, width, fx, fy, source, source_stride, limit);
 }
 
 }  // namespace svc::codec

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "codec/dct.h"
+#include "codec/dsp/dsp.h"
 
 namespace svc::codec {
 
@@ -49,16 +50,8 @@ Quantizer make_quantizer(BlockKind kind, int quant_scale) {
 }
 
 int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
-  int nonzero = 0;
-  for (int i = 0; i < 64; ++i) {
-    const float rounding = i == 0 ? quantizer.rounding_dc : quantizer.rounding_ac;
-    const float magnitude = std::fabs(coefficients[i]) * quantizer.inverse_step[i] + rounding;
-    int level = magnitude >= static_cast<float>(kMaxLevel) ? kMaxLevel : static_cast<int>(magnitude);
-    if (coefficients[i] < 0) level = -level;
-    levels[i] = static_cast<int16_t>(level);
-    nonzero += level != 0;
-  }
-  return nonzero;
+  return dsp::get_dsp().quantize_8x8(coefficients, quantizer.inverse_step.data(), quantizer.rounding_dc,
+                                     quantizer.rounding_ac, levels);
 }
 
 int dequantize_level(const Quantizer& quantizer, int index, int level) {
@@ -67,10 +60,7 @@ int dequantize_level(const Quantizer& quantizer, int index, int level) {
 }
 
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {
-  for (int i = 0; i < 64; ++i) {
-    coefficients[i] =
-        levels[i] == 0 ? int16_t{0} : static_cast<int16_t>(dequantize_level(quantizer, i, levels[i]));
-  }
+  dsp::get_dsp().dequantize_8x8(levels, quantizer.scale.data(), coefficients);
 }
 
 int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels) {

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "codec/dsp/dsp.h"
 
 namespace svc::codec {
 namespace {
@@ -42,41 +40,8 @@ void warp_plane(const uint8_t* plane, int width, int height, int x0, int y0, con
     const int base_y = 16 * (y0 + v);
     uint8_t* dst = out + v * kSize;
     if (inside) {
-#if defined(__SSE2__)
-      // Gathers stay scalar; the weighting runs eight samples at a time in 16 bits as
-      // t = 16 a + fx (b - a), u = 16 c + fx (d - c), p = (16 t + fy (u - t) + 128) >> 8,
-      // which equals bilinear() exactly (the result and every partial sum fit 16 bits
-      // unsigned, so wrapping intermediate differences cancel).
-      alignas(16) uint16_t a[kSize], b[kSize], c[kSize], d[kSize], fx[kSize], fy[kSize];
-      for (int u = 0; u < kSize; ++u, sx += 2 * slope_x, sy += 2 * slope_y) {
-        const int X = 16 * (x0 + u) + ((sx + kRound) >> kShift), Y = base_y + ((sy + kRound) >> kShift);
-        const uint8_t* p = plane + static_cast<ptrdiff_t>(Y >> 4) * width + (X >> 4);
-        a[u] = p[0];
-        b[u] = p[1];
-        c[u] = p[width];
-        d[u] = p[width + 1];
-        fx[u] = static_cast<uint16_t>(X & 15);
-        fy[u] = static_cast<uint16_t>(Y & 15);
-      }
-      const __m128i round = _mm_set1_epi16(128);
-      for (int u = 0; u < kSize; u += 8) {
-        auto load = [u](const uint16_t* v) { return _mm_load_si128(reinterpret_cast<const __m128i*>(v + u)); };
-        const __m128i va = load(a), vc = load(c), vfx = load(fx), vfy = load(fy);
-        const __m128i top = _mm_add_epi16(_mm_slli_epi16(va, 4), _mm_mullo_epi16(vfx, _mm_sub_epi16(load(b), va)));
-        const __m128i bottom =
-            _mm_add_epi16(_mm_slli_epi16(vc, 4), _mm_mullo_epi16(vfx, _mm_sub_epi16(load(d), vc)));
-        const __m128i sum = _mm_add_epi16(_mm_add_epi16(_mm_slli_epi16(top, 4), round),
-                                          _mm_mullo_epi16(vfy, _mm_sub_epi16(bottom, top)));
-        const __m128i value = _mm_srli_epi16(sum, 8);
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(dst + u), _mm_packus_epi16(value, value));
-      }
-#else
-      for (int u = 0; u < kSize; ++u, sx += 2 * slope_x, sy += 2 * slope_y) {
-        const int X = 16 * (x0 + u) + ((sx + kRound) >> kShift), Y = base_y + ((sy + kRound) >> kShift);
-        const uint8_t* p = plane + static_cast<ptrdiff_t>(Y >> 4) * width + (X >> 4);
-        dst[u] = static_cast<uint8_t>(bilinear(p[0], p[1], p[width], p[width + 1], X & 15, Y & 15));
-      }
-#endif
+      const dsp::WarpRow row{16 * x0, base_y, sx, sy, 2 * slope_x, 2 * slope_y, kShift, kSize};
+      dsp::get_dsp().warp_row(plane, width, row, dst);
     } else {
       for (int u = 0; u < kSize; ++u, sx += 2 * slope_x, sy += 2 * slope_y) {
         const int X = 16 * (x0 + u) + ((sx + kRound) >> kShift), Y = base_y + ((sy + kRound) >> kShift);

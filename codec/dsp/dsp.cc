@@ -1,0 +1,57 @@
+// Builds the kernel table: plain references first, then each x86 variant whose CPU
+// features are present, so the most capable variant of each kernel wins.
+#include "codec/dsp/dsp.h"
+
+#include <cstdlib>
+
+#include "codec/dsp/dsp_init.h"
+
+namespace svc::codec::dsp {
+
+unsigned detected_cpu_flags() {
+  unsigned flags = 0;
+#if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("sse2")) flags |= kCpuSse2;
+  if (__builtin_cpu_supports("sse4.1")) flags |= kCpuSse41;
+  if (__builtin_cpu_supports("avx2")) flags |= kCpuAvx2;
+#endif
+  return flags;
+}
+
+unsigned active_cpu_flags() {
+  static const unsigned flags = [] {
+    unsigned result = detected_cpu_flags();
+    if (const char* mask = std::getenv("SVC_CPU_MASK"); mask != nullptr && *mask != '\0') {
+      char* end = nullptr;
+      const unsigned long value = std::strtoul(mask, &end, 0);
+      if (end != nullptr && *end == '\0') result &= static_cast<unsigned>(value);  // else ignored: not a number
+    }
+    return result;
+  }();
+  return flags;
+}
+
+DspTable make_dsp_table(unsigned cpu_flags) {
+  DspTable table{};
+  init_transform_c(&table);
+  init_quant_c(&table);
+  init_color_c(&table);
+  init_mc_c(&table);
+  init_warp_c(&table);
+#if defined(__x86_64__) || defined(__i386__)
+  if (cpu_flags & kCpuSse2) {
+    init_quant_sse2(&table);
+    init_mc_sse2(&table);
+    init_warp_sse2(&table);
+  }
+#endif
+  return table;
+}
+
+const DspTable& get_dsp() {
+  static const DspTable table = make_dsp_table(active_cpu_flags());  // initialised once, thread-safe
+  return table;
+}
+
+}  // namespace svc::codec::dsp

@@ -1,0 +1,82 @@
+// The pixel kernels of the codec behind one table of function pointers, filled once by
+// CPU features (the pattern of dav1d's mc.h and libwebp's dsp/): every kernel has a plain
+// C++ reference, always compiled, and optional x86 variants that must match it bit for
+// bit. The codec calls kernels only through get_dsp(); tests and the kernel checker build
+// tables for chosen feature sets with make_dsp_table(). docs/kernels.md describes how to
+// add a kernel or a variant.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace svc::codec::dsp {
+
+// CPU feature bits a variant may need. A table built for a mask uses, per kernel, the
+// most capable variant whose features are all in the mask.
+enum CpuFlag : unsigned {
+  kCpuSse2 = 1u << 0,
+  kCpuSse41 = 1u << 1,
+  kCpuAvx2 = 1u << 2,
+};
+
+// Features this machine has (0 on non-x86 builds).
+unsigned detected_cpu_flags();
+// detected_cpu_flags() restricted by the SVC_CPU_MASK environment variable when it is set
+// (a number, e.g. 0 for the plain references only, 0x1 for SSE2); read once.
+unsigned active_cpu_flags();
+
+// One step of warped prediction along a row (codec/warp_prediction.h has the formulas):
+// sample u of `count` sits at X = x16 + 16 u + ((sx + u step_x + round) >> shift) in
+// 1/16 pel (Y likewise, with y16 fixed), every tap inside the plane.
+struct WarpRow {
+  int x16, y16;          // 16 x (block column), 16 x (block row)
+  int sx, sy;            // weighted node sums at the first sample
+  int step_x, step_y;    // their change per sample
+  int shift;             // 9 (luma) or 8 (chroma); round = 1 << (shift - 1)
+  int count;             // 8 or 16
+};
+
+struct DspTable {
+  // 8x8 forward DCT (float, encoder only) and the bit-exact integer inverse; blocks are
+  // 64 values, row-major.
+  void (*forward_dct_8x8)(const float* samples, float* coefficients);
+  void (*inverse_dct_8x8)(const int16_t* coefficients, int16_t* samples);
+
+  // Quantizes 64 coefficients: level = trunc(|c| inverse_step[i] + rounding) capped at
+  // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.
+  int (*quantize_8x8)(const float* coefficients, const float* inverse_step, float rounding_dc,
+                      float rounding_ac, int16_t* levels);
+  // coefficient = sign(level) ((|level| scale[i] + 8) >> 4) saturated to [-2048, 2047].
+  void (*dequantize_8x8)(const int16_t* levels, const int32_t* scale, int16_t* coefficients);
+
+  // Colour conversion (codec/color.h): one row of luma from packed RGB; one row of 4:2:0
+  // chroma from two RGB rows (row1 may equal row0; odd widths replicate the last pixel);
+  // one RGB row from luma and a half-width chroma row.
+  void (*rgb_to_luma_row)(const uint8_t* rgb, int width, uint8_t* y);
+  void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb,
+                            uint8_t* cr);
+  void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width,
+                           uint8_t* rgb);
+
+  // Half-pel interpolation of a width x height block (fx, fy in {0, 1}) from a window
+  // holding (width + fx) x (height + fy) samples; sizes up to 64.
+  void (*put_half_pel)(const uint8_t* window, ptrdiff_t window_stride, int width, int height,
+                       int fx, int fy, uint8_t* out, ptrdiff_t out_stride);
+  // (a + b + 1) >> 1 per sample; out may alias a or b.
+  void (*average)(const uint8_t* a, const uint8_t* b, int count, uint8_t* out);
+  // SAD of a 16x16 block against 256 packed samples.
+  int (*sad_16x16)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
+  // SAD of a 16x16 block against the half-pel interpolation of `reference` (17x17 window
+  // read where fx, fy ask for it), exact when <= limit, else some value > limit.
+  int (*sad_half_pel_16x16)(const uint8_t* reference, ptrdiff_t reference_stride, int fx, int fy,
+                            const uint8_t* source, ptrdiff_t source_stride, int limit);
+  // Bilinear warped samples along one row, all taps inside `plane`.
+  void (*warp_row)(const uint8_t* plane, ptrdiff_t stride, const WarpRow& row, uint8_t* out);
+};
+
+// The table for this machine (active_cpu_flags()), built once on first use; thread-safe.
+const DspTable& get_dsp();
+// A table using only variants whose features are in `cpu_flags` (0: plain references).
+DspTable make_dsp_table(unsigned cpu_flags);
+
+}  // namespace svc::codec::dsp

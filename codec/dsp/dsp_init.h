@@ -1,0 +1,25 @@
+// Internal to the dsp layer: each kernel family fills its entries of a DspTable, first
+// with the plain reference, then with each variant the CPU flags allow.
+#pragma once
+
+#include "codec/dsp/dsp.h"
+
+namespace svc::codec::dsp {
+
+void init_transform_c(DspTable* table);
+void init_quant_c(DspTable* table);
+void init_color_c(DspTable* table);
+void init_mc_c(DspTable* table);
+void init_warp_c(DspTable* table);
+
+// Plain kernels that x86 variants fall back to for the sizes they do not specialise.
+void put_half_pel_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
+                    uint8_t* out, ptrdiff_t out_stride);
+
+#if defined(__x86_64__) || defined(__i386__)
+void init_quant_sse2(DspTable* table);
+void init_mc_sse2(DspTable* table);
+void init_warp_sse2(DspTable* table);
+#endif
+
+}  // namespace svc::codec::dsp
