@@ -1,0 +1,190 @@
+// DCT and quantization kernels against their references.
+#include <cmath>
+
+#include "checkkernels/harness.h"
+#include "codec/dct.h"
+#include "codec/quant.h"
+
+namespace svc::checkkernels {
+namespace {
+
+// Samples as the codec feeds them: pixel - 128 (intra) or residuals in [-255, 255].
+void random_samples(Random& random, float* samples) {
+  const int range = random.uniform(0, 1) ? 128 : 255;
+  const int pattern = random.uniform(0, 4);
+  for (int i = 0; i < 64; ++i) {
+    if (pattern == 0) samples[i] = static_cast<float>(range);
+    else if (pattern == 1) samples[i] = static_cast<float>(((i + i / 8) & 1) ? range : -range);
+    else samples[i] = static_cast<float>(random.uniform(-range, range));
+  }
+}
+
+std::string check_forward_dct(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    float samples[64], expected[64], actual[64];
+    random_samples(random, samples);
+    reference.forward_dct_8x8(samples, expected);
+    variant.forward_dct_8x8(samples, actual);
+    if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) return diff;
+  }
+  return {};
+}
+
+// Coefficients in the inverse's domain: dense, sparse, DC only, one row, extremes.
+void random_coefficients(Random& random, int16_t* coefficients) {
+  const int pattern = random.uniform(0, 5);
+  for (int i = 0; i < 64; ++i) coefficients[i] = 0;
+  auto value = [&] { return static_cast<int16_t>(random.uniform(codec::kMinCoefficient, codec::kMaxCoefficient)); };
+  switch (pattern) {
+    case 0:
+      for (int i = 0; i < 64; ++i) coefficients[i] = value();
+      break;
+    case 1:
+      for (int k = random.uniform(1, 6); k > 0; --k) coefficients[random.uniform(0, 63)] = value();
+      break;
+    case 2: coefficients[0] = random.uniform(0, 1) ? value() : (random.uniform(0, 1) ? -2048 : 2047); break;
+    case 3: {
+      const int row = random.uniform(0, 7);
+      for (int u = 0; u < 8; ++u) coefficients[8 * row + u] = value();
+      break;
+    }
+    case 4:
+      for (int i = 0; i < 64; ++i) coefficients[i] = ((i * 7 + i / 8) & 1) ? 2047 : -2048;
+      break;
+    default:
+      for (int i = 0; i < 64; ++i) coefficients[i] = random.uniform(0, 1) ? 2047 : -2048;
+  }
+}
+
+std::string check_inverse_dct(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    int16_t coefficients[64], expected[64], actual[64];
+    random_coefficients(random, coefficients);
+    reference.inverse_dct_8x8(coefficients, expected);
+    variant.inverse_dct_8x8(coefficients, actual);
+    if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) return diff;
+  }
+  return {};
+}
+
+codec::Quantizer random_quantizer(Random& random) {
+  const auto kind = random.uniform(0, 1) ? codec::BlockKind::kIntra : codec::BlockKind::kNonIntra;
+  return codec::make_quantizer(kind, random.uniform(0, 3) == 0 ? (random.uniform(0, 1) ? 1 : 112)
+                                                                : random.uniform(1, 112));
+}
+
+// Coefficients spread over the whole range, some exactly on a rounding boundary (where
+// |c| * inverse_step + rounding is an integer) or beyond the largest level.
+void random_dct_output(Random& random, const codec::Quantizer& q, float* coefficients) {
+  for (int i = 0; i < 64; ++i) {
+    const float rounding = i == 0 ? q.rounding_dc : q.rounding_ac;
+    switch (random.uniform(0, 5)) {
+      case 0: coefficients[i] = 0.0f; break;
+      case 1: coefficients[i] = (static_cast<float>(random.uniform(0, 40)) - rounding) / q.inverse_step[i]; break;
+      case 2: coefficients[i] = random.uniform_float(-1e6f, 1e6f); break;
+      case 3: coefficients[i] = -0.0f; break;
+      default: coefficients[i] = random.uniform_float(-2100.0f, 2100.0f);
+    }
+    if (random.uniform(0, 1)) coefficients[i] = -coefficients[i];
+  }
+}
+
+std::string check_quantize(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    const codec::Quantizer q = random_quantizer(random);
+    float coefficients[64];
+    random_dct_output(random, q, coefficients);
+    int16_t expected[64], actual[64];
+    const int expected_count =
+        reference.quantize_8x8(coefficients, q.inverse_step.data(), q.rounding_dc, q.rounding_ac, expected);
+    const int actual_count =
+        variant.quantize_8x8(coefficients, q.inverse_step.data(), q.rounding_dc, q.rounding_ac, actual);
+    const std::string input = " (quant_scale " + std::to_string(q.quant_scale) + ")";
+    if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) return diff + input;
+    if (expected_count != actual_count) {
+      return "non-zero count: reference " + std::to_string(expected_count) + ", variant " +
+             std::to_string(actual_count) + input;
+    }
+  }
+  return {};
+}
+
+std::string check_dequantize(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    const codec::Quantizer q = random_quantizer(random);
+    int16_t levels[64], expected[64], actual[64];
+    const int pattern = random.uniform(0, 3);
+    for (int i = 0; i < 64; ++i) {
+      if (pattern == 0) levels[i] = static_cast<int16_t>(random.uniform(-codec::kMaxLevel, codec::kMaxLevel));
+      else if (pattern == 1) levels[i] = static_cast<int16_t>(random.uniform(0, 7) ? 0 : random.uniform(-40, 40));
+      else if (pattern == 2) levels[i] = static_cast<int16_t>(random.uniform(0, 1) ? 32767 : -32768);
+      else levels[i] = static_cast<int16_t>(random.uniform(0, 1) ? codec::kMaxLevel : -codec::kMaxLevel);
+    }
+    reference.dequantize_8x8(levels, q.scale.data(), expected);
+    variant.dequantize_8x8(levels, q.scale.data(), actual);
+    if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) {
+      return diff + " (quant_scale " + std::to_string(q.quant_scale) + ")";
+    }
+  }
+  return {};
+}
+
+void bench_forward_dct(const DspTable& table, int iterations) {
+  float samples[64], coefficients[64];
+  for (int i = 0; i < 64; ++i) samples[i] = static_cast<float>((i * 37) % 255 - 128);
+  for (int n = 0; n < iterations; ++n) {
+    samples[n & 63] += 1.0f;
+    table.forward_dct_8x8(samples, coefficients);
+  }
+  bench_sink = static_cast<int>(coefficients[0]);
+}
+
+void bench_inverse_dct(const DspTable& table, int iterations) {
+  int16_t coefficients[64], samples[64];
+  for (int i = 0; i < 64; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
+  for (int n = 0; n < iterations; ++n) {
+    coefficients[n & 15] ^= 1;
+    table.inverse_dct_8x8(coefficients, samples);
+  }
+  bench_sink = samples[0];
+}
+
+void bench_quantize(const DspTable& table, int iterations) {
+  const codec::Quantizer q = codec::make_quantizer(codec::BlockKind::kNonIntra, 8);
+  float coefficients[64];
+  int16_t levels[64];
+  for (int i = 0; i < 64; ++i) coefficients[i] = static_cast<float>((i * 97) % 400 - 200);
+  int sum = 0;
+  for (int n = 0; n < iterations; ++n) {
+    coefficients[n & 63] += 0.5f;
+    sum += table.quantize_8x8(coefficients, q.inverse_step.data(), q.rounding_dc, q.rounding_ac, levels);
+  }
+  bench_sink = sum;
+}
+
+void bench_dequantize(const DspTable& table, int iterations) {
+  const codec::Quantizer q = codec::make_quantizer(codec::BlockKind::kIntra, 8);
+  int16_t levels[64], coefficients[64];
+  for (int i = 0; i < 64; ++i) levels[i] = static_cast<int16_t>(i < 16 ? (i * 13) % 30 - 15 : 0);
+  for (int n = 0; n < iterations; ++n) {
+    levels[n & 15] ^= 1;
+    table.dequantize_8x8(levels, q.scale.data(), coefficients);
+  }
+  bench_sink = coefficients[0];
+}
+
+}  // namespace
+
+std::vector<Kernel> transform_kernels() {
+  return {
+      {"forward_dct_8x8", [](const DspTable& t) { return entry_of(t.forward_dct_8x8); }, check_forward_dct,
+       bench_forward_dct},
+      {"inverse_dct_8x8", [](const DspTable& t) { return entry_of(t.inverse_dct_8x8); }, check_inverse_dct,
+       bench_inverse_dct},
+      {"quantize_8x8", [](const DspTable& t) { return entry_of(t.quantize_8x8); }, check_quantize, bench_quantize},
+      {"dequantize_8x8", [](const DspTable& t) { return entry_of(t.dequantize_8x8); }, check_dequantize,
+       bench_dequantize},
+  };
+}
+
+}  // namespace svc::checkkernels

@@ -1,0 +1,91 @@
+// The kernel checker's shared parts: seeded random inputs, the comparison that names the
+// first differing position, and the registry entry each kernel family provides.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "codec/dsp/dsp.h"
+
+namespace svc::checkkernels {
+
+using codec::dsp::DspTable;
+
+class Random {
+ public:
+  explicit Random(uint64_t seed) : engine_(seed) {}
+  int uniform(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(engine_); }
+  float uniform_float(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(engine_); }
+  uint8_t byte() { return static_cast<uint8_t>(uniform(0, 255)); }
+  void fill(uint8_t* data, size_t count) {
+    for (size_t i = 0; i < count; ++i) data[i] = byte();
+  }
+  // Mostly random, sometimes all one extreme or alternating extremes (saturation).
+  void fill_with_extremes(uint8_t* data, size_t count) {
+    switch (uniform(0, 5)) {
+      case 0: std::memset(data, 0, count); break;
+      case 1: std::memset(data, 255, count); break;
+      case 2:
+        for (size_t i = 0; i < count; ++i) data[i] = (i & 1) ? 255 : 0;
+        break;
+      default: fill(data, count);
+    }
+  }
+
+ private:
+  std::mt19937_64 engine_;
+};
+
+// "" when equal; otherwise where the first difference lies (x, y for width > 0).
+template <typename T>
+std::string first_difference(const T* reference, const T* variant, size_t count, size_t width = 0) {
+  for (size_t i = 0; i < count; ++i) {
+    if (std::memcmp(&reference[i], &variant[i], sizeof(T)) == 0) continue;
+    std::string where = width > 0 ? "(x " + std::to_string(i % width) + ", y " + std::to_string(i / width) + ")"
+                                  : "index " + std::to_string(i);
+    return "first difference at " + where + ": reference " + std::to_string(+reference[i]) + ", variant " +
+           std::to_string(+variant[i]);
+  }
+  return {};
+}
+
+// Buffers aligned to 64 bytes from which tests take deliberately unaligned pointers.
+class Buffer {
+ public:
+  explicit Buffer(size_t size, uint8_t fill = 0xA5) : bytes_(size + 128, fill) {}
+  uint8_t* at(size_t offset) {
+    const auto base = reinterpret_cast<uintptr_t>(bytes_.data());
+    return reinterpret_cast<uint8_t*>((base + 63) & ~uintptr_t{63}) + offset;
+  }
+
+ private:
+  std::vector<uint8_t> bytes_;
+};
+
+template <typename Fn>
+const void* entry_of(Fn fn) {
+  return reinterpret_cast<const void*>(fn);
+}
+
+struct Kernel {
+  const char* name;
+  // The table entry, to tell whether a table holds a variant other than the reference.
+  const void* (*entry)(const DspTable& table);
+  // Compares `variant` with `reference` on random inputs and edge cases: "" when they
+  // agree, else a description of the first mismatch and its input.
+  std::string (*check)(const DspTable& reference, const DspTable& variant, Random& random, int iterations);
+  // Runs the kernel `iterations` times on fixed inputs (for --bench).
+  void (*bench)(const DspTable& table, int iterations);
+};
+
+std::vector<Kernel> transform_kernels();
+std::vector<Kernel> colour_kernels();
+std::vector<Kernel> motion_kernels();
+
+// Keeps benchmark results alive without I/O.
+inline volatile int bench_sink = 0;
+
+}  // namespace svc::checkkernels
