@@ -24,11 +24,11 @@ void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, ui
   }
 }
 
+}  // namespace
+
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb) {
   for (int x = 0; x < width; ++x) to_rgb(y[x], cb[x >> 1], cr[x >> 1], rgb + 3 * x);
 }
-
-}  // namespace
 
 void init_color_c(DspTable* table) {
   table->rgb_to_luma_row = rgb_to_luma_row_c;

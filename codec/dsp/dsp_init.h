@@ -15,11 +15,13 @@ void init_warp_c(DspTable* table);
 // Plain kernels that x86 variants fall back to for the sizes they do not specialise.
 void put_half_pel_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
                     uint8_t* out, ptrdiff_t out_stride);
+void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
 #if defined(__x86_64__) || defined(__i386__)
-void init_quant_sse2(DspTable* table);
 void init_mc_sse2(DspTable* table);
 void init_warp_sse2(DspTable* table);
+void init_color_sse2(DspTable* table);
+void init_color_sse41(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp
