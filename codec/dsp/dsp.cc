@@ -42,6 +42,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);
+    init_transform_sse2(&table);
     init_warp_sse2(&table);
     init_color_sse2(&table);
   }

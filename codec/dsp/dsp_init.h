@@ -19,6 +19,7 @@ void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, 
 
 #if defined(__x86_64__) || defined(__i386__)
 void init_mc_sse2(DspTable* table);
+void init_transform_sse2(DspTable* table);
 void init_warp_sse2(DspTable* table);
 void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
