@@ -3,7 +3,6 @@
 #include "codec/dsp/dsp_init.h"
 
 namespace svc::codec::dsp {
-namespace {
 
 using namespace color;
 
@@ -23,8 +22,6 @@ void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, ui
     cr[cx] = chroma_from_sum4(cr_unscaled(r, g, b));
   }
 }
-
-}  // namespace
 
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb) {
   for (int x = 0; x < width; ++x) to_rgb(y[x], cb[x >> 1], cr[x >> 1], rgb + 3 * x);

@@ -15,6 +15,8 @@ void init_warp_c(DspTable* table);
 // Plain kernels that x86 variants fall back to for the sizes they do not specialise.
 void put_half_pel_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
                     uint8_t* out, ptrdiff_t out_stride);
+void rgb_to_luma_row_c(const uint8_t* rgb, int width, uint8_t* y);
+void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
 #if defined(__x86_64__) || defined(__i386__)
