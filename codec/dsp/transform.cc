@@ -5,33 +5,31 @@
 #include <numbers>
 
 #include "codec/dsp/dsp_init.h"
+#include "codec/dsp/fdct_basis.h"
 #include "codec/dsp/idct_basis.h"
 
 namespace svc::codec::dsp {
-namespace {
 
-struct FloatBasis {
-  float even[4][4];  // [k][x]: basis(2k, x)
-  float odd[4][4];   // [k][x]: basis(2k+1, x)
-  FloatBasis() {
-    // basis[u][x] = c(u) cos((2x+1) u pi / 16), c(0) = sqrt(1/8), c(u>0) = 1/2.
-    auto basis = [](int u, int x) {
-      const double c = u == 0 ? std::sqrt(0.125) : 0.5;
-      return c * std::cos((2 * x + 1) * u * std::numbers::pi / 16.0);
-    };
-    for (int k = 0; k < 4; ++k) {
-      for (int x = 0; x < 4; ++x) {
-        even[k][x] = static_cast<float>(basis(2 * k, x));
-        odd[k][x] = static_cast<float>(basis(2 * k + 1, x));
-      }
+ForwardDctBasis::ForwardDctBasis() {
+  // basis[u][x] = c(u) cos((2x+1) u pi / 16), c(0) = sqrt(1/8), c(u>0) = 1/2.
+  auto basis = [](int u, int x) {
+    const double c = u == 0 ? std::sqrt(0.125) : 0.5;
+    return c * std::cos((2 * x + 1) * u * std::numbers::pi / 16.0);
+  };
+  for (int k = 0; k < 4; ++k) {
+    for (int x = 0; x < 4; ++x) {
+      even[k][x] = static_cast<float>(basis(2 * k, x));
+      odd[k][x] = static_cast<float>(basis(2 * k + 1, x));
     }
   }
-};
-const FloatBasis kFloatBasis;
+}
+const ForwardDctBasis kForwardDctBasis;
+
+namespace {
 
 void forward_dct_8x8_c(const float* samples, float* coefficients) {
   float tmp[64];
-  const auto& b = kFloatBasis;
+  const auto& b = kForwardDctBasis;
   // Rows: tmp[y][u].
   for (int y = 0; y < 8; ++y) {
     const float* s = samples + 8 * y;

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "codec/dsp/dsp.h"
@@ -39,6 +41,18 @@ class Random {
   std::mt19937_64 engine_;
 };
 
+// A value as text; floats with enough digits to tell neighbours apart.
+template <typename T>
+std::string to_text(T value) {
+  if constexpr (std::is_floating_point_v<T>) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", static_cast<double>(value));
+    return text;
+  } else {
+    return std::to_string(+value);
+  }
+}
+
 // "" when equal; otherwise where the first difference lies (x, y for width > 0).
 template <typename T>
 std::string first_difference(const T* reference, const T* variant, size_t count, size_t width = 0) {
@@ -46,8 +60,8 @@ std::string first_difference(const T* reference, const T* variant, size_t count,
     if (std::memcmp(&reference[i], &variant[i], sizeof(T)) == 0) continue;
     std::string where = width > 0 ? "(x " + std::to_string(i % width) + ", y " + std::to_string(i / width) + ")"
                                   : "index " + std::to_string(i);
-    return "first difference at " + where + ": reference " + std::to_string(+reference[i]) + ", variant " +
-           std::to_string(+variant[i]);
+    return "first difference at " + where + ": reference " + to_text(reference[i]) + ", variant " +
+           to_text(variant[i]);
   }
   return {};
 }
