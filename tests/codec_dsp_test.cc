@@ -1,0 +1,45 @@
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+
+#include "codec/dsp/dsp.h"
+
+namespace svc::codec::dsp {
+namespace {
+
+bool same_table(const DspTable& a, const DspTable& b) { return std::memcmp(&a, &b, sizeof(DspTable)) == 0; }
+
+// The process's table is the one for the detected features, restricted by SVC_CPU_MASK
+// when set (the suite runs these tests once with SVC_CPU_MASK=0).
+TEST(DspTable, FollowsDetectedFeaturesAndCpuMask) {
+  unsigned expected = detected_cpu_flags();
+  if (const char* mask = std::getenv("SVC_CPU_MASK"); mask != nullptr && *mask != '\0') {
+    expected &= static_cast<unsigned>(std::strtoul(mask, nullptr, 0));
+  }
+  EXPECT_EQ(active_cpu_flags(), expected);
+  EXPECT_TRUE(same_table(get_dsp(), make_dsp_table(expected)));
+}
+
+TEST(DspTable, EveryEntryIsSetForEveryFeatureSet) {
+  for (unsigned flags : {0u, unsigned{kCpuSse2}, unsigned{kCpuSse2 | kCpuSse41}, detected_cpu_flags()}) {
+    const DspTable table = make_dsp_table(flags);
+    const auto* entries = reinterpret_cast<const unsigned char*>(&table);
+    for (size_t offset = 0; offset < sizeof(DspTable); offset += sizeof(void*)) {
+      void* entry;
+      std::memcpy(&entry, entries + offset, sizeof entry);
+      EXPECT_NE(entry, nullptr) << "flags " << flags << ", entry " << offset / sizeof(void*);
+    }
+  }
+}
+
+TEST(DspTable, PlainTableDiffersFromOptimizedWhereVariantsExist) {
+  if ((detected_cpu_flags() & kCpuSse2) == 0) GTEST_SKIP() << "no SSE2 on this machine";
+  const DspTable plain = make_dsp_table(0), sse2 = make_dsp_table(kCpuSse2);
+  EXPECT_NE(plain.put_half_pel, sse2.put_half_pel);
+  EXPECT_NE(plain.inverse_dct_8x8, sse2.inverse_dct_8x8);
+  EXPECT_EQ(plain.quantize_8x8, sse2.quantize_8x8);  // no variant: the reference stays
+}
+
+}  // namespace
+}  // namespace svc::codec::dsp
