@@ -49,6 +49,9 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   if ((cpu_flags & (kCpuSse2 | kCpuSse41)) == (kCpuSse2 | kCpuSse41)) {
     init_color_sse41(&table);
   }
+  if ((cpu_flags & (kCpuSse2 | kCpuSse41 | kCpuAvx2)) == (kCpuSse2 | kCpuSse41 | kCpuAvx2)) {
+    init_mc_avx2(&table);
+  }
 #endif
   return table;
 }

@@ -25,6 +25,7 @@ void init_transform_sse2(DspTable* table);
 void init_warp_sse2(DspTable* table);
 void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
+void init_mc_avx2(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp
