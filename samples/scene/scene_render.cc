@@ -207,7 +207,15 @@ Vec3 sky_colour(const Scene& scene, const Vec3& dir, double pixel_angle) {
   const double y = dir.y;
   if (y <= 0) return kHorizon * 0.92;
   Vec3 c = mix(kHorizon, kZenith, std::pow(y, 0.55));
-  if (y > 0.01) {
+  if (y > 0.01 && scene.sky_texture >= 0) {
+    // The sky image over a plane above, fading into the horizon haze.
+    constexpr double kRepeat = 1.5;  // plane units per repeat of the image
+    const double scale = 0.6 / y / kRepeat;
+    const double fp = pixel_angle * 0.6 / (y * y) / kRepeat;
+    const Vec3 image = scene.textures[scene.sky_texture].sample(dir.x * scale, dir.z * scale, fp) *
+                       scene.sky_texture_gain;
+    c = mix(c, image, 0.9 * smoothstep(0.02, 0.25, y));
+  } else if (y > 0.01) {
     // A cloud layer: noise over the plane the ray meets, thinning towards the horizon.
     const double scale = 0.6 / y;
     const double u = dir.x * scale, v = dir.z * scale;
@@ -339,7 +347,12 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
   // Footprint of a pixel on the surface: grows with depth and with grazing angles.
   const double cos_incidence = std::max(0.2, std::abs(glm::dot(n, unit_dir)));
   const double fp = hit.t * pixel_angle / cos_incidence;
-  Vec3 base = albedo(material, u, v, fp);
+  Vec3 base = material.texture < 0
+                  ? albedo(material, u, v, fp)
+                  : scene.textures[material.texture].sample(u / material.texture_metres,
+                                                            v / material.texture_metres,
+                                                            fp / material.texture_metres) *
+                        material.texture_gain;
   // Skirting boards along the foot of house walls.
   if (scene.kind == SceneKind::kHouse && room != nullptr && std::abs(n.y) < 0.5 && p.y < 0.1 &&
       p.y > 0.0) {
