@@ -94,6 +94,8 @@ inline double smoothstep(double e0, double e1, double x) {
 
 inline Vec3 mix(const Vec3& a, const Vec3& b, double t) { return a + (b - a) * t; }
 
+inline double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
 // ---------------------------------------------------------------- materials
 
 // Albedo of `m` at surface coordinates (u, v) in metres, with pixel footprint `fp`.
@@ -212,9 +214,13 @@ Vec3 sky_colour(const Scene& scene, const Vec3& dir, double pixel_angle) {
     constexpr double kRepeat = 1.5;  // plane units per repeat of the image
     const double scale = 0.6 / y / kRepeat;
     const double fp = pixel_angle * 0.6 / (y * y) / kRepeat;
-    const Vec3 image = scene.textures[scene.sky_texture].sample(dir.x * scale, dir.z * scale, fp) *
-                       scene.sky_texture_gain;
-    c = mix(c, image, 0.9 * smoothstep(0.02, 0.25, y));
+    const Texture& texture = scene.textures[scene.sky_texture];
+    const Vec3 image = texture.sample(dir.x * scale, dir.z * scale, fp);
+    // Game skies are often strongly tinted: the image lends the sky its structure in
+    // full but only part of its colour.
+    const double relative = luminance(image) / std::max(luminance(texture.mean()), 1e-4);
+    const Vec3 photo = mix(c * relative, image * scene.sky_texture_gain, 0.35);
+    c = mix(c, photo, 0.9 * smoothstep(0.02, 0.25, y));
   } else if (y > 0.01) {
     // A cloud layer: noise over the plane the ray meets, thinning towards the horizon.
     const double scale = 0.6 / y;
