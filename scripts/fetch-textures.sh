@@ -4,7 +4,8 @@
 #
 #   scripts/fetch-textures.sh [DIR]     (default: ~/.cache/svc/textures)
 #
-# Prints the folder on the last line. Quick when DIR already holds the extracted set.
+# Prints the folder on the last line. Quick when DIR already holds the extracted set;
+# refuses a DIR that exists with other content, since it replaces the folder whole.
 set -euo pipefail
 
 dir="${1:-${XDG_CACHE_HOME:-$HOME/.cache}/svc/textures}"
@@ -15,6 +16,11 @@ stamp="$dir/.extracted-from-pak4-textures"
 if [[ -f "$stamp" ]]; then
   echo "$dir"
   exit 0
+fi
+
+if [[ -e "$dir" ]] && [[ -n "$(ls -A "$dir" 2>/dev/null)" || ! -d "$dir" ]]; then
+  echo "fetch-textures: $dir exists and was not made by this script; give an empty or new folder" >&2
+  exit 1
 fi
 
 if [[ ! -f "$archive" ]]; then
@@ -46,7 +52,7 @@ else
 fi
 count=$(find "$staging" -type f \( -iname '*.jpg' -o -iname '*.tga' \) | wc -l)
 touch "$staging/$(basename "$stamp")"
-rm -rf "$dir"
+rmdir "$dir" 2>/dev/null || true
 mv "$staging" "$dir"
 trap - EXIT
 echo "extracted $count textures" >&2

@@ -177,7 +177,7 @@ TEST(ScenePhoto, MissingOrEmptyFolderIsAnErrorNamingIt) {
   ASSERT_FALSE(face.ok());
   EXPECT_NE(face.status().message().find("broken"), std::string::npos)
       << face.status().message();
-  EXPECT_NE(face.status().message().find("no readable image"), std::string::npos);
+  EXPECT_NE(face.status().message().find("no usable image"), std::string::npos);
 }
 
 TEST(ScenePhoto, CandidatesFollowTheClassWordsAndSkipLightMaps) {

@@ -59,6 +59,11 @@ int main(int argc, char** argv) {
                  "scripts/fetch-textures.sh extracts a set");
   app.add_flag("--sparse", options.sparse, "Leave out cells whose centre is inside geometry");
   app.add_flag("--quiet", quiet, "Print nothing but errors");
+  app.footer(
+      "Photographic hall and house (OpenArena textures, Debian openarena-081-textures):\n"
+      "  textures=$(scripts/fetch-textures.sh)\n"
+      "  svc-scene photo-hall/ --kind hall --textures \"$textures\"\n"
+      "  svc-scene photo-house/ --kind house --textures \"$textures\"");
   CLI11_PARSE(app, argc, argv);
 
   svc::samples::parse_scene_kind(kind, &options.kind);

@@ -227,8 +227,11 @@ Status apply_photo_textures(const fs::path& dir, uint32_t seed, Scene* scene) {
   TexturePicker picker(dir, std::move(files), seed, scene);
   const auto no_image = [&](TextureClass c) {
     return Status(ErrorCode::kInvalidArgument, "texture folder " + dir.string() +
-                                                   " has no readable image for " +
-                                                   texture_class_name(c) + " surfaces");
+                                                   " has no usable image for " +
+                                                   texture_class_name(c) +
+                                                   " surfaces (none decodes as an image of "
+                                                   "at least 8x8 pixels outside the skipped "
+                                                   "light map, glow, blend and trim layers)");
   };
   for (Material& m : scene->materials) {
     const TextureClass c = class_of(m.pattern);
