@@ -25,22 +25,27 @@ struct Rgb {
   uint8_t r, g, b;
 };
 
-// A 64 x 64 image of 32-pixel blocks alternating between two colours.
-void write_blocks(const fs::path& path, Rgb a, Rgb b) {
+// A 64 x 64 image of 32-pixel blocks alternating between two colours; with an alpha
+// value, the blocks of `b` get that alpha and `a` stays opaque.
+void write_blocks(const fs::path& path, Rgb a, Rgb b, int alpha_b = -1) {
   constexpr int kSize = 64;
-  std::vector<uint8_t> pixels(kSize * kSize * 3);
+  const int channels = alpha_b >= 0 ? 4 : 3;
+  std::vector<uint8_t> pixels(kSize * kSize * channels);
   for (int y = 0; y < kSize; ++y) {
     for (int x = 0; x < kSize; ++x) {
-      const Rgb c = ((x / 32) + (y / 32)) % 2 ? b : a;
-      uint8_t* p = &pixels[(y * kSize + x) * 3];
+      const bool second = ((x / 32) + (y / 32)) % 2;
+      const Rgb c = second ? b : a;
+      uint8_t* p = &pixels[(y * kSize + x) * channels];
       p[0] = c.r;
       p[1] = c.g;
       p[2] = c.b;
+      if (channels == 4) p[3] = static_cast<uint8_t>(second ? alpha_b : 255);
     }
   }
   auto out = OIIO::ImageOutput::create(path.string());
   ASSERT_TRUE(out);
-  ASSERT_TRUE(out->open(path.string(), OIIO::ImageSpec(kSize, kSize, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(
+      out->open(path.string(), OIIO::ImageSpec(kSize, kSize, channels, OIIO::TypeDesc::UINT8)));
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
   ASSERT_TRUE(out->close());
 }
@@ -120,6 +125,27 @@ TEST(ScenePhoto, WallAndFloorShowTheImagesOfTheirClass) {
   ASSERT_GT(floor.size(), 500u);
   EXPECT_GT(count_if(floor, yellowish), static_cast<int>(floor.size() / 4));
   EXPECT_EQ(count_if(floor, bluish), 0);  // not the brick image
+}
+
+TEST(ScenePhoto, CutOutImagesAreNotUsedForSolidSurfaces) {
+  testing::TempDir dir("svc-photo-cut");
+  // The only brick candidate is a grate whose blue half is transparent: the brick walls
+  // take another image instead.
+  write_blocks(dir.path() / "brick_grate.png", kRed, kBlue, 0);
+  write_blocks(dir.path() / "concrete.png", kYellow, kGrey);
+  auto face = render_scene_face(small_hall(dir.path()), CellIndex{0, 0, 1}, Face::kNX);
+  ASSERT_TRUE(face.ok()) << face.status().to_string();
+  const auto wall = pixels_at_depth(*face, 4.0);
+  ASSERT_GT(wall.size(), 200u);
+  EXPECT_EQ(count_if(wall, bluish), 0);
+  EXPECT_EQ(count_if(wall, reddish), 0);
+  EXPECT_GT(count_if(wall, yellowish), static_cast<int>(wall.size() / 4));
+
+  // An opaque alpha channel is no obstacle.
+  write_blocks(dir.path() / "brick_grate.png", kRed, kBlue, 255);
+  face = render_scene_face(small_hall(dir.path()), CellIndex{0, 0, 1}, Face::kNX);
+  ASSERT_TRUE(face.ok()) << face.status().to_string();
+  EXPECT_GT(count_if(pixels_at_depth(*face, 4.0), bluish), static_cast<int>(wall.size() / 4));
 }
 
 TEST(ScenePhoto, SameOptionsAndFolderGiveSameBytesWhateverTheThreadCount) {

@@ -76,8 +76,16 @@ float srgb_to_linear(int code) {
   return static_cast<float>(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
 }
 
-// Loads `path` as linear RGB (grey images repeated, alpha ignored); an empty texture when
-// the file cannot be read or is too small or too elongated to tile a surface.
+// True when more than 1 % of the pixels are mostly transparent: a cut-out (grate, fence,
+// foliage) meant to be seen through, which an opaque surface would show as holes.
+bool is_cut_out(const std::vector<uint8_t>& bytes, int channels) {
+  size_t clear = 0, pixels = bytes.size() / channels;
+  for (size_t p = 0; p < pixels; ++p) clear += bytes[p * channels + 3] < 128 ? 1 : 0;
+  return clear * 100 > pixels;
+}
+
+// Loads `path` as linear RGB (grey images repeated); false when the file cannot be read,
+// is too small or too elongated to tile a surface, or is a cut-out.
 bool load_texture(const fs::path& path, Texture* out) {
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) {
@@ -85,13 +93,15 @@ bool load_texture(const fs::path& path, Texture* out) {
     return false;
   }
   const OIIO::ImageSpec spec = in->spec();
-  const int w = spec.width, h = spec.height, channels = std::min(spec.nchannels, 3);
+  const int w = spec.width, h = spec.height;
+  const int channels = spec.nchannels >= 4 && spec.alpha_channel == 3 ? 4 : std::min(spec.nchannels, 3);
   if (w < 8 || h < 8 || w > 8 * h || h > 8 * w || channels < 1) return false;
   std::vector<uint8_t> bytes(static_cast<size_t>(w) * h * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, bytes.data())) {
     in->geterror();
     return false;
   }
+  if (channels == 4 && is_cut_out(bytes, channels)) return false;
   static const std::array<float, 256> lut = [] {
     std::array<float, 256> t{};
     for (int i = 0; i < 256; ++i) t[i] = srgb_to_linear(i);
@@ -99,7 +109,9 @@ bool load_texture(const fs::path& path, Texture* out) {
   }();
   std::vector<float> rgb(static_cast<size_t>(w) * h * 3);
   for (size_t p = 0; p < static_cast<size_t>(w) * h; ++p) {
-    for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = lut[bytes[p * channels + std::min(c, channels - 1)]];
+    for (int c = 0; c < 3; ++c) {
+      rgb[p * 3 + c] = lut[bytes[p * channels + (channels >= 3 ? c : 0)]];
+    }
   }
   *out = Texture(w, h, rgb);
   return true;
@@ -111,22 +123,28 @@ class TexturePicker {
   TexturePicker(const fs::path& dir, std::vector<std::string> files, uint32_t seed, Scene* scene)
       : dir_(dir), files_(std::move(files)), seed_(seed), scene_(scene) {}
 
-  // Index into scene->textures of the next image for class `c`, or -1 if none loads.
+  // Index into scene->textures of the next image for class `c`: its own candidates first,
+  // then any usable image; -1 if none loads.
   int next(TextureClass c) {
     auto& state = classes_[c];
-    if (state.candidates.empty()) state.candidates = texture_candidates(files_, c, seed_);
-    const size_t n = state.candidates.size();
-    for (size_t tried = 0; tried < n; ++tried) {
-      const std::string& name = state.candidates[state.cursor++ % n];
-      const int index = load(name);
-      if (index >= 0) return index;
+    if (state.candidates.empty()) {
+      state.candidates = texture_candidates(files_, c, seed_);
+      const std::vector<std::string> others = usable_textures(files_, seed_);
+      state.fallback = others.size() != state.candidates.size() ? others : std::vector<std::string>{};
+    }
+    for (auto* list : {&state.candidates, &state.fallback}) {
+      const size_t n = list->size();
+      for (size_t tried = 0; tried < n; ++tried) {
+        const int index = load((*list)[state.cursor++ % n]);
+        if (index >= 0) return index;
+      }
     }
     return -1;
   }
 
  private:
   struct ClassState {
-    std::vector<std::string> candidates;
+    std::vector<std::string> candidates, fallback;
     size_t cursor = 0;
   };
 
@@ -206,20 +224,25 @@ Result<std::vector<std::string>> list_texture_files(const fs::path& dir) {
   return files;
 }
 
-std::vector<std::string> texture_candidates(const std::vector<std::string>& files, TextureClass c,
-                                            uint32_t seed) {
-  std::vector<std::string> usable, matching;
+std::vector<std::string> usable_textures(const std::vector<std::string>& files, uint32_t seed) {
+  std::vector<std::string> out;
   for (const std::string& name : files) {
-    const std::string l = lower(name);
-    if (contains_any(l, kTextureSkipWords)) continue;
-    usable.push_back(name);
-    if (contains_any(l, texture_class_words(c))) matching.push_back(name);
+    if (!contains_any(lower(name), kTextureSkipWords)) out.push_back(name);
   }
-  std::vector<std::string> out = matching.empty() ? usable : matching;
   std::stable_sort(out.begin(), out.end(), [seed](const std::string& a, const std::string& b) {
     return name_hash(a, seed) < name_hash(b, seed);
   });
   return out;
+}
+
+std::vector<std::string> texture_candidates(const std::vector<std::string>& files, TextureClass c,
+                                            uint32_t seed) {
+  const std::vector<std::string> usable = usable_textures(files, seed);
+  std::vector<std::string> matching;
+  for (const std::string& name : usable) {
+    if (contains_any(lower(name), texture_class_words(c))) matching.push_back(name);
+  }
+  return matching.empty() ? usable : matching;
 }
 
 Status apply_photo_textures(const fs::path& dir, uint32_t seed, Scene* scene) {

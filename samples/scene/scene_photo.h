@@ -26,6 +26,9 @@ const char* texture_class_name(TextureClass c);
 const std::vector<std::string>& texture_class_words(TextureClass c);
 extern const std::vector<std::string> kTextureSkipWords;
 
+// The files no skip word rules out, ordered by a hash of the name and `seed`.
+std::vector<std::string> usable_textures(const std::vector<std::string>& files, uint32_t seed);
+
 // Candidates for `c` among `files`, in the order they are tried: those whose lower-case
 // path holds one of the class words (all usable files if none does), ordered by a hash
 // of the name and `seed`.
@@ -34,7 +37,8 @@ std::vector<std::string> texture_candidates(const std::vector<std::string>& file
 
 // Gives every material of `scene` and its sky an image from `dir`: the n-th material of
 // a class takes the n-th candidate that loads (at least 8 pixels a side, aspect at most
-// 8:1). Errors name the folder; a folder whose images all fail to load is an error.
+// 8:1, not a cut-out with over 1 % of its alpha below one half), any usable image when
+// none of them does. Errors name the folder, among them one where no image loads.
 Status apply_photo_textures(const std::filesystem::path& dir, uint32_t seed, Scene* scene);
 
 }  // namespace svc::samples::detail

@@ -42,9 +42,31 @@ inline int wrap(int i, int n) {
 
 }  // namespace
 
+// 2x2 averages of `fine` (1x2 or 2x1 once one side is down to a texel).
+Texture::Level Texture::halve(const Level& fine) {
+  Level coarse{std::max(1, fine.width / 2), std::max(1, fine.height / 2), {}};
+  coarse.rgb.resize(static_cast<size_t>(coarse.width) * coarse.height * 3);
+  const int sx = fine.width / coarse.width, sy = fine.height / coarse.height;
+  for (int y = 0; y < coarse.height; ++y) {
+    for (int x = 0; x < coarse.width; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        double sum = 0;
+        for (int dy = 0; dy < sy; ++dy) {
+          for (int dx = 0; dx < sx; ++dx) {
+            sum += fine.rgb[(static_cast<size_t>(y * sy + dy) * fine.width + x * sx + dx) * 3 + c];
+          }
+        }
+        coarse.rgb[(static_cast<size_t>(y) * coarse.width + x) * 3 + c] =
+            static_cast<float>(sum / (sx * sy));
+      }
+    }
+  }
+  return coarse;
+}
+
 Texture::Texture(int width, int height, const std::vector<float>& rgb) {
   const int w = power_of_two_at_most(width), h = power_of_two_at_most(height);
-  // Columns first (stride 3 within a row, one run per row and channel), then rows.
+  // Columns first (stride 3 within a row, one run per channel), then rows.
   std::vector<float> rows(static_cast<size_t>(height) * w * 3);
   for (int y = 0; y < height; ++y) {
     const std::vector<float> row(rgb.begin() + static_cast<size_t>(y) * width * 3,
@@ -54,25 +76,7 @@ Texture::Texture(int width, int height, const std::vector<float>& rgb) {
   }
   levels_.push_back({w, h, shrink_axis(rows, height, h, w * 3, w * 3)});
   while (levels_.back().width > 1 || levels_.back().height > 1) {
-    const Level& fine = levels_.back();
-    Level coarse{std::max(1, fine.width / 2), std::max(1, fine.height / 2), {}};
-    coarse.rgb.resize(static_cast<size_t>(coarse.width) * coarse.height * 3);
-    const int sx = fine.width / coarse.width, sy = fine.height / coarse.height;
-    for (int y = 0; y < coarse.height; ++y) {
-      for (int x = 0; x < coarse.width; ++x) {
-        for (int c = 0; c < 3; ++c) {
-          double sum = 0;
-          for (int dy = 0; dy < sy; ++dy) {
-            for (int dx = 0; dx < sx; ++dx) {
-              sum += fine.rgb[(static_cast<size_t>(y * sy + dy) * fine.width + x * sx + dx) * 3 + c];
-            }
-          }
-          coarse.rgb[(static_cast<size_t>(y) * coarse.width + x) * 3 + c] =
-              static_cast<float>(sum / (sx * sy));
-        }
-      }
-    }
-    levels_.push_back(std::move(coarse));
+    levels_.push_back(halve(levels_.back()));
   }
 }
 

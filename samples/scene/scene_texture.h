@@ -34,6 +34,7 @@ class Texture {
     int width = 0, height = 0;
     std::vector<float> rgb;
   };
+  static Level halve(const Level& fine);
   glm::dvec3 bilinear(int level, double u, double v) const;
 
   std::vector<Level> levels_;
