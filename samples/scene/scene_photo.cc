@@ -85,7 +85,7 @@ bool is_cut_out(const std::vector<uint8_t>& bytes, int channels) {
 }
 
 // Loads `path` as linear RGB (grey images repeated); false when the file cannot be read,
-// is too small or too elongated to tile a surface, or is a cut-out.
+// is too small, too large or too elongated to tile a surface, or is a cut-out.
 bool load_texture(const fs::path& path, Texture* out) {
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) {
@@ -95,7 +95,10 @@ bool load_texture(const fs::path& path, Texture* out) {
   const OIIO::ImageSpec spec = in->spec();
   const int w = spec.width, h = spec.height;
   const int channels = spec.nchannels >= 4 && spec.alpha_channel == 3 ? 4 : std::min(spec.nchannels, 3);
-  if (w < 8 || h < 8 || w > 8 * h || h > 8 * w || channels < 1) return false;
+  // Above 8192 a side the decoded image alone would take gigabytes.
+  if (w < 8 || h < 8 || w > 8192 || h > 8192 || w > 8 * h || h > 8 * w || channels < 1) {
+    return false;
+  }
   std::vector<uint8_t> bytes(static_cast<size_t>(w) * h * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, bytes.data())) {
     in->geterror();

@@ -36,7 +36,7 @@ std::vector<std::string> texture_candidates(const std::vector<std::string>& file
                                             TextureClass c, uint32_t seed);
 
 // Gives every material of `scene` and its sky an image from `dir`: the n-th material of
-// a class takes the n-th candidate that loads (at least 8 pixels a side, aspect at most
+// a class takes the n-th candidate that loads (8 to 8192 pixels a side, aspect at most
 // 8:1, not a cut-out with over 1 % of its alpha below one half), any usable image when
 // none of them does. Errors name the folder, among them one where no image loads.
 Status apply_photo_textures(const std::filesystem::path& dir, uint32_t seed, Scene* scene);
