@@ -8,6 +8,8 @@ packages=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
   ffmpeg
+  # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
+  openarena-081-textures unzip
 )
 if [[ "${SVC_WITH_CLANG:-0}" == 1 ]]; then
   packages+=(clang libclang-rt-14-dev)

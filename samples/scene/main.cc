@@ -1,7 +1,7 @@
-// svc-scene: writes a procedural sample scene as an svc-input database.
+// svc-scene: writes a procedural or photographic sample scene as an svc-input database.
 //
 //   svc-scene OUT_DIR [--kind hall|house] [--grid X,Y,Z] [--spacing S | SX,SY,SZ]
-//             [--face-size N] [--seed N] [--sparse] [--threads N] [--quiet]
+//             [--face-size N] [--seed N] [--textures DIR] [--sparse] [--threads N] [--quiet]
 
 #include <chrono>
 #include <cstdio>
@@ -37,7 +37,7 @@ bool parse_list(const std::string& text, std::vector<T>* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Write a procedural architectural scene as an svc-input database."};
+  CLI::App app{"Write a procedural (or, with --textures, photographic) architectural scene as an\nsvc-input database."};
   std::string out_dir, kind = "hall", grid = "9,1,9", spacing = "0.5,1.0,0.5";
   svc::samples::SceneOptions options;
   bool quiet = false;
@@ -52,8 +52,18 @@ int main(int argc, char** argv) {
   app.add_option("--seed", options.seed, "Layout and texture variation")->capture_default_str();
   app.add_option("--threads", options.threads, "Faces rendered at once (output is identical)")
       ->capture_default_str();
+  app.add_option("--textures", options.textures,
+                 "Photographic variant: map the images of this folder (jpg, tga, png, ...) "
+                 "onto walls, floors, furniture and sky, chosen by file name (brick, "
+                 "concrete, wood, metal, tile, wall, ceil, grass, sky); "
+                 "scripts/fetch-textures.sh extracts a set");
   app.add_flag("--sparse", options.sparse, "Leave out cells whose centre is inside geometry");
   app.add_flag("--quiet", quiet, "Print nothing but errors");
+  app.footer(
+      "Photographic hall and house (OpenArena textures, Debian openarena-081-textures):\n"
+      "  textures=$(scripts/fetch-textures.sh)\n"
+      "  svc-scene photo-hall/ --kind hall --textures \"$textures\"\n"
+      "  svc-scene photo-house/ --kind house --textures \"$textures\"");
   CLI11_PARSE(app, argc, argv);
 
   svc::samples::parse_scene_kind(kind, &options.kind);
@@ -92,7 +102,8 @@ int main(int argc, char** argv) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet) {
-    std::printf("svc-scene: wrote %s scene, %d cells (%d faces of %dx%d) to %s in %.1f s\n",
+    std::printf("svc-scene: wrote %s%s scene, %d cells (%d faces of %dx%d) to %s in %.1f s\n",
+                options.textures.empty() ? "" : "photographic ",
                 svc::samples::scene_kind_name(options.kind), cells_written, cells_written * 6,
                 options.face_size, options.face_size, out_dir.c_str(), seconds);
   }

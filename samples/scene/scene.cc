@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/scene_layout.h"
+#include "scene/scene_photo.h"
 #include "scene/scene_render.h"
 
 namespace svc::samples {
@@ -89,6 +90,15 @@ std::vector<SceneCellInfo> cell_infos(const SceneOptions& options,
     }
   }
   return cells;
+}
+
+// The scene with its photographic textures when the options name a folder.
+Result<detail::Scene> build_rendered_scene(const SceneOptions& options) {
+  detail::Scene scene = detail::build_scene(options);
+  if (!options.textures.empty()) {
+    SVC_RETURN_IF_ERROR(detail::apply_photo_textures(options.textures, options.seed, &scene));
+  }
+  return scene;
 }
 
 }  // namespace
@@ -173,7 +183,7 @@ Result<SceneFace> render_scene_face(const SceneOptions& options, CellIndex cell,
   if (face_index < 0 || face_index >= kFaceCount) {
     return Status(ErrorCode::kInvalidArgument, "face " + std::to_string(face_index) + " is not 0..5");
   }
-  const detail::Scene scene = detail::build_scene(options);
+  SVC_ASSIGN_OR_RETURN(const detail::Scene scene, build_rendered_scene(options));
   const detail::Vec3 eye = scene.cell_position(cell.x, cell.y, cell.z);
   const glm::dmat4 view = detail::face_view_matrix(eye, face_index);
   SceneFace out;
@@ -190,7 +200,7 @@ Result<SceneFace> render_scene_face(const SceneOptions& options, CellIndex cell,
 Status generate_scene(const SceneOptions& options, const std::filesystem::path& out_dir,
                       const SceneProgress& progress) {
   SVC_RETURN_IF_ERROR(validate_scene_options(options));
-  const detail::Scene scene = detail::build_scene(options);
+  SVC_ASSIGN_OR_RETURN(const detail::Scene scene, build_rendered_scene(options));
   std::vector<SceneCellInfo> cells = cell_infos(options, scene);
   if (options.sparse) {
     std::erase_if(cells, [](const SceneCellInfo& c) { return c.inside_solid; });
@@ -276,6 +286,8 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
                            {"kind", scene_kind_name(options.kind)},
                            {"seed", options.seed},
                            {"sparse", options.sparse}};
+  // The images used, relative to the texture folder: where it lies does not matter.
+  if (!scene.texture_names.empty()) manifest["generator"]["textures"] = scene.texture_names;
   manifest["grid"] = {{"dims", options.grid},
                       {"origin", scene_grid_origin(options)},
                       {"spacing", options.spacing}};

@@ -30,6 +30,9 @@ struct SceneOptions {
   uint32_t seed = 1;                        // texture and layout variation
   bool sparse = false;                      // drop cells that fall inside solid geometry
   int threads = 1;  // faces rendered at once; the output bytes do not depend on it
+  // Photographic variant: a folder of images (searched recursively) mapped onto the
+  // surfaces and the sky in place of the procedural patterns; empty for procedural.
+  std::filesystem::path textures;
 };
 
 // Checks ranges: grid 1..1024 per axis and at most 1,000,000 cells, spacing finite in

@@ -5,10 +5,12 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "scene/scene.h"
 #include "scene/scene_geometry.h"
+#include "scene/scene_texture.h"
 
 namespace svc::samples::detail {
 
@@ -31,6 +33,12 @@ struct Material {
   double scale = 1;   // element size in metres (tile, brick length, plank width, period)
   double variation = 0.1;  // per-element brightness variation
   uint32_t seed = 0;
+  // Photographic scenes: index into Scene::textures (-1: the procedural pattern), the
+  // size in metres of one repeat of the image, and a gain that brings the image's mean
+  // brightness near the procedural material's, which the lighting is balanced for.
+  int texture = -1;
+  double texture_metres = 1;
+  double texture_gain = 1;
 };
 
 // Material ids resolved by the room the surface faces (house walls, floor, ceiling).
@@ -62,6 +70,13 @@ struct Scene {
   std::vector<double> cuts_x, cuts_z;              // ascending
   std::vector<Room> rooms;                         // index rz * rooms_x + rx
   uint16_t exterior_wall = 0;
+
+  // Photographic scenes: the images materials refer to, their file names relative to
+  // the texture folder, and the image shown over the sky (-1: procedural clouds).
+  std::vector<Texture> textures;
+  std::vector<std::string> texture_names;
+  int sky_texture = -1;
+  double sky_texture_gain = 1;
 
   // Grid the scene was built around.
   Vec3 origin{0.0}, spacing{1.0};

@@ -94,6 +94,8 @@ inline double smoothstep(double e0, double e1, double x) {
 
 inline Vec3 mix(const Vec3& a, const Vec3& b, double t) { return a + (b - a) * t; }
 
+inline double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
 // ---------------------------------------------------------------- materials
 
 // Albedo of `m` at surface coordinates (u, v) in metres, with pixel footprint `fp`.
@@ -207,7 +209,19 @@ Vec3 sky_colour(const Scene& scene, const Vec3& dir, double pixel_angle) {
   const double y = dir.y;
   if (y <= 0) return kHorizon * 0.92;
   Vec3 c = mix(kHorizon, kZenith, std::pow(y, 0.55));
-  if (y > 0.01) {
+  if (y > 0.01 && scene.sky_texture >= 0) {
+    // The sky image over a plane above, fading into the horizon haze.
+    constexpr double kRepeat = 1.5;  // plane units per repeat of the image
+    const double scale = 0.6 / y / kRepeat;
+    const double fp = pixel_angle * 0.6 / (y * y) / kRepeat;
+    const Texture& texture = scene.textures[scene.sky_texture];
+    const Vec3 image = texture.sample(dir.x * scale, dir.z * scale, fp);
+    // Game skies are often strongly tinted: the image lends the sky its structure in
+    // full but only part of its colour.
+    const double relative = luminance(image) / std::max(luminance(texture.mean()), 1e-4);
+    const Vec3 photo = mix(c * relative, image * scene.sky_texture_gain, 0.35);
+    c = mix(c, photo, 0.9 * smoothstep(0.02, 0.25, y));
+  } else if (y > 0.01) {
     // A cloud layer: noise over the plane the ray meets, thinning towards the horizon.
     const double scale = 0.6 / y;
     const double u = dir.x * scale, v = dir.z * scale;
@@ -339,7 +353,12 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
   // Footprint of a pixel on the surface: grows with depth and with grazing angles.
   const double cos_incidence = std::max(0.2, std::abs(glm::dot(n, unit_dir)));
   const double fp = hit.t * pixel_angle / cos_incidence;
-  Vec3 base = albedo(material, u, v, fp);
+  Vec3 base = material.texture < 0
+                  ? albedo(material, u, v, fp)
+                  : scene.textures[material.texture].sample(u / material.texture_metres,
+                                                            v / material.texture_metres,
+                                                            fp / material.texture_metres) *
+                        material.texture_gain;
   // Skirting boards along the foot of house walls.
   if (scene.kind == SceneKind::kHouse && room != nullptr && std::abs(n.y) < 0.5 && p.y < 0.1 &&
       p.y > 0.0) {
