@@ -7,7 +7,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev zlib1g-dev
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
-  ffmpeg
+  ffmpeg clang-format-14
 )
 if [[ "${SVC_WITH_CLANG:-0}" == 1 ]]; then
   packages+=(clang libclang-rt-14-dev)
