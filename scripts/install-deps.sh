@@ -7,7 +7,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev zlib1g-dev
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
-  ffmpeg
+  ffmpeg clang-format-14
   # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
   openarena-081-textures unzip
 )

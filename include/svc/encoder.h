@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "svc/status.h"
+#include "svc/types.h"
 
 namespace svc {
 
@@ -33,19 +34,6 @@ struct EncoderSettings {
 
 // Fills settings with the defaults documented on each field.
 EncoderSettings default_encoder_settings();
-
-// Statistics of one frame type (I or B) over a whole encode.
-struct FrameTypeStats {
-  uint64_t faces = 0;
-  uint64_t bytes = 0;
-  uint64_t mb_intra = 0;
-  uint64_t mb_forward = 0;
-  uint64_t mb_backward = 0;
-  uint64_t mb_bidirectional = 0;
-  uint64_t mb_skipped = 0;       // predicted with no residual
-  uint64_t candidate_vectors = 0;  // unique candidates summed over predicted faces' macroblocks
-  uint64_t candidate_macroblocks = 0;
-};
 
 struct EncodeSummary {
   uint64_t cells = 0;

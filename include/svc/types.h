@@ -52,4 +52,17 @@ struct ImageYCbCr420 {
   std::vector<uint8_t> y, cb, cr;
 };
 
+// Statistics of one frame type (I or B) over a whole encode, kept in the .svc index.
+struct FrameTypeStats {
+  uint64_t faces = 0;
+  uint64_t bytes = 0;
+  uint64_t mb_intra = 0;
+  uint64_t mb_forward = 0;
+  uint64_t mb_backward = 0;
+  uint64_t mb_bidirectional = 0;
+  uint64_t mb_skipped = 0;       // predicted with no residual
+  uint64_t candidate_vectors = 0;  // unique candidates summed over predicted faces' macroblocks
+  uint64_t candidate_macroblocks = 0;
+};
+
 }  // namespace svc

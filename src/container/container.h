@@ -9,8 +9,7 @@
 #include <vector>
 
 #include "common/file_io.h"
-#include "database/database.h"
-#include "svc/encoder.h"
+#include "container/grid.h"
 #include "svc/limits.h"
 #include "svc/status.h"
 #include "svc/types.h"

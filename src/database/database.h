@@ -20,24 +20,16 @@
 #include <string>
 #include <vector>
 
+#include "container/grid.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
 namespace svc {
 
-enum class DepthMode : uint8_t { kEyeZ = 0, kRadial = 1 };
-enum class UpAxis : uint8_t { kX = 0, kY = 1, kZ = 2 };
-
 // Caps on untrusted input, checked before anything is allocated from them.
 inline constexpr int kMaxFaceSide = 16384;          // face_size[0], face_size[1]
 inline constexpr int64_t kMaxGridCells = 1 << 24;   // dims[0] * dims[1] * dims[2]
 inline constexpr int kMaxImageChannels = 4096;      // channels in one colour/depth file
-
-struct GridSpec {
-  std::array<int32_t, 3> dims{1, 1, 1};
-  std::array<double, 3> origin{0, 0, 0};
-  std::array<double, 3> spacing{1, 1, 1};
-};
 
 struct FaceSource {
   std::string color_path;  // relative to the database root (or absolute), as the manifest names it

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Fails when an `#include "..."` points up a layer. Layers, lowest first; a file may
+# include from its own layer and those below:
+#   0 decoder API   include/svc (status.h, types.h, limits.h, reader.h)
+#   1 codec         codec/
+#   2 decoder       src/common, src/container, src/reader (libsvc_decoder)
+#   3 full library  src/database, src/spatial, src/encoder, src/metrics and the public
+#                   encoder.h, metrics.h (libsvc)
+#   4 baselines     src/baseline (libsvc_baseline)
+#   5 samples       samples/ (samples/embed and samples/walkthrough: the decoder API and
+#                   their own folder only)
+#   6 bench         bench/
+#   7 tools         tools/
+#   8 tests         tests/
+# An include is resolved as the compiler would: beside the including file, then under
+# the include roots the build uses (include, the tree's root, src, samples, tools, bench,
+# tests). An include that resolves nowhere is an error too.
+# Usage: scripts/check-layers.sh [TREE_ROOT]   (default: this tree)
+set -euo pipefail
+root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
+cd "$root"
+
+layer_names=("decoder API" codec decoder "full library" baselines samples bench tools tests)
+
+layer_of() {
+  case $1 in
+    include/svc/encoder.h | include/svc/metrics.h) echo 3 ;;
+    include/*) echo 0 ;;
+    codec/*) echo 1 ;;
+    src/common/* | src/container/* | src/reader/*) echo 2 ;;
+    src/baseline/*) echo 4 ;;
+    src/*) echo 3 ;;
+    samples/*) echo 5 ;;
+    bench/*) echo 6 ;;
+    tools/*) echo 7 ;;
+    tests/*) echo 8 ;;
+    *) echo 9 ;;
+  esac
+}
+
+# The highest layer a file may include from.
+limit_of() {
+  case $1 in
+    samples/embed/* | samples/walkthrough/*) echo 0 ;;
+    *) layer_of "$1" ;;
+  esac
+}
+
+resolve() {
+  local from_dir=$1 name=$2 base
+  for base in "$from_dir" include . src samples tools bench tests; do
+    if [[ -f "$base/$name" ]]; then
+      realpath -m --relative-to=. "$base/$name"
+      return 0
+    fi
+  done
+  return 1
+}
+
+violations=0
+checked=0
+while IFS= read -r file; do
+  file=${file#./}
+  limit=$(limit_of "$file")
+  while IFS=: read -r line name; do
+    checked=$((checked + 1))
+    if ! target=$(resolve "$(dirname "$file")" "$name"); then
+      echo "$file:$line: #include \"$name\" resolves to no file in the tree"
+      violations=$((violations + 1))
+      continue
+    fi
+    layer=$(layer_of "$target")
+    if ((layer > limit)) && [[ "$(dirname "$target")" != "$(dirname "$file")" ]]; then
+      echo "$file:$line: #include \"$name\" ($target, ${layer_names[layer]}) points up from ${layer_names[limit]}"
+      violations=$((violations + 1))
+    fi
+  done < <(grep -n -E '^[[:space:]]*#[[:space:]]*include[[:space:]]*"' "$file" |
+             sed -E 's/^([0-9]+):[^"]*"([^"]*)".*/\1:\2/')
+done < <(find include codec src samples bench tools tests -type f \( -name '*.h' -o -name '*.cc' -o -name '*.cpp' \) 2>/dev/null | sort)
+
+if ((violations > 0)); then
+  echo "check-layers: $violations include(s) point up a layer"
+  exit 1
+fi
+echo "check-layers: $checked includes, all point down or across"
