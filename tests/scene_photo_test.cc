@@ -127,6 +127,38 @@ TEST(ScenePhoto, WallAndFloorShowTheImagesOfTheirClass) {
   EXPECT_EQ(count_if(floor, bluish), 0);  // not the brick image
 }
 
+// Red and blue texels alternating one by one: any pixel covering several texels must
+// show their mix, never one of them alone.
+void write_fine_checker(const fs::path& path) {
+  constexpr int kSize = 256;
+  std::vector<uint8_t> pixels(kSize * kSize * 3);
+  for (int i = 0; i < kSize * kSize; ++i) {
+    const Rgb c = (i % kSize + i / kSize) % 2 ? kBlue : kRed;
+    pixels[i * 3] = c.r;
+    pixels[i * 3 + 1] = c.g;
+    pixels[i * 3 + 2] = c.b;
+  }
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(path.string(), OIIO::ImageSpec(kSize, kSize, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
+  ASSERT_TRUE(out->close());
+}
+
+TEST(ScenePhoto, TexelsFinerThanPixelsAreFilteredNotAliased) {
+  testing::TempDir dir("svc-photo-fine");
+  write_fine_checker(dir.path() / "floor_checker.png");
+  auto face = render_scene_face(small_hall(dir.path()), CellIndex{0, 0, 1}, Face::kNY);
+  ASSERT_TRUE(face.ok()) << face.status().to_string();
+  // The floor 1.6 m below: a pixel spans several of the 6 mm texels.
+  const auto floor = pixels_at_depth(*face, 1.6);
+  ASSERT_GT(floor.size(), 500u);
+  EXPECT_EQ(count_if(floor, reddish), 0);
+  EXPECT_EQ(count_if(floor, bluish), 0);
+  EXPECT_EQ(count_if(floor, [](const Rgb& p) { return p.r > 20 && p.b > 20; }),
+            static_cast<int>(floor.size()));
+}
+
 TEST(ScenePhoto, CutOutImagesAreNotUsedForSolidSurfaces) {
   testing::TempDir dir("svc-photo-cut");
   // The only brick candidate is a grate whose blue half is transparent: the brick walls
