@@ -202,7 +202,8 @@ std::string structure_arguments(const CodecPlan& plan) {
   if (plan.encoder == "png" || plan.encoder == "mjpeg" || plan.encoder == "libwebp" || plan.encoder == "libjxl") {
     return "";
   }
-  std::string args = " -g " + std::to_string(plan.base.gop_size) + " -bf " + std::to_string(plan.base.max_b_frames);
+  const int gop = plan.intra && plan.encoder == "libaom-av1" ? 0 : plan.base.gop_size;  // libaom all-intra
+  std::string args = " -g " + std::to_string(gop) + " -bf " + std::to_string(plan.base.max_b_frames);
   const bool open = plan.encoder == "mpeg2video" ? !plan.base.closed_gop
                                                  : plan.base.open_gop && (plan.encoder == "libx264" || plan.encoder == "libx265");
   if (!open && plan.base.gop_size > 1) args += " -flags +cgop";

@@ -305,6 +305,9 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
   context->pix_fmt = format;
   if (!image_codec) {
     context->gop_size = intra_only ? 1 : settings.gop_size;
+    // libaom codes every frame a key frame with a key-frame distance of 0 (its all-intra
+    // mode refuses anything else).
+    if (intra_only && encoder->id == AV_CODEC_ID_AV1 && settings.codec == "libaom-av1") context->gop_size = 0;
     context->max_b_frames = intra_only ? 0 : settings.max_b_frames;
     // MPEG-2 follows closed_gop; libx264 and libx265 follow open_gop; every other inter
     // codec is kept to closed GOPs.

@@ -20,24 +20,29 @@ void link_mpeg2_references(EncodedSequence* sequence) {
 }
 
 void link_chained_references(EncodedSequence* sequence) {
-  int last_reference = -1;             // display index, decode order
-  int reference_before_keyframe = -1;  // the latest reference decoded before that keyframe
+  int last_trailing = -1;              // latest reference shown after the latest keyframe
+  int last_leading = -1;               // latest reference shown before it (open GOP)
+  int reference_before_keyframe = -1;  // latest trailing reference of the previous GOP
   int keyframe_display = -1;
   for (FrameRecord& record : sequence->frames) {
     record.references.clear();
     if (record.keyframe) {
-      reference_before_keyframe = last_reference;
-      keyframe_display = record.display_index;
-      last_reference = record.display_index;
+      reference_before_keyframe = last_trailing;
+      keyframe_display = last_trailing = record.display_index;
+      last_leading = -1;
       continue;
     }
-    if (last_reference >= 0) record.references.push_back(last_reference);
     const bool leading = record.display_index < keyframe_display;
-    if (leading && reference_before_keyframe >= 0) record.references.push_back(reference_before_keyframe);
+    if (leading) {
+      record.references.push_back(last_leading >= 0 ? last_leading : last_trailing);
+      if (reference_before_keyframe >= 0) record.references.push_back(reference_before_keyframe);
+    } else if (last_trailing >= 0) {
+      record.references.push_back(last_trailing);
+    }
     const uint8_t* data = sequence->stream.data() + record.offset;
     if (record.offset + record.size <= sequence->stream.size() &&
         is_reference_picture(sequence->decoder, data, record.size)) {
-      last_reference = record.display_index;
+      (leading ? last_leading : last_trailing) = record.display_index;
     }
   }
 }

@@ -14,7 +14,9 @@ void link_mpeg2_references(EncodedSequence* sequence);
 // the latest reference frame before it in decode order, back to a keyframe, which is an
 // upper bound on what it needs. A leading frame of an open GOP (decoded after a keyframe
 // but shown before it) also depends on the frames before that keyframe, back to the
-// previous keyframe. For H.264 and HEVC, frames whose NAL header marks them as
+// previous keyframe. Frames shown after a keyframe never depend on its leading frames
+// (HEVC's rule for RASL pictures, which x264's open GOPs keep too; the random-access
+// tests check decoded pixels). For H.264 and HEVC, frames whose NAL header marks them as
 // non-reference (nal_ref_idc 0; the _N picture types) are left out of every chain.
 void link_chained_references(EncodedSequence* sequence);
 
