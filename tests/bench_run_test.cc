@@ -10,6 +10,7 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include "bd_rate.h"
 #include "rd_curve.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -131,7 +132,21 @@ TEST_F(BenchRun, BdRateMatchesTheCurvesInTheResults) {
     }
     ASSERT_TRUE(c.bd_rate_svc.has_value()) << c.name;
     EXPECT_NEAR(*c.bd_rate_svc, *expected - 1, 1e-12) << c.name;
+    // The same on PSNR-RGB, with the overlap it was averaged over.
+    auto rgb_points = [](const CodecResult& r) {
+      std::vector<RatePoint> points;
+      for (const QualityPoint& p : r.points) points.push_back({double(p.bytes), p.psnr_rgb});
+      return points;
+    };
+    const auto rgb = bd_rate(rgb_points(c), rgb_points(*svc));
+    ASSERT_EQ(rgb.has_value(), c.bd_rate_svc_rgb.has_value()) << c.name;
+    if (!rgb) continue;
+    EXPECT_NEAR(*c.bd_rate_svc_rgb, rgb->ratio - 1, 1e-12) << c.name;
+    EXPECT_DOUBLE_EQ(c.bd_range_rgb[0], rgb->psnr_low) << c.name;
+    EXPECT_DOUBLE_EQ(c.bd_range_rgb[1], rgb->psnr_high) << c.name;
   }
+  const std::string report = read_text(out() / "report.md");
+  EXPECT_LT(report.find("## Ranking by BD-rate"), report.find("## Summary at svc"));
 }
 
 TEST_F(BenchRun, ExperimentsCoverTheDissertationTables) {
