@@ -57,6 +57,11 @@ Result<std::vector<std::string>> ordered_codecs(const BenchOptions& options) {
   for (const std::string& name : all) {
     if (std::find(codecs.begin(), codecs.end(), name) != codecs.end()) ordered.push_back(name);
   }
+  // Bad presets are refused before any work (the face size is checked again per run).
+  for (const std::string& name : ordered) {
+    auto plan = make_plan(name, AnchorOptions{options.gop, options.anchor_presets}, 64, 64);
+    if (!plan.ok()) return plan.status().with_context("svc bench: " + name);
+  }
   return ordered;
 }
 
@@ -87,11 +92,11 @@ const std::vector<std::string>& all_codec_names() {
 
 Result<BenchResults> run_bench(const BenchOptions& options) {
   const auto start = Clock::now();
+  if (options.gop < 1) return Status(ErrorCode::kInvalidArgument, "svc bench: GOP must be at least 1");
   SVC_ASSIGN_OR_RETURN(std::vector<std::string> ordered, ordered_codecs(options));
   if (options.random_accesses < 1) {
     return Status(ErrorCode::kInvalidArgument, "svc bench: random_accesses must be at least 1");
   }
-  if (options.gop < 1) return Status(ErrorCode::kInvalidArgument, "svc bench: GOP must be at least 1");
   const int threads = options.threads > 0 ? options.threads
                                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   std::error_code ec;

@@ -214,6 +214,26 @@ TEST(BenchOptionsTest, UnknownCodecIsRejected) {
   EXPECT_NE(results.status().message().find("divx"), std::string::npos);
 }
 
+TEST(BenchOptionsTest, BadPresetOrGopIsRejectedBeforeAnyWork) {
+  testing::TempDir dir("svc-bench-options");
+  BenchOptions options;
+  options.db_dir = "/nonexistent";
+  options.out_dir = dir.path() / "out";
+  options.codecs = {"svc", "x265"};
+  options.anchor_presets = {{"x265", "turbo"}};
+  auto results = run_bench(options);
+  ASSERT_FALSE(results.ok());
+  EXPECT_EQ(results.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(results.status().message().find("turbo"), std::string::npos) << results.status().to_string();
+  EXPECT_FALSE(fs::exists(options.out_dir));
+  options.anchor_presets = {{"divx", "fast"}};
+  EXPECT_NE(run_bench(options).status().message().find("divx"), std::string::npos);
+  options.anchor_presets.clear();
+  options.gop = 0;
+  EXPECT_EQ(run_bench(options).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_FALSE(fs::exists(options.out_dir));
+}
+
 }  // namespace
 }  // namespace svc::bench
 
