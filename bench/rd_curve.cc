@@ -1,5 +1,7 @@
 #include "rd_curve.h"
 
+#include "bd_rate.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -34,16 +36,14 @@ std::optional<RdPoint> RdCurve::first_at_or_above(double psnr) const {
 }
 
 std::optional<double> bd_rate_ratio(const RdCurve& anchor, const RdCurve& test) {
-  const double lo = std::max(anchor.min_psnr(), test.min_psnr());
-  const double hi = std::min(anchor.max_psnr(), test.max_psnr());
-  if (!(hi > lo)) return std::nullopt;
-  const int steps = 200;
-  double sum = 0;
-  for (int i = 0; i <= steps; ++i) {
-    const double psnr = lo + (hi - lo) * i / steps;
-    sum += std::log(*test.bytes_at(psnr)) - std::log(*anchor.bytes_at(psnr));
-  }
-  return std::exp(sum / (steps + 1));
+  auto rate_points = [](const RdCurve& curve) {
+    std::vector<RatePoint> points;
+    for (const RdPoint& p : curve.points()) points.push_back({p.bytes, p.psnr_y});
+    return points;
+  };
+  const auto bd = bd_rate(rate_points(anchor), rate_points(test));
+  if (!bd) return std::nullopt;
+  return bd->ratio;
 }
 
 }  // namespace svc::bench

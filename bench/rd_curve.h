@@ -30,8 +30,9 @@ class RdCurve {
   std::vector<RdPoint> points_;
 };
 
-// Mean of log-byte differences over the PSNR range both curves cover, as a size ratio
-// (test / anchor): the Bjontegaard rate difference is ratio - 1. nullopt without overlap.
+// Mean of log-byte differences over the PSNR range both curves cover (PCHIP, see
+// bd_rate.h), as a size ratio (test / anchor): the Bjontegaard rate difference is
+// ratio - 1. nullopt without overlap.
 std::optional<double> bd_rate_ratio(const RdCurve& anchor, const RdCurve& test);
 
 }  // namespace svc::bench

@@ -121,6 +121,10 @@ Status write_results_json(const BenchResults& r, const std::filesystem::path& pa
                    {"decode_faces_per_second", c.decode_faces_per_second}};
     cj["random_access"] = {{"cold", access_json(c.access_cold)}, {"warm", access_json(c.access_warm)}};
     cj["bd_rate_svc"] = c.bd_rate_svc ? json(*c.bd_rate_svc) : json(nullptr);
+    cj["bd_range_psnr_y"] = c.bd_rate_svc ? json(c.bd_range_y) : json(nullptr);
+    cj["bd_rate_svc_rgb"] = c.bd_rate_svc_rgb ? json(*c.bd_rate_svc_rgb) : json(nullptr);
+    cj["bd_range_psnr_rgb"] = c.bd_rate_svc_rgb ? json(c.bd_range_rgb) : json(nullptr);
+    cj["ffmpeg_command"] = c.ffmpeg_command;
     codecs.push_back(cj);
   }
   j["codecs"] = codecs;
@@ -281,6 +285,14 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
      << r.cells << " cells, " << r.faces << " faces of " << r.face_width << " x " << r.face_height << ", raw RGB "
      << human_bytes(double(r.raw_bytes)) << ". " << r.threads << " worker thread(s); whole run "
      << format("%.1f", r.total_seconds) << " s.\n\n";
+  md << "## Ranking by BD-rate\n\n"
+        "BD-rate of svc: svc's bytes against the codec's at equal PSNR, by piecewise cubic (PCHIP) "
+        "interpolation of log-rate against PSNR, averaged over the PSNR range both curves cover (stated); "
+        "positive: svc needs more bytes, the codec is better. Frames per random face: mean (max) frames "
+        "decoded to obtain one random face, counting what the GOP structure forces (an open GOP's leading "
+        "B-frames need the previous GOP).\n\n";
+  md << ranking_markdown(r) << "\n";
+  md << "## Summary at svc's reference quality\n\n";
   md << "Every codec is scored on its decoded 8-bit RGB faces against the source faces with the same code "
         "(PSNR over all faces' summed squared error, SSIM the mean of per-face luma SSIM). Each row below is "
         "svc and svc-intra at quality 75, every other codec at its setting nearest svc's PSNR-Y there; speed "
@@ -306,6 +318,7 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
   for (const CodecResult& c : r.codecs) {
     md << "- **" << c.name << "** (" << c.encoder << "): "
        << (c.skipped ? "skipped: " + c.skip_reason : c.description) << "\n";
+    if (!c.ffmpeg_command.empty()) md << "  `" << c.ffmpeg_command << "`\n";
   }
 
   md << "\n## Random access\n\n";

@@ -2,9 +2,10 @@
 // otherwise pick, measured the same way on one svc-input database.
 //
 // For every codec: a quality sweep (bytes, compression ratio, bits per pixel, PSNR in RGB
-// and Y, SSIM), speed (encode and sequential decode faces/s) and random-access cost (time
-// and frames decoded to obtain one random face, cold and warm); BD-rate of svc against
-// each. Then the dissertation's experiments on the database at hand: Table 7.5 (sizes),
+// and Y, SSIM) whose settings are searched to cover PSNR-Y 30..42 dB (settings_search.h),
+// speed (encode and sequential decode faces/s) and random-access cost (time and frames
+// decoded to obtain one random face, cold and warm); BD-rate of svc against each on
+// PSNR-Y and PSNR-RGB (bd_rate.h). Anchors run as their users run them (anchors.h). Then the dissertation's experiments on the database at hand: Table 7.5 (sizes),
 // Figure 7.16 (compression against B:I ratio and sample spacing) and Table 7.4 (depth
 // motion against logarithmic search).
 //
@@ -33,6 +34,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,8 +56,11 @@ struct BenchOptions {
   int random_accesses = 120;           // random (cell, face) picks per codec and mode
   uint32_t seed = 1;                   // for the random picks
   bool experiments = true;             // Table 7.5, Figure 7.16, Table 7.4 (need svc)
-  // Fewer quality points per codec (two; svc three): for tests and quick looks.
+  // Two PSNR targets and at most three encodes per codec: for tests and quick looks.
   bool quick = false;
+  // GOP of x264, x265 and AV1, and presets replacing the defaults (see anchors.h).
+  int gop = 9;
+  std::map<std::string, std::string> anchor_presets;
   // Progress lines ("[  12.3 s] x264 crf 23: ..."). Unset: nothing is printed.
   std::function<void(const std::string&)> progress;
 };
@@ -98,6 +103,13 @@ struct CodecResult {
   // Bjontegaard rate of svc against this codec on PSNR-Y: svc bytes / these bytes - 1 at
   // equal quality, averaged over the overlapping PSNR range (negative: svc smaller).
   std::optional<double> bd_rate_svc;
+  std::array<double, 2> bd_range_y{0, 0};  // PSNR-Y range it was averaged over (dB)
+  // The same on PSNR-RGB.
+  std::optional<double> bd_rate_svc_rgb;
+  std::array<double, 2> bd_range_rgb{0, 0};
+  // The ffmpeg command that encodes one face sequence as this anchor did at its reference
+  // point (input: the face's PNGs in coding order). Empty for svc.
+  std::string ffmpeg_command;
 };
 
 // Table 7.5: database sizes.
@@ -173,7 +185,11 @@ Status write_results_csv(const BenchResults& results, const std::filesystem::pat
 Status write_plots(const BenchResults& results, const std::filesystem::path& directory);
 // report.md embedding the plots written by write_plots.
 Status write_report(const BenchResults& results, const std::filesystem::path& path);
-// The main table of report.md (Markdown): one row per codec at its reference point.
+// The first table of report.md (Markdown): codecs ranked by svc's BD-rate against them
+// (PSNR-Y and PSNR-RGB, with the range), settings and random-access cost, then a
+// sentence naming the anchors svc loses to.
+std::string ranking_markdown(const BenchResults& results);
+// The summary table of report.md (Markdown): one row per codec at its reference point.
 std::string summary_table_markdown(const BenchResults& results);
 
 // Writes all of the above into options.out_dir.

@@ -272,6 +272,86 @@ INSTANTIATE_TEST_SUITE_P(Codecs, BaselineOtherCodecsTest,
                            return name;
                          });
 
+// Open GOPs as x264 and x265 users run them: the B-frames shown before an I-frame are
+// coded after it and predicted from the previous GOP too. Random access must still give
+// the sequential decode's pictures, and the leading frames must count the previous GOP.
+class BaselineOpenGopTest : public BaselineCodecTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(BaselineOpenGopTest, LeadingFramesDecodeFromThePreviousGop) {
+  const std::string codec = GetParam();
+  if (!encoder_available(codec)) GTEST_SKIP() << codec << " is not in this build (skipped)";
+  const auto face = make_face_sequence({12, 1, 2}, CellOrder::kRowMajor, Face::kPX, 64, 64);
+  EncodeSettings settings;
+  settings.codec = codec;
+  settings.gop_size = 3;
+  settings.max_b_frames = 2;
+  settings.open_gop = true;
+  settings.quantizer = 28;
+  settings.codec_options = {{"preset", "medium"}};
+  // Fixed B-frames, no B-pyramid, no scene cuts: exactly I B B I B B ..., B-frames never
+  // references.
+  if (codec == "libx265") settings.x265_params = "b-adapt=0:b-pyramid=0:scenecut=0";
+  auto encoded = encode_sequence(frames_from_images(face.frames), {}, settings);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().to_string();
+  const std::string types = type_string(*encoded);
+  std::cout << codec << " types " << types << "\n";
+  auto sequential = decode_all(*encoded);
+  ASSERT_TRUE(sequential.ok()) << sequential.status().to_string();
+  expect_random_access_matches_sequential(*encoded, *sequential);
+  // I-frames every 3 frames, each decodable alone; a frame coded after the next I-frame
+  // (a leading frame) needs the I-frame before it as well.
+  int leading = 0;
+  for (int d = 0; d < 24; ++d) {
+    const auto needed = encoded->frames_needed(d);
+    if (d % 3 == 0) {
+      EXPECT_EQ(types[d], 'I') << d;
+      EXPECT_EQ(needed.size(), 1u) << d;
+      continue;
+    }
+    const int next_i = d - d % 3 + 3;
+    if (next_i >= 24 || encoded->decode_position[d] < encoded->decode_position[next_i]) continue;
+    ++leading;
+    const int previous_i_position = encoded->decode_position[d - d % 3];
+    EXPECT_NE(std::find(needed.begin(), needed.end(), previous_i_position), needed.end()) << d;
+    EXPECT_NE(std::find(needed.begin(), needed.end(), encoded->decode_position[next_i]), needed.end()) << d;
+  }
+  EXPECT_GE(leading, 8);
+}
+
+INSTANTIATE_TEST_SUITE_P(Codecs, BaselineOpenGopTest, ::testing::Values("libx265"));
+
+// x264 and x265 at their users' settings (preset medium, GOP 9, 2 B-frames, open GOP):
+// every face decodes alone exactly as in sequence, and no frame needs more than its GOP
+// and the previous one.
+class BaselineUsersGopTest : public BaselineCodecTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(BaselineUsersGopTest, OpenGopRandomAccessMatchesSequentialDecode) {
+  const std::string codec = GetParam();
+  if (!encoder_available(codec)) GTEST_SKIP() << codec << " is not in this build (skipped)";
+  const auto face = make_face_sequence({12, 1, 3}, CellOrder::kRowMajor, Face::kPX, 64, 64);
+  EncodeSettings settings;
+  settings.codec = codec;
+  settings.gop_size = 9;
+  settings.max_b_frames = 2;
+  settings.open_gop = true;
+  settings.quantizer = 26;
+  settings.codec_options = {{"preset", "medium"}};
+  auto encoded = encode_sequence(frames_from_images(face.frames), {}, settings);
+  ASSERT_TRUE(encoded.ok()) << encoded.status().to_string();
+  auto sequential = decode_all(*encoded);
+  ASSERT_TRUE(sequential.ok()) << sequential.status().to_string();
+  expect_random_access_matches_sequential(*encoded, *sequential);
+  std::string needed;
+  for (int d = 0; d < encoded->frame_count(); ++d) {
+    needed += std::to_string(encoded->frames_needed(d).size()) + " ";
+    EXPECT_LE(encoded->frames_needed(d).size(), 18u) << d;
+  }
+  std::cout << codec << " types " << type_string(*encoded) << "\n  frames needed " << needed << "\n";
+
+}
+
+INSTANTIATE_TEST_SUITE_P(Codecs, BaselineUsersGopTest, ::testing::Values("libx264", "libx265"));
+
 TEST_F(BaselineCodecTest, MissingEncoderIsUnsupportedNotAFailure) {
   const auto face = make_face_sequence({2, 1, 1}, CellOrder::kRowMajor, Face::kPX, 32, 32);
   EncodeSettings settings;

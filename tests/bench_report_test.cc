@@ -197,6 +197,34 @@ TEST(BenchWriters, CsvHasOneRowPerPoint) {
   EXPECT_FALSE(write_results_csv(sample_results(), dir.path() / "no" / "such" / "dir.csv").ok());
 }
 
+TEST(BenchWriters, RankingPutsTheBetterCodecsFirstAndNamesWhereSvcLoses) {
+  BenchResults r = sample_results();
+  CodecResult x265;
+  x265.name = "x265";
+  x265.description = "GOP 9, 2 B-frames, open GOP, preset medium";
+  x265.points = r.codecs[2].points;
+  x265.bd_rate_svc = 0.15;
+  x265.bd_range_y = {32.0, 40.0};
+  x265.bd_rate_svc_rgb = 0.12;
+  x265.bd_range_rgb = {31.5, 36.0};
+  x265.access_cold = {10, 1.0, 2.0, 4.36, 10};
+  r.codecs.push_back(x265);
+  const std::string md = ranking_markdown(r);
+  const size_t x265_row = md.find("| 1 | x265 | +15.0% (32.0-40.0 dB) | +12.0% (31.5-36.0 dB) |");
+  const size_t svc_row = md.find("| 2 | svc | 0 (reference)");
+  const size_t jpeg_row = md.find("| 3 | jpeg | -25.0%");
+  EXPECT_NE(x265_row, std::string::npos) << md;
+  EXPECT_NE(svc_row, std::string::npos) << md;
+  EXPECT_NE(jpeg_row, std::string::npos) << md;
+  EXPECT_LT(x265_row, svc_row);
+  EXPECT_LT(svc_row, jpeg_row);
+  EXPECT_NE(md.find("4.36 (max 10)"), std::string::npos) << md;
+  EXPECT_NE(md.find("GOP 9, 2 B-frames, open GOP, preset medium"), std::string::npos) << md;
+  EXPECT_NE(md.find("**svc loses to x265 (+15.0%)**"), std::string::npos) << md;
+  EXPECT_NE(md.find("svc is smaller than jpeg (-25.0%)"), std::string::npos) << md;
+  EXPECT_EQ(md.find("| av1 |"), std::string::npos) << "a skipped codec has no rank";
+}
+
 TEST(BenchWriters, SummaryTableShowsBdRateAndSkips) {
   const std::string table = summary_table_markdown(sample_results());
   EXPECT_NE(table.find("| svc | quality 75 |"), std::string::npos) << table;

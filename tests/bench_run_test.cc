@@ -10,6 +10,7 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include "bd_rate.h"
 #include "rd_curve.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -131,7 +132,21 @@ TEST_F(BenchRun, BdRateMatchesTheCurvesInTheResults) {
     }
     ASSERT_TRUE(c.bd_rate_svc.has_value()) << c.name;
     EXPECT_NEAR(*c.bd_rate_svc, *expected - 1, 1e-12) << c.name;
+    // The same on PSNR-RGB, with the overlap it was averaged over.
+    auto rgb_points = [](const CodecResult& r) {
+      std::vector<RatePoint> points;
+      for (const QualityPoint& p : r.points) points.push_back({double(p.bytes), p.psnr_rgb});
+      return points;
+    };
+    const auto rgb = bd_rate(rgb_points(c), rgb_points(*svc));
+    ASSERT_EQ(rgb.has_value(), c.bd_rate_svc_rgb.has_value()) << c.name;
+    if (!rgb) continue;
+    EXPECT_NEAR(*c.bd_rate_svc_rgb, rgb->ratio - 1, 1e-12) << c.name;
+    EXPECT_DOUBLE_EQ(c.bd_range_rgb[0], rgb->psnr_low) << c.name;
+    EXPECT_DOUBLE_EQ(c.bd_range_rgb[1], rgb->psnr_high) << c.name;
   }
+  const std::string report = read_text(out() / "report.md");
+  EXPECT_LT(report.find("## Ranking by BD-rate"), report.find("## Summary at svc"));
 }
 
 TEST_F(BenchRun, ExperimentsCoverTheDissertationTables) {
@@ -197,6 +212,26 @@ TEST(BenchOptionsTest, UnknownCodecIsRejected) {
   ASSERT_FALSE(results.ok());
   EXPECT_EQ(results.status().code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(results.status().message().find("divx"), std::string::npos);
+}
+
+TEST(BenchOptionsTest, BadPresetOrGopIsRejectedBeforeAnyWork) {
+  testing::TempDir dir("svc-bench-options");
+  BenchOptions options;
+  options.db_dir = "/nonexistent";
+  options.out_dir = dir.path() / "out";
+  options.codecs = {"svc", "x265"};
+  options.anchor_presets = {{"x265", "turbo"}};
+  auto results = run_bench(options);
+  ASSERT_FALSE(results.ok());
+  EXPECT_EQ(results.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(results.status().message().find("turbo"), std::string::npos) << results.status().to_string();
+  EXPECT_FALSE(fs::exists(options.out_dir));
+  options.anchor_presets = {{"divx", "fast"}};
+  EXPECT_NE(run_bench(options).status().message().find("divx"), std::string::npos);
+  options.anchor_presets.clear();
+  options.gop = 0;
+  EXPECT_EQ(run_bench(options).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_FALSE(fs::exists(options.out_dir));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "baseline/ffmpeg_util.h"
+#include "baseline/references.h"
 
 extern "C" {
 #include <libavformat/avformat.h>
@@ -26,7 +27,14 @@ namespace {
 // and matches the ffmpeg tool's default for image sequences.
 constexpr AVRational kTimeBase{1, 25};
 
-bool is_image_codec(AVCodecID id) { return id == AV_CODEC_ID_MJPEG || id == AV_CODEC_ID_PNG; }
+bool is_image_codec(AVCodecID id) {
+  return id == AV_CODEC_ID_MJPEG || id == AV_CODEC_ID_PNG || id == AV_CODEC_ID_WEBP ||
+         id == AV_CODEC_ID_JPEGXL;
+}
+
+// Image encoders whose quality (0..100, higher is better) is read from global_quality,
+// as `ffmpeg -q:v` sets it.
+bool uses_global_quality(AVCodecID id) { return id == AV_CODEC_ID_WEBP || id == AV_CODEC_ID_JPEGXL; }
 
 // Native libavcodec encoders whose quantizer is the qscale (lambda) of mpegvideo.
 bool uses_qscale(AVCodecID id) {
@@ -60,6 +68,8 @@ Status set_private_option(AVCodecContext* context, const std::string& key,
   }
   return Status::Ok();
 }
+
+bool supports_open_gop(const std::string& codec) { return codec == "libx264" || codec == "libx265"; }
 
 bool has_private_option(AVCodecContext* context, const char* key) {
   return context->priv_data &&
@@ -102,7 +112,6 @@ Status finish_index(EncodedSequence* sequence, const std::vector<int>& av_types,
                       std::to_string(frame_count) + " frames");
   }
   sequence->decode_position.assign(frame_count, -1);
-  int last_anchor = -1, previous_anchor = -1;
   for (int position = 0; position < frame_count; ++position) {
     FrameRecord& record = sequence->frames[position];
     if (record.display_index < 0 || record.display_index >= frame_count ||
@@ -112,28 +121,15 @@ Status finish_index(EncodedSequence* sequence, const std::vector<int>& av_types,
                                               std::to_string(record.display_index));
     }
     sequence->decode_position[record.display_index] = position;
-    if (intra_only) {
-      record.type = PictureType::kI;
-      record.keyframe = true;
-      continue;
-    }
-    record.type = picture_type_from_av(av_types[position], record.keyframe);
-    if (mpeg2_structure) {
-      // MPEG-2: B-pictures are never references; P predicts from the previous anchor and
-      // B from the two anchors before it in decode order (open GOPs included).
-      if (record.type == PictureType::kP && last_anchor >= 0) {
-        record.references = {last_anchor};
-      } else if (record.type == PictureType::kB) {
-        if (previous_anchor >= 0) record.references.push_back(previous_anchor);
-        if (last_anchor >= 0) record.references.push_back(last_anchor);
-      }
-      if (record.type != PictureType::kB) {
-        previous_anchor = last_anchor;
-        last_anchor = record.display_index;
-      }
-    } else if (!record.keyframe && position > 0) {
-      record.references = {sequence->frames[position - 1].display_index};
-    }
+    if (intra_only) record.keyframe = true;
+    record.type = intra_only ? PictureType::kI
+                             : picture_type_from_av(av_types[position], record.keyframe);
+  }
+  if (intra_only) return Status::Ok();
+  if (mpeg2_structure) {
+    detail::link_mpeg2_references(sequence);
+  } else {
+    detail::link_chained_references(sequence);
   }
   return Status::Ok();
 }
@@ -241,7 +237,7 @@ std::string first_available_av1_encoder() {
 std::vector<CodecProbe> probe_codecs() {
   std::vector<CodecProbe> probes;
   for (const char* name : {"mpeg2video", "libx264", "libx265", "libaom-av1", "libsvtav1",
-                           "librav1e", "mjpeg", "png"}) {
+                           "librav1e", "mjpeg", "png", "libwebp", "libjxl"}) {
     const AVCodec* encoder = avcodec_find_encoder_by_name(name);
     probes.push_back({name, encoder && avcodec_find_decoder(encoder->id) != nullptr});
   }
@@ -283,6 +279,10 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
                   settings.codec + " qscale must be 1..31, got " +
                       std::to_string(settings.quantizer));
   }
+  if (uses_global_quality(encoder->id) && (settings.quantizer < 0 || settings.quantizer > 100)) {
+    return Status(ErrorCode::kInvalidArgument,
+                  settings.codec + " quality must be 0..100, got " + std::to_string(settings.quantizer));
+  }
 
   const bool image_codec = is_image_codec(encoder->id);
   const bool intra_only = image_codec || settings.gop_size <= 1;
@@ -295,7 +295,7 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
   context->thread_count = settings.threads;
   AVPixelFormat format = AV_PIX_FMT_YUV420P;
   bool full_range = false;
-  if (encoder->id == AV_CODEC_ID_PNG) {
+  if (encoder->id == AV_CODEC_ID_PNG || encoder->id == AV_CODEC_ID_JPEGXL) {
     format = AV_PIX_FMT_RGB24;
   } else if (encoder->id == AV_CODEC_ID_MJPEG) {
     format = AV_PIX_FMT_YUVJ420P;  // JFIF: full-range BT.601
@@ -305,12 +305,15 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
   context->pix_fmt = format;
   if (!image_codec) {
     context->gop_size = intra_only ? 1 : settings.gop_size;
+    // libaom codes every frame a key frame with a key-frame distance of 0 (its all-intra
+    // mode refuses anything else).
+    if (intra_only && encoder->id == AV_CODEC_ID_AV1 && settings.codec == "libaom-av1") context->gop_size = 0;
     context->max_b_frames = intra_only ? 0 : settings.max_b_frames;
-    // Only MPEG-2's open-GOP references are known to the index (B from the anchors around
-    // it); every other inter codec is kept to closed GOPs so decoding can start at any
-    // keyframe.
+    // MPEG-2 follows closed_gop; libx264 and libx265 follow open_gop; every other inter
+    // codec is kept to closed GOPs.
     const bool mpeg2 = encoder->id == AV_CODEC_ID_MPEG2VIDEO;
-    if (settings.closed_gop || !mpeg2) context->flags |= AV_CODEC_FLAG_CLOSED_GOP;
+    const bool open = mpeg2 ? !settings.closed_gop : settings.open_gop && supports_open_gop(settings.codec);
+    if (!open) context->flags |= AV_CODEC_FLAG_CLOSED_GOP;
     // No scene-change I-frames: the GOP structure comes from the GOP size and the forced
     // row starts alone (mpegvideo also refuses closed GOPs with scene-change detection).
     if (uses_qscale(encoder->id) &&
@@ -321,7 +324,7 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
   }
   if (settings.bit_rate > 0 && encoder->id != AV_CODEC_ID_PNG) {
     context->bit_rate = settings.bit_rate;
-  } else if (qscale) {
+  } else if (qscale || uses_global_quality(encoder->id)) {
     context->flags |= AV_CODEC_FLAG_QSCALE;
     context->global_quality = settings.quantizer * FF_QP2LAMBDA;
   } else if (encoder->id != AV_CODEC_ID_PNG) {
@@ -335,8 +338,9 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
   }
   if (settings.codec == "libx265") {
     SVC_RETURN_IF_ERROR(set_private_option(context.get(), "forced-idr", "1", settings.codec));
-    std::string params = "open-gop=0:log-level=error";
+    std::string params = std::string("open-gop=") + (settings.open_gop ? "1" : "0") + ":log-level=error";
     if (settings.threads == 1) params += ":pools=none:frame-threads=1";
+    if (!settings.x265_params.empty()) params += ":" + settings.x265_params;
     SVC_RETURN_IF_ERROR(set_private_option(context.get(), "x265-params", params, settings.codec));
   }
   for (const auto& [key, value] : settings.codec_options) {

@@ -103,7 +103,8 @@ uint64_t hilbert_distance(uint32_t n, uint32_t x, uint32_t z);
 
 struct EncodeSettings {
   // libavcodec encoder name: "mpeg2video", "libx264", "libx265", "libaom-av1",
-  // "libsvtav1", "librav1e", "mjpeg" (JPEG per frame) or "png" (PNG per frame).
+  // "libsvtav1", "librav1e", or per frame "mjpeg" (JPEG), "png", "libwebp" (WebP),
+  // "libjxl" (JPEG XL). gop_size 1 codes an inter codec intra-only (AVIF: libaom-av1).
   std::string codec = "mpeg2video";
   // Frames from one I-frame to the next at most (the encoder's gop_size); 1 = every frame
   // an I-frame (intra-only). Ignored by mjpeg and png, which are always intra.
@@ -113,7 +114,8 @@ struct EncodeSettings {
   // Constant quantizer when bit_rate == 0. Its meaning is the codec's:
   //   mpeg2video, mjpeg: qscale 1..31 (as `ffmpeg -qscale:v`);
   //   libx264, libx265, libaom-av1, libsvtav1: CRF (private option "crf");
-  //   librav1e: quantizer 0..255 (private option "qp"); png: ignored (lossless).
+  //   librav1e: quantizer 0..255 (private option "qp"); png: ignored (lossless);
+  //   libwebp, libjxl: quality 0..100, higher is better (as `ffmpeg -q:v`).
   int quantizer = 4;
   // Target bit rate in bits/s (25 frames/s); > 0 selects rate control instead of the
   // quantizer. Not used by png.
@@ -124,9 +126,15 @@ struct EncodeSettings {
   // true: AV_CODEC_FLAG_CLOSED_GOP, no frame refers across a GOP start. FFmpeg's MPEG-2
   // encoder then ends every GOP on a P-frame, so gop_size 6 codes as I B B P | I B B P P.
   // For mpeg2video, scene-change detection is off either way (sc_threshold 1e9), so the
-  // GOP structure follows gop_size and force_intra alone. Other inter codecs are always
-  // coded with closed GOPs (their reference structure is not in the index).
+  // GOP structure follows gop_size and force_intra alone. Other inter codecs follow
+  // open_gop.
   bool closed_gop = false;
+  // libx264 and libx265 only: open GOPs (as their users run them: the B-frames shown just
+  // before an I-frame are coded after it and predicted from the previous GOP too; the
+  // index records that dependency). false: closed GOPs. Other codecs: always closed.
+  bool open_gop = false;
+  // libx265 only: appended to the default "x265-params", e.g. "b-pyramid=0".
+  std::string x265_params;
   // Private options passed to the encoder last, e.g. {"cpu-used", "8"} for libaom-av1,
   // {"preset", "ultrafast"} for libx264. An entry replaces any default set here (for
   // libx265 the default "x265-params" is "open-gop=0:log-level=error").
@@ -150,8 +158,10 @@ struct FrameRecord {
   // Display indices of the frames this one is predicted from directly. MPEG-2: P ->
   // previous anchor (I/P) in decode order; B -> the two anchors before it in decode order
   // (the anchors around it in display order). Other inter codecs, whose reference
-  // structure is not exposed: the previous frame in decode order (so all frames from
-  // the keyframe on are needed). Intra frames: none.
+  // structure is not parsed: the latest reference frame before it in decode order (H.264
+  // and HEVC frames marked non-reference are skipped), and for the leading frames of an
+  // open GOP also the latest reference before their keyframe; so every reference frame
+  // from the keyframe on is needed. Intra frames: none.
   std::vector<int> references;
 };
 
@@ -182,7 +192,7 @@ struct CodecProbe {
   std::string name;
   bool available = false;  // false: report as skipped
 };
-// mpeg2video, libx264, libx265, the AV1 encoders, mjpeg and png with their availability
+// mpeg2video, libx264, libx265, the AV1 encoders, mjpeg, png, libwebp and libjxl with their availability
 // (encoder and matching decoder).
 std::vector<CodecProbe> probe_codecs();
 
@@ -262,7 +272,7 @@ Result<DecodedFrame> decode_cell_face(const EncodedDatabase& database, CellIndex
 // and the six face sequences beside it.
 
 // File name extension for an encoder's elementary stream: "m2v", "h264", "hevc", "obu",
-// "mjpeg", "pngs", or "bin".
+// "mjpeg", "pngs", "webps", "jxls", or "bin".
 std::string stream_extension(const std::string& encoder);
 
 Status write_sequence(const EncodedSequence& sequence, const std::filesystem::path& stream_path);

@@ -68,6 +68,9 @@ Result<FramePtr> rgb_to_frame(const ImageRGB8& image, AVPixelFormat format, bool
   if (int err = av_frame_get_buffer(rgb.get(), 0); err < 0) {
     return av_error("allocating an RGB frame", err);
   }
+  for (AVBufferRef* buffer : rgb->buf) {
+    if (buffer) std::memset(buffer->data, 0, buffer->size);
+  }
   const size_t row_bytes = static_cast<size_t>(image.width) * 3;
   for (int y = 0; y < image.height; ++y) {
     std::memcpy(rgb->data[0] + static_cast<ptrdiff_t>(y) * rgb->linesize[0],
@@ -82,6 +85,11 @@ Result<FramePtr> rgb_to_frame(const ImageRGB8& image, AVPixelFormat format, bool
   out->height = image.height;
   if (int err = av_frame_get_buffer(out.get(), 0); err < 0) {
     return av_error("allocating a YUV frame", err);
+  }
+  // Encoders may read the padding past each row (x265 does): zero it, so the bytes do
+  // not depend on what the heap held before.
+  for (AVBufferRef* buffer : out->buf) {
+    if (buffer) std::memset(buffer->data, 0, buffer->size);
   }
   bool named_full = false;
   const AVPixelFormat sws_format = plain_format(format, &named_full);

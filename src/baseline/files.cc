@@ -186,6 +186,8 @@ std::string stream_extension(const std::string& encoder) {
   if (encoder == "libaom-av1" || encoder == "libsvtav1" || encoder == "librav1e") return "obu";
   if (encoder == "mjpeg") return "mjpeg";
   if (encoder == "png") return "pngs";
+  if (encoder == "libwebp") return "webps";
+  if (encoder == "libjxl") return "jxls";
   return "bin";
 }
 

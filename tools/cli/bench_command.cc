@@ -17,6 +17,7 @@ struct BenchSubcommand::Options {
   std::string codecs;
   std::string out_dir = "bench-results";
   bool no_experiments = false;
+  std::vector<std::string> presets;  // CODEC=PRESET
 };
 
 BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Options>()) {
@@ -36,7 +37,13 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   command_->add_option("--seed", options_->bench.seed, "Seed of the random access picks")->capture_default_str();
-  command_->add_flag("--quick", options_->bench.quick, "Two quality points per codec");
+  command_->add_flag("--quick", options_->bench.quick, "Two PSNR targets, at most three encodes per codec");
+  command_->add_option("--gop", options_->bench.gop, "GOP (frames between I-frames) of x264, x265 and AV1")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  command_->add_option("--anchor-preset", options_->presets,
+                       "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "
+                       "libaom cpu-used where SVT-AV1 is missing), avif=6 (libaom cpu-used), jxl=7 (effort)");
   command_->add_flag("--no-experiments", options_->no_experiments,
                      "Skip the dissertation experiments (Table 7.5, Figure 7.16, Table 7.4)");
 }
@@ -52,6 +59,13 @@ int BenchSubcommand::run() const {
   std::stringstream list(options_->codecs);
   for (std::string name; std::getline(list, name, ',');) {
     if (!name.empty()) options.codecs.push_back(name);
+  }
+  for (const std::string& entry : options_->presets) {
+    const size_t eq = entry.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == entry.size()) {
+      return report_error(Status(ErrorCode::kInvalidArgument, "--anchor-preset wants CODEC=PRESET, not '" + entry + "'"));
+    }
+    options.anchor_presets[entry.substr(0, eq)] = entry.substr(eq + 1);
   }
   options.progress = [](const std::string& line) {
     std::fprintf(stderr, "%s\n", line.c_str());

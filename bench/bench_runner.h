@@ -1,0 +1,82 @@
+// Internal to `svc bench`: the state of one run over one database, shared by the codec
+// sweeps (codec_runs.cc), the access measurements (access_measure.cc) and the
+// dissertation's experiments (experiments.cc).
+#pragma once
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "anchors.h"
+#include "baseline/baseline.h"
+#include "bench_util.h"
+#include "rd_curve.h"
+#include "source_faces.h"
+#include "svc/encoder.h"
+#include "svc/reader.h"
+#include "svc_bench.h"
+
+namespace svc::bench {
+
+// One svc encode of the (possibly subsampled) database, decoded and scored.
+struct SvcRun {
+  EncoderSettings settings;
+  int sample_spacing = 1;
+  std::filesystem::path file;
+  EncodeSummary summary;
+  QualityPoint point;
+};
+
+class Bench {
+ public:
+  Bench(const BenchOptions& options, SourceFaces source, int threads, Clock::time_point start);
+
+  uint64_t raw_bytes() const { return raw_bytes_; }
+  void log(const std::string& line) const;
+  void remove_work_dir() const;
+
+  // The quality search, speed and random access of one codec.
+  Result<CodecResult> run_codec(const CodecPlan& plan);
+  Result<Experiments> run_experiments(const std::vector<CodecResult>& codecs, std::vector<PartTiming>* timings);
+
+ private:
+  void fill_rates(QualityPoint* p, uint64_t faces) const;
+  void log_point(const std::string& codec, const QualityPoint& p) const;
+  void finish_speed(CodecResult* result) const;
+
+  Result<SvcRun> run_svc(const EncoderSettings& settings, int sample_spacing, const std::string& tag,
+                         std::unique_ptr<Reader>* reader_out = nullptr);
+  Status run_svc_codec(const CodecPlan& plan, CodecResult* result);
+  Status run_baseline_codec(const CodecPlan& plan, CodecResult* result);
+  Result<baseline::EncodedDatabase> encode_baseline(const CodecPlan& plan, const baseline::EncodeSettings& settings);
+  Result<QualityPoint> measure_baseline(const CodecPlan& plan, int setting, baseline::EncodedDatabase* keep);
+  static int reference_index(const std::vector<QualityPoint>& points, std::optional<double> target);
+
+  // access_measure.cc
+  Status svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* result);
+  Status baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded, CodecResult* result);
+
+  // experiments.cc
+  const SvcRun* find_run(int quality, std::array<int32_t, 3> i_spacing, MotionSearch motion, int spacing) const;
+  Result<const SvcRun*> get_run(int quality, std::array<int32_t, 3> i_spacing, MotionSearch motion, int spacing);
+  Status table_7_5(const std::vector<CodecResult>& codecs, Experiments* ex);
+  Status figure_7_16(Experiments* ex);
+  Status table_7_4(Experiments* ex);
+
+  const BenchOptions& options_;
+  SourceFaces source_;
+  int threads_ = 1;
+  std::filesystem::path work_dir_;
+  std::vector<Pick> picks_;
+  std::array<int, 2> horizontal_{0, 2};
+  uint64_t pixels_per_face_ = 0;
+  uint64_t raw_bytes_ = 0;
+  Clock::time_point start_;
+  std::deque<SvcRun> svc_runs_;
+  std::optional<double> svc_reference_psnr_;
+  int experiments_quality_ = 75;
+};
+
+}  // namespace svc::bench

@@ -1,0 +1,251 @@
+// The quality search of each codec over the whole database, with speed and access cost
+// at its reference point (see svc_bench.h).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "bench_runner.h"
+#include "settings_search.h"
+
+namespace svc::bench {
+
+Bench::Bench(const BenchOptions& options, SourceFaces source, int threads, Clock::time_point start)
+    : options_(options), source_(std::move(source)), threads_(threads), start_(start) {
+  work_dir_ = options_.out_dir / "work";
+  horizontal_ = horizontal_axes(source_.manifest.up_axis);
+  picks_ = random_picks(source_.manifest.cells.size(), options_.random_accesses, options_.seed);
+  pixels_per_face_ = static_cast<uint64_t>(source_.manifest.face_width) * source_.manifest.face_height;
+  raw_bytes_ = pixels_per_face_ * 3 * source_.faces.size();
+}
+
+void Bench::log(const std::string& line) const {
+  if (!options_.progress) return;
+  char prefix[32];
+  std::snprintf(prefix, sizeof prefix, "[%6.1f s] ", seconds_since(start_));
+  options_.progress(prefix + line);
+}
+
+void Bench::remove_work_dir() const {
+  std::error_code ec;
+  std::filesystem::remove_all(work_dir_, ec);
+}
+
+void Bench::fill_rates(QualityPoint* p, uint64_t faces) const {
+  p->compression_ratio = p->bytes ? static_cast<double>(pixels_per_face_ * 3 * faces) / p->bytes : 0;
+  p->bits_per_pixel = faces ? 8.0 * p->bytes / (static_cast<double>(pixels_per_face_) * faces) : 0;
+}
+
+void Bench::log_point(const std::string& codec, const QualityPoint& p) const {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%s %s %d: %llu bytes (%.1f:1, %.3f bpp), PSNR-Y %.2f dB, RGB %.2f dB, SSIM %.4f, %.1f s",
+                codec.c_str(), p.setting_name.c_str(), p.setting, static_cast<unsigned long long>(p.bytes),
+                p.compression_ratio, p.bits_per_pixel, p.psnr_y, p.psnr_rgb, p.ssim, p.encode_seconds);
+  log(line);
+}
+
+Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacing, const std::string& tag,
+                              std::unique_ptr<Reader>* reader_out) {
+  SvcRun run;
+  run.settings = settings;
+  run.settings.threads = threads_;
+  run.sample_spacing = sample_spacing;
+  std::filesystem::path db = options_.db_dir;
+  if (sample_spacing > 1) {
+    db = work_dir_ / ("subsampled-" + std::to_string(sample_spacing));
+    SVC_RETURN_IF_ERROR(write_subsampled_manifest(options_.db_dir, sample_spacing, db));
+  }
+  run.file = work_dir_ / (tag + ".svc");
+  SVC_ASSIGN_OR_RETURN(run.summary, encode_database(db, run.file, run.settings));
+  run.point.setting_name = settings.quant_scale ? "qscale" : "quality";
+  run.point.setting = settings.quant_scale ? settings.quant_scale : settings.quality;
+  run.point.bytes = run.summary.file_bytes;
+  run.point.encode_seconds = run.summary.seconds;
+  fill_rates(&run.point, run.summary.faces);
+
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(run.file));
+  const auto& cells = reader->cells();
+  std::vector<ImageRGB8> decoded(cells.size() * kFaceCount);
+  const auto t0 = Clock::now();
+  for (size_t c = 0; c < cells.size(); ++c) {
+    for (Face f : kAllFaces) {
+      SVC_ASSIGN_OR_RETURN(decoded[c * kFaceCount + static_cast<size_t>(f)], reader->decode_face(cells[c].index, f));
+    }
+  }
+  run.point.decode_seconds = seconds_since(t0);
+  std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    CellIndex original = cells[c].index;
+    for (int axis : horizontal_) component(original, axis) *= sample_spacing;
+    const auto ordinal = source_.ordinal(original);
+    if (!ordinal) {
+      return Status(ErrorCode::kInternal, "svc bench: decoded cell " + cell_label(cells[c].index) + " of " +
+                                              run.file.string() + " is not in the source database");
+    }
+    for (Face f : kAllFaces) {
+      pairs.emplace_back(&source_.face(*ordinal, f), &decoded[c * kFaceCount + static_cast<size_t>(f)]);
+    }
+  }
+  SVC_ASSIGN_OR_RETURN(Score score, score_faces(pairs, threads_));
+  run.point.psnr_rgb = score.psnr_rgb;
+  run.point.psnr_y = score.psnr_y;
+  run.point.ssim = score.ssim;
+  if (reader_out) *reader_out = std::move(reader);
+  return run;
+}
+
+Status Bench::run_svc_codec(const CodecPlan& plan, CodecResult* result) {
+  std::unique_ptr<Reader> reference_reader;
+  const SvcRun* reference_run = nullptr;
+  auto measure = [&](int quality) -> Result<double> {
+    EncoderSettings settings = default_encoder_settings();
+    settings.quality = quality;
+    settings.intra_only = plan.svc_intra;
+    if (plan.svc_intra) settings.i_spacing = {1, 1, 1};
+    std::unique_ptr<Reader> reader;
+    SVC_ASSIGN_OR_RETURN(SvcRun run, run_svc(settings, 1, plan.name + "-q" + std::to_string(quality), &reader));
+    log_point(plan.name, run.point);
+    result->points.push_back(run.point);
+    svc_runs_.push_back(std::move(run));
+    if (quality == experiments_quality_ || !reference_reader) {
+      reference_reader = std::move(reader);
+      reference_run = &svc_runs_.back();
+    }
+    return svc_runs_.back().point.psnr_y;
+  };
+  SVC_RETURN_IF_ERROR(search_settings(plan.range, default_targets(options_.quick), measure).status());
+  std::sort(result->points.begin(), result->points.end(),
+            [](const QualityPoint& a, const QualityPoint& b) { return a.setting < b.setting; });
+  for (size_t i = 0; i < result->points.size(); ++i) {
+    if (result->points[i].setting == reference_run->point.setting) result->reference_point = static_cast<int>(i);
+  }
+  SVC_RETURN_IF_ERROR(svc_access(*reference_run, *reference_reader, result));
+  if (plan.name == "svc") svc_reference_psnr_ = reference_run->point.psnr_y;
+  return Status::Ok();
+}
+
+Result<baseline::EncodedDatabase> Bench::encode_baseline(const CodecPlan& plan,
+                                                         const baseline::EncodeSettings& settings) {
+  baseline::EncodedDatabase encoded;
+  std::vector<CellIndex> cells;
+  for (const CellSource& c : source_.manifest.cells) cells.push_back(c.index);
+  const auto& d = source_.manifest.grid.dims;
+  SVC_ASSIGN_OR_RETURN(encoded.layout, baseline::order_cells(cells, {d[0], d[1], d[2]}, plan.order,
+                                                             std::max(1, settings.gop_size)));
+  if (!plan.force_row_starts) std::fill(encoded.layout.gop_start.begin(), encoded.layout.gop_start.end(), 0);
+  std::vector<size_t> ordinals;
+  for (const CellIndex& c : encoded.layout.cells) ordinals.push_back(*source_.ordinal(c));
+  SVC_RETURN_IF_ERROR(parallel_for(kFaceCount, plan.parallel_faces ? threads_ : 1, [&](size_t f) -> Status {
+    baseline::FrameSource frames;
+    frames.frame_count = static_cast<int>(ordinals.size());
+    frames.width = source_.manifest.face_width;
+    frames.height = source_.manifest.face_height;
+    frames.load = [&, f](int k) -> Result<ImageRGB8> { return source_.face(ordinals[k], kAllFaces[f]); };
+    std::span<const uint8_t> force;
+    if (plan.force_row_starts) force = encoded.layout.gop_start;
+    SVC_ASSIGN_OR_RETURN(encoded.faces[f], baseline::encode_sequence(frames, force, settings));
+    return Status::Ok();
+  }));
+  return encoded;
+}
+
+Result<QualityPoint> Bench::measure_baseline(const CodecPlan& plan, int setting, baseline::EncodedDatabase* keep) {
+  baseline::EncodeSettings settings = plan.base;
+  settings.quantizer = setting;
+  QualityPoint point;
+  point.setting_name = plan.setting_name;
+  point.setting = setting;
+  const auto t0 = Clock::now();
+  SVC_ASSIGN_OR_RETURN(baseline::EncodedDatabase encoded, encode_baseline(plan, settings));
+  point.encode_seconds = seconds_since(t0);
+  point.bytes = encoded.total_bytes();
+  fill_rates(&point, source_.faces.size());
+
+  std::array<std::vector<ImageRGB8>, kFaceCount> decoded;
+  const auto t1 = Clock::now();
+  for (Face f : kAllFaces) {
+    SVC_ASSIGN_OR_RETURN(decoded[static_cast<int>(f)], baseline::decode_all(encoded.faces[static_cast<int>(f)]));
+  }
+  point.decode_seconds = seconds_since(t1);
+  std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs;
+  for (Face f : kAllFaces) {
+    const auto& frames = decoded[static_cast<int>(f)];
+    if (frames.size() != encoded.layout.cells.size()) {
+      return Status(ErrorCode::kInternal, plan.name + ": decoded " + std::to_string(frames.size()) +
+                                              " frames of face " + face_name(f) + ", expected " +
+                                              std::to_string(encoded.layout.cells.size()));
+    }
+    for (size_t k = 0; k < frames.size(); ++k) {
+      pairs.emplace_back(&source_.face(*source_.ordinal(encoded.layout.cells[k]), f), &frames[k]);
+    }
+  }
+  SVC_ASSIGN_OR_RETURN(Score score, score_faces(pairs, threads_));
+  point.psnr_rgb = score.psnr_rgb;
+  point.psnr_y = score.psnr_y;
+  point.ssim = score.ssim;
+  if (keep) *keep = std::move(encoded);
+  return point;
+}
+
+int Bench::reference_index(const std::vector<QualityPoint>& points, std::optional<double> target) {
+  if (points.empty()) return -1;
+  if (!target) return static_cast<int>(points.size() / 2);
+  int best = 0;
+  for (size_t i = 1; i < points.size(); ++i) {
+    if (std::abs(points[i].psnr_y - *target) < std::abs(points[best].psnr_y - *target)) best = static_cast<int>(i);
+  }
+  return best;
+}
+
+Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
+  // Every point's streams are kept (compressed, so small) until the reference point for
+  // the access measurements is known.
+  std::map<int, baseline::EncodedDatabase> encoded;
+  auto measure = [&](int setting) -> Result<double> {
+    SVC_ASSIGN_OR_RETURN(QualityPoint point, measure_baseline(plan, setting, &encoded[setting]));
+    log_point(plan.name, point);
+    result->points.push_back(point);
+    return point.psnr_y;
+  };
+  SVC_RETURN_IF_ERROR(search_settings(plan.range, default_targets(options_.quick), measure).status());
+  std::sort(result->points.begin(), result->points.end(),
+            [](const QualityPoint& a, const QualityPoint& b) { return a.setting < b.setting; });
+  result->reference_point = reference_index(result->points, svc_reference_psnr_);
+  const int setting = result->points[result->reference_point].setting;
+  result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png", "out." + baseline::stream_extension(plan.encoder),
+                                          source_.manifest.grid.dims[0]);
+  return baseline_access(plan, encoded.at(setting), result);
+}
+
+void Bench::finish_speed(CodecResult* result) const {
+  const QualityPoint& ref = result->points[result->reference_point];
+  const double faces = static_cast<double>(source_.faces.size());
+  result->encode_faces_per_second = ref.encode_seconds > 0 ? faces / ref.encode_seconds : 0;
+  result->decode_faces_per_second = ref.decode_seconds > 0 ? faces / ref.decode_seconds : 0;
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%s: encode %.1f faces/s, decode %.1f faces/s, random face cold %.2f ms (%.2f frames), warm %.2f ms",
+                result->name.c_str(), result->encode_faces_per_second, result->decode_faces_per_second,
+                result->access_cold.mean_ms, result->access_cold.mean_frames, result->access_warm.mean_ms);
+  log(line);
+}
+
+Result<CodecResult> Bench::run_codec(const CodecPlan& plan) {
+  CodecResult result;
+  result.name = plan.name;
+  result.encoder = plan.encoder;
+  result.description = plan.description;
+  result.threads = threads_;
+  if (!plan.is_svc && (plan.encoder.empty() || !baseline::encoder_available(plan.encoder))) {
+    result.skipped = true;
+    result.skip_reason = plan.encoder.empty() ? "no AV1 encoder in this build of libavcodec"
+                                              : plan.encoder + " is not in this build of libavcodec";
+    log(plan.name + ": skipped (" + result.skip_reason + ")");
+    return result;
+  }
+  SVC_RETURN_IF_ERROR(plan.is_svc ? run_svc_codec(plan, &result) : run_baseline_codec(plan, &result));
+  finish_speed(&result);
+  return result;
+}
+
+}  // namespace svc::bench
