@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -24,6 +25,11 @@ struct CellIndex {
   int32_t x = 0, y = 0, z = 0;
   friend bool operator==(const CellIndex&, const CellIndex&) = default;
 };
+
+// "cell (x,y,z)", the way every message names a cell.
+std::string cell_label(const CellIndex& cell);
+// "cell (x,y,z) face px".
+std::string face_label(const CellIndex& cell, Face face);
 
 // glFrustum parameters of a face's perspective projection.
 struct Frustum {

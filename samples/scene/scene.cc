@@ -22,11 +22,6 @@ std::string cell_dir_name(const CellIndex& c) {
   return std::to_string(c.x) + "_" + std::to_string(c.y) + "_" + std::to_string(c.z);
 }
 
-std::string cell_label(const CellIndex& c) {
-  return "cell [" + std::to_string(c.x) + "," + std::to_string(c.y) + "," +
-         std::to_string(c.z) + "]";
-}
-
 std::array<double, 16> to_array(const glm::dmat4& m) {
   std::array<double, 16> out{};
   for (int col = 0; col < 4; ++col) {

@@ -47,10 +47,6 @@ Status corrupt(const std::string& what, uint64_t offset) {
   return Status(ErrorCode::kCorruptData, what + at_offset(offset));
 }
 
-std::string cell_name(const CellIndex& c) {
-  return "cell (" + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) + ")";
-}
-
 bool cell_less(const CellIndex& a, const CellIndex& b) {
   if (a.y != b.y) return a.y < b.y;
   if (a.z != b.z) return a.z < b.z;
@@ -297,17 +293,17 @@ Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
   const CellIndex& c = cell.index;
   if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= index.grid.dims[0] || c.y >= index.grid.dims[1] ||
       c.z >= index.grid.dims[2]) {
-    return corrupt(cell_name(c) + " lies outside the grid", record_at);
+    return corrupt(cell_label(c) + " lies outside the grid", record_at);
   }
   if (i > 0 && !cell_less(index.cells[i - 1].index, c)) {
-    return corrupt(cell_name(c) + " is out of order or repeated in the index", record_at);
+    return corrupt(cell_label(c) + " is out of order or repeated in the index", record_at);
   }
   for (double v : cell.position) {
-    if (!std::isfinite(v)) return corrupt(cell_name(c) + " has a non-finite position", record_at);
+    if (!std::isfinite(v)) return corrupt(cell_label(c) + " has a non-finite position", record_at);
   }
   for (int f = 0; f < kFaceCount; ++f) {
     if (!camera_is_valid(cell.cameras[f])) {
-      return corrupt(cell_name(c) + " face " + face_name(static_cast<Face>(f)) + " has an invalid camera",
+      return corrupt(face_label(c, static_cast<Face>(f)) + " has an invalid camera",
                      record_at);
     }
   }
@@ -348,7 +344,7 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
           // A non-finite centre makes a non-finite camera; check_cell names the centre first.
           cell.cameras[f] = camera_from_rig(rig[source], cell.position);
         } else {
-          return corrupt(cell_name(cell.index) + " face " + face_name(static_cast<Face>(f)) +
+          return corrupt(face_label(cell.index, static_cast<Face>(f)) +
                              " names camera rig entry " + std::to_string(source) + " of " +
                              std::to_string(rig.size()),
                          source_at);
@@ -383,7 +379,7 @@ Status check_frame(const FrameRecord& frame, uint8_t kind, uint64_t ref_count, c
 }
 
 std::string frame_name(const ContainerIndex& index, uint64_t i) {
-  return cell_name(index.cells[i / kFaceCount].index) + " face " + face_name(static_cast<Face>(i % kFaceCount));
+  return face_label(index.cells[i / kFaceCount].index, static_cast<Face>(i % kFaceCount));
 }
 
 Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
@@ -577,7 +573,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
     for (uint32_t ref : frame.references) {
       if (ref >= frame_count || index.frames[ref].kind != FrameKind::kIntra ||
           index.frames[ref].face != frame.face) {
-        return corrupt(cell_name(index.cells[frame.cell].index) + " face " + face_name(frame.face) +
+        return corrupt(face_label(index.cells[frame.cell].index, frame.face) +
                            " references frame " + std::to_string(ref) + ", which is not an I-face of the same face",
                        frames_at);
       }

@@ -684,11 +684,6 @@ uint8_t linear_to_srgb8(float linear) noexcept {
   return static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0, 1.0) * 255.0));
 }
 
-std::string cell_label(const CellIndex& index) {
-  return "cell (" + std::to_string(index.x) + "," + std::to_string(index.y) + "," +
-         std::to_string(index.z) + ")";
-}
-
 std::filesystem::path resolve_database_path(const DatabaseManifest& manifest,
                                             const std::string& manifest_path) {
   const fs::path path(manifest_path);

@@ -189,8 +189,8 @@ int decode_command(const DecodeOptions& options) {
   if (options.cell) {
     auto ordinal = (*reader)->find_cell(*options.cell);
     if (!ordinal) {
-      return report_error(Status(ErrorCode::kNotFound, options.input.string() + " has no cell (" +
-                                                           cell_text(*options.cell) + ")"));
+      return report_error(Status(ErrorCode::kNotFound, options.input.string() + " has no " +
+                                                           cell_label(*options.cell)));
     }
     selected.push_back(*ordinal);
   } else {
@@ -422,7 +422,7 @@ int demo_command(const DemoOptions& options) {
       cell_y.add(*e_y);
       ++decoded_faces;
     }
-    std::printf("    cell (%s) %s-cube: 6 faces in %.2f ms, PSNR-Y %.2f dB\n", cell_text(cell.index).c_str(),
+    std::printf("    %s %s-cube: 6 faces in %.2f ms, PSNR-Y %.2f dB\n", cell_label(cell.index).c_str(),
                 cell.faces[0].type == FaceType::kIntra ? "I" : "B", seconds * 1e3, cell_y.psnr());
   }
   std::printf("  open       %.2f ms\n", open_seconds * 1e3);
