@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "baseline/baseline.h"
+#include "common/parallel.h"
 #include "database/database.h"
 #include "rd_curve.h"
 #include "svc/encoder.h"
@@ -30,29 +31,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// Runs body(i) for i in [0, count) on up to `threads` threads; the first error wins.
-Status parallel_for(size_t count, int threads, const std::function<Status(size_t)>& body) {
-  std::atomic<size_t> next{0};
-  std::mutex mutex;
-  Status first_error;
-  auto worker = [&] {
-    for (size_t i = next++; i < count; i = next++) {
-      Status status = body(i);
-      if (!status.ok()) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (first_error.ok()) first_error = status;
-        next = count;
-      }
-    }
-  };
-  const int n = std::max(1, std::min<int>(threads, static_cast<int>(count)));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& thread : pool) thread.join();
-  return first_error;
 }
 
 // The database's source faces, held in memory for scoring.
@@ -679,7 +657,7 @@ class Bench {
         rd.push_back({quality, double(run->point.bytes), run->point.psnr_y, run->point.encode_seconds});
         if (quality == q) {
           row.encode_seconds = run->point.encode_seconds;
-          const FrameTypeStats& s = run->summary.predicted;
+          const FaceTypeStats& s = run->summary.predicted;
           row.candidates_per_macroblock =
               s.candidate_macroblocks ? static_cast<double>(s.candidate_vectors) / s.candidate_macroblocks : 0;
         }
@@ -745,8 +723,7 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
   if (options.random_accesses < 1) {
     return Status(ErrorCode::kInvalidArgument, "svc bench: random_accesses must be at least 1");
   }
-  const int threads = options.threads > 0 ? options.threads
-                                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = resolve_thread_count(options.threads);
 
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir / "work", ec);

@@ -1168,7 +1168,7 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
     stats->modes.reserve(static_cast<size_t>(stats->macroblocks));
   }
 
-  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FrameType::kBidirectional), kBFrameSyntaxVersion,
+  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted), kBFrameSyntaxVersion,
                                 static_cast<uint8_t>(quant_scale), 0,
                                 static_cast<uint8_t>(state.reference_count),
                                 static_cast<uint8_t>(state.warp_mask)};
@@ -1210,7 +1210,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return corrupt("payload of " + std::to_string(bytes.size()) + " bytes is shorter than the " +
                    std::to_string(kBFrameHeaderBytes) + "-byte header");
   }
-  if (bytes[0] != static_cast<uint8_t>(FrameType::kBidirectional)) {
+  if (bytes[0] != static_cast<uint8_t>(FaceType::kPredicted)) {
     return corrupt("byte 0: frame type " + std::to_string(bytes[0]) + " is not bidirectional (1)");
   }
   if (bytes[1] != kBFrameSyntaxVersion) {

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <random>
 
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/file_io.h"
 #include "reader/prefetch_order.h"
 #include "scene/scene.h"

@@ -7,13 +7,9 @@
 #include <functional>
 
 #include "svc/status.h"
+#include "svc/types.h"
 
 namespace svc {
-
-enum class MotionSearch : uint8_t {
-  kDepth = 0,        // candidates from depth and camera reprojection (default)
-  kLogarithmic = 1,  // image-space logarithmic search in a 64-pixel window
-};
 
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best). Maps to a quantiser scale (quant_scale_for_quality):
@@ -35,7 +31,7 @@ struct EncoderSettings {
 EncoderSettings default_encoder_settings();
 
 // Statistics of one frame type (I or B) over a whole encode.
-struct FrameTypeStats {
+struct FaceTypeStats {
   uint64_t faces = 0;
   uint64_t bytes = 0;
   uint64_t mb_intra = 0;
@@ -54,8 +50,8 @@ struct EncodeSummary {
   uint64_t file_bytes = 0;  // size of the .svc file
   int quant_scale = 0;
   double seconds = 0;
-  FrameTypeStats intra;
-  FrameTypeStats predicted;
+  FaceTypeStats intra;
+  FaceTypeStats predicted;
 };
 
 // Called from the encoding thread after each face: (faces done, faces total). Return

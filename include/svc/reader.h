@@ -62,8 +62,6 @@ struct ReaderSettings {
 // Fills settings with the defaults documented on each field.
 ReaderSettings default_reader_settings();
 
-enum class FaceType : uint8_t { kIntra = 0, kPredicted = 1 };
-
 struct FaceEntry {
   FaceType type = FaceType::kIntra;
   uint64_t offset = 0;      // file offset of the face's chunk

@@ -31,6 +31,17 @@ std::string cell_label(const CellIndex& cell);
 // "cell (x,y,z) face px".
 std::string face_label(const CellIndex& cell, Face face);
 
+// How a face is coded: on its own (an I-face, in an I-cube) or predicted from up to
+// two reference I-faces (a B-face, in a B-cube). The value is the first byte of every
+// coded face and its type in the index.
+enum class FaceType : uint8_t { kIntra = 0, kPredicted = 1 };
+
+// Where a B-face's motion comes from.
+enum class MotionSearch : uint8_t {
+  kDepth = 0,        // candidates from depth and camera reprojection (default)
+  kLogarithmic = 1,  // image-space logarithmic search in a 64-pixel window
+};
+
 // glFrustum parameters of a face's perspective projection.
 struct Frustum {
   double left = -1, right = 1, bottom = -1, top = 1, near_plane = 0.05, far_plane = 100;

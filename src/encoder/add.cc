@@ -9,7 +9,7 @@
 #include <string>
 
 #include "common/parallel.h"
-#include "container/container.h"
+#include "container/updater.h"
 #include "database/database.h"
 #include "encoder/coding_pipeline.h"
 #include "reader/face_decode.h"
@@ -124,8 +124,8 @@ Result<NewCellTypes> type_new_cells(const std::vector<UnionCell>& cells, const C
   for (size_t c = 0; c < cells.size(); ++c) {
     for (int f = 0; f < kFaceCount; ++f) {
       types.intra[c][f] = cells[c].old_cell >= 0
-                              ? old.frames[static_cast<size_t>(cells[c].old_cell) * kFaceCount + f].kind ==
-                                    FrameKind::kIntra
+                              ? old.frames[static_cast<size_t>(cells[c].old_cell) * kFaceCount + f].type ==
+                                    FaceType::kIntra
                               : placement[c].intra;
     }
   }
@@ -195,7 +195,7 @@ ContainerIndex merged_index(const ContainerIndex& old, const std::vector<UnionCe
       FrameRecord& frame = index.frames[c * kFaceCount + f];
       frame.cell = static_cast<uint32_t>(c);
       frame.face = static_cast<Face>(f);
-      frame.kind = types.intra[c][f] ? FrameKind::kIntra : FrameKind::kPredicted;
+      frame.type = types.intra[c][f] ? FaceType::kIntra : FaceType::kPredicted;
       for (uint32_t ref_cell : types.references[c][f]) {
         frame.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
       }

@@ -4,7 +4,7 @@
 
 #include "codec/bframe_codec.h"
 #include "codec/color.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"
 
@@ -21,7 +21,7 @@ class Pipeline {
  public:
   explicit Pipeline(CodingJob& job) : job_(job), index_(*job.index) {
     for (uint32_t frame : job.frames) {
-      (index_.frames[frame].kind == FrameKind::kIntra ? intra_ : predicted_).push_back(frame);
+      (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
     intra_params_.quant_scale = static_cast<int>(index_.coding.quant_scale);
     b_params_.quant_scale = codec::suggested_b_quant_scale(intra_params_.quant_scale);
@@ -64,12 +64,12 @@ class Pipeline {
       refs.push_back({&job_.reconstructions.at(ref), &index_.cells[index_.frames[ref].cell].cameras[f]});
     }
     return code_predicted_face(data, index_.cells[record.cell].cameras[f], refs,
-                               index_.coding.motion == MotionSource::kDepth, b_params_, frame_name(frame));
+                               index_.coding.motion == MotionSearch::kDepth, b_params_, frame_name(frame));
   }
 
   Status store_predicted(uint32_t frame, const CodedPredictedFace& coded) {
     SVC_RETURN_IF_ERROR(store(frame, coded.payload));
-    FrameTypeStats& s = index_.stats[1];
+    FaceTypeStats& s = index_.stats[1];
     s.mb_intra += coded.stats.mb_intra;
     s.mb_forward += coded.stats.mb_forward;
     s.mb_backward += coded.stats.mb_backward;
@@ -86,7 +86,7 @@ class Pipeline {
     FrameRecord& record = index_.frames[frame];
     record.chunk_offset = offset;
     record.payload_size = static_cast<uint32_t>(payload.size());
-    FrameTypeStats& stats = index_.stats[static_cast<int>(record.kind)];
+    FaceTypeStats& stats = index_.stats[static_cast<int>(record.type)];
     stats.faces += 1;
     stats.bytes += payload.size();
     ++done_;

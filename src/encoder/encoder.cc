@@ -6,9 +6,9 @@
 #include <string>
 
 #include "codec/bframe_codec.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/parallel.h"
-#include "container/container.h"
+#include "container/writer.h"
 #include "database/database.h"
 #include "encoder/coding_pipeline.h"
 #include "spatial/placement.h"
@@ -85,8 +85,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
   index.up_axis = manifest.up_axis;
   index.coding.quality = settings.quant_scale != 0 ? 0 : static_cast<uint32_t>(settings.quality);
   index.coding.quant_scale = static_cast<uint32_t>(quant_scale);
-  index.coding.motion =
-      settings.motion == MotionSearch::kDepth ? MotionSource::kDepth : MotionSource::kLogSearch;
+  index.coding.motion = settings.motion;
   index.cells.reserve(manifest.cells.size());
   for (const CellSource& source : manifest.cells) {
     CellRecord cell;
@@ -121,7 +120,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
       FrameRecord& record = index.frames[frame];
       record.cell = static_cast<uint32_t>(cell);
       record.face = static_cast<Face>(f);
-      record.kind = placement[cell].intra ? FrameKind::kIntra : FrameKind::kPredicted;
+      record.type = placement[cell].intra ? FaceType::kIntra : FaceType::kPredicted;
       for (uint32_t ref_cell : placement[cell].references) record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
       job.frames.push_back(frame);
     }

@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 
 namespace svc {
 
@@ -33,14 +33,14 @@ Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const Containe
                                         CodedFaceSource& source, std::vector<codec::MacroblockMode>* modes) {
   const FrameRecord& record = index.frames[frame];
   if (modes) modes->clear();
-  if (record.kind == FrameKind::kIntra) return source.intra_face(frame);
+  if (record.type == FaceType::kIntra) return source.intra_face(frame);
   SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, source.payload(frame));
   std::array<FacePointer, 2> refs;
   for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
     // parse_index admits only I-faces as references: one level at most.
     const uint32_t ref = record.references[r];
     Result<FacePointer> image =
-        index.frames[ref].kind == FrameKind::kIntra
+        index.frames[ref].type == FaceType::kIntra
             ? source.intra_face(ref)
             : Result<FacePointer>(frame_error(Status(ErrorCode::kCorruptData, "reference is not an I-face"), file,
                                               index, ref));

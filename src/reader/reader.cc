@@ -14,7 +14,7 @@
 
 #include "codec/bframe_codec.h"
 #include "codec/color.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "reader/face_decode.h"
@@ -170,7 +170,7 @@ struct Reader::Impl {
   Result<ImagePointer> decode_through_caches(uint32_t frame, Origin origin) {
     CachedSource source(*this, origin);
     auto image = decode_indexed_face(*file, index, frame, source);
-    if (image.ok() && index.frames[frame].kind == FrameKind::kPredicted) {
+    if (image.ok() && index.frames[frame].type == FaceType::kPredicted) {
       predicted_decoded.fetch_add(1, std::memory_order_relaxed);
     }
     return image;
@@ -304,7 +304,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
   info.quality = static_cast<int>(index.coding.quality);
   info.quant_scale = static_cast<int>(index.coding.quant_scale);
   info.i_spacing = index.coding.i_spacing;
-  info.motion = index.coding.motion == MotionSource::kDepth ? "depth" : "logarithmic";
+  info.motion = index.coding.motion == MotionSearch::kDepth ? "depth" : "logarithmic";
   info.up_axis = "xyz"[static_cast<int>(index.up_axis)];
 
   impl->cells.resize(index.cells.size());
@@ -317,7 +317,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
     for (int f = 0; f < kFaceCount; ++f) {
       const FrameRecord& frame = index.frames[c * kFaceCount + f];
       FaceEntry& face = entry.faces[f];
-      face.type = frame.kind == FrameKind::kIntra ? FaceType::kIntra : FaceType::kPredicted;
+      face.type = frame.type;
       face.offset = frame.chunk_offset;
       face.coded_bytes = frame.payload_size;
       for (uint32_t ref : frame.references) {
@@ -373,7 +373,7 @@ Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
   std::vector<codec::MacroblockMode> modes;
   SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->decode_uncached(frame, &modes));
   InspectedFace out;
-  out.type = impl_->index.frames[frame].kind == FrameKind::kIntra ? FaceType::kIntra : FaceType::kPredicted;
+  out.type = impl_->index.frames[frame].type;
   out.image = to_rgb(*ycc);
   out.macroblocks_x = (ycc->width + codec::kMacroblockSize - 1) / codec::kMacroblockSize;
   out.macroblocks_y = (ycc->height + codec::kMacroblockSize - 1) / codec::kMacroblockSize;

@@ -19,7 +19,7 @@
 #include <unistd.h>
 
 #include "codec/bframe_codec.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/bytes.h"
 #include "common/file_io.h"
 #include "container/container.h"
