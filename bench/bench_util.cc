@@ -13,28 +13,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-Status parallel_for(size_t count, int threads, const std::function<Status(size_t)>& body) {
-  std::atomic<size_t> next{0};
-  std::mutex mutex;
-  Status first_error;
-  auto worker = [&] {
-    for (size_t i = next++; i < count; i = next++) {
-      Status status = body(i);
-      if (!status.ok()) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (first_error.ok()) first_error = status;
-        next = count;
-      }
-    }
-  };
-  const int n = std::max(1, std::min<int>(threads, static_cast<int>(count)));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& thread : pool) thread.join();
-  return first_error;
-}
-
 AccessStats summarize_access(std::vector<double> ms, const std::vector<int>& frames) {
   AccessStats stats;
   stats.samples = static_cast<int>(ms.size());

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "svc/status.h"
+#include "common/parallel.h"
 #include "database/database.h"
 #include "svc/types.h"
 #include "svc_bench.h"
@@ -18,9 +19,6 @@ namespace svc::bench {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start);
-
-// Runs body(i) for i in [0, count) on up to `threads` threads; the first error wins.
-Status parallel_for(size_t count, int threads, const std::function<Status(size_t)>& body);
 
 AccessStats summarize_access(std::vector<double> ms, const std::vector<int>& frames);
 

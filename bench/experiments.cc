@@ -132,7 +132,7 @@ Status Bench::table_7_4(Experiments* ex) {
       rd.push_back({quality, double(run->point.bytes), run->point.psnr_y, run->point.encode_seconds});
       if (quality == q) {
         row.encode_seconds = run->point.encode_seconds;
-        const FrameTypeStats& s = run->summary.predicted;
+        const FaceTypeStats& s = run->summary.predicted;
         row.candidates_per_macroblock =
             s.candidate_macroblocks ? static_cast<double>(s.candidate_vectors) / s.candidate_macroblocks : 0;
       }

@@ -213,7 +213,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
               "encode s", "B intra", "fwd", "bwd", "bi", "skip", "cand");
   for (int k = 0; k < 3; ++k) {
     for (const auto& m : results[k]) {
-      const FrameTypeStats& b = m.summary.predicted;
+      const FaceTypeStats& b = m.summary.predicted;
       const double mbs = static_cast<double>(b.mb_intra + b.mb_forward + b.mb_backward + b.mb_bidirectional +
                                              b.mb_skipped);
       auto pct = [&](uint64_t v) { return mbs > 0 ? 100.0 * v / mbs : 0.0; };
@@ -259,7 +259,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
               time_ratio < 1.0 ? "" : "  ABOVE GOAL");
   std::printf("    at qscale %d: depth %.2f s, log search %.2f s\n", d.point.setting, d.point.seconds,
               l.point.seconds);
-  const FrameTypeStats& b = d.summary.predicted;
+  const FaceTypeStats& b = d.summary.predicted;
   std::printf("    unique candidate vectors per macroblock and reference (depth): %.2f\n",
               b.candidate_macroblocks ? static_cast<double>(b.candidate_vectors) / b.candidate_macroblocks : 0.0);
   return ok && time_ratio < 1.0;

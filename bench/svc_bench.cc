@@ -97,8 +97,7 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
   if (options.random_accesses < 1) {
     return Status(ErrorCode::kInvalidArgument, "svc bench: random_accesses must be at least 1");
   }
-  const int threads = options.threads > 0 ? options.threads
-                                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = resolve_thread_count(options.threads);
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir / "work", ec);
   if (ec) return Status(ErrorCode::kIoError, "cannot create " + (options.out_dir / "work").string() + ": " + ec.message());

@@ -20,7 +20,7 @@
 #include <span>
 #include <vector>
 
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "codec/motion.h"
 #include "svc/status.h"
 #include "svc/types.h"

@@ -18,4 +18,10 @@ std::optional<Face> face_from_name(std::string_view name) noexcept {
   return std::nullopt;
 }
 
+std::string cell_label(const CellIndex& cell) {
+  return "cell (" + std::to_string(cell.x) + "," + std::to_string(cell.y) + "," + std::to_string(cell.z) + ")";
+}
+
+std::string face_label(const CellIndex& cell, Face face) { return cell_label(cell) + " face " + face_name(face); }
+
 }  // namespace svc

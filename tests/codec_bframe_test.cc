@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "codec/bframe_codec.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "codec/log_search.h"
 #include "codec/motion_compensation.h"
 
@@ -251,7 +251,7 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
   EXPECT_EQ(header.reference_count, 1);
   EXPECT_EQ(header.quant_scale, BFrameParams{}.quant_scale);
-  EXPECT_EQ(bytes[0], static_cast<uint8_t>(FrameType::kBidirectional));
+  EXPECT_EQ(bytes[0], static_cast<uint8_t>(FaceType::kPredicted));
 
   ImageYCbCr420 out;
   EXPECT_EQ(decode_b_frame(bytes, w, h, ref, &ref, &out).code(), ErrorCode::kInvalidArgument);

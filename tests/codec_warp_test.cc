@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "codec/bframe_codec.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "codec/warp_prediction.h"
 
 namespace svc::codec {

@@ -304,6 +304,21 @@ TEST(SpatialPlacement, RandomSparseGridsAreAlwaysDecodable) {
   }
 }
 
+// The reach rule by itself: only I-cubes of the own and adjacent groups count, nearest
+// first; with none in reach there is no reference.
+TEST(SpatialPlacement, ReachIndexOffersOnlyOwnAndAdjacentGroups) {
+  ReachIndex reach({3, 1, 3});
+  reach.add({CellIndex{1, 0, 1}, 10});   // group (0, 0, 0)
+  reach.add({CellIndex{4, 0, 1}, 11});   // group (1, 0, 0)
+  reach.add({CellIndex{10, 0, 1}, 12});  // group (3, 0, 0): two groups from group (1, 0, 0)
+  const std::array<double, 3> unit{1, 1, 1};
+  EXPECT_EQ(reach.references(CellIndex{2, 0, 1}, unit), (std::vector<uint32_t>{10, 11}));
+  EXPECT_EQ(reach.references(CellIndex{5, 0, 1}, unit), (std::vector<uint32_t>{11, 10}));
+  // Cell 8 is nearer to 12 than to 10, but group (0, 0, 0) is out of its reach.
+  EXPECT_EQ(reach.references(CellIndex{8, 0, 1}, unit), (std::vector<uint32_t>{12, 11}));
+  EXPECT_TRUE(reach.references(CellIndex{20, 0, 1}, unit).empty());
+}
+
 TEST(SpatialPlacement, RejectsBadArguments) {
   const PlacementSettings defaults;
   auto expect_invalid = [](const Result<std::vector<CellPlacement>>& r, const char* needle) {

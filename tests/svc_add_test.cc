@@ -17,7 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "container/container.h"
+#include "container/updater.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"

@@ -35,8 +35,8 @@ ContainerIndex sample_index() {
     FrameRecord frame;
     frame.cell = f / kFaceCount;
     frame.face = static_cast<Face>(f % kFaceCount);
-    frame.kind = frame.cell == 0 ? FrameKind::kIntra : FrameKind::kPredicted;
-    if (frame.kind == FrameKind::kPredicted) frame.references = {f % kFaceCount};
+    frame.type = frame.cell == 0 ? FaceType::kIntra : FaceType::kPredicted;
+    if (frame.type == FaceType::kPredicted) frame.references = {f % kFaceCount};
     frame.chunk_offset = kPreludeSize + 100 * f;
     frame.payload_size = 50;
     index.frames.push_back(frame);
@@ -66,7 +66,7 @@ TEST(ContainerIndex, RoundTripsEveryField) {
   EXPECT_EQ(parsed->cells[1].cameras[2].world_to_camera[12], 3.25);
   EXPECT_EQ(parsed->cells[1].cameras[4].frustum.far_plane, 77);
   ASSERT_EQ(parsed->frames.size(), 18u);
-  EXPECT_EQ(parsed->frames[7].kind, FrameKind::kPredicted);
+  EXPECT_EQ(parsed->frames[7].type, FaceType::kPredicted);
   EXPECT_EQ(parsed->frames[7].references, std::vector<uint32_t>{1});
   EXPECT_EQ(parsed->frames[17].chunk_offset, kPreludeSize + 1700);
   EXPECT_EQ(serialize_index(*parsed), bytes);
@@ -136,7 +136,7 @@ void expect_same_camera(const Camera& a, const Camera& b, const std::string& whe
   EXPECT_EQ(bits(f.far_plane), bits(g.far_plane)) << where;
 }
 
-std::vector<uint64_t> stat_fields(const FrameTypeRecord& t) {
+std::vector<uint64_t> stat_fields(const FaceTypeStats& t) {
   return {t.faces,         t.bytes,      t.mb_intra,          t.mb_forward,          t.mb_backward,
           t.mb_bidirectional, t.mb_skipped, t.candidate_vectors, t.candidate_macroblocks};
 }
@@ -171,7 +171,7 @@ void expect_same_index(const ContainerIndex& a, const ContainerIndex& b) {
   for (size_t i = 0; i < a.frames.size(); ++i) {
     EXPECT_EQ(a.frames[i].cell, b.frames[i].cell) << "frame " << i;
     EXPECT_EQ(a.frames[i].face, b.frames[i].face) << "frame " << i;
-    EXPECT_EQ(a.frames[i].kind, b.frames[i].kind) << "frame " << i;
+    EXPECT_EQ(a.frames[i].type, b.frames[i].type) << "frame " << i;
     EXPECT_EQ(a.frames[i].chunk_offset, b.frames[i].chunk_offset) << "frame " << i;
     EXPECT_EQ(a.frames[i].payload_size, b.frames[i].payload_size) << "frame " << i;
     EXPECT_EQ(a.frames[i].references, b.frames[i].references) << "frame " << i;
@@ -232,8 +232,8 @@ ContainerIndex rig_index() {
     FrameRecord frame;
     frame.cell = n / kFaceCount;
     frame.face = static_cast<Face>(n % kFaceCount);
-    frame.kind = frame.cell == 0 ? FrameKind::kIntra : FrameKind::kPredicted;
-    if (frame.kind == FrameKind::kPredicted) frame.references = {n % kFaceCount};
+    frame.type = frame.cell == 0 ? FaceType::kIntra : FaceType::kPredicted;
+    if (frame.type == FaceType::kPredicted) frame.references = {n % kFaceCount};
     frame.chunk_offset = offset;
     frame.payload_size = 40 + n;
     offset += frame.payload_size + kChunkOverhead;

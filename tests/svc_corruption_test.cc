@@ -133,7 +133,7 @@ std::vector<ImageYCbCr420>* Corruption::originals_ = nullptr;
 TEST_F(Corruption, IntactFileVerifies) {
   ASSERT_GT(index_->frames.size(), 0u);
   bool has_predicted = false;
-  for (const FrameRecord& frame : index_->frames) has_predicted |= frame.kind == FrameKind::kPredicted;
+  for (const FrameRecord& frame : index_->frames) has_predicted |= frame.type == FaceType::kPredicted;
   EXPECT_TRUE(has_predicted);
   const Outcome outcome = check_copy(*bytes_, std::nullopt, "intact");
   EXPECT_TRUE(outcome.opened);

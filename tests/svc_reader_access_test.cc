@@ -7,7 +7,7 @@
 #include <fstream>
 #include <random>
 
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/file_io.h"
 #include "reader/prefetch_order.h"
 #include "scene/scene.h"
@@ -265,6 +265,36 @@ TEST_F(ReaderAccess, DamagedReferenceFailsItsBFacesOnlyAndIsNotCached) {
   auto other = (*reader)->decode_face_ycbcr(b_cell, Face::kNX);
   ASSERT_TRUE(other.ok()) << other.status().to_string();
   EXPECT_TRUE(same_image(*other, reference(b_frame + 1)));
+}
+
+// inspect_face decodes the same pixels as decode_face, and its macroblock map is what
+// the B-face's coding says: all intra for an I-face, inter or skipped for most of a
+// B-face of this smooth scene.
+TEST_F(ReaderAccess, InspectFaceGivesDecodedPixelsAndMacroblockModes) {
+  auto reader = Reader::open(file());
+  ASSERT_TRUE(reader.ok()) << reader.status().to_string();
+  const auto [b_frame, refs] = some_b_face(**reader);
+  ASSERT_NE(b_frame, SIZE_MAX);
+  for (size_t frame : {b_frame, refs[0]}) {
+    const CellEntry& cell = (*reader)->cells()[frame / kFaceCount];
+    const Face face = static_cast<Face>(frame % kFaceCount);
+    auto inspected = (*reader)->inspect_face(cell.index, face);
+    ASSERT_TRUE(inspected.ok()) << inspected.status().to_string();
+    auto decoded = (*reader)->decode_face(cell.index, face);
+    ASSERT_TRUE(decoded.ok());
+    EXPECT_EQ(inspected->image.pixels, decoded->pixels);
+    EXPECT_EQ(inspected->type, cell.faces[static_cast<int>(face)].type);
+    ASSERT_EQ(inspected->macroblocks_x * inspected->macroblocks_y, 9);  // 48x48 faces
+    ASSERT_EQ(inspected->modes.size(), 9u);
+    const auto intra = std::count(inspected->modes.begin(), inspected->modes.end(), MacroblockCoding::kIntra);
+    if (inspected->type == FaceType::kIntra) {
+      EXPECT_EQ(intra, 9);
+    } else {
+      EXPECT_LT(intra, 9);
+    }
+  }
+  auto missing = (*reader)->inspect_face(CellIndex{99, 0, 0}, Face::kPX);
+  EXPECT_EQ(missing.status().code(), ErrorCode::kNotFound);
 }
 
 TEST_F(ReaderAccess, ErrorsNameWhatIsWrong) {

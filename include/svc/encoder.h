@@ -11,11 +11,6 @@
 
 namespace svc {
 
-enum class MotionSearch : uint8_t {
-  kDepth = 0,        // candidates from depth and camera reprojection (default)
-  kLogarithmic = 1,  // image-space logarithmic search in a 64-pixel window
-};
-
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best). Maps to a quantiser scale (quant_scale_for_quality):
   // 100 -> 1, 75 -> 4, 50 -> 16, 1 -> 112 (the I-faces' scale; B-faces use 2.5x).
@@ -42,8 +37,8 @@ struct EncodeSummary {
   uint64_t file_bytes = 0;  // size of the .svc file
   int quant_scale = 0;
   double seconds = 0;
-  FrameTypeStats intra;
-  FrameTypeStats predicted;
+  FaceTypeStats intra;
+  FaceTypeStats predicted;
 };
 
 // Called from the encoding thread after each face: (faces done, faces total). Return

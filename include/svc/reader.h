@@ -62,14 +62,29 @@ struct ReaderSettings {
 // Fills settings with the defaults documented on each field.
 ReaderSettings default_reader_settings();
 
-enum class FaceType : uint8_t { kIntra = 0, kPredicted = 1 };
-
 struct FaceEntry {
   FaceType type = FaceType::kIntra;
   uint64_t offset = 0;      // file offset of the face's chunk
   uint64_t coded_bytes = 0; // coded payload size
   // Faces this one is predicted from: (cell ordinal, face). Empty for an I-face.
   std::vector<std::pair<uint32_t, Face>> references;
+};
+
+// How one 16x16 macroblock of a B-face was coded (svc inspect draws them).
+enum class MacroblockCoding : uint8_t {
+  kIntra = 0,
+  kForward = 1,        // predicted from the first reference
+  kBackward = 2,       // predicted from the second reference
+  kBidirectional = 3,  // mean of both predictions
+  kSkipped = 4,        // predicted as its neighbours, no residual
+};
+
+// A face with the coding of each macroblock.
+struct InspectedFace {
+  FaceType type = FaceType::kIntra;
+  ImageRGB8 image;
+  int macroblocks_x = 0, macroblocks_y = 0;
+  std::vector<MacroblockCoding> modes;  // row-major; all kIntra for an I-face
 };
 
 struct CellEntry {
@@ -175,6 +190,10 @@ class Reader {
   // acquire and set_viewer calls fail with kCancelled; calls already running finish
   // normally. info(), cells(), find_cell*() and stats() keep working. Idempotent.
   void close();
+
+  // Decodes one face bypassing the caches and reports how each macroblock was coded.
+  // Errors as decode_face.
+  Result<InspectedFace> inspect_face(const CellIndex& cell, Face face);
 
   // Checks the CRC of every chunk and decodes every face, bypassing the caches. Returns
   // the first problems found, naming the damaged chunk (offset, cell, face); ok when the

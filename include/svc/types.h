@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -23,6 +24,22 @@ std::optional<Face> face_from_name(std::string_view name) noexcept;
 struct CellIndex {
   int32_t x = 0, y = 0, z = 0;
   friend bool operator==(const CellIndex&, const CellIndex&) = default;
+};
+
+// "cell (x,y,z)", the way every message names a cell.
+std::string cell_label(const CellIndex& cell);
+// "cell (x,y,z) face px".
+std::string face_label(const CellIndex& cell, Face face);
+
+// How a face is coded: on its own (an I-face, in an I-cube) or predicted from up to
+// two reference I-faces (a B-face, in a B-cube). The value is the first byte of every
+// coded face and its type in the index.
+enum class FaceType : uint8_t { kIntra = 0, kPredicted = 1 };
+
+// Where a B-face's motion comes from.
+enum class MotionSearch : uint8_t {
+  kDepth = 0,        // candidates from depth and camera reprojection (default)
+  kLogarithmic = 1,  // image-space logarithmic search in a 64-pixel window
 };
 
 // glFrustum parameters of a face's perspective projection.
@@ -53,7 +70,7 @@ struct ImageYCbCr420 {
 };
 
 // Statistics of one frame type (I or B) over a whole encode, kept in the .svc index.
-struct FrameTypeStats {
+struct FaceTypeStats {
   uint64_t faces = 0;
   uint64_t bytes = 0;
   uint64_t mb_intra = 0;

@@ -9,6 +9,7 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include "common/parallel.h"
 #include "scene/scene_layout.h"
 #include "scene/scene_photo.h"
 #include "scene/scene_render.h"
@@ -21,11 +22,6 @@ constexpr const char* kFaceNames[kFaceCount] = {"px", "nx", "py", "ny", "pz", "n
 
 std::string cell_dir_name(const CellIndex& c) {
   return std::to_string(c.x) + "_" + std::to_string(c.y) + "_" + std::to_string(c.z);
-}
-
-std::string cell_label(const CellIndex& c) {
-  return "cell [" + std::to_string(c.x) + "," + std::to_string(c.y) + "," +
-         std::to_string(c.z) + "]";
 }
 
 std::array<double, 16> to_array(const glm::dmat4& m) {
@@ -238,31 +234,16 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
 
     // Each face is rendered and written by one worker; files and bytes do not depend on
     // which worker or in which order.
-    Status face_status[kFaceCount];
-    auto work = [&](int first, int stride) {
-      for (int f = first; f < kFaceCount; f += stride) {
-        detail::render_face(scene, eye, views[f], n, rgb[f].data(), depth[f].data());
-        const std::string stem = rel_dir + "/" + kFaceNames[f];
-        Status s = write_color_png(out_dir / (stem + ".png"), n, rgb[f].data());
-        if (s.ok()) s = write_depth_exr(out_dir / (stem + ".exr"), n, depth[f].data());
-        face_status[f] = s;
-      }
-    };
-    const int workers = std::min(options.threads, kFaceCount);
-    if (workers <= 1) {
-      work(0, 1);
-    } else {
-      std::vector<std::thread> pool;
-      for (int w = 1; w < workers; ++w) pool.emplace_back(work, w, workers);
-      work(0, workers);
-      for (auto& t : pool) t.join();
-    }
+    SVC_RETURN_IF_ERROR(parallel_for(kFaceCount, options.threads, [&](size_t f) {
+      detail::render_face(scene, eye, views[f], n, rgb[f].data(), depth[f].data());
+      const std::string stem = rel_dir + "/" + kFaceNames[f];
+      Status s = write_color_png(out_dir / (stem + ".png"), n, rgb[f].data());
+      if (s.ok()) s = write_depth_exr(out_dir / (stem + ".exr"), n, depth[f].data());
+      return s.with_context(face_label(cell.index, static_cast<Face>(f)));
+    }));
 
     nlohmann::ordered_json faces = nlohmann::ordered_json::object();
     for (int f = 0; f < kFaceCount; ++f) {
-      if (!face_status[f].ok()) {
-        return face_status[f].with_context(cell_label(cell.index) + " face " + kFaceNames[f]);
-      }
       const std::string stem = rel_dir + "/" + kFaceNames[f];
       nlohmann::ordered_json face;
       face["color"] = stem + ".png";

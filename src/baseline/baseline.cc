@@ -540,9 +540,7 @@ Result<EncodedDatabase> encode_database(const DatabaseFrames& input, CellOrder o
       const CellIndex cell = layout.cells[index];
       auto image = input.load(cell, face);
       if (!image.ok()) {
-        return image.status().with_context("cell (" + std::to_string(cell.x) + "," +
-                                           std::to_string(cell.y) + "," +
-                                           std::to_string(cell.z) + ") face " + face_name(face));
+        return image.status().with_context(face_label(cell, face));
       }
       return image;
     };
@@ -559,9 +557,7 @@ Result<DecodedFrame> decode_cell_face(const EncodedDatabase& database, CellIndex
                                       Face face) {
   const int frame = database.layout.frame_of(cell);
   if (frame < 0) {
-    return Status(ErrorCode::kNotFound, "cell (" + std::to_string(cell.x) + "," +
-                                            std::to_string(cell.y) + "," +
-                                            std::to_string(cell.z) + ") is not in the database");
+    return Status(ErrorCode::kNotFound, cell_label(cell) + " is not in the database");
   }
   auto decoded = decode_frame(database.faces[static_cast<int>(face)], frame);
   if (!decoded.ok()) return decoded.status().with_context(std::string("face ") + face_name(face));

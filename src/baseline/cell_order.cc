@@ -60,13 +60,9 @@ Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<in
     return Status(ErrorCode::kInvalidArgument,
                   "hilbert_gop_length must be >= 1, got " + std::to_string(hilbert_gop_length));
   }
-  auto cell_text = [](const CellIndex& c) {
-    return "cell (" + std::to_string(c.x) + "," + std::to_string(c.y) + "," +
-           std::to_string(c.z) + ")";
-  };
   for (const CellIndex& c : cells) {
     if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= dims[0] || c.y >= dims[1] || c.z >= dims[2]) {
-      return Status(ErrorCode::kInvalidArgument, cell_text(c) + " lies outside the grid");
+      return Status(ErrorCode::kInvalidArgument, cell_label(c) + " lies outside the grid");
     }
   }
 
@@ -102,7 +98,7 @@ Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<in
   for (size_t k = 0; k < keyed.size(); ++k) {
     const bool new_layer = k == 0 || keyed[k].layer != keyed[k - 1].layer;
     if (k > 0 && keyed[k].cell == keyed[k - 1].cell) {
-      return Status(ErrorCode::kInvalidArgument, cell_text(keyed[k].cell) + " is listed twice");
+      return Status(ErrorCode::kInvalidArgument, cell_label(keyed[k].cell) + " is listed twice");
     }
     position_in_layer = new_layer ? 0 : position_in_layer + 1;
     bool starts_gop = false;

@@ -1,6 +1,7 @@
-// Ordered parallel map: items are computed by worker threads in any order and handed
-// to a consumer on the calling thread strictly in index order, so results (and the
-// bytes written from them) never depend on the thread count.
+// The project's one way to run work on several threads (encoder, bench, scene
+// generator): parallel_for for independent items, ordered_parallel_map when results must
+// be consumed in order. Results, and the bytes written from them, never depend on the
+// thread count.
 #pragma once
 
 #include <algorithm>
@@ -22,6 +23,34 @@ inline int resolve_thread_count(int requested) {
   if (requested > 0) return requested;
   const unsigned hw = std::thread::hardware_concurrency();
   return hw == 0 ? 1 : static_cast<int>(hw);
+}
+
+// Runs body(i) for every i in [0, count) on up to `threads` threads (the caller's among
+// them). After an error no new item starts; the error of the lowest failed index is
+// returned, so which error comes back does not depend on timing either.
+inline Status parallel_for(size_t count, int threads, const std::function<Status(size_t)>& body) {
+  std::atomic<size_t> next{0};
+  std::mutex mutex;
+  size_t failed_index = count;
+  Status first_error;
+  auto worker = [&] {
+    for (size_t i = next++; i < count; i = next++) {
+      Status status = body(i);
+      if (status.ok()) continue;
+      std::lock_guard<std::mutex> lock(mutex);
+      if (i < failed_index) {
+        failed_index = i;
+        first_error = std::move(status);
+      }
+      next = count;
+    }
+  };
+  const int n = std::max(1, std::min<int>(threads, static_cast<int>(std::min<size_t>(count, 1024))));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& thread : pool) thread.join();
+  return first_error;
 }
 
 // produce(i) runs on a worker; consume(i, value) runs on the caller's thread in order

@@ -1,6 +1,8 @@
 // The .svc container (docs/format.md): file header, two commit slots, CRC-protected
 // chunks holding coded faces, and an index chunk with grid, cameras, coding settings
-// and every face's offset, size, type and references (an adjacency list).
+// and every face's offset, size, type and references (an adjacency list). This header
+// is the reading side (index_coding.cc, chunks.cc); writing a new file is
+// container/writer.h, adding to one in place container/updater.h.
 #pragma once
 
 #include <array>
@@ -30,14 +32,12 @@ inline constexpr uint32_t chunk_tag(char a, char b, char c, char d) {
 inline constexpr uint32_t kFaceChunkTag = chunk_tag('F', 'A', 'C', 'E');
 inline constexpr uint32_t kIndexChunkTag = chunk_tag('I', 'N', 'D', 'X');
 
-enum class FrameKind : uint8_t { kIntra = 0, kPredicted = 1 };
-enum class MotionSource : uint8_t { kDepth = 0, kLogSearch = 1 };
 
 struct CodingRecord {
   uint32_t quality = 0;         // 1..100 as asked, or 0 when quant_scale was given
   uint32_t quant_scale = 0;     // codec quantiser scale used for every face
   std::array<int32_t, 3> i_spacing{1, 1, 1};
-  MotionSource motion = MotionSource::kDepth;
+  MotionSearch motion = MotionSearch::kDepth;
 };
 
 struct CellRecord {
@@ -49,15 +49,11 @@ struct CellRecord {
 struct FrameRecord {
   uint32_t cell = 0;  // ordinal into ContainerIndex::cells
   Face face = Face::kPX;
-  FrameKind kind = FrameKind::kIntra;
+  FaceType type = FaceType::kIntra;
   uint64_t chunk_offset = 0;  // file offset of the FACE chunk
   uint32_t payload_size = 0;  // coded bytes inside the chunk
   std::vector<uint32_t> references;  // ordinals into ContainerIndex::frames
 };
-
-// What the encoder measured for one frame type (I or B), kept for `svc info`: the
-// public statistics record, stored field by field (docs/format.md).
-using FrameTypeRecord = FrameTypeStats;
 
 struct ContainerIndex {
   uint32_t face_width = 0;
@@ -68,7 +64,7 @@ struct ContainerIndex {
   CodingRecord coding;
   std::vector<CellRecord> cells;    // sorted by (y, z, x), unique
   std::vector<FrameRecord> frames;  // six per cell, cell-major, face order px..nz
-  std::array<FrameTypeRecord, 2> stats;  // indexed by FrameKind
+  std::array<FaceTypeStats, 2> stats;  // indexed by FaceType, kept for `svc info`
 };
 
 // Writes index version 2 (docs/format.md, "The index"): face cameras that a rig entry
@@ -111,72 +107,7 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what);
 
-// Writes a new container: header and slots, then face chunks, then the index.
-class ContainerWriter {
- public:
-  static Result<std::unique_ptr<ContainerWriter>> create(const std::filesystem::path& path);
-  // Appends a FACE chunk; returns its file offset.
-  Result<uint64_t> append_frame(std::span<const uint8_t> payload);
-  // Writes the index, commits slot 0 and renames the file into place.
-  Status finish(const ContainerIndex& index);
-
- private:
-  explicit ContainerWriter(std::unique_ptr<AtomicOutputFile> out) : out_(std::move(out)) {}
-  std::unique_ptr<AtomicOutputFile> out_;
-};
-
-// Adds to an existing container in place (svc add): appends FACE chunks after the last
-// byte the committed index refers to (bytes beyond it, left by an update that never
-// committed, are cut off first), then commits a new index the crash-safe way (docs/format.md, commit
-// slots): append the INDX chunk, fsync, overwrite the commit slot that does not hold the
-// newest generation with generation + 1, fsync. No byte a committed index refers to is
-// ever written, so until the slot write lands every reader (and a crash at any point)
-// sees exactly the old database. An updater destroyed without commit() cuts the file
-// back to where it started. A file whose newest index is damaged (fell_back) is refused
-// (kCorruptData): adding to an older index would silently drop the newer one.
-//
-// Holds an exclusive advisory lock (flock) on the file while alive: a second updater of
-// the same file fails with kIoError instead of interleaving commits. Readers need no
-// lock. Not thread-safe; one thread drives an updater.
-class ContainerUpdater {
- public:
-  // Opens `path` read-write, locks it and reads the committed index (validated against
-  // `limits`). Errors: the container's, or kIoError naming the path.
-  static Result<std::unique_ptr<ContainerUpdater>> open(const std::filesystem::path& path,
-                                                        const ReaderLimits& limits = ReaderLimits{});
-  ~ContainerUpdater();
-  ContainerUpdater(const ContainerUpdater&) = delete;
-  ContainerUpdater& operator=(const ContainerUpdater&) = delete;
-
-  // The committed state the update starts from.
-  const OpenedContainer& committed() const { return committed_; }
-  // The file as it was when opened, for reading existing chunks (read_frame_payload).
-  const ReadOnlyFile& file() const { return *file_; }
-
-  // Appends a FACE chunk; returns its file offset. Not visible to readers before commit().
-  Result<uint64_t> append_frame(std::span<const uint8_t> payload);
-  // Appends `index` and commits it as generation committed().generation + 1. After an
-  // error the file may hold appended bytes but still opens as the old database.
-  Status commit(const ContainerIndex& index);
-
- private:
-  ContainerUpdater(int fd, std::unique_ptr<ReadOnlyFile> file, OpenedContainer committed, uint64_t end)
-      : fd_(fd), file_(std::move(file)), committed_(std::move(committed)), start_(end), end_(end) {}
-  Status write_at(uint64_t offset, std::span<const uint8_t> data);
-  Status sync(const char* what);
-
-  int fd_;
-  std::unique_ptr<ReadOnlyFile> file_;
-  OpenedContainer committed_;
-  uint64_t start_;  // end of the committed data
-  uint64_t end_;    // where the next chunk goes
-  bool committed_once_ = false;
-};
-
-// Fault injection for crash tests: after this many more bytes written by any
-// ContainerUpdater in this process (part of a write counts), the process kills itself
-// with SIGKILL, leaving the file as a crash at that point would. Negative disables (the
-// default). Only for tests that run the update in a child process.
-void set_updater_kill_after_bytes_for_testing(int64_t bytes);
+// kCorruptData: `what` at byte `offset` of the file.
+Status corrupt_at(const std::string& what, uint64_t offset);
 
 }  // namespace svc

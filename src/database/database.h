@@ -89,9 +89,6 @@ std::filesystem::path resolve_database_path(const DatabaseManifest& manifest,
 // Ordinal of the cell with this index in manifest.cells, or nullopt for a hole in the grid.
 std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellIndex& index);
 
-// "cell (x,y,z)", the form every error message uses.
-std::string cell_label(const CellIndex& index);
-
 // The sRGB transfer function applied to a linear value, clamped to [0,1] (NaN -> 0) and
 // rounded to 8 bits: the conversion load_face uses for float colour.
 uint8_t linear_to_srgb8(float linear) noexcept;

@@ -4,27 +4,18 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <unordered_map>
 
-#include "codec/color.h"
 #include "codec/bframe_codec.h"
-#include "codec/frame_codec.h"
-#include "codec/log_search.h"
+#include "codec/intra_codec.h"
 #include "common/parallel.h"
-#include "container/container.h"
+#include "container/writer.h"
 #include "database/database.h"
-#include "encoder/face_coding.h"
+#include "encoder/coding_pipeline.h"
 #include "spatial/placement.h"
-#include "spatial/reprojection.h"
 
 namespace svc {
 
 namespace {
-
-std::string cell_face_name(const CellIndex& c, Face face) {
-  return "cell (" + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) +
-         ") face " + face_name(face);
-}
 
 Status validate_settings(const EncoderSettings& settings) {
   if (settings.quant_scale == 0 && (settings.quality < 1 || settings.quality > 100)) {
@@ -79,10 +70,6 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
   }
   const int quant_scale =
       settings.quant_scale != 0 ? settings.quant_scale : quant_scale_for_quality(settings.quality);
-  const codec::CodingParams params{quant_scale};
-  codec::BFrameParams b_params;
-  b_params.quant_scale = codec::suggested_b_quant_scale(quant_scale);
-
   SVC_ASSIGN_OR_RETURN(auto writer, ContainerWriter::create(out_path));
 
   ContainerIndex index;
@@ -98,8 +85,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
   index.up_axis = manifest.up_axis;
   index.coding.quality = settings.quant_scale != 0 ? 0 : static_cast<uint32_t>(settings.quality);
   index.coding.quant_scale = static_cast<uint32_t>(quant_scale);
-  index.coding.motion =
-      settings.motion == MotionSearch::kDepth ? MotionSource::kDepth : MotionSource::kLogSearch;
+  index.coding.motion = settings.motion;
   index.cells.reserve(manifest.cells.size());
   for (const CellSource& source : manifest.cells) {
     CellRecord cell;
@@ -126,98 +112,26 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
   SVC_ASSIGN_OR_RETURN(std::vector<CellPlacement> placement,
                        place_cubes(cell_indices, manifest.grid.dims, placement_settings, manifest.grid.spacing));
 
-  // Faces in coding order: every I-face first (B-faces predict from their
-  // reconstructions), then every B-face; each group in cell order.
-  std::vector<uint32_t> intra_frames, predicted_frames;
+  CodingJob job;
+  job.index = &index;
   for (size_t cell = 0; cell < manifest.cells.size(); ++cell) {
     for (int f = 0; f < kFaceCount; ++f) {
       const uint32_t frame = static_cast<uint32_t>(cell * kFaceCount + f);
-      (placement[cell].intra ? intra_frames : predicted_frames).push_back(frame);
+      FrameRecord& record = index.frames[frame];
+      record.cell = static_cast<uint32_t>(cell);
+      record.face = static_cast<Face>(f);
+      record.type = placement[cell].intra ? FaceType::kIntra : FaceType::kPredicted;
+      for (uint32_t ref_cell : placement[cell].references) record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
+      job.frames.push_back(frame);
     }
   }
-  // Reconstructed I-faces, by frame number, as the decoder will see them.
-  std::unordered_map<uint32_t, ImageYCbCr420> reconstructions;
-  uint64_t faces_done = 0;
-
-  auto record_frame = [&](uint32_t frame, FrameKind kind, const std::vector<uint8_t>& payload) -> Status {
-    const size_t cell = frame / kFaceCount;
-    const Face face = static_cast<Face>(frame % kFaceCount);
-    SVC_ASSIGN_OR_RETURN(uint64_t offset, writer->append_frame(payload));
-    FrameRecord& record = index.frames[frame];
-    record.cell = static_cast<uint32_t>(cell);
-    record.face = face;
-    record.kind = kind;
-    record.chunk_offset = offset;
-    record.payload_size = static_cast<uint32_t>(payload.size());
-    if (kind == FrameKind::kPredicted) {
-      for (uint32_t ref_cell : placement[cell].references) {
-        record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(face));
-      }
-    }
-    ++faces_done;
-    if (progress && !progress(faces_done, face_count)) {
-      return Status(ErrorCode::kCancelled,
-                    "encode cancelled after " + cell_face_name(index.cells[cell].index, face));
-    }
-    return Status::Ok();
-  };
-
-  struct CodedIntra {
-    std::vector<uint8_t> payload;
-    ImageYCbCr420 reconstruction;
-  };
-  auto encode_intra = [&](size_t k) -> Result<CodedIntra> {
-    const uint32_t frame = intra_frames[k];
-    SVC_ASSIGN_OR_RETURN(FaceData data, load_face(manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount)));
-    const ImageYCbCr420 ycc = codec::rgb_to_ycbcr420(data.color.pixels.data(), data.color.width, data.color.height);
-    CodedIntra coded;
-    coded.payload = codec::encode_intra_frame(ycc, params, &coded.reconstruction);
-    return coded;
-  };
-  auto store_intra = [&](size_t k, CodedIntra& coded) -> Status {
-    const uint32_t frame = intra_frames[k];
-    SVC_RETURN_IF_ERROR(record_frame(frame, FrameKind::kIntra, coded.payload));
-    summary.intra.faces += 1;
-    summary.intra.bytes += coded.payload.size();
-    if (!predicted_frames.empty()) reconstructions.emplace(frame, std::move(coded.reconstruction));
-    return Status::Ok();
-  };
-  const int threads = resolve_thread_count(settings.threads);
-  SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedIntra>(intra_frames.size(), threads, encode_intra, store_intra));
-
-  auto encode_predicted = [&](size_t k) -> Result<CodedPredictedFace> {
-    const uint32_t frame = predicted_frames[k];
-    const size_t cell = frame / kFaceCount;
-    const Face face = static_cast<Face>(frame % kFaceCount);
-    SVC_ASSIGN_OR_RETURN(FaceData data, load_face(manifest, cell, face));
-    std::vector<FaceReference> refs;
-    for (uint32_t ref_cell : placement[cell].references) {
-      refs.push_back({&reconstructions.at(ref_cell * kFaceCount + static_cast<uint32_t>(face)),
-                      &manifest.cells[ref_cell].faces[static_cast<int>(face)].camera});
-    }
-    return code_predicted_face(data, manifest.cells[cell].faces[static_cast<int>(face)].camera, refs,
-                               settings.motion == MotionSearch::kDepth, b_params,
-                               cell_face_name(manifest.cells[cell].index, face));
-  };
-  auto store_predicted = [&](size_t k, CodedPredictedFace& coded) -> Status {
-    SVC_RETURN_IF_ERROR(record_frame(predicted_frames[k], FrameKind::kPredicted, coded.payload));
-    FrameTypeStats& s = summary.predicted;
-    s.faces += 1;
-    s.bytes += coded.payload.size();
-    s.mb_intra += coded.stats.mb_intra;
-    s.mb_forward += coded.stats.mb_forward;
-    s.mb_backward += coded.stats.mb_backward;
-    s.mb_bidirectional += coded.stats.mb_bidirectional;
-    s.mb_skipped += coded.stats.mb_skipped;
-    s.candidate_vectors += coded.candidates.candidates;
-    s.candidate_macroblocks += coded.candidates.macroblocks;
-    return Status::Ok();
-  };
-  SVC_RETURN_IF_ERROR(
-      ordered_parallel_map<CodedPredictedFace>(predicted_frames.size(), threads, encode_predicted, store_predicted));
-  const codec::BlockLayout layout = codec::block_layout(manifest.face_width, manifest.face_height);
-  summary.intra.mb_intra = summary.intra.faces * uint64_t(layout.luma_blocks_x / 2) * uint64_t(layout.luma_blocks_y / 2);
-  index.stats = {summary.intra, summary.predicted};
+  job.load = [&](uint32_t frame) { return load_face(manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount)); };
+  job.append = [&](std::span<const uint8_t> payload) { return writer->append_frame(payload); };
+  job.threads = resolve_thread_count(settings.threads);
+  job.progress = progress;
+  SVC_RETURN_IF_ERROR(code_faces(job));
+  summary.intra = index.stats[0];
+  summary.predicted = index.stats[1];
   SVC_RETURN_IF_ERROR(writer->finish(index));
 
   std::error_code ec;

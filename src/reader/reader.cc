@@ -14,9 +14,10 @@
 
 #include "codec/bframe_codec.h"
 #include "codec/color.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/file_io.h"
 #include "container/container.h"
+#include "reader/face_decode.h"
 #include "reader/prefetch_order.h"
 #include "reader/shared_cache.h"
 
@@ -26,13 +27,14 @@ namespace {
 
 using reader_internal::Origin;
 using reader_internal::Outcome;
+static_assert(static_cast<int>(MacroblockCoding::kSkipped) == static_cast<int>(codec::MacroblockMode::kSkipped) &&
+              static_cast<int>(MacroblockCoding::kBidirectional) ==
+                  static_cast<int>(codec::MacroblockMode::kBidirectional) &&
+              static_cast<int>(MacroblockCoding::kBackward) == static_cast<int>(codec::MacroblockMode::kBackward) &&
+              static_cast<int>(MacroblockCoding::kForward) == static_cast<int>(codec::MacroblockMode::kForward) &&
+              static_cast<int>(MacroblockCoding::kIntra) == static_cast<int>(codec::MacroblockMode::kIntra));
 using CoefficientPointer = std::shared_ptr<const codec::CoefficientFrame>;
 using ImagePointer = std::shared_ptr<const ImageYCbCr420>;
-
-std::string cell_face_name(const CellIndex& c, Face face) {
-  return "cell (" + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) +
-         ") face " + face_name(face);
-}
 
 uint64_t cell_key(const CellIndex& c) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(c.y)) << 42) ^
@@ -50,6 +52,15 @@ bool finite3(const std::array<double, 3>& v) {
 }
 
 Status cancelled() { return Status(ErrorCode::kCancelled, "the reader was closed"); }
+
+ImageRGB8 to_rgb(const ImageYCbCr420& ycc) {
+  ImageRGB8 rgb;
+  rgb.width = ycc.width;
+  rgb.height = ycc.height;
+  rgb.pixels.resize(static_cast<size_t>(rgb.width) * rgb.height * 3);
+  codec::ycbcr420_to_rgb(ycc, rgb.pixels.data());
+  return rgb;
+}
 
 }  // namespace
 
@@ -85,14 +96,10 @@ struct Reader::Impl {
   std::vector<std::thread> workers;
   std::vector<size_t> scheduled_cells;  // the last neighbourhood queued
 
-  std::string frame_name(uint32_t frame) const {
-    const FrameRecord& record = index.frames[frame];
-    return cell_face_name(index.cells[record.cell].index, record.face);
-  }
+  std::string frame_name(uint32_t frame) const { return frame_label(index, frame); }
 
   Status frame_error(const Status& status, uint32_t frame) const {
-    return status.with_context(file->path().string() + ": " + frame_name(frame) + " (chunk at byte offset " +
-                               std::to_string(index.frames[frame].chunk_offset) + ")");
+    return svc::frame_error(status, *file, index, frame);
   }
 
   Result<std::vector<uint8_t>> read_payload(uint32_t frame) {
@@ -105,7 +112,7 @@ struct Reader::Impl {
   Result<uint32_t> frame_of(const CellIndex& cell, Face face) const {
     const auto it = cell_by_key.find(cell_key(cell));
     if (it == cell_by_key.end() || static_cast<unsigned>(face) >= kFaceCount) {
-      return Status(ErrorCode::kNotFound, file->path().string() + " has no " + cell_face_name(cell, face));
+      return Status(ErrorCode::kNotFound, file->path().string() + " has no " + face_label(cell, face));
     }
     return static_cast<uint32_t>(it->second * kFaceCount + static_cast<unsigned>(face));
   }
@@ -128,9 +135,9 @@ struct Reader::Impl {
     });
   }
 
-  // Pixels of a reference I-face: the decoded-face cache when it holds them, else the
-  // inverse DCT of its (cached) coefficients.
-  Result<ImagePointer> reference_image(uint32_t frame, Origin origin) {
+  // Pixels of an I-face: the decoded-face cache when it holds them, else the inverse
+  // DCT of its (cached) coefficients.
+  Result<ImagePointer> intra_image(uint32_t frame, Origin origin) {
     if (ImagePointer cached = faces.peek(frame)) return cached;
     SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
     auto image = std::make_shared<ImageYCbCr420>();
@@ -138,59 +145,44 @@ struct Reader::Impl {
     return ImagePointer(std::move(image));
   }
 
+  // Chunks read through the reader's counters; I-faces through the caches.
+  class CachedSource : public CodedFaceSource {
+   public:
+    CachedSource(Impl& impl, Origin origin) : impl_(impl), origin_(origin) {}
+    Result<std::vector<uint8_t>> payload(uint32_t frame) override { return impl_.read_payload(frame); }
+    Result<FacePointer> intra_face(uint32_t frame) override { return impl_.intra_image(frame, origin_); }
+
+   private:
+    Impl& impl_;
+    Origin origin_;
+  };
+
+  // Chunks read through the reader's counters; nothing cached (verify, inspect).
+  class UncachedSource : public FileCodedFaceSource {
+   public:
+    explicit UncachedSource(Impl& impl) : FileCodedFaceSource(*impl.file, impl.index), impl_(impl) {}
+    Result<std::vector<uint8_t>> payload(uint32_t frame) override { return impl_.read_payload(frame); }
+
+   private:
+    Impl& impl_;
+  };
+
   Result<ImagePointer> decode_through_caches(uint32_t frame, Origin origin) {
-    const FrameRecord& record = index.frames[frame];
-    if (record.kind == FrameKind::kIntra) {
-      SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
-      auto image = std::make_shared<ImageYCbCr420>();
-      codec::reconstruct_intra_frame(*coefficients, image.get());
-      return ImagePointer(std::move(image));
+    CachedSource source(*this, origin);
+    auto image = decode_indexed_face(*file, index, frame, source);
+    if (image.ok() && index.frames[frame].type == FaceType::kPredicted) {
+      predicted_decoded.fetch_add(1, std::memory_order_relaxed);
     }
-    SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
-    std::array<ImagePointer, 2> refs;
-    for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
-      // References are I-faces (checked when the index was read): one level at most.
-      auto ref = reference_image(record.references[r], origin);
-      if (!ref.ok()) return ref.status().with_context(frame_name(frame) + " cannot be decoded: its reference");
-      refs[r] = std::move(ref).value();
-    }
-    if (!refs[0]) return frame_error(Status(ErrorCode::kCorruptData, "B-face without references"), frame);
-    auto image = std::make_shared<ImageYCbCr420>();
-    Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
-                                          static_cast<int>(index.face_height), *refs[0], refs[1].get(),
-                                          image.get(), nullptr);
-    if (!status.ok()) return frame_error(status, frame);
-    predicted_decoded.fetch_add(1, std::memory_order_relaxed);
-    return ImagePointer(std::move(image));
+    return image;
   }
 
   Result<ImagePointer> face_of(uint32_t frame, Origin origin, Outcome* outcome = nullptr) {
     return faces.get(frame, origin, [&] { return decode_through_caches(frame, origin); }, outcome);
   }
 
-  // --- The uncached path (verify) ------------------------------------------------------
-
-  Result<ImageYCbCr420> decode_uncached(uint32_t frame) {
-    const FrameRecord& record = index.frames[frame];
-    SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
-    ImageYCbCr420 image;
-    if (record.kind == FrameKind::kIntra) {
-      Status status = codec::decode_intra_frame(payload, static_cast<int>(index.face_width),
-                                                static_cast<int>(index.face_height), &image);
-      if (!status.ok()) return frame_error(status, frame);
-      return image;
-    }
-    std::array<ImageYCbCr420, 2> refs;
-    for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
-      auto ref = decode_uncached(record.references[r]);
-      if (!ref.ok()) return ref.status().with_context(frame_name(frame) + " cannot be decoded: its reference");
-      refs[r] = std::move(ref).value();
-    }
-    Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
-                                          static_cast<int>(index.face_height), refs[0],
-                                          record.references.size() > 1 ? &refs[1] : nullptr, &image, nullptr);
-    if (!status.ok()) return frame_error(status, frame);
-    return image;
+  Result<ImagePointer> decode_uncached(uint32_t frame, std::vector<codec::MacroblockMode>* modes = nullptr) {
+    UncachedSource source(*this);
+    return decode_indexed_face(*file, index, frame, source, modes);
   }
 
   // --- Prefetch --------------------------------------------------------------------------
@@ -312,7 +304,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
   info.quality = static_cast<int>(index.coding.quality);
   info.quant_scale = static_cast<int>(index.coding.quant_scale);
   info.i_spacing = index.coding.i_spacing;
-  info.motion = index.coding.motion == MotionSource::kDepth ? "depth" : "logarithmic";
+  info.motion = index.coding.motion == MotionSearch::kDepth ? "depth" : "logarithmic";
   info.up_axis = "xyz"[static_cast<int>(index.up_axis)];
 
   impl->cells.resize(index.cells.size());
@@ -325,7 +317,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
     for (int f = 0; f < kFaceCount; ++f) {
       const FrameRecord& frame = index.frames[c * kFaceCount + f];
       FaceEntry& face = entry.faces[f];
-      face.type = frame.kind == FrameKind::kIntra ? FaceType::kIntra : FaceType::kPredicted;
+      face.type = frame.type;
       face.offset = frame.chunk_offset;
       face.coded_bytes = frame.payload_size;
       for (uint32_t ref : frame.references) {
@@ -372,12 +364,24 @@ Result<ImageYCbCr420> Reader::decode_face_ycbcr(const CellIndex& cell, Face face
 
 Result<ImageRGB8> Reader::decode_face(const CellIndex& cell, Face face) {
   SVC_ASSIGN_OR_RETURN(ImagePointer ycc, acquire_face_ycbcr(cell, face));
-  ImageRGB8 rgb;
-  rgb.width = ycc->width;
-  rgb.height = ycc->height;
-  rgb.pixels.resize(static_cast<size_t>(rgb.width) * rgb.height * 3);
-  codec::ycbcr420_to_rgb(*ycc, rgb.pixels.data());
-  return rgb;
+  return to_rgb(*ycc);
+}
+
+Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
+  if (impl_->closed.load()) return cancelled();
+  SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->frame_of(cell, face));
+  std::vector<codec::MacroblockMode> modes;
+  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->decode_uncached(frame, &modes));
+  InspectedFace out;
+  out.type = impl_->index.frames[frame].type;
+  out.image = to_rgb(*ycc);
+  out.macroblocks_x = (ycc->width + codec::kMacroblockSize - 1) / codec::kMacroblockSize;
+  out.macroblocks_y = (ycc->height + codec::kMacroblockSize - 1) / codec::kMacroblockSize;
+  out.modes.assign(static_cast<size_t>(out.macroblocks_x) * out.macroblocks_y, MacroblockCoding::kIntra);
+  for (size_t i = 0; i < modes.size() && i < out.modes.size(); ++i) {
+    out.modes[i] = static_cast<MacroblockCoding>(modes[i]);
+  }
+  return out;
 }
 
 Result<std::array<ImageRGB8, kFaceCount>> Reader::decode_cube(const CellIndex& cell) {
@@ -392,9 +396,7 @@ Status Reader::set_viewer(const CellIndex& cell, const std::array<double, 3>& ve
   if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
   const auto& dims = impl_->grid.dims;
   if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= dims[0] || cell.y >= dims[1] || cell.z >= dims[2]) {
-    return Status(ErrorCode::kInvalidArgument, "set_viewer: cell (" + std::to_string(cell.x) + "," +
-                                                   std::to_string(cell.y) + "," + std::to_string(cell.z) +
-                                                   ") lies outside the grid");
+    return Status(ErrorCode::kInvalidArgument, "set_viewer: " + cell_label(cell) + " lies outside the grid");
   }
   return impl_->schedule(cell, impl_->grid.centre(cell), velocity);
 }
@@ -442,10 +444,7 @@ Status Reader::verify() {
   for (uint32_t frame = 0; frame < impl_->index.frames.size(); ++frame) {
     auto payload = impl_->read_payload(frame);
     Status status = payload.status();
-    if (status.ok()) {
-      auto image = impl_->decode_uncached(frame);
-      status = image.status();
-    }
+    if (status.ok()) status = impl_->decode_uncached(frame).status();
     if (!status.ok()) {
       if (count < 20) problems += (count ? "\n" : "") + status.message();
       ++count;

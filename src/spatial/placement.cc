@@ -132,22 +132,13 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
   for (const auto& [key, ordinal] : group_intra) placement[ordinal].intra = true;
 
   // References: the two nearest I-cubes among the own and adjacent groups.
+  ReachIndex reach(s);
+  for (const auto& [key, ordinal] : group_intra) reach.add({cells[ordinal], ordinal});
   for (uint32_t ordinal = 0; ordinal < cells.size(); ++ordinal) {
     if (placement[ordinal].intra) continue;
     const CellIndex& c = cells[ordinal];
-    const GroupKey own = {c.x / s[0], c.y / s[1], c.z / s[2]};
-    std::vector<ReferenceCandidate> in_reach;
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          const auto it = group_intra.find({own[0] + dx, own[1] + dy, own[2] + dz});
-          if (it == group_intra.end()) continue;
-          in_reach.push_back({cells[it->second], it->second});
-        }
-      }
-    }
     auto& refs = placement[ordinal].references;
-    refs = nearest_references(c, in_reach, grid_spacing);
+    refs = reach.references(c, grid_spacing);
     if (refs.empty()) {
       return Status(ErrorCode::kInternal,
                     "placement: B-cube " + index_text(c) + " has no I-cube in its own group");
@@ -160,6 +151,25 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
                                                const std::array<int32_t, 3>& dims,
                                                const PlacementSettings& settings) {
   return place_cubes(cells, dims, settings, {1.0, 1.0, 1.0});
+}
+
+void ReachIndex::add(const ReferenceCandidate& candidate) {
+  const CellIndex& c = candidate.index;
+  by_group_[{c.x / spacing_[0], c.y / spacing_[1], c.z / spacing_[2]}].push_back(candidate);
+}
+
+std::vector<uint32_t> ReachIndex::references(const CellIndex& cell, const std::array<double, 3>& grid_spacing) const {
+  const GroupKey own = {cell.x / spacing_[0], cell.y / spacing_[1], cell.z / spacing_[2]};
+  std::vector<ReferenceCandidate> in_reach;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dz = -1; dz <= 1; ++dz) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const auto it = by_group_.find({own[0] + dx, own[1] + dy, own[2] + dz});
+        if (it != by_group_.end()) in_reach.insert(in_reach.end(), it->second.begin(), it->second.end());
+      }
+    }
+  }
+  return nearest_references(cell, in_reach, grid_spacing);
 }
 
 std::vector<uint32_t> nearest_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,

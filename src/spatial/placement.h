@@ -40,6 +40,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "svc/status.h"
@@ -84,6 +85,22 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
 struct ReferenceCandidate {
   CellIndex index;
   uint32_t id = 0;
+};
+
+// The Reach and References rules over a set of I-cubes: place_cubes and `svc add`
+// (whose existing I-cubes may differ per face direction) both choose references with it.
+class ReachIndex {
+ public:
+  explicit ReachIndex(const std::array<int32_t, 3>& i_spacing) : spacing_(i_spacing) {}
+  // Makes `candidate` a possible reference of the cells in reach of it.
+  void add(const ReferenceCandidate& candidate);
+  // The ids of the (at most) two I-cubes in reach of `cell` nearest to it, nearest
+  // first; empty when none is in reach.
+  std::vector<uint32_t> references(const CellIndex& cell, const std::array<double, 3>& grid_spacing) const;
+
+ private:
+  std::array<int32_t, 3> spacing_;
+  std::map<std::array<int32_t, 3>, std::vector<ReferenceCandidate>> by_group_;
 };
 
 // The ids of the (at most) two candidates nearest to `cell` by the References rule

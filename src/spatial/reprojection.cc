@@ -366,6 +366,8 @@ codec::MotionVector quantize_flow(double dx, double dy) {
   return codec::MotionVector{to_half_pel(dx), to_half_pel(dy)};
 }
 
+// One function (about 150 lines) on purpose: its scratch tables (histogram, hash slots,
+// run buffers) are set up once and reused, uncleared, by every macroblock of the face.
 codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   constexpr int kMb = codec::kMacroblockSize;
   const int mbs_x = (flow.width + kMb - 1) / kMb;

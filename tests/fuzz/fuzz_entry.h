@@ -19,10 +19,11 @@
 #include <unistd.h>
 
 #include "codec/bframe_codec.h"
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 #include "common/bytes.h"
 #include "common/file_io.h"
 #include "container/container.h"
+#include "reader/face_decode.h"
 #include "svc/limits.h"
 #include "svc/types.h"
 
@@ -69,32 +70,6 @@ class MemoryFile {
   int fd_ = -1;
   std::string path_;
 };
-
-// Decodes frame `frame` of an opened container the way `svc verify` does: its own chunk
-// and, for a B-face, its reference I-faces. Returns whether it decoded.
-inline bool decode_container_frame(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
-                                   ImageYCbCr420* out) {
-  const FrameRecord& record = index.frames[frame];
-  auto payload = read_frame_payload(file, record, "face " + std::to_string(frame));
-  if (!payload.ok()) return false;
-  const int width = static_cast<int>(index.face_width);
-  const int height = static_cast<int>(index.face_height);
-  if (record.kind == FrameKind::kIntra) {
-    return codec::decode_intra_frame(*payload, width, height, out).ok();
-  }
-  std::array<ImageYCbCr420, 2> refs;
-  for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
-    const FrameRecord& ref = index.frames[record.references[r]];
-    if (ref.kind != FrameKind::kIntra) return false;  // parse_index rules this out
-    auto ref_payload = read_frame_payload(file, ref, "reference");
-    if (!ref_payload.ok()) return false;
-    if (!codec::decode_intra_frame(*ref_payload, width, height, &refs[r]).ok()) return false;
-  }
-  if (record.references.empty()) return false;
-  return codec::decode_b_frame(*payload, width, height, refs[0], record.references.size() > 1 ? &refs[1] : nullptr,
-                               out)
-      .ok();
-}
 
 // Rewrites every CRC-32 a mutated file would fail: the header's, each non-empty commit
 // slot's, and those of the chunks found by walking the chunk framing from the end of the
@@ -144,8 +119,9 @@ inline int open_and_decode_all(std::span<const uint8_t> data) {
   const ContainerIndex& index = opened->index;
   int decoded = 0;
   for (uint32_t frame = 0; frame < index.frames.size(); ++frame) {
-    ImageYCbCr420 image;
-    if (decode_container_frame(**file, index, frame, &image)) {
+    auto face = decode_indexed_face(**file, index, frame);
+    if (face.ok()) {
+      const ImageYCbCr420& image = **face;
       // A decoded face must have the size the index promised.
       if (image.width != static_cast<int>(index.face_width) || image.height != static_cast<int>(index.face_height)) {
         std::fprintf(stderr, "decoded face has the wrong size\n");

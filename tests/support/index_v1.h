@@ -41,14 +41,14 @@ inline std::vector<uint8_t> serialize_index_v1(const ContainerIndex& index) {
   for (const FrameRecord& frame : index.frames) {
     w.u32(frame.cell);
     w.u8(static_cast<uint8_t>(frame.face));
-    w.u8(static_cast<uint8_t>(frame.kind));
+    w.u8(static_cast<uint8_t>(frame.type));
     w.u8(static_cast<uint8_t>(frame.references.size()));
     w.u8(0);
     w.u64(frame.chunk_offset);
     w.u32(frame.payload_size);
     for (uint32_t ref : frame.references) w.u32(ref);
   }
-  for (const FrameTypeRecord& t : index.stats) {
+  for (const FaceTypeStats& t : index.stats) {
     for (uint64_t v : {t.faces, t.bytes, t.mb_intra, t.mb_forward, t.mb_backward, t.mb_bidirectional, t.mb_skipped,
                        t.candidate_vectors, t.candidate_macroblocks}) {
       w.u64(v);

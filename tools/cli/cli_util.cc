@@ -74,10 +74,6 @@ bool parse_triple(const std::string& text, std::array<int32_t, 3>* out) {
   return (*out)[0] > 0 && (*out)[1] > 0 && (*out)[2] > 0;
 }
 
-std::string cell_text(const CellIndex& c) {
-  return std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z);
-}
-
 std::string human_bytes(uint64_t bytes) {
   char buf[64];
   if (bytes >= (1ull << 30)) {

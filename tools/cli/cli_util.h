@@ -37,7 +37,6 @@ bool parse_cell(const std::string& text, CellIndex* out);
 // "X,Y,Z" or "N" (all axes) -> three positive integers.
 bool parse_triple(const std::string& text, std::array<int32_t, 3>* out);
 
-std::string cell_text(const CellIndex& c);
 std::string human_bytes(uint64_t bytes);
 
 // Writes an 8-bit RGB PNG.

@@ -15,6 +15,7 @@
 
 #include "cli/cli_util.h"
 #include "common/file_io.h"
+#include "common/parallel.h"
 #include "container/container.h"
 #include "scene/scene.h"
 #include "svc/encoder.h"
@@ -31,7 +32,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-json frame_stats_json(const FrameTypeStats& s) {
+json frame_stats_json(const FaceTypeStats& s) {
   json j;
   j["faces"] = s.faces;
   j["bytes"] = s.bytes;
@@ -60,7 +61,7 @@ json summary_json(const EncodeSummary& s, const std::filesystem::path& out) {
   return j;
 }
 
-void print_frame_stats(const char* name, const FrameTypeStats& s) {
+void print_frame_stats(const char* name, const FaceTypeStats& s) {
   if (s.faces == 0) return;
   std::printf("  %-9s %6llu faces  %10s", name, static_cast<unsigned long long>(s.faces),
               human_bytes(s.bytes).c_str());
@@ -124,7 +125,7 @@ std::string triple_text(const std::array<double, 3>& v) {
 }
 
 // The encoder's per-frame-type statistics kept in the index.
-Result<std::array<FrameTypeStats, 2>> read_frame_type_stats(const std::filesystem::path& path) {
+Result<std::array<FaceTypeStats, 2>> read_frame_type_stats(const std::filesystem::path& path) {
   SVC_ASSIGN_OR_RETURN(auto file, ReadOnlyFile::open(path));
   SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*file, ReaderLimits{}));
   return opened.index.stats;
@@ -189,8 +190,8 @@ int decode_command(const DecodeOptions& options) {
   if (options.cell) {
     auto ordinal = (*reader)->find_cell(*options.cell);
     if (!ordinal) {
-      return report_error(Status(ErrorCode::kNotFound, options.input.string() + " has no cell (" +
-                                                           cell_text(*options.cell) + ")"));
+      return report_error(Status(ErrorCode::kNotFound, options.input.string() + " has no " +
+                                                           cell_label(*options.cell)));
     }
     selected.push_back(*ordinal);
   } else {
@@ -289,7 +290,7 @@ int info_command(const InfoOptions& options) {
   const uint64_t raw = uint64_t{3} * info.face_width * info.face_height * cells.size() * kFaceCount;
   auto recorded = read_frame_type_stats(options.input);
   if (!recorded.ok()) return report_error(recorded.status());
-  const std::array<FrameTypeStats, 2>& stats = *recorded;
+  const std::array<FaceTypeStats, 2>& stats = *recorded;
   if (options.json) {
     json j;
     j["file"] = options.input.string();
@@ -363,7 +364,7 @@ int demo_command(const DemoOptions& options) {
   samples::SceneOptions scene;
   scene.kind = options.kind;
   // Rendering in parallel gives the same bytes; use every core.
-  scene.threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 256u));
+  scene.threads = std::min(resolve_thread_count(0), 256);
   const fs::path db = work / "scene";
   const fs::path out = work / "scene.svc";
   std::printf("svc demo: %s scene, %d x %d x %d cells of %dx%d faces, in %s\n",
@@ -422,7 +423,7 @@ int demo_command(const DemoOptions& options) {
       cell_y.add(*e_y);
       ++decoded_faces;
     }
-    std::printf("    cell (%s) %s-cube: 6 faces in %.2f ms, PSNR-Y %.2f dB\n", cell_text(cell.index).c_str(),
+    std::printf("    %s %s-cube: 6 faces in %.2f ms, PSNR-Y %.2f dB\n", cell_label(cell.index).c_str(),
                 cell.faces[0].type == FaceType::kIntra ? "I" : "B", seconds * 1e3, cell_y.psnr());
   }
   std::printf("  open       %.2f ms\n", open_seconds * 1e3);

@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 
 namespace svc::codec {
 namespace {

@@ -2,7 +2,7 @@
 // (Y, Cb, Cr), DC predicted from neighbouring blocks, AC by block_coder. The decoder's
 // inverse path (reconstruct_intra_frame) is also the encoder's reconstruction, so the
 // two agree bit for bit by construction.
-#include "codec/frame_codec.h"
+#include "codec/intra_codec.h"
 
 #include <algorithm>
 #include <string>
@@ -101,7 +101,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   planes[1].pixels = source.cb.data();
   planes[2].pixels = source.cr.data();
 
-  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FrameType::kIntra), kIntraSyntaxVersion,
+  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kIntra), kIntraSyntaxVersion,
                                 static_cast<uint8_t>(quant_scale), 0};
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
   RangeEncoder encoder(&bytes);
@@ -163,7 +163,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
     return corrupt("payload of " + std::to_string(bytes.size()) + " bytes is shorter than the " +
                    std::to_string(kFrameHeaderBytes) + "-byte header");
   }
-  if (bytes[0] != static_cast<uint8_t>(FrameType::kIntra)) {
+  if (bytes[0] != static_cast<uint8_t>(FaceType::kIntra)) {
     return corrupt("byte 0: frame type " + std::to_string(bytes[0]) + " is not intra (0)");
   }
   if (bytes[1] != kIntraSyntaxVersion) {

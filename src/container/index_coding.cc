@@ -1,27 +1,17 @@
-#include "container/container.h"
-
+// The index chunk's payload: serialize_index and parse_index (docs/format.md, "The index").
 #include <algorithm>
-#include <atomic>
 #include <bit>
-#include <cerrno>
 #include <cmath>
-#include <csignal>
-#include <cstring>
 #include <optional>
 #include <string>
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include "common/bytes.h"
+#include "container/container.h"
 
 namespace svc {
 
 namespace {
 
-constexpr uint8_t kMagic[8] = {0x89, 'S', 'V', 'C', 0x0D, 0x0A, 0x1A, 0x0A};
 constexpr uint32_t kIndexVersion1 = 1;
 constexpr uint32_t kIndexVersion2 = 2;  // written; version 1 is still read
 constexpr uint64_t kCameraBytes = (16 + 6) * 8;
@@ -35,21 +25,13 @@ constexpr uint8_t kExplicitCameraMarker = 255;
 constexpr size_t kMaxRigEntries = 64;
 constexpr uint64_t kRigEntryBytes = (9 + 6) * 8;
 // Version 2 frame record type byte: bits 0-1 frame type, bits 2-3 reference count.
-constexpr uint8_t kFrameKindMask = 0x03;
+constexpr uint8_t kFaceTypeMask = 0x03;
 constexpr int kRefCountShift = 2;
 constexpr uint8_t kRefCountMask = 0x03;
 constexpr uint8_t kFrameHeadReservedMask = 0xF0;
 constexpr int kMaxVarintBytes = 10;
 
 std::string at_offset(uint64_t offset) { return " at byte offset " + std::to_string(offset); }
-
-Status corrupt(const std::string& what, uint64_t offset) {
-  return Status(ErrorCode::kCorruptData, what + at_offset(offset));
-}
-
-std::string cell_name(const CellIndex& c) {
-  return "cell (" + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) + ")";
-}
 
 bool cell_less(const CellIndex& a, const CellIndex& b) {
   if (a.y != b.y) return a.y < b.y;
@@ -201,16 +183,16 @@ Result<uint64_t> read_varint(ByteReader& r, const std::string& what) {
   uint64_t value = 0;
   for (int i = 0; i < kMaxVarintBytes; ++i) {
     const uint8_t byte = r.u8();
-    if (!r.ok()) return corrupt(what + " is truncated", r.failed_at());
+    if (!r.ok()) return corrupt_at(what + " is truncated", r.failed_at());
     const uint64_t bits = byte & 0x7F;
-    if (i == kMaxVarintBytes - 1 && bits > 1) return corrupt(what + " overflows 64 bits", start);
+    if (i == kMaxVarintBytes - 1 && bits > 1) return corrupt_at(what + " overflows 64 bits", start);
     value |= bits << (7 * i);
     if ((byte & 0x80) == 0) {
-      if (i > 0 && byte == 0) return corrupt(what + " has a redundant trailing zero byte", start);
+      if (i > 0 && byte == 0) return corrupt_at(what + " has a redundant trailing zero byte", start);
       return value;
     }
   }
-  return corrupt(what + " is longer than 10 bytes", start);
+  return corrupt_at(what + " is longer than 10 bytes", start);
 }
 
 // --- Shared parsing ------------------------------------------------------------------
@@ -229,7 +211,7 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
   index.coding.quality = r.u32();
   index.coding.quant_scale = r.u32();
   for (int32_t& s : index.coding.i_spacing) s = r.i32();
-  if (!r.ok()) return corrupt("index header is truncated", r.failed_at());
+  if (!r.ok()) return corrupt_at("index header is truncated", r.failed_at());
 
   if (index.face_width == 0 || index.face_height == 0 ||
       index.face_width > limits.max_face_dimension || index.face_height > limits.max_face_dimension ||
@@ -247,45 +229,45 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
     }
     if (!std::isfinite(index.grid.origin[axis]) || !std::isfinite(index.grid.spacing[axis]) ||
         index.grid.spacing[axis] <= 0) {
-      return corrupt("grid origin or spacing is not finite and positive", size_at + 20);
+      return corrupt_at("grid origin or spacing is not finite and positive", size_at + 20);
     }
     if (index.coding.i_spacing[axis] <= 0) {
-      return corrupt("I-cube spacing is not positive", size_at);
+      return corrupt_at("I-cube spacing is not positive", size_at);
     }
   }
   if (depth_mode > 1 || up_axis > 2 || motion > 1) {
-    return corrupt("depth mode, up axis or motion source has an unknown value", size_at + 68);
+    return corrupt_at("depth mode, up axis or motion source has an unknown value", size_at + 68);
   }
   index.depth_mode = static_cast<DepthMode>(depth_mode);
   index.up_axis = static_cast<UpAxis>(up_axis);
-  index.coding.motion = static_cast<MotionSource>(motion);
+  index.coding.motion = static_cast<MotionSearch>(motion);
   return Status::Ok();
 }
 
 Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r) {
   const uint64_t count_at = r.file_offset();
   const uint64_t count = r.u8();
-  if (!r.ok()) return corrupt("index is truncated before the camera rig table", r.failed_at());
+  if (!r.ok()) return corrupt_at("index is truncated before the camera rig table", r.failed_at());
   if (count > kMaxRigEntries) {
-    return corrupt("camera rig table has " + std::to_string(count) + " entries, more than " +
+    return corrupt_at("camera rig table has " + std::to_string(count) + " entries, more than " +
                        std::to_string(kMaxRigEntries),
                    count_at);
   }
   if (count * kRigEntryBytes > r.remaining()) {
-    return corrupt("camera rig table of " + std::to_string(count) + " entries does not fit in the index", count_at);
+    return corrupt_at("camera rig table of " + std::to_string(count) + " entries does not fit in the index", count_at);
   }
   std::vector<RigEntry> rig(count);
   for (uint64_t k = 0; k < count; ++k) {
     const uint64_t entry_at = r.file_offset();
     for (double& v : rig[k].rotation) v = r.f64();
     rig[k].frustum = read_frustum(r);
-    if (!r.ok()) return corrupt("camera rig entry " + std::to_string(k) + " is truncated", entry_at);
+    if (!r.ok()) return corrupt_at("camera rig entry " + std::to_string(k) + " is truncated", entry_at);
     if (!is_signed_permutation(rig[k].rotation)) {
-      return corrupt("camera rig entry " + std::to_string(k) + " has a rotation that is not a signed permutation",
+      return corrupt_at("camera rig entry " + std::to_string(k) + " has a rotation that is not a signed permutation",
                      entry_at);
     }
     if (!frustum_is_valid(rig[k].frustum)) {
-      return corrupt("camera rig entry " + std::to_string(k) + " has an invalid frustum", entry_at + 72);
+      return corrupt_at("camera rig entry " + std::to_string(k) + " has an invalid frustum", entry_at + 72);
     }
   }
   return rig;
@@ -297,17 +279,17 @@ Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
   const CellIndex& c = cell.index;
   if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= index.grid.dims[0] || c.y >= index.grid.dims[1] ||
       c.z >= index.grid.dims[2]) {
-    return corrupt(cell_name(c) + " lies outside the grid", record_at);
+    return corrupt_at(cell_label(c) + " lies outside the grid", record_at);
   }
   if (i > 0 && !cell_less(index.cells[i - 1].index, c)) {
-    return corrupt(cell_name(c) + " is out of order or repeated in the index", record_at);
+    return corrupt_at(cell_label(c) + " is out of order or repeated in the index", record_at);
   }
   for (double v : cell.position) {
-    if (!std::isfinite(v)) return corrupt(cell_name(c) + " has a non-finite position", record_at);
+    if (!std::isfinite(v)) return corrupt_at(cell_label(c) + " has a non-finite position", record_at);
   }
   for (int f = 0; f < kFaceCount; ++f) {
     if (!camera_is_valid(cell.cameras[f])) {
-      return corrupt(cell_name(c) + " face " + face_name(static_cast<Face>(f)) + " has an invalid camera",
+      return corrupt_at(face_label(c, static_cast<Face>(f)) + " has an invalid camera",
                      record_at);
     }
   }
@@ -318,14 +300,14 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
                    ContainerIndex& index) {
   const uint64_t cells_at = r.file_offset();
   const uint64_t cell_count = r.u32();
-  if (!r.ok()) return corrupt("index is truncated before the cell count", r.failed_at());
+  if (!r.ok()) return corrupt_at("index is truncated before the cell count", r.failed_at());
   if (cell_count == 0 || cell_count > limits.max_cells) {
     return Status(ErrorCode::kLimitExceeded, "cell count " + std::to_string(cell_count) +
                                                  " is zero or above the reader's limit" + at_offset(cells_at));
   }
   const uint64_t min_record_bytes = version == kIndexVersion1 ? kCellRecordBytesV1 : kCellRecordMinBytesV2;
   if (cell_count * min_record_bytes > r.remaining()) {
-    return corrupt("cell count " + std::to_string(cell_count) + " does not fit in the index", cells_at);
+    return corrupt_at("cell count " + std::to_string(cell_count) + " does not fit in the index", cells_at);
   }
   index.cells.resize(cell_count);
   for (uint64_t i = 0; i < cell_count; ++i) {
@@ -348,14 +330,14 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
           // A non-finite centre makes a non-finite camera; check_cell names the centre first.
           cell.cameras[f] = camera_from_rig(rig[source], cell.position);
         } else {
-          return corrupt(cell_name(cell.index) + " face " + face_name(static_cast<Face>(f)) +
+          return corrupt_at(face_label(cell.index, static_cast<Face>(f)) +
                              " names camera rig entry " + std::to_string(source) + " of " +
                              std::to_string(rig.size()),
                          source_at);
         }
       }
     }
-    if (!r.ok()) return corrupt("cell record " + std::to_string(i) + " is truncated", record_at);
+    if (!r.ok()) return corrupt_at("cell record " + std::to_string(i) + " is truncated", record_at);
     SVC_RETURN_IF_ERROR(check_cell(index, i, record_at));
   }
   return Status::Ok();
@@ -364,7 +346,7 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
 // Checks shared by both versions once a frame record's fixed fields are read.
 Status check_frame(const FrameRecord& frame, uint8_t kind, uint64_t ref_count, const std::string& what,
                    uint64_t record_at, uint64_t file_size, const ReaderLimits& limits) {
-  if (kind > 1) return corrupt(what + " has an unknown frame type " + std::to_string(kind), record_at);
+  if (kind > 1) return corrupt_at(what + " has an unknown frame type " + std::to_string(kind), record_at);
   if (frame.payload_size > limits.max_frame_bytes) {
     return Status(ErrorCode::kLimitExceeded,
                   what + " is " + std::to_string(frame.payload_size) + " bytes, above the reader's limit" +
@@ -372,18 +354,18 @@ Status check_frame(const FrameRecord& frame, uint8_t kind, uint64_t ref_count, c
   }
   if (frame.chunk_offset < kPreludeSize || frame.chunk_offset > file_size ||
       uint64_t{frame.payload_size} + kChunkOverhead > file_size - frame.chunk_offset) {
-    return corrupt(what + " points at bytes " + std::to_string(frame.chunk_offset) + " outside the file",
+    return corrupt_at(what + " points at bytes " + std::to_string(frame.chunk_offset) + " outside the file",
                    record_at);
   }
-  if ((static_cast<FrameKind>(kind) == FrameKind::kIntra) != (ref_count == 0) || ref_count > 2) {
-    return corrupt(what + " has " + std::to_string(ref_count) + " references, which its type does not allow",
+  if ((static_cast<FaceType>(kind) == FaceType::kIntra) != (ref_count == 0) || ref_count > 2) {
+    return corrupt_at(what + " has " + std::to_string(ref_count) + " references, which its type does not allow",
                    record_at);
   }
   return Status::Ok();
 }
 
 std::string frame_name(const ContainerIndex& index, uint64_t i) {
-  return cell_name(index.cells[i / kFaceCount].index) + " face " + face_name(static_cast<Face>(i % kFaceCount));
+  return face_label(index.cells[i / kFaceCount].index, static_cast<Face>(i % kFaceCount));
 }
 
 Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
@@ -397,17 +379,17 @@ Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     r.u8();
     frame.chunk_offset = r.u64();
     frame.payload_size = r.u32();
-    if (!r.ok()) return corrupt("frame record " + std::to_string(i) + " is truncated", record_at);
+    if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
     // Frames are stored cell-major in face order, so the position fixes cell and face.
     if (frame.cell != i / kFaceCount || face != i % kFaceCount) {
-      return corrupt("frame record " + std::to_string(i) + " names the wrong cell or face", record_at);
+      return corrupt_at("frame record " + std::to_string(i) + " names the wrong cell or face", record_at);
     }
     frame.face = static_cast<Face>(face);
     SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, frame_name(index, i), record_at, file_size, limits));
-    frame.kind = static_cast<FrameKind>(kind);
+    frame.type = static_cast<FaceType>(kind);
     frame.references.resize(ref_count);
     for (uint32_t& ref : frame.references) ref = r.u32();
-    if (!r.ok()) return corrupt("frame record " + std::to_string(i) + " is truncated", record_at);
+    if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
   }
   return Status::Ok();
 }
@@ -422,11 +404,11 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     frame.face = static_cast<Face>(i % kFaceCount);
     const std::string what = frame_name(index, i);
     const uint8_t head = r.u8();
-    if (!r.ok()) return corrupt("frame record " + std::to_string(i) + " is truncated", record_at);
+    if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
     if (head & kFrameHeadReservedMask) {
-      return corrupt(what + " has reserved bits set in its type byte", record_at);
+      return corrupt_at(what + " has reserved bits set in its type byte", record_at);
     }
-    const uint8_t kind = head & kFrameKindMask;
+    const uint8_t kind = head & kFaceTypeMask;
     const uint8_t ref_count = (head >> kRefCountShift) & kRefCountMask;
 
     SVC_ASSIGN_OR_RETURN(const uint64_t zigzag, read_varint(r, what + " chunk offset"));
@@ -434,22 +416,22 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     // previous_end <= file_size here, so these bounds keep the sum inside [0, file_size].
     const uint64_t magnitude = delta < 0 ? uint64_t{0} - static_cast<uint64_t>(delta) : static_cast<uint64_t>(delta);
     if ((delta < 0 && magnitude > previous_end) || (delta >= 0 && magnitude > file_size - previous_end)) {
-      return corrupt(what + " chunk offset delta " + std::to_string(delta) + " leads outside the file", record_at);
+      return corrupt_at(what + " chunk offset delta " + std::to_string(delta) + " leads outside the file", record_at);
     }
     frame.chunk_offset = delta < 0 ? previous_end - magnitude : previous_end + magnitude;
 
     SVC_ASSIGN_OR_RETURN(const uint64_t payload_size, read_varint(r, what + " payload size"));
     if (payload_size > UINT32_MAX) {
-      return corrupt(what + " payload size " + std::to_string(payload_size) + " does not fit 32 bits", record_at);
+      return corrupt_at(what + " payload size " + std::to_string(payload_size) + " does not fit 32 bits", record_at);
     }
     frame.payload_size = static_cast<uint32_t>(payload_size);
     SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, what, record_at, file_size, limits));
-    frame.kind = static_cast<FrameKind>(kind);
+    frame.type = static_cast<FaceType>(kind);
     frame.references.resize(ref_count);
     for (uint32_t& ref : frame.references) {
       SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
       if (value >= frame_count) {
-        return corrupt(what + " references frame " + std::to_string(value) + " of " + std::to_string(frame_count),
+        return corrupt_at(what + " references frame " + std::to_string(value) + " of " + std::to_string(frame_count),
                        record_at);
       }
       ref = static_cast<uint32_t>(value);
@@ -519,7 +501,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
   w.u32(static_cast<uint32_t>(index.frames.size()));
   uint64_t previous_end = kPreludeSize;
   for (const FrameRecord& frame : index.frames) {
-    w.u8(static_cast<uint8_t>((static_cast<uint8_t>(frame.kind) & kFrameKindMask) |
+    w.u8(static_cast<uint8_t>((static_cast<uint8_t>(frame.type) & kFaceTypeMask) |
                               (frame.references.size() & kRefCountMask) << kRefCountShift));
     // Two's complement difference: chunks appended by `svc add` lie before earlier ones.
     write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
@@ -527,7 +509,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
     for (uint32_t ref : frame.references) write_varint(w, ref);
     previous_end = frame.chunk_offset + frame.payload_size + kChunkOverhead;
   }
-  for (const FrameTypeRecord& t : index.stats) {
+  for (const FaceTypeStats& t : index.stats) {
     for (uint64_t v : {t.faces, t.bytes, t.mb_intra, t.mb_forward, t.mb_backward, t.mb_bidirectional, t.mb_skipped,
                        t.candidate_vectors, t.candidate_macroblocks}) {
       w.u64(v);
@@ -542,7 +524,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   ContainerIndex index;
   const uint64_t version_at = r.file_offset();
   const uint32_t version = r.u32();
-  if (!r.ok()) return corrupt("index is truncated", r.failed_at());
+  if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
   if (version != kIndexVersion1 && version != kIndexVersion2) {
     return Status(ErrorCode::kUnsupported,
                   "index version " + std::to_string(version) + " is not supported" + at_offset(version_at));
@@ -556,13 +538,13 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
 
   const uint64_t frames_at = r.file_offset();
   const uint64_t frame_count = r.u32();
-  if (!r.ok()) return corrupt("index is truncated before the frame count", r.failed_at());
+  if (!r.ok()) return corrupt_at("index is truncated before the frame count", r.failed_at());
   if (frame_count != index.cells.size() * kFaceCount) {
-    return corrupt("frame count " + std::to_string(frame_count) + " is not six per cell", frames_at);
+    return corrupt_at("frame count " + std::to_string(frame_count) + " is not six per cell", frames_at);
   }
   const uint64_t min_record_bytes = version == kIndexVersion1 ? kFrameRecordMinBytesV1 : kFrameRecordMinBytesV2;
   if (frame_count * min_record_bytes > r.remaining()) {
-    return corrupt("frame count " + std::to_string(frame_count) + " does not fit in the index", frames_at);
+    return corrupt_at("frame count " + std::to_string(frame_count) + " does not fit in the index", frames_at);
   }
   index.frames.resize(frame_count);
   if (version == kIndexVersion1) {
@@ -575,316 +557,26 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   for (uint64_t i = 0; i < frame_count; ++i) {
     const FrameRecord& frame = index.frames[i];
     for (uint32_t ref : frame.references) {
-      if (ref >= frame_count || index.frames[ref].kind != FrameKind::kIntra ||
+      if (ref >= frame_count || index.frames[ref].type != FaceType::kIntra ||
           index.frames[ref].face != frame.face) {
-        return corrupt(cell_name(index.cells[frame.cell].index) + " face " + face_name(frame.face) +
+        return corrupt_at(face_label(index.cells[frame.cell].index, frame.face) +
                            " references frame " + std::to_string(ref) + ", which is not an I-face of the same face",
                        frames_at);
       }
     }
   }
-  for (FrameTypeRecord& t : index.stats) {
+  for (FaceTypeStats& t : index.stats) {
     for (uint64_t* v : {&t.faces, &t.bytes, &t.mb_intra, &t.mb_forward, &t.mb_backward, &t.mb_bidirectional,
                         &t.mb_skipped, &t.candidate_vectors, &t.candidate_macroblocks}) {
       *v = r.u64();
     }
   }
-  if (!r.ok()) return corrupt("encoder statistics are truncated", r.failed_at());
+  if (!r.ok()) return corrupt_at("encoder statistics are truncated", r.failed_at());
   if (r.remaining() != 0) {
-    return corrupt(std::to_string(r.remaining()) + " unexpected bytes after the index records", r.file_offset());
+    return corrupt_at(std::to_string(r.remaining()) + " unexpected bytes after the index records", r.file_offset());
   }
   return index;
 }
 
-std::vector<uint8_t> make_chunk(uint32_t tag, std::span<const uint8_t> payload) {
-  ByteWriter w;
-  w.u32(tag);
-  w.u64(payload.size());
-  w.raw(payload);
-  w.u32(crc32_of(w.bytes()));
-  return w.take();
-}
-
-std::vector<uint8_t> make_file_header() {
-  ByteWriter w;
-  w.raw(kMagic);
-  w.u16(kFormatMajor);
-  w.u16(kFormatMinor);
-  w.u32(static_cast<uint32_t>(kPreludeSize));
-  w.u32(0);  // flags
-  w.u32(0);  // reserved
-  w.u32(0);  // reserved
-  w.u32(crc32_of(w.bytes()));
-  return w.take();
-}
-
-std::vector<uint8_t> make_commit_slot(uint64_t generation, uint64_t index_offset,
-                                      uint64_t index_chunk_size) {
-  ByteWriter w;
-  w.u64(generation);
-  w.u64(index_offset);
-  w.u64(index_chunk_size);
-  w.u32(0);  // reserved
-  w.u32(crc32_of(w.bytes()));
-  return w.take();
-}
-
-namespace {
-
-struct CommitSlot {
-  bool valid = false;
-  bool empty = false;
-  uint64_t generation = 0, index_offset = 0, index_chunk_size = 0;
-};
-
-CommitSlot parse_slot(std::span<const uint8_t> bytes) {
-  CommitSlot slot;
-  ByteReader r(bytes);
-  slot.generation = r.u64();
-  slot.index_offset = r.u64();
-  slot.index_chunk_size = r.u64();
-  r.u32();
-  const uint32_t crc = r.u32();
-  slot.valid = r.ok() && slot.generation != 0 && crc == crc32_of(bytes.first(kCommitSlotSize - 4));
-  slot.empty = std::all_of(bytes.begin(), bytes.end(), [](uint8_t b) { return b == 0; });
-  return slot;
-}
-
-// Reads and checks a chunk's framing; returns its payload.
-Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offset, uint64_t chunk_size,
-                                        uint32_t expected_tag, const std::string& what) {
-  if (chunk_size < kChunkOverhead || offset > file.size() || chunk_size > file.size() - offset) {
-    return corrupt(what + " chunk of " + std::to_string(chunk_size) + " bytes lies outside the file", offset);
-  }
-  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, file.read_vector(offset, chunk_size));
-  ByteReader r(bytes, offset);
-  const uint32_t tag = r.u32();
-  const uint64_t payload_size = r.u64();
-  if (tag != expected_tag) return corrupt(what + " chunk has a wrong tag", offset);
-  if (payload_size != chunk_size - kChunkOverhead) {
-    return corrupt(what + " chunk's size field does not match the index", offset + 4);
-  }
-  const std::span<const uint8_t> all(bytes);
-  const uint32_t stored_crc = static_cast<uint32_t>(all[chunk_size - 4]) |
-                              static_cast<uint32_t>(all[chunk_size - 3]) << 8 |
-                              static_cast<uint32_t>(all[chunk_size - 2]) << 16 |
-                              static_cast<uint32_t>(all[chunk_size - 1]) << 24;
-  if (stored_crc != crc32_of(all.first(chunk_size - 4))) {
-    return corrupt(what + " chunk fails its CRC-32 check (" + std::to_string(chunk_size) + " bytes)", offset);
-  }
-  bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(chunk_size - 4), bytes.end());
-  bytes.erase(bytes.begin(), bytes.begin() + 12);
-  return bytes;
-}
-
-}  // namespace
-
-Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLimits& limits) {
-  const std::string name = file.path().string();
-  if (file.size() < kPreludeSize) {
-    return Status(ErrorCode::kCorruptData, name + " is too short to be an .svc file (" +
-                                               std::to_string(file.size()) + " bytes)");
-  }
-  std::vector<uint8_t> prelude(kPreludeSize);
-  SVC_RETURN_IF_ERROR(file.read_at(0, prelude));
-  if (!std::equal(std::begin(kMagic), std::end(kMagic), prelude.begin())) {
-    return Status(ErrorCode::kCorruptData, name + " is not an .svc file (bad signature)");
-  }
-  ByteReader header(std::span<const uint8_t>(prelude).first(kFileHeaderSize));
-  header.skip(8);
-  const uint16_t major = header.u16();
-  const uint16_t minor = header.u16();
-  const uint32_t prelude_size = header.u32();
-  header.skip(12);
-  const uint32_t header_crc = header.u32();
-  if (header_crc != crc32_of(std::span<const uint8_t>(prelude).first(kFileHeaderSize - 4))) {
-    return Status(ErrorCode::kCorruptData, name + ": file header fails its CRC-32 check at byte offset 0");
-  }
-  if (major != kFormatMajor) {
-    return Status(ErrorCode::kUnsupported, name + ": format version " + std::to_string(major) + "." +
-                                               std::to_string(minor) + " is not supported");
-  }
-  if (prelude_size != kPreludeSize) {
-    return Status(ErrorCode::kCorruptData, name + ": header size field is wrong at byte offset 12");
-  }
-
-  const std::span<const uint8_t> slots(prelude.data() + kFileHeaderSize, 2 * kCommitSlotSize);
-  CommitSlot slot[2] = {parse_slot(slots.first(kCommitSlotSize)), parse_slot(slots.last(kCommitSlotSize))};
-  // Try the newest valid slot first; fall back to the other (an interrupted commit).
-  int order[2] = {0, 1};
-  if (slot[1].valid && (!slot[0].valid || slot[1].generation > slot[0].generation)) std::swap(order[0], order[1]);
-  Status first_error;
-  for (int k : order) {
-    if (!slot[k].valid) continue;
-    const CommitSlot& s = slot[k];
-    if (s.index_chunk_size > limits.max_index_bytes + kChunkOverhead) {
-      first_error = Status(ErrorCode::kLimitExceeded, name + ": index of " + std::to_string(s.index_chunk_size) +
-                                                          " bytes is above the reader's limit");
-      continue;
-    }
-    auto payload = read_chunk(file, s.index_offset, s.index_chunk_size, kIndexChunkTag, "index");
-    if (!payload.ok()) {
-      if (first_error.ok()) first_error = payload.status().with_context(name);
-      continue;
-    }
-    auto index = parse_index(*payload, s.index_offset + 12, file.size(), limits);
-    if (!index.ok()) {
-      if (first_error.ok()) first_error = index.status().with_context(name + ": index");
-      continue;
-    }
-    OpenedContainer opened;
-    opened.index = std::move(index).value();
-    opened.index_offset = s.index_offset;
-    opened.index_chunk_size = s.index_chunk_size;
-    opened.generation = s.generation;
-    opened.slot = k;
-    opened.fell_back = k != order[0] && slot[order[0]].valid;
-    for (int j = 0; j < 2; ++j) opened.slot_damaged[j] = !slot[j].valid && !slot[j].empty;
-    return opened;
-  }
-  if (!first_error.ok()) return first_error;
-  return Status(ErrorCode::kCorruptData, name + ": no valid commit slot (bytes 32-95): the file holds no index");
-}
-
-Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
-                                                const std::string& what) {
-  return read_chunk(file, frame.chunk_offset, uint64_t{frame.payload_size} + kChunkOverhead, kFaceChunkTag,
-                    what);
-}
-
-Result<std::unique_ptr<ContainerWriter>> ContainerWriter::create(const std::filesystem::path& path) {
-  SVC_ASSIGN_OR_RETURN(auto out, AtomicOutputFile::create(path));
-  const std::vector<uint8_t> header = make_file_header();
-  SVC_RETURN_IF_ERROR(out->write(header));
-  const std::vector<uint8_t> empty_slots(2 * kCommitSlotSize, 0);
-  SVC_RETURN_IF_ERROR(out->write(empty_slots));
-  return std::unique_ptr<ContainerWriter>(new ContainerWriter(std::move(out)));
-}
-
-Result<uint64_t> ContainerWriter::append_frame(std::span<const uint8_t> payload) {
-  const uint64_t offset = out_->position();
-  SVC_RETURN_IF_ERROR(out_->write(make_chunk(kFaceChunkTag, payload)));
-  return offset;
-}
-
-Status ContainerWriter::finish(const ContainerIndex& index) {
-  const uint64_t index_offset = out_->position();
-  const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, serialize_index(index));
-  SVC_RETURN_IF_ERROR(out_->write(chunk));
-  SVC_RETURN_IF_ERROR(out_->write_at(kFileHeaderSize, make_commit_slot(1, index_offset, chunk.size())));
-  return out_->commit();
-}
-
-namespace {
-
-std::atomic<int64_t> g_kill_after_bytes{-1};
-
-}  // namespace
-
-void set_updater_kill_after_bytes_for_testing(int64_t bytes) { g_kill_after_bytes.store(bytes); }
-
-Result<std::unique_ptr<ContainerUpdater>> ContainerUpdater::open(const std::filesystem::path& path,
-                                                                 const ReaderLimits& limits) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-  if (fd < 0) {
-    const ErrorCode code = errno == ENOENT ? ErrorCode::kNotFound : ErrorCode::kIoError;
-    return Status(code, "cannot open " + path.string() + " for update: " + std::strerror(errno));
-  }
-  auto fail = [&](Status status) {
-    ::close(fd);
-    return status;
-  };
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    return fail(Status(ErrorCode::kIoError, path.string() + " is being updated by another process"));
-  }
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    return fail(Status(ErrorCode::kIoError, path.string() + " is not a regular file"));
-  }
-  // Opened after the lock, so no other updater is mid-commit while the index is read.
-  auto file = ReadOnlyFile::open(path);
-  if (!file.ok()) return fail(file.status());
-  auto opened = open_container(**file, limits);
-  if (!opened.ok()) return fail(opened.status());
-  if (opened->fell_back) {
-    return fail(Status(ErrorCode::kCorruptData,
-                       path.string() + ": the newest index is damaged (an older one is in use); run svc verify"));
-  }
-  // Committed data ends with the last chunk the index refers to; anything after it was
-  // appended by an update that never committed.
-  uint64_t end = opened->index_offset + opened->index_chunk_size;
-  for (const FrameRecord& frame : opened->index.frames) {
-    end = std::max(end, frame.chunk_offset + frame.payload_size + kChunkOverhead);
-  }
-  if (end < (*file)->size() && ::ftruncate(fd, static_cast<off_t>(end)) != 0) {
-    return fail(Status(ErrorCode::kIoError, "cannot cut uncommitted bytes off " + path.string() + ": " +
-                                                std::strerror(errno)));
-  }
-  return std::unique_ptr<ContainerUpdater>(
-      new ContainerUpdater(fd, std::move(file).value(), std::move(opened).value(), end));
-}
-
-ContainerUpdater::~ContainerUpdater() {
-  // Uncommitted chunks are unreferenced; cut them off again (best effort).
-  if (!committed_once_ && end_ > start_) (void)::ftruncate(fd_, static_cast<off_t>(start_));
-  ::close(fd_);  // also releases the lock
-}
-
-Status ContainerUpdater::write_at(uint64_t offset, std::span<const uint8_t> data) {
-  int64_t budget = g_kill_after_bytes.load();
-  if (budget >= 0) {
-    if (static_cast<uint64_t>(budget) < data.size()) {
-      // A crash in the middle of this write: what reached the file stays, then death.
-      (void)::pwrite(fd_, data.data(), static_cast<size_t>(budget), static_cast<off_t>(offset));
-      ::raise(SIGKILL);
-    }
-    g_kill_after_bytes.store(budget - static_cast<int64_t>(data.size()));
-  }
-  size_t done = 0;
-  while (done < data.size()) {
-    const ssize_t n =
-        ::pwrite(fd_, data.data() + done, data.size() - done, static_cast<off_t>(offset + done));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      return Status(ErrorCode::kIoError, "write to " + file_->path().string() + " at byte offset " +
-                                             std::to_string(offset + done) + " failed: " + std::strerror(errno));
-    }
-    done += static_cast<size_t>(n);
-  }
-  return Status::Ok();
-}
-
-Status ContainerUpdater::sync(const char* what) {
-  if (::fsync(fd_) != 0) {
-    return Status(ErrorCode::kIoError,
-                  "sync of " + file_->path().string() + " " + what + " failed: " + std::strerror(errno));
-  }
-  return Status::Ok();
-}
-
-Result<uint64_t> ContainerUpdater::append_frame(std::span<const uint8_t> payload) {
-  if (committed_once_) return Status(ErrorCode::kInternal, "append after commit");
-  const uint64_t offset = end_;
-  const std::vector<uint8_t> chunk = make_chunk(kFaceChunkTag, payload);
-  SVC_RETURN_IF_ERROR(write_at(offset, chunk));
-  end_ += chunk.size();
-  return offset;
-}
-
-Status ContainerUpdater::commit(const ContainerIndex& index) {
-  if (committed_once_) return Status(ErrorCode::kInternal, "commit called twice");
-  const uint64_t index_offset = end_;
-  const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, serialize_index(index));
-  SVC_RETURN_IF_ERROR(write_at(index_offset, chunk));
-  end_ += chunk.size();
-  // The index and every face chunk must be durable before a slot points at them.
-  SVC_RETURN_IF_ERROR(sync("before the commit"));
-  const int slot = 1 - committed_.slot;
-  const std::vector<uint8_t> record = make_commit_slot(committed_.generation + 1, index_offset, chunk.size());
-  SVC_RETURN_IF_ERROR(write_at(kFileHeaderSize + static_cast<uint64_t>(slot) * kCommitSlotSize, record));
-  SVC_RETURN_IF_ERROR(sync("after the commit"));
-  committed_once_ = true;
-  return Status::Ok();
-}
 
 }  // namespace svc

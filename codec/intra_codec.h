@@ -18,8 +18,6 @@ struct CodingParams {
   int quant_scale = 8;  // MPEG-2 style quantiser_scale, kMinQuantScale..kMaxQuantScale
 };
 
-enum class FrameType : uint8_t { kIntra = 0, kBidirectional = 1 };
-
 // Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.
 inline constexpr int kFrameHeaderBytes = 4;
 inline constexpr uint8_t kIntraSyntaxVersion = 2;

@@ -1,0 +1,276 @@
+// B-frame decoder: reads each macroblock's mode, vectors or nodes and residual, and
+// reconstructs it with the encoder's own routines (bframe_state.h).
+#include "codec/bframe_codec.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <string>
+
+#include "codec/bframe_state.h"
+#include "codec/bframe_syntax.h"
+
+namespace svc::codec {
+namespace {
+
+using namespace bframe;
+
+Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "B-frame: " + what); }
+
+std::string macroblock_name(int mx, int my) {
+  return "macroblock (" + std::to_string(mx) + ", " + std::to_string(my) + ")";
+}
+
+// Reads macroblocks in coding order and reconstructs each into the frame state.
+class MacroblockReader {
+ public:
+  MacroblockReader(FrameState& s, RangeDecoder& decoder) : s_(s), c_(s.contexts), decoder_(decoder) {}
+
+  // Reads and reconstructs macroblock (mx, my); `mode` receives how it was coded.
+  Status read(int mx, int my, MacroblockMode* mode) {
+    mx_ = mx;
+    my_ = my;
+    info_ = MacroblockInfo{};
+    const MacroblockMode skip_mode = predicted_mode(s_, mx, my);
+    predictors_ = {};
+    for (int r = 0; r < s_.reference_count; ++r) predictors_[r] = predict_vector(s_, mx, my, r);
+    info_.inter_mode = skip_mode;
+    info_.inter_warp = predicted_warp(s_, mx, my);
+    info_.vectors = predictors_;
+    coded_mask_ = 0;
+    const int* intra_dc = nullptr;
+    if (decoder_.decode(c_.skip[skip_context(s_, mx, my)])) {
+      SVC_RETURN_IF_ERROR(read_skipped(skip_mode));
+    } else if (decoder_.decode(c_.intra[intra_context(s_, mx, my)])) {
+      SVC_RETURN_IF_ERROR(read_intra());
+      intra_dc = dc_levels_.data();
+    } else {
+      SVC_RETURN_IF_ERROR(read_inter());
+    }
+    commit_macroblock(s_, mx, my, info_, reconstruction_, intra_dc, coded_mask_);
+    *mode = info_.mode;
+    return Status::Ok();
+  }
+
+ private:
+  Status fail(const std::string& what) const { return corrupt(macroblock_name(mx_, my_) + ": " + what); }
+
+  // Reads the missing nodes of the references `mode` uses; stores the centre vectors.
+  bool read_warp_nodes(MacroblockMode mode) {
+    if (!warp_allowed(s_, mode)) return false;
+    for (int r = 0; r < s_.reference_count; ++r) {
+      if (!uses_reference(mode, r)) continue;
+      if (!decode_missing_nodes(decoder_, s_, r, mx_, my_, predictors_[r])) return false;
+      info_.vectors[r] = warp_centre_vector(s_, macroblock_corners(s_, r, mx_, my_));
+    }
+    return true;
+  }
+
+  Status read_skipped(MacroblockMode skip_mode) {
+    info_.mode = MacroblockMode::kSkipped;
+    if (info_.inter_warp) {
+      if (!read_warp_nodes(skip_mode)) return fail("invalid warp node");
+      build_warp_prediction(s_, mx_, my_, skip_mode, &reconstruction_);
+    } else {
+      build_prediction(s_, mx_, my_, skip_mode, predictors_, &reconstruction_);
+    }
+    return Status::Ok();
+  }
+
+  Status read_intra() {
+    info_.mode = MacroblockMode::kIntra;
+    dc_levels_ = {};
+    uint8_t local_coded[6] = {};
+    for (int b = 0; b < 6; ++b) {
+      const int plane = block_plane(b), bx = block_x(b, mx_), by = block_y(b, my_);
+      BlockContextSet& set = plane == 0 ? c_.intra_luma : c_.intra_chroma;
+      int difference = 0;
+      if (!decode_dc_difference(decoder_, set, &difference)) return fail("invalid DC difference");
+      const int dc = predict_dc(s_, dc_levels_.data(), plane, mx_, my_, bx, by) + difference;
+      if (dc < -kMaxLevel || dc > kMaxLevel) return fail("DC level " + std::to_string(dc) + " out of range");
+      dc_levels_[b] = dc;
+      int count = 0;
+      if (!decode_block_levels(decoder_, set, 1, coded_context(s_, local_coded, plane, mx_, my_, bx, by), decoded_,
+                               &count)) {
+        return fail("invalid intra levels");
+      }
+      std::fill(std::begin(levels_), std::end(levels_), int16_t{0});
+      levels_[0] = static_cast<int16_t>(dc);
+      for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
+      local_coded[b] = count > 0;
+      coded_mask_ |= static_cast<uint8_t>((count > 0) << b);
+      reconstruct_intra_block(s_.intra_quantizer, levels_, block_samples(reconstruction_, b), block_stride(b));
+    }
+    return Status::Ok();
+  }
+
+  Status read_inter() {
+    MacroblockMode mode = MacroblockMode::kForward;
+    if (s_.reference_count == 2) {
+      if (decoder_.decode(c_.bidirectional[bidirectional_context(s_, mx_, my_)])) {
+        mode = MacroblockMode::kBidirectional;
+      } else if (decoder_.decode(c_.backward[backward_context(s_, mx_, my_)])) {
+        mode = MacroblockMode::kBackward;
+      }
+    }
+    info_.mode = mode;
+    info_.inter_mode = mode;
+    info_.inter_warp = warp_allowed(s_, mode) && decoder_.decode(c_.warp[warp_context(s_, mx_, my_)]) != 0;
+    if (info_.inter_warp && !read_warp_nodes(mode)) return fail("invalid warp node");
+    if (!info_.inter_warp) SVC_RETURN_IF_ERROR(read_vectors(mode));
+    uint8_t local_coded[6] = {};
+    for (int b = 0; b < 6; ++b) {
+      const int plane = block_plane(b);
+      const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
+      local_coded[b] = static_cast<uint8_t>(
+          decoder_.decode(plane == 0 ? c_.cbp_luma[context] : c_.cbp_chroma[plane - 1][context]));
+      coded_mask_ |= static_cast<uint8_t>(local_coded[b] << b);
+    }
+    if (info_.inter_warp) {
+      build_warp_prediction(s_, mx_, my_, mode, &prediction_);
+    } else {
+      build_prediction(s_, mx_, my_, mode, info_.vectors, &prediction_);
+    }
+    return read_residual(local_coded);
+  }
+
+  // The vector differences of the references `mode` uses.
+  Status read_vectors(MacroblockMode mode) {
+    const int contexts[2] = {mvd_context(s_, mx_, my_, 0), mvd_context(s_, mx_, my_, 1)};
+    for (int r = 0; r < s_.reference_count; ++r) {
+      if (!uses_reference(mode, r)) continue;
+      int dx = 0, dy = 0;
+      if (!decode_mvd_component(decoder_, c_, 0, contexts[0], &dx) ||
+          !decode_mvd_component(decoder_, c_, 1, contexts[1], &dy)) {
+        return fail("invalid motion vector difference");
+      }
+      const int vx = predictors_[r].x + dx, vy = predictors_[r].y + dy;
+      if (std::abs(vx) > s_.vector_limit || std::abs(vy) > s_.vector_limit) {
+        return fail("motion vector (" + std::to_string(vx) + ", " + std::to_string(vy) +
+                    ") half-pels beyond the limit " + std::to_string(s_.vector_limit));
+      }
+      info_.vectors[r] = MotionVector{static_cast<int16_t>(vx), static_cast<int16_t>(vy)};
+      info_.mvd_magnitude[0] += std::abs(dx);
+      info_.mvd_magnitude[1] += std::abs(dy);
+    }
+    return Status::Ok();
+  }
+
+  // Prediction plus the coded residual of each block whose flag is set.
+  Status read_residual(const uint8_t* local_coded) {
+    for (int b = 0; b < 6; ++b) {
+      const uint8_t* pred = block_samples(prediction_, b);
+      uint8_t* recon = block_samples(reconstruction_, b);
+      const int stride = block_stride(b);
+      if (!local_coded[b]) {
+        for (int y = 0; y < 8; ++y) std::copy_n(pred + y * stride, 8, recon + y * stride);
+        continue;
+      }
+      int count = 0;
+      if (!decode_block_levels(decoder_, block_plane(b) == 0 ? c_.inter_luma : c_.inter_chroma, 0,
+                               kNoCodedBlockFlag, decoded_, &count)) {
+        return fail("invalid residual levels");
+      }
+      std::fill(std::begin(levels_), std::end(levels_), int16_t{0});
+      for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
+      reconstruct_residual_block(s_.inter_quantizer, levels_, pred, stride, recon, stride);
+    }
+    return Status::Ok();
+  }
+
+  FrameState& s_;
+  SyntaxContexts& c_;
+  RangeDecoder& decoder_;
+  int mx_ = 0, my_ = 0;
+  MacroblockInfo info_;
+  std::array<MotionVector, 2> predictors_{};
+  std::array<int, 6> dc_levels_{};
+  uint8_t coded_mask_ = 0;
+  MacroblockPrediction prediction_, reconstruction_;
+  int16_t levels_[64];
+  BlockLevel decoded_[64];
+};
+
+}  // namespace
+
+Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
+  if (bytes.size() < static_cast<size_t>(kBFrameHeaderBytes)) {
+    return corrupt("payload of " + std::to_string(bytes.size()) + " bytes is shorter than the " +
+                   std::to_string(kBFrameHeaderBytes) + "-byte header");
+  }
+  if (bytes[0] != static_cast<uint8_t>(FaceType::kPredicted)) {
+    return corrupt("byte 0: frame type " + std::to_string(bytes[0]) + " is not bidirectional (1)");
+  }
+  if (bytes[1] != kBFrameSyntaxVersion) {
+    return Status(ErrorCode::kUnsupported, "B-frame: byte 1: syntax version " + std::to_string(bytes[1]) +
+                                               " (this build reads " + std::to_string(kBFrameSyntaxVersion) + ")");
+  }
+  if (bytes[2] < kMinQuantScale || bytes[2] > kMaxQuantScale) {
+    return corrupt("byte 2: quant_scale " + std::to_string(bytes[2]) + " outside 1..112");
+  }
+  if (bytes[3] != 0) return corrupt("byte 3: reserved byte is " + std::to_string(bytes[3]));
+  if (bytes[4] != 1 && bytes[4] != 2) {
+    return corrupt("byte 4: reference count " + std::to_string(bytes[4]) + " is not 1 or 2");
+  }
+  if ((bytes[5] & ~((1 << bytes[4]) - 1)) != 0) {
+    return corrupt("byte 5: warp mask " + std::to_string(bytes[5]) + " names a reference beyond the " +
+                   std::to_string(bytes[4]) + " present");
+  }
+  out->quant_scale = bytes[2];
+  out->reference_count = bytes[4];
+  out->warp_mask = bytes[5];
+  return Status::Ok();
+}
+
+Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
+                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes) {
+  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
+    return Status(ErrorCode::kInvalidArgument, "B-frame: size " + std::to_string(width) + "x" +
+                                                   std::to_string(height) + " outside 1.." +
+                                                   std::to_string(kMaxFrameDimension));
+  }
+  if (!consistent_image(ref0, width, height) || (ref1 != nullptr && !consistent_image(*ref1, width, height))) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "B-frame: reference images are not " + std::to_string(width) + "x" + std::to_string(height) +
+                      " with 4:2:0 planes of matching size");
+  }
+  BFrameHeader header;
+  SVC_RETURN_IF_ERROR(parse_b_frame_header(bytes, &header));
+  const int given = ref1 != nullptr ? 2 : 1;
+  if (header.reference_count != given) {
+    return Status(ErrorCode::kInvalidArgument, "B-frame: coded with " + std::to_string(header.reference_count) +
+                                                   " reference(s) but " + std::to_string(given) + " given");
+  }
+  FrameState s;
+  init_state(s, width, height, header.quant_scale, &ref0, ref1);
+  s.warp_mask = header.warp_mask;
+  if (modes != nullptr) {
+    modes->clear();
+    modes->reserve(s.macroblocks.size());
+  }
+  RangeDecoder decoder(bytes.subspan(kBFrameHeaderBytes));
+  MacroblockReader reader(s, decoder);
+  for (int my = 0; my < s.mbs_y; ++my) {
+    for (int mx = 0; mx < s.mbs_x; ++mx) {
+      MacroblockMode mode = MacroblockMode::kIntra;
+      SVC_RETURN_IF_ERROR(reader.read(mx, my, &mode));
+      if (modes != nullptr) modes->push_back(mode);
+    }
+    // A complete payload is never read past its end; stopping at the first row that does
+    // bounds the work garbage can cause.
+    if (decoder.overrun() > 0) {
+      return corrupt("payload truncated (macroblock row " + std::to_string(my) + " needs bytes beyond the " +
+                     std::to_string(bytes.size()) + " given)");
+    }
+  }
+  const size_t used = decoder.consumed() + kBFrameHeaderBytes;
+  if (used != bytes.size()) {
+    return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
+  }
+  crop_output(s, out);
+  return Status::Ok();
+}
+
+}  // namespace svc::codec
+

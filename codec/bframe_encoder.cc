@@ -1,0 +1,584 @@
+// B-frame encoder: evaluates every macroblock option (skip, forward, backward,
+// bidirectional, intra) by cost = SSD + lambda * estimated bits, with bits estimated from
+// the current adaptive probabilities, and writes the chosen one.
+#include "codec/bframe_codec.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <string>
+
+#include "codec/bframe_state.h"
+#include "codec/bframe_syntax.h"
+
+namespace svc::codec {
+namespace {
+
+using namespace bframe;
+
+
+// One evaluated macroblock option.
+struct MacroblockChoice {
+  MacroblockMode mode = MacroblockMode::kIntra;
+  bool warp = false;                      // inter or skip: predicted by warping
+  std::array<MotionVector, 2> vectors{};  // used vectors; predictors for unused references
+  std::array<std::array<int16_t, 64>, 6> levels{};
+  std::array<int, 6> dc_levels{};  // intra only
+  uint8_t coded_mask = 0;          // inter: coded block pattern; intra: blocks with AC levels
+  MacroblockPrediction reconstruction;
+  double cost = 0;
+};
+
+struct PaddedSource {
+  std::array<std::vector<uint8_t>, 3> planes;
+  std::array<int, 3> strides{};
+};
+
+PaddedSource pad_source(const ImageYCbCr420& source, const FrameState& s) {
+  PaddedSource padded;
+  const uint8_t* inputs[3] = {source.y.data(), source.cb.data(), source.cr.data()};
+  for (int p = 0; p < 3; ++p) {
+    const int visible_w = p == 0 ? s.width : s.chroma_width, visible_h = p == 0 ? s.height : s.chroma_height;
+    const int stride = s.strides[p], rows = p == 0 ? 16 * s.mbs_y : 8 * s.mbs_y;
+    padded.strides[p] = stride;
+    padded.planes[p].resize(static_cast<size_t>(stride) * rows);
+    for (int y = 0; y < rows; ++y) {
+      const uint8_t* row = inputs[p] + static_cast<size_t>(std::min(y, visible_h - 1)) * visible_w;
+      uint8_t* dst = padded.planes[p].data() + static_cast<size_t>(y) * stride;
+      std::copy_n(row, visible_w, dst);
+      std::fill(dst + visible_w, dst + stride, row[visible_w - 1]);
+    }
+  }
+  return padded;
+}
+
+int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_stride, int w, int h) {
+  int64_t sum = 0;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const int d = static_cast<int>(a[y * a_stride + x]) - static_cast<int>(b[y * b_stride + x]);
+      sum += d * d;
+    }
+  }
+  return sum;
+}
+
+class BFrameEncoder {
+ public:
+  BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params)
+      : s_(state),
+        source_(source),
+        refine_(params.half_pel_refinement),
+        full_evaluations_(std::max(1, params.inter_evaluations)),
+        max_candidates_(std::max(1, params.max_candidates)) {
+    lambda_ = std::max(0.0, params.lambda_factor) * s_.inter_quantizer.quant_scale * s_.inter_quantizer.quant_scale;
+    lambda_sad_ = std::sqrt(lambda_);
+  }
+
+  MacroblockChoice choose(int mx, int my, const CandidateList* candidates0, const CandidateList* candidates1,
+                          BFrameStats* stats) {
+    mx_ = mx;
+    my_ = my;
+    warp_cache_ = {};
+    compute_visible();
+    std::array<MotionVector, 2> predictors{};
+    for (int r = 0; r < s_.reference_count; ++r) predictors[r] = predict_vector(s_, mx, my, r);
+    predictors_ = predictors;
+    const MacroblockMode skip_mode = predicted_mode(s_, mx, my);
+
+    std::array<MotionVector, 2> best = predictors;
+    const CandidateList* lists[2] = {candidates0, candidates1};
+    for (int r = 0; r < s_.reference_count; ++r) best[r] = search_reference(r, lists[r], stats);
+
+    MacroblockChoice winner, option;
+    evaluate_skip(skip_mode, predicted_warp(s_, mx, my), &winner);
+    auto consider = [&](MacroblockMode mode, bool warp) {
+      if (mode == MacroblockMode::kIntra) {
+        evaluate_intra(&option);
+      } else {
+        evaluate_inter(mode, warp, best, &option);
+      }
+      if (option.cost < winner.cost) std::swap(winner, option);
+    };
+    const MacroblockMode inter_modes[3] = {MacroblockMode::kForward, MacroblockMode::kBackward,
+                                           MacroblockMode::kBidirectional};
+    const int inter_count = s_.reference_count == 2 ? 3 : 1;
+    // Screen the inter options by luma SAD + sqrt(lambda) * side bits; the full
+    // rate-distortion evaluation (transform, quantization, both chroma planes) is spent on
+    // the best few only.
+    struct Screened {
+      double cost;
+      MacroblockMode mode;
+      bool warp;
+    };
+    std::array<Screened, 6> screened{};
+    int screened_count = 0;
+    const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my) * source_.strides[0] + 16 * mx;
+    std::array<std::array<uint8_t, 256>, 2> luma{}, warped{};
+    // Warping is screened only towards references whose corner nodes differ: with four
+    // (nearly) equal corners it predicts what a translation does, at a higher price.
+    unsigned screen_warp = 0;
+    for (int r = 0; r < s_.reference_count; ++r) {
+      predict_macroblock_luma(*s_.references[r], mx, my, best[r], luma[r].data());
+      if ((s_.warp_mask >> r) & 1) {
+        const std::array<WarpNode, 4> corners = macroblock_corners(s_, r, mx, my);
+        int spread = 0;
+        for (const WarpNode& node : corners) {
+          spread = std::max({spread, std::abs(node.x - corners[0].x), std::abs(node.y - corners[0].y)});
+        }
+        if (spread <= kUniformWarpSpread) continue;
+        screen_warp |= 1u << r;
+        std::copy_n(warped_prediction(r, false).y.data(), 256, warped[r].data());
+      }
+    }
+    for (int warp = 0; warp < 2; ++warp) {
+      auto& planes = warp ? warped : luma;
+      for (int m = 0; m < inter_count; ++m) {
+        const MacroblockMode mode = inter_modes[m];
+        if (warp && !warp_allowed(s_, mode)) continue;
+        if (warp && ((uses_reference(mode, 0) && !(screen_warp & 1u)) ||
+                     (uses_reference(mode, 1) && !(screen_warp & 2u)))) {
+          continue;
+        }
+        float bits = mode_bits(s_, mx, my, mode);
+        if (warp_allowed(s_, mode)) bits += bit_cost(s_.contexts.warp[warp_context(s_, mx, my)], warp);
+        int sad;
+        if (mode == MacroblockMode::kBidirectional) {
+          uint8_t mean[256];
+          average_samples(planes[0].data(), planes[1].data(), 256, mean);
+          sad = sad_16x16(source, source_.strides[0], mean);
+        } else {
+          sad = sad_16x16(source, source_.strides[0], planes[mode == MacroblockMode::kBackward ? 1 : 0].data());
+        }
+        if (warp) {
+          bits += warp_nodes_bits(mode);
+        } else {
+          for (int r = 0; r < s_.reference_count; ++r) {
+            if (uses_reference(mode, r)) bits += vector_bits(r, best[r]);
+          }
+        }
+        screened[static_cast<size_t>(screened_count++)] = {sad + lambda_sad_ * bits, mode, warp != 0};
+      }
+    }
+    std::stable_sort(screened.begin(), screened.begin() + screened_count,
+                     [](const Screened& a, const Screened& b) { return a.cost < b.cost; });
+    for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k) consider(screened[k].mode, screened[k].warp);
+    consider(MacroblockMode::kIntra, false);
+    return winner;
+  }
+
+  // Writes the chosen option and stores it in the frame state.
+  void write(RangeEncoder& encoder, const MacroblockChoice& choice) {
+    const int mx = mx_, my = my_;
+    SyntaxContexts& c = s_.contexts;
+    MacroblockInfo info;
+    info.mode = choice.mode;
+    info.inter_mode = predicted_mode(s_, mx, my);
+    info.inter_warp = predicted_warp(s_, mx, my);
+    info.vectors = predictors_;
+    encoder.encode(c.skip[skip_context(s_, mx, my)], choice.mode == MacroblockMode::kSkipped);
+    if (choice.mode == MacroblockMode::kSkipped) {
+      if (info.inter_warp) write_warp_nodes(encoder, info.inter_mode, &info);
+      commit_macroblock(s_, mx, my, info, choice.reconstruction, nullptr, 0);
+      return;
+    }
+    encoder.encode(c.intra[intra_context(s_, mx, my)], choice.mode == MacroblockMode::kIntra);
+    if (choice.mode == MacroblockMode::kIntra) {
+      uint8_t local_coded[6] = {};
+      for (int b = 0; b < 6; ++b) {
+        const int plane = block_plane(b), bx = block_x(b, mx), by = block_y(b, my);
+        BlockContextSet& set = plane == 0 ? c.intra_luma : c.intra_chroma;
+        const int dc = choice.dc_levels[b];
+        encode_dc_difference(encoder, set, dc - predict_dc(s_, choice.dc_levels.data(), plane, mx, my, bx, by));
+        encode_block_levels(encoder, set, choice.levels[b].data(), 1,
+                            coded_context(s_, local_coded, plane, mx, my, bx, by));
+        local_coded[b] = static_cast<uint8_t>((choice.coded_mask >> b) & 1);
+      }
+      commit_macroblock(s_, mx, my, info, choice.reconstruction, choice.dc_levels.data(), choice.coded_mask);
+      return;
+    }
+    if (s_.reference_count == 2) {
+      encoder.encode(c.bidirectional[bidirectional_context(s_, mx, my)], choice.mode == MacroblockMode::kBidirectional);
+      if (choice.mode != MacroblockMode::kBidirectional) {
+        encoder.encode(c.backward[backward_context(s_, mx, my)], choice.mode == MacroblockMode::kBackward);
+      }
+    }
+    if (warp_allowed(s_, choice.mode)) encoder.encode(c.warp[warp_context(s_, mx, my)], choice.warp);
+    if (choice.warp) {
+      write_warp_nodes(encoder, choice.mode, &info);
+    } else {
+      const int contexts[2] = {mvd_context(s_, mx, my, 0), mvd_context(s_, mx, my, 1)};
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (!uses_reference(choice.mode, r)) continue;
+        const int dx = choice.vectors[r].x - predictors_[r].x, dy = choice.vectors[r].y - predictors_[r].y;
+        encode_mvd_component(encoder, c, 0, contexts[0], dx);
+        encode_mvd_component(encoder, c, 1, contexts[1], dy);
+        info.mvd_magnitude[0] += std::abs(dx);
+        info.mvd_magnitude[1] += std::abs(dy);
+        info.vectors[r] = choice.vectors[r];
+      }
+    }
+    info.inter_mode = choice.mode;
+    info.inter_warp = choice.warp;
+    uint8_t local_coded[6] = {};
+    for (int b = 0; b < 6; ++b) {
+      const int plane = block_plane(b);
+      const int context = coded_context(s_, local_coded, plane, mx, my, block_x(b, mx), block_y(b, my));
+      local_coded[b] = static_cast<uint8_t>((choice.coded_mask >> b) & 1);
+      encoder.encode(plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context], local_coded[b]);
+    }
+    for (int b = 0; b < 6; ++b) {
+      if (!local_coded[b]) continue;
+      encode_block_levels(encoder, block_plane(b) == 0 ? c.inter_luma : c.inter_chroma, choice.levels[b].data(), 0,
+                          kNoCodedBlockFlag);
+    }
+    commit_macroblock(s_, mx, my, info, choice.reconstruction, nullptr, choice.coded_mask);
+  }
+
+ private:
+  // Warped predictions of the current macroblock, made once per reference and reused by
+  // screening, skip and inter evaluation (the corner nodes do not change within it).
+  struct WarpCache {
+    bool luma = false, chroma = false;
+    MacroblockPrediction prediction;
+  };
+
+  const MacroblockPrediction& warped_prediction(int reference, bool with_chroma) {
+    WarpCache& cache = warp_cache_[static_cast<size_t>(reference)];
+    const WarpCorners corners = macroblock_corners(s_, reference, mx_, my_);
+    if (!cache.luma) {
+      predict_warp_macroblock_luma(*s_.references[reference], mx_, my_, corners, cache.prediction.y.data());
+      cache.luma = true;
+    }
+    if (with_chroma && !cache.chroma) {
+      predict_warp_macroblock_chroma(*s_.references[reference], mx_, my_, corners, &cache.prediction);
+      cache.chroma = true;
+    }
+    return cache.prediction;
+  }
+
+  // build_warp_prediction from the cache.
+  void build_cached_warp_prediction(MacroblockMode mode, MacroblockPrediction* out) {
+    if (mode == MacroblockMode::kBidirectional) {
+      average_predictions(warped_prediction(0, true), warped_prediction(1, true), out);
+    } else {
+      *out = warped_prediction(mode == MacroblockMode::kBackward ? 1 : 0, true);
+    }
+  }
+
+  // Codes the missing nodes of every reference `mode` reads and stores the centre vectors.
+  void write_warp_nodes(RangeEncoder& encoder, MacroblockMode mode, MacroblockInfo* info) {
+    for (int r = 0; r < s_.reference_count; ++r) {
+      if (!uses_reference(mode, r)) continue;
+      encode_missing_nodes(encoder, s_, r, mx_, my_, predictors_[r]);
+      info->vectors[r] = warp_centre_vector(s_, macroblock_corners(s_, r, mx_, my_));
+    }
+  }
+
+  float warp_nodes_bits(MacroblockMode mode) {
+    float bits = 0;
+    for (int r = 0; r < s_.reference_count; ++r) {
+      if (uses_reference(mode, r)) bits += missing_nodes_bits(s_, r, mx_, my_, predictors_[r]);
+    }
+    return bits;
+  }
+
+  void compute_visible() {
+    const int w = std::min(16, s_.width - 16 * mx_), h = std::min(16, s_.height - 16 * my_);
+    const int cw = std::min(8, s_.chroma_width - 8 * mx_), ch = std::min(8, s_.chroma_height - 8 * my_);
+    for (int b = 0; b < 4; ++b) {
+      visible_w_[b] = std::clamp(w - 8 * (b & 1), 0, 8);
+      visible_h_[b] = std::clamp(h - 8 * (b >> 1), 0, 8);
+    }
+    visible_w_[4] = visible_w_[5] = cw;
+    visible_h_[4] = visible_h_[5] = ch;
+  }
+
+  const uint8_t* source_block(int b) const {
+    const int plane = block_plane(b);
+    const int x = 8 * block_x(b, mx_), y = 8 * block_y(b, my_);
+    return source_.planes[plane].data() + static_cast<size_t>(y) * source_.strides[plane] + x;
+  }
+
+  int64_t block_error(int b, const uint8_t* samples) const {
+    return squared_error(source_block(b), source_.strides[block_plane(b)], samples, block_stride(b), visible_w_[b],
+                         visible_h_[b]);
+  }
+
+  float vector_bits(int reference, MotionVector vector) const {
+    return mvd_component_bits(s_.contexts, 0, mvd_context(s_, mx_, my_, 0), vector.x - predictors_[reference].x) +
+           mvd_component_bits(s_.contexts, 1, mvd_context(s_, mx_, my_, 1), vector.y - predictors_[reference].y);
+  }
+
+  MotionVector clamp_vector(MotionVector v) const {
+    return MotionVector{static_cast<int16_t>(std::clamp<int>(v.x, -s_.vector_limit, s_.vector_limit)),
+                        static_cast<int16_t>(std::clamp<int>(v.y, -s_.vector_limit, s_.vector_limit))};
+  }
+
+  // Best vector towards one reference by SAD + lambda * vector bits over the supplied
+  // candidates and the predictor (the zero vector too when no candidate is given).
+  MotionVector search_reference(int reference, const CandidateList* list, BFrameStats* stats) {
+    const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
+    const ImageYCbCr420& ref = *s_.references[reference];
+    tried_.clear();
+    MotionVector best = predictors_[reference];
+    double best_cost = 1e300;
+    auto try_vector = [&](MotionVector v) {
+      v = clamp_vector(v);
+      if (std::find(tried_.begin(), tried_.end(), v) != tried_.end()) return false;
+      tried_.push_back(v);
+      const double rate = lambda_sad_ * vector_bits(reference, v);
+      if (rate >= best_cost) return true;  // cannot win whatever its SAD
+      const int limit = static_cast<int>(std::min(best_cost - rate, 1e9));
+      const int sad = sad_macroblock_luma(ref, mx_, my_, v, source, source_.strides[0], limit);
+      if (stats != nullptr) ++stats->sad_evaluations;
+      const double cost = sad + rate;
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = v;
+      }
+      return true;
+    };
+    int supplied = 0;
+    if (list != nullptr) {
+      // Lists are ranked (most pixels first): the tail rarely wins and costs a SAD each.
+      const size_t count = std::min(list->size(), static_cast<size_t>(max_candidates_));
+      for (size_t k = 0; k < count; ++k) supplied += try_vector((*list)[k]);
+    }
+    if (stats != nullptr) stats->candidates_evaluated += supplied;
+    if (supplied == 0) try_vector(MotionVector{});
+    try_vector(predictors_[reference]);
+    if (refine_) {
+      const MotionVector centre = best;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (dx != 0 || dy != 0) {
+            try_vector(MotionVector{static_cast<int16_t>(centre.x + dx), static_cast<int16_t>(centre.y + dy)});
+          }
+        }
+      }
+    }
+    return best;
+  }
+
+  void evaluate_skip(MacroblockMode mode, bool warp, MacroblockChoice* out) {
+    out->mode = MacroblockMode::kSkipped;
+    out->warp = warp;
+    out->vectors = predictors_;
+    out->coded_mask = 0;
+    float bits = bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 1);
+    if (warp) {
+      build_cached_warp_prediction(mode, &out->reconstruction);
+      bits += warp_nodes_bits(mode);
+    } else {
+      build_prediction(s_, mx_, my_, mode, predictors_, &out->reconstruction);
+    }
+    int64_t distortion = 0;
+    for (int b = 0; b < 6; ++b) distortion += block_error(b, block_samples(out->reconstruction, b));
+    out->cost = static_cast<double>(distortion) + lambda_ * bits;
+  }
+
+  void evaluate_inter(MacroblockMode mode, bool warp, const std::array<MotionVector, 2>& best,
+                      MacroblockChoice* out) {
+    const SyntaxContexts& c = s_.contexts;
+    out->mode = mode;
+    out->warp = warp;
+    out->vectors = predictors_;
+    float bits = mode_bits(s_, mx_, my_, mode);
+    if (warp_allowed(s_, mode)) bits += bit_cost(c.warp[warp_context(s_, mx_, my_)], warp);
+    MacroblockPrediction prediction;
+    if (warp) {
+      bits += warp_nodes_bits(mode);
+      build_cached_warp_prediction(mode, &prediction);
+    } else {
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (!uses_reference(mode, r)) continue;
+        out->vectors[r] = best[r];
+        bits += vector_bits(r, best[r]);
+      }
+      build_prediction(s_, mx_, my_, mode, out->vectors, &prediction);
+    }
+    int64_t distortion = 0;
+    uint8_t local_coded[6] = {};
+    out->coded_mask = 0;
+    for (int b = 0; b < 6; ++b) {
+      const int plane = block_plane(b), stride = block_stride(b);
+      const uint8_t* pred = block_samples(prediction, b);
+      uint8_t* recon = block_samples(out->reconstruction, b);
+      const uint8_t* src = source_block(b);
+      const int source_stride = source_.strides[plane];
+      const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
+      const AdaptiveBit& cbp_model = plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context];
+      int16_t residual[64];
+      for (int y = 0; y < 8; ++y) {
+        for (int x = 0; x < 8; ++x) residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
+      }
+      int16_t* levels = out->levels[b].data();
+      const int nonzero = transform_quantize_block(s_.inter_quantizer, residual, levels);
+      const int64_t uncoded_error = block_error(b, pred);
+      bool coded = false;
+      if (nonzero > 0) {
+        uint8_t trial[64];
+        reconstruct_residual_block(s_.inter_quantizer, levels, pred, stride, trial, 8);
+        const int64_t coded_error =
+            squared_error(src, source_stride, trial, 8, visible_w_[b], visible_h_[b]);
+        const float coded_bits = bit_cost(cbp_model, 1) +
+                                 block_levels_bits(plane == 0 ? c.inter_luma : c.inter_chroma, levels, 0, kNoCodedBlockFlag);
+        const float uncoded_bits = bit_cost(cbp_model, 0);
+        if (coded_error + lambda_ * coded_bits < uncoded_error + lambda_ * uncoded_bits) {
+          coded = true;
+          distortion += coded_error;
+          bits += coded_bits;
+          for (int y = 0; y < 8; ++y) std::copy_n(trial + 8 * y, 8, recon + y * stride);
+        }
+      }
+      if (!coded) {
+        distortion += uncoded_error;
+        bits += bit_cost(cbp_model, 0);
+        for (int y = 0; y < 8; ++y) std::copy_n(pred + y * stride, 8, recon + y * stride);
+      }
+      local_coded[b] = coded;
+      out->coded_mask |= static_cast<uint8_t>(coded << b);
+    }
+    out->cost = static_cast<double>(distortion) + lambda_ * bits;
+  }
+
+  void evaluate_intra(MacroblockChoice* out) {
+    const SyntaxContexts& c = s_.contexts;
+    out->mode = MacroblockMode::kIntra;
+    out->vectors = predictors_;
+    out->coded_mask = 0;
+    float bits = mode_bits(s_, mx_, my_, MacroblockMode::kIntra);
+    int64_t distortion = 0;
+    uint8_t local_coded[6] = {};
+    int previous_category[2] = {c.intra_luma.previous_dc_category, c.intra_chroma.previous_dc_category};
+    for (int b = 0; b < 6; ++b) {
+      const int plane = block_plane(b), bx = block_x(b, mx_), by = block_y(b, my_);
+      const BlockContextSet& set = plane == 0 ? c.intra_luma : c.intra_chroma;
+      const uint8_t* src = source_block(b);
+      const int source_stride = source_.strides[plane];
+      int16_t samples[64];
+      for (int y = 0; y < 8; ++y) {
+        for (int x = 0; x < 8; ++x) samples[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - 128);
+      }
+      int16_t* levels = out->levels[b].data();
+      transform_quantize_block(s_.intra_quantizer, samples, levels);
+      out->dc_levels[b] = levels[0];
+      const int difference = levels[0] - predict_dc(s_, out->dc_levels.data(), plane, mx_, my_, bx, by);
+      int& previous = previous_category[plane == 0 ? 0 : 1];
+      bits += dc_difference_bits(set, previous, difference);
+      previous = difference == 0 ? 0 : std::bit_width(static_cast<unsigned>(std::abs(difference)));
+      bits += block_levels_bits(set, levels, 1, coded_context(s_, local_coded, plane, mx_, my_, bx, by));
+      bool any_ac = false;
+      for (int i = 1; i < 64 && !any_ac; ++i) any_ac = levels[i] != 0;
+      local_coded[b] = any_ac;
+      out->coded_mask |= static_cast<uint8_t>(any_ac << b);
+      uint8_t* recon = block_samples(out->reconstruction, b);
+      reconstruct_intra_block(s_.intra_quantizer, levels, recon, block_stride(b));
+      distortion += block_error(b, recon);
+    }
+    out->cost = static_cast<double>(distortion) + lambda_ * bits;
+  }
+
+  FrameState& s_;
+  const PaddedSource& source_;
+  double lambda_ = 0, lambda_sad_ = 0;
+  // From BFrameParams, whose fields hold the defaults.
+  const bool refine_;
+  const int full_evaluations_;
+  const int max_candidates_;
+  int mx_ = 0, my_ = 0;
+  std::array<MotionVector, 2> predictors_{};
+  std::array<int, 6> visible_w_{}, visible_h_{};
+  std::vector<MotionVector> tried_;
+  std::array<WarpCache, 2> warp_cache_;
+};
+
+}  // namespace
+
+int suggested_b_quant_scale(int intra_quant_scale) {
+  const int clamped = std::clamp(intra_quant_scale, kMinQuantScale, kMaxQuantScale);
+  return std::clamp((clamped * 5 + 1) / 2, kMinQuantScale, kMaxQuantScale);
+}
+
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                    const FaceCandidates& candidates1, const BFrameParams& params,
+                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
+  return encode_b_frame(source, ref0, ref1, candidates0, candidates1, nullptr, nullptr, params, reconstruction,
+                        stats);
+}
+
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                    const FaceCandidates& candidates1, const WarpField* warp0,
+                                    const WarpField* warp1, const BFrameParams& params,
+                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
+  const int width = source.width, height = source.height;
+  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension ||
+      !consistent_image(source, width, height) || !consistent_image(ref0, width, height) ||
+      (ref1 != nullptr && !consistent_image(*ref1, width, height))) {
+    return {};
+  }
+  const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
+  FrameState state;
+  init_state(state, width, height, quant_scale, &ref0, ref1);
+  const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
+  for (int r = 0; r < state.reference_count; ++r) {
+    const WarpField* field = fields[r];
+    if (!params.warp || field == nullptr || field->nodes_x != state.nodes_x || field->nodes_y != state.nodes_y ||
+        field->nodes.size() != state.nodes[r].size()) {
+      continue;
+    }
+    state.warp_mask |= 1 << r;
+    for (size_t n = 0; n < field->nodes.size(); ++n) {
+      state.nodes[r][n] = WarpNode{std::clamp(field->nodes[n].x, -state.node_limit, state.node_limit),
+                                   std::clamp(field->nodes[n].y, -state.node_limit, state.node_limit)};
+    }
+  }
+  const PaddedSource padded = pad_source(source, state);
+  if (stats != nullptr) {
+    *stats = BFrameStats{};
+    stats->macroblocks = state.mbs_x * state.mbs_y;
+    stats->modes.reserve(static_cast<size_t>(stats->macroblocks));
+  }
+
+  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted), kBFrameSyntaxVersion,
+                                static_cast<uint8_t>(quant_scale), 0,
+                                static_cast<uint8_t>(state.reference_count),
+                                static_cast<uint8_t>(state.warp_mask)};
+  RangeEncoder encoder(&bytes);
+  BFrameEncoder coder(state, padded, params);
+  for (int my = 0; my < state.mbs_y; ++my) {
+    for (int mx = 0; mx < state.mbs_x; ++mx) {
+      const size_t index = static_cast<size_t>(my) * state.mbs_x + mx;
+      const CandidateList* list0 = index < candidates0.size() ? &candidates0[index] : nullptr;
+      const CandidateList* list1 =
+          ref1 != nullptr && index < candidates1.size() ? &candidates1[index] : nullptr;
+      const MacroblockChoice choice = coder.choose(mx, my, list0, list1, stats);
+      coder.write(encoder, choice);
+      if (stats != nullptr) {
+        stats->modes.push_back(choice.mode);
+        if (choice.mode != MacroblockMode::kIntra && choice.warp) ++stats->mb_warp;
+        switch (choice.mode) {
+          case MacroblockMode::kIntra: ++stats->mb_intra; break;
+          case MacroblockMode::kForward: ++stats->mb_forward; break;
+          case MacroblockMode::kBackward: ++stats->mb_backward; break;
+          case MacroblockMode::kBidirectional: ++stats->mb_bidirectional; break;
+          case MacroblockMode::kSkipped: ++stats->mb_skipped; break;
+        }
+      }
+    }
+  }
+  encoder.finish();
+  if (stats != nullptr) {
+    for (int r = 0; r < state.reference_count; ++r) {
+      for (uint8_t known : state.node_known[r]) stats->warp_nodes_coded += known;
+    }
+  }
+  if (reconstruction != nullptr) crop_output(state, reconstruction);
+  return bytes;
+}
+
+}  // namespace svc::codec

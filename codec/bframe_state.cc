@@ -1,0 +1,245 @@
+#include "codec/bframe_state.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <string>
+
+namespace svc::codec::bframe {
+
+void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
+                const ImageYCbCr420* ref1) {
+  s.width = width;
+  s.height = height;
+  s.mbs_x = (width + 15) / 16;
+  s.mbs_y = (height + 15) / 16;
+  s.chroma_width = (width + 1) / 2;
+  s.chroma_height = (height + 1) / 2;
+  s.references = {ref0, ref1};
+  s.reference_count = ref1 != nullptr ? 2 : 1;
+  s.intra_quantizer = make_quantizer(BlockKind::kIntra, quant_scale);
+  s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, quant_scale);
+  s.dc_step = intra_dc_step(quant_scale);
+  s.vector_limit = max_vector_component(width, height);
+  s.node_limit = max_warp_node_component(width, height);
+  s.nodes_x = s.mbs_x + 1;
+  s.nodes_y = s.mbs_y + 1;
+  for (int r = 0; r < 2; ++r) {
+    s.nodes[r].assign(static_cast<size_t>(s.nodes_x) * s.nodes_y, WarpNode{});
+    s.node_known[r].assign(s.nodes[r].size(), 0);
+  }
+  s.strides = {16 * s.mbs_x, 8 * s.mbs_x, 8 * s.mbs_x};
+  const size_t luma_size = static_cast<size_t>(16 * s.mbs_x) * (16 * s.mbs_y);
+  s.planes[0].assign(luma_size, 0);
+  s.planes[1].assign(luma_size / 4, 0);
+  s.planes[2].assign(luma_size / 4, 0);
+  const size_t mb_count = static_cast<size_t>(s.mbs_x) * s.mbs_y;
+  s.dc[0].assign(4 * mb_count, 0);
+  s.coded[0].assign(4 * mb_count, 0);
+  for (int p = 1; p < 3; ++p) {
+    s.dc[p].assign(mb_count, 0);
+    s.coded[p].assign(mb_count, 0);
+  }
+  s.macroblocks.assign(mb_count, MacroblockInfo{});
+}
+
+int predict_dc(const FrameState& s, const int* local, int plane, int mx, int my, int bx, int by) {
+  if (bx == 0 && by == 0) return 0;
+  auto value = [&](int x, int y) { return block_value(s, s.dc[plane], local, plane, mx, my, x, y); };
+  if (by == 0) return value(bx - 1, by);
+  if (bx == 0) return value(bx, by - 1);
+  const int left = value(bx - 1, by), top = value(bx, by - 1), top_left = value(bx - 1, by - 1);
+  if (top_left >= std::max(left, top)) return std::min(left, top);
+  if (top_left <= std::min(left, top)) return std::max(left, top);
+  return left + top - top_left;
+}
+
+int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, int my, int bx, int by) {
+  return (bx > 0 ? block_value(s, s.coded[plane], local, plane, mx, my, bx - 1, by) : 0) +
+         (by > 0 ? block_value(s, s.coded[plane], local, plane, mx, my, bx, by - 1) : 0);
+}
+
+int derived_dc_level(const uint8_t* samples, int stride, int dc_step) {
+  int sum = 0;
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 8; ++x) sum += samples[y * stride + x];
+  }
+  const int numerator = sum - 64 * 128, denominator = 8 * dc_step;
+  return numerator >= 0 ? (numerator + denominator / 2) / denominator
+                        : -((-numerator + denominator / 2) / denominator);
+}
+
+MotionVector predict_vector(const FrameState& s, int mx, int my, int reference) {
+  if (my == 0) return mx == 0 ? MotionVector{} : s.mb(mx - 1, 0).vectors[reference];
+  const MotionVector top = s.mb(mx, my - 1).vectors[reference];
+  const MotionVector left = mx > 0 ? s.mb(mx - 1, my).vectors[reference] : top;
+  const MotionVector diagonal = mx + 1 < s.mbs_x ? s.mb(mx + 1, my - 1).vectors[reference]
+                                : mx > 0        ? s.mb(mx - 1, my - 1).vectors[reference]
+                                                : top;
+  return MotionVector{static_cast<int16_t>(median3(left.x, top.x, diagonal.x)),
+                      static_cast<int16_t>(median3(left.y, top.y, diagonal.y))};
+}
+
+MacroblockMode predicted_mode(const FrameState& s, int mx, int my) {
+  if (mx > 0) return s.mb(mx - 1, my).inter_mode;
+  if (my > 0) return s.mb(mx, my - 1).inter_mode;
+  return s.reference_count == 2 ? MacroblockMode::kBidirectional : MacroblockMode::kForward;
+}
+
+bool predicted_warp(const FrameState& s, int mx, int my) {
+  if (mx > 0) return s.mb(mx - 1, my).inter_warp;
+  if (my > 0) return s.mb(mx, my - 1).inter_warp;
+  return false;
+}
+
+int skip_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.mode == MacroblockMode::kSkipped; });
+}
+
+int intra_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.mode == MacroblockMode::kIntra; });
+}
+
+int bidirectional_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.inter_mode == MacroblockMode::kBidirectional; });
+}
+
+int backward_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.inter_mode == MacroblockMode::kBackward; });
+}
+
+int warp_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) {
+    return m.mode != MacroblockMode::kIntra && m.inter_warp;
+  });
+}
+
+WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int my) {
+  WarpCorners corners;
+  for (int k = 0; k < 4; ++k) corners[k] = s.nodes[reference][s.node_index(corner_i(mx, k), corner_j(my, k))];
+  return corners;
+}
+
+WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vector_predictor, int* kind) {
+  auto node = [&](int x, int y) { return s.nodes[r][s.node_index(x, y)]; };
+  auto planar = [](WarpNode a, WarpNode b, WarpNode c) { return WarpNode{a.x + b.x - c.x, a.y + b.y - c.y}; };
+  *kind = 0;
+  if (s.known(r, i - 1, j) && s.known(r, i, j - 1) && s.known(r, i - 1, j - 1)) {
+    return planar(node(i - 1, j), node(i, j - 1), node(i - 1, j - 1));
+  }
+  if (s.known(r, i + 1, j) && s.known(r, i, j - 1) && s.known(r, i + 1, j - 1)) {
+    return planar(node(i + 1, j), node(i, j - 1), node(i + 1, j - 1));
+  }
+  *kind = 1;
+  if (s.known(r, i - 1, j)) return node(i - 1, j);
+  if (s.known(r, i, j - 1)) return node(i, j - 1);
+  if (s.known(r, i + 1, j)) return node(i + 1, j);
+  return WarpNode{4 * vector_predictor.x, 4 * vector_predictor.y};
+}
+
+MotionVector warp_centre_vector(const FrameState& s, const WarpCorners& c) {
+  auto component = [&](int sum) {
+    return static_cast<int16_t>(std::clamp((sum + 8) >> 4, -s.vector_limit, s.vector_limit));
+  };
+  return MotionVector{component(c[0].x + c[1].x + c[2].x + c[3].x), component(c[0].y + c[1].y + c[2].y + c[3].y)};
+}
+
+int mvd_context(const FrameState& s, int mx, int my, int component) {
+  const int sum = (mx > 0 ? s.mb(mx - 1, my).mvd_magnitude[component] : 0) +
+                  (my > 0 ? s.mb(mx, my - 1).mvd_magnitude[component] : 0);
+  return sum == 0 ? 0 : (sum < 8 ? 1 : 2);
+}
+
+void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
+                      const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out) {
+  if (mode == MacroblockMode::kBackward) {
+    predict_macroblock(*s.references[1], mx, my, vectors[1], out);
+  } else {
+    predict_macroblock(*s.references[0], mx, my, vectors[0], out);
+    if (mode == MacroblockMode::kBidirectional) {
+      MacroblockPrediction second;
+      predict_macroblock(*s.references[1], mx, my, vectors[1], &second);
+      average_predictions(*out, second, out);
+    }
+  }
+}
+
+void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out) {
+  const int first = mode == MacroblockMode::kBackward ? 1 : 0;
+  predict_warp_macroblock(*s.references[first], mx, my, macroblock_corners(s, first, mx, my), out);
+  if (mode == MacroblockMode::kBidirectional) {
+    MacroblockPrediction second;
+    predict_warp_macroblock(*s.references[1], mx, my, macroblock_corners(s, 1, mx, my), &second);
+    average_predictions(*out, second, out);
+  }
+}
+
+void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels,
+                                const uint8_t* prediction, int prediction_stride, uint8_t* out,
+                                int out_stride) {
+  int16_t residual[64];
+  dequantize_inverse_transform_block(quantizer, levels, residual);
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 8; ++x) {
+      out[y * out_stride + x] =
+          static_cast<uint8_t>(std::clamp(prediction[y * prediction_stride + x] + residual[8 * y + x], 0, 255));
+    }
+  }
+}
+
+void reconstruct_intra_block(const Quantizer& quantizer, const int16_t* levels, uint8_t* out, int out_stride) {
+  int16_t samples[64];
+  dequantize_inverse_transform_block(quantizer, levels, samples);
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 8; ++x) out[y * out_stride + x] = static_cast<uint8_t>(std::clamp(samples[8 * y + x] + 128, 0, 255));
+  }
+}
+
+void commit_macroblock(FrameState& s, int mx, int my, const MacroblockInfo& info,
+                       const MacroblockPrediction& reconstruction, const int* intra_dc, uint8_t coded_mask) {
+  for (int y = 0; y < 16; ++y) {
+    std::copy_n(reconstruction.y.data() + 16 * y, 16,
+                s.planes[0].data() + static_cast<size_t>(16 * my + y) * s.strides[0] + 16 * mx);
+  }
+  for (int y = 0; y < 8; ++y) {
+    const size_t offset = static_cast<size_t>(8 * my + y) * s.strides[1] + 8 * mx;
+    std::copy_n(reconstruction.cb.data() + 8 * y, 8, s.planes[1].data() + offset);
+    std::copy_n(reconstruction.cr.data() + 8 * y, 8, s.planes[2].data() + offset);
+  }
+  for (int b = 0; b < 6; ++b) {
+    const int plane = block_plane(b);
+    const size_t index = static_cast<size_t>(block_y(b, my)) * s.grid_width(plane) + block_x(b, mx);
+    s.coded[plane][index] = static_cast<uint8_t>((coded_mask >> b) & 1);
+    s.dc[plane][index] = intra_dc != nullptr
+                             ? intra_dc[b]
+                             : derived_dc_level(block_samples(reconstruction, b), block_stride(b), s.dc_step);
+  }
+  s.macroblocks[static_cast<size_t>(my) * s.mbs_x + mx] = info;
+}
+
+bool consistent_image(const ImageYCbCr420& image, int width, int height) {
+  const size_t chroma = static_cast<size_t>((width + 1) / 2) * static_cast<size_t>((height + 1) / 2);
+  return image.width == width && image.height == height &&
+         image.y.size() == static_cast<size_t>(width) * static_cast<size_t>(height) && image.cb.size() == chroma &&
+         image.cr.size() == chroma;
+}
+
+void crop_output(const FrameState& s, ImageYCbCr420* out) {
+  out->width = s.width;
+  out->height = s.height;
+  out->y.resize(static_cast<size_t>(s.width) * s.height);
+  out->cb.resize(static_cast<size_t>(s.chroma_width) * s.chroma_height);
+  out->cr.resize(out->cb.size());
+  for (int y = 0; y < s.height; ++y) {
+    std::copy_n(s.planes[0].data() + static_cast<size_t>(y) * s.strides[0], s.width,
+                out->y.data() + static_cast<size_t>(y) * s.width);
+  }
+  for (int y = 0; y < s.chroma_height; ++y) {
+    const size_t from = static_cast<size_t>(y) * s.strides[1], to = static_cast<size_t>(y) * s.chroma_width;
+    std::copy_n(s.planes[1].data() + from, s.chroma_width, out->cb.data() + to);
+    std::copy_n(s.planes[2].data() + from, s.chroma_width, out->cr.data() + to);
+  }
+}
+
+}  // namespace svc::codec::bframe

@@ -1,0 +1,220 @@
+// B-frame coding internals shared by the encoder (bframe_encoder.cc) and the decoder
+// (bframe_decoder.cc): the frame state (reconstructed padded planes, per-block DC levels
+// and coded flags, per-macroblock vectors and modes), the predictors derived from it and
+// the reconstruction routines, so the encoder's reconstruction is the decoder's output by
+// construction. Not part of the codec's interface (codec/bframe_codec.h).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "codec/bframe_codec.h"
+#include "codec/block_coder.h"
+#include "codec/motion_compensation.h"
+#include "codec/quant.h"
+#include "codec/range_coder.h"
+#include "codec/warp_prediction.h"
+
+namespace svc::codec::bframe {
+
+constexpr int kMvdPrefixBins = 8;   // unary bins of |mvd| before the Exp-Golomb escape
+constexpr int kNeighbourContexts = 3;
+constexpr int kNodePrefixBins = 8;  // unary bins of |node difference| before the escape
+constexpr int kNodeMagnitudeContexts = 6;
+
+struct SyntaxContexts {
+  std::array<AdaptiveBit, kNeighbourContexts> skip{};
+  std::array<AdaptiveBit, kNeighbourContexts> intra{};
+  std::array<AdaptiveBit, kNeighbourContexts> bidirectional{};
+  std::array<AdaptiveBit, kNeighbourContexts> backward{};
+  std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> mvd_zero{};  // [component][ctx]
+  std::array<std::array<AdaptiveBit, 4>, 2> mvd_magnitude{};              // [component][bin]
+  std::array<AdaptiveBit, kNeighbourContexts> warp{};
+  // Node differences: [component][predictor kind: 0 planar, 1 other].
+  std::array<std::array<AdaptiveBit, 2>, 2> node_zero{};
+  std::array<std::array<std::array<AdaptiveBit, kNodeMagnitudeContexts>, 2>, 2> node_magnitude{};
+  std::array<AdaptiveBit, kNeighbourContexts> cbp_luma{};
+  std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> cbp_chroma{};  // [Cb/Cr][ctx]
+  BlockContextSet intra_luma, intra_chroma, inter_luma, inter_chroma;
+};
+
+struct MacroblockInfo {
+  MacroblockMode mode = MacroblockMode::kIntra;
+  // The prediction mode of an inter or skipped macroblock; for an intra one, the mode a
+  // skip would have inherited there. Skips inherit it from the left (else top) neighbour.
+  MacroblockMode inter_mode = MacroblockMode::kForward;
+  // Whether that prediction is warped (inherited along with inter_mode).
+  bool inter_warp = false;
+  // Per reference: the vector used, or the predictor where the reference is unused, so
+  // predictors propagate through intra and single-reference macroblocks.
+  std::array<MotionVector, 2> vectors{};
+  // Sum over references of |mvd.x| and |mvd.y| (0 when no vector was coded).
+  std::array<int, 2> mvd_magnitude{};
+};
+
+struct FrameState {
+  int width = 0, height = 0;
+  int mbs_x = 0, mbs_y = 0;
+  int chroma_width = 0, chroma_height = 0;  // visible
+  int reference_count = 1;
+  std::array<const ImageYCbCr420*, 2> references{};
+  Quantizer intra_quantizer, inter_quantizer;
+  int dc_step = 8;
+  int vector_limit = 0;
+  int node_limit = 0;
+  // References with a warp node field (bit r for reference r).
+  int warp_mask = 0;
+  // Node grids (mbs_x + 1) x (mbs_y + 1) per reference: values and whether the decoder
+  // knows them yet. The encoder stores its whole field up front and marks nodes known as
+  // it codes them; the decoder fills values as it decodes them.
+  int nodes_x = 0, nodes_y = 0;
+  std::array<std::vector<WarpNode>, 2> nodes;
+  std::array<std::vector<uint8_t>, 2> node_known;
+  // Reconstructed planes padded to whole macroblocks; strides 16 mbs_x and 8 mbs_x.
+  std::array<std::vector<uint8_t>, 3> planes;
+  std::array<int, 3> strides{};
+  // Per 8x8 block of each plane (grids 2 mbs_x x 2 mbs_y and mbs_x x mbs_y): the DC level
+  // intra prediction uses, and whether the block had coded levels (intra: AC levels).
+  std::array<std::vector<int>, 3> dc;
+  std::array<std::vector<uint8_t>, 3> coded;
+  std::vector<MacroblockInfo> macroblocks;
+  SyntaxContexts contexts;
+
+  int grid_width(int plane) const { return plane == 0 ? 2 * mbs_x : mbs_x; }
+  const MacroblockInfo& mb(int x, int y) const { return macroblocks[static_cast<size_t>(y) * mbs_x + x]; }
+  size_t node_index(int i, int j) const { return static_cast<size_t>(j) * nodes_x + i; }
+  bool known(int r, int i, int j) const {
+    return i >= 0 && j >= 0 && i < nodes_x && j < nodes_y && node_known[r][node_index(i, j)] != 0;
+  }
+};
+
+void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
+                const ImageYCbCr420* ref1);
+
+// ---- Block geometry within a macroblock: blocks 0..3 luma (raster), 4 Cb, 5 Cr. ----
+inline int block_plane(int b) { return b < 4 ? 0 : b - 3; }
+
+inline int block_x(int b, int mx) { return b < 4 ? 2 * mx + (b & 1) : mx; }
+
+inline int block_y(int b, int my) { return b < 4 ? 2 * my + (b >> 1) : my; }
+
+// Offset of block b in a MacroblockPrediction-shaped buffer and its row stride.
+inline uint8_t* block_samples(MacroblockPrediction& m, int b) {
+  if (b < 4) return m.y.data() + (b >> 1) * 8 * 16 + (b & 1) * 8;
+  return b == 4 ? m.cb.data() : m.cr.data();
+}
+
+inline const uint8_t* block_samples(const MacroblockPrediction& m, int b) {
+  return block_samples(const_cast<MacroblockPrediction&>(m), b);
+}
+
+inline int block_stride(int b) { return b < 4 ? 16 : 8; }
+
+// Value of a per-block array at block (bx, by) of `plane`; blocks of macroblock (mx, my)
+// are read from `local` (indexed by block number), the rest from the frame state.
+template <typename T>
+T block_value(const FrameState& s, const std::vector<T>& values, const T* local, int plane, int mx,
+              int my, int bx, int by) {
+  if (plane == 0) {
+    if ((bx >> 1) == mx && (by >> 1) == my) return local[(by & 1) * 2 + (bx & 1)];
+  } else if (bx == mx && by == my) {
+    return local[3 + plane];
+  }
+  return values[static_cast<size_t>(by) * s.grid_width(plane) + bx];
+}
+
+// Intra DC prediction as in intra frames (docs/codec.md section 3) over all blocks; inter
+// blocks contribute the DC level their reconstruction would have had.
+int predict_dc(const FrameState& s, const int* local, int plane, int mx, int my, int bx, int by);
+
+int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, int my, int bx, int by);
+
+// DC level an intra block with these reconstructed samples would have: the block mean
+// minus 128, times 8 (the DCT's DC gain), divided by dc_step, rounded half away from 0.
+int derived_dc_level(const uint8_t* samples, int stride, int dc_step);
+
+inline int median3(int a, int b, int c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
+
+MotionVector predict_vector(const FrameState& s, int mx, int my, int reference);
+
+MacroblockMode predicted_mode(const FrameState& s, int mx, int my);
+
+// The warp flag a skip inherits, from the same neighbour as predicted_mode.
+bool predicted_warp(const FrameState& s, int mx, int my);
+
+// Corner nodes within this many node units (1/8 pel) of each other count as one
+// translation when the encoder screens warped prediction.
+inline constexpr int kUniformWarpSpread = 2;
+
+inline bool uses_reference(MacroblockMode mode, int reference) {
+  if (mode == MacroblockMode::kBidirectional) return true;
+  return reference == 0 ? mode == MacroblockMode::kForward : mode == MacroblockMode::kBackward;
+}
+
+// Number of the left and top neighbours satisfying `predicate`: context 0..2.
+template <typename Predicate>
+int neighbour_context(const FrameState& s, int mx, int my, Predicate predicate) {
+  return (mx > 0 && predicate(s.mb(mx - 1, my))) + (my > 0 && predicate(s.mb(mx, my - 1)));
+}
+
+int skip_context(const FrameState& s, int mx, int my);
+
+int intra_context(const FrameState& s, int mx, int my);
+
+int bidirectional_context(const FrameState& s, int mx, int my);
+
+int backward_context(const FrameState& s, int mx, int my);
+
+int warp_context(const FrameState& s, int mx, int my);
+
+// Bit mask of the references a prediction mode reads.
+inline int reference_mask(MacroblockMode mode) {
+  return mode == MacroblockMode::kBidirectional ? 3 : (mode == MacroblockMode::kBackward ? 2 : 1);
+}
+
+inline bool warp_allowed(const FrameState& s, MacroblockMode mode) {
+  return s.warp_mask != 0 && (reference_mask(mode) & ~s.warp_mask) == 0;
+}
+
+// Node (i, j) of macroblock corner k (0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right).
+inline int corner_i(int mx, int k) { return mx + (k & 1); }
+
+inline int corner_j(int my, int k) { return my + (k >> 1); }
+
+WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int my);
+
+// The prediction of a not yet known node from known ones (docs/codec.md, section 10.3):
+// planar from the left (or right) and top neighbours, else one neighbour, else the
+// macroblock's vector predictor. `kind` receives 0 for planar, 1 otherwise.
+WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vector_predictor, int* kind);
+
+// The vector a warped macroblock leaves for its neighbours' predictors: the mean of its
+// corner nodes in half-pels, (sum + 8) >> 4, clamped to the vector range.
+MotionVector warp_centre_vector(const FrameState& s, const WarpCorners& c);
+
+int mvd_context(const FrameState& s, int mx, int my, int component);
+
+void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
+                      const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out);
+
+void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out);
+
+void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels,
+                                const uint8_t* prediction, int prediction_stride, uint8_t* out,
+                                int out_stride);
+
+void reconstruct_intra_block(const Quantizer& quantizer, const int16_t* levels, uint8_t* out, int out_stride);
+
+// Stores a finished macroblock: pixels, per-block DC levels and coded flags, and info.
+void commit_macroblock(FrameState& s, int mx, int my, const MacroblockInfo& info,
+                       const MacroblockPrediction& reconstruction, const int* intra_dc, uint8_t coded_mask);
+
+// Whether `image` is width x height with 4:2:0 planes of matching size.
+bool consistent_image(const ImageYCbCr420& image, int width, int height);
+
+// Copies the visible part of the reconstructed planes into `out`.
+void crop_output(const FrameState& s, ImageYCbCr420* out);
+
+}  // namespace svc::codec::bframe

@@ -1,0 +1,233 @@
+#include "codec/bframe_syntax.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <string>
+
+namespace svc::codec::bframe {
+
+const std::array<float, 4097>& cost_table() {
+  static const std::array<float, 4097> table = [] {
+    std::array<float, 4097> t{};
+    for (int i = 0; i <= 4096; ++i) {
+      const double p = std::clamp((i * 8.0 + 4.0) / 32768.0, 1.0 / 32768.0, 1.0);
+      t[static_cast<size_t>(i)] = static_cast<float>(-std::log2(p));
+    }
+    return t;
+  }();
+  return table;
+}
+
+float block_levels_bits(const BlockContextSet& c, const int16_t* levels, int first_scan, int coded_block_context) {
+  int last_scan = -1;
+  for (int i = 63; i >= first_scan; --i) {
+    if (levels[kZigZag[i]] != 0) {
+      last_scan = i;
+      break;
+    }
+  }
+  float bits = 0;
+  if (coded_block_context >= 0) {
+    bits += bit_cost(c.coded_block[coded_block_context], last_scan >= 0);
+  }
+  if (last_scan < 0) return bits;
+  for (int i = first_scan; i < 63; ++i) {
+    const int significant = levels[kZigZag[i]] != 0;
+    bits += bit_cost(c.significant[i], significant);
+    if (significant) {
+      bits += bit_cost(c.last[i], i == last_scan);
+      if (i == last_scan) break;
+    }
+  }
+  int greater_one = 0, equal_one = 0;
+  for (int i = last_scan; i >= first_scan; --i) {
+    const int level = levels[kZigZag[i]];
+    if (level == 0) continue;
+    const int minus_one = std::abs(level) - 1;
+    const int context = greater_one != 0 ? 0 : std::min(4, 1 + equal_one);
+    bits += bit_cost(c.greater_than_one[context], minus_one > 0);
+    if (minus_one > 0) {
+      const AdaptiveBit& remainder = c.level_remainder[std::min(4, greater_one)];
+      int k = 1;
+      for (; k < 14; ++k) {
+        bits += bit_cost(remainder, minus_one > k);
+        if (minus_one <= k) break;
+      }
+      if (k == 14) bits += exp_golomb_bits(static_cast<uint32_t>(minus_one - 14));
+      ++greater_one;
+    } else {
+      ++equal_one;
+    }
+    bits += 1;  // sign
+  }
+  return bits;
+}
+
+float dc_difference_bits(const BlockContextSet& c, int previous_category, int difference) {
+  const unsigned magnitude = static_cast<unsigned>(std::abs(difference));
+  const int category = magnitude == 0 ? 0 : std::bit_width(magnitude);
+  const int row = previous_category == 0 ? 0 : (previous_category <= 2 ? 1 : 2);
+  float bits = 0;
+  for (int i = 0; i < category; ++i) bits += bit_cost(c.dc_category[row][i], 1);
+  if (category < kMaxDcCategory) bits += bit_cost(c.dc_category[row][category], 0);
+  return bits + static_cast<float>(category);  // sign and the bits below the leading one
+}
+
+float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value) {
+  float bits = bit_cost(c.mvd_zero[component][context], value != 0);
+  if (value == 0) return bits;
+  const int magnitude = std::abs(value);
+  int k = 1;
+  for (; k <= kMvdPrefixBins; ++k) {
+    bits += bit_cost(c.mvd_magnitude[component][std::min(k - 1, 3)], magnitude > k);
+    if (magnitude <= k) break;
+  }
+  if (magnitude > kMvdPrefixBins) bits += exp_golomb_bits(static_cast<uint32_t>(magnitude - kMvdPrefixBins - 1));
+  return bits + 1;  // sign
+}
+
+float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode) {
+  const SyntaxContexts& c = s.contexts;
+  float bits = bit_cost(c.skip[skip_context(s, mx, my)], 0);
+  bits += bit_cost(c.intra[intra_context(s, mx, my)], mode == MacroblockMode::kIntra);
+  if (mode == MacroblockMode::kIntra || s.reference_count == 1) return bits;
+  bits += bit_cost(c.bidirectional[bidirectional_context(s, mx, my)], mode == MacroblockMode::kBidirectional);
+  if (mode == MacroblockMode::kBidirectional) return bits;
+  return bits + bit_cost(c.backward[backward_context(s, mx, my)], mode == MacroblockMode::kBackward);
+}
+
+void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value) {
+  encoder.encode(c.mvd_zero[component][context], value != 0);
+  if (value == 0) return;
+  const int magnitude = std::abs(value);
+  for (int k = 1; k <= kMvdPrefixBins; ++k) {
+    encoder.encode(c.mvd_magnitude[component][std::min(k - 1, 3)], magnitude > k);
+    if (magnitude <= k) break;
+  }
+  if (magnitude > kMvdPrefixBins) {
+    encode_exp_golomb_bypass(encoder, static_cast<uint32_t>(magnitude - kMvdPrefixBins - 1));
+  }
+  encoder.encode_bypass(value < 0);
+}
+
+bool decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context, int* value) {
+  *value = 0;
+  if (!decoder.decode(c.mvd_zero[component][context])) return true;
+  int magnitude = 1;
+  for (int k = 1; k <= kMvdPrefixBins; ++k) {
+    if (!decoder.decode(c.mvd_magnitude[component][std::min(k - 1, 3)])) break;
+    magnitude = k + 1;
+  }
+  if (magnitude > kMvdPrefixBins) {
+    uint32_t escape = 0;
+    if (!decode_exp_golomb_bypass(decoder, &escape)) return false;
+    magnitude = kMvdPrefixBins + 1 + static_cast<int>(escape);
+  }
+  *value = decoder.decode_bypass() ? -magnitude : magnitude;
+  return true;
+}
+
+float node_component_bits(const SyntaxContexts& c, int component, int kind, int value) {
+  float bits = bit_cost(c.node_zero[component][kind], value != 0);
+  if (value == 0) return bits;
+  const int magnitude = std::abs(value);
+  const auto& bins = c.node_magnitude[component][kind];
+  int k = 1;
+  for (; k <= kNodePrefixBins; ++k) {
+    bits += bit_cost(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)], magnitude > k);
+    if (magnitude <= k) break;
+  }
+  if (magnitude > kNodePrefixBins) bits += exp_golomb_bits(static_cast<uint32_t>(magnitude - kNodePrefixBins - 1));
+  return bits + 1;
+}
+
+void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int kind, int value) {
+  encoder.encode(c.node_zero[component][kind], value != 0);
+  if (value == 0) return;
+  encoder.encode_bypass(value < 0);
+  const int magnitude = std::abs(value);
+  auto& bins = c.node_magnitude[component][kind];
+  for (int k = 1; k <= kNodePrefixBins; ++k) {
+    encoder.encode(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)], magnitude > k);
+    if (magnitude <= k) break;
+  }
+  if (magnitude > kNodePrefixBins) {
+    encode_exp_golomb_bypass(encoder, static_cast<uint32_t>(magnitude - kNodePrefixBins - 1));
+  }
+}
+
+bool decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind, int* value) {
+  *value = 0;
+  if (!decoder.decode(c.node_zero[component][kind])) return true;
+  const bool negative = decoder.decode_bypass() != 0;
+  auto& bins = c.node_magnitude[component][kind];
+  int magnitude = 1;
+  for (int k = 1; k <= kNodePrefixBins; ++k) {
+    if (!decoder.decode(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)])) break;
+    magnitude = k + 1;
+  }
+  if (magnitude > kNodePrefixBins) {
+    uint32_t escape = 0;
+    if (!decode_exp_golomb_bypass(decoder, &escape)) return false;
+    magnitude = kNodePrefixBins + 1 + static_cast<int>(escape);
+  }
+  *value = negative ? -magnitude : magnitude;
+  return true;
+}
+
+void encode_missing_nodes(RangeEncoder& encoder, FrameState& s, int reference, int mx, int my,
+                          MotionVector vector_predictor) {
+  for (int k = 0; k < 4; ++k) {
+    const int i = corner_i(mx, k), j = corner_j(my, k);
+    if (s.known(reference, i, j)) continue;
+    int kind = 0;
+    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
+    const WarpNode value = s.nodes[reference][s.node_index(i, j)];
+    encode_node_component(encoder, s.contexts, 0, kind, value.x - prediction.x);
+    encode_node_component(encoder, s.contexts, 1, kind, value.y - prediction.y);
+    s.node_known[reference][s.node_index(i, j)] = 1;
+  }
+}
+
+float missing_nodes_bits(FrameState& s, int reference, int mx, int my, MotionVector vector_predictor) {
+  float bits = 0;
+  std::array<size_t, 4> marked{};
+  int marked_count = 0;
+  for (int k = 0; k < 4; ++k) {
+    const int i = corner_i(mx, k), j = corner_j(my, k);
+    if (s.known(reference, i, j)) continue;
+    int kind = 0;
+    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
+    const WarpNode value = s.nodes[reference][s.node_index(i, j)];
+    bits += node_component_bits(s.contexts, 0, kind, value.x - prediction.x) +
+            node_component_bits(s.contexts, 1, kind, value.y - prediction.y);
+    marked[static_cast<size_t>(marked_count++)] = s.node_index(i, j);
+    s.node_known[reference][s.node_index(i, j)] = 1;
+  }
+  for (int m = 0; m < marked_count; ++m) s.node_known[reference][marked[static_cast<size_t>(m)]] = 0;
+  return bits;
+}
+
+bool decode_missing_nodes(RangeDecoder& decoder, FrameState& s, int reference, int mx, int my,
+                          MotionVector vector_predictor) {
+  for (int k = 0; k < 4; ++k) {
+    const int i = corner_i(mx, k), j = corner_j(my, k);
+    if (s.known(reference, i, j)) continue;
+    int kind = 0;
+    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
+    int dx = 0, dy = 0;
+    if (!decode_node_component(decoder, s.contexts, 0, kind, &dx) ||
+        !decode_node_component(decoder, s.contexts, 1, kind, &dy)) {
+      return false;
+    }
+    const int64_t x = int64_t{prediction.x} + dx, y = int64_t{prediction.y} + dy;
+    if (std::abs(x) > s.node_limit || std::abs(y) > s.node_limit) return false;
+    s.nodes[reference][s.node_index(i, j)] = WarpNode{static_cast<int32_t>(x), static_cast<int32_t>(y)};
+    s.node_known[reference][s.node_index(i, j)] = 1;
+  }
+  return true;
+}
+
+}  // namespace svc::codec::bframe

@@ -1,0 +1,60 @@
+// B-frame syntax: the writers and readers of motion vector differences and warp nodes,
+// and the encoder's bit estimates from the current adaptive probabilities.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
+
+#include "codec/bframe_state.h"
+
+namespace svc::codec::bframe {
+
+const std::array<float, 4097>& cost_table();
+
+inline float bit_cost(const AdaptiveBit& model, int bit) {
+  uint32_t p = model.probability_of_zero();
+  if (bit) p = kProbabilityOne - p;
+  return cost_table()[std::min<uint32_t>(p >> 3, 4096)];
+}
+
+inline float exp_golomb_bits(uint32_t value) {
+  return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1);
+}
+
+float block_levels_bits(const BlockContextSet& c, const int16_t* levels, int first_scan, int coded_block_context);
+
+float dc_difference_bits(const BlockContextSet& c, int previous_category, int difference);
+
+float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value);
+
+float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode);
+
+// ---- Syntax writers (mirrored by the readers below). ----
+void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value);
+
+bool decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context, int* value);
+
+// A node difference component: zero flag, sign, then |d| - 1 as a unary prefix of
+// kNodePrefixBins adaptive bins with an Exp-Golomb escape.
+float node_component_bits(const SyntaxContexts& c, int component, int kind, int value);
+
+void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int kind, int value);
+
+bool decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind, int* value);
+
+// Codes (encoder) the corner nodes of macroblock (mx, my) towards `reference` that the
+// decoder does not know yet, in corner order, and marks them known.
+void encode_missing_nodes(RangeEncoder& encoder, FrameState& s, int reference, int mx, int my,
+                          MotionVector vector_predictor);
+
+// Estimated bits of encode_missing_nodes, leaving the state unchanged.
+float missing_nodes_bits(FrameState& s, int reference, int mx, int my, MotionVector vector_predictor);
+
+// Decodes the missing corner nodes of macroblock (mx, my); false on a syntax error or a
+// node beyond the range.
+bool decode_missing_nodes(RangeDecoder& decoder, FrameState& s, int reference, int mx, int my,
+                          MotionVector vector_predictor);
+
+}  // namespace svc::codec::bframe

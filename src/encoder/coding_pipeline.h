@@ -1,0 +1,41 @@
+// The coding of a list of faces into a container: shared by a full encode and by
+// `svc add`, so both code, store and count new faces the same way.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "container/container.h"
+#include "database/database.h"
+#include "svc/encoder.h"
+#include "svc/status.h"
+
+namespace svc {
+
+struct CodingJob {
+  // The index being built. Each frame to code has its cell, face, kind and references
+  // set; coding fills in its chunk offset and size and adds to stats[kind].
+  ContainerIndex* index = nullptr;
+  // Frames to code, in cell order. I-faces are coded first (B-faces predict from their
+  // reconstructions), then B-faces; each group keeps this order.
+  std::vector<uint32_t> frames;
+  // Reconstructions of I-faces coded earlier that the B-faces above use, by frame.
+  std::unordered_map<uint32_t, ImageYCbCr420> reconstructions;
+  // The source colour and depth of a frame to code.
+  std::function<Result<FaceData>(uint32_t frame)> load;
+  // Appends a FACE chunk to the file; returns its offset.
+  std::function<Result<uint64_t>(std::span<const uint8_t> payload)> append;
+  int threads = 1;
+  const char* action = "encode";  // names the run in the cancellation message
+  EncodeProgress progress;
+};
+
+// Codes job.frames with the index's coding settings and appends them in order. Bytes do
+// not depend on the thread count. Errors: loading, the file's, or kCancelled when
+// progress returns false.
+Status code_faces(CodingJob& job);
+
+}  // namespace svc
