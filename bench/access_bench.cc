@@ -180,10 +180,11 @@ int run(const samples::SceneOptions& options, int sample_count, int quality, dou
     return 1;
   }
 
-  std::printf("\n  files: svc %.2f MiB (quality %d, quantiser scale %d), MPEG-2 baseline %.2f MiB (qscale 4, "
-              "GOP IBBPBB, row-major), raw RGB %.2f MiB\n",
-              summary->file_bytes / 1048576.0, quality, summary->quant_scale, mpeg2->total_bytes() / 1048576.0,
-              summary->raw_bytes / 1048576.0);
+  std::printf(
+      "\n  files: svc %.2f MiB (quality %d, quantiser scale %d), MPEG-2 baseline %.2f MiB (qscale 4, "
+      "GOP IBBPBB, row-major), raw RGB %.2f MiB\n",
+      summary->file_bytes / 1048576.0, quality, summary->quant_scale, mpeg2->total_bytes() / 1048576.0,
+      summary->raw_bytes / 1048576.0);
   std::printf("\n  random access, median of %zu cells %43s\n", sampled.size(), "");
   std::printf("  %-40s %12s %12s  %-5s %10s\n", "", "svc", "MPEG-2", "", "MPEG-2/svc");
   row("one face, cold", median(svc_t.face_cold), median(base_t.face_cold), "ms");
@@ -214,15 +215,16 @@ int run(const samples::SceneOptions& options, int sample_count, int quality, dou
     const ReaderStats s = (*reader)->stats();
     const double rgb = 3.0 * (*reader)->info().face_width * (*reader)->info().face_height;
     const double per_face = faces ? static_cast<double>(s.coefficient_cache.bytes_held) / faces : 0;
-    std::printf("\n  semi-decoded I-faces: %llu faces, %.0f bytes each on average (largest %llu) = %.3f of RGB "
-                "(largest %.3f; goal <= 0.25); coded %.0f bytes each\n",
-                static_cast<unsigned long long>(faces), per_face, static_cast<unsigned long long>(largest),
-                per_face / rgb, largest / rgb,
-                faces ? static_cast<double>(summary->intra.bytes) / summary->intra.faces : 0.0);
+    std::printf(
+        "\n  semi-decoded I-faces: %llu faces, %.0f bytes each on average (largest %llu) = %.3f of RGB "
+        "(largest %.3f; goal <= 0.25); coded %.0f bytes each\n",
+        static_cast<unsigned long long>(faces), per_face, static_cast<unsigned long long>(largest), per_face / rgb,
+        largest / rgb, faces ? static_cast<double>(summary->intra.bytes) / summary->intra.faces : 0.0);
   }
 
   // The walkthrough at the given speed.
-  std::printf("\n  walkthrough, built-in serpentine path, %.3g cells/s %26s %12s\n", speed, "prefetch", "on demand");
+  std::printf("\n  walkthrough, built-in serpentine path, %.3g cells/s %26s %12s\n", speed, "prefetch",
+              "on demand");
   std::vector<walkthrough::ReplayResult> runs;
   for (bool prefetch : {true, false}) {
     auto reader = Reader::open(file, no_prefetch());
@@ -237,9 +239,7 @@ int run(const samples::SceneOptions& options, int sample_count, int quality, dou
     }
     runs.push_back(std::move(result).value());
   }
-  auto wrow = [&](const char* label, double a, double b) {
-    std::printf("  %-64s %12.3f %12.3f\n", label, a, b);
-  };
+  auto wrow = [&](const char* label, double a, double b) { std::printf("  %-64s %12.3f %12.3f\n", label, a, b); };
   wrow("steps (cells entered)", runs[0].steps, runs[1].steps);
   wrow("latency p50 (ms)", runs[0].p50_ms, runs[1].p50_ms);
   wrow("latency p99 (ms)", runs[0].p99_ms, runs[1].p99_ms);

@@ -30,7 +30,8 @@ Status Bench::svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* re
   return Status::Ok();
 }
 
-Status Bench::baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded, CodecResult* result) {
+Status Bench::baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded,
+                              CodecResult* result) {
   // Stored as the baseline stores it: one elementary stream and index per face.
   const auto dir = work_dir_ / (plan.name + "-access");
   std::filesystem::create_directories(dir);
@@ -45,7 +46,8 @@ Status Bench::baseline_access(const CodecPlan& plan, const baseline::EncodedData
   for (const Pick& p : picks_) {
     const int frame = encoded.layout.frame_of(source_.manifest.cells[p.cell].index);
     const auto t0 = Clock::now();
-    SVC_ASSIGN_OR_RETURN(baseline::EncodedSequence sequence, baseline::read_sequence(paths[static_cast<int>(p.face)]));
+    SVC_ASSIGN_OR_RETURN(baseline::EncodedSequence sequence,
+                         baseline::read_sequence(paths[static_cast<int>(p.face)]));
     SVC_ASSIGN_OR_RETURN(baseline::DecodedFrame decoded, baseline::decode_frame(sequence, frame));
     cold_ms.push_back(seconds_since(t0) * 1e3);
     cold_frames.push_back(decoded.frames_decoded);

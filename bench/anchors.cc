@@ -6,7 +6,7 @@ namespace svc::bench {
 
 namespace {
 
-const std::vector<std::string> kX26xPresets = {"ultrafast", "superfast", "veryfast", "faster", "fast",
+const std::vector<std::string> kX26xPresets = {"ultrafast", "superfast", "veryfast", "faster",   "fast",
                                                "medium",    "slow",      "slower",   "veryslow", "placebo"};
 
 std::string preset_of(const AnchorOptions& options, const std::string& name, const std::string& fallback) {
@@ -31,8 +31,10 @@ Status check_integer_preset(const std::string& name, const std::string& value, i
 
 Status check_x26x_preset(const std::string& name, const std::string& value) {
   if (std::find(kX26xPresets.begin(), kX26xPresets.end(), value) != kX26xPresets.end()) return Status::Ok();
-  return Status(ErrorCode::kInvalidArgument, "preset of " + name + " must be an x264/x265 preset name (ultrafast .. "
-                                                 "placebo), not '" + value + "'");
+  return Status(ErrorCode::kInvalidArgument, "preset of " + name +
+                                                 " must be an x264/x265 preset name (ultrafast .. "
+                                                 "placebo), not '" +
+                                                 value + "'");
 }
 
 CodecPlan svc_plan(const std::string& name) {
@@ -163,7 +165,8 @@ Result<CodecPlan> intra_image_plan(const std::string& name, const AnchorOptions&
 }  // namespace
 
 Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& options, int width, int height) {
-  if (options.gop < 1) return Status(ErrorCode::kInvalidArgument, "GOP must be at least 1, not " + std::to_string(options.gop));
+  if (options.gop < 1)
+    return Status(ErrorCode::kInvalidArgument, "GOP must be at least 1, not " + std::to_string(options.gop));
   CodecPlan plan;
   if (name == "svc" || name == "svc-intra") {
     plan = svc_plan(name);
@@ -204,8 +207,9 @@ std::string structure_arguments(const CodecPlan& plan) {
   }
   const int gop = plan.intra && plan.encoder == "libaom-av1" ? 0 : plan.base.gop_size;  // libaom all-intra
   std::string args = " -g " + std::to_string(gop) + " -bf " + std::to_string(plan.base.max_b_frames);
-  const bool open = plan.encoder == "mpeg2video" ? !plan.base.closed_gop
-                                                 : plan.base.open_gop && (plan.encoder == "libx264" || plan.encoder == "libx265");
+  const bool open = plan.encoder == "mpeg2video"
+                        ? !plan.base.closed_gop
+                        : plan.base.open_gop && (plan.encoder == "libx264" || plan.encoder == "libx265");
   if (!open && plan.base.gop_size > 1) args += " -flags +cgop";
   if (plan.encoder == "mpeg2video") args += " -sc_threshold 1000000000";
   return args;

@@ -36,9 +36,9 @@ struct SettingRange {
 };
 
 struct CodecPlan {
-  std::string name;         // as in all_codec_names()
-  std::string encoder;      // "svc" or the libavcodec encoder
-  std::string description;  // settings in words, for the report
+  std::string name;          // as in all_codec_names()
+  std::string encoder;       // "svc" or the libavcodec encoder
+  std::string description;   // settings in words, for the report
   std::string setting_name;  // "quality", "qscale", "crf", "lossless"
   SettingRange range;
   bool is_svc = false;

@@ -60,9 +60,7 @@ double pchip_integral(const std::vector<double>& x, const std::vector<double>& y
     const double h = x[k + 1] - x[k], m = (y[k + 1] - y[k]) / h;
     const double c0 = y[k], c1 = d[k], c2 = (3 * m - 2 * d[k] - d[k + 1]) / h,
                  c3 = (d[k] + d[k + 1] - 2 * m) / (h * h);
-    auto antiderivative = [&](double s) {
-      return s * (c0 + s * (c1 / 2 + s * (c2 / 3 + s * c3 / 4)));
-    };
+    auto antiderivative = [&](double s) { return s * (c0 + s * (c1 / 2 + s * (c2 / 3 + s * c3 / 4))); };
     total += antiderivative(hi - x[k]) - antiderivative(lo - x[k]);
   }
   return total;
@@ -75,10 +73,9 @@ std::optional<BdRate> bd_rate(std::vector<RatePoint> anchor, std::vector<RatePoi
   result.psnr_low = std::max(xa.front(), xt.front());
   result.psnr_high = std::min(xa.back(), xt.back());
   if (!(result.psnr_high > result.psnr_low)) return std::nullopt;
-  const double mean_log_ratio =
-      (pchip_integral(xt, yt, result.psnr_low, result.psnr_high) -
-       pchip_integral(xa, ya, result.psnr_low, result.psnr_high)) /
-      (result.psnr_high - result.psnr_low);
+  const double mean_log_ratio = (pchip_integral(xt, yt, result.psnr_low, result.psnr_high) -
+                                 pchip_integral(xa, ya, result.psnr_low, result.psnr_high)) /
+                                (result.psnr_high - result.psnr_low);
   result.ratio = std::exp(mean_log_ratio);
   return result;
 }

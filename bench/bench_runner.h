@@ -50,7 +50,8 @@ class Bench {
                          std::unique_ptr<Reader>* reader_out = nullptr);
   Status run_svc_codec(const CodecPlan& plan, CodecResult* result);
   Status run_baseline_codec(const CodecPlan& plan, CodecResult* result);
-  Result<baseline::EncodedDatabase> encode_baseline(const CodecPlan& plan, const baseline::EncodeSettings& settings);
+  Result<baseline::EncodedDatabase> encode_baseline(const CodecPlan& plan,
+                                                    const baseline::EncodeSettings& settings);
   Result<QualityPoint> measure_baseline(const CodecPlan& plan, int setting, baseline::EncodedDatabase* keep);
   static int reference_index(const std::vector<QualityPoint>& points, std::optional<double> target);
 

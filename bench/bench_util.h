@@ -8,9 +8,9 @@
 #include <functional>
 #include <vector>
 
-#include "svc/status.h"
 #include "common/parallel.h"
 #include "database/database.h"
+#include "svc/status.h"
 #include "svc/types.h"
 #include "svc_bench.h"
 

@@ -69,7 +69,8 @@ Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacin
   const auto t0 = Clock::now();
   for (size_t c = 0; c < cells.size(); ++c) {
     for (Face f : kAllFaces) {
-      SVC_ASSIGN_OR_RETURN(decoded[c * kFaceCount + static_cast<size_t>(f)], reader->decode_face(cells[c].index, f));
+      SVC_ASSIGN_OR_RETURN(decoded[c * kFaceCount + static_cast<size_t>(f)],
+                           reader->decode_face(cells[c].index, f));
     }
   }
   run.point.decode_seconds = seconds_since(t0);
@@ -212,7 +213,8 @@ Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
             [](const QualityPoint& a, const QualityPoint& b) { return a.setting < b.setting; });
   result->reference_point = reference_index(result->points, svc_reference_psnr_);
   const int setting = result->points[result->reference_point].setting;
-  result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png", "out." + baseline::stream_extension(plan.encoder),
+  result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png",
+                                          "out." + baseline::stream_extension(plan.encoder),
                                           source_.manifest.grid.dims[0]);
   return baseline_access(plan, encoded.at(setting), result);
 }
@@ -223,10 +225,11 @@ void Bench::finish_speed(CodecResult* result) const {
   result->encode_faces_per_second = ref.encode_seconds > 0 ? faces / ref.encode_seconds : 0;
   result->decode_faces_per_second = ref.decode_seconds > 0 ? faces / ref.decode_seconds : 0;
   char line[256];
-  std::snprintf(line, sizeof line,
-                "%s: encode %.1f faces/s, decode %.1f faces/s, random face cold %.2f ms (%.2f frames), warm %.2f ms",
-                result->name.c_str(), result->encode_faces_per_second, result->decode_faces_per_second,
-                result->access_cold.mean_ms, result->access_cold.mean_frames, result->access_warm.mean_ms);
+  std::snprintf(
+      line, sizeof line,
+      "%s: encode %.1f faces/s, decode %.1f faces/s, random face cold %.2f ms (%.2f frames), warm %.2f ms",
+      result->name.c_str(), result->encode_faces_per_second, result->decode_faces_per_second,
+      result->access_cold.mean_ms, result->access_cold.mean_frames, result->access_warm.mean_ms);
   log(line);
 }
 

@@ -37,7 +37,8 @@ constexpr std::array<int32_t, 3> kDefaultISpacing{3, 1, 3};
 
 }  // namespace
 
-const SvcRun* Bench::find_run(int quality, std::array<int32_t, 3> i_spacing, MotionSearch motion, int spacing) const {
+const SvcRun* Bench::find_run(int quality, std::array<int32_t, 3> i_spacing, MotionSearch motion,
+                              int spacing) const {
   for (const SvcRun& run : svc_runs_) {
     const auto effective = run.settings.intra_only ? std::array<int32_t, 3>{1, 1, 1} : run.settings.i_spacing;
     if (run.settings.quality == quality && run.settings.quant_scale == 0 && effective == i_spacing &&
@@ -48,7 +49,8 @@ const SvcRun* Bench::find_run(int quality, std::array<int32_t, 3> i_spacing, Mot
   return nullptr;
 }
 
-Result<const SvcRun*> Bench::get_run(int quality, std::array<int32_t, 3> i_spacing, MotionSearch motion, int spacing) {
+Result<const SvcRun*> Bench::get_run(int quality, std::array<int32_t, 3> i_spacing, MotionSearch motion,
+                                     int spacing) {
   if (const SvcRun* run = find_run(quality, i_spacing, motion, spacing)) return run;
   EncoderSettings settings = default_encoder_settings();
   settings.quality = quality;
@@ -101,8 +103,8 @@ Status Bench::figure_7_16(Experiments* ex) {
     std::snprintf(label, sizeof label, "B:I %.0f:1", p.b_to_i);
     p.label = label;
     ex->b_to_i_sweep.push_back(p);
-    log("fig 7.16 " + p.label + " (I-spacing " + std::to_string(spacing[0]) + "," + std::to_string(spacing[1]) + "," +
-        std::to_string(spacing[2]) + "): " + std::to_string(p.bytes) + " bytes, " +
+    log("fig 7.16 " + p.label + " (I-spacing " + std::to_string(spacing[0]) + "," + std::to_string(spacing[1]) +
+        "," + std::to_string(spacing[2]) + "): " + std::to_string(p.bytes) + " bytes, " +
         std::to_string(p.compression_ratio).substr(0, 5) + ":1");
   }
   for (int step : {1, 2, 3}) {
@@ -151,7 +153,8 @@ Status Bench::table_7_4(Experiments* ex) {
   return Status::Ok();
 }
 
-Result<Experiments> Bench::run_experiments(const std::vector<CodecResult>& codecs, std::vector<PartTiming>* timings) {
+Result<Experiments> Bench::run_experiments(const std::vector<CodecResult>& codecs,
+                                           std::vector<PartTiming>* timings) {
   Experiments ex;
   ex.quality = experiments_quality_;
   auto t0 = Clock::now();

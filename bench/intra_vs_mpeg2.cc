@@ -135,6 +135,6 @@ int main(int argc, char** argv) {
     if (run_scene(samples::SceneKind::kHouse, options, &all_ok) != 0) return 1;
   }
   std::printf("\n%s\n", all_ok ? "svc intra is no larger than MPEG-2 intra at every compared PSNR-Y"
-                                 : "svc intra is LARGER than MPEG-2 intra at some PSNR-Y");
+                               : "svc intra is LARGER than MPEG-2 intra at some PSNR-Y");
   return 0;
 }

@@ -312,7 +312,8 @@ void draw_line_chart(Canvas& canvas, Rect area, const LineChart& chart) {
   Scale sy{chart.y.log ? std::log10(yr0) : yr0, chart.y.log ? std::log10(yr1) : yr1, double(bottom), double(top),
            chart.y.log};
 
-  if (!chart.title.empty()) canvas.text((left + right) / 2, area.y + 10, chart.title, kBlack, scale, Align::kCenter);
+  if (!chart.title.empty())
+    canvas.text((left + right) / 2, area.y + 10, chart.title, kBlack, scale, Align::kCenter);
 
   const auto x_ticks = chart.x.log ? log_ticks(xr0, xr1) : linear_ticks(xr0, xr1, 7);
   const auto y_ticks = chart.y.log ? log_ticks(yr0, yr1) : linear_ticks(yr0, yr1, 6);
@@ -330,8 +331,8 @@ void draw_line_chart(Canvas& canvas, Rect area, const LineChart& chart) {
   }
   canvas.line(left + 0.5, top, left + 0.5, bottom + 0.5, kAxisGrey, 1);
   canvas.line(left, bottom + 0.5, right, bottom + 0.5, kAxisGrey, 1);
-  canvas.text((left + right) / 2, bottom + 15 + char_h, chart.x.label + (chart.x.log ? " (log)" : ""), kBlack, scale,
-              Align::kCenter);
+  canvas.text((left + right) / 2, bottom + 15 + char_h, chart.x.label + (chart.x.log ? " (log)" : ""), kBlack,
+              scale, Align::kCenter);
   canvas.text_vertical(area.x + 8 + char_h / 2, (top + bottom) / 2, chart.y.label + (chart.y.log ? " (log)" : ""),
                        kBlack, scale);
 
@@ -417,7 +418,8 @@ void draw_bar_chart(Canvas& canvas, Rect area, const BarChart& chart) {
   Scale sy{chart.log_y ? std::log10(y0) : y0, chart.log_y ? std::log10(y1) : y1, double(bottom), double(top),
            chart.log_y};
 
-  if (!chart.title.empty()) canvas.text((left + right) / 2, area.y + 10, chart.title, kBlack, scale, Align::kCenter);
+  if (!chart.title.empty())
+    canvas.text((left + right) / 2, area.y + 10, chart.title, kBlack, scale, Align::kCenter);
   const auto ticks = chart.log_y ? log_ticks(y0, y1) : linear_ticks(y0, y1, 6);
   for (double t : ticks) {
     const double py = std::round(sy(t)) + 0.5;
@@ -445,7 +447,8 @@ void draw_bar_chart(Canvas& canvas, Rect area, const BarChart& chart) {
         canvas.text((x0 + x1) / 2, yv - char_h / 2 - 6, group.annotations[b], kBlack, 1, Align::kCenter);
       }
     }
-    canvas.text(static_cast<int>(left + (g + 0.5) * group_w), bottom + 9, group.label, kBlack, scale, Align::kCenter);
+    canvas.text(static_cast<int>(left + (g + 0.5) * group_w), bottom + 9, group.label, kBlack, scale,
+                Align::kCenter);
   }
   canvas.line(left + 0.5, top, left + 0.5, bottom + 0.5, kAxisGrey, 1);
   canvas.line(left, bottom + 0.5, right, bottom + 0.5, kAxisGrey, 1);

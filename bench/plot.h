@@ -82,7 +82,7 @@ struct Series {
   std::string label;
   std::vector<std::pair<double, double>> points;  // (x, y), drawn in the given order
   bool dashed = false;
-  std::optional<Color> color;                     // unset: palette(index)
+  std::optional<Color> color;  // unset: palette(index)
 };
 
 struct LineChart {
@@ -96,9 +96,9 @@ struct LineChart {
 void draw_line_chart(Canvas& canvas, Rect area, const LineChart& chart);
 
 struct BarGroup {
-  std::string label;                      // under the group
-  std::vector<double> values;             // one per BarChart::series_labels entry
-  std::vector<std::string> annotations;   // printed above each bar (may be empty)
+  std::string label;                     // under the group
+  std::vector<double> values;            // one per BarChart::series_labels entry
+  std::vector<std::string> annotations;  // printed above each bar (may be empty)
 };
 
 struct BarChart {

@@ -8,10 +8,10 @@
 namespace svc::bench {
 
 struct RdPoint {
-  int setting = 0;    // the quantiser / quality that produced it
+  int setting = 0;  // the quantiser / quality that produced it
   double bytes = 0;
-  double psnr_y = 0;  // dB
-  double seconds = 0; // encode time
+  double psnr_y = 0;   // dB
+  double seconds = 0;  // encode time
 };
 
 // Points sorted by PSNR; log(bytes) is interpolated linearly in PSNR between them.

@@ -44,20 +44,17 @@ json point_json(const QualityPoint& p) {
 }
 
 json access_json(const AccessStats& a) {
-  return {{"samples", a.samples},       {"mean_ms", a.mean_ms},         {"p99_ms", a.p99_ms},
-          {"mean_frames_decoded", a.mean_frames}, {"max_frames_decoded", a.max_frames}};
+  return {{"samples", a.samples},
+          {"mean_ms", a.mean_ms},
+          {"p99_ms", a.p99_ms},
+          {"mean_frames_decoded", a.mean_frames},
+          {"max_frames_decoded", a.max_frames}};
 }
 
 json sweep_json(const SweepPoint& p) {
-  return {{"label", p.label},
-          {"i_spacing", p.i_spacing},
-          {"sample_spacing", p.sample_spacing},
-          {"cells", p.cells},
-          {"i_faces", p.i_faces},
-          {"b_faces", p.b_faces},
-          {"b_to_i", p.b_to_i},
-          {"bytes", p.bytes},
-          {"compression_ratio", p.compression_ratio},
+  return {{"label", p.label},   {"i_spacing", p.i_spacing}, {"sample_spacing", p.sample_spacing},
+          {"cells", p.cells},   {"i_faces", p.i_faces},     {"b_faces", p.b_faces},
+          {"b_to_i", p.b_to_i}, {"bytes", p.bytes},         {"compression_ratio", p.compression_ratio},
           {"psnr_y", p.psnr_y}};
 }
 
@@ -256,7 +253,8 @@ Status write_plots(const BenchResults& r, const std::filesystem::path& directory
 
 std::string summary_table_markdown(const BenchResults& r) {
   std::ostringstream md;
-  md << "| codec | setting | size | ratio | bpp | PSNR-Y dB | PSNR-RGB dB | SSIM | BD-rate of svc | encode faces/s |"
+  md << "| codec | setting | size | ratio | bpp | PSNR-Y dB | PSNR-RGB dB | SSIM | BD-rate of svc | encode faces/s "
+        "|"
         " decode faces/s | random face cold ms (frames) | warm ms (frames) |\n";
   md << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const CodecResult& c : r.codecs) {
@@ -269,7 +267,9 @@ std::string summary_table_markdown(const BenchResults& r) {
     md << "| " << c.name << " | " << setting_text(p) << " | " << human_bytes(double(p.bytes)) << " | "
        << format("%.1f", p.compression_ratio) << ":1 | " << format("%.3f", p.bits_per_pixel) << " | "
        << psnr_text(p.psnr_y) << " | " << psnr_text(p.psnr_rgb) << " | " << format("%.4f", p.ssim) << " | "
-       << (c.name == "svc" ? std::string("-") : c.bd_rate_svc ? format("%+.1f%%", *c.bd_rate_svc * 100) : "n/a")
+       << (c.name == "svc" ? std::string("-")
+           : c.bd_rate_svc ? format("%+.1f%%", *c.bd_rate_svc * 100)
+                           : "n/a")
        << " | " << format("%.1f", c.encode_faces_per_second) << " | " << format("%.1f", c.decode_faces_per_second)
        << " | " << format("%.2f", c.access_cold.mean_ms) << " (" << format("%.2f", c.access_cold.mean_frames)
        << ") | " << format("%.2f", c.access_warm.mean_ms) << " (" << format("%.2f", c.access_warm.mean_frames)
@@ -316,13 +316,14 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
   }
   md << "\nCodec settings:\n\n";
   for (const CodecResult& c : r.codecs) {
-    md << "- **" << c.name << "** (" << c.encoder << "): "
-       << (c.skipped ? "skipped: " + c.skip_reason : c.description) << "\n";
+    md << "- **" << c.name << "** (" << c.encoder
+       << "): " << (c.skipped ? "skipped: " + c.skip_reason : c.description) << "\n";
     if (!c.ffmpeg_command.empty()) md << "  `" << c.ffmpeg_command << "`\n";
   }
 
   md << "\n## Random access\n\n";
-  md << "| codec | cold mean ms | cold p99 ms | warm mean ms | warm p99 ms | frames per face (mean) | frames (max) |\n";
+  md << "| codec | cold mean ms | cold p99 ms | warm mean ms | warm p99 ms | frames per face (mean) | frames (max) "
+        "|\n";
   md << "|---|---:|---:|---:|---:|---:|---:|\n";
   for (const CodecResult& c : r.codecs) {
     if (c.skipped || c.points.empty()) continue;
@@ -338,7 +339,8 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
   if (r.experiments) {
     const Experiments& e = *r.experiments;
     md << "\n## The dissertation's experiments on this database\n\n";
-    md << "### Table 7.5: database sizes\n\n| format | size | ratio | PSNR-Y dB | note |\n|---|---:|---:|---:|---|\n";
+    md << "### Table 7.5: database sizes\n\n| format | size | ratio | PSNR-Y dB | note "
+          "|\n|---|---:|---:|---:|---|\n";
     for (const SizeRow& row : e.table_7_5) {
       md << "| " << row.name << " | " << human_bytes(double(row.bytes)) << " | "
          << format("%.1f", row.bytes ? double(r.raw_bytes) / row.bytes : 0.0) << ":1 | " << psnr_text(row.psnr_y)
@@ -346,7 +348,8 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
     }
     md << "\n### Figure 7.16: compression against B:I ratio and sample spacing (svc quality " << e.quality
        << ")\n\n";
-    md << "| sweep | I-cube spacing | sample spacing | cells | I-faces | B-faces | B:I | size | ratio | PSNR-Y dB |\n";
+    md << "| sweep | I-cube spacing | sample spacing | cells | I-faces | B-faces | B:I | size | ratio | PSNR-Y dB "
+          "|\n";
     md << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     auto sweep_rows = [&](const std::vector<SweepPoint>& points, const char* name) {
       for (const SweepPoint& p : points) {
@@ -361,8 +364,8 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
     md << "\nSample spacing n keeps every n-th cell along both horizontal axes (a subsampled manifest over the "
           "same face files).\n\n![figure 7.16](fig7_16.png)\n";
     md << "\n### Table 7.4: motion from depth against logarithmic search\n\n";
-    md << "| motion | size at PSNR-Y " << format("%.2f", e.equal_psnr_y)
-       << " dB | encode s (quality " << e.quality << ") | candidates per macroblock |\n|---|---:|---:|---:|\n";
+    md << "| motion | size at PSNR-Y " << format("%.2f", e.equal_psnr_y) << " dB | encode s (quality " << e.quality
+       << ") | candidates per macroblock |\n|---|---:|---:|---:|\n";
     for (const MotionRow& row : e.table_7_4) {
       md << "| " << row.motion << " | " << human_bytes(row.bytes_at_equal_psnr) << " | "
          << format("%.2f", row.encode_seconds) << " | " << format("%.2f", row.candidates_per_macroblock) << " |\n";

@@ -37,7 +37,8 @@ std::vector<const CodecResult*> ranked(const BenchResults& r) {
     if (c.name == "svc" || c.bd_rate_svc) rows.push_back(&c);
   }
   auto key = [](const CodecResult* c) { return c->bd_rate_svc.value_or(0.0); };
-  std::stable_sort(rows.begin(), rows.end(), [&](const CodecResult* a, const CodecResult* b) { return key(a) > key(b); });
+  std::stable_sort(rows.begin(), rows.end(),
+                   [&](const CodecResult* a, const CodecResult* b) { return key(a) > key(b); });
   return rows;
 }
 

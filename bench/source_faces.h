@@ -23,7 +23,7 @@ Result<SourceFaces> load_sources(const std::filesystem::path& db_dir, int thread
 struct Score {
   double psnr_rgb = 0;  // over the summed squared error of all faces
   double psnr_y = 0;
-  double ssim = 0;      // mean over faces
+  double ssim = 0;  // mean over faces
 };
 
 // `pairs` holds (source, decoded) per face.

@@ -100,7 +100,8 @@ bool print_reference_analysis(const std::filesystem::path& db_dir) {
       return false;
     }
     out->data = std::move(data).value();
-    out->image = codec::rgb_to_ycbcr420(out->data.color.pixels.data(), out->data.color.width, out->data.color.height);
+    out->image =
+        codec::rgb_to_ycbcr420(out->data.color.pixels.data(), out->data.color.width, out->data.color.height);
     return true;
   };
   for (size_t c = 0; c < cells.size(); ++c) {
@@ -156,12 +157,14 @@ bool print_reference_analysis(const std::filesystem::path& db_dir) {
     }
   }
   if (macroblocks == 0 || checksum == 0) return true;
-  std::printf("  B-face pixels seen by a reference: %.1f%%; macroblocks at least 90%% seen by one reference: %.1f%%\n",
-              100.0 * static_cast<double>(seen_pixels) / static_cast<double>(pixels),
-              100.0 * static_cast<double>(covered_macroblocks) / static_cast<double>(macroblocks));
-  std::printf("  motion per B-face and reference (one thread): from depth %.3f ms, log search %.3f ms (ratio %.2f)\n",
-              1e3 * depth_seconds / static_cast<double>(pairs), 1e3 * log_seconds / static_cast<double>(pairs),
-              depth_seconds / log_seconds);
+  std::printf(
+      "  B-face pixels seen by a reference: %.1f%%; macroblocks at least 90%% seen by one reference: %.1f%%\n",
+      100.0 * static_cast<double>(seen_pixels) / static_cast<double>(pixels),
+      100.0 * static_cast<double>(covered_macroblocks) / static_cast<double>(macroblocks));
+  std::printf(
+      "  motion per B-face and reference (one thread): from depth %.3f ms, log search %.3f ms (ratio %.2f)\n",
+      1e3 * depth_seconds / static_cast<double>(pairs), 1e3 * log_seconds / static_cast<double>(pairs),
+      depth_seconds / log_seconds);
   return true;
 }
 
@@ -214,13 +217,14 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
   for (int k = 0; k < 3; ++k) {
     for (const auto& m : results[k]) {
       const FaceTypeStats& b = m.summary.predicted;
-      const double mbs = static_cast<double>(b.mb_intra + b.mb_forward + b.mb_backward + b.mb_bidirectional +
-                                             b.mb_skipped);
+      const double mbs =
+          static_cast<double>(b.mb_intra + b.mb_forward + b.mb_backward + b.mb_bidirectional + b.mb_skipped);
       auto pct = [&](uint64_t v) { return mbs > 0 ? 100.0 * v / mbs : 0.0; };
       std::printf("  %-14s %6d %11.0f %8.2f %9.2f %6.1f%% %6.1f%% %6.1f%% %6.1f%% %6.1f%% %6.2f\n", configs[k].name,
                   m.point.setting, m.point.bytes, m.point.psnr_y, m.point.seconds, pct(b.mb_intra),
                   pct(b.mb_forward), pct(b.mb_backward), pct(b.mb_bidirectional), pct(b.mb_skipped),
-                  b.candidate_macroblocks ? static_cast<double>(b.candidate_vectors) / b.candidate_macroblocks : 0.0);
+                  b.candidate_macroblocks ? static_cast<double>(b.candidate_vectors) / b.candidate_macroblocks
+                                          : 0.0);
     }
   }
 
@@ -299,8 +303,10 @@ int main(int argc, char** argv) {
   }
   options.threads = 2;
   bool ok = true;
-  if (kind == "hall" || kind == "both") ok = run_scene(samples::SceneKind::kHall, options, target, threads, repeats) && ok;
-  if (kind == "house" || kind == "both") ok = run_scene(samples::SceneKind::kHouse, options, target, threads, repeats) && ok;
+  if (kind == "hall" || kind == "both")
+    ok = run_scene(samples::SceneKind::kHall, options, target, threads, repeats) && ok;
+  if (kind == "house" || kind == "both")
+    ok = run_scene(samples::SceneKind::kHouse, options, target, threads, repeats) && ok;
   std::printf("\n%s\n", ok ? "all goals met" : "some goals NOT met");
   return 0;
 }

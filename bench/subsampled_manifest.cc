@@ -9,11 +9,13 @@
 
 namespace svc::bench {
 
-Status write_subsampled_manifest(const std::filesystem::path& db_dir, int step, const std::filesystem::path& out_dir) {
-  if (step < 1) return Status(ErrorCode::kInvalidArgument, "subsampling step must be at least 1, not " + std::to_string(step));
+Status write_subsampled_manifest(const std::filesystem::path& db_dir, int step,
+                                 const std::filesystem::path& out_dir) {
+  if (step < 1)
+    return Status(ErrorCode::kInvalidArgument, "subsampling step must be at least 1, not " + std::to_string(step));
   SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest, load_manifest(db_dir));
-  const std::filesystem::path manifest_path =
-      std::filesystem::is_directory(db_dir) ? db_dir / "manifest.json" : db_dir;
+  const std::filesystem::path manifest_path = std::filesystem::is_directory(db_dir) ? db_dir / "manifest.json"
+                                                                                    : db_dir;
   std::ifstream in(manifest_path);
   nlohmann::ordered_json doc;
   try {

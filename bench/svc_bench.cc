@@ -84,9 +84,10 @@ Status run_codecs(Bench& bench, const std::vector<std::string>& names, const Ben
 }  // namespace
 
 const std::vector<std::string>& all_codec_names() {
-  static const std::vector<std::string> kNames = {"svc",  "svc-intra", "mpeg2", "mpeg2-hilbert", "x264",
-                                                  "x265", "x265-ra",   "av1",   "jpeg",          "webp",
-                                                  "jxl",  "avif",      "x265-intra", "png"};
+  static const std::vector<std::string> kNames = {"svc",        "svc-intra", "mpeg2",   "mpeg2-hilbert",
+                                                  "x264",       "x265",      "x265-ra", "av1",
+                                                  "jpeg",       "webp",      "jxl",     "avif",
+                                                  "x265-intra", "png"};
   return kNames;
 }
 
@@ -100,7 +101,9 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
   const int threads = resolve_thread_count(options.threads);
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir / "work", ec);
-  if (ec) return Status(ErrorCode::kIoError, "cannot create " + (options.out_dir / "work").string() + ": " + ec.message());
+  if (ec)
+    return Status(ErrorCode::kIoError,
+                  "cannot create " + (options.out_dir / "work").string() + ": " + ec.message());
 
   BenchResults results;
   results.database = options.db_dir.string();

@@ -5,9 +5,9 @@
 // and Y, SSIM) whose settings are searched to cover PSNR-Y 30..42 dB (settings_search.h),
 // speed (encode and sequential decode faces/s) and random-access cost (time and frames
 // decoded to obtain one random face, cold and warm); BD-rate of svc against each on
-// PSNR-Y and PSNR-RGB (bd_rate.h). Anchors run as their users run them (anchors.h). Then the dissertation's experiments on the database at hand: Table 7.5 (sizes),
-// Figure 7.16 (compression against B:I ratio and sample spacing) and Table 7.4 (depth
-// motion against logarithmic search).
+// PSNR-Y and PSNR-RGB (bd_rate.h). Anchors run as their users run them (anchors.h). Then the dissertation's
+// experiments on the database at hand: Table 7.5 (sizes), Figure 7.16 (compression against B:I ratio and sample
+// spacing) and Table 7.4 (depth motion against logarithmic search).
 //
 // Measurement: every codec is scored on the decoded 8-bit RGB faces against the source
 // faces with svc::rgb_squared_error, svc::luma_squared_error and svc::luma_ssim, so the
@@ -47,15 +47,15 @@ namespace svc::bench {
 const std::vector<std::string>& all_codec_names();
 
 struct BenchOptions {
-  std::filesystem::path db_dir;       // the svc-input database
-  std::filesystem::path out_dir;      // results.json, results.csv, report.md, *.png
-  std::vector<std::string> codecs;    // subset of all_codec_names(); empty: all
+  std::filesystem::path db_dir;     // the svc-input database
+  std::filesystem::path out_dir;    // results.json, results.csv, report.md, *.png
+  std::vector<std::string> codecs;  // subset of all_codec_names(); empty: all
   // Worker threads for encoding (svc's encoder, the six baseline face sequences at once)
   // and quality measurement; 0: the machine's hardware concurrency.
   int threads = 0;
-  int random_accesses = 120;           // random (cell, face) picks per codec and mode
-  uint32_t seed = 1;                   // for the random picks
-  bool experiments = true;             // Table 7.5, Figure 7.16, Table 7.4 (need svc)
+  int random_accesses = 120;  // random (cell, face) picks per codec and mode
+  uint32_t seed = 1;          // for the random picks
+  bool experiments = true;    // Table 7.5, Figure 7.16, Table 7.4 (need svc)
   // Two PSNR targets and at most three encodes per codec: for tests and quick looks.
   bool quick = false;
   // GOP of x264, x265 and AV1, and presets replacing the defaults (see anchors.h).
@@ -67,30 +67,30 @@ struct BenchOptions {
 
 // One encode of the whole database at one setting.
 struct QualityPoint {
-  std::string setting_name;   // "quality", "qscale", "crf", "lossless"
+  std::string setting_name;  // "quality", "qscale", "crf", "lossless"
   int setting = 0;
-  uint64_t bytes = 0;         // everything needed to decode (streams; svc: the .svc file)
+  uint64_t bytes = 0;            // everything needed to decode (streams; svc: the .svc file)
   double compression_ratio = 0;  // raw RGB bytes / bytes
   double bits_per_pixel = 0;     // 8 * bytes / pixels over all faces
   double psnr_rgb = 0;           // dB, 99 when lossless
   double psnr_y = 0;
-  double ssim = 0;               // mean luma SSIM over faces
+  double ssim = 0;  // mean luma SSIM over faces
   double encode_seconds = 0;
-  double decode_seconds = 0;     // sequential decode of every face
+  double decode_seconds = 0;  // sequential decode of every face
 };
 
 struct AccessStats {
   int samples = 0;
   double mean_ms = 0;
   double p99_ms = 0;
-  double mean_frames = 0;   // frames decoded per random face
+  double mean_frames = 0;  // frames decoded per random face
   int max_frames = 0;
 };
 
 struct CodecResult {
-  std::string name;          // as in all_codec_names(): "svc", "mpeg2", "x264", ...
-  std::string encoder;       // "svc", "mpeg2video", "libx264", "libaom-av1", "mjpeg", ...
-  std::string description;   // GOP, order and preset in words
+  std::string name;         // as in all_codec_names(): "svc", "mpeg2", "x264", ...
+  std::string encoder;      // "svc", "mpeg2video", "libx264", "libaom-av1", "mjpeg", ...
+  std::string description;  // GOP, order and preset in words
   bool skipped = false;
   std::string skip_reason;
   std::vector<QualityPoint> points;  // ascending setting order as run
@@ -114,21 +114,21 @@ struct CodecResult {
 
 // Table 7.5: database sizes.
 struct SizeRow {
-  std::string name;      // "raw", "PNG", "JPEG", "MPEG-2 row-major", "spatial (svc)"
+  std::string name;  // "raw", "PNG", "JPEG", "MPEG-2 row-major", "spatial (svc)"
   uint64_t bytes = 0;
-  double psnr_y = 0;     // of the point used; 99 for raw and PNG
+  double psnr_y = 0;  // of the point used; 99 for raw and PNG
   std::string note;
 };
 
 // Figure 7.16: one encode of the spatial codec.
 struct SweepPoint {
-  std::string label;                  // "B:I 8:1", "spacing 2"
+  std::string label;  // "B:I 8:1", "spacing 2"
   std::array<int32_t, 3> i_spacing{3, 1, 3};
-  int sample_spacing = 1;             // every n-th cell along x and z
+  int sample_spacing = 1;  // every n-th cell along x and z
   uint64_t cells = 0;
   uint64_t i_faces = 0;
   uint64_t b_faces = 0;
-  double b_to_i = 0;                  // b_faces / i_faces
+  double b_to_i = 0;  // b_faces / i_faces
   uint64_t bytes = 0;
   double compression_ratio = 0;
   double psnr_y = 0;
@@ -136,20 +136,20 @@ struct SweepPoint {
 
 // Table 7.4: one motion source.
 struct MotionRow {
-  std::string motion;                 // "depth", "logarithmic"
+  std::string motion;  // "depth", "logarithmic"
   std::vector<QualityPoint> points;
-  double bytes_at_equal_psnr = 0;     // at `equal_psnr_y` on this motion's RD curve
-  double encode_seconds = 0;          // at the default quality
+  double bytes_at_equal_psnr = 0;  // at `equal_psnr_y` on this motion's RD curve
+  double encode_seconds = 0;       // at the default quality
   double candidates_per_macroblock = 0;
 };
 
 struct Experiments {
-  int quality = 75;                   // svc quality used for the sweeps and Table 7.5
+  int quality = 75;  // svc quality used for the sweeps and Table 7.5
   std::vector<SizeRow> table_7_5;
   std::vector<SweepPoint> b_to_i_sweep;
   std::vector<SweepPoint> spacing_sweep;
   std::vector<MotionRow> table_7_4;
-  double equal_psnr_y = 0;            // Table 7.4 comparison point
+  double equal_psnr_y = 0;  // Table 7.4 comparison point
 };
 
 struct PartTiming {
@@ -158,13 +158,13 @@ struct PartTiming {
 };
 
 struct BenchResults {
-  std::string database;          // db_dir as given
+  std::string database;  // db_dir as given
   std::array<int, 3> grid{1, 1, 1};
   uint64_t cells = 0;
   uint64_t faces = 0;
   int face_width = 0;
   int face_height = 0;
-  uint64_t raw_bytes = 0;        // 3 bytes per pixel over all faces
+  uint64_t raw_bytes = 0;  // 3 bytes per pixel over all faces
   int threads = 1;
   std::vector<CodecResult> codecs;
   std::optional<Experiments> experiments;

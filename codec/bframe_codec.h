@@ -129,8 +129,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 // with one reference; references must be width x height with consistent planes
 // (kInvalidArgument otherwise). `modes` (optional) receives the per-macroblock modes,
 // row-major. On error `out` and `modes` are left in an unspecified but valid state.
-Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height,
-                      const ImageYCbCr420& ref0, const ImageYCbCr420* ref1, ImageYCbCr420* out,
-                      std::vector<MacroblockMode>* modes = nullptr);
+Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
+                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr);
 
 }  // namespace svc::codec

@@ -231,9 +231,8 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
                                                    std::to_string(kMaxFrameDimension));
   }
   if (!consistent_image(ref0, width, height) || (ref1 != nullptr && !consistent_image(*ref1, width, height))) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "B-frame: reference images are not " + std::to_string(width) + "x" + std::to_string(height) +
-                      " with 4:2:0 planes of matching size");
+    return Status(ErrorCode::kInvalidArgument, "B-frame: reference images are not " + std::to_string(width) + "x" +
+                                                   std::to_string(height) + " with 4:2:0 planes of matching size");
   }
   BFrameHeader header;
   SVC_RETURN_IF_ERROR(parse_b_frame_header(bytes, &header));
@@ -273,4 +272,3 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
 }
 
 }  // namespace svc::codec
-

@@ -17,7 +17,6 @@ namespace {
 
 using namespace bframe;
 
-
 // One evaluated macroblock option.
 struct MacroblockChoice {
   MacroblockMode mode = MacroblockMode::kIntra;
@@ -163,7 +162,8 @@ class BFrameEncoder {
     }
     std::stable_sort(screened.begin(), screened.begin() + screened_count,
                      [](const Screened& a, const Screened& b) { return a.cost < b.cost; });
-    for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k) consider(screened[k].mode, screened[k].warp);
+    for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k)
+      consider(screened[k].mode, screened[k].warp);
     consider(MacroblockMode::kIntra, false);
     return winner;
   }
@@ -199,7 +199,8 @@ class BFrameEncoder {
       return;
     }
     if (s_.reference_count == 2) {
-      encoder.encode(c.bidirectional[bidirectional_context(s_, mx, my)], choice.mode == MacroblockMode::kBidirectional);
+      encoder.encode(c.bidirectional[bidirectional_context(s_, mx, my)],
+                     choice.mode == MacroblockMode::kBidirectional);
       if (choice.mode != MacroblockMode::kBidirectional) {
         encoder.encode(c.backward[backward_context(s_, mx, my)], choice.mode == MacroblockMode::kBackward);
       }
@@ -319,7 +320,8 @@ class BFrameEncoder {
   // Best vector towards one reference by SAD + lambda * vector bits over the supplied
   // candidates and the predictor (the zero vector too when no candidate is given).
   MotionVector search_reference(int reference, const CandidateList* list, BFrameStats* stats) {
-    const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
+    const uint8_t* source =
+        source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
     const ImageYCbCr420& ref = *s_.references[reference];
     tried_.clear();
     MotionVector best = predictors_[reference];
@@ -412,7 +414,8 @@ class BFrameEncoder {
       const AdaptiveBit& cbp_model = plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context];
       int16_t residual[64];
       for (int y = 0; y < 8; ++y) {
-        for (int x = 0; x < 8; ++x) residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
+        for (int x = 0; x < 8; ++x)
+          residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
       }
       int16_t* levels = out->levels[b].data();
       const int nonzero = transform_quantize_block(s_.inter_quantizer, residual, levels);
@@ -421,10 +424,10 @@ class BFrameEncoder {
       if (nonzero > 0) {
         uint8_t trial[64];
         reconstruct_residual_block(s_.inter_quantizer, levels, pred, stride, trial, 8);
-        const int64_t coded_error =
-            squared_error(src, source_stride, trial, 8, visible_w_[b], visible_h_[b]);
-        const float coded_bits = bit_cost(cbp_model, 1) +
-                                 block_levels_bits(plane == 0 ? c.inter_luma : c.inter_chroma, levels, 0, kNoCodedBlockFlag);
+        const int64_t coded_error = squared_error(src, source_stride, trial, 8, visible_w_[b], visible_h_[b]);
+        const float coded_bits =
+            bit_cost(cbp_model, 1) +
+            block_levels_bits(plane == 0 ? c.inter_luma : c.inter_chroma, levels, 0, kNoCodedBlockFlag);
         const float uncoded_bits = bit_cost(cbp_model, 0);
         if (coded_error + lambda_ * coded_bits < uncoded_error + lambda_ * uncoded_bits) {
           coded = true;
@@ -544,18 +547,16 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
     stats->modes.reserve(static_cast<size_t>(stats->macroblocks));
   }
 
-  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted), kBFrameSyntaxVersion,
-                                static_cast<uint8_t>(quant_scale), 0,
-                                static_cast<uint8_t>(state.reference_count),
-                                static_cast<uint8_t>(state.warp_mask)};
+  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted),  kBFrameSyntaxVersion,
+                                static_cast<uint8_t>(quant_scale),           0,
+                                static_cast<uint8_t>(state.reference_count), static_cast<uint8_t>(state.warp_mask)};
   RangeEncoder encoder(&bytes);
   BFrameEncoder coder(state, padded, params);
   for (int my = 0; my < state.mbs_y; ++my) {
     for (int mx = 0; mx < state.mbs_x; ++mx) {
       const size_t index = static_cast<size_t>(my) * state.mbs_x + mx;
       const CandidateList* list0 = index < candidates0.size() ? &candidates0[index] : nullptr;
-      const CandidateList* list1 =
-          ref1 != nullptr && index < candidates1.size() ? &candidates1[index] : nullptr;
+      const CandidateList* list1 = ref1 != nullptr && index < candidates1.size() ? &candidates1[index] : nullptr;
       const MacroblockChoice choice = coder.choose(mx, my, list0, list1, stats);
       coder.write(encoder, choice);
       if (stats != nullptr) {

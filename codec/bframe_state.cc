@@ -75,8 +75,8 @@ MotionVector predict_vector(const FrameState& s, int mx, int my, int reference) 
   const MotionVector top = s.mb(mx, my - 1).vectors[reference];
   const MotionVector left = mx > 0 ? s.mb(mx - 1, my).vectors[reference] : top;
   const MotionVector diagonal = mx + 1 < s.mbs_x ? s.mb(mx + 1, my - 1).vectors[reference]
-                                : mx > 0        ? s.mb(mx - 1, my - 1).vectors[reference]
-                                                : top;
+                                : mx > 0         ? s.mb(mx - 1, my - 1).vectors[reference]
+                                                 : top;
   return MotionVector{static_cast<int16_t>(median3(left.x, top.x, diagonal.x)),
                       static_cast<int16_t>(median3(left.y, top.y, diagonal.y))};
 }
@@ -102,11 +102,13 @@ int intra_context(const FrameState& s, int mx, int my) {
 }
 
 int bidirectional_context(const FrameState& s, int mx, int my) {
-  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.inter_mode == MacroblockMode::kBidirectional; });
+  return neighbour_context(s, mx, my,
+                           [](const MacroblockInfo& m) { return m.inter_mode == MacroblockMode::kBidirectional; });
 }
 
 int backward_context(const FrameState& s, int mx, int my) {
-  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.inter_mode == MacroblockMode::kBackward; });
+  return neighbour_context(s, mx, my,
+                           [](const MacroblockInfo& m) { return m.inter_mode == MacroblockMode::kBackward; });
 }
 
 int warp_context(const FrameState& s, int mx, int my) {
@@ -175,9 +177,8 @@ void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode m
   }
 }
 
-void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels,
-                                const uint8_t* prediction, int prediction_stride, uint8_t* out,
-                                int out_stride) {
+void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
+                                int prediction_stride, uint8_t* out, int out_stride) {
   int16_t residual[64];
   dequantize_inverse_transform_block(quantizer, levels, residual);
   for (int y = 0; y < 8; ++y) {
@@ -192,7 +193,8 @@ void reconstruct_intra_block(const Quantizer& quantizer, const int16_t* levels, 
   int16_t samples[64];
   dequantize_inverse_transform_block(quantizer, levels, samples);
   for (int y = 0; y < 8; ++y) {
-    for (int x = 0; x < 8; ++x) out[y * out_stride + x] = static_cast<uint8_t>(std::clamp(samples[8 * y + x] + 128, 0, 255));
+    for (int x = 0; x < 8; ++x)
+      out[y * out_stride + x] = static_cast<uint8_t>(std::clamp(samples[8 * y + x] + 128, 0, 255));
   }
 }
 

@@ -19,7 +19,7 @@
 
 namespace svc::codec::bframe {
 
-constexpr int kMvdPrefixBins = 8;   // unary bins of |mvd| before the Exp-Golomb escape
+constexpr int kMvdPrefixBins = 8;  // unary bins of |mvd| before the Exp-Golomb escape
 constexpr int kNeighbourContexts = 3;
 constexpr int kNodePrefixBins = 8;  // unary bins of |node difference| before the escape
 constexpr int kNodeMagnitudeContexts = 6;
@@ -115,8 +115,8 @@ inline int block_stride(int b) { return b < 4 ? 16 : 8; }
 // Value of a per-block array at block (bx, by) of `plane`; blocks of macroblock (mx, my)
 // are read from `local` (indexed by block number), the rest from the frame state.
 template <typename T>
-T block_value(const FrameState& s, const std::vector<T>& values, const T* local, int plane, int mx,
-              int my, int bx, int by) {
+T block_value(const FrameState& s, const std::vector<T>& values, const T* local, int plane, int mx, int my, int bx,
+              int by) {
   if (plane == 0) {
     if ((bx >> 1) == mx && (by >> 1) == my) return local[(by & 1) * 2 + (bx & 1)];
   } else if (bx == mx && by == my) {
@@ -201,9 +201,8 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out);
 
-void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels,
-                                const uint8_t* prediction, int prediction_stride, uint8_t* out,
-                                int out_stride);
+void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
+                                int prediction_stride, uint8_t* out, int out_stride);
 
 void reconstruct_intra_block(const Quantizer& quantizer, const int16_t* levels, uint8_t* out, int out_stride);
 

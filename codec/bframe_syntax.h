@@ -19,9 +19,7 @@ inline float bit_cost(const AdaptiveBit& model, int bit) {
   return cost_table()[std::min<uint32_t>(p >> 3, 4096)];
 }
 
-inline float exp_golomb_bits(uint32_t value) {
-  return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1);
-}
+inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1); }
 
 float block_levels_bits(const BlockContextSet& c, const int16_t* levels, int first_scan, int coded_block_context);
 

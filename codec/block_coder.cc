@@ -54,8 +54,8 @@ bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value) {
   return true;
 }
 
-void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels,
-                         int first_scan, int coded_block_context) {
+void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
+                         int coded_block_context) {
   int last_scan = -1;
   for (int i = 63; i >= first_scan; --i) {
     if (levels[kZigZag[i]] != 0) {
@@ -104,8 +104,8 @@ void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const
   }
 }
 
-bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan,
-                         int coded_block_context, BlockLevel* out, int* count) {
+bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan, int coded_block_context,
+                         BlockLevel* out, int* count) {
   *count = 0;
   if (first_scan < 0 || first_scan > 63) return false;
   if (coded_block_context >= 0 && !decoder.decode(contexts.coded_block[coded_block_context])) {
@@ -126,8 +126,7 @@ bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int f
   int count_greater_one = 0, count_equal_one = 0;
   for (int j = n - 1; j >= 0; --j) {
     int magnitude = 1;
-    if (decoder.decode(
-            contexts.greater_than_one[greater_one_context(count_greater_one, count_equal_one)])) {
+    if (decoder.decode(contexts.greater_than_one[greater_one_context(count_greater_one, count_equal_one)])) {
       AdaptiveBit& remainder = contexts.level_remainder[std::min(4, count_greater_one)];
       int k = 1;
       for (; k < kLevelPrefixBins; ++k) {

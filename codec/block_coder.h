@@ -49,13 +49,13 @@ struct BlockLevel {
 // kMaxLevel): with first_scan = 1 for intra AC after a separate DC, 0 otherwise.
 // coded_block_context in [0, kCodedBlockContexts) selects the coded-block flag's
 // context, or kNoCodedBlockFlag (then the block must contain a non-zero level).
-void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels,
-                         int first_scan, int coded_block_context);
+void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
+                         int coded_block_context);
 
 // Decodes what encode_block_levels wrote. Writes the non-zero levels in scan order to
 // out[0..count) (out must hold 64) and sets *count. Returns false on invalid syntax.
-bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan,
-                         int coded_block_context, BlockLevel* out, int* count);
+bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan, int coded_block_context,
+                         BlockLevel* out, int* count);
 
 // DC difference (intra DC level minus its prediction), |difference| < 2^kMaxDcCategory.
 void encode_dc_difference(RangeEncoder& encoder, BlockContextSet& contexts, int difference);

@@ -26,13 +26,10 @@ ImageYCbCr420 allocate(int width, int height) {
 }  // namespace
 
 YCbCr rgb_to_ycbcr_pixel(uint8_t r, uint8_t g, uint8_t b) {
-  return {luma(r, g, b), chroma_from_sum4(4 * cb_unscaled(r, g, b)),
-          chroma_from_sum4(4 * cr_unscaled(r, g, b))};
+  return {luma(r, g, b), chroma_from_sum4(4 * cb_unscaled(r, g, b)), chroma_from_sum4(4 * cr_unscaled(r, g, b))};
 }
 
-void ycbcr_to_rgb_pixel(uint8_t y, uint8_t cb, uint8_t cr, uint8_t rgb_out[3]) {
-  to_rgb(y, cb, cr, rgb_out);
-}
+void ycbcr_to_rgb_pixel(uint8_t y, uint8_t cb, uint8_t cr, uint8_t rgb_out[3]) { to_rgb(y, cb, cr, rgb_out); }
 
 ImageYCbCr420 rgb_to_ycbcr420(const uint8_t* rgb, int width, int height) {
   if (width <= 0 || height <= 0) return ImageYCbCr420{};
@@ -41,7 +38,8 @@ ImageYCbCr420 rgb_to_ycbcr420(const uint8_t* rgb, int width, int height) {
   const int cw = (width + 1) / 2, ch = (height + 1) / 2;
   const size_t stride = static_cast<size_t>(width) * 3;
   for (int y = 0; y < height; ++y) {
-    dsp.rgb_to_luma_row(rgb + static_cast<size_t>(y) * stride, width, image.y.data() + static_cast<size_t>(y) * width);
+    dsp.rgb_to_luma_row(rgb + static_cast<size_t>(y) * stride, width,
+                        image.y.data() + static_cast<size_t>(y) * width);
   }
   for (int cy = 0; cy < ch; ++cy) {
     const uint8_t* row0 = rgb + static_cast<size_t>(2 * cy) * stride;
@@ -97,8 +95,8 @@ void ycbcr420_to_rgb_reference(const ImageYCbCr420& image, uint8_t* rgb_out) {
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) {
       const size_t c = static_cast<size_t>(y / 2) * cw + x / 2;
-      ycbcr_to_rgb_pixel(image.y[static_cast<size_t>(y) * image.width + x], image.cb[c],
-                         image.cr[c], rgb_out + (static_cast<size_t>(y) * image.width + x) * 3);
+      ycbcr_to_rgb_pixel(image.y[static_cast<size_t>(y) * image.width + x], image.cb[c], image.cr[c],
+                         rgb_out + (static_cast<size_t>(y) * image.width + x) * 3);
     }
   }
 }

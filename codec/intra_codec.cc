@@ -16,9 +16,9 @@ namespace svc::codec {
 namespace {
 
 struct PlaneGeometry {
-  int width, height;            // visible samples
-  int blocks_x, blocks_y;       // padded size in blocks
-  const uint8_t* pixels;        // source plane (encoder) or nullptr
+  int width, height;       // visible samples
+  int blocks_x, blocks_y;  // padded size in blocks
+  const uint8_t* pixels;   // source plane (encoder) or nullptr
 };
 
 // Median edge detector (LOCO-I) over the neighbouring blocks' DC levels.
@@ -62,15 +62,12 @@ std::array<PlaneGeometry, 3> planes_of(const BlockLayout& layout, int width, int
           PlaneGeometry{cw, ch, layout.chroma_blocks_x, layout.chroma_blocks_y, nullptr}};
 }
 
-Status corrupt(const std::string& what) {
-  return Status(ErrorCode::kCorruptData, "intra frame: " + what);
-}
+Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "intra frame: " + what); }
 
 }  // namespace
 
 size_t CoefficientFrame::memory_bytes() const {
-  return sizeof(*this) + block_counts.capacity() * sizeof(uint8_t) +
-         entries.capacity() * sizeof(uint16_t);
+  return sizeof(*this) + block_counts.capacity() * sizeof(uint8_t) + entries.capacity() * sizeof(uint16_t);
 }
 
 BlockLayout block_layout(int width, int height) {
@@ -152,12 +149,11 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   return bytes;
 }
 
-Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
-                         CoefficientFrame* out) {
+Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out) {
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "intra frame: size " + std::to_string(width) + "x" + std::to_string(height) +
-                      " outside 1.." + std::to_string(kMaxFrameDimension));
+    return Status(ErrorCode::kInvalidArgument, "intra frame: size " + std::to_string(width) + "x" +
+                                                   std::to_string(height) + " outside 1.." +
+                                                   std::to_string(kMaxFrameDimension));
   }
   if (bytes.size() < static_cast<size_t>(kFrameHeaderBytes)) {
     return corrupt("payload of " + std::to_string(bytes.size()) + " bytes is shorter than the " +
@@ -167,9 +163,8 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
     return corrupt("byte 0: frame type " + std::to_string(bytes[0]) + " is not intra (0)");
   }
   if (bytes[1] != kIntraSyntaxVersion) {
-    return Status(ErrorCode::kUnsupported, "intra frame: byte 1: syntax version " +
-                                               std::to_string(bytes[1]) + " (this build reads " +
-                                               std::to_string(kIntraSyntaxVersion) + ")");
+    return Status(ErrorCode::kUnsupported, "intra frame: byte 1: syntax version " + std::to_string(bytes[1]) +
+                                               " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
   }
   const int quant_scale = bytes[2];
   if (quant_scale < kMinQuantScale || quant_scale > kMaxQuantScale) {
@@ -206,16 +201,15 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
         }
         const int dc = predict_dc(dc_levels.data(), plane.blocks_x, bx, by) + difference;
         if (dc < -kMaxLevel || dc > kMaxLevel) {
-          return corrupt("block " + std::to_string(block_number) + ": DC level " +
-                         std::to_string(dc) + " out of range");
+          return corrupt("block " + std::to_string(block_number) + ": DC level " + std::to_string(dc) +
+                         " out of range");
         }
         dc_levels[index] = dc;
         if (dc != 0) result.append(0, dc);
         BlockLevel levels[64];
         int count = 0;
-        if (!decode_block_levels(decoder, contexts, 1,
-                                 coded_block_context(has_ac.data(), plane.blocks_x, bx, by), levels,
-                                 &count)) {
+        if (!decode_block_levels(decoder, contexts, 1, coded_block_context(has_ac.data(), plane.blocks_x, bx, by),
+                                 levels, &count)) {
           return corrupt("block " + std::to_string(block_number) + ": invalid AC levels");
         }
         has_ac[index] = count > 0;
@@ -225,16 +219,14 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
       // A complete payload is never read past its end; stopping at the first row that
       // does bounds the work garbage can cause.
       if (decoder.overrun() > 0) {
-        return corrupt("payload truncated (plane " + std::to_string(p) + ", block row " +
-                       std::to_string(by) + " needs bytes beyond the " +
-                       std::to_string(bytes.size()) + " given)");
+        return corrupt("payload truncated (plane " + std::to_string(p) + ", block row " + std::to_string(by) +
+                       " needs bytes beyond the " + std::to_string(bytes.size()) + " given)");
       }
     }
   }
   const size_t used = decoder.consumed() + kFrameHeaderBytes;
   if (used != bytes.size()) {
-    return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " +
-                   std::to_string(used));
+    return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
   }
   result.entries.shrink_to_fit();
   *out = std::move(result);
@@ -289,8 +281,7 @@ void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420
   }
 }
 
-Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height,
-                          ImageYCbCr420* out) {
+Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out) {
   CoefficientFrame coefficients;
   SVC_RETURN_IF_ERROR(parse_intra_frame(bytes, width, height, &coefficients));
   reconstruct_intra_frame(coefficients, out);

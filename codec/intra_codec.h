@@ -48,8 +48,8 @@ struct CoefficientFrame {
   static constexpr int kEscapeLevel = -512;
   void append(int position, int level) {
     if (level > kEscapeLevel && level < -kEscapeLevel) {
-      entries.push_back(static_cast<uint16_t>((static_cast<unsigned>(level) & 0x3FFu) << 6 |
-                                              static_cast<unsigned>(position)));
+      entries.push_back(
+          static_cast<uint16_t>((static_cast<unsigned>(level) & 0x3FFu) << 6 | static_cast<unsigned>(position)));
     } else {
       entries.push_back(static_cast<uint16_t>(0x200u << 6 | static_cast<unsigned>(position)));
       entries.push_back(static_cast<uint16_t>(static_cast<int16_t>(level)));
@@ -75,9 +75,7 @@ struct CoefficientFrame {
 struct BlockLayout {
   int luma_blocks_x = 0, luma_blocks_y = 0;      // padded luma width / 8, height / 8
   int chroma_blocks_x = 0, chroma_blocks_y = 0;  // half of the above
-  int block_count() const {
-    return luma_blocks_x * luma_blocks_y + 2 * chroma_blocks_x * chroma_blocks_y;
-  }
+  int block_count() const { return luma_blocks_x * luma_blocks_y + 2 * chroma_blocks_x * chroma_blocks_y; }
 };
 BlockLayout block_layout(int width, int height);
 
@@ -92,14 +90,12 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
 // kInvalidArgument for a size outside [1, kMaxFrameDimension]; kCorruptData for a bad
 // header, invalid syntax, truncated payload or trailing bytes (message names the byte
 // offset or block). Never reads outside `bytes`.
-Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height,
-                         CoefficientFrame* out);
+Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out);
 
 // Inverse DCT of parsed coefficients into pixels (bit-exact). `out` is resized.
 void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out);
 
 // parse_intra_frame followed by reconstruct_intra_frame.
-Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height,
-                          ImageYCbCr420* out);
+Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out);
 
 }  // namespace svc::codec

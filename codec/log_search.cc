@@ -20,8 +20,9 @@ class MacroblockSearch {
   // SAD of a vector in half-pel units: exact up to `limit`, some value above it beyond.
   int sad(int x, int y, int limit) {
     ++evaluations_;
-    return sad_macroblock_luma(reference_, mb_x_, mb_y_, MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)},
-                               source_, source_stride_, limit);
+    return sad_macroblock_luma(reference_, mb_x_, mb_y_,
+                               MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)}, source_,
+                               source_stride_, limit);
   }
   int64_t evaluations() const { return evaluations_; }
 

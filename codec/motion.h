@@ -2,8 +2,8 @@
 // (depth reprojection in src/spatial, image search in codec) and the B-frame coder.
 #pragma once
 
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace svc::codec {

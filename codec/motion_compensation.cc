@@ -17,12 +17,11 @@ bool vector_in_range(MotionVector vector, int width, int height) {
   return std::abs(vector.x) <= limit && std::abs(vector.y) <= limit;
 }
 
-void predict_block(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0,
-                   int block_width, int block_height, int vector_x, int vector_y, uint8_t* out,
-                   int out_stride) {
+void predict_block(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0, int block_width,
+                   int block_height, int vector_x, int vector_y, uint8_t* out, int out_stride) {
   if (block_width > kMaxPredictionBlock || block_height > kMaxPredictionBlock) {
-    predict_block_reference(plane, plane_width, plane_height, x0, y0, block_width, block_height,
-                            vector_x, vector_y, out, out_stride);
+    predict_block_reference(plane, plane_width, plane_height, x0, y0, block_width, block_height, vector_x, vector_y,
+                            out, out_stride);
     return;
   }
   const int full_x = 2 * x0 + vector_x, full_y = 2 * y0 + vector_y;
@@ -41,17 +40,16 @@ void predict_block(const uint8_t* plane, int plane_width, int plane_height, int 
   int columns[kMaxPredictionBlock + 1];
   for (int x = 0; x < need_w; ++x) columns[x] = std::clamp(ix + x, 0, plane_width - 1);
   for (int y = 0; y < need_h; ++y) {
-    const uint8_t* row =
-        plane + static_cast<ptrdiff_t>(std::clamp(iy + y, 0, plane_height - 1)) * plane_width;
+    const uint8_t* row = plane + static_cast<ptrdiff_t>(std::clamp(iy + y, 0, plane_height - 1)) * plane_width;
     uint8_t* dst = window + y * window_stride;
     for (int x = 0; x < need_w; ++x) dst[x] = row[columns[x]];
   }
   dsp::get_dsp().put_half_pel(window, window_stride, block_width, block_height, fx, fy, out, out_stride);
 }
 
-void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, int x0,
-                             int y0, int block_width, int block_height, int vector_x,
-                             int vector_y, uint8_t* out, int out_stride) {
+void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0,
+                             int block_width, int block_height, int vector_x, int vector_y, uint8_t* out,
+                             int out_stride) {
   auto sample = [&](long long u, long long v) -> int {
     const long long cu = std::clamp<long long>(u, 0, plane_width - 1);
     const long long cv = std::clamp<long long>(v, 0, plane_height - 1);
@@ -87,18 +85,17 @@ void predict_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, Moti
   predict_block(reference.cr.data(), cw, ch, mb_x * 8, mb_y * 8, 8, 8, c.x, c.y, out->cr.data(), 8);
 }
 
-void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y,
-                             MotionVector vector, uint8_t* out) {
-  predict_block(reference.y.data(), reference.width, reference.height, mb_x * 16, mb_y * 16, 16, 16,
-                vector.x, vector.y, out, 16);
+void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
+                             uint8_t* out) {
+  predict_block(reference.y.data(), reference.width, reference.height, mb_x * 16, mb_y * 16, 16, 16, vector.x,
+                vector.y, out, 16);
 }
 
 void average_samples(const uint8_t* a, const uint8_t* b, int count, uint8_t* out) {
   dsp::get_dsp().average(a, b, count, out);
 }
 
-void average_predictions(const MacroblockPrediction& a, const MacroblockPrediction& b,
-                         MacroblockPrediction* out) {
+void average_predictions(const MacroblockPrediction& a, const MacroblockPrediction& b, MacroblockPrediction* out) {
   average_samples(a.y.data(), b.y.data(), 256, out->y.data());
   average_samples(a.cb.data(), b.cb.data(), 64, out->cb.data());
   average_samples(a.cr.data(), b.cr.data(), 64, out->cr.data());

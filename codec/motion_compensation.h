@@ -37,14 +37,13 @@ inline MotionVector chroma_vector(MotionVector luma) {
 //   fx = fy = 1: (s(ix, iy) + s(ix+1, iy) + s(ix, iy+1) + s(ix+1, iy+1) + 2) >> 2
 // Block sizes up to kMaxPredictionBlock on each side.
 inline constexpr int kMaxPredictionBlock = 64;
-void predict_block(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0,
-                   int block_width, int block_height, int vector_x, int vector_y, uint8_t* out,
-                   int out_stride);
+void predict_block(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0, int block_width,
+                   int block_height, int vector_x, int vector_y, uint8_t* out, int out_stride);
 // The same definition evaluated sample by sample with explicit clamping: the plain
 // reference predict_block is tested against (bit-identical output, any block size).
-void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, int x0,
-                             int y0, int block_width, int block_height, int vector_x,
-                             int vector_y, uint8_t* out, int out_stride);
+void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0,
+                             int block_width, int block_height, int vector_x, int vector_y, uint8_t* out,
+                             int out_stride);
 
 // A 16x16 luma and two 8x8 chroma prediction blocks, row-major, tightly packed.
 struct MacroblockPrediction {
@@ -57,12 +56,10 @@ struct MacroblockPrediction {
 void predict_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
                         MacroblockPrediction* out);
 // Luma only (for motion search): 256 samples into out.
-void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y,
-                             MotionVector vector, uint8_t* out);
+void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector, uint8_t* out);
 
 // Bidirectional prediction: (a + b + 1) >> 1 per sample. `out` may alias a or b.
-void average_predictions(const MacroblockPrediction& a, const MacroblockPrediction& b,
-                         MacroblockPrediction* out);
+void average_predictions(const MacroblockPrediction& a, const MacroblockPrediction& b, MacroblockPrediction* out);
 void average_samples(const uint8_t* a, const uint8_t* b, int count, uint8_t* out);
 
 // Sum of absolute differences between a 16x16 block at `source` (row stride

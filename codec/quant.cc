@@ -70,8 +70,7 @@ int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples,
   return quantize_block(quantizer, coefficients, levels);
 }
 
-void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels,
-                                        int16_t* samples) {
+void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels, int16_t* samples) {
   int16_t coefficients[64];
   dequantize_block(quantizer, levels, coefficients);
   inverse_dct_8x8(coefficients, samples);

@@ -57,7 +57,6 @@ int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples,
 
 // Dequantization + integer inverse DCT: what the decoder reconstructs, before the caller
 // adds 128 (intra) or the prediction (non-intra) and clips to [0, 255].
-void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels,
-                                        int16_t* samples);
+void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels, int16_t* samples);
 
 }  // namespace svc::codec

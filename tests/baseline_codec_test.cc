@@ -48,8 +48,7 @@ struct FaceSequence {
   std::vector<ImageRGB8> frames;  // coding order
 };
 
-FaceSequence make_face_sequence(std::array<int, 3> dims, CellOrder order, Face face, int width,
-                                int height) {
+FaceSequence make_face_sequence(std::array<int, 3> dims, CellOrder order, Face face, int width, int height) {
   std::vector<CellIndex> cells;
   for (int y = 0; y < dims[1]; ++y)
     for (int z = 0; z < dims[2]; ++z)
@@ -209,8 +208,7 @@ TEST_F(BaselineCodecTest, Mpeg2IntraOnlyDecodesEveryFrameAlone) {
 
 TEST_F(BaselineCodecTest, HilbertOrderEncodesAndDecodesWithRandomAccess) {
   const auto face = make_face_sequence({4, 1, 4}, CellOrder::kHilbert, Face::kNX, 64, 48);
-  auto encoded = encode_sequence(frames_from_images(face.frames), face.layout.gop_start,
-                                 EncodeSettings{});
+  auto encoded = encode_sequence(frames_from_images(face.frames), face.layout.gop_start, EncodeSettings{});
   ASSERT_TRUE(encoded.ok()) << encoded.status().to_string();
   const std::string types = type_string(*encoded);
   for (int d = 0; d < encoded->frame_count(); ++d) {
@@ -221,8 +219,7 @@ TEST_F(BaselineCodecTest, HilbertOrderEncodesAndDecodesWithRandomAccess) {
   expect_random_access_matches_sequential(*encoded, *sequential);
 }
 
-class BaselineOtherCodecsTest : public BaselineCodecTest,
-                                public ::testing::WithParamInterface<const char*> {};
+class BaselineOtherCodecsTest : public BaselineCodecTest, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(BaselineOtherCodecsTest, RandomAccessMatchesSequentialDecode) {
   const std::string codec = GetParam();
@@ -248,8 +245,8 @@ TEST_P(BaselineOtherCodecsTest, RandomAccessMatchesSequentialDecode) {
   expect_random_access_matches_sequential(*encoded, *sequential);
   auto quality = compare_sequences(face.frames, *sequential);
   ASSERT_TRUE(quality.ok());
-  std::cout << codec << ": " << encoded->total_bytes() << " bytes, PSNR-RGB "
-            << quality->psnr_rgb << " dB, types " << type_string(*encoded) << "\n";
+  std::cout << codec << ": " << encoded->total_bytes() << " bytes, PSNR-RGB " << quality->psnr_rgb << " dB, types "
+            << type_string(*encoded) << "\n";
   if (codec == "png") {
     EXPECT_TRUE(std::isinf(quality->psnr_rgb)) << "PNG is lossless";
   } else {
@@ -264,8 +261,8 @@ TEST_P(BaselineOtherCodecsTest, RandomAccessMatchesSequentialDecode) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Codecs, BaselineOtherCodecsTest,
-                         ::testing::Values("libx264", "libx265", "libaom-av1", "libsvtav1",
-                                           "librav1e", "mjpeg", "png"),
+                         ::testing::Values("libx264", "libx265", "libaom-av1", "libsvtav1", "librav1e", "mjpeg",
+                                           "png"),
                          [](const auto& info) {
                            std::string name = info.param;
                            std::replace(name.begin(), name.end(), '-', '_');
@@ -347,7 +344,6 @@ TEST_P(BaselineUsersGopTest, OpenGopRandomAccessMatchesSequentialDecode) {
     EXPECT_LE(encoded->frames_needed(d).size(), 18u) << d;
   }
   std::cout << codec << " types " << type_string(*encoded) << "\n  frames needed " << needed << "\n";
-
 }
 
 INSTANTIATE_TEST_SUITE_P(Codecs, BaselineUsersGopTest, ::testing::Values("libx264", "libx265"));
@@ -372,17 +368,14 @@ TEST_F(BaselineCodecTest, RejectsFramesOfTheWrongSizeAndBadSettings) {
   auto encoded = encode_sequence(frames_from_images(face.frames), {}, EncodeSettings{});
   ASSERT_FALSE(encoded.ok());
   EXPECT_EQ(encoded.status().code(), ErrorCode::kInvalidArgument);
-  EXPECT_NE(encoded.status().message().find("frame 2"), std::string::npos)
-      << encoded.status().message();
+  EXPECT_NE(encoded.status().message().find("frame 2"), std::string::npos) << encoded.status().message();
 
   face.frames[2] = face.frames[1];
   EncodeSettings bad;
   bad.quantizer = 0;
-  EXPECT_EQ(encode_sequence(frames_from_images(face.frames), {}, bad).status().code(),
-            ErrorCode::kInvalidArgument);
+  EXPECT_EQ(encode_sequence(frames_from_images(face.frames), {}, bad).status().code(), ErrorCode::kInvalidArgument);
   const std::vector<uint8_t> wrong_length(2, 1);
-  EXPECT_EQ(encode_sequence(frames_from_images(face.frames), wrong_length, EncodeSettings{})
-                .status().code(),
+  EXPECT_EQ(encode_sequence(frames_from_images(face.frames), wrong_length, EncodeSettings{}).status().code(),
             ErrorCode::kInvalidArgument);
 }
 
@@ -425,14 +418,12 @@ TEST_F(BaselineCodecTest, DatabaseOfSixFacesRoundTripsThroughFiles) {
       EXPECT_GT(compare_images(procedural_face(cell, face, 48, 32), a->image)->psnr_rgb, 28.0);
     }
   }
-  EXPECT_EQ(decode_cell_face(*database, {2, 0, 1}, Face::kPX).status().code(),
-            ErrorCode::kNotFound);
+  EXPECT_EQ(decode_cell_face(*database, {2, 0, 1}, Face::kPX).status().code(), ErrorCode::kNotFound);
 }
 
 TEST_F(BaselineCodecTest, CorruptIndexIsRejected) {
   const auto face = make_face_sequence({3, 1, 1}, CellOrder::kRowMajor, Face::kPX, 32, 32);
-  auto encoded = encode_sequence(frames_from_images(face.frames), face.layout.gop_start,
-                                 EncodeSettings{});
+  auto encoded = encode_sequence(frames_from_images(face.frames), face.layout.gop_start, EncodeSettings{});
   ASSERT_TRUE(encoded.ok());
   testing::TempDir dir("svc-baseline");
   const auto path = dir.path() / "seq.m2v";
@@ -491,8 +482,7 @@ struct CliCase {
 
 void PrintTo(const CliCase& c, std::ostream* out) { *out << c.name; }
 
-class BaselineCliAgreementTest : public BaselineCodecTest,
-                                 public ::testing::WithParamInterface<CliCase> {};
+class BaselineCliAgreementTest : public BaselineCodecTest, public ::testing::WithParamInterface<CliCase> {};
 
 TEST_P(BaselineCliAgreementTest, AgreesWithTheFfmpegCommandLineTool) {
   const char* ffmpeg = "/usr/bin/ffmpeg";
@@ -507,13 +497,12 @@ TEST_P(BaselineCliAgreementTest, AgreesWithTheFfmpegCommandLineTool) {
     ASSERT_TRUE(write_png(face.frames[k], dir.path() / name).ok());
   }
   const auto cli_output = dir.path() / "cli.m2v";
-  const std::string command =
-      std::string(ffmpeg) + " -nostdin -hide_banner -loglevel error -y -framerate 25 -i '" +
-      (dir.path() / "f%04d.png").string() + "' -c:v mpeg2video -pix_fmt yuv420p " +
-      c.ffmpeg_rate_args + " -g " + std::to_string(c.settings.gop_size) + " -bf " +
-      std::to_string(c.settings.max_b_frames) +
-      " -sc_threshold 1000000000 -threads 1 -force_key_frames 'expr:eq(mod(n," +
-      std::to_string(kRow) + "),0)' -f mpeg2video '" + cli_output.string() + "'";
+  const std::string command = std::string(ffmpeg) + " -nostdin -hide_banner -loglevel error -y -framerate 25 -i '" +
+                              (dir.path() / "f%04d.png").string() + "' -c:v mpeg2video -pix_fmt yuv420p " +
+                              c.ffmpeg_rate_args + " -g " + std::to_string(c.settings.gop_size) + " -bf " +
+                              std::to_string(c.settings.max_b_frames) +
+                              " -sc_threshold 1000000000 -threads 1 -force_key_frames 'expr:eq(mod(n," +
+                              std::to_string(kRow) + "),0)' -f mpeg2video '" + cli_output.string() + "'";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
 
   auto encoded = encode_sequence(frames_from_images(face.frames), face.layout.gop_start, c.settings);
@@ -531,8 +520,8 @@ TEST_P(BaselineCliAgreementTest, AgreesWithTheFfmpegCommandLineTool) {
   ASSERT_TRUE(our_quality.ok() && cli_quality.ok());
   std::cout << c.name << " (27 frames 128x96)\n  baseline: " << our_bytes << " bytes, PSNR-RGB "
             << our_quality->psnr_rgb << " dB, PSNR-Y " << our_quality->psnr_y << " dB\n"
-            << "  ffmpeg:   " << cli_bytes << " bytes, PSNR-RGB " << cli_quality->psnr_rgb
-            << " dB, PSNR-Y " << cli_quality->psnr_y << " dB\n";
+            << "  ffmpeg:   " << cli_bytes << " bytes, PSNR-RGB " << cli_quality->psnr_rgb << " dB, PSNR-Y "
+            << cli_quality->psnr_y << " dB\n";
   EXPECT_NEAR(our_bytes / cli_bytes, 1.0, 0.05);
   EXPECT_NEAR(our_quality->psnr_rgb, cli_quality->psnr_rgb, 0.1);
   EXPECT_NEAR(our_quality->psnr_y, cli_quality->psnr_y, 0.1);

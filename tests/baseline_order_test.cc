@@ -103,12 +103,9 @@ TEST(BaselineOrderTest, RejectsDuplicatesCellsOutsideTheGridAndBadSettings) {
   EXPECT_NE(duplicate.status().message().find("(0,0,0)"), std::string::npos);
 
   std::vector<CellIndex> outside = {{2, 0, 0}};
-  EXPECT_EQ(order_cells(outside, dims, CellOrder::kHilbert).status().code(),
-            ErrorCode::kInvalidArgument);
-  EXPECT_EQ(order_cells({}, {0, 1, 1}, CellOrder::kRowMajor).status().code(),
-            ErrorCode::kInvalidArgument);
-  EXPECT_EQ(order_cells({}, dims, CellOrder::kHilbert, 0).status().code(),
-            ErrorCode::kInvalidArgument);
+  EXPECT_EQ(order_cells(outside, dims, CellOrder::kHilbert).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(order_cells({}, {0, 1, 1}, CellOrder::kRowMajor).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(order_cells({}, dims, CellOrder::kHilbert, 0).status().code(), ErrorCode::kInvalidArgument);
 
   CellOrder parsed = CellOrder::kRowMajor;
   EXPECT_TRUE(parse_cell_order(cell_order_name(CellOrder::kHilbert), &parsed));

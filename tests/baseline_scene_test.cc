@@ -28,8 +28,7 @@ DatabaseFrames scene_frames(const samples::SceneOptions& options) {
   frames.width = options.face_size;
   frames.height = options.face_size;
   frames.load = [options](CellIndex cell, Face face) -> Result<ImageRGB8> {
-    SVC_ASSIGN_OR_RETURN(samples::SceneFace rendered,
-                         samples::render_scene_face(options, cell, face));
+    SVC_ASSIGN_OR_RETURN(samples::SceneFace rendered, samples::render_scene_face(options, cell, face));
     return std::move(rendered.color);
   };
   return frames;
@@ -56,8 +55,7 @@ DatabaseNumbers check_database(const EncodedDatabase& database, const DatabaseFr
       EXPECT_TRUE(random.ok()) << random.status().to_string();
       if (!random.ok()) return numbers;
       const int frame = database.layout.frame_of(cell);
-      EXPECT_EQ(random->image.pixels, (*sequential)[frame].pixels)
-          << face_name(face) << " frame " << frame;
+      EXPECT_EQ(random->image.pixels, (*sequential)[frame].pixels) << face_name(face) << " frame " << frame;
       numbers.max_frames_decoded = std::max(numbers.max_frames_decoded, random->frames_decoded);
       sources.push_back(input.load(cell, face).value());
       decoded.push_back(std::move(random->image));
@@ -85,12 +83,11 @@ TEST(BaselineSceneTest, SixFaceDatabaseInRowMajorHilbertAndIntraOnly) {
   const DatabaseNumbers b = check_database(*hilbert, input);
   const DatabaseNumbers c = check_database(*intra, input);
   const uint64_t raw = static_cast<uint64_t>(input.cells.size()) * 6 * 64 * 64 * 3;
-  for (const auto& [name, n] : {std::pair{"row-major IBBPBB", a}, std::pair{"hilbert IBBPBB", b},
-                                std::pair{"intra-only", c}}) {
-    std::cout << "hall 6x1x4, 64px faces, mpeg2 qscale 4, " << name << ": " << n.bytes
-              << " bytes (" << static_cast<double>(raw) / n.bytes << ":1), PSNR-RGB "
-              << n.quality.psnr_rgb << " dB, PSNR-Y " << n.quality.psnr_y
-              << " dB, worst access " << n.max_frames_decoded << " frames\n";
+  for (const auto& [name, n] :
+       {std::pair{"row-major IBBPBB", a}, std::pair{"hilbert IBBPBB", b}, std::pair{"intra-only", c}}) {
+    std::cout << "hall 6x1x4, 64px faces, mpeg2 qscale 4, " << name << ": " << n.bytes << " bytes ("
+              << static_cast<double>(raw) / n.bytes << ":1), PSNR-RGB " << n.quality.psnr_rgb << " dB, PSNR-Y "
+              << n.quality.psnr_y << " dB, worst access " << n.max_frames_decoded << " frames\n";
   }
   EXPECT_EQ(c.max_frames_decoded, 1);
   EXPECT_LE(a.max_frames_decoded, 5);  // I P P B with the next GOP's I at most

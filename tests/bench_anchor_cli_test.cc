@@ -79,9 +79,13 @@ TEST_P(BenchAnchorCliTest, BytesAndPsnrMatchTheDocumentedFfmpegCommand) {
   }
   const int setting = plan->range.seeds.front();
   const bool numbered = plan->encoder == "mjpeg" || plan->encoder == "libwebp" || plan->encoder == "libjxl";
-  const std::string image_extension = plan->encoder == "mjpeg" ? "jpg" : plan->encoder == "libwebp" ? "webp" : "jxl";
-  const std::string output = numbered ? "out%04d." + image_extension : "out." + baseline::stream_extension(plan->encoder);
-  std::string command = ffmpeg_command(*plan, setting, (dir.path() / "f%04d.png").string(), (dir.path() / output).string());
+  const std::string image_extension = plan->encoder == "mjpeg"     ? "jpg"
+                                      : plan->encoder == "libwebp" ? "webp"
+                                                                   : "jxl";
+  const std::string output = numbered ? "out%04d." + image_extension
+                                      : "out." + baseline::stream_extension(plan->encoder);
+  std::string command =
+      ffmpeg_command(*plan, setting, (dir.path() / "f%04d.png").string(), (dir.path() / output).string());
   ASSERT_EQ(command.rfind("ffmpeg ", 0), 0u) << command;
   command = std::string(ffmpeg) + " -nostdin -hide_banner -loglevel error -y " + command.substr(7);
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
@@ -100,7 +104,8 @@ TEST_P(BenchAnchorCliTest, BytesAndPsnrMatchTheDocumentedFfmpegCommand) {
   auto cli_quality = baseline::compare_sequences(frames, *theirs);
   ASSERT_TRUE(our_quality.ok() && cli_quality.ok());
   std::cout << GetParam() << ": bench " << encoded->total_bytes() << " bytes, PSNR-Y " << our_quality->psnr_y
-            << " dB; ffmpeg " << cli_bytes << " bytes, PSNR-Y " << cli_quality->psnr_y << " dB\n  " << command << "\n";
+            << " dB; ffmpeg " << cli_bytes << " bytes, PSNR-Y " << cli_quality->psnr_y << " dB\n  " << command
+            << "\n";
   EXPECT_NEAR(static_cast<double>(encoded->total_bytes()) / cli_bytes, 1.0, 0.01) << command;
   // libx265 at keyint 3 with open GOPs reads memory it never wrote (valgrind reports
   // uninitialised reads inside libx265), so inside a process that has run other encodes

@@ -16,7 +16,10 @@ namespace {
 // evaluated independently in double precision: -4.4174853506 % over 34.987-40.037 dB and
 // -4.4721820028 % over 38.651-43.825 dB.
 TEST(BenchBdRate, MatchesThePchipMethodOnPublishedExampleData) {
-  const std::vector<RatePoint> anchor1 = {{9487.76, 40.037}, {4593.60, 38.615}, {2486.44, 36.845}, {1358.24, 34.851}};
+  const std::vector<RatePoint> anchor1 = {{9487.76, 40.037},
+                                          {4593.60, 38.615},
+                                          {2486.44, 36.845},
+                                          {1358.24, 34.851}};
   const std::vector<RatePoint> test1 = {{9787.80, 40.121}, {4469.00, 38.651}, {2451.52, 36.970}, {1356.24, 34.987}};
   const auto bd1 = bd_rate(anchor1, test1);
   ASSERT_TRUE(bd1.has_value());
@@ -24,7 +27,10 @@ TEST(BenchBdRate, MatchesThePchipMethodOnPublishedExampleData) {
   EXPECT_DOUBLE_EQ(bd1->psnr_low, 34.987);
   EXPECT_DOUBLE_EQ(bd1->psnr_high, 40.037);
 
-  const std::vector<RatePoint> anchor2 = {{82472.76, 43.825}, {26875.24, 41.404}, {9487.76, 40.037}, {4593.6, 38.615}};
+  const std::vector<RatePoint> anchor2 = {{82472.76, 43.825},
+                                          {26875.24, 41.404},
+                                          {9487.76, 40.037},
+                                          {4593.6, 38.615}};
   const std::vector<RatePoint> test2 = {{99896.96, 44.731}, {33952.04, 41.875}, {9787.8, 40.121}, {4469.0, 38.651}};
   const auto bd2 = bd_rate(anchor2, test2);
   ASSERT_TRUE(bd2.has_value());

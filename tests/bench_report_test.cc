@@ -265,4 +265,3 @@ TEST(BenchSubsample, KeepsEveryNthCellAndItsFiles) {
 
 }  // namespace
 }  // namespace svc::bench
-

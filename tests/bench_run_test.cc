@@ -236,4 +236,3 @@ TEST(BenchOptionsTest, BadPresetOrGopIsRejectedBeforeAnyWork) {
 
 }  // namespace
 }  // namespace svc::bench
-

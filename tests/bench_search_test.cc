@@ -55,8 +55,8 @@ TEST(BenchSearch, QualityLikeCurveGoesTheOtherWay) {
 TEST(BenchSearch, StopsAtTheRangeEndWhenTheCodecCannotReachATarget) {
   // Never above 36 dB: the targets above it stop at the range end.
   SettingRange range{1, 31, false, {4, 12}};
-  auto measured = search_settings(range, default_targets(false),
-                                  [&](int s) -> Result<double> { return 36.0 - 0.3 * (s - 1); });
+  auto measured =
+      search_settings(range, default_targets(false), [&](int s) -> Result<double> { return 36.0 - 0.3 * (s - 1); });
   ASSERT_TRUE(measured.ok());
   EXPECT_TRUE(measured->count(1));
   EXPECT_LE(measured->size(), 10u);

@@ -47,7 +47,8 @@ ImageYCbCr420 textured_crop(int width, int height, int ox, int oy, uint32_t seed
   image.cb.resize(static_cast<size_t>(cw) * ch);
   image.cr.resize(image.cb.size());
   for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) image.y[static_cast<size_t>(y) * width + x] = luma[static_cast<size_t>(y + oy) * tw + x + ox];
+    for (int x = 0; x < width; ++x)
+      image.y[static_cast<size_t>(y) * width + x] = luma[static_cast<size_t>(y + oy) * tw + x + ox];
   }
   // Chroma sampled at even pixels so an even shift moves it by whole chroma samples.
   for (int y = 0; y < ch; ++y) {
@@ -101,7 +102,8 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   params.quant_scale = q;
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
-  const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr, candidates, {}, params, &reconstruction, &stats);
+  const std::vector<uint8_t> bytes =
+      encode_b_frame(source, reference, nullptr, candidates, {}, params, &reconstruction, &stats);
   ImageYCbCr420 intra_reconstruction;
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   ASSERT_FALSE(bytes.empty());
@@ -159,7 +161,8 @@ TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
   params.quant_scale = q;
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
-  const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, &ref1, zero, zero, params, &reconstruction, &stats);
+  const std::vector<uint8_t> bytes =
+      encode_b_frame(source, ref0, &ref1, zero, zero, params, &reconstruction, &stats);
   ASSERT_FALSE(bytes.empty());
   const int mbs_x = w / 16;
   int forward_left = 0, backward_right = 0;
@@ -196,9 +199,9 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
   params.quant_scale = q;
   ImageYCbCr420 reconstruction, intra_reconstruction;
   BFrameStats stats;
-  const std::vector<uint8_t> bytes = encode_b_frame(source, unrelated, nullptr,
-                                                    uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}}),
-                                                    {}, params, &reconstruction, &stats);
+  const std::vector<uint8_t> bytes =
+      encode_b_frame(source, unrelated, nullptr, uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}}),
+                     {}, params, &reconstruction, &stats);
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   EXPECT_GE(stats.mb_intra, 20) << "of " << stats.macroblocks;
   EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 1.0);
@@ -216,7 +219,8 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
     const ImageYCbCr420 ref0 = decoded_intra(textured_crop(w, h, 47, 51), 6);
     const ImageYCbCr420 ref1 = decoded_intra(textured_crop(w, h, 52, 48), 6);
     // Varied candidates: the true motion, half-pel and far-outside vectors.
-    FaceCandidates c0 = uniform_candidates(w, h, {MotionVector{-6, 2}, MotionVector{-5, 3}, MotionVector{-900, 40}});
+    FaceCandidates c0 =
+        uniform_candidates(w, h, {MotionVector{-6, 2}, MotionVector{-5, 3}, MotionVector{-900, 40}});
     FaceCandidates c1 = uniform_candidates(w, h, {MotionVector{4, -4}, MotionVector{31000, -31000}});
     if (c1.size() > 1) c1[1].clear();
     for (int references = 1; references <= 2; ++references) {
@@ -227,7 +231,8 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
         ImageYCbCr420 reconstruction;
         BFrameStats stats;
         const ImageYCbCr420* second = references == 2 ? &ref1 : nullptr;
-        const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, second, c0, c1, params, &reconstruction, &stats);
+        const std::vector<uint8_t> bytes =
+            encode_b_frame(source, ref0, second, c0, c1, params, &reconstruction, &stats);
         ASSERT_FALSE(bytes.empty());
         ImageYCbCr420 decoded;
         std::vector<MacroblockMode> modes;
@@ -244,8 +249,9 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
 TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   const int w = 32, h = 32;
   const ImageYCbCr420 source = textured_crop(w, h, 3, 3), ref = textured_crop(w, h, 4, 3);
-  const std::vector<uint8_t> bytes =
-      encode_b_frame(source, ref, nullptr, uniform_candidates(w, h, {MotionVector{2, 0}}), {}, BFrameParams{}, nullptr, nullptr);
+  const std::vector<uint8_t> bytes = encode_b_frame(source, ref, nullptr,
+                                                    uniform_candidates(w, h, {MotionVector{2, 0}}), {},
+                                                    BFrameParams{}, nullptr, nullptr);
   ASSERT_GE(bytes.size(), static_cast<size_t>(kBFrameHeaderBytes));
   BFrameHeader header;
   ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
@@ -273,7 +279,9 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
 
   // The encoder refuses inconsistent images.
-  EXPECT_TRUE(encode_b_frame(source, textured_crop(w, h + 2, 0, 0), nullptr, {}, {}, BFrameParams{}, nullptr, nullptr).empty());
+  EXPECT_TRUE(
+      encode_b_frame(source, textured_crop(w, h + 2, 0, 0), nullptr, {}, {}, BFrameParams{}, nullptr, nullptr)
+          .empty());
   EXPECT_TRUE(encode_b_frame(ImageYCbCr420{}, ref, nullptr, {}, {}, BFrameParams{}, nullptr, nullptr).empty());
 }
 
@@ -283,8 +291,9 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   const ImageYCbCr420 ref0 = textured_crop(w, h, 12, 9), ref1 = textured_crop(w, h, 8, 11);
   BFrameParams params;
   params.quant_scale = 4;
-  const std::vector<uint8_t> valid = encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{4, -2}}),
-                                                    uniform_candidates(w, h, {MotionVector{-4, 2}}), params, nullptr, nullptr);
+  const std::vector<uint8_t> valid =
+      encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{4, -2}}),
+                     uniform_candidates(w, h, {MotionVector{-4, 2}}), params, nullptr, nullptr);
   ASSERT_GT(valid.size(), 40u);
   ImageYCbCr420 out;
   std::vector<MacroblockMode> modes;
@@ -299,7 +308,8 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
     std::vector<uint8_t> bytes = valid;
     const int flips = 1 + trial % 4;
     for (int f = 0; f < flips; ++f) {
-      bytes[kBFrameHeaderBytes + rng() % (bytes.size() - kBFrameHeaderBytes)] ^= static_cast<uint8_t>(1u << (rng() % 8));
+      bytes[kBFrameHeaderBytes + rng() % (bytes.size() - kBFrameHeaderBytes)] ^=
+          static_cast<uint8_t>(1u << (rng() % 8));
     }
     if (decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok()) {
       ++accepted;
@@ -322,10 +332,12 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
 
 TEST(BFrame, EmptyCandidateListsFallBackToZeroAndNeighbours) {
   const int w = 64, h = 48;
-  const ImageYCbCr420 source = textured_crop(w, h, 30, 30), reference = decoded_intra(textured_crop(w, h, 30, 30), 8);
+  const ImageYCbCr420 source = textured_crop(w, h, 30, 30),
+                      reference = decoded_intra(textured_crop(w, h, 30, 30), 8);
   BFrameStats stats;
   ImageYCbCr420 reconstruction;
-  const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr, {}, {}, BFrameParams{}, &reconstruction, &stats);
+  const std::vector<uint8_t> bytes =
+      encode_b_frame(source, reference, nullptr, {}, {}, BFrameParams{}, &reconstruction, &stats);
   EXPECT_EQ(stats.candidates_evaluated, 0);
   EXPECT_GE(stats.mb_skipped, 10);  // the zero vector is right everywhere
   ImageYCbCr420 decoded;
@@ -345,7 +357,8 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
     image.cr.assign(image.cb.size(), 160);
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
-        const double v = 128 + 50 * std::sin((x + ox) / 11.0) * std::cos((y + oy) / 9.0) + 30 * std::sin((x + ox + y + oy) / 17.0);
+        const double v = 128 + 50 * std::sin((x + ox) / 11.0) * std::cos((y + oy) / 9.0) +
+                         30 * std::sin((x + ox + y + oy) / 17.0);
         image.y[static_cast<size_t>(y) * w + x] = static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 255.0)));
       }
     }
@@ -358,7 +371,8 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   params.quant_scale = q;
   BFrameStats stats;
   ImageYCbCr420 reconstruction;
-  const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr, searched, {}, params, &reconstruction, &stats);
+  const std::vector<uint8_t> bytes =
+      encode_b_frame(source, reference, nullptr, searched, {}, params, &reconstruction, &stats);
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, nullptr);
   EXPECT_LT(bytes.size() * 3, intra.size()) << bytes.size() << " vs intra " << intra.size();
   EXPECT_EQ(stats.candidates_evaluated, stats.macroblocks);

@@ -59,8 +59,8 @@ TEST(CodecColor, GreyMapsToNeutralChromaAndBackExactly) {
 TEST(CodecColor, KnownJfifValues) {
   // Pure primaries per JFIF: Y = 0.299R + 0.587G + 0.114B, Cb/Cr offset by 128.
   YCbCr red = rgb_to_ycbcr_pixel(255, 0, 0);
-  EXPECT_EQ(red.y, 76);   // 76.245
-  EXPECT_EQ(red.cb, 85);  // 84.97
+  EXPECT_EQ(red.y, 76);    // 76.245
+  EXPECT_EQ(red.cb, 85);   // 84.97
   EXPECT_EQ(red.cr, 255);  // 255.5 saturates
   YCbCr blue = rgb_to_ycbcr_pixel(0, 0, 255);
   EXPECT_EQ(blue.y, 29);  // 29.07

@@ -87,8 +87,8 @@ void check_ieee1180(int low, int high, int sign, uint32_t seed, int blocks) {
     total_error += sum_error[i];
     total_squared += sum_squared[i];
   }
-  std::printf("[ ieee1180 ] range -%d..%d sign %+d: peak %d, mean error %.5f, mse %.5f\n", low, high,
-              sign, peak, total_error / (64.0 * blocks), total_squared / (64.0 * blocks));
+  std::printf("[ ieee1180 ] range -%d..%d sign %+d: peak %d, mean error %.5f, mse %.5f\n", low, high, sign, peak,
+              total_error / (64.0 * blocks), total_squared / (64.0 * blocks));
   EXPECT_LE(peak, 1);
   EXPECT_LE(std::fabs(total_error) / (64.0 * blocks), 0.0015);
   EXPECT_LE(total_squared / (64.0 * blocks), 0.02);

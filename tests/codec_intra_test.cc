@@ -27,11 +27,11 @@ ImageYCbCr420 synthetic_image(int width, int height, uint32_t seed = 1) {
       double v = 60 + 100.0 * x / std::max(1, width) + 40.0 * y / std::max(1, height);
       const double dx = x - 0.35 * width, dy = y - 0.4 * height;
       if (dx * dx + dy * dy < 0.06 * width * width) v = 200 - 0.3 * dy;  // a lit disc
-      if (x > 0.6 * width && y > 0.55 * height) {                       // a textured box
+      if (x > 0.6 * width && y > 0.55 * height) {                        // a textured box
         v = 90 + 25 * std::sin(x * 0.7) * std::cos(y * 0.45) + 10 * std::sin((x + y) * 0.19);
       }
       if (y < 0.2 * height) v += 12 * std::sin(x * 0.11 + y * 0.05);  // sky-like waves
-      v += static_cast<double>(rng() % 9) - 4;                         // sensor noise
+      v += static_cast<double>(rng() % 9) - 4;                        // sensor noise
       image.y[static_cast<size_t>(y) * width + x] = clamp8(v);
     }
   }
@@ -97,10 +97,11 @@ TEST(CodecFrame, QualityRisesAndSizeGrowsAsQuantScaleFalls) {
     ASSERT_TRUE(parse_intra_frame(bytes, 256, 256, &coefficients).ok());
     const double y_psnr = psnr(source.y, decoded.y);
     const double cb_psnr = psnr(source.cb, decoded.cb);
-    std::printf("[ synthetic 256x256 ] qs %3d: %6zu bytes, %.3f bit/pixel, PSNR-Y %.2f dB, "
-                "PSNR-Cb %.2f dB, coefficient cache %zu bytes (%.3f x RGB)\n",
-                qs, bytes.size(), bytes.size() * 8.0 / (256 * 256), y_psnr, cb_psnr,
-                coefficients.memory_bytes(), coefficients.memory_bytes() / (3.0 * 256 * 256));
+    std::printf(
+        "[ synthetic 256x256 ] qs %3d: %6zu bytes, %.3f bit/pixel, PSNR-Y %.2f dB, "
+        "PSNR-Cb %.2f dB, coefficient cache %zu bytes (%.3f x RGB)\n",
+        qs, bytes.size(), bytes.size() * 8.0 / (256 * 256), y_psnr, cb_psnr, coefficients.memory_bytes(),
+        coefficients.memory_bytes() / (3.0 * 256 * 256));
     EXPECT_GT(y_psnr, previous_psnr + 0.3) << "qs " << qs;
     EXPECT_GT(bytes.size(), previous_bytes) << "qs " << qs;
     previous_psnr = y_psnr;
@@ -167,10 +168,10 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
     bytes[static_cast<size_t>(index)] = value;
     return decode_intra_frame(bytes, 32, 32, &out);
   };
-  EXPECT_EQ(with(0, 1).code(), ErrorCode::kCorruptData);  // B-frame type
+  EXPECT_EQ(with(0, 1).code(), ErrorCode::kCorruptData);                        // B-frame type
   EXPECT_EQ(with(1, kIntraSyntaxVersion + 1).code(), ErrorCode::kUnsupported);  // future syntax
   EXPECT_EQ(with(1, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
-  EXPECT_EQ(with(2, 0).code(), ErrorCode::kCorruptData);  // quant_scale 0
+  EXPECT_EQ(with(2, 0).code(), ErrorCode::kCorruptData);                        // quant_scale 0
   EXPECT_EQ(with(2, 113).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(with(3, 1).code(), ErrorCode::kCorruptData);  // reserved
   EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);

@@ -48,7 +48,8 @@ ImageYCbCr420 textured_crop(int width, int height, int ox, int oy, uint32_t seed
   image.cb.resize(static_cast<size_t>(cw) * ch);
   image.cr.resize(image.cb.size());
   for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) image.y[static_cast<size_t>(y) * width + x] = luma[static_cast<size_t>(y + oy) * tw + x + ox];
+    for (int x = 0; x < width; ++x)
+      image.y[static_cast<size_t>(y) * width + x] = luma[static_cast<size_t>(y + oy) * tw + x + ox];
   }
   for (int y = 0; y < ch; ++y) {
     for (int x = 0; x < cw; ++x) {
@@ -79,8 +80,8 @@ TEST(MotionCompensation, FastPredictionMatchesReferenceOnRandomData) {
       std::vector<uint8_t> fast(static_cast<size_t>(block_w) * block_h, 0), reference(fast.size(), 1);
       predict_block(plane.data(), w, h, x0, y0, block_w, block_h, vx, vy, fast.data(), block_w);
       predict_block_reference(plane.data(), w, h, x0, y0, block_w, block_h, vx, vy, reference.data(), block_w);
-      ASSERT_EQ(fast, reference) << w << "x" << h << " block " << block_w << "x" << block_h << " at (" << x0
-                                 << ", " << y0 << ") vector (" << vx << ", " << vy << ")";
+      ASSERT_EQ(fast, reference) << w << "x" << h << " block " << block_w << "x" << block_h << " at (" << x0 << ", "
+                                 << y0 << ") vector (" << vx << ", " << vy << ")";
     }
   }
 }

@@ -32,9 +32,9 @@ TEST(CodecQuant, IntraDcStep) {
 TEST(CodecQuant, DequantizationIsTheDocumentedIntegerFormula) {
   const Quantizer intra = make_quantizer(BlockKind::kIntra, 5);
   EXPECT_EQ(intra.scale[0], 16 * 5);
-  EXPECT_EQ(dequantize_level(intra, 0, 3), 15);         // DC: level * dc step
-  EXPECT_EQ(dequantize_level(intra, 1, 1), 5);          // (16*5 + 8) >> 4
-  EXPECT_EQ(dequantize_level(intra, 63, -2), -52);      // (2*83*5 + 8) >> 4 = 52
+  EXPECT_EQ(dequantize_level(intra, 0, 3), 15);     // DC: level * dc step
+  EXPECT_EQ(dequantize_level(intra, 1, 1), 5);      // (16*5 + 8) >> 4
+  EXPECT_EQ(dequantize_level(intra, 63, -2), -52);  // (2*83*5 + 8) >> 4 = 52
   EXPECT_EQ(dequantize_level(intra, 63, 4095), kMaxCoefficient);
   EXPECT_EQ(dequantize_level(intra, 63, -4095), kMinCoefficient);
   const Quantizer non_intra = make_quantizer(BlockKind::kNonIntra, 3);

@@ -86,8 +86,8 @@ WarpField exact_nodes(int width, int height, const Homography& h) {
       const double x = 16 * i - 0.5, y = 16 * j - 0.5;
       double u, v;
       h.apply(x, y, &u, &v);
-      field.nodes.push_back(WarpNode{static_cast<int32_t>(std::lround((u - x) * 8)),
-                                     static_cast<int32_t>(std::lround((v - y) * 8))});
+      field.nodes.push_back(
+          WarpNode{static_cast<int32_t>(std::lround((u - x) * 8)), static_cast<int32_t>(std::lround((v - y) * 8))});
     }
   }
   return field;
@@ -115,7 +115,8 @@ FaceCandidates exact_candidates(int width, int height, const Homography& h) {
           }
         }
       }
-      std::stable_sort(counted.begin(), counted.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      std::stable_sort(counted.begin(), counted.end(),
+                       [](const auto& a, const auto& b) { return a.first > b.first; });
       for (const auto& c : counted) candidates[static_cast<size_t>(my) * mbs_x + mx].push_back(c.second);
     }
   }
@@ -178,7 +179,8 @@ WarpField test_field(int width, int height, int dx, int dy, uint32_t seed) {
   field.nodes_y = (height + 15) / 16 + 1;
   for (int j = 0; j < field.nodes_y; ++j) {
     for (int i = 0; i < field.nodes_x; ++i) {
-      int x = 8 * dx + i * 3 - j + static_cast<int>(rng() % 5) - 2, y = 8 * dy + j * 4 + static_cast<int>(rng() % 5) - 2;
+      int x = 8 * dx + i * 3 - j + static_cast<int>(rng() % 5) - 2,
+          y = 8 * dy + j * 4 + static_cast<int>(rng() % 5) - 2;
       if (i == 2) x += 60;  // a discontinuity
       field.nodes.push_back(WarpNode{x, y});
     }
@@ -191,15 +193,21 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
   for (const auto& size : sizes) {
     const int w = size[0], h = size[1];
     const Homography shifted = {{1.02, 0.01, 3.0, 0.0, 1.03, 2.0, 0.0, 0.0005, 1.0}};
-    const ImageYCbCr420 source = sample_image(w, h, [](double x, double y, double* u, double* v) { *u = x; *v = y; });
+    const ImageYCbCr420 source = sample_image(w, h, [](double x, double y, double* u, double* v) {
+      *u = x;
+      *v = y;
+    });
     const ImageYCbCr420 ref0 = decoded_intra(
         sample_image(w, h, [&](double x, double y, double* u, double* v) { shifted.apply(x, y, u, v); }), 6);
-    const ImageYCbCr420 ref1 = decoded_intra(sample_image(w, h, [](double x, double y, double* u, double* v) {
-                                               *u = x - 2.5;
-                                               *v = y + 1;
-                                             }), 6);
+    const ImageYCbCr420 ref1 = decoded_intra(sample_image(w, h,
+                                                          [](double x, double y, double* u, double* v) {
+                                                            *u = x - 2.5;
+                                                            *v = y + 1;
+                                                          }),
+                                             6);
     const WarpField field0 = test_field(w, h, -3, -2, 1), field1 = test_field(w, h, 2, -1, 2);
-    const FaceCandidates c0(static_cast<size_t>((w + 15) / 16) * ((h + 15) / 16), CandidateList{MotionVector{-6, -4}});
+    const FaceCandidates c0(static_cast<size_t>((w + 15) / 16) * ((h + 15) / 16),
+                            CandidateList{MotionVector{-6, -4}});
     const FaceCandidates c1(c0.size(), CandidateList{MotionVector{5, -2}});
     for (int references = 1; references <= 2; ++references) {
       for (int fields = 0; fields < 3; ++fields) {  // both, only the first, only the second
@@ -233,8 +241,10 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
 TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
   const int w = 128, h = 128, q = 8;
   // The reference shows the plane texture directly; the current face sees it through H.
-  const ImageYCbCr420 original =
-      sample_image(w, h, [](double x, double y, double* u, double* v) { *u = x; *v = y; });
+  const ImageYCbCr420 original = sample_image(w, h, [](double x, double y, double* u, double* v) {
+    *u = x;
+    *v = y;
+  });
   const ImageYCbCr420 reference = decoded_intra(original, q);
   const ImageYCbCr420 source =
       sample_image(w, h, [](double x, double y, double* u, double* v) { kPlane.apply(x, y, u, v); });
@@ -266,12 +276,11 @@ TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
   params.quant_scale = suggested_b_quant_scale(q);
   BFrameStats warped_stats, plain_stats;
   ImageYCbCr420 warped_reconstruction, plain_reconstruction;
-  const std::vector<uint8_t> warped =
-      encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr, params, &warped_reconstruction,
-                     &warped_stats);
+  const std::vector<uint8_t> warped = encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr,
+                                                     params, &warped_reconstruction, &warped_stats);
   params.warp = false;
-  const std::vector<uint8_t> plain = encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr, params,
-                                                    &plain_reconstruction, &plain_stats);
+  const std::vector<uint8_t> plain = encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr,
+                                                    params, &plain_reconstruction, &plain_stats);
   EXPECT_EQ(plain_stats.mb_warp, 0);
   EXPECT_GE(warped_stats.mb_warp, 56);  // of 64
   EXPECT_LT(warped.size() * 3, plain.size() * 2) << warped.size() << " vs translational " << plain.size();
@@ -288,9 +297,16 @@ TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
 
 TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   const int w = 64, h = 48;
-  const ImageYCbCr420 source = sample_image(w, h, [](double x, double y, double* u, double* v) { kPlane.apply(x, y, u, v); });
-  const ImageYCbCr420 ref0 = sample_image(w, h, [](double x, double y, double* u, double* v) { *u = x; *v = y; });
-  const ImageYCbCr420 ref1 = sample_image(w, h, [](double x, double y, double* u, double* v) { *u = x + 1; *v = y; });
+  const ImageYCbCr420 source =
+      sample_image(w, h, [](double x, double y, double* u, double* v) { kPlane.apply(x, y, u, v); });
+  const ImageYCbCr420 ref0 = sample_image(w, h, [](double x, double y, double* u, double* v) {
+    *u = x;
+    *v = y;
+  });
+  const ImageYCbCr420 ref1 = sample_image(w, h, [](double x, double y, double* u, double* v) {
+    *u = x + 1;
+    *v = y;
+  });
   const WarpField field0 = exact_nodes(w, h, kPlane), field1 = test_field(w, h, 1, 0, 4);
   BFrameParams params;
   params.quant_scale = 4;
@@ -309,7 +325,8 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   std::vector<uint8_t> changed = valid;
   changed[5] = 4;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref0, &ref1, &out).code(), ErrorCode::kCorruptData);
-  const std::vector<uint8_t> one_ref = encode_b_frame(source, ref0, nullptr, {}, {}, &field0, nullptr, params, nullptr, nullptr);
+  const std::vector<uint8_t> one_ref =
+      encode_b_frame(source, ref0, nullptr, {}, {}, &field0, nullptr, params, nullptr, nullptr);
   changed = one_ref;
   ASSERT_EQ(changed[5], 1);
   changed[5] = 3;
@@ -320,7 +337,8 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   for (int trial = 0; trial < 400; ++trial) {
     std::vector<uint8_t> bytes = valid;
     for (int f = 0; f <= trial % 3; ++f) {
-      bytes[kBFrameHeaderBytes + rng() % (bytes.size() - kBFrameHeaderBytes)] ^= static_cast<uint8_t>(1u << (rng() % 8));
+      bytes[kBFrameHeaderBytes + rng() % (bytes.size() - kBFrameHeaderBytes)] ^=
+          static_cast<uint8_t>(1u << (rng() % 8));
     }
     if (decode_b_frame(bytes, w, h, ref0, &ref1, &out).ok()) {
       ++accepted;

@@ -25,9 +25,8 @@ constexpr size_t kPixels = static_cast<size_t>(kWidth) * kHeight;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Writes `data` (interleaved, of type `data_type`) as an image stored as `file_type`.
-void write_image(const fs::path& path, int width, int height,
-                 const std::vector<std::string>& channel_names, OIIO::TypeDesc file_type,
-                 OIIO::TypeDesc data_type, const void* data) {
+void write_image(const fs::path& path, int width, int height, const std::vector<std::string>& channel_names,
+                 OIIO::TypeDesc file_type, OIIO::TypeDesc data_type, const void* data) {
   fs::create_directories(path.parent_path());
   auto out = OIIO::ImageOutput::create(path.string());
   ASSERT_TRUE(out) << OIIO::geterror();
@@ -71,10 +70,9 @@ class FaceTest : public ::testing::Test {
                                  const json& extra = json::object()) {
     json faces = json::object();
     for (const Face face : kAllFaces) {
-      faces[face_name(face)] = {
-          {"color", color},
-          {"depth", depth},
-          {"world_to_camera", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}};
+      faces[face_name(face)] = {{"color", color},
+                                {"depth", depth},
+                                {"world_to_camera", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}};
     }
     json manifest = {{"format", "svc-input"},
                      {"version", 1},
@@ -93,8 +91,7 @@ class FaceTest : public ::testing::Test {
     return load_face(manifest, 0, face);
   }
 
-  void expect_error(const Result<FaceData>& result, ErrorCode code,
-                    const std::vector<std::string>& needles) {
+  void expect_error(const Result<FaceData>& result, ErrorCode code, const std::vector<std::string>& needles) {
     ASSERT_FALSE(result.ok());
     EXPECT_EQ(result.status().code(), code) << result.status().to_string();
     for (const std::string& needle : needles) {
@@ -112,8 +109,8 @@ class FaceTest : public ::testing::Test {
 
 TEST_F(FaceTest, EightBitPngIsLoadedExactly) {
   const auto rgb = pattern8(kPixels, 3);
-  write_image(at("faces/rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("faces/rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
   write_default_depth();
   const DatabaseManifest manifest = make_database("faces/rgb.png", "depth.exr");
   const auto face = load(manifest, Face::kNZ);
@@ -127,11 +124,10 @@ TEST_F(FaceTest, EightBitPngIsLoadedExactly) {
 
 TEST_F(FaceTest, AlphaIsIgnoredAndGreyIsExpanded) {
   const auto rgba = pattern8(kPixels, 4);
-  write_image(at("rgba.png"), kWidth, kHeight, {"R", "G", "B", "A"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgba.data());
+  write_image(at("rgba.png"), kWidth, kHeight, {"R", "G", "B", "A"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgba.data());
   const auto grey = pattern8(kPixels, 1);
-  write_image(at("grey.png"), kWidth, kHeight, {"Y"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, grey.data());
+  write_image(at("grey.png"), kWidth, kHeight, {"Y"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, grey.data());
   write_default_depth();
 
   const auto with_alpha = load(make_database("rgba.png", "depth.exr"));
@@ -153,8 +149,8 @@ TEST_F(FaceTest, SixteenBitPngIsRoundedToEightBits) {
   rgb16[1] = 65535;
   rgb16[2] = 128;  // 128 / 257 = 0.498 rounds down
   rgb16[3] = 129;  // 0.502 rounds up
-  write_image(at("deep.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT16,
-              OIIO::TypeDesc::UINT16, rgb16.data());
+  write_image(at("deep.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT16, OIIO::TypeDesc::UINT16,
+              rgb16.data());
   write_default_depth();
   const auto face = load(make_database("deep.png", "depth.exr"));
   ASSERT_TRUE(face.ok()) << face.status().to_string();
@@ -233,16 +229,15 @@ TEST_F(FaceTest, CombinedRgbzExrServesColourAndDepth) {
 }
 
 TEST_F(FaceTest, BlenderLayerChannelsServeColourAndDepth) {
-  const std::vector<std::string> names = {"ViewLayer.Combined.A", "ViewLayer.Combined.B",
-                                          "ViewLayer.Combined.G", "ViewLayer.Combined.R",
-                                          "ViewLayer.Depth.Z"};
+  const std::vector<std::string> names = {"ViewLayer.Combined.A", "ViewLayer.Combined.B", "ViewLayer.Combined.G",
+                                          "ViewLayer.Combined.R", "ViewLayer.Depth.Z"};
   std::vector<float> data(kPixels * names.size());
   for (size_t i = 0; i < kPixels; ++i) {
-    data[i * 5 + 0] = 0.0f;   // A
-    data[i * 5 + 1] = 0.5f;   // B
-    data[i * 5 + 2] = 0.0f;   // G
-    data[i * 5 + 3] = 1.0f;   // R
-    data[i * 5 + 4] = 7.0f;   // depth
+    data[i * 5 + 0] = 0.0f;  // A
+    data[i * 5 + 1] = 0.5f;  // B
+    data[i * 5 + 2] = 0.0f;  // G
+    data[i * 5 + 3] = 1.0f;  // R
+    data[i * 5 + 4] = 7.0f;  // depth
   }
   write_float_exr(at("render.exr"), names, data);
   const auto face = load(make_database("render.exr", "render.exr"));
@@ -255,20 +250,20 @@ TEST_F(FaceTest, BlenderLayerChannelsServeColourAndDepth) {
 
 TEST_F(FaceTest, DepthChannelIsFoundByName) {
   const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
   struct Case {
     std::vector<std::string> names;
     int depth_channel;  // which channel holds the real depth
   };
   const std::vector<Case> cases = {
-      {{"A", "Z"}, 1},                         // Z
-      {{"A", "Z", "depth", "Y"}, 1},           // Z wins over the others
-      {{"B", "ViewLayer.Depth.Z"}, 1},         // *.Z
-      {{"ViewLayer.Depth.Z", "depth"}, 0},     // *.Z wins over depth
-      {{"G", "depth", "Y"}, 1},                // depth wins over Y
-      {{"R", "Y"}, 1},                         // Y
-      {{"distance"}, 0},                       // the only channel
+      {{"A", "Z"}, 1},                      // Z
+      {{"A", "Z", "depth", "Y"}, 1},        // Z wins over the others
+      {{"B", "ViewLayer.Depth.Z"}, 1},      // *.Z
+      {{"ViewLayer.Depth.Z", "depth"}, 0},  // *.Z wins over depth
+      {{"G", "depth", "Y"}, 1},             // depth wins over Y
+      {{"R", "Y"}, 1},                      // Y
+      {{"distance"}, 0},                    // the only channel
   };
   for (size_t c = 0; c < cases.size(); ++c) {
     const Case& test_case = cases[c];
@@ -287,8 +282,8 @@ TEST_F(FaceTest, DepthChannelIsFoundByName) {
 
 TEST_F(FaceTest, DepthFileWithoutUsableChannelIsRejected) {
   const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
   write_float_exr(at("nodepth.exr"), {"U", "V"}, constant(kPixels * 2, 1.0f));
   expect_error(load(make_database("rgb.png", "nodepth.exr"), Face::kPY), ErrorCode::kBadInput,
                {"cell (0,0,0)", "face py", "nodepth.exr", "no depth channel", "U, V"});
@@ -299,8 +294,8 @@ TEST_F(FaceTest, DepthFileWithoutUsableChannelIsRejected) {
 
 TEST_F(FaceTest, BackgroundDepthBecomesInfinity) {
   const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
   std::vector<float> depth = constant(kPixels, 1.0f);
   depth[0] = kInf;
   depth[1] = std::numeric_limits<float>::quiet_NaN();
@@ -322,16 +317,15 @@ TEST_F(FaceTest, BackgroundDepthBecomesInfinity) {
 
 TEST_F(FaceTest, RadialDepthIsConvertedToEyeZ) {
   const auto rgb = pattern8(4, 3);
-  write_image(at("small.png"), 2, 2, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("small.png"), 2, 2, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8, rgb.data());
   // Frustum [-1,1]^2 at near 1: pixel centres look along (+-0.5, +-0.5, -1), |dir| = sqrt(1.5).
   const std::vector<float> radial = {3.0f, 6.0f, std::sqrt(1.5f) * 2.0f, 1e6f};
   write_float_exr(at("radial.exr"), {"Z"}, radial, OIIO::TypeDesc::FLOAT, 2, 2);
-  const json extra = {{"face_size", {2, 2}},
-                      {"depth", "radial"},
-                      {"projection",
-                       {{"left", -1.0}, {"right", 1.0}, {"bottom", -1.0}, {"top", 1.0},
-                        {"near", 1.0}, {"far", 100.0}}}};
+  const json extra = {
+      {"face_size", {2, 2}},
+      {"depth", "radial"},
+      {"projection",
+       {{"left", -1.0}, {"right", 1.0}, {"bottom", -1.0}, {"top", 1.0}, {"near", 1.0}, {"far", 100.0}}}};
   const auto face = load(make_database("small.png", "radial.exr", extra));
   ASSERT_TRUE(face.ok()) << face.status().to_string();
   EXPECT_NEAR(face->depth[0], 3.0 / std::sqrt(1.5), 1e-5);
@@ -348,17 +342,18 @@ TEST_F(FaceTest, RadialDepthOfAPlaneIsFlatInEyeZ) {
     for (int i = 0; i < kWidth; ++i) {
       const double x = left + (i + 0.5) / kWidth * (right - left);
       const double y = top - (j + 0.5) / kHeight * (top - bottom);
-      radial[j * kWidth + i] = static_cast<float>(5.0 * std::sqrt(x * x + y * y + near_plane * near_plane) / near_plane);
+      radial[j * kWidth + i] =
+          static_cast<float>(5.0 * std::sqrt(x * x + y * y + near_plane * near_plane) / near_plane);
     }
   }
   write_float_exr(at("wall.exr"), {"Z"}, radial);
   const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
-  const json extra = {{"depth", "radial"},
-                      {"projection",
-                       {{"left", left}, {"right", right}, {"bottom", bottom}, {"top", top},
-                        {"near", near_plane}, {"far", 100.0}}}};
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
+  const json extra = {
+      {"depth", "radial"},
+      {"projection",
+       {{"left", left}, {"right", right}, {"bottom", bottom}, {"top", top}, {"near", near_plane}, {"far", 100.0}}}};
   const auto face = load(make_database("rgb.png", "wall.exr", extra));
   ASSERT_TRUE(face.ok()) << face.status().to_string();
   for (size_t i = 0; i < kPixels; ++i) ASSERT_NEAR(face->depth[i], 5.0, 1e-5) << "pixel " << i;
@@ -366,16 +361,15 @@ TEST_F(FaceTest, RadialDepthOfAPlaneIsFlatInEyeZ) {
 
 TEST_F(FaceTest, WrongImageSizeNamesBothSizes) {
   const auto rgb = pattern8(8 * 8, 3);
-  write_image(at("faces/small.png"), 8, 8, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("faces/small.png"), 8, 8, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
   write_default_depth();
-  expect_error(load(make_database("faces/small.png", "depth.exr"), Face::kNY),
-               ErrorCode::kBadInput,
+  expect_error(load(make_database("faces/small.png", "depth.exr"), Face::kNY), ErrorCode::kBadInput,
                {"cell (0,0,0)", "face ny", "color", "faces/small.png", "8x8", "16x12"});
   write_float_exr(at("depth_small.exr"), {"Z"}, constant(64, 1.0f), OIIO::TypeDesc::FLOAT, 8, 8);
   const auto full = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, full.data());
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              full.data());
   expect_error(load(make_database("rgb.png", "depth_small.exr")), ErrorCode::kBadInput,
                {"cell (0,0,0)", "face px", "depth", "depth_small.exr", "8x8", "16x12"});
 }
@@ -399,18 +393,17 @@ TEST_F(FaceTest, GarbageAndMissingFilesAreReported) {
                {"cell (0,0,0)", "face px", "color", "truncated.png"});
 
   const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
   const DatabaseManifest manifest = make_database("rgb.png", "depth.exr");
   fs::remove(at("depth.exr"));
-  expect_error(load(manifest, Face::kNX), ErrorCode::kNotFound,
-               {"cell (0,0,0)", "face nx", "depth", "depth.exr"});
+  expect_error(load(manifest, Face::kNX), ErrorCode::kNotFound, {"cell (0,0,0)", "face nx", "depth", "depth.exr"});
 }
 
 TEST_F(FaceTest, OutOfRangeArgumentsAreRejected) {
   const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8,
-              OIIO::TypeDesc::UINT8, rgb.data());
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
   write_default_depth();
   const DatabaseManifest manifest = make_database("rgb.png", "depth.exr");
   expect_error(load_face(manifest, 1, Face::kPX), ErrorCode::kInvalidArgument, {"ordinal 1"});
@@ -432,8 +425,7 @@ TEST_F(FaceTest, ConcurrentLoadsAgree) {
       for (int round = 0; round < 4; ++round) {
         const auto face = load_face(manifest, 0, kAllFaces[(t + round) % kFaceCount]);
         if (face.ok() && face->color.pixels == expected->color.pixels &&
-            std::equal(face->depth.begin(), face->depth.end(), expected->depth.begin(),
-                       expected->depth.end())) {
+            std::equal(face->depth.begin(), face->depth.end(), expected->depth.begin(), expected->depth.end())) {
           ++matches[t];
         }
       }

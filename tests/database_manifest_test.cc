@@ -52,8 +52,7 @@ std::vector<double> view_matrix(double degrees, double tx, double ty, double tz)
 }
 
 json face_entry(const std::string& color, const std::string& depth, double degrees) {
-  return json{{"color", color}, {"depth", depth},
-              {"world_to_camera", view_matrix(degrees, 1, 2, 3)}};
+  return json{{"color", color}, {"depth", depth}, {"world_to_camera", view_matrix(degrees, 1, 2, 3)}};
 }
 
 json cell_entry(int x, int y, int z) {
@@ -63,9 +62,7 @@ json cell_entry(int x, int y, int z) {
     faces[face_name(face)] = face_entry("cells/color.png", "cells/depth.exr", degrees);
     degrees += 10;
   }
-  return json{{"index", {x, y, z}},
-              {"position", {x * 0.5 - 1.0, 1.5 + y, z * 0.5 + 0.25}},
-              {"faces", faces}};
+  return json{{"index", {x, y, z}}, {"position", {x * 0.5 - 1.0, 1.5 + y, z * 0.5 + 0.25}}, {"faces", faces}};
 }
 
 // A 2x1x2 grid with cell (1,0,1) missing, cells listed out of order.
@@ -73,8 +70,7 @@ json valid_manifest() {
   return json{{"format", "svc-input"},
               {"version", 1},
               {"scene", "unit-test"},  // unknown keys are ignored
-              {"grid", {{"dims", {2, 1, 2}}, {"origin", {-1.0, 1.5, 0.25}},
-                        {"spacing", {0.5, 1.0, 0.5}}}},
+              {"grid", {{"dims", {2, 1, 2}}, {"origin", {-1.0, 1.5, 0.25}}, {"spacing", {0.5, 1.0, 0.5}}}},
               {"face_size", {kWidth, kHeight}},
               {"projection", {{"fov_y_degrees", 90.0}, {"near", 0.1}, {"far", 50.0}}},
               {"cells", {cell_entry(0, 0, 1), cell_entry(1, 0, 0), cell_entry(0, 0, 0)}}};
@@ -201,8 +197,7 @@ TEST_F(ManifestTest, GlobalPerFaceAndExplicitProjections) {
   EXPECT_DOUBLE_EQ(explicit_frustum.far_plane, 80.0);
 
   // Other cells keep the global projection.
-  EXPECT_DOUBLE_EQ(result->cells[1].faces[static_cast<size_t>(Face::kNX)].camera.frustum.far_plane,
-                   50.0);
+  EXPECT_DOUBLE_EQ(result->cells[1].faces[static_cast<size_t>(Face::kNX)].camera.frustum.far_plane, 50.0);
 }
 
 TEST_F(ManifestTest, PerFaceProjectionsWithoutGlobalProjection) {
@@ -268,44 +263,40 @@ TEST_F(ManifestTest, RejectsMissingDatabaseAndManifest) {
 TEST_F(ManifestTest, RejectsWrongFormatAndVersion) {
   expect_error([](json& m) { m["format"] = "svc-output"; }, ErrorCode::kBadInput,
                {"manifest.json", "format", "svc-output"});
-  expect_error([](json& m) { m["version"] = 2; }, ErrorCode::kUnsupported,
-               {"manifest.json", "version 2"});
-  expect_error([](json& m) { m["version"] = "1"; }, ErrorCode::kBadInput,
-               {"version", "expected an integer"});
-  expect_error([](json& m) { m.erase("format"); }, ErrorCode::kBadInput,
-               {"missing key \"format\""});
+  expect_error([](json& m) { m["version"] = 2; }, ErrorCode::kUnsupported, {"manifest.json", "version 2"});
+  expect_error([](json& m) { m["version"] = "1"; }, ErrorCode::kBadInput, {"version", "expected an integer"});
+  expect_error([](json& m) { m.erase("format"); }, ErrorCode::kBadInput, {"missing key \"format\""});
 }
 
 TEST_F(ManifestTest, RejectsMissingOrBadTopLevelKeys) {
   expect_error([](json& m) { m.erase("grid"); }, ErrorCode::kBadInput, {"missing key \"grid\""});
   expect_error([](json& m) { m["grid"].erase("spacing"); }, ErrorCode::kBadInput,
                {"grid", "missing key \"spacing\""});
-  expect_error([](json& m) { m["grid"]["dims"] = {2, 0, 2}; }, ErrorCode::kBadInput,
-               {"grid.dims", "positive"});
-  expect_error([](json& m) { m["grid"]["dims"] = {2, 1.5, 2}; }, ErrorCode::kBadInput,
-               {"grid.dims[1]", "integer"});
-  expect_error([](json& m) { m["grid"]["dims"] = {4096, 4096, 4096}; },
-               ErrorCode::kLimitExceeded, {"grid.dims"});
-  expect_error([](json& m) { m["face_size"] = {16}; }, ErrorCode::kBadInput,
-               {"face_size", "expected 2 numbers"});
-  expect_error([](json& m) { m["face_size"] = {16, -12}; }, ErrorCode::kBadInput,
-               {"face_size", "positive"});
+  expect_error([](json& m) { m["grid"]["dims"] = {2, 0, 2}; }, ErrorCode::kBadInput, {"grid.dims", "positive"});
+  expect_error([](json& m) { m["grid"]["dims"] = {2, 1.5, 2}; }, ErrorCode::kBadInput, {"grid.dims[1]", "integer"});
+  expect_error([](json& m) { m["grid"]["dims"] = {4096, 4096, 4096}; }, ErrorCode::kLimitExceeded, {"grid.dims"});
+  expect_error([](json& m) { m["face_size"] = {16}; }, ErrorCode::kBadInput, {"face_size", "expected 2 numbers"});
+  expect_error([](json& m) { m["face_size"] = {16, -12}; }, ErrorCode::kBadInput, {"face_size", "positive"});
   expect_error([](json& m) { m["projection"]["far"] = 0.05; }, ErrorCode::kBadInput,
                {"projection.far", "greater than near"});
   expect_error([](json& m) { m["projection"]["fov_y_degrees"] = 180; }, ErrorCode::kBadInput,
                {"projection.fov_y_degrees"});
-  expect_error([](json& m) { m["depth"] = "z_buffer"; }, ErrorCode::kBadInput,
-               {"depth", "z_buffer"});
+  expect_error([](json& m) { m["depth"] = "z_buffer"; }, ErrorCode::kBadInput, {"depth", "z_buffer"});
   expect_error([](json& m) { m["up_axis"] = "w"; }, ErrorCode::kBadInput, {"up_axis"});
-  expect_error([](json& m) { m["cells"] = json::array(); }, ErrorCode::kBadInput,
-               {"cells", "no cells"});
+  expect_error([](json& m) { m["cells"] = json::array(); }, ErrorCode::kBadInput, {"cells", "no cells"});
 }
 
 TEST_F(ManifestTest, RejectsCellOutsideGridAndDuplicates) {
-  expect_error([](json& m) { m["cells"][1]["index"] = {2, 0, 0}; }, ErrorCode::kBadInput,
-               {"manifest.json", "cells[1]", "(2,0,0)", "outside the grid"});
-  expect_error([](json& m) { m["cells"][0]["index"] = {0, -1, 0}; }, ErrorCode::kBadInput,
-               {"cells[0]", "outside the grid"});
+  expect_error(
+      [](json& m) {
+        m["cells"][1]["index"] = {2, 0, 0};
+      },
+      ErrorCode::kBadInput, {"manifest.json", "cells[1]", "(2,0,0)", "outside the grid"});
+  expect_error(
+      [](json& m) {
+        m["cells"][0]["index"] = {0, -1, 0};
+      },
+      ErrorCode::kBadInput, {"cells[0]", "outside the grid"});
   expect_error([](json& m) { m["cells"].push_back(cell_entry(1, 0, 0)); }, ErrorCode::kBadInput,
                {"manifest.json", "cell (1,0,0)", "listed twice", "cells[3]", "cells[1]"});
 }
@@ -313,11 +304,10 @@ TEST_F(ManifestTest, RejectsCellOutsideGridAndDuplicates) {
 TEST_F(ManifestTest, RejectsMissingFaceAndFaceKeys) {
   expect_error([](json& m) { m["cells"][0]["faces"].erase("ny"); }, ErrorCode::kBadInput,
                {"manifest.json", "cell (0,0,1)", "missing face \"ny\""});
-  expect_error([](json& m) { m["cells"][0]["faces"]["px"].erase("depth"); },
-               ErrorCode::kBadInput,
+  expect_error([](json& m) { m["cells"][0]["faces"]["px"].erase("depth"); }, ErrorCode::kBadInput,
                {"manifest.json", "cell (0,0,1)", "face px", "missing key \"depth\""});
-  expect_error([](json& m) { m["cells"][2]["faces"]["pz"].erase("world_to_camera"); },
-               ErrorCode::kBadInput, {"cell (0,0,0)", "face pz", "world_to_camera"});
+  expect_error([](json& m) { m["cells"][2]["faces"]["pz"].erase("world_to_camera"); }, ErrorCode::kBadInput,
+               {"cell (0,0,0)", "face pz", "world_to_camera"});
   expect_error([](json& m) { m["cells"][1].erase("position"); }, ErrorCode::kBadInput,
                {"cell (1,0,0)", "missing key \"position\""});
   expect_error([](json& m) { m["cells"][1]["faces"]["nx"]["color"] = 7; }, ErrorCode::kBadInput,
@@ -325,22 +315,19 @@ TEST_F(ManifestTest, RejectsMissingFaceAndFaceKeys) {
 }
 
 TEST_F(ManifestTest, RejectsMissingFilesNamingCellFaceAndFile) {
-  expect_error([](json& m) { m["cells"][1]["faces"]["py"]["color"] = "cells/absent.png"; },
-               ErrorCode::kNotFound,
+  expect_error([](json& m) { m["cells"][1]["faces"]["py"]["color"] = "cells/absent.png"; }, ErrorCode::kNotFound,
                {"manifest.json", "cell (1,0,0)", "face py", "color", "cells/absent.png"});
   expect_error([](json& m) { m["cells"][0]["faces"]["nz"]["depth"] = "elsewhere/absent.exr"; },
-               ErrorCode::kNotFound,
-               {"cell (0,0,1)", "face nz", "depth", "elsewhere/absent.exr", "not found"});
-  expect_error([](json& m) { m["cells"][0]["faces"]["nz"]["depth"] = "cells"; },
-               ErrorCode::kNotFound, {"cell (0,0,1)", "face nz", "not a regular file"});
+               ErrorCode::kNotFound, {"cell (0,0,1)", "face nz", "depth", "elsewhere/absent.exr", "not found"});
+  expect_error([](json& m) { m["cells"][0]["faces"]["nz"]["depth"] = "cells"; }, ErrorCode::kNotFound,
+               {"cell (0,0,1)", "face nz", "not a regular file"});
 }
 
 TEST_F(ManifestTest, RejectsBadViewMatrices) {
   // A number too large for a double cannot be represented; null stands for non-finite
   // values that some writers emit.
-  expect_error(
-      [](json& m) { m["cells"][0]["faces"]["px"]["world_to_camera"][5] = nullptr; },
-      ErrorCode::kBadInput, {"cell (0,0,1)", "face px", "world_to_camera[5]", "number"});
+  expect_error([](json& m) { m["cells"][0]["faces"]["px"]["world_to_camera"][5] = nullptr; }, ErrorCode::kBadInput,
+               {"cell (0,0,1)", "face px", "world_to_camera[5]", "number"});
   expect_error(
       [](json& m) {
         auto matrix = view_matrix(0, 1, 2, 3);
@@ -361,29 +348,26 @@ TEST_F(ManifestTest, RejectsBadViewMatrices) {
             std::vector<double>{2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
       },
       ErrorCode::kBadInput, {"cell (0,0,0)", "face ny", "orthonormal"});
-  expect_error(
-      [](json& m) {
-        m["cells"][2]["faces"]["ny"]["world_to_camera"] = std::vector<double>(16, 0.0);
-      },
-      ErrorCode::kBadInput, {"cell (0,0,0)", "face ny"});
+  expect_error([](json& m) { m["cells"][2]["faces"]["ny"]["world_to_camera"] = std::vector<double>(16, 0.0); },
+               ErrorCode::kBadInput, {"cell (0,0,0)", "face ny"});
 }
 
 TEST_F(ManifestTest, RejectsBadPerFaceProjection) {
   expect_error(
       [](json& m) {
-        m["cells"][1]["faces"]["px"]["projection"] = {
-            {"left", 0.1}, {"right", -0.1}, {"bottom", -0.1}, {"top", 0.1}, {"near", 0.1},
-            {"far", 10.0}};
+        m["cells"][1]["faces"]["px"]["projection"] = {{"left", 0.1}, {"right", -0.1}, {"bottom", -0.1},
+                                                      {"top", 0.1},  {"near", 0.1},   {"far", 10.0}};
       },
       ErrorCode::kBadInput, {"cell (1,0,0)", "face px", "projection", "right must be greater"});
   expect_error(
       [](json& m) {
-        m["cells"][1]["faces"]["px"]["projection"] = {{"left", -0.1}, {"right", 0.1},
-                                                      {"near", 0.1}, {"far", 10.0}};
+        m["cells"][1]["faces"]["px"]["projection"] = {{"left", -0.1}, {"right", 0.1}, {"near", 0.1}, {"far", 10.0}};
       },
       ErrorCode::kBadInput, {"cell (1,0,0)", "face px", "missing key \"bottom\""});
   expect_error(
-      [](json& m) { m["cells"][1]["faces"]["px"]["projection"] = {{"near", 0.1}, {"far", 1.0}}; },
+      [](json& m) {
+        m["cells"][1]["faces"]["px"]["projection"] = {{"near", 0.1}, {"far", 1.0}};
+      },
       ErrorCode::kBadInput, {"cell (1,0,0)", "face px", "fov_y_degrees"});
 }
 

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "scene/scene.h"
@@ -54,8 +54,7 @@ Image read_image(const fs::path& path) {
   image.channel_names = spec.channelnames;
   image.format = spec.format;
   image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-      << path;
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) << path;
   in->close();
   return image;
 }
@@ -269,13 +268,9 @@ void expect_depth_reprojects(SceneKind kind) {
       << agreed << " of " << checked << " reprojected pixels agree";
 }
 
-TEST(SceneGenerate, HallDepthReprojectsIntoNeighbouringCells) {
-  expect_depth_reprojects(SceneKind::kHall);
-}
+TEST(SceneGenerate, HallDepthReprojectsIntoNeighbouringCells) { expect_depth_reprojects(SceneKind::kHall); }
 
-TEST(SceneGenerate, HouseDepthReprojectsIntoNeighbouringCells) {
-  expect_depth_reprojects(SceneKind::kHouse);
-}
+TEST(SceneGenerate, HouseDepthReprojectsIntoNeighbouringCells) { expect_depth_reprojects(SceneKind::kHouse); }
 
 TEST(SceneGenerate, SparseGridLeavesOutCellsInsideGeometry) {
   SceneOptions options;

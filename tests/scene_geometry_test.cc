@@ -93,8 +93,7 @@ TEST_P(SceneTraversal, AcceleratedClosestHitsMatchTheReference) {
   EXPECT_GT(hits, compared / 2);
 }
 
-INSTANTIATE_TEST_SUITE_P(BothKinds, SceneTraversal,
-                         ::testing::Values(SceneKind::kHall, SceneKind::kHouse));
+INSTANTIATE_TEST_SUITE_P(BothKinds, SceneTraversal, ::testing::Values(SceneKind::kHall, SceneKind::kHouse));
 
 TEST(SceneGeometry, EyeDepthIsTheRayParameter) {
   // The view-axis component of a pixel ray is 1, so the hit parameter is eye-space z.

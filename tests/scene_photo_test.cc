@@ -44,8 +44,7 @@ void write_blocks(const fs::path& path, Rgb a, Rgb b, int alpha_b = -1) {
   }
   auto out = OIIO::ImageOutput::create(path.string());
   ASSERT_TRUE(out);
-  ASSERT_TRUE(
-      out->open(path.string(), OIIO::ImageSpec(kSize, kSize, channels, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->open(path.string(), OIIO::ImageSpec(kSize, kSize, channels, OIIO::TypeDesc::UINT8)));
   ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels.data()));
   ASSERT_TRUE(out->close());
 }
@@ -155,8 +154,7 @@ TEST(ScenePhoto, TexelsFinerThanPixelsAreFilteredNotAliased) {
   ASSERT_GT(floor.size(), 500u);
   EXPECT_EQ(count_if(floor, reddish), 0);
   EXPECT_EQ(count_if(floor, bluish), 0);
-  EXPECT_EQ(count_if(floor, [](const Rgb& p) { return p.r > 20 && p.b > 20; }),
-            static_cast<int>(floor.size()));
+  EXPECT_EQ(count_if(floor, [](const Rgb& p) { return p.r > 20 && p.b > 20; }), static_cast<int>(floor.size()));
 }
 
 TEST(ScenePhoto, CutOutImagesAreNotUsedForSolidSurfaces) {
@@ -233,14 +231,13 @@ TEST(ScenePhoto, MissingOrEmptyFolderIsAnErrorNamingIt) {
   options.textures = dir.path() / "broken";
   auto face = render_scene_face(options, CellIndex{0, 0, 0}, Face::kPX);
   ASSERT_FALSE(face.ok());
-  EXPECT_NE(face.status().message().find("broken"), std::string::npos)
-      << face.status().message();
+  EXPECT_NE(face.status().message().find("broken"), std::string::npos) << face.status().message();
   EXPECT_NE(face.status().message().find("no usable image"), std::string::npos);
 }
 
 TEST(ScenePhoto, CandidatesFollowTheClassWordsAndSkipLightMaps) {
-  const std::vector<std::string> files = {"a/brick1.jpg", "a/brick1_lm.jpg", "a/brick2.tga",
-                                          "b/oak_wood.jpg", "b/sky_glow.png"};
+  const std::vector<std::string> files = {"a/brick1.jpg", "a/brick1_lm.jpg", "a/brick2.tga", "b/oak_wood.jpg",
+                                          "b/sky_glow.png"};
   const auto bricks = detail::texture_candidates(files, detail::TextureClass::kBrick, 1);
   EXPECT_EQ(std::set<std::string>(bricks.begin(), bricks.end()),
             (std::set<std::string>{"a/brick1.jpg", "a/brick2.tga"}));

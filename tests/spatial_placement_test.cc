@@ -23,8 +23,7 @@ std::vector<CellIndex> full_grid(int nx, int ny, int nz) {
   return cells;
 }
 
-std::vector<CellPlacement> place(const std::vector<CellIndex>& cells,
-                                 std::array<int32_t, 3> dims,
+std::vector<CellPlacement> place(const std::vector<CellIndex>& cells, std::array<int32_t, 3> dims,
                                  std::array<int32_t, 3> spacing = {3, 1, 3},
                                  std::array<double, 3> grid_spacing = {1, 1, 1}) {
   PlacementSettings settings;
@@ -39,8 +38,8 @@ size_t ordinal_of(const std::vector<CellIndex>& cells, CellIndex c) {
 }
 
 // References as cell indices, for readable expectations.
-std::vector<Key> refs_of(const std::vector<CellIndex>& cells,
-                         const std::vector<CellPlacement>& placement, CellIndex c) {
+std::vector<Key> refs_of(const std::vector<CellIndex>& cells, const std::vector<CellPlacement>& placement,
+                         CellIndex c) {
   std::vector<Key> out;
   for (uint32_t r : placement[ordinal_of(cells, c)].references) out.push_back(key_of(cells[r]));
   return out;
@@ -52,8 +51,7 @@ double dist2(const CellIndex& a, const CellIndex& b) {
 }
 
 // Structural invariants every placement must satisfy.
-void expect_decodable(const std::vector<CellIndex>& cells,
-                      const std::vector<CellPlacement>& placement) {
+void expect_decodable(const std::vector<CellIndex>& cells, const std::vector<CellPlacement>& placement) {
   ASSERT_EQ(placement.size(), cells.size());
   for (size_t i = 0; i < cells.size(); ++i) {
     const auto& p = placement[i];
@@ -69,8 +67,7 @@ void expect_decodable(const std::vector<CellIndex>& cells,
     }
     if (p.references.size() == 2) {
       EXPECT_NE(p.references[0], p.references[1]);
-      EXPECT_LE(dist2(cells[i], cells[p.references[0]]),
-                dist2(cells[i], cells[p.references[1]]));
+      EXPECT_LE(dist2(cells[i], cells[p.references[0]]), dist2(cells[i], cells[p.references[1]]));
     }
   }
 }
@@ -96,8 +93,7 @@ TEST(SpatialPlacement, DefaultPutsIntraAtCentreOfEach3x3Group) {
     const double d0 = dist2(cells[i], cells[placement[i].references[0]]);
     const double d1 = dist2(cells[i], cells[placement[i].references[1]]);
     for (size_t k = 0; k < cells.size(); ++k) {
-      if (!placement[k].intra || k == placement[i].references[0] ||
-          k == placement[i].references[1]) {
+      if (!placement[k].intra || k == placement[i].references[0] || k == placement[i].references[1]) {
         continue;
       }
       EXPECT_GE(dist2(cells[i], cells[k]), d1);
@@ -128,8 +124,7 @@ TEST(SpatialPlacement, TwoLayersReferenceTheIntraCubeAboveWhenNearer) {
 TEST(SpatialPlacement, GridSpacingMeasuresDistanceBetweenCellCentres) {
   const auto cells = full_grid(9, 1, 9);
   // Unit spacing: from (0,0,2), (1,0,4) (distance^2 5) beats (4,0,1) (17).
-  EXPECT_EQ(refs_of(cells, place(cells, {9, 1, 9}), {0, 0, 2}),
-            (std::vector<Key>{{1, 0, 1}, {1, 0, 4}}));
+  EXPECT_EQ(refs_of(cells, place(cells, {9, 1, 9}), {0, 0, 2}), (std::vector<Key>{{1, 0, 1}, {1, 0, 4}}));
   // Cells ten times closer along x: (4,0,1) is now the nearer one.
   EXPECT_EQ(refs_of(cells, place(cells, {9, 1, 9}, {3, 1, 3}, {0.1, 1, 1}), {0, 0, 2}),
             (std::vector<Key>{{1, 0, 1}, {4, 0, 1}}));
@@ -154,9 +149,7 @@ TEST(SpatialPlacement, MissingCentreMovesToNearestPresentCell) {
   for (CellIndex c : {CellIndex{3, 0, 4}, CellIndex{5, 0, 4}, CellIndex{4, 0, 5}}) {
     EXPECT_FALSE(placement[ordinal_of(cells, c)].intra);
   }
-  EXPECT_EQ(std::count_if(placement.begin(), placement.end(),
-                          [](const CellPlacement& p) { return p.intra; }),
-            9);
+  EXPECT_EQ(std::count_if(placement.begin(), placement.end(), [](const CellPlacement& p) { return p.intra; }), 9);
   EXPECT_EQ(refs_of(cells, placement, {4, 0, 5})[0], (Key{4, 0, 3}));
 }
 
@@ -168,9 +161,7 @@ TEST(SpatialPlacement, EmptyGroupHasNoIntraAndIsOutOfReachBeyond) {
   }
   const auto placement = place(cells, {9, 1, 3});
   expect_decodable(cells, placement);
-  EXPECT_EQ(std::count_if(placement.begin(), placement.end(),
-                          [](const CellPlacement& p) { return p.intra; }),
-            2);
+  EXPECT_EQ(std::count_if(placement.begin(), placement.end(), [](const CellPlacement& p) { return p.intra; }), 2);
   // Group 2 is not adjacent to group 0: one reference each.
   EXPECT_EQ(refs_of(cells, placement, {2, 0, 1}), (std::vector<Key>{{1, 0, 1}}));
   EXPECT_EQ(refs_of(cells, placement, {6, 0, 1}), (std::vector<Key>{{7, 0, 1}}));
@@ -225,9 +216,7 @@ TEST(SpatialPlacement, SingleCellIsIntra) {
   EXPECT_TRUE(placement[0].intra);
 }
 
-TEST(SpatialPlacement, EmptyCellListIsEmptyPlacement) {
-  EXPECT_TRUE(place({}, {3, 1, 3}).empty());
-}
+TEST(SpatialPlacement, EmptyCellListIsEmptyPlacement) { EXPECT_TRUE(place({}, {3, 1, 3}).empty()); }
 
 struct RatioCase {
   std::array<int32_t, 3> dims;
@@ -245,11 +234,10 @@ TEST(SpatialPlacement, RatioSpacingsGiveTheDocumentedBToIRatio) {
     const auto cells = full_grid(c.dims[0], c.dims[1], c.dims[2]);
     const auto placement = place(cells, c.dims, c.spacing);
     expect_decodable(cells, placement);
-    const auto intra = std::count_if(placement.begin(), placement.end(),
-                                     [](const CellPlacement& p) { return p.intra; });
+    const auto intra =
+        std::count_if(placement.begin(), placement.end(), [](const CellPlacement& p) { return p.intra; });
     const auto b = static_cast<long>(cells.size()) - intra;
-    EXPECT_EQ(b, c.ratio * intra) << "spacing " << c.spacing[0] << "x" << c.spacing[1] << "x"
-                                  << c.spacing[2];
+    EXPECT_EQ(b, c.ratio * intra) << "spacing " << c.spacing[0] << "x" << c.spacing[1] << "x" << c.spacing[2];
   }
 }
 
@@ -282,8 +270,7 @@ TEST(SpatialPlacement, ResultDoesNotDependOnInputOrder) {
 TEST(SpatialPlacement, RandomSparseGridsAreAlwaysDecodable) {
   std::mt19937 rng(11);
   for (int round = 0; round < 20; ++round) {
-    const std::array<int32_t, 3> dims = {static_cast<int32_t>(1 + rng() % 12),
-                                         static_cast<int32_t>(1 + rng() % 3),
+    const std::array<int32_t, 3> dims = {static_cast<int32_t>(1 + rng() % 12), static_cast<int32_t>(1 + rng() % 3),
                                          static_cast<int32_t>(1 + rng() % 12)};
     const std::array<int32_t, 3> spacing = {static_cast<int32_t>(1 + rng() % 5),
                                             static_cast<int32_t>(1 + rng() % 2),
@@ -333,10 +320,8 @@ TEST(SpatialPlacement, RejectsBadArguments) {
   PlacementSettings zero;
   zero.i_spacing = {3, 0, 3};
   expect_invalid(place_cubes({{0, 0, 0}}, {3, 1, 3}, zero), "i_spacing");
-  expect_invalid(place_cubes({{0, 0, 0}}, {3, 1, 3}, defaults, {1.0, -1.0, 1.0}),
-                 "grid spacing");
-  expect_invalid(place_cubes({{0, 0, 0}}, {3, 1, 3}, defaults, {1.0, NAN, 1.0}),
-                 "grid spacing");
+  expect_invalid(place_cubes({{0, 0, 0}}, {3, 1, 3}, defaults, {1.0, -1.0, 1.0}), "grid spacing");
+  expect_invalid(place_cubes({{0, 0, 0}}, {3, 1, 3}, defaults, {1.0, NAN, 1.0}), "grid spacing");
 }
 
 }  // namespace

@@ -17,15 +17,18 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-Camera camera_from_view(const glm::dmat4& view, double half_width = 1.0,
-                        double half_height = 1.0, double near_plane = 0.05,
-                        double far_plane = 100.0) {
+Camera camera_from_view(const glm::dmat4& view, double half_width = 1.0, double half_height = 1.0,
+                        double near_plane = 0.05, double far_plane = 100.0) {
   Camera camera;
   const double* m = glm::value_ptr(view);
   std::copy(m, m + 16, camera.world_to_camera.begin());
   // Symmetric frustum: half extents given at unit distance (1 = 90 degrees).
-  camera.frustum = {-half_width * near_plane, half_width * near_plane,
-                    -half_height * near_plane, half_height * near_plane, near_plane, far_plane};
+  camera.frustum = {-half_width * near_plane,
+                    half_width * near_plane,
+                    -half_height * near_plane,
+                    half_height * near_plane,
+                    near_plane,
+                    far_plane};
   return camera;
 }
 
@@ -39,8 +42,7 @@ size_t at(int w, int i, int j) { return static_cast<size_t>(j) * static_cast<siz
 glm::dvec2 project_to_pixel(const Camera& camera, glm::dvec3 world, int w, int h) {
   const glm::dmat4 view = glm::make_mat4(camera.world_to_camera.data());
   const Frustum& f = camera.frustum;
-  const glm::dmat4 proj =
-      glm::frustum(f.left, f.right, f.bottom, f.top, f.near_plane, f.far_plane);
+  const glm::dmat4 proj = glm::frustum(f.left, f.right, f.bottom, f.top, f.near_plane, f.far_plane);
   const glm::dvec3 window = glm::project(world, view, proj, glm::dvec4(0, 0, w, h));
   return {window.x - 0.5, h - window.y - 0.5};
 }
@@ -105,8 +107,7 @@ TEST(SpatialReprojection, SidewaysTranslationGivesDisparityOfEyeDepth) {
     EXPECT_NEAR(flow.dy[k], 0.0, 1e-4);
   }
   // Background does not move under translation.
-  const FlowField sky =
-      compute_flow(current_wide, reference_wide, w, h, std::vector<float>(depth.size(), kInf));
+  const FlowField sky = compute_flow(current_wide, reference_wide, w, h, std::vector<float>(depth.size(), kInf));
   for (size_t k = 0; k < depth.size(); ++k) {
     ASSERT_TRUE(sky.valid[k]);
     EXPECT_NEAR(sky.dx[k], 0.0, 1e-4);
@@ -210,8 +211,7 @@ TEST(SpatialReprojection, DepthAtOrBeyondFarPlaneIsBackground) {
   const Camera current = look({0, 0, 0}, {0, 0, -1}, {0, 1, 0});
   const Camera moved = look({1, 0, 0}, {0, 0, -1}, {0, 1, 0});
   for (float z : {100.0f, 1e6f, -2.0f, 0.0f, std::numeric_limits<float>::quiet_NaN(), kInf}) {
-    const FlowField flow =
-        compute_flow(current, moved, w, h, std::vector<float>(static_cast<size_t>(w * h), z));
+    const FlowField flow = compute_flow(current, moved, w, h, std::vector<float>(static_cast<size_t>(w * h), z));
     for (size_t k = 0; k < flow.dx.size(); ++k) {
       ASSERT_TRUE(flow.valid[k]);
       EXPECT_NEAR(flow.dx[k], 0.0, 1e-5) << z;
@@ -436,8 +436,8 @@ codec::FaceCandidates plain_candidates(const FlowField& flow) {
       std::sort(ranked.begin(), ranked.end());
       codec::CandidateList list;
       for (size_t r = 0; r < ranked.size() && r < kMaxCandidatesPerMacroblock; ++r) {
-        list.push_back({static_cast<int16_t>(ranked[r].second.second),
-                        static_cast<int16_t>(ranked[r].second.first)});
+        list.push_back(
+            {static_cast<int16_t>(ranked[r].second.second), static_cast<int16_t>(ranked[r].second.first)});
       }
       out.push_back(list);
     }
@@ -451,8 +451,7 @@ TEST(SpatialReprojection, CandidatesMatchPlainCounting) {
   for (int round = 0; round < 20; ++round) {
     const int w = 8 + static_cast<int>(rng() % 60), h = 8 + static_cast<int>(rng() % 60);
     // Spreads from smooth (a few vectors) to chaotic (wide boxes, many vectors).
-    const float spread = round % 4 == 0 ? 0.3f : round % 4 == 1 ? 2.0f : round % 4 == 2 ? 20.0f
-                                                                                       : 80.0f;
+    const float spread = round % 4 == 0 ? 0.3f : round % 4 == 1 ? 2.0f : round % 4 == 2 ? 20.0f : 80.0f;
     FlowField flow = constant_flow(w, h, 0.0f, 0.0f);
     for (size_t k = 0; k < flow.dx.size(); ++k) {
       flow.dx[k] = 3.0f + spread * noise(rng);
@@ -474,9 +473,9 @@ TEST(SpatialReprojection, CandidatesMatchPlainCountingOnEdgeValues) {
       edges.insert(edges.end(), {v, std::nextafter(v, 0.0f), std::nextafter(v, 2 * v)});
     }
   }
-  edges.insert(edges.end(), {0.0f, -0.0f, std::numeric_limits<float>::quiet_NaN(),
-                             std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
-                             1e30f, -1e30f, 3e-39f});
+  edges.insert(edges.end(),
+               {0.0f, -0.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                -std::numeric_limits<float>::infinity(), 1e30f, -1e30f, 3e-39f});
   std::mt19937 rng(11);
   for (int round = 0; round < 12; ++round) {
     const int w = 5 + round * 3, h = 7 + round;  // 16-px bound at w = 8 (limit 2 * max(w, h))
@@ -515,7 +514,8 @@ TEST(SpatialReprojection, VisibilityFollowsTheReferenceDepth) {
   const Camera behind = look({0, 0, 1}, {0, 0, -1}, {0, 1, 0});
   const std::vector<float> wall(static_cast<size_t>(w * h), 5.0f);
   // The reference sees the same wall at eye depth 6: every pixel lands inside its face.
-  std::vector<uint8_t> seen = visible_in_reference(current, behind, w, h, wall, std::vector<float>(wall.size(), 6.0f));
+  std::vector<uint8_t> seen =
+      visible_in_reference(current, behind, w, h, wall, std::vector<float>(wall.size(), 6.0f));
   for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 1) << k;
   // A screen 0.5 in front of the reference hides the wall; so does background.
   seen = visible_in_reference(current, behind, w, h, wall, std::vector<float>(wall.size(), 0.5f));
@@ -546,7 +546,8 @@ TEST(SpatialReprojection, VisibilityEndsAtTheReferenceFaceAndMatchesBackground) 
   const Camera ahead = look({0, 0, -2}, {0, 0, -1}, {0, 1, 0});
   // The current face's edges look past the nearer reference's face: unseen there.
   const std::vector<float> wall(static_cast<size_t>(w * h), 5.0f);
-  std::vector<uint8_t> seen = visible_in_reference(current, ahead, w, h, wall, std::vector<float>(wall.size(), 3.0f));
+  std::vector<uint8_t> seen =
+      visible_in_reference(current, ahead, w, h, wall, std::vector<float>(wall.size(), 3.0f));
   EXPECT_EQ(seen[at(w, 0, 0)], 0);
   EXPECT_EQ(seen[at(w, w - 1, h / 2)], 0);
   EXPECT_EQ(seen[at(w, w / 2, h / 2)], 1);

@@ -11,11 +11,11 @@
 #include <sstream>
 #include <thread>
 
-#include <nlohmann/json.hpp>
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "container/updater.h"
 #include "scene/scene.h"
@@ -361,8 +361,8 @@ TEST_F(Add, KilledAtAnyPointLeavesTheOldDatabase) {
     const int status = wait_child(spawn_add_child(file, full(), n));
     ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "kill point " << n << " status " << status;
     ++killed;
-    expect_old_database(file, "killed after " + std::to_string(n) + " of " + std::to_string(total_written) +
-                                  " bytes");
+    expect_old_database(file,
+                        "killed after " + std::to_string(n) + " of " + std::to_string(total_written) + " bytes");
     if (n % 3 == 0 || n == total_written - 1) {
       // A retry after the crash cuts the leftovers off and writes what a clean add writes.
       auto retry = add_to_database(file, full());
@@ -379,7 +379,8 @@ TEST_F(Add, KilledAtAnyPointLeavesTheOldDatabase) {
   fs::copy_file(base(), file);
   const auto started = std::chrono::steady_clock::now();
   ASSERT_TRUE(WIFEXITED(wait_child(spawn_add_child(file, full(), -1))));
-  const auto run_time = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - started);
+  const auto run_time =
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - started);
   EXPECT_EQ(read_bytes(file), clean_bytes);
   std::mt19937 random(7);
   int finished = 0, interrupted = 0;

@@ -86,8 +86,7 @@ TEST(ContainerIndex, RejectsReferencesToPredictedFaces) {
   index.frames[13].references = {7};  // cell 2 face nx -> cell 1 face nx, a B-face
   auto parsed = parse_index(serialize_index(index), 0, kFileSize, ReaderLimits{});
   ASSERT_FALSE(parsed.ok());
-  EXPECT_NE(parsed.status().message().find("cell (1,0,1) face nx"), std::string::npos)
-      << parsed.status().message();
+  EXPECT_NE(parsed.status().message().find("cell (1,0,1) face nx"), std::string::npos) << parsed.status().message();
 }
 
 TEST(ContainerIndex, RejectsOffsetsOutsideTheFile) {
@@ -95,8 +94,7 @@ TEST(ContainerIndex, RejectsOffsetsOutsideTheFile) {
   index.frames[4].chunk_offset = kFileSize - 10;
   auto parsed = parse_index(serialize_index(index), 0, kFileSize, ReaderLimits{});
   ASSERT_FALSE(parsed.ok());
-  EXPECT_NE(parsed.status().message().find("cell (0,0,0) face pz"), std::string::npos)
-      << parsed.status().message();
+  EXPECT_NE(parsed.status().message().find("cell (0,0,0) face pz"), std::string::npos) << parsed.status().message();
 }
 
 TEST(ContainerIndex, EnforcesCallerLimitsBeforeAllocating) {
@@ -137,8 +135,15 @@ void expect_same_camera(const Camera& a, const Camera& b, const std::string& whe
 }
 
 std::vector<uint64_t> stat_fields(const FaceTypeStats& t) {
-  return {t.faces,         t.bytes,      t.mb_intra,          t.mb_forward,          t.mb_backward,
-          t.mb_bidirectional, t.mb_skipped, t.candidate_vectors, t.candidate_macroblocks};
+  return {t.faces,
+          t.bytes,
+          t.mb_intra,
+          t.mb_forward,
+          t.mb_backward,
+          t.mb_bidirectional,
+          t.mb_skipped,
+          t.candidate_vectors,
+          t.candidate_macroblocks};
 }
 
 // Every field, doubles compared bit for bit.
@@ -258,8 +263,8 @@ TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
   // type byte, offset delta 0 (chunks back to back), payload size (< 128), reference.
   const size_t cell_bytes = 3 * 4 + 3 * 8 + kFaceCount;
   const size_t frame_bytes = 6 * 3 + 48 * 4;
-  EXPECT_EQ(bytes.size(), kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + 9 * cell_bytes + 4 + frame_bytes +
-                              kStatisticsBytes);
+  EXPECT_EQ(bytes.size(),
+            kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + 9 * cell_bytes + 4 + frame_bytes + kStatisticsBytes);
   EXPECT_LT(bytes.size() * 5, testing::serialize_index_v1(index).size());
 
   auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
@@ -275,7 +280,8 @@ TEST(ContainerIndexV2, CamerasNoRigEntryReproducesAreStoredExplicitly) {
   const double c = std::cos(0.5), s = std::sin(0.5);
   Camera& yawed = index.cells[1].cameras[0];
   const double p[3] = {index.cells[1].position[0], index.cells[1].position[1], index.cells[1].position[2]};
-  yawed.world_to_camera = {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, -(c * p[0] + s * p[2]), -p[1], s * p[0] - c * p[2], 1};
+  yawed.world_to_camera = {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, -(c * p[0] + s * p[2]), -p[1], s * p[0] - c * p[2],
+                           1};
   // A translation that is not -R * centre.
   index.cells[2].cameras[3].world_to_camera[13] += 0.125;
   // A frustum that differs from the rig's: a signed permutation still, so a new entry.
@@ -399,7 +405,7 @@ TEST(ContainerIndexV2, VersionOneCorpusFilesOpenAndRewriteLosslessly) {
 TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
   ContainerIndex index = rig_index();
   index.cells[3].cameras[1].world_to_camera[12] += 1;  // one explicit camera too
-  index.frames[9].chunk_offset = kPreludeSize;        // a negative offset delta
+  index.frames[9].chunk_offset = kPreludeSize;         // a negative offset delta
   const std::vector<uint8_t> bytes = serialize_index(index);
   ASSERT_TRUE(parse_index(bytes, 0, kFileSize, ReaderLimits{}).ok());
   for (size_t n = 0; n < bytes.size(); ++n) {
@@ -437,7 +443,8 @@ OneCell one_cell_index() {
 
 // Replaces `length` bytes at `at` with `replacement` and parses.
 Status parse_edited(std::vector<uint8_t> bytes, size_t at, size_t length, const std::vector<uint8_t>& replacement) {
-  bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(at + length));
+  bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(at),
+              bytes.begin() + static_cast<std::ptrdiff_t>(at + length));
   bytes.insert(bytes.begin() + static_cast<std::ptrdiff_t>(at), replacement.begin(), replacement.end());
   auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
   return parsed.ok() ? Status::Ok() : parsed.status();
@@ -461,7 +468,8 @@ TEST(ContainerIndexV2, BadVarintsAreRefused) {
   // Payload size 50 written in two bytes.
   expect_refused(parse_edited(bytes, record + 2, 1, {0x80 | 50, 0x00}), "redundant trailing zero byte");
   // Eleven bytes.
-  expect_refused(parse_edited(bytes, record + 2, 1, {0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 1}),
+  expect_refused(parse_edited(bytes, record + 2, 1,
+                              {0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 0x80, 1}),
                  "longer than 10 bytes");
   // 2^64: the tenth byte carries more than one bit.
   expect_refused(parse_edited(bytes, record + 1, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x02}),
@@ -510,7 +518,8 @@ TEST(ContainerIndexV2, BadRigTablesAreRefused) {
   // An invalid frustum (near plane 0).
   ByteWriter zero;
   zero.f64(0.0);
-  expect_refused(parse_edited(bytes, entry1 + 9 * 8 + 4 * 8, 8, zero.bytes()), "rig entry 1 has an invalid frustum");
+  expect_refused(parse_edited(bytes, entry1 + 9 * 8 + 4 * 8, 8, zero.bytes()),
+                 "rig entry 1 has an invalid frustum");
   // Bytes past the statistics.
   expect_refused(parse_edited(bytes, bytes.size(), 0, {0}), "unexpected bytes");
 }

@@ -69,7 +69,8 @@ class Corruption : public ::testing::Test {
   static std::optional<uint32_t> frame_at(uint64_t offset) {
     for (uint32_t f = 0; f < index_->frames.size(); ++f) {
       const FrameRecord& frame = index_->frames[f];
-      if (offset >= frame.chunk_offset && offset < frame.chunk_offset + frame.payload_size + kChunkOverhead) return f;
+      if (offset >= frame.chunk_offset && offset < frame.chunk_offset + frame.payload_size + kChunkOverhead)
+        return f;
     }
     return std::nullopt;
   }
@@ -182,9 +183,10 @@ TEST_F(Corruption, OneByteChangedAtEveryOffset) {
     if (const auto frame = frame_at(offset)) EXPECT_GE(outcome.faces_failed, 1) << what;
   }
   EXPECT_EQ(refused + reported, static_cast<int>(bytes_->size()));
-  std::printf("corruption sweep: %zu offsets, %d refused at open (prelude/index), %d opened and reported by "
-              "verify, %d face decodes failed in all\n",
-              bytes_->size(), refused, reported, faces_lost);
+  std::printf(
+      "corruption sweep: %zu offsets, %d refused at open (prelude/index), %d opened and reported by "
+      "verify, %d face decodes failed in all\n",
+      bytes_->size(), refused, reported, faces_lost);
 }
 
 }  // namespace

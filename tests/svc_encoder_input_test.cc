@@ -256,10 +256,11 @@ TEST_F(EncoderInput, AddRejectsBadInputWithoutTouchingTheFile) {
   EXPECT_EQ(std::vector<char>((std::istreambuf_iterator<char>(again)), {}), before);
   if (cli_exists()) {
     EXPECT_NE(std::system((cli().string() + " add --quiet \"" + file.string() + "\" \"" + db.string() +
-                           "\" >/dev/null 2>&1").c_str()),
-              0);
-    EXPECT_NE(std::system((cli().string() + " add --quiet /no/such.svc \"" + db.string() + "\" >/dev/null 2>&1")
+                           "\" >/dev/null 2>&1")
                               .c_str()),
+              0);
+    EXPECT_NE(std::system(
+                  (cli().string() + " add --quiet /no/such.svc \"" + db.string() + "\" >/dev/null 2>&1").c_str()),
               0);
   }
 }

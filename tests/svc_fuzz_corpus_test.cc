@@ -103,10 +103,11 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
     for (int refs : {1, 2}) {
       codec::BFrameParams params;
       params.quant_scale = 12;
-      const std::vector<uint8_t> b =
-          codec::encode_b_frame(source, ref0, refs == 2 ? &ref1 : nullptr, candidates, candidates, &warp,
-                                refs == 2 ? &warp : nullptr, params, nullptr, nullptr);
-      seeds["seed-b" + std::to_string(refs) + "-" + size] = fuzz::make_frame_input(static_cast<uint8_t>(refs), w, h, b);
+      const std::vector<uint8_t> b = codec::encode_b_frame(source, ref0, refs == 2 ? &ref1 : nullptr, candidates,
+                                                           candidates, &warp, refs == 2 ? &warp : nullptr, params,
+                                                           nullptr, nullptr);
+      seeds["seed-b" + std::to_string(refs) + "-" + size] =
+          fuzz::make_frame_input(static_cast<uint8_t>(refs), w, h, b);
     }
   }
   return seeds;

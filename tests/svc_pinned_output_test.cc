@@ -98,7 +98,8 @@ std::string scene_input_sha256(const samples::SceneOptions& options) {
         EXPECT_TRUE(rendered.ok()) << rendered.status().to_string();
         if (!rendered.ok()) return "";
         hash.update(rendered->color.pixels);
-        hash.update({reinterpret_cast<const uint8_t*>(rendered->depth.data()), rendered->depth.size() * sizeof(float)});
+        hash.update(
+            {reinterpret_cast<const uint8_t*>(rendered->depth.data()), rendered->depth.size() * sizeof(float)});
         hash.update({reinterpret_cast<const uint8_t*>(rendered->world_to_camera.data()),
                      rendered->world_to_camera.size() * sizeof(double)});
       }

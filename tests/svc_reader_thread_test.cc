@@ -82,7 +82,8 @@ TEST_F(ReaderThreads, EightThreadsOnRandomCellsEqualSequentialDecode) {
         const size_t c = rng() % cells.size();
         if (t == 0) {
           // One thread plays the viewer, so prefetch workers join in.
-          if (!reader.set_viewer(cells[c].index, {1.0 * (rng() % 3) - 1, 0, 1.0 * (rng() % 3) - 1}).ok()) ++failures;
+          if (!reader.set_viewer(cells[c].index, {1.0 * (rng() % 3) - 1, 0, 1.0 * (rng() % 3) - 1}).ok())
+            ++failures;
         }
         if (i % 5 == 0) {
           auto cube = reader.decode_cube(cells[c].index);
@@ -154,8 +155,7 @@ TEST_F(ReaderThreads, ConcurrentRequestsForOneFaceDecodeItOnce) {
   EXPECT_EQ(stats.predicted_faces_decoded, frame_count() - intra);
   EXPECT_EQ(stats.face_cache.insertions, frame_count());
   EXPECT_EQ(stats.face_cache.misses, frame_count());
-  EXPECT_EQ(stats.face_cache.hits + stats.face_cache.misses + stats.face_cache.in_flight_waits,
-            8 * frame_count());
+  EXPECT_EQ(stats.face_cache.hits + stats.face_cache.misses + stats.face_cache.in_flight_waits, 8 * frame_count());
   EXPECT_EQ(stats.face_cache.evictions, 0u);
 }
 
@@ -220,8 +220,8 @@ TEST_F(ReaderThreads, CloseDuringPrefetchIsPromptAndClean) {
         std::mt19937 rng(round * 10 + t);
         for (int i = 0; i < 40; ++i) {
           const size_t frame = rng() % frame_count();
-          auto image = reader->acquire_face_ycbcr(reader->cells()[frame / kFaceCount].index,
-                                                  kAllFaces[frame % kFaceCount]);
+          auto image =
+              reader->acquire_face_ycbcr(reader->cells()[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]);
           if (image.ok() ? !same_image(**image, reference(frame))
                          : image.status().code() != ErrorCode::kCancelled) {
             ++wrong;

@@ -127,7 +127,8 @@ TEST_F(RoundTrip, RandomAccessEqualsSequentialDecode) {
   const auto& cells = (*sequential)->cells();
   for (size_t c = 0; c < cells.size(); ++c) {
     for (Face face : kAllFaces) {
-      expected[{static_cast<int>(c), static_cast<int>(face)}] = (*sequential)->decode_face(cells[c].index, face)->pixels;
+      expected[{static_cast<int>(c), static_cast<int>(face)}] =
+          (*sequential)->decode_face(cells[c].index, face)->pixels;
     }
   }
   auto random = Reader::open(file);
@@ -204,7 +205,8 @@ TEST_F(RoundTrip, FailedEncodeLeavesNothingAtTheOutputPath) {
 
   // A cancelled encode keeps an existing file untouched.
   std::ofstream(file) << "previous";
-  auto cancelled = encode_database(db(), file, EncoderSettings{}, [](uint64_t done, uint64_t) { return done < 10; });
+  auto cancelled =
+      encode_database(db(), file, EncoderSettings{}, [](uint64_t done, uint64_t) { return done < 10; });
   EXPECT_EQ(cancelled.status().code(), ErrorCode::kCancelled);
   EXPECT_EQ(file_bytes(file), (std::vector<uint8_t>{'p', 'r', 'e', 'v', 'i', 'o', 'u', 's'}));
   for (const auto& entry : fs::directory_iterator(dir_->path())) {

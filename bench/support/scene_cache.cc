@@ -8,7 +8,8 @@ namespace svc::bench {
 
 Result<std::unique_ptr<SceneFaces>> SceneFaces::generate(const samples::SceneOptions& options) {
   auto scene = std::make_unique<SceneFaces>();
-  scene->work_dir = std::filesystem::temp_directory_path() / ("svc-bench-" + std::to_string(std::random_device{}()));
+  scene->work_dir =
+      std::filesystem::temp_directory_path() / ("svc-bench-" + std::to_string(std::random_device{}()));
   scene->db_dir = scene->work_dir / "db";
   SVC_RETURN_IF_ERROR(samples::generate_scene(options, scene->db_dir));
   SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest, load_manifest(scene->db_dir));

@@ -22,7 +22,7 @@ class SceneFaces {
   std::filesystem::path work_dir;  // scratch space for encoded files
   std::filesystem::path db_dir;    // the svc-input database
   std::array<int, 3> dims{1, 1, 1};
-  std::vector<CellIndex> cells;    // manifest order (y, z, x)
+  std::vector<CellIndex> cells;  // manifest order (y, z, x)
 
   const ImageRGB8& face(size_t cell, Face f) const { return faces_[cell * kFaceCount + static_cast<int>(f)]; }
   size_t ordinal_of(const CellIndex& cell) const;

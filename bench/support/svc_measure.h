@@ -9,7 +9,7 @@
 namespace svc::bench {
 
 struct SvcMeasurement {
-  RdPoint point;         // setting = quant_scale; seconds = encode time
+  RdPoint point;  // setting = quant_scale; seconds = encode time
   EncodeSummary summary;
 };
 

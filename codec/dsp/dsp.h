@@ -29,11 +29,11 @@ unsigned active_cpu_flags();
 // sample u of `count` sits at X = x16 + 16 u + ((sx + u step_x + round) >> shift) in
 // 1/16 pel (Y likewise, with y16 fixed), every tap inside the plane.
 struct WarpRow {
-  int x16, y16;          // 16 x (block column), 16 x (block row)
-  int sx, sy;            // weighted node sums at the first sample
-  int step_x, step_y;    // their change per sample
-  int shift;             // 9 (luma) or 8 (chroma); round = 1 << (shift - 1)
-  int count;             // 8 or 16
+  int x16, y16;        // 16 x (block column), 16 x (block row)
+  int sx, sy;          // weighted node sums at the first sample
+  int step_x, step_y;  // their change per sample
+  int shift;           // 9 (luma) or 8 (chroma); round = 1 << (shift - 1)
+  int count;           // 8 or 16
 };
 
 struct DspTable {
@@ -44,8 +44,8 @@ struct DspTable {
 
   // Quantizes 64 coefficients: level = trunc(|c| inverse_step[i] + rounding) capped at
   // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.
-  int (*quantize_8x8)(const float* coefficients, const float* inverse_step, float rounding_dc,
-                      float rounding_ac, int16_t* levels);
+  int (*quantize_8x8)(const float* coefficients, const float* inverse_step, float rounding_dc, float rounding_ac,
+                      int16_t* levels);
   // coefficient = sign(level) ((|level| scale[i] + 8) >> 4) saturated to [-2048, 2047].
   void (*dequantize_8x8)(const int16_t* levels, const int32_t* scale, int16_t* coefficients);
 
@@ -53,15 +53,13 @@ struct DspTable {
   // chroma from two RGB rows (row1 may equal row0; odd widths replicate the last pixel);
   // one RGB row from luma and a half-width chroma row.
   void (*rgb_to_luma_row)(const uint8_t* rgb, int width, uint8_t* y);
-  void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb,
-                            uint8_t* cr);
-  void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width,
-                           uint8_t* rgb);
+  void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
+  void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
   // Half-pel interpolation of a width x height block (fx, fy in {0, 1}) from a window
   // holding (width + fx) x (height + fy) samples; sizes up to 64.
-  void (*put_half_pel)(const uint8_t* window, ptrdiff_t window_stride, int width, int height,
-                       int fx, int fy, uint8_t* out, ptrdiff_t out_stride);
+  void (*put_half_pel)(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
+                       uint8_t* out, ptrdiff_t out_stride);
   // (a + b + 1) >> 1 per sample; out may alias a or b.
   void (*average)(const uint8_t* a, const uint8_t* b, int count, uint8_t* out);
   // SAD of a 16x16 block against 256 packed samples.

@@ -39,10 +39,10 @@ void forward_dct_8x8_c(const float* samples, float* coefficients) {
       diff[x] = s[x] - s[7 - x];
     }
     for (int k = 0; k < 4; ++k) {
-      tmp[8 * y + 2 * k] = b.even[k][0] * sum[0] + b.even[k][1] * sum[1] + b.even[k][2] * sum[2] +
-                           b.even[k][3] * sum[3];
-      tmp[8 * y + 2 * k + 1] = b.odd[k][0] * diff[0] + b.odd[k][1] * diff[1] +
-                               b.odd[k][2] * diff[2] + b.odd[k][3] * diff[3];
+      tmp[8 * y + 2 * k] =
+          b.even[k][0] * sum[0] + b.even[k][1] * sum[1] + b.even[k][2] * sum[2] + b.even[k][3] * sum[3];
+      tmp[8 * y + 2 * k + 1] =
+          b.odd[k][0] * diff[0] + b.odd[k][1] * diff[1] + b.odd[k][2] * diff[2] + b.odd[k][3] * diff[3];
     }
   }
   // Columns.
@@ -53,10 +53,10 @@ void forward_dct_8x8_c(const float* samples, float* coefficients) {
       diff[y] = tmp[8 * y + u] - tmp[8 * (7 - y) + u];
     }
     for (int k = 0; k < 4; ++k) {
-      coefficients[8 * (2 * k) + u] = b.even[k][0] * sum[0] + b.even[k][1] * sum[1] +
-                                      b.even[k][2] * sum[2] + b.even[k][3] * sum[3];
-      coefficients[8 * (2 * k + 1) + u] = b.odd[k][0] * diff[0] + b.odd[k][1] * diff[1] +
-                                          b.odd[k][2] * diff[2] + b.odd[k][3] * diff[3];
+      coefficients[8 * (2 * k) + u] =
+          b.even[k][0] * sum[0] + b.even[k][1] * sum[1] + b.even[k][2] * sum[2] + b.even[k][3] * sum[3];
+      coefficients[8 * (2 * k + 1) + u] =
+          b.odd[k][0] * diff[0] + b.odd[k][1] * diff[1] + b.odd[k][2] * diff[2] + b.odd[k][3] * diff[3];
     }
   }
 }
@@ -69,10 +69,9 @@ inline void idct_1d(const In* in, int stride, int shift, int* out) {
   const Acc f4 = in[4 * stride], f5 = in[5 * stride], f6 = in[6 * stride], f7 = in[7 * stride];
   const Acc rounding = Acc{1} << (shift - 1);
   for (int x = 0; x < 4; ++x) {
-    const Acc even = kIdctBasis[0][x] * f0 + kIdctBasis[2][x] * f2 + kIdctBasis[4][x] * f4 +
-                     kIdctBasis[6][x] * f6 + rounding;
-    const Acc odd = kIdctBasis[1][x] * f1 + kIdctBasis[3][x] * f3 + kIdctBasis[5][x] * f5 +
-                    kIdctBasis[7][x] * f7;
+    const Acc even =
+        kIdctBasis[0][x] * f0 + kIdctBasis[2][x] * f2 + kIdctBasis[4][x] * f4 + kIdctBasis[6][x] * f6 + rounding;
+    const Acc odd = kIdctBasis[1][x] * f1 + kIdctBasis[3][x] * f3 + kIdctBasis[5][x] * f5 + kIdctBasis[7][x] * f7;
     out[x] = static_cast<int>((even + odd) >> shift);
     out[7 - x] = static_cast<int>((even - odd) >> shift);
   }
@@ -84,8 +83,8 @@ void inverse_dct_8x8_c(const int16_t* coefficients, int16_t* samples) {
   if (dc_only) {
     // The general path below yields this same value at every position.
     const int row = (kIdctBasis[0][0] * coefficients[0] + (1 << (kIdctRowShift - 1))) >> kIdctRowShift;
-    const int value = static_cast<int>(
-        (int64_t{kIdctBasis[0][0]} * row + (int64_t{1} << (kIdctColumnShift - 1))) >> kIdctColumnShift);
+    const int value = static_cast<int>((int64_t{kIdctBasis[0][0]} * row + (int64_t{1} << (kIdctColumnShift - 1))) >>
+                                       kIdctColumnShift);
     for (int i = 0; i < 64; ++i) samples[i] = static_cast<int16_t>(value);
     return;
   }

@@ -12,9 +12,9 @@ void warp_row_c(const uint8_t* plane, ptrdiff_t stride, const WarpRow& r, uint8_
     const int X = r.x16 + 16 * u + ((sx + round) >> r.shift), Y = r.y16 + ((sy + round) >> r.shift);
     const uint8_t* p = plane + (Y >> 4) * stride + (X >> 4);
     const int fx = X & 15, fy = Y & 15;
-    out[u] = static_cast<uint8_t>(
-        ((16 - fx) * (16 - fy) * p[0] + fx * (16 - fy) * p[1] + (16 - fx) * fy * p[stride] + fx * fy * p[stride + 1] +
-         128) >> 8);
+    out[u] = static_cast<uint8_t>(((16 - fx) * (16 - fy) * p[0] + fx * (16 - fy) * p[1] +
+                                   (16 - fx) * fy * p[stride] + fx * fy * p[stride + 1] + 128) >>
+                                  8);
   }
 }
 

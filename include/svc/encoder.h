@@ -49,10 +49,8 @@ using EncodeProgress = std::function<bool(uint64_t done, uint64_t total)>;
 // complete: on any error (bad input, unwritable path, cancel) nothing is left at
 // `out_path` and an existing file there is untouched. Errors name the cell, face and
 // file at fault. Thread-safe: independent calls may run concurrently.
-Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
-                                      const std::filesystem::path& out_path,
-                                      const EncoderSettings& settings,
-                                      const EncodeProgress& progress = {});
+Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
+                                      const EncoderSettings& settings, const EncodeProgress& progress = {});
 
 // --- Incremental additions (docs/format.md, "Incremental additions") ---------------------
 
@@ -63,15 +61,15 @@ struct AddSettings {
 };
 
 struct AddSummary {
-  uint64_t cells_before = 0;    // cells in the file before
-  uint64_t cells_added = 0;     // cells of the database that were not in the file
-  uint64_t cells_present = 0;   // cells of the database already in the file (left as they were)
+  uint64_t cells_before = 0;   // cells in the file before
+  uint64_t cells_added = 0;    // cells of the database that were not in the file
+  uint64_t cells_present = 0;  // cells of the database already in the file (left as they were)
   uint64_t intra_cells_added = 0;
   uint64_t predicted_cells_added = 0;
   uint64_t faces_added = 0;
-  uint64_t bytes_appended = 0;  // face chunks and the new index
-  uint64_t file_bytes = 0;      // size of the file after the commit
-  uint64_t generation = 0;      // commit generation now in use
+  uint64_t bytes_appended = 0;                // face chunks and the new index
+  uint64_t file_bytes = 0;                    // size of the file after the commit
+  uint64_t generation = 0;                    // commit generation now in use
   std::array<int32_t, 3> grid_dims{0, 0, 0};  // of the file after the commit
   double seconds = 0;
 };

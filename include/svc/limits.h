@@ -10,12 +10,12 @@
 namespace svc {
 
 struct ReaderLimits {
-  uint32_t max_face_dimension = 16384;         // width or height of a face, pixels
-  uint64_t max_face_pixels = 64ull << 20;      // width * height
-  uint64_t max_cells = 1u << 22;               // cells in the index
-  uint64_t max_index_bytes = 1ull << 30;       // size of the index chunk
-  uint64_t max_frame_bytes = 256ull << 20;     // one coded face
-  int32_t max_grid_dimension = 1 << 20;        // cells along one axis
+  uint32_t max_face_dimension = 16384;      // width or height of a face, pixels
+  uint64_t max_face_pixels = 64ull << 20;   // width * height
+  uint64_t max_cells = 1u << 22;            // cells in the index
+  uint64_t max_index_bytes = 1ull << 30;    // size of the index chunk
+  uint64_t max_frame_bytes = 256ull << 20;  // one coded face
+  int32_t max_grid_dimension = 1 << 20;     // cells along one axis
 };
 
 }  // namespace svc

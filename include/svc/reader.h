@@ -64,8 +64,8 @@ ReaderSettings default_reader_settings();
 
 struct FaceEntry {
   FaceType type = FaceType::kIntra;
-  uint64_t offset = 0;      // file offset of the face's chunk
-  uint64_t coded_bytes = 0; // coded payload size
+  uint64_t offset = 0;       // file offset of the face's chunk
+  uint64_t coded_bytes = 0;  // coded payload size
   // Faces this one is predicted from: (cell ordinal, face). Empty for an I-face.
   std::vector<std::pair<uint32_t, Face>> references;
 };
@@ -89,9 +89,9 @@ struct InspectedFace {
 
 struct CellEntry {
   CellIndex index;
-  std::array<double, 3> position{0, 0, 0};      // camera centre
-  std::array<Camera, kFaceCount> cameras;       // indexed by Face
-  std::array<FaceEntry, kFaceCount> faces;      // indexed by Face
+  std::array<double, 3> position{0, 0, 0};  // camera centre
+  std::array<Camera, kFaceCount> cameras;   // indexed by Face
+  std::array<FaceEntry, kFaceCount> faces;  // indexed by Face
 };
 
 struct FileInfo {
@@ -103,10 +103,10 @@ struct FileInfo {
   std::array<int32_t, 3> grid_dims{0, 0, 0};
   std::array<double, 3> grid_origin{0, 0, 0};
   std::array<double, 3> grid_spacing{1, 1, 1};
-  int quality = 0;       // 0 when the file was encoded with an explicit quantiser scale
+  int quality = 0;  // 0 when the file was encoded with an explicit quantiser scale
   int quant_scale = 0;
   std::array<int32_t, 3> i_spacing{1, 1, 1};
-  std::string motion;    // "depth" or "logarithmic"
+  std::string motion;  // "depth" or "logarithmic"
   char up_axis = 'y';
 };
 
@@ -119,10 +119,10 @@ struct CacheCounters {
   uint64_t in_flight_waits = 0;  // waited for the same decode already running elsewhere
   uint64_t prefetch_lookups = 0;
   uint64_t insertions = 0;
-  uint64_t evictions = 0;        // entries dropped to stay within the budget
-  uint64_t entries = 0;          // held now
-  uint64_t bytes_held = 0;       // held now (values plus bookkeeping), <= budget_bytes
-  uint64_t peak_bytes = 0;       // most ever held, <= budget_bytes
+  uint64_t evictions = 0;   // entries dropped to stay within the budget
+  uint64_t entries = 0;     // held now
+  uint64_t bytes_held = 0;  // held now (values plus bookkeeping), <= budget_bytes
+  uint64_t peak_bytes = 0;  // most ever held, <= budget_bytes
   uint64_t budget_bytes = 0;
 };
 
@@ -131,10 +131,10 @@ struct ReaderStats {
   CacheCounters face_cache;         // decoded faces
   uint64_t bytes_read = 0;          // face chunk bytes read from the file (with framing)
   uint64_t chunks_read = 0;
-  uint64_t intra_faces_parsed = 0;      // I-face entropy decodes
-  uint64_t predicted_faces_decoded = 0; // B-face decodes
-  uint64_t prefetch_faces = 0;          // faces decoded by prefetch workers
-  uint64_t prefetch_dropped = 0;        // queued prefetch faces dropped (viewer moved, close)
+  uint64_t intra_faces_parsed = 0;       // I-face entropy decodes
+  uint64_t predicted_faces_decoded = 0;  // B-face decodes
+  uint64_t prefetch_faces = 0;           // faces decoded by prefetch workers
+  uint64_t prefetch_dropped = 0;         // queued prefetch faces dropped (viewer moved, close)
 };
 
 class Reader {

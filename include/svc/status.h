@@ -50,7 +50,7 @@ class [[nodiscard]] Status {
 template <typename T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : value_(std::move(value)) {}  // NOLINT: implicit by design
+  Result(T value) : value_(std::move(value)) {}         // NOLINT: implicit by design
   Result(Status status) : status_(std::move(status)) {  // NOLINT: implicit by design
     if (status_.ok()) status_ = Status(ErrorCode::kInternal, "Result constructed from ok Status");
   }
@@ -78,9 +78,9 @@ class [[nodiscard]] Result {
 #define SVC_STATUS_CONCAT(a, b) SVC_STATUS_CONCAT_INNER(a, b)
 
 // Returns the Status from the enclosing function when `expr` is not ok.
-#define SVC_RETURN_IF_ERROR(expr)                 \
-  do {                                            \
-    ::svc::Status svc_status_tmp_ = (expr);       \
+#define SVC_RETURN_IF_ERROR(expr)                      \
+  do {                                                 \
+    ::svc::Status svc_status_tmp_ = (expr);            \
     if (!svc_status_tmp_.ok()) return svc_status_tmp_; \
   } while (0)
 

@@ -77,7 +77,7 @@ struct FaceTypeStats {
   uint64_t mb_forward = 0;
   uint64_t mb_backward = 0;
   uint64_t mb_bidirectional = 0;
-  uint64_t mb_skipped = 0;       // predicted with no residual
+  uint64_t mb_skipped = 0;         // predicted with no residual
   uint64_t candidate_vectors = 0;  // unique candidates summed over predicted faces' macroblocks
   uint64_t candidate_macroblocks = 0;
 };

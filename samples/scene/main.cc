@@ -37,18 +37,18 @@ bool parse_list(const std::string& text, std::vector<T>* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Write a procedural (or, with --textures, photographic) architectural scene as an\nsvc-input database."};
+  CLI::App app{
+      "Write a procedural (or, with --textures, photographic) architectural scene as an\nsvc-input database."};
   std::string out_dir, kind = "hall", grid = "9,1,9", spacing = "0.5,1.0,0.5";
   svc::samples::SceneOptions options;
   bool quiet = false;
   app.add_option("OUT_DIR", out_dir, "Output directory (created if missing)")->required();
-  app.add_option("--kind", kind, "Scene: hall or house")->capture_default_str()
+  app.add_option("--kind", kind, "Scene: hall or house")
+      ->capture_default_str()
       ->check(CLI::IsMember({"hall", "house"}));
   app.add_option("--grid", grid, "Cells along x,y,z (y counts layers)")->capture_default_str();
-  app.add_option("--spacing", spacing, "Cell spacing in metres: S or SX,SY,SZ")
-      ->capture_default_str();
-  app.add_option("--face-size", options.face_size, "Square face size in pixels")
-      ->capture_default_str();
+  app.add_option("--spacing", spacing, "Cell spacing in metres: S or SX,SY,SZ")->capture_default_str();
+  app.add_option("--face-size", options.face_size, "Square face size in pixels")->capture_default_str();
   app.add_option("--seed", options.seed, "Layout and texture variation")->capture_default_str();
   app.add_option("--threads", options.threads, "Faces rendered at once (output is identical)")
       ->capture_default_str();
@@ -74,8 +74,7 @@ int main(int argc, char** argv) {
   }
   std::vector<double> steps;
   if (!parse_list(spacing, &steps) || (steps.size() != 1 && steps.size() != 3)) {
-    std::fprintf(stderr, "svc-scene: --spacing wants S or SX,SY,SZ, got \"%s\"\n",
-                 spacing.c_str());
+    std::fprintf(stderr, "svc-scene: --spacing wants S or SX,SY,SZ, got \"%s\"\n", spacing.c_str());
     return 2;
   }
   options.grid = {dims[0], dims[1], dims[2]};
@@ -85,27 +84,24 @@ int main(int argc, char** argv) {
   const bool show_progress = !quiet && ::isatty(STDERR_FILENO);
   int cells_written = 0;
   const auto start = std::chrono::steady_clock::now();
-  const svc::Status status =
-      svc::samples::generate_scene(options, out_dir, [&](int done, int total) {
-        cells_written = done;
-        if (show_progress) {
-          std::fprintf(stderr, "\rsvc-scene: cell %d/%d", done, total);
-          if (done == total) std::fputc('\n', stderr);
-          std::fflush(stderr);
-        }
-      });
+  const svc::Status status = svc::samples::generate_scene(options, out_dir, [&](int done, int total) {
+    cells_written = done;
+    if (show_progress) {
+      std::fprintf(stderr, "\rsvc-scene: cell %d/%d", done, total);
+      if (done == total) std::fputc('\n', stderr);
+      std::fflush(stderr);
+    }
+  });
   if (!status.ok()) {
     if (show_progress) std::fputc('\n', stderr);
     std::fprintf(stderr, "svc-scene: %s\n", status.to_string().c_str());
     return 1;
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet) {
     std::printf("svc-scene: wrote %s%s scene, %d cells (%d faces of %dx%d) to %s in %.1f s\n",
-                options.textures.empty() ? "" : "photographic ",
-                svc::samples::scene_kind_name(options.kind), cells_written, cells_written * 6,
-                options.face_size, options.face_size, out_dir.c_str(), seconds);
+                options.textures.empty() ? "" : "photographic ", svc::samples::scene_kind_name(options.kind),
+                cells_written, cells_written * 6, options.face_size, options.face_size, out_dir.c_str(), seconds);
   }
   return 0;
 }

@@ -35,15 +35,13 @@ std::array<double, 16> to_array(const glm::dmat4& m) {
 Status write_color_png(const std::filesystem::path& path, int size, const uint8_t* rgb) {
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out) {
-    return Status(ErrorCode::kIoError,
-                  "no PNG writer for " + path.string() + ": " + OIIO::geterror());
+    return Status(ErrorCode::kIoError, "no PNG writer for " + path.string() + ": " + OIIO::geterror());
   }
   // A bare spec: no date or software tags, so that the bytes depend on the pixels alone.
   OIIO::ImageSpec spec(size, size, 3, OIIO::TypeDesc::UINT8);
   // Fast zlib level: textured renders barely compress better at higher levels.
   spec.attribute("png:compressionLevel", 3);
-  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb) ||
-      !out->close()) {
+  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb) || !out->close()) {
     return Status(ErrorCode::kIoError, "cannot write " + path.string() + ": " + out->geterror());
   }
   return Status::Ok();
@@ -52,8 +50,7 @@ Status write_color_png(const std::filesystem::path& path, int size, const uint8_
 Status write_depth_exr(const std::filesystem::path& path, int size, const float* depth) {
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out) {
-    return Status(ErrorCode::kIoError,
-                  "no OpenEXR writer for " + path.string() + ": " + OIIO::geterror());
+    return Status(ErrorCode::kIoError, "no OpenEXR writer for " + path.string() + ": " + OIIO::geterror());
   }
   OIIO::ImageSpec spec(size, size, 1, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"Z"};
@@ -61,15 +58,13 @@ Status write_depth_exr(const std::filesystem::path& path, int size, const float*
   // The EXR writer stamps the current time unless given one; an empty stamp keeps the
   // bytes reproducible.
   spec.attribute("DateTime", "");
-  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, depth) ||
-      !out->close()) {
+  if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, depth) || !out->close()) {
     return Status(ErrorCode::kIoError, "cannot write " + path.string() + ": " + out->geterror());
   }
   return Status::Ok();
 }
 
-std::vector<SceneCellInfo> cell_infos(const SceneOptions& options,
-                                      const detail::Scene& scene) {
+std::vector<SceneCellInfo> cell_infos(const SceneOptions& options, const detail::Scene& scene) {
   std::vector<SceneCellInfo> cells;
   cells.reserve(static_cast<size_t>(options.grid[0]) * options.grid[1] * options.grid[2]);
   for (int y = 0; y < options.grid[1]; ++y) {
@@ -121,37 +116,31 @@ bool parse_scene_kind(const std::string& name, SceneKind* out) {
 
 Status validate_scene_options(const SceneOptions& options) {
   if (options.kind != SceneKind::kHall && options.kind != SceneKind::kHouse) {
-    return Status(ErrorCode::kInvalidArgument, "scene kind " +
-                                                   std::to_string(static_cast<int>(options.kind)) +
-                                                   " is neither hall nor house");
+    return Status(ErrorCode::kInvalidArgument,
+                  "scene kind " + std::to_string(static_cast<int>(options.kind)) + " is neither hall nor house");
   }
   const char* axes[3] = {"x", "y", "z"};
   int64_t cells = 1;
   for (int a = 0; a < 3; ++a) {
     if (options.grid[a] < 1 || options.grid[a] > 1024) {
       return Status(ErrorCode::kInvalidArgument, std::string("grid ") + axes[a] + " = " +
-                                                     std::to_string(options.grid[a]) +
-                                                     " is outside 1..1024");
+                                                     std::to_string(options.grid[a]) + " is outside 1..1024");
     }
     cells *= options.grid[a];
-    if (!std::isfinite(options.spacing[a]) || options.spacing[a] <= 0 ||
-        options.spacing[a] > 100) {
+    if (!std::isfinite(options.spacing[a]) || options.spacing[a] <= 0 || options.spacing[a] > 100) {
       return Status(ErrorCode::kInvalidArgument, std::string("spacing ") + axes[a] + " = " +
-                                                     std::to_string(options.spacing[a]) +
-                                                     " is outside (0, 100]");
+                                                     std::to_string(options.spacing[a]) + " is outside (0, 100]");
     }
   }
   if (cells > 1000000) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "grid has " + std::to_string(cells) + " cells, more than 1000000");
+    return Status(ErrorCode::kInvalidArgument, "grid has " + std::to_string(cells) + " cells, more than 1000000");
   }
   if (options.face_size < 4 || options.face_size > 8192) {
     return Status(ErrorCode::kInvalidArgument,
                   "face_size " + std::to_string(options.face_size) + " is outside 4..8192");
   }
   if (options.threads < 1 || options.threads > 256) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "threads " + std::to_string(options.threads) + " is outside 1..256");
+    return Status(ErrorCode::kInvalidArgument, "threads " + std::to_string(options.threads) + " is outside 1..256");
   }
   return Status::Ok();
 }
@@ -171,8 +160,8 @@ Result<std::vector<SceneCellInfo>> describe_scene_cells(const SceneOptions& opti
 
 Result<SceneFace> render_scene_face(const SceneOptions& options, CellIndex cell, Face face) {
   SVC_RETURN_IF_ERROR(validate_scene_options(options));
-  if (cell.x < 0 || cell.x >= options.grid[0] || cell.y < 0 || cell.y >= options.grid[1] ||
-      cell.z < 0 || cell.z >= options.grid[2]) {
+  if (cell.x < 0 || cell.x >= options.grid[0] || cell.y < 0 || cell.y >= options.grid[1] || cell.z < 0 ||
+      cell.z >= options.grid[2]) {
     return Status(ErrorCode::kInvalidArgument, cell_label(cell) + " is outside the grid");
   }
   const int face_index = static_cast<int>(face);
@@ -225,8 +214,7 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
     const std::string rel_dir = "cells/" + cell_dir_name(cell.index);
     std::filesystem::create_directories(out_dir / rel_dir, ec);
     if (ec) {
-      return Status(ErrorCode::kIoError,
-                    "cannot create " + (out_dir / rel_dir).string() + ": " + ec.message());
+      return Status(ErrorCode::kIoError, "cannot create " + (out_dir / rel_dir).string() + ": " + ec.message());
     }
     const detail::Vec3 eye(cell.position[0], cell.position[1], cell.position[2]);
     glm::dmat4 views[kFaceCount];
@@ -269,12 +257,9 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
                            {"sparse", options.sparse}};
   // The images used, relative to the texture folder: where it lies does not matter.
   if (!scene.texture_names.empty()) manifest["generator"]["textures"] = scene.texture_names;
-  manifest["grid"] = {{"dims", options.grid},
-                      {"origin", scene_grid_origin(options)},
-                      {"spacing", options.spacing}};
+  manifest["grid"] = {{"dims", options.grid}, {"origin", scene_grid_origin(options)}, {"spacing", options.spacing}};
   manifest["face_size"] = {n, n};
-  manifest["projection"] = {
-      {"fov_y_degrees", kSceneFovYDegrees}, {"near", kSceneNear}, {"far", kSceneFar}};
+  manifest["projection"] = {{"fov_y_degrees", kSceneFovYDegrees}, {"near", kSceneNear}, {"far", kSceneFar}};
   manifest["depth"] = "eye_z";
   manifest["up_axis"] = "y";
   manifest["cells"] = std::move(cells_json);

@@ -24,12 +24,12 @@ bool parse_scene_kind(const std::string& name, SceneKind* out);
 
 struct SceneOptions {
   SceneKind kind = SceneKind::kHall;
-  std::array<int, 3> grid{9, 1, 9};         // cells along x, y (layers), z
+  std::array<int, 3> grid{9, 1, 9};  // cells along x, y (layers), z
   std::array<double, 3> spacing{0.5, 1.0, 0.5};
-  int face_size = 256;                      // square faces, pixels
-  uint32_t seed = 1;                        // texture and layout variation
-  bool sparse = false;                      // drop cells that fall inside solid geometry
-  int threads = 1;  // faces rendered at once; the output bytes do not depend on it
+  int face_size = 256;  // square faces, pixels
+  uint32_t seed = 1;    // texture and layout variation
+  bool sparse = false;  // drop cells that fall inside solid geometry
+  int threads = 1;      // faces rendered at once; the output bytes do not depend on it
   // Photographic variant: a folder of images (searched recursively) mapped onto the
   // surfaces and the sky in place of the procedural patterns; empty for procedural.
   std::filesystem::path textures;
@@ -44,15 +44,15 @@ Status validate_scene_options(const SceneOptions& options);
 struct SceneCellInfo {
   CellIndex index;
   std::array<double, 3> position{};  // camera centre: origin + index * spacing
-  int room = 0;               // house: room holding the centre; hall: 0; -1 outside
-  bool inside_solid = false;  // centre inside geometry: left out of sparse databases
+  int room = 0;                      // house: room holding the centre; hall: 0; -1 outside
+  bool inside_solid = false;         // centre inside geometry: left out of sparse databases
 };
 Result<std::vector<SceneCellInfo>> describe_scene_cells(const SceneOptions& options);
 
 // One face rendered in memory, exactly as generate_scene writes it.
 struct SceneFace {
-  ImageRGB8 color;                 // sRGB, row 0 at the top
-  std::vector<float> depth;        // eye-space z, +inf where the ray saw sky
+  ImageRGB8 color;                           // sRGB, row 0 at the top
+  std::vector<float> depth;                  // eye-space z, +inf where the ray saw sky
   std::array<double, 16> world_to_camera{};  // column-major OpenGL view matrix
 };
 Result<SceneFace> render_scene_face(const SceneOptions& options, CellIndex cell, Face face);

@@ -16,16 +16,13 @@ namespace {
 constexpr double kInvZero = 1e300;
 
 // Slab test of a box; returns the entry/exit interval clipped to (t_min, t_max).
-inline bool slab(const Vec3& lo, const Vec3& hi, const Ray& ray, double t_min, double t_max,
-                 double* t_enter) {
+inline bool slab(const Vec3& lo, const Vec3& hi, const Ray& ray, double t_min, double t_max, double* t_enter) {
   // Branch-free min/max per axis; compiles to minsd/maxsd.
   const double ax = (lo.x - ray.origin.x) * ray.inv_dir.x, bx = (hi.x - ray.origin.x) * ray.inv_dir.x;
   const double ay = (lo.y - ray.origin.y) * ray.inv_dir.y, by = (hi.y - ray.origin.y) * ray.inv_dir.y;
   const double az = (lo.z - ray.origin.z) * ray.inv_dir.z, bz = (hi.z - ray.origin.z) * ray.inv_dir.z;
-  const double t0 = std::max(std::max(std::min(ax, bx), std::min(ay, by)),
-                             std::max(std::min(az, bz), t_min));
-  const double t1 = std::min(std::min(std::max(ax, bx), std::max(ay, by)),
-                             std::min(std::max(az, bz), t_max));
+  const double t0 = std::max(std::max(std::min(ax, bx), std::min(ay, by)), std::max(std::min(az, bz), t_min));
+  const double t1 = std::min(std::min(std::max(ax, bx), std::max(ay, by)), std::min(std::max(az, bz), t_max));
   *t_enter = t0;
   return t0 <= t1;
 }
@@ -39,8 +36,14 @@ bool intersect_box(const Primitive& p, const Ray& ray, double t_min, double t_ma
     double near_t = (p.lo[a] - ray.origin[a]) * ray.inv_dir[a];
     double far_t = (p.hi[a] - ray.origin[a]) * ray.inv_dir[a];
     if (near_t > far_t) std::swap(near_t, far_t);
-    if (near_t > t_in) { t_in = near_t; axis_in = a; }
-    if (far_t < t_out) { t_out = far_t; axis_out = a; }
+    if (near_t > t_in) {
+      t_in = near_t;
+      axis_in = a;
+    }
+    if (far_t < t_out) {
+      t_out = far_t;
+      axis_out = a;
+    }
   }
   if (t_in > t_out) return false;
   double t;
@@ -64,8 +67,7 @@ bool intersect_box(const Primitive& p, const Ray& ray, double t_min, double t_ma
   return true;
 }
 
-bool intersect_cylinder(const Primitive& p, const Ray& ray, double t_min, double t_max,
-                        Hit* hit) {
+bool intersect_cylinder(const Primitive& p, const Ray& ray, double t_min, double t_max, Hit* hit) {
   const int ax = p.axis, a = (ax + 1) % 3, b = (ax + 2) % 3;
   const double oa = ray.origin[a] - p.centre_a, ob = ray.origin[b] - p.centre_b;
   const double da = ray.dir[a], db = ray.dir[b];
@@ -118,11 +120,9 @@ bool intersect_cylinder(const Primitive& p, const Ray& ray, double t_min, double
 
 // Keeps the nearest hit; on an exact tie (coplanar faces of touching boxes) the lower
 // primitive index wins, so that every traversal order picks the same surface.
-inline bool consider(const Primitive& prim, int index, const Ray& ray, double t_min, Hit* best,
-                     bool found) {
+inline bool consider(const Primitive& prim, int index, const Ray& ray, double t_min, Hit* best, bool found) {
   Hit candidate;
-  const double limit = found ? std::nextafter(best->t, std::numeric_limits<double>::infinity())
-                             : best->t;
+  const double limit = found ? std::nextafter(best->t, std::numeric_limits<double>::infinity()) : best->t;
   if (!intersect(prim, ray, t_min, limit, &candidate)) return false;
   if (found && candidate.t == best->t && index > best->primitive) return false;
   candidate.primitive = index;
@@ -147,8 +147,8 @@ Primitive make_box(const Vec3& lo, const Vec3& hi, uint16_t material) {
   return p;
 }
 
-Primitive make_cylinder(int axis, double centre_a, double centre_b, double radius, double from,
-                        double to, uint16_t material) {
+Primitive make_cylinder(int axis, double centre_a, double centre_b, double radius, double from, double to,
+                        uint16_t material) {
   Primitive p;
   p.shape = Shape::kCylinder;
   p.axis = axis;
@@ -286,8 +286,7 @@ bool Bvh::closest(const Ray& ray, double t_min, double t_max, Hit* hit) const {
       }
       continue;
     }
-    const double best = found ? std::nextafter(hit->t, std::numeric_limits<double>::infinity())
-                              : hit->t;
+    const double best = found ? std::nextafter(hit->t, std::numeric_limits<double>::infinity()) : hit->t;
     // Visit the nearer child first so that `best` shrinks early.
     double t_left, t_right;
     const int l = node.first, r = node.first + 1;
@@ -339,8 +338,8 @@ bool Bvh::inside_any(const Vec3& point) const {
   return false;
 }
 
-void frustum_candidates(const std::vector<Primitive>& prims, const Vec3& eye,
-                        const Vec3 corners[4], std::vector<Candidate>* out) {
+void frustum_candidates(const std::vector<Primitive>& prims, const Vec3& eye, const Vec3 corners[4],
+                        std::vector<Candidate>* out) {
   out->clear();
   const Vec3 centre = corners[0] + corners[1] + corners[2] + corners[3];
   Vec3 normals[4];
@@ -362,13 +361,12 @@ void frustum_candidates(const std::vector<Primitive>& prims, const Vec3& eye,
     const Vec3 nearest = glm::clamp(Vec3(0.0), lo, hi);
     out->push_back({static_cast<int>(i), glm::length(nearest)});
   }
-  std::stable_sort(out->begin(), out->end(), [](const Candidate& a, const Candidate& b) {
-    return a.min_distance < b.min_distance;
-  });
+  std::stable_sort(out->begin(), out->end(),
+                   [](const Candidate& a, const Candidate& b) { return a.min_distance < b.min_distance; });
 }
 
-bool closest_among(const std::vector<Primitive>& prims, const std::vector<Candidate>& candidates,
-                   const Ray& ray, double t_min, double t_max, Hit* hit) {
+bool closest_among(const std::vector<Primitive>& prims, const std::vector<Candidate>& candidates, const Ray& ray,
+                   double t_min, double t_max, Hit* hit) {
   const double dir_length = glm::length(ray.dir);
   bool found = false;
   hit->t = t_max;
@@ -379,8 +377,8 @@ bool closest_among(const std::vector<Primitive>& prims, const std::vector<Candid
   return found;
 }
 
-bool closest_brute_force(const std::vector<Primitive>& prims, const Ray& ray, double t_min,
-                         double t_max, Hit* hit) {
+bool closest_brute_force(const std::vector<Primitive>& prims, const Ray& ray, double t_min, double t_max,
+                         Hit* hit) {
   bool found = false;
   hit->t = t_max;
   for (size_t i = 0; i < prims.size(); ++i) {

@@ -22,8 +22,8 @@ struct Ray {
 Ray make_ray(const Vec3& origin, const Vec3& dir);
 
 enum class Shape : uint8_t {
-  kBox,        // axis-aligned box [lo, hi]
-  kCylinder,   // capped circular cylinder along axis `axis`, spanning [lo, hi] on it
+  kBox,       // axis-aligned box [lo, hi]
+  kCylinder,  // capped circular cylinder along axis `axis`, spanning [lo, hi] on it
 };
 
 struct Primitive {
@@ -39,8 +39,8 @@ struct Primitive {
 Primitive make_box(const Vec3& lo, const Vec3& hi, uint16_t material);
 // Cylinder along `axis` with its centre line through (`centre_a`, `centre_b`) on the other
 // two axes (in (axis+1)%3, (axis+2)%3 order), spanning [from, to] along the axis.
-Primitive make_cylinder(int axis, double centre_a, double centre_b, double radius, double from,
-                        double to, uint16_t material);
+Primitive make_cylinder(int axis, double centre_a, double centre_b, double radius, double from, double to,
+                        uint16_t material);
 
 struct Hit {
   double t = 0;
@@ -89,17 +89,16 @@ struct Candidate {
 // Primitives whose bounds meet the pyramid from `eye` spanned by the four corner ray
 // directions of a tile (in order around the tile), nearest bounds first. Every ray from
 // `eye` whose direction is a positive combination of the corners can only hit these.
-void frustum_candidates(const std::vector<Primitive>& prims, const Vec3& eye,
-                        const Vec3 corners[4], std::vector<Candidate>* out);
+void frustum_candidates(const std::vector<Primitive>& prims, const Vec3& eye, const Vec3 corners[4],
+                        std::vector<Candidate>* out);
 
 // Nearest hit among `candidates` (sorted as frustum_candidates leaves them), stopping once
 // the remaining bounds are farther than the best hit. Same result as closest_brute_force
 // for rays inside the tile's pyramid.
-bool closest_among(const std::vector<Primitive>& prims, const std::vector<Candidate>& candidates,
-                   const Ray& ray, double t_min, double t_max, Hit* hit);
+bool closest_among(const std::vector<Primitive>& prims, const std::vector<Candidate>& candidates, const Ray& ray,
+                   double t_min, double t_max, Hit* hit);
 
 // Reference for the Bvh and the tile culling: tests every primitive.
-bool closest_brute_force(const std::vector<Primitive>& prims, const Ray& ray, double t_min,
-                         double t_max, Hit* hit);
+bool closest_brute_force(const std::vector<Primitive>& prims, const Ray& ray, double t_min, double t_max, Hit* hit);
 
 }  // namespace svc::samples::detail

@@ -30,18 +30,16 @@ class Random {
 };
 
 struct Opening {
-  double from, to;      // along the wall
-  double bottom, top;   // heights
+  double from, to;     // along the wall
+  double bottom, top;  // heights
 };
 
 // A wall running along axis `along` (0 = x, 2 = z), occupying [across0, across1] on the
 // other horizontal axis, [from, to] along its length and [0, height] vertically, with
 // rectangular openings cut through it. Openings must lie inside and not overlap.
-void add_wall(std::vector<Primitive>* prims, int along, double across0, double across1,
-              double from, double to, double height, std::vector<Opening> openings,
-              uint16_t material) {
-  std::sort(openings.begin(), openings.end(),
-            [](const Opening& a, const Opening& b) { return a.from < b.from; });
+void add_wall(std::vector<Primitive>* prims, int along, double across0, double across1, double from, double to,
+              double height, std::vector<Opening> openings, uint16_t material) {
+  std::sort(openings.begin(), openings.end(), [](const Opening& a, const Opening& b) { return a.from < b.from; });
   auto box = [&](double a0, double a1, double y0, double y1) {
     if (a1 - a0 <= 1e-9 || y1 - y0 <= 1e-9) return;
     Vec3 lo, hi;
@@ -117,32 +115,31 @@ void build_hall(const SceneOptions& options, Scene* scene) {
   scene->lo_z = -hz;
   scene->hi_z = hz;
 
-  const uint16_t floor_tiles = add_material(
-      scene, mat(Pattern::kTiles, {0.40, 0.38, 0.35}, {0.16, 0.15, 0.14}, 0.6, 0.10));
-  const uint16_t bricks = add_material(
-      scene, mat(Pattern::kBricks, {0.34, 0.12, 0.07}, {0.46, 0.44, 0.40}, 0.25, 0.30));
-  const uint16_t concrete = add_material(
-      scene, mat(Pattern::kConcrete, {0.42, 0.41, 0.39}, {0.30, 0.29, 0.28}, 1.2, 0.08));
-  const uint16_t roof = add_material(
-      scene, mat(Pattern::kPanels, {0.55, 0.55, 0.56}, {0.25, 0.25, 0.27}, 1.0, 0.05));
-  const uint16_t column = add_material(
-      scene, mat(Pattern::kConcrete, {0.55, 0.53, 0.50}, {0.40, 0.39, 0.37}, 0.9, 0.05));
-  const uint16_t plinth = add_material(
-      scene, mat(Pattern::kConcrete, {0.30, 0.30, 0.31}, {0.22, 0.22, 0.23}, 0.5, 0.05));
-  const uint16_t red_pipe = add_material(
-      scene, mat(Pattern::kMetal, {0.42, 0.07, 0.04}, {0.15, 0.03, 0.02}, 3.0, 0.1));
-  const uint16_t grey_pipe = add_material(
-      scene, mat(Pattern::kMetal, {0.33, 0.35, 0.37}, {0.15, 0.15, 0.16}, 2.5, 0.1));
-  const uint16_t green_pipe = add_material(
-      scene, mat(Pattern::kMetal, {0.10, 0.26, 0.14}, {0.04, 0.10, 0.05}, 2.0, 0.1));
-  const uint16_t beam = add_material(
-      scene, mat(Pattern::kMetal, {0.10, 0.17, 0.32}, {0.04, 0.07, 0.12}, 4.0, 0.1));
-  const uint16_t crate = add_material(
-      scene, mat(Pattern::kPlanks, {0.46, 0.31, 0.15}, {0.10, 0.07, 0.04}, 0.14, 0.25));
-  const uint16_t crate_dark = add_material(
-      scene, mat(Pattern::kPlanks, {0.30, 0.18, 0.09}, {0.07, 0.05, 0.03}, 0.11, 0.2));
-  scene->ground_material = add_material(
-      scene, mat(Pattern::kGround, {0.13, 0.17, 0.06}, {0.22, 0.18, 0.12}, 1.0, 0.2));
+  const uint16_t floor_tiles =
+      add_material(scene, mat(Pattern::kTiles, {0.40, 0.38, 0.35}, {0.16, 0.15, 0.14}, 0.6, 0.10));
+  const uint16_t bricks =
+      add_material(scene, mat(Pattern::kBricks, {0.34, 0.12, 0.07}, {0.46, 0.44, 0.40}, 0.25, 0.30));
+  const uint16_t concrete =
+      add_material(scene, mat(Pattern::kConcrete, {0.42, 0.41, 0.39}, {0.30, 0.29, 0.28}, 1.2, 0.08));
+  const uint16_t roof =
+      add_material(scene, mat(Pattern::kPanels, {0.55, 0.55, 0.56}, {0.25, 0.25, 0.27}, 1.0, 0.05));
+  const uint16_t column =
+      add_material(scene, mat(Pattern::kConcrete, {0.55, 0.53, 0.50}, {0.40, 0.39, 0.37}, 0.9, 0.05));
+  const uint16_t plinth =
+      add_material(scene, mat(Pattern::kConcrete, {0.30, 0.30, 0.31}, {0.22, 0.22, 0.23}, 0.5, 0.05));
+  const uint16_t red_pipe =
+      add_material(scene, mat(Pattern::kMetal, {0.42, 0.07, 0.04}, {0.15, 0.03, 0.02}, 3.0, 0.1));
+  const uint16_t grey_pipe =
+      add_material(scene, mat(Pattern::kMetal, {0.33, 0.35, 0.37}, {0.15, 0.15, 0.16}, 2.5, 0.1));
+  const uint16_t green_pipe =
+      add_material(scene, mat(Pattern::kMetal, {0.10, 0.26, 0.14}, {0.04, 0.10, 0.05}, 2.0, 0.1));
+  const uint16_t beam = add_material(scene, mat(Pattern::kMetal, {0.10, 0.17, 0.32}, {0.04, 0.07, 0.12}, 4.0, 0.1));
+  const uint16_t crate =
+      add_material(scene, mat(Pattern::kPlanks, {0.46, 0.31, 0.15}, {0.10, 0.07, 0.04}, 0.14, 0.25));
+  const uint16_t crate_dark =
+      add_material(scene, mat(Pattern::kPlanks, {0.30, 0.18, 0.09}, {0.07, 0.05, 0.03}, 0.11, 0.2));
+  scene->ground_material =
+      add_material(scene, mat(Pattern::kGround, {0.13, 0.17, 0.06}, {0.22, 0.18, 0.12}, 1.0, 0.2));
 
   std::vector<Primitive> prims;
   // Floor slab; the ground plane outside lies just below its top.
@@ -185,7 +182,9 @@ void build_hall(const SceneOptions& options, Scene* scene) {
   const double radius = 0.22;
   const auto column_x = lattice(scene->origin.x, options.spacing[0], -hx + 0.6, hx - 0.6, 3.0, 0.5);
   const auto column_z = lattice(scene->origin.z, options.spacing[2], -hz + 0.6, hz - 0.6, 3.0, 0.5);
-  struct Disc { double x, z, r; };
+  struct Disc {
+    double x, z, r;
+  };
   std::vector<Disc> keep_out;
   for (double x : column_x) {
     for (double z : column_z) {
@@ -241,8 +240,7 @@ void build_hall(const SceneOptions& options, Scene* scene) {
         const double h2 = std::min(rng.uniform(0.35, 0.6), 1.4 - h);
         const double ox = rng.uniform(-0.05, 0.05);
         prims.push_back(make_box({x + ox - s * w / 2, h, z - s * d / 2},
-                                 {x + ox + s * w / 2, h + h2, z + s * d / 2},
-                                 m == crate ? crate_dark : crate));
+                                 {x + ox + s * w / 2, h + h2, z + s * d / 2}, m == crate ? crate_dark : crate));
       }
       keep_out.push_back({x, z, std::max(w, d) / 2 + 0.1});
       break;
@@ -264,7 +262,8 @@ std::vector<double> room_cuts(int cells, double origin, double spacing) {
   int previous = -1;
   for (int r = 1; r < rooms; ++r) {
     int last_cell = cells * r / rooms - 1;
-    if (cells >= 6) last_cell = std::clamp(static_cast<int>(std::lround((last_cell + 1) / 3.0)) * 3 - 1, 0, cells - 2);
+    if (cells >= 6)
+      last_cell = std::clamp(static_cast<int>(std::lround((last_cell + 1) / 3.0)) * 3 - 1, 0, cells - 2);
     if (last_cell <= previous) continue;
     previous = last_cell;
     cuts.push_back(origin + (last_cell + 0.5) * spacing);
@@ -310,16 +309,16 @@ void build_house(const SceneOptions& options, Scene* scene) {
   std::vector<uint16_t> wall_ids, floor_ids;
   for (const auto& m : wall_styles) wall_ids.push_back(add_material(scene, m));
   for (const auto& m : floor_styles) floor_ids.push_back(add_material(scene, m));
-  const uint16_t ceiling_paint = add_material(
-      scene, mat(Pattern::kPlaster, {0.78, 0.78, 0.76}, {0.7, 0.7, 0.68}, 1.0, 0.03));
-  scene->exterior_wall = add_material(
-      scene, mat(Pattern::kConcrete, {0.55, 0.52, 0.46}, {0.45, 0.43, 0.38}, 1.5, 0.05));
-  const uint16_t wood = add_material(
-      scene, mat(Pattern::kPlanks, {0.28, 0.16, 0.08}, {0.08, 0.05, 0.02}, 0.2, 0.15));
-  const uint16_t painted = add_material(
-      scene, mat(Pattern::kPlaster, {0.62, 0.62, 0.58}, {0.5, 0.5, 0.46}, 1.0, 0.03));
-  scene->ground_material = add_material(
-      scene, mat(Pattern::kGround, {0.13, 0.17, 0.06}, {0.22, 0.18, 0.12}, 1.0, 0.2));
+  const uint16_t ceiling_paint =
+      add_material(scene, mat(Pattern::kPlaster, {0.78, 0.78, 0.76}, {0.7, 0.7, 0.68}, 1.0, 0.03));
+  scene->exterior_wall =
+      add_material(scene, mat(Pattern::kConcrete, {0.55, 0.52, 0.46}, {0.45, 0.43, 0.38}, 1.5, 0.05));
+  const uint16_t wood =
+      add_material(scene, mat(Pattern::kPlanks, {0.28, 0.16, 0.08}, {0.08, 0.05, 0.02}, 0.2, 0.15));
+  const uint16_t painted =
+      add_material(scene, mat(Pattern::kPlaster, {0.62, 0.62, 0.58}, {0.5, 0.5, 0.46}, 1.0, 0.03));
+  scene->ground_material =
+      add_material(scene, mat(Pattern::kGround, {0.13, 0.17, 0.06}, {0.22, 0.18, 0.12}, 1.0, 0.2));
 
   std::vector<double> bx = {scene->lo_x}, bz = {scene->lo_z};
   bx.insert(bx.end(), scene->cuts_x.begin(), scene->cuts_x.end());
@@ -360,7 +359,9 @@ void build_house(const SceneOptions& options, Scene* scene) {
                            {scene->hi_x + outer, 0.0, scene->hi_z + outer}, kRoomFloor));
 
   // Regions furniture must keep clear of: in front of doors and windows.
-  struct Area { double x0, z0, x1, z1; };
+  struct Area {
+    double x0, z0, x1, z1;
+  };
   std::vector<Area> keep_clear;
 
   // Interior walls with one door per room pair.
@@ -377,8 +378,7 @@ void build_house(const SceneOptions& options, Scene* scene) {
     for (int rz = 0; rz < rooms_z; ++rz) {
       auto doors = door_in(bz[rz], bz[rz + 1]);
       for (const auto& d : doors) keep_clear.push_back({x - 0.9, d.from - 0.1, x + 0.9, d.to + 0.1});
-      add_wall(&prims, 2, x - inner / 2, x + inner / 2, bz[rz], bz[rz + 1], wall_top, doors,
-               kRoomWall);
+      add_wall(&prims, 2, x - inner / 2, x + inner / 2, bz[rz], bz[rz + 1], wall_top, doors, kRoomWall);
     }
   }
   for (size_t i = 0; i < scene->cuts_z.size(); ++i) {
@@ -386,8 +386,7 @@ void build_house(const SceneOptions& options, Scene* scene) {
     for (int rx = 0; rx < rooms_x; ++rx) {
       auto doors = door_in(bx[rx], bx[rx + 1]);
       for (const auto& d : doors) keep_clear.push_back({d.from - 0.1, z - 0.9, d.to + 0.1, z + 0.9});
-      add_wall(&prims, 0, z - inner / 2, z + inner / 2, bx[rx], bx[rx + 1], wall_top, doors,
-               kRoomWall);
+      add_wall(&prims, 0, z - inner / 2, z + inner / 2, bx[rx], bx[rx + 1], wall_top, doors, kRoomWall);
     }
   }
 
@@ -411,8 +410,7 @@ void build_house(const SceneOptions& options, Scene* scene) {
         keep_clear.push_back({w.from - 0.1, z - 0.7, w.to + 0.1, z + 0.7});
       }
     }
-    add_wall(&prims, 0, z0, z1, scene->lo_x - outer, scene->hi_x + outer, wall_top, openings,
-             kRoomWall);
+    add_wall(&prims, 0, z0, z1, scene->lo_x - outer, scene->hi_x + outer, wall_top, openings, kRoomWall);
   }
   for (int side = 0; side < 2; ++side) {
     const double x = side == 0 ? scene->lo_x : scene->hi_x;

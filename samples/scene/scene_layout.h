@@ -28,9 +28,9 @@ enum class Pattern : uint8_t {
 
 struct Material {
   Pattern pattern = Pattern::kPlaster;
-  Vec3 base{0.5};     // linear albedo
-  Vec3 second{0.3};   // grout, mortar, gap, second stripe or earth colour
-  double scale = 1;   // element size in metres (tile, brick length, plank width, period)
+  Vec3 base{0.5};          // linear albedo
+  Vec3 second{0.3};        // grout, mortar, gap, second stripe or earth colour
+  double scale = 1;        // element size in metres (tile, brick length, plank width, period)
   double variation = 0.1;  // per-element brightness variation
   uint32_t seed = 0;
   // Photographic scenes: index into Scene::textures (-1: the procedural pattern), the
@@ -67,8 +67,8 @@ struct Scene {
 
   // House rooms: an rx x rz arrangement split at interior wall centre lines.
   double lo_x = 0, hi_x = 0, lo_z = 0, hi_z = 0;  // interior bounds of the building
-  std::vector<double> cuts_x, cuts_z;              // ascending
-  std::vector<Room> rooms;                         // index rz * rooms_x + rx
+  std::vector<double> cuts_x, cuts_z;             // ascending
+  std::vector<Room> rooms;                        // index rz * rooms_x + rx
   uint16_t exterior_wall = 0;
 
   // Photographic scenes: the images materials refer to, their file names relative to
@@ -82,9 +82,7 @@ struct Scene {
   Vec3 origin{0.0}, spacing{1.0};
   std::array<int, 3> dims{1, 1, 1};
 
-  Vec3 cell_position(int ix, int iy, int iz) const {
-    return origin + Vec3(ix, iy, iz) * spacing;
-  }
+  Vec3 cell_position(int ix, int iy, int iz) const { return origin + Vec3(ix, iy, iz) * spacing; }
   // Room holding (x, z), or -1 outside the building; the hall is one room (0).
   int room_at(double x, double z) const;
 };

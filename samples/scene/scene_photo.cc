@@ -12,18 +12,16 @@ namespace svc::samples::detail {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kTextureSkipWords = {
-    "_lm", "light", "glow", "blend", "fx", "_ow", "spec", "norm", "bump", "mask",
-    "alpha", "trim", "flare", "fog", "liquid", "decal", "button", "lava", "water", "slime"};
+const std::vector<std::string> kTextureSkipWords = {"_lm",    "light", "glow",   "blend", "fx",    "_ow",   "spec",
+                                                    "norm",   "bump",  "mask",   "alpha", "trim",  "flare", "fog",
+                                                    "liquid", "decal", "button", "lava",  "water", "slime"};
 
 namespace {
 
-constexpr std::array<const char*, 7> kImageExtensions = {".jpg", ".jpeg", ".tga", ".png",
-                                                         ".bmp", ".tif", ".tiff"};
+constexpr std::array<const char*, 7> kImageExtensions = {".jpg", ".jpeg", ".tga", ".png", ".bmp", ".tif", ".tiff"};
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
@@ -238,8 +236,7 @@ std::vector<std::string> usable_textures(const std::vector<std::string>& files, 
   return out;
 }
 
-std::vector<std::string> texture_candidates(const std::vector<std::string>& files, TextureClass c,
-                                            uint32_t seed) {
+std::vector<std::string> texture_candidates(const std::vector<std::string>& files, TextureClass c, uint32_t seed) {
   const std::vector<std::string> usable = usable_textures(files, seed);
   std::vector<std::string> matching;
   for (const std::string& name : usable) {
@@ -252,8 +249,7 @@ Status apply_photo_textures(const fs::path& dir, uint32_t seed, Scene* scene) {
   SVC_ASSIGN_OR_RETURN(std::vector<std::string> files, list_texture_files(dir));
   TexturePicker picker(dir, std::move(files), seed, scene);
   const auto no_image = [&](TextureClass c) {
-    return Status(ErrorCode::kInvalidArgument, "texture folder " + dir.string() +
-                                                   " has no usable image for " +
+    return Status(ErrorCode::kInvalidArgument, "texture folder " + dir.string() + " has no usable image for " +
                                                    texture_class_name(c) +
                                                    " surfaces (none decodes as an image of "
                                                    "at least 8x8 pixels outside the skipped "

@@ -20,7 +20,15 @@ Result<std::vector<std::string>> list_texture_files(const std::filesystem::path&
 // names with a word of kTextureSkipWords (light maps, glow and blend layers, trims) are
 // never chosen.
 enum class TextureClass : uint8_t {
-  kBrick, kConcrete, kWood, kMetal, kTile, kWall, kCeiling, kGrass, kSky,
+  kBrick,
+  kConcrete,
+  kWood,
+  kMetal,
+  kTile,
+  kWall,
+  kCeiling,
+  kGrass,
+  kSky,
 };
 const char* texture_class_name(TextureClass c);
 const std::vector<std::string>& texture_class_words(TextureClass c);
@@ -32,8 +40,7 @@ std::vector<std::string> usable_textures(const std::vector<std::string>& files, 
 // Candidates for `c` among `files`, in the order they are tried: those whose lower-case
 // path holds one of the class words (all usable files if none does), ordered by a hash
 // of the name and `seed`.
-std::vector<std::string> texture_candidates(const std::vector<std::string>& files,
-                                            TextureClass c, uint32_t seed);
+std::vector<std::string> texture_candidates(const std::vector<std::string>& files, TextureClass c, uint32_t seed);
 
 // Gives every material of `scene` and its sky an image from `dir`: the n-th material of
 // a class takes the n-th candidate that loads (8 to 8192 pixels a side, aspect at most

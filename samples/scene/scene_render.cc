@@ -113,8 +113,8 @@ Vec3 albedo(const Material& m, double u, double v, double fp) {
       const double tint = (hash01(floor_int(u / size), floor_int(v / size), s) - 0.5) * 2;
       const double grain = fbm(u * 6, v * 6, s + 1, 3, fp * 6);
       const double speck = fbm(u * 70, v * 70, s + 2, 2, fp * 70);
-      const Vec3 tile = m.base * (1 + m.variation * tint * detail_fade(size, fp)) *
-                        (0.84 + 0.32 * grain) * (0.9 + 0.2 * speck);
+      const Vec3 tile =
+          m.base * (1 + m.variation * tint * detail_fade(size, fp)) * (0.84 + 0.32 * grain) * (0.9 + 0.2 * speck);
       return mix(tile, m.second, grout) * dirt;
     }
     case Pattern::kBricks: {
@@ -151,8 +151,7 @@ Vec3 albedo(const Material& m, double u, double v, double fp) {
       const double rings = 0.5 + 0.5 * std::sin(2 * kPi * (v * 22 + warp * 3 + idx * 0.37));
       const double grain = fbm(uu * 2, grain_v, s + 1, 4, fp * 30);
       const Vec3 wood = m.base * (1 + m.variation * tint) *
-                        (0.78 + 0.22 * (0.5 + (rings - 0.5) * detail_fade(0.045, fp)) +
-                         0.25 * grain);
+                        (0.78 + 0.22 * (0.5 + (rings - 0.5) * detail_fade(0.045, fp)) + 0.25 * grain);
       return mix(wood, m.second, joint) * dirt;
     }
     case Pattern::kConcrete: {
@@ -160,14 +159,13 @@ Vec3 albedo(const Material& m, double u, double v, double fp) {
       const double lu = filtered_lines(u / pw, 0.008 / pw, fp / pw);
       const double lv = filtered_lines(v / ph, 0.008 / ph, fp / ph);
       const double joint = 1 - (1 - lu) * (1 - lv);
-      const double tint =
-          (hash01(floor_int(u / pw), floor_int(v / ph), s) - 0.5) * 2 * detail_fade(ph, fp);
+      const double tint = (hash01(floor_int(u / pw), floor_int(v / ph), s) - 0.5) * 2 * detail_fade(ph, fp);
       const double mottle = fbm(u * 0.9, v * 0.9, s + 1, 4, fp * 0.9);
       const double fine = fbm(u * 30, v * 30, s + 2, 3, fp * 30);
       const double pores = value_noise(u * 90, v * 90, s + 3);
       const double pore = smoothstep(0.82, 0.9, pores) * detail_fade(0.012, fp);
-      const Vec3 c = m.base * (1 + m.variation * tint) * (0.78 + 0.38 * mottle) *
-                     (0.9 + 0.2 * fine) * (1 - 0.2 * pore);
+      const Vec3 c =
+          m.base * (1 + m.variation * tint) * (0.78 + 0.38 * mottle) * (0.9 + 0.2 * fine) * (1 - 0.2 * pore);
       return mix(c, m.second, joint * 0.7) * dirt;
     }
     case Pattern::kPlaster: {
@@ -247,14 +245,13 @@ class SrgbEncoder {
   SrgbEncoder() {
     for (int code = 1; code <= 255; ++code) {
       const double srgb = (code - 0.5) / 255.0;
-      const double mapped =
-          srgb <= 0.04045 ? srgb / 12.92 : std::pow((srgb + 0.055) / 1.055, 2.4);
+      const double mapped = srgb <= 0.04045 ? srgb / 12.92 : std::pow((srgb + 0.055) / 1.055, 2.4);
       thresholds_[code - 1] = -std::log(1.0 - mapped) / kExposure;
     }
   }
   uint8_t encode(double linear) const {
-    return static_cast<uint8_t>(
-        std::upper_bound(thresholds_.begin(), thresholds_.end(), linear) - thresholds_.begin());
+    return static_cast<uint8_t>(std::upper_bound(thresholds_.begin(), thresholds_.end(), linear) -
+                                thresholds_.begin());
   }
 
  private:
@@ -296,11 +293,9 @@ struct Shaded {
 };
 
 // `candidates`: the primitives the ray's tile can see (frustum_candidates).
-Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, const Ray& ray,
-                 double pixel_angle) {
+Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, const Ray& ray, double pixel_angle) {
   Hit hit;
-  bool found =
-      closest_among(scene.bvh.primitives(), candidates, ray, kNearPlane, kMaxDepth, &hit);
+  bool found = closest_among(scene.bvh.primitives(), candidates, ray, kNearPlane, kMaxDepth, &hit);
   const Primitive* prim = found ? &scene.bvh.primitives()[hit.primitive] : nullptr;
   uint16_t material_id = found ? prim->material : 0;
   // The ground plane outside the building.
@@ -327,9 +322,8 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
   // The room the surface faces decides room-dependent materials, light and ambient.
   const Vec3 probe = p + n * 0.05;
   const int room_index = scene.room_at(probe.x, probe.z);
-  const Room* room = room_index >= 0 && room_index < static_cast<int>(scene.rooms.size())
-                         ? &scene.rooms[room_index]
-                         : nullptr;
+  const Room* room = room_index >= 0 && room_index < static_cast<int>(scene.rooms.size()) ? &scene.rooms[room_index]
+                                                                                          : nullptr;
   if (material_id >= kRoomWall) {
     if (room == nullptr) {
       material_id = scene.exterior_wall;
@@ -353,24 +347,21 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
   // Footprint of a pixel on the surface: grows with depth and with grazing angles.
   const double cos_incidence = std::max(0.2, std::abs(glm::dot(n, unit_dir)));
   const double fp = hit.t * pixel_angle / cos_incidence;
-  Vec3 base = material.texture < 0
-                  ? albedo(material, u, v, fp)
-                  : scene.textures[material.texture].sample(u / material.texture_metres,
-                                                            v / material.texture_metres,
-                                                            fp / material.texture_metres) *
-                        material.texture_gain;
+  Vec3 base = material.texture < 0 ? albedo(material, u, v, fp)
+                                   : scene.textures[material.texture].sample(u / material.texture_metres,
+                                                                             v / material.texture_metres,
+                                                                             fp / material.texture_metres) *
+                                         material.texture_gain;
   // Skirting boards along the foot of house walls.
-  if (scene.kind == SceneKind::kHouse && room != nullptr && std::abs(n.y) < 0.5 && p.y < 0.1 &&
-      p.y > 0.0) {
+  if (scene.kind == SceneKind::kHouse && room != nullptr && std::abs(n.y) < 0.5 && p.y < 0.1 && p.y > 0.0) {
     base = Vec3(0.55, 0.52, 0.47) * (0.9 + 0.1 * fbm(u * 20, v * 20, 77u, 2, fp * 20));
   }
 
   // Sky light from above, bounce light from below; dimmer indoors and near the floor.
   const bool indoors = room != nullptr;
-  double ambient = indoors ? (room->ambient > 0 && scene.kind == SceneKind::kHouse
-                                  ? room->ambient
-                                  : scene.ambient_indoor)
-                           : scene.ambient_outdoor;
+  double ambient =
+      indoors ? (room->ambient > 0 && scene.kind == SceneKind::kHouse ? room->ambient : scene.ambient_indoor)
+              : scene.ambient_outdoor;
   ambient *= 0.75 + 0.25 * smoothstep(0.0, 1.2, p.y);
   const Vec3 sky_light(0.78, 0.86, 1.0), bounce_light(0.5, 0.46, 0.4);
   Vec3 light = mix(bounce_light, sky_light, 0.5 + 0.5 * n.y) * ambient;
@@ -406,10 +397,8 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
 }  // namespace
 
 glm::dmat4 face_view_matrix(const Vec3& eye, int face) {
-  static const Vec3 kForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                   {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  static const Vec3 kUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1},
-                              {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+  static const Vec3 kForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const Vec3 kUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
   return glm::lookAt(eye, eye + kForward[face], kUp[face]);
 }
 
@@ -423,8 +412,8 @@ Vec3 pixel_ray_direction(const glm::dmat4& view, int size, int i, int j) {
   return right * x + up * y - back;
 }
 
-void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, int size,
-                 uint8_t* rgb, float* depth) {
+void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, int size, uint8_t* rgb,
+                 float* depth) {
   static const SrgbEncoder encoder;
   const double pixel_angle = 2.0 / size;
   // Tiles of pixels share one list of the primitives their pyramid of rays can meet.
@@ -434,9 +423,8 @@ void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, in
   for (int tj = 0; tj < size; tj += kTile) {
     for (int ti = 0; ti < size; ti += kTile) {
       const int i1 = std::min(ti + kTile, size) - 1, j1 = std::min(tj + kTile, size) - 1;
-      const Vec3 corners[4] = {
-          pixel_ray_direction(view, size, ti, tj), pixel_ray_direction(view, size, i1, tj),
-          pixel_ray_direction(view, size, i1, j1), pixel_ray_direction(view, size, ti, j1)};
+      const Vec3 corners[4] = {pixel_ray_direction(view, size, ti, tj), pixel_ray_direction(view, size, i1, tj),
+                               pixel_ray_direction(view, size, i1, j1), pixel_ray_direction(view, size, ti, j1)};
       frustum_candidates(scene.bvh.primitives(), eye, corners, &candidates);
       for (int j = tj; j <= j1; ++j) {
         for (int i = ti; i <= i1; ++i) {

@@ -29,7 +29,6 @@ inline constexpr double kFarPlane = 100.0;
 // Renders one square face seen from `eye` through `view` (which must be
 // face_view_matrix(eye, face)): `rgb` receives size*size*3 sRGB bytes, row 0 at the top;
 // `depth` size*size eye-space z values, +inf where the ray saw sky.
-void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, int size,
-                 uint8_t* rgb, float* depth);
+void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, int size, uint8_t* rgb, float* depth);
 
 }  // namespace svc::samples::detail

@@ -16,8 +16,7 @@ int power_of_two_at_most(int n) {
 // Shrinks `count` samples spaced `stride` apart (of `lines` interleaved runs) to
 // `target` by area averaging: each output covers an equal share of the input, partial
 // input texels weighted by their overlap.
-std::vector<float> shrink_axis(const std::vector<float>& in, int count, int target,
-                               int stride, int lines) {
+std::vector<float> shrink_axis(const std::vector<float>& in, int count, int target, int stride, int lines) {
   if (count == target) return in;
   std::vector<float> out(in.size() / count * target);
   const double ratio = static_cast<double>(count) / target;
@@ -56,8 +55,7 @@ Texture::Level Texture::halve(const Level& fine) {
             sum += fine.rgb[(static_cast<size_t>(y * sy + dy) * fine.width + x * sx + dx) * 3 + c];
           }
         }
-        coarse.rgb[(static_cast<size_t>(y) * coarse.width + x) * 3 + c] =
-            static_cast<float>(sum / (sx * sy));
+        coarse.rgb[(static_cast<size_t>(y) * coarse.width + x) * 3 + c] = static_cast<float>(sum / (sx * sy));
       }
     }
   }

@@ -36,11 +36,16 @@ nlohmann::json to_json(const ReplayResult& r) {
       {"prefetch_dropped", s.prefetch_dropped},
       {"memory_held_bytes", r.memory_held},
       {"memory_peak_bytes", r.memory_peak},
-      {"face_cache", {{"entries", s.face_cache.entries}, {"bytes", s.face_cache.bytes_held},
-                      {"budget", s.face_cache.budget_bytes}, {"evictions", s.face_cache.evictions}}},
-      {"coefficient_cache", {{"entries", s.coefficient_cache.entries}, {"bytes", s.coefficient_cache.bytes_held},
-                             {"budget", s.coefficient_cache.budget_bytes},
-                             {"evictions", s.coefficient_cache.evictions}}},
+      {"face_cache",
+       {{"entries", s.face_cache.entries},
+        {"bytes", s.face_cache.bytes_held},
+        {"budget", s.face_cache.budget_bytes},
+        {"evictions", s.face_cache.evictions}}},
+      {"coefficient_cache",
+       {{"entries", s.coefficient_cache.entries},
+        {"bytes", s.coefficient_cache.bytes_held},
+        {"budget", s.coefficient_cache.budget_bytes},
+        {"evictions", s.coefficient_cache.evictions}}},
   };
 }
 
@@ -69,7 +74,8 @@ void print_table(const std::vector<ReplayResult>& runs) {
   row("steps waiting on decoding", [](const ReplayResult& r) { return std::to_string(r.steps_waiting); });
   row("face cache hit rate", [&](const ReplayResult& r) { return fixed(100 * r.face_hit_rate, 1) + " %"; });
   row("semi-decoded I-face hit rate", [&](const ReplayResult& r) {
-    return r.coefficient_hit_rate < 0 ? std::string("- (none asked)") : fixed(100 * r.coefficient_hit_rate, 1) + " %";
+    return r.coefficient_hit_rate < 0 ? std::string("- (none asked)")
+                                      : fixed(100 * r.coefficient_hit_rate, 1) + " %";
   });
   row("faces decoded by prefetch", [](const ReplayResult& r) { return std::to_string(r.stats.prefetch_faces); });
   row("bytes read", [](const ReplayResult& r) { return mib(r.stats.bytes_read); });
@@ -82,8 +88,9 @@ void print_table(const std::vector<ReplayResult>& runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Replays a viewer path through an .svc database and reports the latency of the six faces of "
-               "each cell entered, with background prefetch on and off."};
+  CLI::App app{
+      "Replays a viewer path through an .svc database and reports the latency of the six faces of "
+      "each cell entered, with background prefetch on and off."};
   std::string input, path_file;
   double speed = 1.0;
   bool no_prefetch = false, json = false, realtime = false;
@@ -96,8 +103,9 @@ int main(int argc, char** argv) {
                  "waypoints, one \"x y z\" world position per line, '#' starts a comment "
                  "(default: a serpentine through every cell)")
       ->check(CLI::ExistingFile);
-  app.add_option("--speed", speed, "viewer speed in cells per second")->capture_default_str()->check(
-      CLI::PositiveNumber);
+  app.add_option("--speed", speed, "viewer speed in cells per second")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_flag("--no-prefetch", no_prefetch, "only the run without prefetch");
   app.add_flag("--json", json, "print JSON instead of a table");
   app.add_option("--steps", steps, "stop after this many cells entered; 0 = the whole path")
@@ -108,8 +116,9 @@ int main(int argc, char** argv) {
   app.add_option("--prefetch-threads", settings.prefetch_threads, "prefetch workers")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
-  app.add_option("--face-cache-mb", face_mb, "decoded-face cache budget")->capture_default_str()->check(
-      CLI::NonNegativeNumber);
+  app.add_option("--face-cache-mb", face_mb, "decoded-face cache budget")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--coefficient-cache-mb", coefficient_mb, "semi-decoded I-face cache budget")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -151,8 +160,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (result->steps == 0) {
-      std::fprintf(stderr, "svc-walkthrough: the path never enters a cell of %s (grid origin %g,%g,%g, spacing "
-                   "%g,%g,%g)\n", input.c_str(), info.grid_origin[0], info.grid_origin[1], info.grid_origin[2],
+      std::fprintf(stderr,
+                   "svc-walkthrough: the path never enters a cell of %s (grid origin %g,%g,%g, spacing "
+                   "%g,%g,%g)\n",
+                   input.c_str(), info.grid_origin[0], info.grid_origin[1], info.grid_origin[2],
                    info.grid_spacing[0], info.grid_spacing[1], info.grid_spacing[2]);
       return 1;
     }

@@ -98,7 +98,8 @@ std::vector<Position> builtin_path(const Reader& reader) {
         const int32_t x = ((row + y) % 2 == 0) ? column : info.grid_dims[0] - 1 - column;
         const auto ordinal = reader.find_cell(CellIndex{x, y, z});
         if (!ordinal) continue;
-        path.push_back({info.grid_origin[0] + x * info.grid_spacing[0], info.grid_origin[1] + y * info.grid_spacing[1],
+        path.push_back({info.grid_origin[0] + x * info.grid_spacing[0],
+                        info.grid_origin[1] + y * info.grid_spacing[1],
                         info.grid_origin[2] + z * info.grid_spacing[2]});
       }
     }
@@ -117,10 +118,10 @@ Result<std::vector<Position>> read_path_file(const std::filesystem::path& path) 
     Position p{};
     std::string extra;
     if (!(fields >> std::ws) || fields.eof()) continue;  // blank
-    if (!(fields >> p[0] >> p[1] >> p[2]) || (fields >> extra) || !std::isfinite(p[0]) ||
-        !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      return Status(ErrorCode::kBadInput, path.string() + ":" + std::to_string(number) +
-                                              ": expected three finite numbers \"x y z\"");
+    if (!(fields >> p[0] >> p[1] >> p[2]) || (fields >> extra) || !std::isfinite(p[0]) || !std::isfinite(p[1]) ||
+        !std::isfinite(p[2])) {
+      return Status(ErrorCode::kBadInput,
+                    path.string() + ":" + std::to_string(number) + ": expected three finite numbers \"x y z\"");
     }
     positions.push_back(p);
   }
@@ -161,8 +162,8 @@ Result<ReplayResult> replay(const std::filesystem::path& svc_file, const std::ve
         std::this_thread::sleep_for(std::chrono::duration<double>(remaining));
       } else if (result.prefetch) {
         const Clock::time_point before = Clock::now();
-        if (reader->wait_for_prefetch(std::chrono::duration_cast<std::chrono::milliseconds>(
-                std::chrono::duration<double>(remaining)))) {
+        if (reader->wait_for_prefetch(
+                std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::duration<double>(remaining)))) {
           skipped += std::max(0.0, remaining - seconds_since(before));
         }
       } else {
@@ -195,9 +196,11 @@ Result<ReplayResult> replay(const std::filesystem::path& svc_file, const std::ve
   result.face_hit_rate = face_requests ? static_cast<double>(face_hits) / face_requests : 0;
   result.stats = reader->stats();
   const CacheCounters& c = result.stats.coefficient_cache;
-  const uint64_t lookups = (c.hits - at_start.coefficient_cache.hits) + (c.misses - at_start.coefficient_cache.misses) +
+  const uint64_t lookups = (c.hits - at_start.coefficient_cache.hits) +
+                           (c.misses - at_start.coefficient_cache.misses) +
                            (c.in_flight_waits - at_start.coefficient_cache.in_flight_waits);
-  result.coefficient_hit_rate = lookups ? static_cast<double>(c.hits - at_start.coefficient_cache.hits) / lookups : -1;
+  result.coefficient_hit_rate = lookups ? static_cast<double>(c.hits - at_start.coefficient_cache.hits) / lookups
+                                        : -1;
   result.memory_held = result.stats.face_cache.bytes_held + c.bytes_held;
   result.memory_peak = result.stats.face_cache.peak_bytes + c.peak_bytes;
   return result;

@@ -50,17 +50,17 @@ struct ReplayOptions {
 
 struct ReplayResult {
   bool prefetch = false;
-  int steps = 0;                 // cell entries timed
-  double simulated_seconds = 0;  // the viewer's travel time over those steps
-  double wall_seconds = 0;       // what the replay took (less when idle time was skipped)
-  std::vector<double> latency_ms;  // per step: time to obtain the six faces as RGB
+  int steps = 0;                                           // cell entries timed
+  double simulated_seconds = 0;                            // the viewer's travel time over those steps
+  double wall_seconds = 0;                                 // what the replay took (less when idle time was skipped)
+  std::vector<double> latency_ms;                          // per step: time to obtain the six faces as RGB
   double p50_ms = 0, p99_ms = 0, max_ms = 0, mean_ms = 0;  // nearest-rank percentiles
-  int steps_waiting = 0;         // steps where a face had to be decoded (or awaited)
-  double face_hit_rate = 0;      // of the steps' face requests
+  int steps_waiting = 0;                                   // steps where a face had to be decoded (or awaited)
+  double face_hit_rate = 0;                                // of the steps' face requests
   double coefficient_hit_rate = 0;  // of semi-decoded I-face lookups made for requests; -1: none
-  ReaderStats stats;             // the reader's counters at the end
-  uint64_t memory_held = 0;      // both caches at the end
-  uint64_t memory_peak = 0;      // sum of both caches' peaks
+  ReaderStats stats;                // the reader's counters at the end
+  uint64_t memory_held = 0;         // both caches at the end
+  uint64_t memory_peak = 0;         // sum of both caches' peaks
 };
 
 Result<ReplayResult> replay(const std::filesystem::path& svc_file, const std::vector<Position>& path,

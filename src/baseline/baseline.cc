@@ -28,8 +28,7 @@ namespace {
 constexpr AVRational kTimeBase{1, 25};
 
 bool is_image_codec(AVCodecID id) {
-  return id == AV_CODEC_ID_MJPEG || id == AV_CODEC_ID_PNG || id == AV_CODEC_ID_WEBP ||
-         id == AV_CODEC_ID_JPEGXL;
+  return id == AV_CODEC_ID_MJPEG || id == AV_CODEC_ID_PNG || id == AV_CODEC_ID_WEBP || id == AV_CODEC_ID_JPEGXL;
 }
 
 // Image encoders whose quality (0..100, higher is better) is read from global_quality,
@@ -38,8 +37,8 @@ bool uses_global_quality(AVCodecID id) { return id == AV_CODEC_ID_WEBP || id == 
 
 // Native libavcodec encoders whose quantizer is the qscale (lambda) of mpegvideo.
 bool uses_qscale(AVCodecID id) {
-  return id == AV_CODEC_ID_MPEG2VIDEO || id == AV_CODEC_ID_MPEG1VIDEO ||
-         id == AV_CODEC_ID_MPEG4 || id == AV_CODEC_ID_MJPEG;
+  return id == AV_CODEC_ID_MPEG2VIDEO || id == AV_CODEC_ID_MPEG1VIDEO || id == AV_CODEC_ID_MPEG4 ||
+         id == AV_CODEC_ID_MJPEG;
 }
 
 PictureType picture_type_from_av(int av_type, bool keyframe) {
@@ -55,16 +54,14 @@ PictureType picture_type_from_av(int av_type, bool keyframe) {
   }
 }
 
-Status set_private_option(AVCodecContext* context, const std::string& key,
-                          const std::string& value, const std::string& encoder) {
+Status set_private_option(AVCodecContext* context, const std::string& key, const std::string& value,
+                          const std::string& encoder) {
   const int err = av_opt_set(context->priv_data, key.c_str(), value.c_str(), 0);
   if (err == AVERROR_OPTION_NOT_FOUND) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "encoder " + encoder + " has no option '" + key + "'");
+    return Status(ErrorCode::kInvalidArgument, "encoder " + encoder + " has no option '" + key + "'");
   }
   if (err < 0) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "encoder " + encoder + " rejects " + key + "=" + value);
+    return Status(ErrorCode::kInvalidArgument, "encoder " + encoder + " rejects " + key + "=" + value);
   }
   return Status::Ok();
 }
@@ -72,8 +69,7 @@ Status set_private_option(AVCodecContext* context, const std::string& key,
 bool supports_open_gop(const std::string& codec) { return codec == "libx264" || codec == "libx265"; }
 
 bool has_private_option(AVCodecContext* context, const char* key) {
-  return context->priv_data &&
-         av_opt_find(context->priv_data, key, nullptr, 0, AV_OPT_SEARCH_CHILDREN) != nullptr;
+  return context->priv_data && av_opt_find(context->priv_data, key, nullptr, 0, AV_OPT_SEARCH_CHILDREN) != nullptr;
 }
 
 // Collects the encoder's packets in decode order.
@@ -92,8 +88,7 @@ struct PacketSink {
       record.size = static_cast<uint32_t>(packet->size);
       record.keyframe = (packet->flags & AV_PKT_FLAG_KEY) != 0;
       size_t stats_size = 0;
-      const uint8_t* stats =
-          av_packet_get_side_data(packet, AV_PKT_DATA_QUALITY_STATS, &stats_size);
+      const uint8_t* stats = av_packet_get_side_data(packet, AV_PKT_DATA_QUALITY_STATS, &stats_size);
       av_types.push_back(stats && stats_size >= 5 ? stats[4] : 0);
       sequence->stream.insert(sequence->stream.end(), packet->data, packet->data + packet->size);
       sequence->frames.push_back(std::move(record));
@@ -103,27 +98,24 @@ struct PacketSink {
 };
 
 // Fills picture types, references and the display -> decode map once all packets are in.
-Status finish_index(EncodedSequence* sequence, const std::vector<int>& av_types,
-                    bool intra_only, bool mpeg2_structure, int frame_count) {
+Status finish_index(EncodedSequence* sequence, const std::vector<int>& av_types, bool intra_only,
+                    bool mpeg2_structure, int frame_count) {
   if (sequence->frame_count() != frame_count) {
-    return Status(ErrorCode::kInternal,
-                  "encoder " + sequence->encoder + " returned " +
-                      std::to_string(sequence->frame_count()) + " packets for " +
-                      std::to_string(frame_count) + " frames");
+    return Status(ErrorCode::kInternal, "encoder " + sequence->encoder + " returned " +
+                                            std::to_string(sequence->frame_count()) + " packets for " +
+                                            std::to_string(frame_count) + " frames");
   }
   sequence->decode_position.assign(frame_count, -1);
   for (int position = 0; position < frame_count; ++position) {
     FrameRecord& record = sequence->frames[position];
     if (record.display_index < 0 || record.display_index >= frame_count ||
         sequence->decode_position[record.display_index] != -1) {
-      return Status(ErrorCode::kInternal, "encoder " + sequence->encoder +
-                                              " returned a packet with bad pts " +
+      return Status(ErrorCode::kInternal, "encoder " + sequence->encoder + " returned a packet with bad pts " +
                                               std::to_string(record.display_index));
     }
     sequence->decode_position[record.display_index] = position;
     if (intra_only) record.keyframe = true;
-    record.type = intra_only ? PictureType::kI
-                             : picture_type_from_av(av_types[position], record.keyframe);
+    record.type = intra_only ? PictureType::kI : picture_type_from_av(av_types[position], record.keyframe);
   }
   if (intra_only) return Status::Ok();
   if (mpeg2_structure) {
@@ -136,16 +128,14 @@ Status finish_index(EncodedSequence* sequence, const std::vector<int>& av_types,
 
 // Sends one packet of `sequence` and passes every frame that comes out to `on_frame`.
 template <typename OnFrame>
-Status decode_packet(AVCodecContext* context, const EncodedSequence& sequence,
-                     const FrameRecord* record, AVPacket* packet, AVFrame* frame,
-                     OnFrame&& on_frame) {
+Status decode_packet(AVCodecContext* context, const EncodedSequence& sequence, const FrameRecord* record,
+                     AVPacket* packet, AVFrame* frame, OnFrame&& on_frame) {
   int err = 0;
   if (record) {
     if (record->offset + record->size > sequence.stream.size()) {
       return Status(ErrorCode::kCorruptData,
-                    "frame " + std::to_string(record->display_index) +
-                        " lies outside the stream (offset " + std::to_string(record->offset) +
-                        ", size " + std::to_string(record->size) + ")");
+                    "frame " + std::to_string(record->display_index) + " lies outside the stream (offset " +
+                        std::to_string(record->offset) + ", size " + std::to_string(record->size) + ")");
     }
     av_packet_unref(packet);
     if ((err = av_new_packet(packet, static_cast<int>(record->size))) < 0) {
@@ -183,8 +173,7 @@ FrameSource frames_from_images(const std::vector<ImageRGB8>& images) {
   source.height = images.empty() ? 0 : images.front().height;
   source.load = [&images](int index) -> Result<ImageRGB8> {
     if (index < 0 || index >= static_cast<int>(images.size())) {
-      return Status(ErrorCode::kInvalidArgument, "frame " + std::to_string(index) +
-                                                     " is out of range");
+      return Status(ErrorCode::kInvalidArgument, "frame " + std::to_string(index) + " is out of range");
     }
     return images[index];
   };
@@ -223,9 +212,7 @@ std::vector<int> EncodedSequence::frames_needed(int display_index) const {
   return {needed_positions.begin(), needed_positions.end()};
 }
 
-bool encoder_available(const std::string& name) {
-  return avcodec_find_encoder_by_name(name.c_str()) != nullptr;
-}
+bool encoder_available(const std::string& name) { return avcodec_find_encoder_by_name(name.c_str()) != nullptr; }
 
 std::string first_available_av1_encoder() {
   for (const char* name : {"libaom-av1", "libsvtav1", "librav1e"}) {
@@ -236,48 +223,44 @@ std::string first_available_av1_encoder() {
 
 std::vector<CodecProbe> probe_codecs() {
   std::vector<CodecProbe> probes;
-  for (const char* name : {"mpeg2video", "libx264", "libx265", "libaom-av1", "libsvtav1",
-                           "librav1e", "mjpeg", "png", "libwebp", "libjxl"}) {
+  for (const char* name : {"mpeg2video", "libx264", "libx265", "libaom-av1", "libsvtav1", "librav1e", "mjpeg",
+                           "png", "libwebp", "libjxl"}) {
     const AVCodec* encoder = avcodec_find_encoder_by_name(name);
     probes.push_back({name, encoder && avcodec_find_decoder(encoder->id) != nullptr});
   }
   return probes;
 }
 
-Result<EncodedSequence> encode_sequence(const FrameSource& source,
-                                        std::span<const uint8_t> force_intra,
+Result<EncodedSequence> encode_sequence(const FrameSource& source, std::span<const uint8_t> force_intra,
                                         const EncodeSettings& settings) {
   const AVCodec* encoder = avcodec_find_encoder_by_name(settings.codec.c_str());
   if (!encoder) {
-    return Status(ErrorCode::kUnsupported,
-                  "encoder '" + settings.codec + "' is not in this build of libavcodec");
+    return Status(ErrorCode::kUnsupported, "encoder '" + settings.codec + "' is not in this build of libavcodec");
   }
   if (!avcodec_find_decoder(encoder->id)) {
-    return Status(ErrorCode::kUnsupported, "this build of libavcodec has no decoder for " +
-                                               std::string(avcodec_get_name(encoder->id)));
+    return Status(ErrorCode::kUnsupported,
+                  "this build of libavcodec has no decoder for " + std::string(avcodec_get_name(encoder->id)));
   }
   if (source.frame_count <= 0 || source.width <= 0 || source.height <= 0 || !source.load) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "frame source is empty (" + std::to_string(source.frame_count) + " frames of " +
-                      std::to_string(source.width) + "x" + std::to_string(source.height) + ")");
+    return Status(ErrorCode::kInvalidArgument, "frame source is empty (" + std::to_string(source.frame_count) +
+                                                   " frames of " + std::to_string(source.width) + "x" +
+                                                   std::to_string(source.height) + ")");
   }
   if (!force_intra.empty() && force_intra.size() != static_cast<size_t>(source.frame_count)) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "force_intra has " + std::to_string(force_intra.size()) + " entries for " +
-                      std::to_string(source.frame_count) + " frames");
+    return Status(ErrorCode::kInvalidArgument, "force_intra has " + std::to_string(force_intra.size()) +
+                                                   " entries for " + std::to_string(source.frame_count) +
+                                                   " frames");
   }
-  if (settings.gop_size < 1 || settings.max_b_frames < 0 || settings.threads < 1 ||
-      settings.bit_rate < 0) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "encode settings out of range: gop_size " + std::to_string(settings.gop_size) +
-                      ", max_b_frames " + std::to_string(settings.max_b_frames) + ", threads " +
-                      std::to_string(settings.threads));
+  if (settings.gop_size < 1 || settings.max_b_frames < 0 || settings.threads < 1 || settings.bit_rate < 0) {
+    return Status(ErrorCode::kInvalidArgument, "encode settings out of range: gop_size " +
+                                                   std::to_string(settings.gop_size) + ", max_b_frames " +
+                                                   std::to_string(settings.max_b_frames) + ", threads " +
+                                                   std::to_string(settings.threads));
   }
   const bool qscale = uses_qscale(encoder->id);
   if (settings.bit_rate == 0 && qscale && (settings.quantizer < 1 || settings.quantizer > 31)) {
     return Status(ErrorCode::kInvalidArgument,
-                  settings.codec + " qscale must be 1..31, got " +
-                      std::to_string(settings.quantizer));
+                  settings.codec + " qscale must be 1..31, got " + std::to_string(settings.quantizer));
   }
   if (uses_global_quality(encoder->id) && (settings.quantizer < 0 || settings.quantizer > 100)) {
     return Status(ErrorCode::kInvalidArgument,
@@ -316,10 +299,8 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
     if (!open) context->flags |= AV_CODEC_FLAG_CLOSED_GOP;
     // No scene-change I-frames: the GOP structure comes from the GOP size and the forced
     // row starts alone (mpegvideo also refuses closed GOPs with scene-change detection).
-    if (uses_qscale(encoder->id) &&
-        has_private_option(context.get(), "sc_threshold")) {
-      SVC_RETURN_IF_ERROR(
-          set_private_option(context.get(), "sc_threshold", "1000000000", settings.codec));
+    if (uses_qscale(encoder->id) && has_private_option(context.get(), "sc_threshold")) {
+      SVC_RETURN_IF_ERROR(set_private_option(context.get(), "sc_threshold", "1000000000", settings.codec));
     }
   }
   if (settings.bit_rate > 0 && encoder->id != AV_CODEC_ID_PNG) {
@@ -329,8 +310,7 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
     context->global_quality = settings.quantizer * FF_QP2LAMBDA;
   } else if (encoder->id != AV_CODEC_ID_PNG) {
     const char* key = has_private_option(context.get(), "crf") ? "crf" : "qp";
-    SVC_RETURN_IF_ERROR(set_private_option(context.get(), key, std::to_string(settings.quantizer),
-                                           settings.codec));
+    SVC_RETURN_IF_ERROR(set_private_option(context.get(), key, std::to_string(settings.quantizer), settings.codec));
   }
   // Forced I-frames become IDR/closed keyframes, so decoding can start at them.
   if (encoder->id == AV_CODEC_ID_H264 && has_private_option(context.get(), "forced-idr")) {
@@ -365,9 +345,9 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
     const ImageRGB8& image = loaded.value();
     if (image.width != source.width || image.height != source.height) {
       return Status(ErrorCode::kInvalidArgument,
-                    "frame " + std::to_string(index) + " is " + std::to_string(image.width) +
-                        "x" + std::to_string(image.height) + ", the sequence is " +
-                        std::to_string(source.width) + "x" + std::to_string(source.height));
+                    "frame " + std::to_string(index) + " is " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + ", the sequence is " + std::to_string(source.width) + "x" +
+                        std::to_string(source.height));
     }
     SVC_ASSIGN_OR_RETURN(FramePtr frame, detail::rgb_to_frame(image, format, full_range));
     frame->pts = index;
@@ -376,8 +356,7 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
     const bool forced = intra_only || (!force_intra.empty() && force_intra[index] != 0);
     frame->pict_type = forced ? AV_PICTURE_TYPE_I : AV_PICTURE_TYPE_NONE;
     if (int err = avcodec_send_frame(context.get(), frame.get()); err < 0) {
-      return av_error("encoder " + settings.codec + " rejected frame " + std::to_string(index),
-                      err);
+      return av_error("encoder " + settings.codec + " rejected frame " + std::to_string(index), err);
     }
     SVC_RETURN_IF_ERROR(sink.drain(context.get(), packet.get()));
   }
@@ -388,22 +367,21 @@ Result<EncodedSequence> encode_sequence(const FrameSource& source,
   if (context->extradata_size > 0) {
     sequence.extradata.assign(context->extradata, context->extradata + context->extradata_size);
   }
-  SVC_RETURN_IF_ERROR(finish_index(&sequence, sink.av_types, intra_only,
-                                   encoder->id == AV_CODEC_ID_MPEG2VIDEO, source.frame_count));
+  SVC_RETURN_IF_ERROR(finish_index(&sequence, sink.av_types, intra_only, encoder->id == AV_CODEC_ID_MPEG2VIDEO,
+                                   source.frame_count));
   return sequence;
 }
 
 Result<DecodedFrame> decode_frame(const EncodedSequence& sequence, int display_index) {
   if (display_index < 0 || display_index >= sequence.frame_count() ||
       sequence.decode_position.size() != sequence.frames.size()) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "frame " + std::to_string(display_index) + " is not in the sequence of " +
-                      std::to_string(sequence.frame_count()) + " frames");
+    return Status(ErrorCode::kInvalidArgument, "frame " + std::to_string(display_index) +
+                                                   " is not in the sequence of " +
+                                                   std::to_string(sequence.frame_count()) + " frames");
   }
   const std::vector<int> needed = sequence.frames_needed(display_index);
-  SVC_ASSIGN_OR_RETURN(CodecContextPtr context,
-                       detail::open_decoder(sequence.decoder, sequence.extradata.data(),
-                                            sequence.extradata.size()));
+  SVC_ASSIGN_OR_RETURN(CodecContextPtr context, detail::open_decoder(sequence.decoder, sequence.extradata.data(),
+                                                                     sequence.extradata.size()));
   PacketPtr packet(av_packet_alloc());
   FramePtr frame(av_frame_alloc());
   if (!packet || !frame) return Status(ErrorCode::kInternal, "out of memory (decoder)");
@@ -416,24 +394,22 @@ Result<DecodedFrame> decode_frame(const EncodedSequence& sequence, int display_i
     return Status::Ok();
   };
   for (int position : needed) {
-    SVC_RETURN_IF_ERROR(decode_packet(context.get(), sequence, &sequence.frames[position],
-                                      packet.get(), frame.get(), on_frame));
+    SVC_RETURN_IF_ERROR(
+        decode_packet(context.get(), sequence, &sequence.frames[position], packet.get(), frame.get(), on_frame));
     ++result.frames_decoded;
   }
-  SVC_RETURN_IF_ERROR(
-      decode_packet(context.get(), sequence, nullptr, packet.get(), frame.get(), on_frame));
+  SVC_RETURN_IF_ERROR(decode_packet(context.get(), sequence, nullptr, packet.get(), frame.get(), on_frame));
   if (!found) {
-    return Status(ErrorCode::kCorruptData, "decoder produced no picture for frame " +
-                                               std::to_string(display_index));
+    return Status(ErrorCode::kCorruptData,
+                  "decoder produced no picture for frame " + std::to_string(display_index));
   }
   return result;
 }
 
 Result<std::vector<ImageRGB8>> decode_all(const EncodedSequence& sequence) {
   const int count = sequence.frame_count();
-  SVC_ASSIGN_OR_RETURN(CodecContextPtr context,
-                       detail::open_decoder(sequence.decoder, sequence.extradata.data(),
-                                            sequence.extradata.size()));
+  SVC_ASSIGN_OR_RETURN(CodecContextPtr context, detail::open_decoder(sequence.decoder, sequence.extradata.data(),
+                                                                     sequence.extradata.size()));
   PacketPtr packet(av_packet_alloc());
   FramePtr frame(av_frame_alloc());
   if (!packet || !frame) return Status(ErrorCode::kInternal, "out of memory (decoder)");
@@ -449,15 +425,12 @@ Result<std::vector<ImageRGB8>> decode_all(const EncodedSequence& sequence) {
     return Status::Ok();
   };
   for (const FrameRecord& record : sequence.frames) {
-    SVC_RETURN_IF_ERROR(
-        decode_packet(context.get(), sequence, &record, packet.get(), frame.get(), on_frame));
+    SVC_RETURN_IF_ERROR(decode_packet(context.get(), sequence, &record, packet.get(), frame.get(), on_frame));
   }
-  SVC_RETURN_IF_ERROR(
-      decode_packet(context.get(), sequence, nullptr, packet.get(), frame.get(), on_frame));
+  SVC_RETURN_IF_ERROR(decode_packet(context.get(), sequence, nullptr, packet.get(), frame.get(), on_frame));
   for (int k = 0; k < count; ++k) {
     if (!filled[k]) {
-      return Status(ErrorCode::kCorruptData,
-                    "decoder produced no picture for frame " + std::to_string(k));
+      return Status(ErrorCode::kCorruptData, "decoder produced no picture for frame " + std::to_string(k));
     }
   }
   return images;
@@ -467,23 +440,21 @@ Result<std::vector<ImageRGB8>> decode_video_file(const std::filesystem::path& pa
   AVFormatContext* raw_format = nullptr;
   if (int err = avformat_open_input(&raw_format, path.c_str(), nullptr, nullptr); err < 0) {
     Status status = av_error("opening " + path.string(), err);
-    return Status(err == AVERROR(ENOENT) ? ErrorCode::kNotFound : ErrorCode::kIoError,
-                  status.message());
+    return Status(err == AVERROR(ENOENT) ? ErrorCode::kNotFound : ErrorCode::kIoError, status.message());
   }
-  std::unique_ptr<AVFormatContext, void (*)(AVFormatContext*)> format(
-      raw_format, [](AVFormatContext* f) { avformat_close_input(&f); });
+  std::unique_ptr<AVFormatContext, void (*)(AVFormatContext*)> format(raw_format, [](AVFormatContext* f) {
+    avformat_close_input(&f);
+  });
   if (int err = avformat_find_stream_info(format.get(), nullptr); err < 0) {
     return av_error("reading stream info of " + path.string(), err);
   }
-  const int stream_index =
-      av_find_best_stream(format.get(), AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
+  const int stream_index = av_find_best_stream(format.get(), AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
   if (stream_index < 0) {
     return Status(ErrorCode::kBadInput, path.string() + " has no video stream");
   }
   const AVCodecParameters* parameters = format->streams[stream_index]->codecpar;
   SVC_ASSIGN_OR_RETURN(CodecContextPtr context,
-                       detail::open_decoder(avcodec_get_name(parameters->codec_id),
-                                            parameters->extradata,
+                       detail::open_decoder(avcodec_get_name(parameters->codec_id), parameters->extradata,
                                             static_cast<size_t>(parameters->extradata_size)));
   PacketPtr packet(av_packet_alloc());
   FramePtr frame(av_frame_alloc());
@@ -528,8 +499,7 @@ Result<EncodedDatabase> encode_database(const DatabaseFrames& input, CellOrder o
                                         const EncodeSettings& settings) {
   if (!input.load) return Status(ErrorCode::kInvalidArgument, "database has no face loader");
   EncodedDatabase database;
-  SVC_ASSIGN_OR_RETURN(database.layout,
-                       order_cells(input.cells, input.dims, order, settings.gop_size));
+  SVC_ASSIGN_OR_RETURN(database.layout, order_cells(input.cells, input.dims, order, settings.gop_size));
   const CellSequence& layout = database.layout;
   for (Face face : kAllFaces) {
     FrameSource source;
@@ -553,8 +523,7 @@ Result<EncodedDatabase> encode_database(const DatabaseFrames& input, CellOrder o
   return database;
 }
 
-Result<DecodedFrame> decode_cell_face(const EncodedDatabase& database, CellIndex cell,
-                                      Face face) {
+Result<DecodedFrame> decode_cell_face(const EncodedDatabase& database, CellIndex cell, Face face) {
   const int frame = database.layout.frame_of(cell);
   if (frame < 0) {
     return Status(ErrorCode::kNotFound, cell_label(cell) + " is not in the database");

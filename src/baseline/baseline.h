@@ -52,7 +52,7 @@ using FrameLoader = std::function<Result<ImageRGB8>(int index)>;
 
 struct FrameSource {
   int frame_count = 0;
-  int width = 0;   // every frame must have this size
+  int width = 0;  // every frame must have this size
   int height = 0;
   FrameLoader load;
 };
@@ -83,16 +83,16 @@ bool parse_cell_order(const std::string& name, CellOrder* out);
 struct CellSequence {
   std::array<int, 3> dims{1, 1, 1};
   CellOrder order = CellOrder::kRowMajor;
-  std::vector<CellIndex> cells;     // coding order: frame k of every face sequence is cells[k]
-  std::vector<uint8_t> gop_start;   // same length as cells; 1 where an I-frame is forced
+  std::vector<CellIndex> cells;    // coding order: frame k of every face sequence is cells[k]
+  std::vector<uint8_t> gop_start;  // same length as cells; 1 where an I-frame is forced
   // Frame index of `cell`, or -1 when the cell is not in the sequence.
   int frame_of(CellIndex cell) const;
 };
 
 // Orders `cells` (any order, no duplicates, each inside `dims`). A sparse set (holes) is
 // fine. `hilbert_gop_length` (>= 1) is only used by kHilbert.
-Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<int, 3> dims,
-                                 CellOrder order, int hilbert_gop_length = 6);
+Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<int, 3> dims, CellOrder order,
+                                 int hilbert_gop_length = 6);
 
 // Distance of (x, z) along the 2-D Hilbert curve filling an n x n grid (n a power of two,
 // 0 <= x, z < n). Consecutive distances are grid neighbours (differ by 1 in x or z).
@@ -150,11 +150,11 @@ char picture_type_letter(PictureType type);  // 'I', 'P', 'B'
 
 // One coded frame. Records are kept in decode (bitstream) order.
 struct FrameRecord {
-  int display_index = 0;   // position in the coding order of cells (frame k = cells[k])
-  uint64_t offset = 0;     // byte offset of the frame's packet in EncodedSequence::stream
-  uint32_t size = 0;       // bytes of the packet
+  int display_index = 0;  // position in the coding order of cells (frame k = cells[k])
+  uint64_t offset = 0;    // byte offset of the frame's packet in EncodedSequence::stream
+  uint32_t size = 0;      // bytes of the packet
   PictureType type = PictureType::kI;
-  bool keyframe = false;   // decoding may start here with a fresh decoder
+  bool keyframe = false;  // decoding may start here with a fresh decoder
   // Display indices of the frames this one is predicted from directly. MPEG-2: P ->
   // previous anchor (I/P) in decode order; B -> the two anchors before it in decode order
   // (the anchors around it in display order). Other inter codecs, whose reference
@@ -166,14 +166,14 @@ struct FrameRecord {
 };
 
 struct EncodedSequence {
-  std::string encoder;   // encoder name, as EncodeSettings::codec
-  std::string decoder;   // libavcodec codec name of the bitstream: "mpeg2video", "h264", ...
+  std::string encoder;  // encoder name, as EncodeSettings::codec
+  std::string decoder;  // libavcodec codec name of the bitstream: "mpeg2video", "h264", ...
   int width = 0;
   int height = 0;
-  std::vector<uint8_t> extradata;   // codec global header, if the encoder made one
-  std::vector<uint8_t> stream;      // packets concatenated in decode order
-  std::vector<FrameRecord> frames;  // decode order
-  std::vector<int> decode_position; // display index -> position in `frames`
+  std::vector<uint8_t> extradata;    // codec global header, if the encoder made one
+  std::vector<uint8_t> stream;       // packets concatenated in decode order
+  std::vector<FrameRecord> frames;   // decode order
+  std::vector<int> decode_position;  // display index -> position in `frames`
 
   uint64_t total_bytes() const { return stream.size(); }
   int frame_count() const { return static_cast<int>(frames.size()); }
@@ -199,8 +199,7 @@ std::vector<CodecProbe> probe_codecs();
 // Encodes `source` frame by frame. `force_intra`, when not empty, has one entry per frame:
 // nonzero forces an I-frame there (AVFrame pict_type I), which starts a new GOP (an IDR
 // frame for libx264/libx265). kUnsupported when the encoder (or its decoder) is missing.
-Result<EncodedSequence> encode_sequence(const FrameSource& source,
-                                        std::span<const uint8_t> force_intra,
+Result<EncodedSequence> encode_sequence(const FrameSource& source, std::span<const uint8_t> force_intra,
                                         const EncodeSettings& settings);
 
 // ---------------------------------------------------------------------------------------
@@ -252,8 +251,7 @@ Result<EncodedDatabase> encode_database(const DatabaseFrames& input, CellOrder o
                                         const EncodeSettings& settings);
 
 // Random access to one face of one cell; kNotFound when the cell is not in the database.
-Result<DecodedFrame> decode_cell_face(const EncodedDatabase& database, CellIndex cell,
-                                      Face face);
+Result<DecodedFrame> decode_cell_face(const EncodedDatabase& database, CellIndex cell, Face face);
 
 // ---------------------------------------------------------------------------------------
 // Files
@@ -301,8 +299,7 @@ double psnr_from_mse(double mse);
 // kInvalidArgument when the sizes differ or the images are empty.
 Result<Quality> compare_images(const ImageRGB8& reference, const ImageRGB8& decoded);
 // PSNR of the MSE over all frames (frames of one size, so the mean of per-frame MSEs).
-Result<Quality> compare_sequences(std::span<const ImageRGB8> reference,
-                                  std::span<const ImageRGB8> decoded);
+Result<Quality> compare_sequences(std::span<const ImageRGB8> reference, std::span<const ImageRGB8> decoded);
 
 // Lowers libav*'s global log level to errors only (FFmpeg's logging is process-wide; call
 // from a program's main or a test, not from library code).

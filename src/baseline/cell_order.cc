@@ -16,8 +16,14 @@ const char* cell_order_name(CellOrder order) {
 }
 
 bool parse_cell_order(const std::string& name, CellOrder* out) {
-  if (name == "row-major") { *out = CellOrder::kRowMajor; return true; }
-  if (name == "hilbert") { *out = CellOrder::kHilbert; return true; }
+  if (name == "row-major") {
+    *out = CellOrder::kRowMajor;
+    return true;
+  }
+  if (name == "hilbert") {
+    *out = CellOrder::kHilbert;
+    return true;
+  }
   return false;
 }
 
@@ -47,13 +53,12 @@ uint64_t hilbert_distance(uint32_t n, uint32_t x, uint32_t z) {
   return distance;
 }
 
-Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<int, 3> dims,
-                                 CellOrder order, int hilbert_gop_length) {
+Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<int, 3> dims, CellOrder order,
+                                 int hilbert_gop_length) {
   for (int axis = 0; axis < 3; ++axis) {
     if (dims[axis] < 1) {
       return Status(ErrorCode::kInvalidArgument,
-                    "grid dims must be >= 1, axis " + std::to_string(axis) + " is " +
-                        std::to_string(dims[axis]));
+                    "grid dims must be >= 1, axis " + std::to_string(axis) + " is " + std::to_string(dims[axis]));
     }
   }
   if (order == CellOrder::kHilbert && hilbert_gop_length < 1) {
@@ -71,8 +76,8 @@ Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<in
 
   struct Keyed {
     int64_t layer;
-    uint64_t primary;    // row z (row-major) or Hilbert distance
-    int64_t secondary;   // x (row-major), unused for Hilbert
+    uint64_t primary;   // row z (row-major) or Hilbert distance
+    int64_t secondary;  // x (row-major), unused for Hilbert
     CellIndex cell;
   };
   std::vector<Keyed> keyed;
@@ -81,8 +86,7 @@ Result<CellSequence> order_cells(std::span<const CellIndex> cells, std::array<in
     if (order == CellOrder::kRowMajor) {
       keyed.push_back({c.y, static_cast<uint64_t>(c.z), c.x, c});
     } else {
-      keyed.push_back({c.y, hilbert_distance(side, static_cast<uint32_t>(c.x),
-                                             static_cast<uint32_t>(c.z)), 0, c});
+      keyed.push_back({c.y, hilbert_distance(side, static_cast<uint32_t>(c.x), static_cast<uint32_t>(c.z)), 0, c});
     }
   }
   std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {

@@ -36,13 +36,15 @@ Status set_full_range(SwsContext* sws, bool source_side) {
   int* inv_table = nullptr;
   int* table = nullptr;
   int src_range = 0, dst_range = 0, brightness = 0, contrast = 0, saturation = 0;
-  if (sws_getColorspaceDetails(sws, &inv_table, &src_range, &table, &dst_range, &brightness,
-                               &contrast, &saturation) < 0) {
+  if (sws_getColorspaceDetails(sws, &inv_table, &src_range, &table, &dst_range, &brightness, &contrast,
+                               &saturation) < 0) {
     return Status(ErrorCode::kInternal, "libswscale: cannot read colour-space details");
   }
-  if (source_side) src_range = 1; else dst_range = 1;
-  if (sws_setColorspaceDetails(sws, inv_table, src_range, table, dst_range, brightness,
-                               contrast, saturation) < 0) {
+  if (source_side)
+    src_range = 1;
+  else
+    dst_range = 1;
+  if (sws_setColorspaceDetails(sws, inv_table, src_range, table, dst_range, brightness, contrast, saturation) < 0) {
     return Status(ErrorCode::kInternal, "libswscale: cannot select full-range YUV");
   }
   return Status::Ok();
@@ -54,8 +56,7 @@ Result<FramePtr> rgb_to_frame(const ImageRGB8& image, AVPixelFormat format, bool
   if (image.width <= 0 || image.height <= 0 ||
       image.pixels.size() != static_cast<size_t>(image.width) * image.height * 3) {
     return Status(ErrorCode::kInvalidArgument,
-                  "RGB image " + std::to_string(image.width) + "x" +
-                      std::to_string(image.height) + " has " +
+                  "RGB image " + std::to_string(image.width) + "x" + std::to_string(image.height) + " has " +
                       std::to_string(image.pixels.size()) + " bytes, not width*height*3");
   }
   // The RGB pixels go into an aligned frame first: libswscale picks its SIMD paths by
@@ -73,8 +74,8 @@ Result<FramePtr> rgb_to_frame(const ImageRGB8& image, AVPixelFormat format, bool
   }
   const size_t row_bytes = static_cast<size_t>(image.width) * 3;
   for (int y = 0; y < image.height; ++y) {
-    std::memcpy(rgb->data[0] + static_cast<ptrdiff_t>(y) * rgb->linesize[0],
-                image.pixels.data() + y * row_bytes, row_bytes);
+    std::memcpy(rgb->data[0] + static_cast<ptrdiff_t>(y) * rgb->linesize[0], image.pixels.data() + y * row_bytes,
+                row_bytes);
   }
   if (format == AV_PIX_FMT_RGB24) return rgb;
 
@@ -94,11 +95,11 @@ Result<FramePtr> rgb_to_frame(const ImageRGB8& image, AVPixelFormat format, bool
   bool named_full = false;
   const AVPixelFormat sws_format = plain_format(format, &named_full);
   full_range = full_range || named_full;
-  SwsPtr sws(sws_getContext(image.width, image.height, AV_PIX_FMT_RGB24, image.width,
-                            image.height, sws_format, kSwsFlags, nullptr, nullptr, nullptr));
+  SwsPtr sws(sws_getContext(image.width, image.height, AV_PIX_FMT_RGB24, image.width, image.height, sws_format,
+                            kSwsFlags, nullptr, nullptr, nullptr));
   if (!sws) {
-    return Status(ErrorCode::kInternal, std::string("libswscale cannot convert rgb24 to ") +
-                                            av_get_pix_fmt_name(format));
+    return Status(ErrorCode::kInternal,
+                  std::string("libswscale cannot convert rgb24 to ") + av_get_pix_fmt_name(format));
   }
   if (full_range) SVC_RETURN_IF_ERROR(set_full_range(sws.get(), /*source_side=*/false));
   sws_scale(sws.get(), rgb->data, rgb->linesize, 0, image.height, out->data, out->linesize);
@@ -123,15 +124,14 @@ Result<ImageRGB8> frame_to_rgb(const AVFrame& frame) {
   if (source == AV_PIX_FMT_RGB24) {
     if (int err = av_frame_copy(rgb.get(), &frame); err < 0) return av_error("copying RGB", err);
   } else {
-    SwsPtr sws(sws_getContext(frame.width, frame.height, source, frame.width, frame.height,
-                              AV_PIX_FMT_RGB24, kSwsFlags, nullptr, nullptr, nullptr));
+    SwsPtr sws(sws_getContext(frame.width, frame.height, source, frame.width, frame.height, AV_PIX_FMT_RGB24,
+                              kSwsFlags, nullptr, nullptr, nullptr));
     if (!sws) {
       const char* name = av_get_pix_fmt_name(source);
-      return Status(ErrorCode::kUnsupported, std::string("libswscale cannot convert ") +
-                                                 (name ? name : "?") + " to rgb24");
+      return Status(ErrorCode::kUnsupported,
+                    std::string("libswscale cannot convert ") + (name ? name : "?") + " to rgb24");
     }
-    const bool is_rgb_source =
-        (av_pix_fmt_desc_get(source)->flags & AV_PIX_FMT_FLAG_RGB) != 0;
+    const bool is_rgb_source = (av_pix_fmt_desc_get(source)->flags & AV_PIX_FMT_FLAG_RGB) != 0;
     if (full_range && !is_rgb_source) {
       SVC_RETURN_IF_ERROR(set_full_range(sws.get(), /*source_side=*/true));
     }
@@ -143,8 +143,8 @@ Result<ImageRGB8> frame_to_rgb(const AVFrame& frame) {
   const size_t row_bytes = static_cast<size_t>(frame.width) * 3;
   image.pixels.resize(row_bytes * frame.height);
   for (int y = 0; y < frame.height; ++y) {
-    std::memcpy(image.pixels.data() + y * row_bytes,
-                rgb->data[0] + static_cast<ptrdiff_t>(y) * rgb->linesize[0], row_bytes);
+    std::memcpy(image.pixels.data() + y * row_bytes, rgb->data[0] + static_cast<ptrdiff_t>(y) * rgb->linesize[0],
+                row_bytes);
   }
   return image;
 }
@@ -163,15 +163,13 @@ Result<CodecContextPtr> open_decoder(const std::string& codec_name, const uint8_
   }
   if (!decoder) decoder = avcodec_find_decoder(descriptor->id);
   if (!decoder) {
-    return Status(ErrorCode::kUnsupported,
-                  "this build of libavcodec has no decoder for '" + codec_name + "'");
+    return Status(ErrorCode::kUnsupported, "this build of libavcodec has no decoder for '" + codec_name + "'");
   }
   CodecContextPtr context(avcodec_alloc_context3(decoder));
   if (!context) return Status(ErrorCode::kInternal, "out of memory allocating a decoder");
   context->thread_count = 1;
   if (extradata_size > 0) {
-    context->extradata =
-        static_cast<uint8_t*>(av_mallocz(extradata_size + AV_INPUT_BUFFER_PADDING_SIZE));
+    context->extradata = static_cast<uint8_t*>(av_mallocz(extradata_size + AV_INPUT_BUFFER_PADDING_SIZE));
     if (!context->extradata) return Status(ErrorCode::kInternal, "out of memory (extradata)");
     std::memcpy(context->extradata, extradata, extradata_size);
     context->extradata_size = static_cast<int>(extradata_size);

@@ -94,17 +94,13 @@ Status validate_sequence(const EncodedSequence& sequence) {
   for (int position = 0; position < count; ++position) {
     const FrameRecord& record = sequence.frames[position];
     const std::string where = "frame record " + std::to_string(position);
-    if (record.display_index < 0 || record.display_index >= count ||
-        positions[record.display_index] != -1) {
-      return Status(ErrorCode::kCorruptData, where + ": display index " +
-                                                 std::to_string(record.display_index) +
+    if (record.display_index < 0 || record.display_index >= count || positions[record.display_index] != -1) {
+      return Status(ErrorCode::kCorruptData, where + ": display index " + std::to_string(record.display_index) +
                                                  " is out of range or repeated");
     }
-    if (record.offset > sequence.stream.size() ||
-        record.size > sequence.stream.size() - record.offset) {
-      return Status(ErrorCode::kCorruptData, where + ": bytes " + std::to_string(record.offset) +
-                                                 "+" + std::to_string(record.size) +
-                                                 " lie outside the stream of " +
+    if (record.offset > sequence.stream.size() || record.size > sequence.stream.size() - record.offset) {
+      return Status(ErrorCode::kCorruptData, where + ": bytes " + std::to_string(record.offset) + "+" +
+                                                 std::to_string(record.size) + " lie outside the stream of " +
                                                  std::to_string(sequence.stream.size()));
     }
     positions[record.display_index] = position;
@@ -112,9 +108,9 @@ Status validate_sequence(const EncodedSequence& sequence) {
   for (int position = 0; position < count; ++position) {
     for (int reference : sequence.frames[position].references) {
       if (reference < 0 || reference >= count || positions[reference] >= position) {
-        return Status(ErrorCode::kCorruptData,
-                      "frame record " + std::to_string(position) + ": reference " +
-                          std::to_string(reference) + " is not an earlier frame in decode order");
+        return Status(ErrorCode::kCorruptData, "frame record " + std::to_string(position) + ": reference " +
+                                                   std::to_string(reference) +
+                                                   " is not an earlier frame in decode order");
       }
     }
   }
@@ -132,8 +128,7 @@ Result<EncodedSequence> sequence_from_json(const json& index, std::vector<uint8_
     sequence.decoder = index.at("decoder").get<std::string>();
     sequence.width = index.at("width").get<int>();
     sequence.height = index.at("height").get<int>();
-    if (sequence.width < 1 || sequence.height < 1 || sequence.width > kMaxSide ||
-        sequence.height > kMaxSide) {
+    if (sequence.width < 1 || sequence.height < 1 || sequence.width > kMaxSide || sequence.height > kMaxSide) {
       return Status(ErrorCode::kCorruptData, where + ": frame size out of range");
     }
     const std::string extradata = index.value("extradata", "");
@@ -151,10 +146,14 @@ Result<EncodedSequence> sequence_from_json(const json& index, std::vector<uint8_
       record.offset = entry.at("offset").get<uint64_t>();
       record.size = entry.at("size").get<uint32_t>();
       const std::string type = entry.at("type").get<std::string>();
-      if (type == "I") record.type = PictureType::kI;
-      else if (type == "P") record.type = PictureType::kP;
-      else if (type == "B") record.type = PictureType::kB;
-      else return Status(ErrorCode::kCorruptData, where + ": picture type '" + type + "'");
+      if (type == "I")
+        record.type = PictureType::kI;
+      else if (type == "P")
+        record.type = PictureType::kP;
+      else if (type == "B")
+        record.type = PictureType::kB;
+      else
+        return Status(ErrorCode::kCorruptData, where + ": picture type '" + type + "'");
       record.keyframe = entry.at("key").get<bool>();
       const json& refs = entry.at("refs");
       if (!refs.is_array() || refs.size() > 16) {
@@ -171,8 +170,7 @@ Result<EncodedSequence> sequence_from_json(const json& index, std::vector<uint8_
   if (!valid.ok()) return valid.with_context(where);
   sequence.decode_position.assign(sequence.frames.size(), -1);
   for (size_t position = 0; position < sequence.frames.size(); ++position) {
-    sequence.decode_position[sequence.frames[position].display_index] =
-        static_cast<int>(position);
+    sequence.decode_position[sequence.frames[position].display_index] = static_cast<int>(position);
   }
   return sequence;
 }
@@ -201,10 +199,14 @@ Status write_sequence(const EncodedSequence& sequence, const std::filesystem::pa
                       {"key", record.keyframe},
                       {"refs", record.references}});
   }
-  json index = {{"format", "svc-baseline-index"}, {"version", 1},
-                {"encoder", sequence.encoder},    {"decoder", sequence.decoder},
-                {"width", sequence.width},        {"height", sequence.height},
-                {"extradata", to_hex(sequence.extradata)}, {"frames", std::move(frames)}};
+  json index = {{"format", "svc-baseline-index"},
+                {"version", 1},
+                {"encoder", sequence.encoder},
+                {"decoder", sequence.decoder},
+                {"width", sequence.width},
+                {"height", sequence.height},
+                {"extradata", to_hex(sequence.extradata)},
+                {"frames", std::move(frames)}};
   SVC_RETURN_IF_ERROR(write_bytes(stream_path, sequence.stream.data(), sequence.stream.size()));
   const std::string text = index.dump(1);
   return write_bytes(index_path(stream_path), text.data(), text.size());
@@ -274,16 +276,14 @@ Result<EncodedDatabase> read_database(const std::filesystem::path& directory) {
   for (Face face : kAllFaces) {
     const std::string& file = face_files[static_cast<int>(face)];
     if (file.empty() || std::filesystem::path(file).has_parent_path()) {
-      return Status(ErrorCode::kCorruptData,
-                    where + ": face " + face_name(face) + " file must be a plain name");
+      return Status(ErrorCode::kCorruptData, where + ": face " + face_name(face) + " file must be a plain name");
     }
     SVC_ASSIGN_OR_RETURN(database.faces[static_cast<int>(face)], read_sequence(directory / file));
     if (database.faces[static_cast<int>(face)].frames.size() != database.layout.cells.size()) {
-      return Status(ErrorCode::kCorruptData, where + ": face " + face_name(face) + " has " +
-                                                 std::to_string(database.faces[static_cast<int>(face)].frames.size()) +
-                                                 " frames for " +
-                                                 std::to_string(database.layout.cells.size()) +
-                                                 " cells");
+      return Status(ErrorCode::kCorruptData,
+                    where + ": face " + face_name(face) + " has " +
+                        std::to_string(database.faces[static_cast<int>(face)].frames.size()) + " frames for " +
+                        std::to_string(database.layout.cells.size()) + " cells");
     }
   }
   return database;

@@ -21,12 +21,10 @@ Status accumulate(const ImageRGB8& reference, const ImageRGB8& decoded, SquaredE
   if (reference.width <= 0 || reference.height <= 0 || reference.pixels.size() != expected) {
     return Status(ErrorCode::kInvalidArgument, "reference image is empty or malformed");
   }
-  if (decoded.width != reference.width || decoded.height != reference.height ||
-      decoded.pixels.size() != expected) {
+  if (decoded.width != reference.width || decoded.height != reference.height || decoded.pixels.size() != expected) {
     return Status(ErrorCode::kInvalidArgument,
-                  "decoded image is " + std::to_string(decoded.width) + "x" +
-                      std::to_string(decoded.height) + ", reference is " +
-                      std::to_string(reference.width) + "x" + std::to_string(reference.height));
+                  "decoded image is " + std::to_string(decoded.width) + "x" + std::to_string(decoded.height) +
+                      ", reference is " + std::to_string(reference.width) + "x" + std::to_string(reference.height));
   }
   const uint8_t* a = reference.pixels.data();
   const uint8_t* b = decoded.pixels.data();
@@ -67,12 +65,10 @@ Result<Quality> compare_images(const ImageRGB8& reference, const ImageRGB8& deco
   return to_quality(sums);
 }
 
-Result<Quality> compare_sequences(std::span<const ImageRGB8> reference,
-                                  std::span<const ImageRGB8> decoded) {
+Result<Quality> compare_sequences(std::span<const ImageRGB8> reference, std::span<const ImageRGB8> decoded) {
   if (reference.empty() || reference.size() != decoded.size()) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "sequences have " + std::to_string(reference.size()) + " and " +
-                      std::to_string(decoded.size()) + " frames");
+    return Status(ErrorCode::kInvalidArgument, "sequences have " + std::to_string(reference.size()) + " and " +
+                                                   std::to_string(decoded.size()) + " frames");
   }
   SquaredErrors sums;
   for (size_t k = 0; k < reference.size(); ++k) {

@@ -46,8 +46,7 @@ class ByteWriter {
 // field offset where the data ran out.
 class ByteReader {
  public:
-  ByteReader(std::span<const uint8_t> data, uint64_t base_offset = 0)
-      : data_(data), base_offset_(base_offset) {}
+  ByteReader(std::span<const uint8_t> data, uint64_t base_offset = 0) : data_(data), base_offset_(base_offset) {}
 
   uint8_t u8() { return static_cast<uint8_t>(get(1)); }
   uint16_t u16() { return static_cast<uint16_t>(get(2)); }

@@ -35,15 +35,14 @@ ReadOnlyFile::~ReadOnlyFile() { ::close(fd_); }
 
 Status ReadOnlyFile::read_at(uint64_t offset, std::span<uint8_t> out) const {
   if (offset > size_ || out.size() > size_ - offset) {
-    return Status(ErrorCode::kCorruptData,
-                  path_.string() + ": read of " + std::to_string(out.size()) + " bytes at offset " +
-                      std::to_string(offset) + " runs past the end of the file (" +
-                      std::to_string(size_) + " bytes)");
+    return Status(ErrorCode::kCorruptData, path_.string() + ": read of " + std::to_string(out.size()) +
+                                               " bytes at offset " + std::to_string(offset) +
+                                               " runs past the end of the file (" + std::to_string(size_) +
+                                               " bytes)");
   }
   size_t done = 0;
   while (done < out.size()) {
-    const ssize_t n = ::pread(fd_, out.data() + done, out.size() - done,
-                              static_cast<off_t>(offset + done));
+    const ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       return Status(ErrorCode::kIoError, path_.string() + ": read failed at offset " +
@@ -57,18 +56,16 @@ Status ReadOnlyFile::read_at(uint64_t offset, std::span<uint8_t> out) const {
 
 Result<std::vector<uint8_t>> ReadOnlyFile::read_vector(uint64_t offset, uint64_t size) const {
   if (offset > size_ || size > size_ - offset) {
-    return Status(ErrorCode::kCorruptData,
-                  path_.string() + ": " + std::to_string(size) + " bytes at offset " +
-                      std::to_string(offset) + " lie past the end of the file (" +
-                      std::to_string(size_) + " bytes)");
+    return Status(ErrorCode::kCorruptData, path_.string() + ": " + std::to_string(size) + " bytes at offset " +
+                                               std::to_string(offset) + " lie past the end of the file (" +
+                                               std::to_string(size_) + " bytes)");
   }
   std::vector<uint8_t> data(static_cast<size_t>(size));
   SVC_RETURN_IF_ERROR(read_at(offset, data));
   return data;
 }
 
-Result<std::unique_ptr<AtomicOutputFile>> AtomicOutputFile::create(
-    const std::filesystem::path& final_path) {
+Result<std::unique_ptr<AtomicOutputFile>> AtomicOutputFile::create(const std::filesystem::path& final_path) {
   std::filesystem::path dir = final_path.parent_path();
   if (dir.empty()) dir = ".";
   std::error_code ec;
@@ -100,8 +97,7 @@ AtomicOutputFile::~AtomicOutputFile() {
 Status AtomicOutputFile::write_at(uint64_t offset, std::span<const uint8_t> data) {
   size_t done = 0;
   while (done < data.size()) {
-    const ssize_t n = ::pwrite(fd_, data.data() + done, data.size() - done,
-                               static_cast<off_t>(offset + done));
+    const ssize_t n = ::pwrite(fd_, data.data() + done, data.size() - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       return Status(ErrorCode::kIoError, "write to " + temp_path_.string() + " failed: " + errno_text());
@@ -124,8 +120,8 @@ Status AtomicOutputFile::commit() {
   ::close(fd_);
   fd_ = -1;
   if (::rename(temp_path_.c_str(), final_path_.c_str()) != 0) {
-    return Status(ErrorCode::kIoError, "cannot rename " + temp_path_.string() + " to " +
-                                           final_path_.string() + ": " + errno_text());
+    return Status(ErrorCode::kIoError,
+                  "cannot rename " + temp_path_.string() + " to " + final_path_.string() + ": " + errno_text());
   }
   committed_ = true;
   // Make the rename itself durable.

@@ -27,8 +27,7 @@ class ReadOnlyFile {
   Result<std::vector<uint8_t>> read_vector(uint64_t offset, uint64_t size) const;
 
  private:
-  ReadOnlyFile(int fd, uint64_t size, std::filesystem::path path)
-      : fd_(fd), size_(size), path_(std::move(path)) {}
+  ReadOnlyFile(int fd, uint64_t size, std::filesystem::path path) : fd_(fd), size_(size), path_(std::move(path)) {}
   int fd_;
   uint64_t size_;
   std::filesystem::path path_;

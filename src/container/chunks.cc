@@ -40,8 +40,7 @@ std::vector<uint8_t> make_file_header() {
   return w.take();
 }
 
-std::vector<uint8_t> make_commit_slot(uint64_t generation, uint64_t index_offset,
-                                      uint64_t index_chunk_size) {
+std::vector<uint8_t> make_commit_slot(uint64_t generation, uint64_t index_offset, uint64_t index_chunk_size) {
   ByteWriter w;
   w.u64(generation);
   w.u64(index_offset);
@@ -87,10 +86,9 @@ Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offse
     return corrupt_at(what + " chunk's size field does not match the index", offset + 4);
   }
   const std::span<const uint8_t> all(bytes);
-  const uint32_t stored_crc = static_cast<uint32_t>(all[chunk_size - 4]) |
-                              static_cast<uint32_t>(all[chunk_size - 3]) << 8 |
-                              static_cast<uint32_t>(all[chunk_size - 2]) << 16 |
-                              static_cast<uint32_t>(all[chunk_size - 1]) << 24;
+  const uint32_t stored_crc =
+      static_cast<uint32_t>(all[chunk_size - 4]) | static_cast<uint32_t>(all[chunk_size - 3]) << 8 |
+      static_cast<uint32_t>(all[chunk_size - 2]) << 16 | static_cast<uint32_t>(all[chunk_size - 1]) << 24;
   if (stored_crc != crc32_of(all.first(chunk_size - 4))) {
     return corrupt_at(what + " chunk fails its CRC-32 check (" + std::to_string(chunk_size) + " bytes)", offset);
   }
@@ -104,8 +102,8 @@ Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offse
 Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLimits& limits) {
   const std::string name = file.path().string();
   if (file.size() < kPreludeSize) {
-    return Status(ErrorCode::kCorruptData, name + " is too short to be an .svc file (" +
-                                               std::to_string(file.size()) + " bytes)");
+    return Status(ErrorCode::kCorruptData,
+                  name + " is too short to be an .svc file (" + std::to_string(file.size()) + " bytes)");
   }
   std::vector<uint8_t> prelude(kPreludeSize);
   SVC_RETURN_IF_ERROR(file.read_at(0, prelude));
@@ -170,8 +168,7 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
 
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what) {
-  return read_chunk(file, frame.chunk_offset, uint64_t{frame.payload_size} + kChunkOverhead, kFaceChunkTag,
-                    what);
+  return read_chunk(file, frame.chunk_offset, uint64_t{frame.payload_size} + kChunkOverhead, kFaceChunkTag, what);
 }
 
 }  // namespace svc

@@ -23,19 +23,17 @@ inline constexpr uint16_t kFormatMinor = 0;
 inline constexpr uint64_t kFileHeaderSize = 32;
 inline constexpr uint64_t kCommitSlotSize = 32;
 inline constexpr uint64_t kPreludeSize = kFileHeaderSize + 2 * kCommitSlotSize;  // chunks start here
-inline constexpr uint64_t kChunkOverhead = 16;  // tag, payload size, CRC-32
+inline constexpr uint64_t kChunkOverhead = 16;                                   // tag, payload size, CRC-32
 
 inline constexpr uint32_t chunk_tag(char a, char b, char c, char d) {
-  return uint32_t(uint8_t(a)) | uint32_t(uint8_t(b)) << 8 | uint32_t(uint8_t(c)) << 16 |
-         uint32_t(uint8_t(d)) << 24;
+  return uint32_t(uint8_t(a)) | uint32_t(uint8_t(b)) << 8 | uint32_t(uint8_t(c)) << 16 | uint32_t(uint8_t(d)) << 24;
 }
 inline constexpr uint32_t kFaceChunkTag = chunk_tag('F', 'A', 'C', 'E');
 inline constexpr uint32_t kIndexChunkTag = chunk_tag('I', 'N', 'D', 'X');
 
-
 struct CodingRecord {
-  uint32_t quality = 0;         // 1..100 as asked, or 0 when quant_scale was given
-  uint32_t quant_scale = 0;     // codec quantiser scale used for every face
+  uint32_t quality = 0;      // 1..100 as asked, or 0 when quant_scale was given
+  uint32_t quant_scale = 0;  // codec quantiser scale used for every face
   std::array<int32_t, 3> i_spacing{1, 1, 1};
   MotionSearch motion = MotionSearch::kDepth;
 };
@@ -50,8 +48,8 @@ struct FrameRecord {
   uint32_t cell = 0;  // ordinal into ContainerIndex::cells
   Face face = Face::kPX;
   FaceType type = FaceType::kIntra;
-  uint64_t chunk_offset = 0;  // file offset of the FACE chunk
-  uint32_t payload_size = 0;  // coded bytes inside the chunk
+  uint64_t chunk_offset = 0;         // file offset of the FACE chunk
+  uint32_t payload_size = 0;         // coded bytes inside the chunk
   std::vector<uint32_t> references;  // ordinals into ContainerIndex::frames
 };
 
@@ -62,8 +60,8 @@ struct ContainerIndex {
   DepthMode depth_mode = DepthMode::kEyeZ;
   UpAxis up_axis = UpAxis::kY;
   CodingRecord coding;
-  std::vector<CellRecord> cells;    // sorted by (y, z, x), unique
-  std::vector<FrameRecord> frames;  // six per cell, cell-major, face order px..nz
+  std::vector<CellRecord> cells;       // sorted by (y, z, x), unique
+  std::vector<FrameRecord> frames;     // six per cell, cell-major, face order px..nz
   std::array<FaceTypeStats, 2> stats;  // indexed by FaceType, kept for `svc info`
 };
 
@@ -75,15 +73,14 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index);
 // Reads index versions 1 and 2. Validates every field against `limits` before it sizes
 // anything; `file_size` bounds chunk offsets. Errors name the field and its file offset
 // (`payload_offset` is the index payload's offset in the file).
-Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset,
-                                   uint64_t file_size, const ReaderLimits& limits);
+Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset, uint64_t file_size,
+                                   const ReaderLimits& limits);
 
 // A chunk as written to the file: tag, payload size, payload, CRC-32 of all before it.
 std::vector<uint8_t> make_chunk(uint32_t tag, std::span<const uint8_t> payload);
 
 std::vector<uint8_t> make_file_header();
-std::vector<uint8_t> make_commit_slot(uint64_t generation, uint64_t index_offset,
-                                      uint64_t index_chunk_size);
+std::vector<uint8_t> make_commit_slot(uint64_t generation, uint64_t index_offset, uint64_t index_chunk_size);
 
 // An opened container: where the committed index lies and what it says.
 struct OpenedContainer {
@@ -91,7 +88,7 @@ struct OpenedContainer {
   uint64_t index_offset = 0;      // of the INDX chunk
   uint64_t index_chunk_size = 0;  // including chunk overhead
   uint64_t generation = 0;
-  int slot = 0;                   // commit slot in use (0 or 1)
+  int slot = 0;  // commit slot in use (0 or 1)
   // Per slot: neither all zero nor valid (CRC fails): an interrupted commit or damage.
   std::array<bool, 2> slot_damaged{false, false};
   // The other slot holds a newer generation whose index failed to read or validate:

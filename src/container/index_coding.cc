@@ -19,7 +19,7 @@ constexpr uint64_t kCameraBytes = (16 + 6) * 8;
 constexpr uint64_t kCellRecordBytesV1 = 3 * 4 + 3 * 8 + kFaceCount * kCameraBytes;
 constexpr uint64_t kFrameRecordMinBytesV1 = 4 + 1 + 1 + 1 + 1 + 8 + 4;
 constexpr uint64_t kCellRecordMinBytesV2 = 3 * 4 + 3 * 8 + kFaceCount;  // every face from the rig
-constexpr uint64_t kFrameRecordMinBytesV2 = 1 + 1 + 1;  // type byte, offset delta, payload size
+constexpr uint64_t kFrameRecordMinBytesV2 = 1 + 1 + 1;                  // type byte, offset delta, payload size
 // Version 2 camera rig table.
 constexpr uint8_t kExplicitCameraMarker = 255;
 constexpr size_t kMaxRigEntries = 64;
@@ -213,13 +213,12 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
   for (int32_t& s : index.coding.i_spacing) s = r.i32();
   if (!r.ok()) return corrupt_at("index header is truncated", r.failed_at());
 
-  if (index.face_width == 0 || index.face_height == 0 ||
-      index.face_width > limits.max_face_dimension || index.face_height > limits.max_face_dimension ||
+  if (index.face_width == 0 || index.face_height == 0 || index.face_width > limits.max_face_dimension ||
+      index.face_height > limits.max_face_dimension ||
       uint64_t{index.face_width} * index.face_height > limits.max_face_pixels) {
-    return Status(ErrorCode::kLimitExceeded,
-                  "face size " + std::to_string(index.face_width) + "x" +
-                      std::to_string(index.face_height) + " is zero or above the reader's limits" +
-                      at_offset(size_at));
+    return Status(ErrorCode::kLimitExceeded, "face size " + std::to_string(index.face_width) + "x" +
+                                                 std::to_string(index.face_height) +
+                                                 " is zero or above the reader's limits" + at_offset(size_at));
   }
   for (int axis = 0; axis < 3; ++axis) {
     if (index.grid.dims[axis] <= 0 || index.grid.dims[axis] > limits.max_grid_dimension) {
@@ -250,11 +249,12 @@ Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r) {
   if (!r.ok()) return corrupt_at("index is truncated before the camera rig table", r.failed_at());
   if (count > kMaxRigEntries) {
     return corrupt_at("camera rig table has " + std::to_string(count) + " entries, more than " +
-                       std::to_string(kMaxRigEntries),
-                   count_at);
+                          std::to_string(kMaxRigEntries),
+                      count_at);
   }
   if (count * kRigEntryBytes > r.remaining()) {
-    return corrupt_at("camera rig table of " + std::to_string(count) + " entries does not fit in the index", count_at);
+    return corrupt_at("camera rig table of " + std::to_string(count) + " entries does not fit in the index",
+                      count_at);
   }
   std::vector<RigEntry> rig(count);
   for (uint64_t k = 0; k < count; ++k) {
@@ -263,8 +263,9 @@ Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r) {
     rig[k].frustum = read_frustum(r);
     if (!r.ok()) return corrupt_at("camera rig entry " + std::to_string(k) + " is truncated", entry_at);
     if (!is_signed_permutation(rig[k].rotation)) {
-      return corrupt_at("camera rig entry " + std::to_string(k) + " has a rotation that is not a signed permutation",
-                     entry_at);
+      return corrupt_at("camera rig entry " + std::to_string(k) +
+                            " has a rotation that is not a signed permutation",
+                        entry_at);
     }
     if (!frustum_is_valid(rig[k].frustum)) {
       return corrupt_at("camera rig entry " + std::to_string(k) + " has an invalid frustum", entry_at + 72);
@@ -289,8 +290,7 @@ Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
   }
   for (int f = 0; f < kFaceCount; ++f) {
     if (!camera_is_valid(cell.cameras[f])) {
-      return corrupt_at(face_label(c, static_cast<Face>(f)) + " has an invalid camera",
-                     record_at);
+      return corrupt_at(face_label(c, static_cast<Face>(f)) + " has an invalid camera", record_at);
     }
   }
   return Status::Ok();
@@ -330,10 +330,9 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
           // A non-finite centre makes a non-finite camera; check_cell names the centre first.
           cell.cameras[f] = camera_from_rig(rig[source], cell.position);
         } else {
-          return corrupt_at(face_label(cell.index, static_cast<Face>(f)) +
-                             " names camera rig entry " + std::to_string(source) + " of " +
-                             std::to_string(rig.size()),
-                         source_at);
+          return corrupt_at(face_label(cell.index, static_cast<Face>(f)) + " names camera rig entry " +
+                                std::to_string(source) + " of " + std::to_string(rig.size()),
+                            source_at);
         }
       }
     }
@@ -348,18 +347,17 @@ Status check_frame(const FrameRecord& frame, uint8_t kind, uint64_t ref_count, c
                    uint64_t record_at, uint64_t file_size, const ReaderLimits& limits) {
   if (kind > 1) return corrupt_at(what + " has an unknown frame type " + std::to_string(kind), record_at);
   if (frame.payload_size > limits.max_frame_bytes) {
-    return Status(ErrorCode::kLimitExceeded,
-                  what + " is " + std::to_string(frame.payload_size) + " bytes, above the reader's limit" +
-                      at_offset(record_at));
+    return Status(ErrorCode::kLimitExceeded, what + " is " + std::to_string(frame.payload_size) +
+                                                 " bytes, above the reader's limit" + at_offset(record_at));
   }
   if (frame.chunk_offset < kPreludeSize || frame.chunk_offset > file_size ||
       uint64_t{frame.payload_size} + kChunkOverhead > file_size - frame.chunk_offset) {
     return corrupt_at(what + " points at bytes " + std::to_string(frame.chunk_offset) + " outside the file",
-                   record_at);
+                      record_at);
   }
   if ((static_cast<FaceType>(kind) == FaceType::kIntra) != (ref_count == 0) || ref_count > 2) {
     return corrupt_at(what + " has " + std::to_string(ref_count) + " references, which its type does not allow",
-                   record_at);
+                      record_at);
   }
   return Status::Ok();
 }
@@ -414,15 +412,18 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     SVC_ASSIGN_OR_RETURN(const uint64_t zigzag, read_varint(r, what + " chunk offset"));
     const int64_t delta = zigzag_decode(zigzag);
     // previous_end <= file_size here, so these bounds keep the sum inside [0, file_size].
-    const uint64_t magnitude = delta < 0 ? uint64_t{0} - static_cast<uint64_t>(delta) : static_cast<uint64_t>(delta);
+    const uint64_t magnitude = delta < 0 ? uint64_t{0} - static_cast<uint64_t>(delta)
+                                         : static_cast<uint64_t>(delta);
     if ((delta < 0 && magnitude > previous_end) || (delta >= 0 && magnitude > file_size - previous_end)) {
-      return corrupt_at(what + " chunk offset delta " + std::to_string(delta) + " leads outside the file", record_at);
+      return corrupt_at(what + " chunk offset delta " + std::to_string(delta) + " leads outside the file",
+                        record_at);
     }
     frame.chunk_offset = delta < 0 ? previous_end - magnitude : previous_end + magnitude;
 
     SVC_ASSIGN_OR_RETURN(const uint64_t payload_size, read_varint(r, what + " payload size"));
     if (payload_size > UINT32_MAX) {
-      return corrupt_at(what + " payload size " + std::to_string(payload_size) + " does not fit 32 bits", record_at);
+      return corrupt_at(what + " payload size " + std::to_string(payload_size) + " does not fit 32 bits",
+                        record_at);
     }
     frame.payload_size = static_cast<uint32_t>(payload_size);
     SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, what, record_at, file_size, limits));
@@ -431,8 +432,9 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     for (uint32_t& ref : frame.references) {
       SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
       if (value >= frame_count) {
-        return corrupt_at(what + " references frame " + std::to_string(value) + " of " + std::to_string(frame_count),
-                       record_at);
+        return corrupt_at(what + " references frame " + std::to_string(value) + " of " +
+                              std::to_string(frame_count),
+                          record_at);
       }
       ref = static_cast<uint32_t>(value);
     }
@@ -470,7 +472,8 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
       source = kExplicitCameraMarker;
       const std::optional<RigEntry> entry = rig_entry_for(cell.cameras[f], cell.position);
       if (!entry) continue;
-      const auto found = std::find_if(rig.begin(), rig.end(), [&](const RigEntry& e) { return same_bits(e, *entry); });
+      const auto found =
+          std::find_if(rig.begin(), rig.end(), [&](const RigEntry& e) { return same_bits(e, *entry); });
       if (found != rig.end()) {
         source = static_cast<uint8_t>(found - rig.begin());
       } else if (rig.size() < kMaxRigEntries) {
@@ -518,8 +521,8 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
   return w.take();
 }
 
-Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset,
-                                   uint64_t file_size, const ReaderLimits& limits) {
+Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset, uint64_t file_size,
+                                   const ReaderLimits& limits) {
   ByteReader r(payload, payload_offset);
   ContainerIndex index;
   const uint64_t version_at = r.file_offset();
@@ -559,9 +562,9 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
     for (uint32_t ref : frame.references) {
       if (ref >= frame_count || index.frames[ref].type != FaceType::kIntra ||
           index.frames[ref].face != frame.face) {
-        return corrupt_at(face_label(index.cells[frame.cell].index, frame.face) +
-                           " references frame " + std::to_string(ref) + ", which is not an I-face of the same face",
-                       frames_at);
+        return corrupt_at(face_label(index.cells[frame.cell].index, frame.face) + " references frame " +
+                              std::to_string(ref) + ", which is not an I-face of the same face",
+                          frames_at);
       }
     }
   }
@@ -577,6 +580,5 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   }
   return index;
 }
-
 
 }  // namespace svc

@@ -55,8 +55,8 @@ Result<std::unique_ptr<ContainerUpdater>> ContainerUpdater::open(const std::file
     end = std::max(end, frame.chunk_offset + frame.payload_size + kChunkOverhead);
   }
   if (end < (*file)->size() && ::ftruncate(fd, static_cast<off_t>(end)) != 0) {
-    return fail(Status(ErrorCode::kIoError, "cannot cut uncommitted bytes off " + path.string() + ": " +
-                                                std::strerror(errno)));
+    return fail(Status(ErrorCode::kIoError,
+                       "cannot cut uncommitted bytes off " + path.string() + ": " + std::strerror(errno)));
   }
   return std::unique_ptr<ContainerUpdater>(
       new ContainerUpdater(fd, std::move(file).value(), std::move(opened).value(), end));
@@ -80,8 +80,7 @@ Status ContainerUpdater::write_at(uint64_t offset, std::span<const uint8_t> data
   }
   size_t done = 0;
   while (done < data.size()) {
-    const ssize_t n =
-        ::pwrite(fd_, data.data() + done, data.size() - done, static_cast<off_t>(offset + done));
+    const ssize_t n = ::pwrite(fd_, data.data() + done, data.size() - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       return Status(ErrorCode::kIoError, "write to " + file_->path().string() + " at byte offset " +

@@ -27,14 +27,14 @@
 namespace svc {
 
 // Caps on untrusted input, checked before anything is allocated from them.
-inline constexpr int kMaxFaceSide = 16384;          // face_size[0], face_size[1]
-inline constexpr int64_t kMaxGridCells = 1 << 24;   // dims[0] * dims[1] * dims[2]
-inline constexpr int kMaxImageChannels = 4096;      // channels in one colour/depth file
+inline constexpr int kMaxFaceSide = 16384;         // face_size[0], face_size[1]
+inline constexpr int64_t kMaxGridCells = 1 << 24;  // dims[0] * dims[1] * dims[2]
+inline constexpr int kMaxImageChannels = 4096;     // channels in one colour/depth file
 
 struct FaceSource {
   std::string color_path;  // relative to the database root (or absolute), as the manifest names it
   std::string depth_path;
-  Camera camera;           // view matrix and frustum (per-face or global projection)
+  Camera camera;  // view matrix and frustum (per-face or global projection)
 };
 
 struct CellSource {
@@ -83,8 +83,7 @@ Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal
 
 // Where a manifest path lives on disk: absolute paths as they are, relative paths under
 // manifest.root.
-std::filesystem::path resolve_database_path(const DatabaseManifest& manifest,
-                                            const std::string& manifest_path);
+std::filesystem::path resolve_database_path(const DatabaseManifest& manifest, const std::string& manifest_path);
 
 // Ordinal of the cell with this index in manifest.cells, or nullopt for a hole in the grid.
 std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellIndex& index);
@@ -94,7 +93,6 @@ std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellInde
 uint8_t linear_to_srgb8(float linear) noexcept;
 
 // Symmetric glFrustum for a vertical field of view and aspect = width / height.
-Frustum symmetric_frustum(double fov_y_degrees, double aspect, double near_plane,
-                          double far_plane) noexcept;
+Frustum symmetric_frustum(double fov_y_degrees, double aspect, double near_plane, double far_plane) noexcept;
 
 }  // namespace svc

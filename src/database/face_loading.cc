@@ -30,8 +30,8 @@ struct FloatImage {
 };
 
 // `what` is the prefix naming cell, face, role and file.
-Result<FloatImage> read_float_image(const fs::path& resolved, const std::string& what,
-                                    int expected_width, int expected_height) {
+Result<FloatImage> read_float_image(const fs::path& resolved, const std::string& what, int expected_width,
+                                    int expected_height) {
   std::error_code ec;
   const fs::file_status status = fs::status(resolved, ec);
   if (!fs::exists(status)) return Status(ErrorCode::kNotFound, what + ": file not found");
@@ -52,24 +52,21 @@ Result<FloatImage> read_float_image(const fs::path& resolved, const std::string&
   }
   const OIIO::ImageSpec& spec = input->spec();
   if (spec.width != expected_width || spec.height != expected_height || spec.depth != 1) {
-    return Status(ErrorCode::kBadInput,
-                  what + ": image is " + std::to_string(spec.width) + "x" +
-                      std::to_string(spec.height) + (spec.depth != 1 ? " (a volume)" : "") +
-                      ", face_size is " + std::to_string(expected_width) + "x" +
-                      std::to_string(expected_height));
+    return Status(ErrorCode::kBadInput, what + ": image is " + std::to_string(spec.width) + "x" +
+                                            std::to_string(spec.height) + (spec.depth != 1 ? " (a volume)" : "") +
+                                            ", face_size is " + std::to_string(expected_width) + "x" +
+                                            std::to_string(expected_height));
   }
   if (spec.nchannels <= 0 || spec.nchannels > kMaxImageChannels) {
-    return Status(ErrorCode::kBadInput,
-                  what + ": image has " + std::to_string(spec.nchannels) + " channels");
+    return Status(ErrorCode::kBadInput, what + ": image has " + std::to_string(spec.nchannels) + " channels");
   }
   FloatImage image;
   image.width = spec.width;
   image.height = spec.height;
   image.channels = spec.nchannels;
   for (int c = 0; c < spec.nchannels; ++c) {
-    image.channel_names.push_back(c < static_cast<int>(spec.channelnames.size())
-                                      ? spec.channelnames[c]
-                                      : std::string());
+    image.channel_names.push_back(c < static_cast<int>(spec.channelnames.size()) ? spec.channelnames[c]
+                                                                                 : std::string());
     image.channel_types.push_back(spec.channelformat(c));
   }
   image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
@@ -92,8 +89,7 @@ int find_channel(const FloatImage& image, const std::string& name) {
 }
 
 bool ends_with(const std::string& text, const std::string& suffix) {
-  return text.size() > suffix.size() &&
-         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return text.size() > suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // R, G, B by name, else "<layer>.R/G/B" of the first layer that has all three, else the
@@ -160,8 +156,7 @@ ImageRGB8 to_rgb8(const FloatImage& image) {
   return out;
 }
 
-std::vector<float> to_eye_depth(const FloatImage& image, int channel, DepthMode mode,
-                                const Frustum& frustum) {
+std::vector<float> to_eye_depth(const FloatImage& image, int channel, DepthMode mode, const Frustum& frustum) {
   const int w = image.width, h = image.height;
   std::vector<float> depth(static_cast<size_t>(w) * h);
   constexpr float kBackground = std::numeric_limits<float>::infinity();
@@ -210,9 +205,9 @@ uint8_t linear_to_srgb8(float linear) noexcept {
 
 Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face) {
   if (cell_ordinal >= manifest.cells.size()) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "cell ordinal " + std::to_string(cell_ordinal) + " is out of range (" +
-                      std::to_string(manifest.cells.size()) + " cells)");
+    return Status(ErrorCode::kInvalidArgument, "cell ordinal " + std::to_string(cell_ordinal) +
+                                                   " is out of range (" + std::to_string(manifest.cells.size()) +
+                                                   " cells)");
   }
   const auto face_slot = static_cast<size_t>(face);
   if (face_slot >= kFaceCount) {
@@ -229,28 +224,27 @@ Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal
 
   const std::string color_what = describe("color", source.color_path, color_path);
   SVC_ASSIGN_OR_RETURN(const FloatImage color_image,
-                       read_float_image(color_path, color_what, manifest.face_width,
-                                        manifest.face_height));
+                       read_float_image(color_path, color_what, manifest.face_width, manifest.face_height));
   // Colour and depth often share one EXR; read it once then.
   const bool shared_file = depth_path == color_path;
   FloatImage depth_storage;
   const std::string depth_what = describe("depth", source.depth_path, depth_path);
   if (!shared_file) {
-    SVC_ASSIGN_OR_RETURN(depth_storage, read_float_image(depth_path, depth_what,
-                                                         manifest.face_width, manifest.face_height));
+    SVC_ASSIGN_OR_RETURN(depth_storage,
+                         read_float_image(depth_path, depth_what, manifest.face_width, manifest.face_height));
   }
   const FloatImage& depth_image = shared_file ? color_image : depth_storage;
   const int channel = depth_channel(depth_image);
   if (channel < 0) {
-    return Status(ErrorCode::kBadInput, depth_what + ": no depth channel (looked for Z, *.Z, "
-                                                     "depth, Y; the image has " +
+    return Status(ErrorCode::kBadInput, depth_what +
+                                            ": no depth channel (looked for Z, *.Z, "
+                                            "depth, Y; the image has " +
                                             channel_list(depth_image) + ")");
   }
   if (!is_float_type(depth_image.channel_types[channel])) {
     return Status(ErrorCode::kBadInput,
-                  depth_what + ": depth channel " + in_quotes(depth_image.channel_names[channel]) +
-                      " holds " + depth_image.channel_types[channel].c_str() +
-                      " values; depth must be half or float");
+                  depth_what + ": depth channel " + in_quotes(depth_image.channel_names[channel]) + " holds " +
+                      depth_image.channel_types[channel].c_str() + " values; depth must be half or float");
   }
 
   FaceData data;

@@ -30,13 +30,11 @@ class ManifestParser {
  public:
   explicit ManifestParser(std::string manifest_label) : label_(std::move(manifest_label)) {}
 
-  Status error(const std::string& where, const std::string& what,
-               ErrorCode code = ErrorCode::kBadInput) const {
+  Status error(const std::string& where, const std::string& what, ErrorCode code = ErrorCode::kBadInput) const {
     return Status(code, label_ + ": " + (where.empty() ? "" : where + ": ") + what);
   }
 
-  Result<const json*> required(const json& object, const char* key,
-                               const std::string& where) const {
+  Result<const json*> required(const json& object, const char* key, const std::string& where) const {
     const auto it = object.find(key);
     if (it == object.end()) return error(where, "missing key " + in_quotes(key));
     return &*it;
@@ -114,8 +112,7 @@ class ManifestParser {
                               std::string(value.type_name()));
     }
     if (value.size() != size) {
-      return error(where, "expected " + std::to_string(size) + " numbers, got " +
-                              std::to_string(value.size()));
+      return error(where, "expected " + std::to_string(size) + " numbers, got " + std::to_string(value.size()));
     }
     return Status::Ok();
   }
@@ -128,18 +125,19 @@ std::string join(const std::string& where, const std::string& key) {
 }
 
 // A projection object: either {fov_y_degrees, near, far} or the glFrustum parameters.
-Result<Frustum> parse_projection(const ManifestParser& p, const json& value,
-                                 const std::string& where, double aspect) {
+Result<Frustum> parse_projection(const ManifestParser& p, const json& value, const std::string& where,
+                                 double aspect) {
   SVC_RETURN_IF_ERROR(p.expect_object(value, where));
   const bool symmetric = value.contains("fov_y_degrees");
-  const bool explicit_frustum = value.contains("left") || value.contains("right") ||
-                                value.contains("bottom") || value.contains("top");
+  const bool explicit_frustum = value.contains("left") || value.contains("right") || value.contains("bottom") ||
+                                value.contains("top");
   if (symmetric && explicit_frustum) {
     return p.error(where, "give either fov_y_degrees or left/right/bottom/top, not both");
   }
   if (!symmetric && !explicit_frustum) {
-    return p.error(where, "missing key \"fov_y_degrees\" (or an explicit frustum with "
-                          "\"left\", \"right\", \"bottom\", \"top\")");
+    return p.error(where,
+                   "missing key \"fov_y_degrees\" (or an explicit frustum with "
+                   "\"left\", \"right\", \"bottom\", \"top\")");
   }
   double near_plane = 0, far_plane = 0;
   {
@@ -196,8 +194,9 @@ Result<std::array<double, 16>> parse_view_matrix(const ManifestParser& p, const 
       double dot = 0;
       for (int k = 0; k < 3; ++k) dot += at(a, k) * at(b, k);
       if (std::abs(dot - (a == b ? 1.0 : 0.0)) > kOrthoTolerance) {
-        return p.error(where, "rotation part is not orthonormal (a view matrix must be a rigid "
-                              "transform: no scale, shear or singularity)");
+        return p.error(where,
+                       "rotation part is not orthonormal (a view matrix must be a rigid "
+                       "transform: no scale, shear or singularity)");
       }
     }
   }
@@ -209,9 +208,8 @@ struct ParsedCell {
   size_t listed_at = 0;  // position in the manifest's "cells" array
 };
 
-Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t ordinal,
-                              const GridSpec& grid, const std::optional<Frustum>& global_projection,
-                              double aspect) {
+Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t ordinal, const GridSpec& grid,
+                              const std::optional<Frustum>& global_projection, double aspect) {
   std::string where = "cells[" + std::to_string(ordinal) + "]";
   SVC_RETURN_IF_ERROR(p.expect_object(value, where));
   ParsedCell parsed;
@@ -222,15 +220,14 @@ Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t
   SVC_ASSIGN_OR_RETURN(const auto index, p.integers<3>(*index_json, join(where, "index")));
   for (int axis = 0; axis < 3; ++axis) {
     if (index[axis] < 0 || index[axis] >= grid.dims[axis]) {
-      return p.error(where, "index (" + std::to_string(index[0]) + "," +
-                                std::to_string(index[1]) + "," + std::to_string(index[2]) +
-                                ") lies outside the grid dims (" + std::to_string(grid.dims[0]) +
-                                "," + std::to_string(grid.dims[1]) + "," +
+      return p.error(where, "index (" + std::to_string(index[0]) + "," + std::to_string(index[1]) + "," +
+                                std::to_string(index[2]) + ") lies outside the grid dims (" +
+                                std::to_string(grid.dims[0]) + "," + std::to_string(grid.dims[1]) + "," +
                                 std::to_string(grid.dims[2]) + ")");
     }
   }
-  cell.index = CellIndex{static_cast<int32_t>(index[0]), static_cast<int32_t>(index[1]),
-                         static_cast<int32_t>(index[2])};
+  cell.index =
+      CellIndex{static_cast<int32_t>(index[0]), static_cast<int32_t>(index[1]), static_cast<int32_t>(index[2])};
   where += " (" + cell_label(cell.index) + ")";
 
   SVC_ASSIGN_OR_RETURN(const json* position, p.required(value, "position", where));
@@ -265,8 +262,9 @@ Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t
     } else if (global_projection) {
       source.camera.frustum = *global_projection;
     } else {
-      return p.error(face_where, "missing key \"projection\" (and the manifest has no global "
-                                 "\"projection\")");
+      return p.error(face_where,
+                     "missing key \"projection\" (and the manifest has no global "
+                     "\"projection\")");
     }
   }
   return parsed;
@@ -274,16 +272,15 @@ Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t
 
 // Checks that a file the manifest names exists; errors name cell, face and file.
 Status check_file_exists(const std::string& manifest_label, const DatabaseManifest& manifest,
-                         const CellSource& cell, Face face, const char* role,
-                         const std::string& path) {
+                         const CellSource& cell, Face face, const char* role, const std::string& path) {
   const fs::path resolved = resolve_database_path(manifest, path);
   std::error_code ec;
   const fs::file_status status = fs::status(resolved, ec);
   if (fs::is_regular_file(status)) return Status::Ok();
   const std::string what = fs::exists(status) ? "is not a regular file" : "not found";
-  return Status(ErrorCode::kNotFound, manifest_label + ": " + cell_label(cell.index) + ", face " +
-                                          face_name(face) + ": " + role + " file " +
-                                          in_quotes(path) + " (" + resolved.string() + ") " + what);
+  return Status(ErrorCode::kNotFound, manifest_label + ": " + cell_label(cell.index) + ", face " + face_name(face) +
+                                          ": " + role + " file " + in_quotes(path) + " (" + resolved.string() +
+                                          ") " + what);
 }
 
 Result<std::string> read_text_file(const fs::path& path) {
@@ -359,8 +356,8 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
   SVC_ASSIGN_OR_RETURN(const json* version_json, p.required(root_json, "version", ""));
   SVC_ASSIGN_OR_RETURN(const int64_t version, p.integer(*version_json, "version"));
   if (version != 1) {
-    return p.error("version", "version " + std::to_string(version) +
-                                  " is not supported (this reader reads version 1)",
+    return p.error("version",
+                   "version " + std::to_string(version) + " is not supported (this reader reads version 1)",
                    ErrorCode::kUnsupported);
   }
 
@@ -387,8 +384,9 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
     for (int axis = 0; axis < 3; ++axis) {
       // Spacing only matters along an axis with more than one cell.
       if (manifest.grid.dims[axis] > 1 && !(manifest.grid.spacing[axis] > 0)) {
-        return p.error("grid.spacing", "spacing must be positive along an axis with more than "
-                                       "one cell");
+        return p.error("grid.spacing",
+                       "spacing must be positive along an axis with more than "
+                       "one cell");
       }
     }
   }
@@ -399,8 +397,8 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
     SVC_ASSIGN_OR_RETURN(const auto size, p.integers<2>(*size_json, "face_size"));
     if (size[0] <= 0 || size[1] <= 0) return p.error("face_size", "width and height must be positive");
     if (size[0] > kMaxFaceSide || size[1] > kMaxFaceSide) {
-      return p.error("face_size", "faces larger than " + std::to_string(kMaxFaceSide) +
-                                      " pixels a side are not accepted",
+      return p.error("face_size",
+                     "faces larger than " + std::to_string(kMaxFaceSide) + " pixels a side are not accepted",
                      ErrorCode::kLimitExceeded);
     }
     manifest.face_width = static_cast<int>(size[0]);
@@ -445,21 +443,19 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
   std::vector<ParsedCell> parsed;
   parsed.reserve(cells->size());
   for (size_t i = 0; i < cells->size(); ++i) {
-    SVC_ASSIGN_OR_RETURN(ParsedCell cell,
-                         parse_cell(p, (*cells)[i], i, manifest.grid, global_projection, aspect));
+    SVC_ASSIGN_OR_RETURN(ParsedCell cell, parse_cell(p, (*cells)[i], i, manifest.grid, global_projection, aspect));
     parsed.push_back(std::move(cell));
   }
   const auto key = [](const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); };
-  std::stable_sort(parsed.begin(), parsed.end(), [&](const ParsedCell& a, const ParsedCell& b) {
-    return key(a.cell.index) < key(b.cell.index);
-  });
+  std::stable_sort(parsed.begin(), parsed.end(),
+                   [&](const ParsedCell& a, const ParsedCell& b) { return key(a.cell.index) < key(b.cell.index); });
   for (size_t i = 1; i < parsed.size(); ++i) {
     if (parsed[i].cell.index == parsed[i - 1].cell.index) {
       const size_t first = std::min(parsed[i - 1].listed_at, parsed[i].listed_at);
       const size_t second = std::max(parsed[i - 1].listed_at, parsed[i].listed_at);
-      return p.error("cells[" + std::to_string(second) + "]",
-                     cell_label(parsed[i].cell.index) + " is listed twice (also at cells[" +
-                         std::to_string(first) + "])");
+      return p.error("cells[" + std::to_string(second) + "]", cell_label(parsed[i].cell.index) +
+                                                                  " is listed twice (also at cells[" +
+                                                                  std::to_string(first) + "])");
     }
   }
   manifest.cells.reserve(parsed.size());
@@ -470,8 +466,7 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
       const FaceSource& source = cell.faces[static_cast<size_t>(face)];
       SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "color", source.color_path));
       if (source.depth_path != source.color_path) {
-        SVC_RETURN_IF_ERROR(
-            check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
+        SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
       }
     }
   }
@@ -480,8 +475,7 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
 
 }  // namespace
 
-Frustum symmetric_frustum(double fov_y_degrees, double aspect, double near_plane,
-                          double far_plane) noexcept {
+Frustum symmetric_frustum(double fov_y_degrees, double aspect, double near_plane, double far_plane) noexcept {
   constexpr double kPi = 3.14159265358979323846;
   Frustum f;
   f.near_plane = near_plane;
@@ -493,8 +487,7 @@ Frustum symmetric_frustum(double fov_y_degrees, double aspect, double near_plane
   return f;
 }
 
-std::filesystem::path resolve_database_path(const DatabaseManifest& manifest,
-                                            const std::string& manifest_path) {
+std::filesystem::path resolve_database_path(const DatabaseManifest& manifest, const std::string& manifest_path) {
   const fs::path path(manifest_path);
   if (path.is_absolute()) return path;
   return manifest.root / path;
@@ -502,9 +495,8 @@ std::filesystem::path resolve_database_path(const DatabaseManifest& manifest,
 
 std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellIndex& index) {
   const auto key = [](const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); };
-  const auto it = std::lower_bound(
-      manifest.cells.begin(), manifest.cells.end(), key(index),
-      [&](const CellSource& cell, const auto& k) { return key(cell.index) < k; });
+  const auto it = std::lower_bound(manifest.cells.begin(), manifest.cells.end(), key(index),
+                                   [&](const CellSource& cell, const auto& k) { return key(cell.index) < k; });
   if (it == manifest.cells.end() || !(it->index == index)) return std::nullopt;
   return static_cast<size_t>(it - manifest.cells.begin());
 }
@@ -534,11 +526,9 @@ Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir) {
       return Status(ErrorCode::kBadInput, label + ": not valid JSON: " + checker.error_message);
     }
     const auto [line, column] = line_and_column(text, checker.error_offset);
-    return Status(ErrorCode::kBadInput, label + ": not valid JSON near line " +
-                                            std::to_string(line) + ", column " +
+    return Status(ErrorCode::kBadInput, label + ": not valid JSON near line " + std::to_string(line) + ", column " +
                                             std::to_string(column) + " (last token " +
-                                            in_quotes(checker.error_token) +
-                                            "): " + checker.error_message);
+                                            in_quotes(checker.error_token) + "): " + checker.error_message);
   }
   json root_json;
   try {

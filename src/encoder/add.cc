@@ -95,7 +95,8 @@ std::vector<UnionCell> merge_cells(const ContainerIndex& old, const DatabaseMani
     cells.push_back({manifest.cells[s].index, -1, static_cast<int64_t>(s)});
   }
   summary->cells_added = cells.size() - old.cells.size();
-  std::sort(cells.begin(), cells.end(), [](const UnionCell& a, const UnionCell& b) { return cell_less(a.index, b.index); });
+  std::sort(cells.begin(), cells.end(),
+            [](const UnionCell& a, const UnionCell& b) { return cell_less(a.index, b.index); });
   return cells;
 }
 
@@ -228,8 +229,8 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
                                    const AddSettings& settings, const EncodeProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
   if (settings.threads < 0 || settings.threads > 1024) {
-    return Status(ErrorCode::kInvalidArgument, "thread count " + std::to_string(settings.threads) +
-                                                   " is outside 0..1024");
+    return Status(ErrorCode::kInvalidArgument,
+                  "thread count " + std::to_string(settings.threads) + " is outside 0..1024");
   }
   SVC_ASSIGN_OR_RETURN(auto updater, ContainerUpdater::open(svc_file));
   const ContainerIndex& old = updater->committed().index;

@@ -1,7 +1,7 @@
 #include "svc/encoder.h"
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -25,12 +25,12 @@ Status validate_settings(const EncoderSettings& settings) {
   if (settings.quant_scale != 0 &&
       (settings.quant_scale < codec::kMinQuantScale || settings.quant_scale > codec::kMaxQuantScale)) {
     return Status(ErrorCode::kInvalidArgument, "quantiser scale " + std::to_string(settings.quant_scale) +
-                                                   " is outside " + std::to_string(codec::kMinQuantScale) +
-                                                   ".." + std::to_string(codec::kMaxQuantScale));
+                                                   " is outside " + std::to_string(codec::kMinQuantScale) + ".." +
+                                                   std::to_string(codec::kMaxQuantScale));
   }
   if (settings.threads < 0 || settings.threads > 1024) {
-    return Status(ErrorCode::kInvalidArgument, "thread count " + std::to_string(settings.threads) +
-                                                   " is outside 0..1024");
+    return Status(ErrorCode::kInvalidArgument,
+                  "thread count " + std::to_string(settings.threads) + " is outside 0..1024");
   }
   for (int32_t s : settings.i_spacing) {
     if (s < 1 || s > 1024) {
@@ -59,8 +59,7 @@ int quant_scale_for_quality(int quality) {
   return std::clamp(static_cast<int>(std::lround(scale)), codec::kMinQuantScale, codec::kMaxQuantScale);
 }
 
-Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
-                                      const std::filesystem::path& out_path,
+Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
                                       const EncoderSettings& settings, const EncodeProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
   SVC_RETURN_IF_ERROR(validate_settings(settings));
@@ -68,8 +67,8 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
   }
-  const int quant_scale =
-      settings.quant_scale != 0 ? settings.quant_scale : quant_scale_for_quality(settings.quality);
+  const int quant_scale = settings.quant_scale != 0 ? settings.quant_scale
+                                                    : quant_scale_for_quality(settings.quality);
   SVC_ASSIGN_OR_RETURN(auto writer, ContainerWriter::create(out_path));
 
   ContainerIndex index;
@@ -121,11 +120,14 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
       record.cell = static_cast<uint32_t>(cell);
       record.face = static_cast<Face>(f);
       record.type = placement[cell].intra ? FaceType::kIntra : FaceType::kPredicted;
-      for (uint32_t ref_cell : placement[cell].references) record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
+      for (uint32_t ref_cell : placement[cell].references)
+        record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
       job.frames.push_back(frame);
     }
   }
-  job.load = [&](uint32_t frame) { return load_face(manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount)); };
+  job.load = [&](uint32_t frame) {
+    return load_face(manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
+  };
   job.append = [&](std::span<const uint8_t> payload) { return writer->append_frame(payload); };
   job.threads = resolve_thread_count(settings.threads);
   job.progress = progress;

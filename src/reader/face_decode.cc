@@ -42,16 +42,18 @@ Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const Containe
     Result<FacePointer> image =
         index.frames[ref].type == FaceType::kIntra
             ? source.intra_face(ref)
-            : Result<FacePointer>(frame_error(Status(ErrorCode::kCorruptData, "reference is not an I-face"), file,
-                                              index, ref));
-    if (!image.ok()) return image.status().with_context(frame_label(index, frame) + " cannot be decoded: its reference");
+            : Result<FacePointer>(
+                  frame_error(Status(ErrorCode::kCorruptData, "reference is not an I-face"), file, index, ref));
+    if (!image.ok())
+      return image.status().with_context(frame_label(index, frame) + " cannot be decoded: its reference");
     refs[r] = std::move(image).value();
   }
-  if (!refs[0]) return frame_error(Status(ErrorCode::kCorruptData, "B-face without references"), file, index, frame);
+  if (!refs[0])
+    return frame_error(Status(ErrorCode::kCorruptData, "B-face without references"), file, index, frame);
   auto image = std::make_shared<ImageYCbCr420>();
-  const Status status =
-      codec::decode_b_frame(payload, static_cast<int>(index.face_width), static_cast<int>(index.face_height), *refs[0],
-                            refs[1].get(), image.get(), modes);
+  const Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
+                                              static_cast<int>(index.face_height), *refs[0], refs[1].get(),
+                                              image.get(), modes);
   if (!status.ok()) return frame_error(status, file, index, frame);
   return FacePointer(std::move(image));
 }

@@ -52,7 +52,8 @@ class FileCodedFaceSource : public CodedFaceSource {
 // macroblock modes (left empty for an I-face). Errors name the file, face and chunk
 // offset, and for a failed reference, the face that needed it.
 Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
-                                        CodedFaceSource& source, std::vector<codec::MacroblockMode>* modes = nullptr);
+                                        CodedFaceSource& source,
+                                        std::vector<codec::MacroblockMode>* modes = nullptr);
 
 // The same, reading straight from the file.
 Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,

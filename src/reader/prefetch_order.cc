@@ -46,8 +46,8 @@ std::vector<size_t> prefetch_order(const GridGeometry& grid, const CellIndex& vi
         const CellIndex cell{x, y, z};
         const std::optional<size_t> ordinal = find(cell);
         if (!ordinal) continue;
-        const int ring = std::max({std::abs(x - viewer_cell.x), std::abs(y - viewer_cell.y),
-                                   std::abs(z - viewer_cell.z)});
+        const int ring =
+            std::max({std::abs(x - viewer_cell.x), std::abs(y - viewer_cell.y), std::abs(z - viewer_cell.z)});
         const std::array<double, 3> c = grid.centre(cell);
         double d[3], length2 = 0, along = 0;
         for (int axis = 0; axis < 3; ++axis) {

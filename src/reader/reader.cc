@@ -177,7 +177,8 @@ struct Reader::Impl {
   }
 
   Result<ImagePointer> face_of(uint32_t frame, Origin origin, Outcome* outcome = nullptr) {
-    return faces.get(frame, origin, [&] { return decode_through_caches(frame, origin); }, outcome);
+    return faces.get(
+        frame, origin, [&] { return decode_through_caches(frame, origin); }, outcome);
   }
 
   Result<ImagePointer> decode_uncached(uint32_t frame, std::vector<codec::MacroblockMode>* modes = nullptr) {
@@ -222,13 +223,13 @@ struct Reader::Impl {
     if (settings.prefetch_threads <= 0 || settings.face_cache_bytes == 0) return Status::Ok();
     const uint64_t fit = settings.face_cache_bytes / 2 / std::max<uint64_t>(cube_bytes(), 1);
     const size_t max_cells = static_cast<size_t>(std::clamp<uint64_t>(fit, 1, 1u << 20));
-    std::vector<size_t> order = reader_internal::prefetch_order(
-        grid, viewer_cell, position, velocity, settings.prefetch_radius, max_cells,
-        [&](const CellIndex& c) -> std::optional<size_t> {
-          const auto it = cell_by_key.find(cell_key(c));
-          if (it == cell_by_key.end()) return std::nullopt;
-          return it->second;
-        });
+    std::vector<size_t> order = reader_internal::prefetch_order(grid, viewer_cell, position, velocity,
+                                                                settings.prefetch_radius, max_cells,
+                                                                [&](const CellIndex& c) -> std::optional<size_t> {
+                                                                  const auto it = cell_by_key.find(cell_key(c));
+                                                                  if (it == cell_by_key.end()) return std::nullopt;
+                                                                  return it->second;
+                                                                });
     std::lock_guard<std::mutex> lock(prefetch_mutex);
     if (stopping) return cancelled();
     if (order == scheduled_cells) return Status::Ok();
@@ -279,8 +280,8 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
                                                    std::to_string(settings.prefetch_threads) + " outside 0..64");
   }
   if (settings.prefetch_radius < 0 || settings.prefetch_radius > 8) {
-    return Status(ErrorCode::kInvalidArgument, "reader settings: prefetch_radius " +
-                                                   std::to_string(settings.prefetch_radius) + " outside 0..8");
+    return Status(ErrorCode::kInvalidArgument,
+                  "reader settings: prefetch_radius " + std::to_string(settings.prefetch_radius) + " outside 0..8");
   }
   auto impl = std::make_unique<Impl>(settings);
   SVC_ASSIGN_OR_RETURN(impl->file, ReadOnlyFile::open(path));
@@ -409,9 +410,8 @@ Status Reader::set_viewer(const std::array<double, 3>& position, const std::arra
 
 bool Reader::wait_for_prefetch(std::chrono::milliseconds timeout) {
   std::unique_lock<std::mutex> lock(impl_->prefetch_mutex);
-  return impl_->work_idle.wait_for(lock, timeout, [&] {
-    return impl_->stopping || (impl_->queue.empty() && impl_->active == 0);
-  });
+  return impl_->work_idle.wait_for(lock, timeout,
+                                   [&] { return impl_->stopping || (impl_->queue.empty() && impl_->active == 0); });
 }
 
 ReaderStats Reader::stats() const {

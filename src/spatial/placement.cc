@@ -41,8 +41,7 @@ bool ranks_before(const Ranked& a, const Ranked& b) {
   return a.index.x < b.index.x;
 }
 
-double distance_squared(const std::array<double, 3>& a, const CellIndex& b,
-                        const std::array<double, 3>& spacing) {
+double distance_squared(const std::array<double, 3>& a, const CellIndex& b, const std::array<double, 3>& spacing) {
   const double dx = (a[0] - b.x) * spacing[0];
   const double dy = (a[1] - b.y) * spacing[1];
   const double dz = (a[2] - b.z) * spacing[2];
@@ -58,21 +57,18 @@ Status validate(const std::vector<CellIndex>& cells, const std::array<int32_t, 3
   static constexpr const char* kAxis[3] = {"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     if (dims[a] <= 0) {
-      return Status(ErrorCode::kInvalidArgument, std::string("placement: grid dims along ") +
-                                                     kAxis[a] + " is " +
+      return Status(ErrorCode::kInvalidArgument, std::string("placement: grid dims along ") + kAxis[a] + " is " +
                                                      std::to_string(dims[a]) + ", must be > 0");
     }
     const int32_t s = settings.i_spacing[a];
     if (s < 1 || s > kMaxIntraSpacing) {
-      return Status(ErrorCode::kInvalidArgument,
-                    std::string("placement: i_spacing along ") + kAxis[a] + " is " +
-                        std::to_string(s) + ", must be in 1.." +
-                        std::to_string(kMaxIntraSpacing));
+      return Status(ErrorCode::kInvalidArgument, std::string("placement: i_spacing along ") + kAxis[a] + " is " +
+                                                     std::to_string(s) + ", must be in 1.." +
+                                                     std::to_string(kMaxIntraSpacing));
     }
     if (!std::isfinite(grid_spacing[a]) || grid_spacing[a] <= 0) {
-      return Status(ErrorCode::kInvalidArgument,
-                    std::string("placement: grid spacing along ") + kAxis[a] + " is " +
-                        std::to_string(grid_spacing[a]) + ", must be finite and > 0");
+      return Status(ErrorCode::kInvalidArgument, std::string("placement: grid spacing along ") + kAxis[a] + " is " +
+                                                     std::to_string(grid_spacing[a]) + ", must be finite and > 0");
     }
   }
   if (cells.size() > UINT32_MAX) {
@@ -98,13 +94,11 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
     const CellIndex& c = cells[ordinal];
     if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= dims[0] || c.y >= dims[1] || c.z >= dims[2]) {
       return Status(ErrorCode::kInvalidArgument,
-                    "placement: cell " + index_text(c) + " lies outside the grid dims (" +
-                        std::to_string(dims[0]) + ", " + std::to_string(dims[1]) + ", " +
-                        std::to_string(dims[2]) + ")");
+                    "placement: cell " + index_text(c) + " lies outside the grid dims (" + std::to_string(dims[0]) +
+                        ", " + std::to_string(dims[1]) + ", " + std::to_string(dims[2]) + ")");
     }
     if (!seen.emplace(std::array<int32_t, 3>{c.x, c.y, c.z}, ordinal).second) {
-      return Status(ErrorCode::kInvalidArgument,
-                    "placement: cell " + index_text(c) + " is listed twice");
+      return Status(ErrorCode::kInvalidArgument, "placement: cell " + index_text(c) + " is listed twice");
     }
     groups[{c.x / s[0], c.y / s[1], c.z / s[2]}].push_back(ordinal);
   }
@@ -119,8 +113,7 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
     Ranked best;
     bool have_best = false;
     for (uint32_t ordinal : members) {
-      const Ranked candidate{distance_squared(nominal, cells[ordinal], grid_spacing),
-                             cells[ordinal], ordinal};
+      const Ranked candidate{distance_squared(nominal, cells[ordinal], grid_spacing), cells[ordinal], ordinal};
       if (!have_best || ranks_before(candidate, best)) {
         best = candidate;
         have_best = true;
@@ -140,8 +133,7 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
     auto& refs = placement[ordinal].references;
     refs = reach.references(c, grid_spacing);
     if (refs.empty()) {
-      return Status(ErrorCode::kInternal,
-                    "placement: B-cube " + index_text(c) + " has no I-cube in its own group");
+      return Status(ErrorCode::kInternal, "placement: B-cube " + index_text(c) + " has no I-cube in its own group");
     }
   }
   return placement;
@@ -158,7 +150,8 @@ void ReachIndex::add(const ReferenceCandidate& candidate) {
   by_group_[{c.x / spacing_[0], c.y / spacing_[1], c.z / spacing_[2]}].push_back(candidate);
 }
 
-std::vector<uint32_t> ReachIndex::references(const CellIndex& cell, const std::array<double, 3>& grid_spacing) const {
+std::vector<uint32_t> ReachIndex::references(const CellIndex& cell,
+                                             const std::array<double, 3>& grid_spacing) const {
   const GroupKey own = {cell.x / spacing_[0], cell.y / spacing_[1], cell.z / spacing_[2]};
   std::vector<ReferenceCandidate> in_reach;
   for (int dy = -1; dy <= 1; ++dy) {

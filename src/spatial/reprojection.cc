@@ -38,9 +38,7 @@ FlowField empty_field(int width, int height) {
   return flow;
 }
 
-glm::dmat4 view_matrix(const Camera& camera) {
-  return glm::make_mat4(camera.world_to_camera.data());
-}
+glm::dmat4 view_matrix(const Camera& camera) { return glm::make_mat4(camera.world_to_camera.data()); }
 
 glm::dmat4 projection_matrix(const Frustum& f) {
   return glm::frustum(f.left, f.right, f.bottom, f.top, f.near_plane, f.far_plane);
@@ -189,7 +187,8 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
     // Two pixels at a time, the same operations in the same order as the scalar loop
     // below (so the same bits).
     {
-      const __m128d row_x = _mm_set1_pd(row_term.x), row_y = _mm_set1_pd(row_term.y), row_z = _mm_set1_pd(row_term.z);
+      const __m128d row_x = _mm_set1_pd(row_term.x), row_y = _mm_set1_pd(row_term.y),
+                    row_z = _mm_set1_pd(row_term.z);
       const __m128d t_x = _mm_set1_pd(translation.x), t_y = _mm_set1_pd(translation.y);
       const __m128d t_z = _mm_set1_pd(translation.z);
       const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0), minus_one = _mm_set1_pd(-1.0);
@@ -207,7 +206,8 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
         const __m128d dir_x = _mm_add_pd(_mm_loadu_pd(column_x.data() + i), row_x);
         const __m128d dir_y = _mm_add_pd(_mm_loadu_pd(column_y.data() + i), row_y);
         const __m128d dir_z = _mm_add_pd(_mm_loadu_pd(column_z.data() + i), row_z);
-        const __m128d z = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&depth[k]))));
+        const __m128d z =
+            _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&depth[k]))));
         const __m128d geometry =
             _mm_and_pd(_mm_and_pd(_mm_cmpgt_pd(z, zero), _mm_cmplt_pd(z, far2)), _mm_cmplt_pd(z, inf2));
         const __m128d scale = select(geometry, z, one), shift = _mm_and_pd(geometry, one);
@@ -266,8 +266,8 @@ FlowField compute_flow(const Camera& current, const Camera& reference, int width
   return flow;
 }
 
-FlowField compute_flow_reference(const Camera& current, const Camera& reference, int width,
-                                 int height, const std::vector<float>& depth) {
+FlowField compute_flow_reference(const Camera& current, const Camera& reference, int width, int height,
+                                 const std::vector<float>& depth) {
   FlowField flow = empty_field(width, height);
   if (depth.size() != flow.dx.size() || flow.dx.empty()) return flow;
 
@@ -342,7 +342,8 @@ std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& r
       for (int dy = -1; dy <= 1 && !found; ++dy) {
         for (int dx = -1; dx <= 1 && !found; ++dx) {
           const int rx = std::clamp(landing_x + dx, 0, width - 1), ry = std::clamp(landing_y + dy, 0, height - 1);
-          const float r = reference_depth[static_cast<size_t>(ry) * static_cast<size_t>(width) + static_cast<size_t>(rx)];
+          const float r =
+              reference_depth[static_cast<size_t>(ry) * static_cast<size_t>(width) + static_cast<size_t>(rx)];
           if (background) {
             found = is_background(r, reference.frustum);
           } else if (!is_background(r, reference.frustum)) {
@@ -372,10 +373,8 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   constexpr int kMb = codec::kMacroblockSize;
   const int mbs_x = (flow.width + kMb - 1) / kMb;
   const int mbs_y = (flow.height + kMb - 1) / kMb;
-  codec::FaceCandidates result(static_cast<size_t>(std::max(mbs_x, 0)) *
-                               static_cast<size_t>(std::max(mbs_y, 0)));
-  const size_t n = static_cast<size_t>(std::max(flow.width, 0)) *
-                   static_cast<size_t>(std::max(flow.height, 0));
+  codec::FaceCandidates result(static_cast<size_t>(std::max(mbs_x, 0)) * static_cast<size_t>(std::max(mbs_y, 0)));
+  const size_t n = static_cast<size_t>(std::max(flow.width, 0)) * static_cast<size_t>(std::max(flow.height, 0));
   if (n == 0 || flow.dx.size() != n || flow.dy.size() != n || flow.valid.size() != n) {
     return result;
   }
@@ -485,7 +484,8 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
         for (int r = 0; r < run_count; ++r) {
           const Counted& run = runs[static_cast<size_t>(r)];
           uint32_t slot = (static_cast<uint32_t>(run.key) * 2654435761u) >> 22;  // 10 bits
-          while (slots[slot].generation == generation && slots[slot].key != run.key) slot = (slot + 1) & (kSlots - 1);
+          while (slots[slot].generation == generation && slots[slot].key != run.key)
+            slot = (slot + 1) & (kSlots - 1);
           if (slots[slot].generation != generation) {
             slots[slot] = {generation, run.key, distinct_count};
             distinct[static_cast<size_t>(distinct_count++)] = {run.key, 0};
@@ -543,7 +543,8 @@ codec::WarpField warp_nodes(const FlowField& flow) {
           for (int dx = -2; dx < 2; ++dx) {
             const bool is_inner = dx >= -1 && dx <= 0 && dy >= -1 && dy <= 0;
             if (is_inner != (pass == 0)) continue;
-            const int x = std::clamp(kMb * i + dx, 0, flow.width - 1), y = std::clamp(kMb * j + dy, 0, flow.height - 1);
+            const int x = std::clamp(kMb * i + dx, 0, flow.width - 1),
+                      y = std::clamp(kMb * j + dy, 0, flow.height - 1);
             const size_t k = static_cast<size_t>(y) * static_cast<size_t>(flow.width) + static_cast<size_t>(x);
             if (!flow.valid[k] || !(std::abs(flow.dx[k]) < limit) || !(std::abs(flow.dy[k]) < limit)) continue;
             xs[count] = flow.dx[k];

@@ -50,8 +50,8 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
 // Plain implementation of compute_flow, following the dissertation's matrices literally
 // (V^-1 of the current camera, V of the reference, as full 4x4 products per pixel). Kept
 // as the reference the fast path is tested against; same contract.
-FlowField compute_flow_reference(const Camera& current, const Camera& reference, int width,
-                                 int height, const std::vector<float>& depth);
+FlowField compute_flow_reference(const Camera& current, const Camera& reference, int width, int height,
+                                 const std::vector<float>& depth);
 
 // Which pixels of the current face show something the reference face shows too: the
 // point (or, for background, the direction) lands inside the reference face, in front of
@@ -104,8 +104,7 @@ struct CandidateStats {
   double mean_per_macroblock() const {
     return macroblocks_with_candidates == 0
                ? 0.0
-               : static_cast<double>(candidates) /
-                     static_cast<double>(macroblocks_with_candidates);
+               : static_cast<double>(candidates) / static_cast<double>(macroblocks_with_candidates);
   }
   CandidateStats& operator+=(const CandidateStats& other) {
     macroblocks += other.macroblocks;

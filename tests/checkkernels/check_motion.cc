@@ -31,7 +31,8 @@ std::string check_put_half_pel(const DspTable& reference, const DspTable& varian
     Buffer expected(out_bytes), actual(out_bytes);
     reference.put_half_pel(window.at(offset), stride, width, height, fx, fy, expected.at(offset), out_stride);
     variant.put_half_pel(window.at(offset), stride, width, height, fx, fy, actual.at(offset), out_stride);
-    if (auto diff = first_difference(expected.at(offset), actual.at(offset), out_bytes, static_cast<size_t>(out_stride));
+    if (auto diff =
+            first_difference(expected.at(offset), actual.at(offset), out_bytes, static_cast<size_t>(out_stride));
         !diff.empty()) {
       return describe(diff, width, height, fx, fy, stride);
     }
@@ -117,13 +118,20 @@ WarpRow random_warp_row(Random& random, int size, int count) {
       nx[i] = random.uniform(-range, range);
       ny[i] = random.uniform(-range, range);
     }
-    const int x0 = random.uniform(0, size - count), y0 = random.uniform(0, size - count), v = random.uniform(0, count - 1);
+    const int x0 = random.uniform(0, size - count), y0 = random.uniform(0, size - count),
+              v = random.uniform(0, count - 1);
     const int b = 2 * v + 1;
     const int left_x = (denominator - b) * nx[0] + b * nx[2], right_x = (denominator - b) * nx[1] + b * nx[3];
     const int left_y = (denominator - b) * ny[0] + b * ny[2], right_y = (denominator - b) * ny[1] + b * ny[3];
     const int slope_x = right_x - left_x, slope_y = right_y - left_y;
-    const WarpRow row{16 * x0, 16 * (y0 + v), denominator * left_x + slope_x, denominator * left_y + slope_y,
-                      2 * slope_x, 2 * slope_y, count == 16 ? 9 : 8, count};
+    const WarpRow row{16 * x0,
+                      16 * (y0 + v),
+                      denominator * left_x + slope_x,
+                      denominator * left_y + slope_y,
+                      2 * slope_x,
+                      2 * slope_y,
+                      count == 16 ? 9 : 8,
+                      count};
     bool inside = true;
     const int round = 1 << (row.shift - 1);
     for (int u = 0; u < count && inside; ++u) {
@@ -145,9 +153,11 @@ std::string check_warp_row(const DspTable& reference, const DspTable& variant, R
     Buffer expected(count + 16), actual(count + 16);
     reference.warp_row(plane.at(0), kSize, row, expected.at(0));
     variant.warp_row(plane.at(0), kSize, row, actual.at(0));
-    if (auto diff = first_difference(expected.at(0), actual.at(0), static_cast<size_t>(count) + 16); !diff.empty()) {
+    if (auto diff = first_difference(expected.at(0), actual.at(0), static_cast<size_t>(count) + 16);
+        !diff.empty()) {
       return diff + " (count " + std::to_string(count) + ", x16 " + std::to_string(row.x16) + ", y16 " +
-             std::to_string(row.y16) + ", sx " + std::to_string(row.sx) + ", step_x " + std::to_string(row.step_x) + ")";
+             std::to_string(row.y16) + ", sx " + std::to_string(row.sx) + ", step_x " + std::to_string(row.step_x) +
+             ")";
     }
   }
   return {};
@@ -163,21 +173,24 @@ struct BenchPlane {
 void bench_put_half_pel(const DspTable& table, int iterations) {
   const BenchPlane plane;
   uint8_t out[256];
-  for (int n = 0; n < iterations; ++n) table.put_half_pel(plane.samples.data() + (n & 7), 64, 16, 16, n & 1, (n >> 1) & 1, out, 16);
+  for (int n = 0; n < iterations; ++n)
+    table.put_half_pel(plane.samples.data() + (n & 7), 64, 16, 16, n & 1, (n >> 1) & 1, out, 16);
   bench_sink = out[5];
 }
 
 void bench_average(const DspTable& table, int iterations) {
   const BenchPlane plane;
   uint8_t out[256];
-  for (int n = 0; n < iterations; ++n) table.average(plane.samples.data() + (n & 7), plane.samples.data() + 512, 256, out);
+  for (int n = 0; n < iterations; ++n)
+    table.average(plane.samples.data() + (n & 7), plane.samples.data() + 512, 256, out);
   bench_sink = out[5];
 }
 
 void bench_sad(const DspTable& table, int iterations) {
   const BenchPlane plane;
   int sum = 0;
-  for (int n = 0; n < iterations; ++n) sum += table.sad_16x16(plane.samples.data() + (n & 7), 64, plane.samples.data() + 2048);
+  for (int n = 0; n < iterations; ++n)
+    sum += table.sad_16x16(plane.samples.data() + (n & 7), 64, plane.samples.data() + 2048);
   bench_sink = sum;
 }
 
@@ -185,8 +198,8 @@ void bench_sad_half_pel(const DspTable& table, int iterations) {
   const BenchPlane plane;
   int sum = 0;
   for (int n = 0; n < iterations; ++n) {
-    sum += table.sad_half_pel_16x16(plane.samples.data() + (n & 7), 64, n & 1, (n >> 1) & 1, plane.samples.data() + 2048,
-                                    64, 1 << 30);
+    sum += table.sad_half_pel_16x16(plane.samples.data() + (n & 7), 64, n & 1, (n >> 1) & 1,
+                                    plane.samples.data() + 2048, 64, 1 << 30);
   }
   bench_sink = sum;
 }

@@ -13,9 +13,12 @@ void random_samples(Random& random, float* samples) {
   const int range = random.uniform(0, 1) ? 128 : 255;
   const int pattern = random.uniform(0, 4);
   for (int i = 0; i < 64; ++i) {
-    if (pattern == 0) samples[i] = static_cast<float>(range);
-    else if (pattern == 1) samples[i] = static_cast<float>(((i + i / 8) & 1) ? range : -range);
-    else samples[i] = static_cast<float>(random.uniform(-range, range));
+    if (pattern == 0)
+      samples[i] = static_cast<float>(range);
+    else if (pattern == 1)
+      samples[i] = static_cast<float>(((i + i / 8) & 1) ? range : -range);
+    else
+      samples[i] = static_cast<float>(random.uniform(-range, range));
   }
 }
 
@@ -70,7 +73,7 @@ std::string check_inverse_dct(const DspTable& reference, const DspTable& variant
 codec::Quantizer random_quantizer(Random& random) {
   const auto kind = random.uniform(0, 1) ? codec::BlockKind::kIntra : codec::BlockKind::kNonIntra;
   return codec::make_quantizer(kind, random.uniform(0, 3) == 0 ? (random.uniform(0, 1) ? 1 : 112)
-                                                                : random.uniform(1, 112));
+                                                               : random.uniform(1, 112));
 }
 
 // Coefficients spread over the whole range, some exactly on a rounding boundary (where
@@ -115,10 +118,14 @@ std::string check_dequantize(const DspTable& reference, const DspTable& variant,
     int16_t levels[64], expected[64], actual[64];
     const int pattern = random.uniform(0, 3);
     for (int i = 0; i < 64; ++i) {
-      if (pattern == 0) levels[i] = static_cast<int16_t>(random.uniform(-codec::kMaxLevel, codec::kMaxLevel));
-      else if (pattern == 1) levels[i] = static_cast<int16_t>(random.uniform(0, 7) ? 0 : random.uniform(-40, 40));
-      else if (pattern == 2) levels[i] = static_cast<int16_t>(random.uniform(0, 1) ? 32767 : -32768);
-      else levels[i] = static_cast<int16_t>(random.uniform(0, 1) ? codec::kMaxLevel : -codec::kMaxLevel);
+      if (pattern == 0)
+        levels[i] = static_cast<int16_t>(random.uniform(-codec::kMaxLevel, codec::kMaxLevel));
+      else if (pattern == 1)
+        levels[i] = static_cast<int16_t>(random.uniform(0, 7) ? 0 : random.uniform(-40, 40));
+      else if (pattern == 2)
+        levels[i] = static_cast<int16_t>(random.uniform(0, 1) ? 32767 : -32768);
+      else
+        levels[i] = static_cast<int16_t>(random.uniform(0, 1) ? codec::kMaxLevel : -codec::kMaxLevel);
     }
     reference.dequantize_8x8(levels, q.scale.data(), expected);
     variant.dequantize_8x8(levels, q.scale.data(), actual);

@@ -35,7 +35,8 @@ std::vector<Variant> variants_of_this_machine() {
     unsigned flags;
   } levels[] = {{"sse2", kCpuSse2}, {"sse4.1", kCpuSse2 | kCpuSse41}, {"avx2", kCpuSse2 | kCpuSse41 | kCpuAvx2}};
   for (const auto& level : levels) {
-    if ((detected & level.flags) == level.flags) variants.push_back({level.name, codec::dsp::make_dsp_table(level.flags)});
+    if ((detected & level.flags) == level.flags)
+      variants.push_back({level.name, codec::dsp::make_dsp_table(level.flags)});
   }
   return variants;
 }
@@ -68,8 +69,10 @@ bool parse(int argc, char** argv, Options* options) {
     } else if (arg == "--kernel" && has_value) {
       options->kernel = argv[++i];
     } else {
-      std::fprintf(stderr, "unknown or incomplete option '%s'\nusage: %s [--seed N] [--iterations N] [--kernel NAME] [--bench]\n",
-                   arg.c_str(), argv[0]);
+      std::fprintf(
+          stderr,
+          "unknown or incomplete option '%s'\nusage: %s [--seed N] [--iterations N] [--kernel NAME] [--bench]\n",
+          arg.c_str(), argv[0]);
       return false;
     }
   }
@@ -130,8 +133,8 @@ void run_bench(const std::vector<Kernel>& kernels, const std::vector<Variant>& v
       }
     }
     for (size_t m = 0; m < measured.size(); ++m) {
-      std::printf("%-20s %-7s %12.1f %7.2fx\n", kernel.name, variants[measured[m]].name, best[m] / kIterations * 1e9,
-                  best[0] / best[m]);
+      std::printf("%-20s %-7s %12.1f %7.2fx\n", kernel.name, variants[measured[m]].name,
+                  best[m] / kIterations * 1e9, best[0] / best[m]);
     }
   }
 }

@@ -123,7 +123,8 @@ inline int open_and_decode_all(std::span<const uint8_t> data) {
     if (face.ok()) {
       const ImageYCbCr420& image = **face;
       // A decoded face must have the size the index promised.
-      if (image.width != static_cast<int>(index.face_width) || image.height != static_cast<int>(index.face_height)) {
+      if (image.width != static_cast<int>(index.face_width) ||
+          image.height != static_cast<int>(index.face_height)) {
         std::fprintf(stderr, "decoded face has the wrong size\n");
         std::abort();
       }
@@ -169,7 +170,8 @@ inline ImageYCbCr420 synthetic_reference(int width, int height, int seed) {
 //   byte 1, 2: width and height, 1 + value % 64
 inline constexpr size_t kFrameInputHeader = 3;
 
-inline std::vector<uint8_t> make_frame_input(uint8_t kind, int width, int height, std::span<const uint8_t> payload) {
+inline std::vector<uint8_t> make_frame_input(uint8_t kind, int width, int height,
+                                             std::span<const uint8_t> payload) {
   std::vector<uint8_t> input = {kind, static_cast<uint8_t>(width - 1), static_cast<uint8_t>(height - 1)};
   input.insert(input.end(), payload.begin(), payload.end());
   return input;
@@ -197,8 +199,7 @@ inline int run_frame_input(std::span<const uint8_t> data) {
     std::vector<codec::MacroblockMode> modes;
     ok = codec::decode_b_frame(payload, width, height, ref0, kind == 2 ? &ref1 : nullptr, &out, &modes).ok();
   }
-  if (ok && (out.width != width || out.height != height ||
-             out.y.size() != static_cast<size_t>(width) * height)) {
+  if (ok && (out.width != width || out.height != height || out.y.size() != static_cast<size_t>(width) * height)) {
     std::fprintf(stderr, "decoded frame has the wrong size\n");
     std::abort();
   }

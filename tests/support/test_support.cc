@@ -13,8 +13,8 @@ TempDir::TempDir(const std::string& tag) {
   std::random_device rd;
   const auto base = std::filesystem::temp_directory_path();
   for (;;) {
-    auto candidate = base / (tag + "-" + std::to_string(::getpid()) + "-" +
-                             std::to_string(counter++) + "-" + std::to_string(rd() % 100000));
+    auto candidate = base / (tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
+                             std::to_string(rd() % 100000));
     std::error_code ec;
     if (std::filesystem::create_directory(candidate, ec)) {
       path_ = candidate;

@@ -25,7 +25,8 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
   for (const std::string& name : bench::all_codec_names()) all += (all.empty() ? "" : ",") + name;
   options_->codecs = all;
   command_ = app.add_subcommand(
-      "bench", "Compare svc with the MPEG-2 baseline and other codecs on one database: quality, speed, access cost");
+      "bench",
+      "Compare svc with the MPEG-2 baseline and other codecs on one database: quality, speed, access cost");
   command_->add_option("DB_DIR", options_->bench.db_dir, "svc-input database folder")->required();
   command_->add_option("--codecs", options_->codecs, "Comma-separated codecs to run")->capture_default_str();
   command_->add_option("--out", options_->out_dir, "Output folder for results.json, results.csv, plots, report.md")
@@ -63,7 +64,8 @@ int BenchSubcommand::run() const {
   for (const std::string& entry : options_->presets) {
     const size_t eq = entry.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == entry.size()) {
-      return report_error(Status(ErrorCode::kInvalidArgument, "--anchor-preset wants CODEC=PRESET, not '" + entry + "'"));
+      return report_error(
+          Status(ErrorCode::kInvalidArgument, "--anchor-preset wants CODEC=PRESET, not '" + entry + "'"));
     }
     options.anchor_presets[entry.substr(0, eq)] = entry.substr(eq + 1);
   }

@@ -9,7 +9,8 @@
 namespace svc::cli {
 
 ProgressBar::ProgressBar(std::string label, bool enabled)
-    : label_(std::move(label)), enabled_(enabled && ::isatty(STDERR_FILENO)),
+    : label_(std::move(label)),
+      enabled_(enabled && ::isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()) {}
 
 ProgressBar::~ProgressBar() { finish(); }
@@ -107,8 +108,7 @@ Result<ImageRGB8> read_rgb(const std::filesystem::path& path) {
   image.width = spec.width;
   image.height = spec.height;
   image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * 3);
-  if (spec.nchannels < 3 ||
-      !in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, image.pixels.data())) {
+  if (spec.nchannels < 3 || !in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, image.pixels.data())) {
     return Status(ErrorCode::kIoError, "cannot read RGB from " + path.string());
   }
   return image;

@@ -69,8 +69,8 @@ void print_frame_stats(const char* name, const FaceTypeStats& s) {
   if (mbs > 0 && (s.mb_forward + s.mb_backward + s.mb_bidirectional + s.mb_skipped) > 0) {
     std::printf("  macroblocks: intra %llu, forward %llu, backward %llu, bidirectional %llu, skipped %llu",
                 static_cast<unsigned long long>(s.mb_intra), static_cast<unsigned long long>(s.mb_forward),
-                static_cast<unsigned long long>(s.mb_backward),
-                static_cast<unsigned long long>(s.mb_bidirectional), static_cast<unsigned long long>(s.mb_skipped));
+                static_cast<unsigned long long>(s.mb_backward), static_cast<unsigned long long>(s.mb_bidirectional),
+                static_cast<unsigned long long>(s.mb_skipped));
     if (s.candidate_macroblocks) {
       std::printf("; %.2f unique candidates/macroblock",
                   static_cast<double>(s.candidate_vectors) / s.candidate_macroblocks);
@@ -157,7 +157,8 @@ int add_command(const AddOptions& options) {
   if (!options.quiet) {
     const AddSummary& s = *summary;
     std::printf("added %llu cells (%llu I-cubes, %llu B-cubes), %llu faces to %s; %llu cells were already there\n",
-                static_cast<unsigned long long>(s.cells_added), static_cast<unsigned long long>(s.intra_cells_added),
+                static_cast<unsigned long long>(s.cells_added),
+                static_cast<unsigned long long>(s.intra_cells_added),
                 static_cast<unsigned long long>(s.predicted_cells_added),
                 static_cast<unsigned long long>(s.faces_added), options.input.string().c_str(),
                 static_cast<unsigned long long>(s.cells_present));
@@ -190,8 +191,8 @@ int decode_command(const DecodeOptions& options) {
   if (options.cell) {
     auto ordinal = (*reader)->find_cell(*options.cell);
     if (!ordinal) {
-      return report_error(Status(ErrorCode::kNotFound, options.input.string() + " has no " +
-                                                           cell_label(*options.cell)));
+      return report_error(
+          Status(ErrorCode::kNotFound, options.input.string() + " has no " + cell_label(*options.cell)));
     }
     selected.push_back(*ordinal);
   } else {
@@ -203,7 +204,8 @@ int decode_command(const DecodeOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(options.output / "cells", ec);
   if (ec) {
-    return report_error(Status(ErrorCode::kIoError, "cannot create " + options.output.string() + ": " + ec.message()));
+    return report_error(
+        Status(ErrorCode::kIoError, "cannot create " + options.output.string() + ": " + ec.message()));
   }
   const std::string depth_name = "depth-unknown.exr";
   Status status = write_unknown_depth(options.output / depth_name, info.face_width, info.face_height);
@@ -242,13 +244,16 @@ int decode_command(const DecodeOptions& options) {
       if (!status.ok()) return report_error(status);
       const Camera& camera = cell.cameras[static_cast<int>(face)];
       const Frustum& f = camera.frustum;
-      faces_json[face_name(face)] = {
-          {"color", color},
-          {"depth", depth_name},
-          {"world_to_camera", camera_json(camera)},
-          {"projection",
-           {{"left", f.left}, {"right", f.right}, {"bottom", f.bottom}, {"top", f.top}, {"near", f.near_plane},
-            {"far", f.far_plane}}}};
+      faces_json[face_name(face)] = {{"color", color},
+                                     {"depth", depth_name},
+                                     {"world_to_camera", camera_json(camera)},
+                                     {"projection",
+                                      {{"left", f.left},
+                                       {"right", f.right},
+                                       {"bottom", f.bottom},
+                                       {"top", f.top},
+                                       {"near", f.near_plane},
+                                       {"far", f.far_plane}}}};
     }
     if (faces_json.size() == kFaceCount) {
       cell_list.push_back({{"index", {cell.index.x, cell.index.y, cell.index.z}},
@@ -312,9 +317,9 @@ int info_command(const InfoOptions& options) {
   }
   std::printf("%s: svc format %u.%u, %s\n", options.input.string().c_str(), info.format_major, info.format_minor,
               human_bytes(info.file_bytes).c_str());
-  std::printf("  grid      %d x %d x %d cells (%zu present), origin %s, spacing %s, up axis %c\n", info.grid_dims[0],
-              info.grid_dims[1], info.grid_dims[2], cells.size(), triple_text(info.grid_origin).c_str(),
-              triple_text(info.grid_spacing).c_str(), info.up_axis);
+  std::printf("  grid      %d x %d x %d cells (%zu present), origin %s, spacing %s, up axis %c\n",
+              info.grid_dims[0], info.grid_dims[1], info.grid_dims[2], cells.size(),
+              triple_text(info.grid_origin).c_str(), triple_text(info.grid_spacing).c_str(), info.up_axis);
   std::printf("  faces     %d x %d pixels, %zu faces, raw RGB %s, compression %.1f:1\n", info.face_width,
               info.face_height, cells.size() * kFaceCount, human_bytes(raw).c_str(),
               info.file_bytes ? static_cast<double>(raw) / info.file_bytes : 0.0);
@@ -407,10 +412,10 @@ int demo_command(const DemoOptions& options) {
     decode_seconds += seconds;
     SquaredError cell_y;
     for (Face face : kAllFaces) {
-      const fs::path source = db / "cells" /
-                              (std::to_string(cell.index.x) + "_" + std::to_string(cell.index.y) + "_" +
-                               std::to_string(cell.index.z)) /
-                              (std::string(face_name(face)) + ".png");
+      const fs::path source =
+          db / "cells" /
+          (std::to_string(cell.index.x) + "_" + std::to_string(cell.index.y) + "_" + std::to_string(cell.index.z)) /
+          (std::string(face_name(face)) + ".png");
       auto original = read_rgb(source);
       if (!original.ok()) return report_error(original.status());
       const ImageRGB8& decoded = (*cube)[static_cast<int>(face)];

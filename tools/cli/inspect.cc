@@ -60,8 +60,7 @@ int inspect_command(const InspectOptions& options) {
       const bool edge = x % 16 == 0 || y % 16 == 0;
       for (int c = 0; c < 3; ++c) {
         left[c] = src[c];
-        right[c] = edge ? static_cast<uint8_t>(colour[c])
-                        : static_cast<uint8_t>((src[c] * 2 + colour[c] * 3) / 5);
+        right[c] = edge ? static_cast<uint8_t>(colour[c]) : static_cast<uint8_t>((src[c] * 2 + colour[c] * 3) / 5);
       }
     }
   }
@@ -70,8 +69,7 @@ int inspect_command(const InspectOptions& options) {
   std::printf("%s: %s-face, %zu macroblocks:", face_label(options.cell, options.face).c_str(),
               inspected->type == FaceType::kIntra ? "I" : "B", modes.size());
   for (const auto& [mode, count] : counts) {
-    std::printf(" %s %llu", mode_name(static_cast<MacroblockCoding>(mode)),
-                static_cast<unsigned long long>(count));
+    std::printf(" %s %llu", mode_name(static_cast<MacroblockCoding>(mode)), static_cast<unsigned long long>(count));
   }
   std::printf("\nwrote %s (left: decoded face; right: intra red, predicted green, skipped blue)\n",
               options.output.string().c_str());

@@ -29,8 +29,10 @@ inline __m128i term(__m128i low_pairs, __m128i high_pairs, __m128i weights) {
 
 inline ChromaTerms chroma_terms(const uint8_t* cb, const uint8_t* cr) {
   const __m128i zero = _mm_setzero_si128(), bias = _mm_set1_epi16(128);
-  const __m128i dcb = _mm_sub_epi16(_mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(cb)), zero), bias);
-  const __m128i dcr = _mm_sub_epi16(_mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(cr)), zero), bias);
+  const __m128i dcb =
+      _mm_sub_epi16(_mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(cb)), zero), bias);
+  const __m128i dcr =
+      _mm_sub_epi16(_mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(cr)), zero), bias);
   const __m128i low = _mm_unpacklo_epi16(dcb, dcr), high = _mm_unpackhi_epi16(dcb, dcr);  // (dcb, dcr) pairs
   const __m128i r = _mm_add_epi16(term(low, high, _mm_set1_epi32(26345 << 16)), dcr);
   const __m128i g = _mm_sub_epi16(term(low, high, _mm_set1_epi32((18734 << 16) | (-22554 & 0xffff))), dcr);

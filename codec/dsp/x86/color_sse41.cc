@@ -59,9 +59,11 @@ __m128i luma_8(__m128i r, __m128i g, __m128i b) {
   const __m128i round = _mm_set1_epi32(32768);
   const __m128i rg = pairs(19595, 19235), bg = pairs(7471, 19235);
   const __m128i low = _mm_add_epi32(_mm_add_epi32(_mm_madd_epi16(_mm_unpacklo_epi16(r, g), rg),
-                                                  _mm_madd_epi16(_mm_unpacklo_epi16(b, g), bg)), round);
+                                                  _mm_madd_epi16(_mm_unpacklo_epi16(b, g), bg)),
+                                    round);
   const __m128i high = _mm_add_epi32(_mm_add_epi32(_mm_madd_epi16(_mm_unpackhi_epi16(r, g), rg),
-                                                   _mm_madd_epi16(_mm_unpackhi_epi16(b, g), bg)), round);
+                                                   _mm_madd_epi16(_mm_unpackhi_epi16(b, g), bg)),
+                                     round);
   return _mm_packs_epi32(_mm_srai_epi32(low, 16), _mm_srai_epi32(high, 16));
 }
 
@@ -85,9 +87,11 @@ void rgb_to_luma_row_sse41(const uint8_t* rgb, int width, uint8_t* y) {
 __m128i chroma_8(__m128i a0, __m128i a1, __m128i w0, __m128i b0, __m128i b1, __m128i w1) {
   const __m128i bias = _mm_set1_epi32((1 << 17) + (128 << 18));
   const __m128i low = _mm_add_epi32(_mm_add_epi32(_mm_madd_epi16(_mm_unpacklo_epi16(a0, a1), w0),
-                                                  _mm_madd_epi16(_mm_unpacklo_epi16(b0, b1), w1)), bias);
+                                                  _mm_madd_epi16(_mm_unpacklo_epi16(b0, b1), w1)),
+                                    bias);
   const __m128i high = _mm_add_epi32(_mm_add_epi32(_mm_madd_epi16(_mm_unpackhi_epi16(a0, a1), w0),
-                                                   _mm_madd_epi16(_mm_unpackhi_epi16(b0, b1), w1)), bias);
+                                                   _mm_madd_epi16(_mm_unpackhi_epi16(b0, b1), w1)),
+                                     bias);
   const __m128i words = _mm_packs_epi32(_mm_srai_epi32(low, 18), _mm_srai_epi32(high, 18));
   return _mm_packus_epi16(words, words);  // the clamp to 0..255, in the low 8 bytes
 }

@@ -45,7 +45,8 @@ int sad_half_pel_16x16_avx2(const uint8_t* reference, ptrdiff_t reference_stride
   __m256i sum = _mm256_setzero_si256();
   for (int y = 0; y < 16; y += 2) {
     const __m256i prediction = half_pel_two_rows(reference + y * reference_stride, reference_stride, fx, fy);
-    sum = _mm256_add_epi64(sum, _mm256_sad_epu8(load_two_rows(source + y * source_stride, source_stride), prediction));
+    sum = _mm256_add_epi64(sum,
+                           _mm256_sad_epu8(load_two_rows(source + y * source_stride, source_stride), prediction));
     if ((y & 6) == 6) {  // every 8 rows: the horizontal sum costs about as much as a row
       const int total = horizontal_sum(sum);
       if (total > limit) return total;

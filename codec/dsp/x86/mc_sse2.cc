@@ -56,7 +56,9 @@ void average_sse2(const uint8_t* a, const uint8_t* b, int count, uint8_t* out) {
   for (; i < count; ++i) out[i] = static_cast<uint8_t>((a[i] + b[i] + 1) >> 1);
 }
 
-inline int horizontal_sum(__m128i sad) { return _mm_cvtsi128_si32(sad) + _mm_cvtsi128_si32(_mm_srli_si128(sad, 8)); }
+inline int horizontal_sum(__m128i sad) {
+  return _mm_cvtsi128_si32(sad) + _mm_cvtsi128_si32(_mm_srli_si128(sad, 8));
+}
 
 int sad_16x16_sse2(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
   __m128i sum = _mm_setzero_si128();

@@ -164,8 +164,8 @@ void inverse_dct_8x8_sse2(const int16_t* coefficients, int16_t* samples) {
   for (int v = 0; v < 8; ++v) block[v] = _mm_loadu_si128(reinterpret_cast<const __m128i*>(coefficients + 8 * v));
   if (dc_only(block)) {  // common in decoded faces; the passes below give this same value
     const int row = (kIdctBasis[0][0] * coefficients[0] + (1 << (kIdctRowShift - 1))) >> kIdctRowShift;
-    const int value = static_cast<int>(
-        (int64_t{kIdctBasis[0][0]} * row + (int64_t{1} << (kIdctColumnShift - 1))) >> kIdctColumnShift);
+    const int value = static_cast<int>((int64_t{kIdctBasis[0][0]} * row + (int64_t{1} << (kIdctColumnShift - 1))) >>
+                                       kIdctColumnShift);
     const __m128i fill = _mm_set1_epi16(static_cast<int16_t>(value));
     for (int y = 0; y < 8; ++y) _mm_storeu_si128(reinterpret_cast<__m128i*>(samples + 8 * y), fill);
     return;
@@ -178,7 +178,8 @@ void inverse_dct_8x8_sse2(const int16_t* coefficients, int16_t* samples) {
     block[x] = _mm_packs_epi32(low[x], high[x]);
     const __m128i back_low = _mm_srai_epi32(_mm_unpacklo_epi16(block[x], block[x]), 16);
     const __m128i back_high = _mm_srai_epi32(_mm_unpackhi_epi16(block[x], block[x]), 16);
-    fits = _mm_and_si128(fits, _mm_and_si128(_mm_cmpeq_epi32(back_low, low[x]), _mm_cmpeq_epi32(back_high, high[x])));
+    fits =
+        _mm_and_si128(fits, _mm_and_si128(_mm_cmpeq_epi32(back_low, low[x]), _mm_cmpeq_epi32(back_high, high[x])));
   }
   if (_mm_movemask_epi8(fits) != 0xffff) {  // some row-pass output needs more than 16 bits
     alignas(16) int32_t columns[8][8];
