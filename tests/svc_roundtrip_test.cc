@@ -94,6 +94,16 @@ TEST_F(RoundTrip, EncodesVerifiesAndDecodesEveryFace) {
   EXPECT_EQ((*reader)->info().face_width, 64);
   EXPECT_EQ((*reader)->cells().size(), 9u);
   EXPECT_GE(database_psnr_y(file), 38.0);
+  // The statistics the index records reach the public API as the encoder reported them.
+  const auto& stats = (*reader)->info().face_type_stats;
+  const FaceTypeStats& intra = stats[static_cast<int>(FaceType::kIntra)];
+  const FaceTypeStats& predicted = stats[static_cast<int>(FaceType::kPredicted)];
+  EXPECT_EQ(intra.faces, summary->intra.faces);
+  EXPECT_EQ(intra.bytes, summary->intra.bytes);
+  EXPECT_EQ(predicted.faces, summary->predicted.faces);
+  EXPECT_EQ(predicted.mb_skipped, summary->predicted.mb_skipped);
+  EXPECT_EQ(predicted.candidate_vectors, summary->predicted.candidate_vectors);
+  EXPECT_GT(predicted.faces, 0u);
 }
 
 TEST_F(RoundTrip, PsnrRisesWithQuality) {

@@ -108,6 +108,8 @@ struct FileInfo {
   std::array<int32_t, 3> i_spacing{1, 1, 1};
   std::string motion;  // "depth" or "logarithmic"
   char up_axis = 'y';
+  // The encoder's statistics per face type (indexed by FaceType), as recorded in the index.
+  std::array<FaceTypeStats, 2> face_type_stats{};
 };
 
 // Counters of one cache. hits, misses and in_flight_waits count lookups made for a

@@ -307,6 +307,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
   info.i_spacing = index.coding.i_spacing;
   info.motion = index.coding.motion == MotionSearch::kDepth ? "depth" : "logarithmic";
   info.up_axis = "xyz"[static_cast<int>(index.up_axis)];
+  info.face_type_stats = index.stats;
 
   impl->cells.resize(index.cells.size());
   impl->cell_by_key.reserve(index.cells.size());

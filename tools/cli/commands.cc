@@ -16,7 +16,6 @@
 #include "cli/cli_util.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
-#include "container/container.h"
 #include "scene/scene.h"
 #include "svc/encoder.h"
 #include "svc/metrics.h"
@@ -122,13 +121,6 @@ std::string triple_text(const std::array<double, 3>& v) {
     out.append(buf, result.ptr);
   }
   return out;
-}
-
-// The encoder's per-frame-type statistics kept in the index.
-Result<std::array<FaceTypeStats, 2>> read_frame_type_stats(const std::filesystem::path& path) {
-  SVC_ASSIGN_OR_RETURN(auto file, ReadOnlyFile::open(path));
-  SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*file, ReaderLimits{}));
-  return opened.index.stats;
 }
 
 }  // namespace
@@ -293,9 +285,7 @@ int info_command(const InfoOptions& options) {
                         {"bytes", cell_bytes}});
   }
   const uint64_t raw = uint64_t{3} * info.face_width * info.face_height * cells.size() * kFaceCount;
-  auto recorded = read_frame_type_stats(options.input);
-  if (!recorded.ok()) return report_error(recorded.status());
-  const std::array<FaceTypeStats, 2>& stats = *recorded;
+  const std::array<FaceTypeStats, 2>& stats = info.face_type_stats;
   if (options.json) {
     json j;
     j["file"] = options.input.string();
