@@ -10,6 +10,10 @@
 
 namespace svc {
 
+// Points closer to the reference camera plane than this (scene units, or direction
+// units for background) count as behind it: their projection is meaningless or huge.
+constexpr double kMinDepthInFront = 1e-9;
+
 // One row of compute_flow: pixel i's ray in reference camera space is
 // z (column_i + row_term) + translation (or column_i + row_term alone for background),
 // projected by the reference frustum's p00, p02, p11, p12 into a width x height window.

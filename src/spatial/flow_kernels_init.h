@@ -12,10 +12,6 @@
 namespace svc {
 namespace {
 
-// Points closer to the reference camera plane than this (scene units, or direction
-// units for background) count as behind it: their projection is meaningless or huge.
-constexpr double kMinDepthInFront = 1e-9;
-
 // Pixel i of a flow row; the SSE2 kernel does the same operations in the same order.
 inline void flow_pixel(const FlowRow& r, int i, float z, float* dx, float* dy, uint8_t* valid) {
   const double dir_x = r.column_x[i] + r.row_x, dir_y = r.column_y[i] + r.row_y, dir_z = r.column_z[i] + r.row_z;

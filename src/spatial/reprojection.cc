@@ -5,7 +5,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 
 #include <glm/glm.hpp>
@@ -16,10 +15,6 @@
 
 namespace svc {
 namespace {
-
-// Points closer to the reference camera plane than this (scene units, or direction
-// units for background) count as behind it: their projection is meaningless or huge.
-constexpr double kMinDepthInFront = 1e-9;
 
 bool is_background(float z, const Frustum& frustum) {
   return !(z > 0.0f) || !std::isfinite(z) || static_cast<double>(z) >= frustum.far_plane;
