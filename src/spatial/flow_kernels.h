@@ -25,7 +25,7 @@ struct FlowRow {
   double shift_x, shift_y, shift_z;  // the translation
   double p00, p02, p11, p12;
   double width, height;  // of the face, pixels
-  double far_plane;      // depths at or beyond it are background; not NaN
+  double far_plane;      // depths at or beyond it are background
   int row;               // j
   int count;             // pixels in the row
 };

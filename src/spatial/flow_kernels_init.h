@@ -15,8 +15,9 @@ namespace {
 // Pixel i of a flow row; the SSE2 kernel does the same operations in the same order.
 inline void flow_pixel(const FlowRow& r, int i, float z, float* dx, float* dy, uint8_t* valid) {
   const double dir_x = r.column_x[i] + r.row_x, dir_y = r.column_y[i] + r.row_y, dir_z = r.column_z[i] + r.row_z;
-  // Background is a point at infinity: only the direction moves (rotation only).
-  const bool background = !(z > 0.0f) || !std::isfinite(z) || static_cast<double>(z) >= r.far_plane;
+  // Background is a point at infinity: only the direction moves (rotation only). Written
+  // as "not inside (0, far)" so that a NaN far plane makes everything background.
+  const bool background = !(z > 0.0f && std::isfinite(z) && static_cast<double>(z) < r.far_plane);
   const double scale = background ? 1.0 : static_cast<double>(z);
   const double shift = background ? 0.0 : 1.0;
   const double px = scale * dir_x + shift * r.shift_x;

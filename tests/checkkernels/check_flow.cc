@@ -86,8 +86,10 @@ std::string check_flow_row(const Tables& reference, const Tables& variant, Rando
     row.p12 = random_double(random, -1.0, 1.0);
     row.width = count;
     row.height = random.uniform(1, 2048);
-    // Sometimes no far plane: then only the depth's own finiteness makes it background.
-    row.far_plane = random.uniform(0, 9) == 0 ? std::numeric_limits<double>::infinity()
+    // Sometimes no far plane (then only the depth's own finiteness makes it background),
+    // or a NaN one (everything is background).
+    const double far_planes[] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()};
+    row.far_plane = random.uniform(0, 9) == 0 ? far_planes[random.uniform(0, 1)]
                                               : random_double(random, 0.5, 1000.0);
     row.row = random.uniform(0, static_cast<int>(row.height) - 1);
     row.count = count;
