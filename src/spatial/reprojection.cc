@@ -5,23 +5,16 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "spatial/flow_kernels.h"
+
 namespace svc {
 namespace {
-
-// Points closer to the reference camera plane than this (scene units, or direction
-// units for background) count as behind it: their projection is meaningless or huge.
-constexpr double kMinDepthInFront = 1e-9;
 
 bool is_background(float z, const Frustum& frustum) {
   return !(z > 0.0f) || !std::isfinite(z) || static_cast<double>(z) >= frustum.far_plane;
@@ -54,84 +47,6 @@ glm::dmat4 window_matrix(int width, int height) {
   w[2][2] = 0.5;
   w[3][2] = 0.5;
   return w;
-}
-
-// The half-pel keys (y * 65536 + x, or `no_key`) of `count` pixels: each component
-// rounded to the nearest half pixel, halves away from zero (as quantize_flow), and kept
-// only within +-limit (limit <= 32767). All float steps are exact (doubling, truncating
-// a value below 2^15, subtracting that), and there are no branches, so that four pixels at a time
-// give the same keys.
-void half_pel_keys(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit, int32_t no_key,
-                   int32_t* keys) {
-  const float bound = static_cast<float>(limit) + 0.5f;
-  size_t i = 0;
-#if defined(__SSE2__)
-  // The same steps four pixels at a time (the scalar loop below is the reference).
-  const __m128 bound4 = _mm_set1_ps(bound), half = _mm_set1_ps(0.5f), minus_half = _mm_set1_ps(-0.5f);
-  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-  const __m128i limit4 = _mm_set1_epi32(limit), minus_limit4 = _mm_set1_epi32(-limit);
-  const __m128i no_key4 = _mm_set1_epi32(no_key), zero = _mm_setzero_si128();
-  auto round_half_away4 = [&](__m128 d, __m128i* ok) {
-    const __m128 twice = _mm_add_ps(d, d);
-    const __m128 in_range = _mm_cmplt_ps(_mm_and_ps(twice, abs_mask), bound4);  // false for NaN
-    const __m128 safe = _mm_and_ps(twice, in_range);
-    __m128i rounded = _mm_cvttps_epi32(safe);
-    const __m128 fraction = _mm_sub_ps(safe, _mm_cvtepi32_ps(rounded));
-    // Comparison masks are -1 where true.
-    rounded = _mm_sub_epi32(rounded, _mm_castps_si128(_mm_cmpge_ps(fraction, half)));
-    rounded = _mm_add_epi32(rounded, _mm_castps_si128(_mm_cmple_ps(fraction, minus_half)));
-    const __m128i beyond = _mm_or_si128(_mm_cmpgt_epi32(rounded, limit4), _mm_cmplt_epi32(rounded, minus_limit4));
-    *ok = _mm_andnot_si128(beyond, _mm_castps_si128(in_range));
-    return rounded;
-  };
-  for (; i + 4 <= count; i += 4) {
-    __m128i x_ok, y_ok;
-    const __m128i x = round_half_away4(_mm_loadu_ps(dx + i), &x_ok);
-    const __m128i y = round_half_away4(_mm_loadu_ps(dy + i), &y_ok);
-    int32_t valid4;
-    std::memcpy(&valid4, valid + i, 4);
-    const __m128i bytes = _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(valid4), zero), zero);
-    const __m128i ok = _mm_andnot_si128(_mm_cmpeq_epi32(bytes, zero), _mm_and_si128(x_ok, y_ok));
-    const __m128i key = _mm_add_epi32(_mm_slli_epi32(y, 16), x);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i),
-                     _mm_or_si128(_mm_and_si128(ok, key), _mm_andnot_si128(ok, no_key4)));
-  }
-#endif
-  auto round_half_away = [bound, limit](float d, int* out) {
-    const float twice = d * 2.0f;
-    const bool in_range = std::abs(twice) < bound;  // false for NaN
-    const float safe = in_range ? twice : 0.0f;
-    int rounded = static_cast<int>(safe);
-    const float fraction = safe - static_cast<float>(rounded);
-    rounded += static_cast<int>(fraction >= 0.5f) - static_cast<int>(fraction <= -0.5f);
-    *out = rounded;
-    return in_range & (rounded <= limit) & (rounded >= -limit);
-  };
-  for (; i < count; ++i) {
-    int x = 0, y = 0;
-    const bool x_ok = round_half_away(dx[i], &x);
-    const bool y_ok = round_half_away(dy[i], &y);
-    keys[i] = (valid[i] != 0) & x_ok & y_ok ? y * 65536 + x : no_key;
-  }
-}
-
-// Bit i set where a run of equal keys ends at key i of a row of 16: key i differs from
-// key i + 1, or i is the last.
-unsigned run_ends_16(const int32_t* row) {
-#if defined(__SSE2__)
-  auto load = [&](int i) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + i)); };
-  auto equal_mask = [](__m128i a, __m128i b) {
-    return static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, b))));
-  };
-  const __m128i last = load(12);
-  const unsigned equal = equal_mask(load(0), load(1)) | equal_mask(load(4), load(5)) << 4 |
-                         equal_mask(load(8), load(9)) << 8 | equal_mask(last, _mm_srli_si128(last, 4)) << 12;
-  return (~equal & 0x7fffu) | 0x8000u;
-#else
-  unsigned ends = 0x8000u;
-  for (int i = 0; i + 1 < 16; ++i) ends |= static_cast<unsigned>(row[i] != row[i + 1]) << i;
-  return ends;
-#endif
 }
 
 }  // namespace
@@ -175,87 +90,34 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
   const double p02 = (rf.right + rf.left) / (rf.right - rf.left);
   const double p11 = 2.0 * rf.near_plane / (rf.top - rf.bottom);
   const double p12 = (rf.top + rf.bottom) / (rf.top - rf.bottom);
-  const double far_plane = cf.far_plane, infinity = std::numeric_limits<double>::infinity();
-  const double largest = std::numeric_limits<double>::max();
-
+  const FlowKernels& kernels = get_flow_kernels();
+  FlowRow flow_row{column_x.data(),
+                   column_y.data(),
+                   column_z.data(),
+                   0,
+                   0,
+                   0,
+                   translation.x,
+                   translation.y,
+                   translation.z,
+                   p00,
+                   p02,
+                   p11,
+                   p12,
+                   w,
+                   h,
+                   cf.far_plane,
+                   0,
+                   width};
   for (int j = 0; j < height; ++j) {
     const double b = (cf.bottom + (1.0 - (j + 0.5) / h) * (cf.top - cf.bottom)) / cf.near_plane;
     const glm::dvec3 row_term = b * col_y - col_z;
+    flow_row.row_x = row_term.x;
+    flow_row.row_y = row_term.y;
+    flow_row.row_z = row_term.z;
+    flow_row.row = j;
     const size_t row = static_cast<size_t>(j) * static_cast<size_t>(width);
-    int i = 0;
-#if defined(__SSE2__)
-    // Two pixels at a time, the same operations in the same order as the scalar loop
-    // below (so the same bits).
-    {
-      const __m128d row_x = _mm_set1_pd(row_term.x), row_y = _mm_set1_pd(row_term.y),
-                    row_z = _mm_set1_pd(row_term.z);
-      const __m128d t_x = _mm_set1_pd(translation.x), t_y = _mm_set1_pd(translation.y);
-      const __m128d t_z = _mm_set1_pd(translation.z);
-      const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0), minus_one = _mm_set1_pd(-1.0);
-      const __m128d half = _mm_set1_pd(0.5), far2 = _mm_set1_pd(far_plane), inf2 = _mm_set1_pd(infinity);
-      const __m128d in_front_limit = _mm_set1_pd(-kMinDepthInFront), largest2 = _mm_set1_pd(largest);
-      const __m128d abs_mask = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffffLL));
-      const __m128d p00_2 = _mm_set1_pd(p00), p02_2 = _mm_set1_pd(p02), p11_2 = _mm_set1_pd(p11);
-      const __m128d p12_2 = _mm_set1_pd(p12), w2 = _mm_set1_pd(w), h2 = _mm_set1_pd(h);
-      const __m128d jj = _mm_set1_pd(static_cast<double>(j));
-      auto select = [](__m128d mask, __m128d a, __m128d b) {
-        return _mm_or_pd(_mm_and_pd(mask, a), _mm_andnot_pd(mask, b));
-      };
-      for (; i + 2 <= width; i += 2) {
-        const size_t k = row + static_cast<size_t>(i);
-        const __m128d dir_x = _mm_add_pd(_mm_loadu_pd(column_x.data() + i), row_x);
-        const __m128d dir_y = _mm_add_pd(_mm_loadu_pd(column_y.data() + i), row_y);
-        const __m128d dir_z = _mm_add_pd(_mm_loadu_pd(column_z.data() + i), row_z);
-        const __m128d z =
-            _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&depth[k]))));
-        const __m128d geometry =
-            _mm_and_pd(_mm_and_pd(_mm_cmpgt_pd(z, zero), _mm_cmplt_pd(z, far2)), _mm_cmplt_pd(z, inf2));
-        const __m128d scale = select(geometry, z, one), shift = _mm_and_pd(geometry, one);
-        const __m128d px = _mm_add_pd(_mm_mul_pd(scale, dir_x), _mm_mul_pd(shift, t_x));
-        const __m128d py = _mm_add_pd(_mm_mul_pd(scale, dir_y), _mm_mul_pd(shift, t_y));
-        const __m128d pz = _mm_add_pd(_mm_mul_pd(scale, dir_z), _mm_mul_pd(shift, t_z));
-        const __m128d in_front = _mm_cmplt_pd(pz, in_front_limit);
-        const __m128d inv = _mm_div_pd(minus_one, select(in_front, pz, minus_one));
-        const __m128d x_ndc = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(p00_2, px), inv), p02_2);
-        const __m128d y_ndc = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(p11_2, py), inv), p12_2);
-        const __m128d u = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(_mm_add_pd(x_ndc, one), half), w2), half);
-        const __m128d v = _mm_sub_pd(_mm_mul_pd(_mm_mul_pd(_mm_sub_pd(one, y_ndc), half), h2), half);
-        const __m128d fx = _mm_sub_pd(u, _mm_set_pd(i + 1.0, static_cast<double>(i)));
-        const __m128d fy = _mm_sub_pd(v, jj);
-        const __m128d ok = _mm_and_pd(_mm_and_pd(in_front, _mm_cmple_pd(_mm_and_pd(fx, abs_mask), largest2)),
-                                      _mm_cmple_pd(_mm_and_pd(fy, abs_mask), largest2));
-        const __m128 fx_float = _mm_cvtpd_ps(_mm_and_pd(ok, fx)), fy_float = _mm_cvtpd_ps(_mm_and_pd(ok, fy));
-        _mm_storel_pi(reinterpret_cast<__m64*>(&flow.dx[k]), fx_float);
-        _mm_storel_pi(reinterpret_cast<__m64*>(&flow.dy[k]), fy_float);
-        const int mask = _mm_movemask_pd(ok);
-        flow.valid[k] = static_cast<uint8_t>(mask & 1);
-        flow.valid[k + 1] = static_cast<uint8_t>(mask >> 1);
-      }
-    }
-#endif
-    for (; i < width; ++i) {
-      const size_t k = row + static_cast<size_t>(i);
-      const glm::dvec3 direction(column_x[static_cast<size_t>(i)] + row_term.x,
-                                 column_y[static_cast<size_t>(i)] + row_term.y,
-                                 column_z[static_cast<size_t>(i)] + row_term.z);
-      const float z = depth[k];
-      // Background is a point at infinity: only the direction moves (rotation only).
-      const bool background = is_background(z, cf);
-      const double scale = background ? 1.0 : static_cast<double>(z);
-      const double shift = background ? 0.0 : 1.0;
-      const double px = scale * direction.x + shift * translation.x;
-      const double py = scale * direction.y + shift * translation.y;
-      const double pz = scale * direction.z + shift * translation.z;
-      const bool in_front = pz < -kMinDepthInFront;
-      const double inv = -1.0 / (in_front ? pz : -1.0);
-      const double u = (p00 * px * inv - p02 + 1.0) * 0.5 * w - 0.5;
-      const double v = (1.0 - (p11 * py * inv - p12)) * 0.5 * h - 0.5;
-      const double fx = u - i, fy = v - j;
-      const bool ok = in_front & (std::abs(fx) <= largest) & (std::abs(fy) <= largest);
-      flow.dx[k] = ok ? static_cast<float>(fx) : 0.0f;
-      flow.dy[k] = ok ? static_cast<float>(fy) : 0.0f;
-      flow.valid[k] = ok;
-    }
+    kernels.flow_row(flow_row, &depth[row], &flow.dx[row], &flow.dy[row], &flow.valid[row]);
   }
 }
 
@@ -413,13 +275,14 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   // Keys of one stripe of macroblocks (16 rows) in a linear pass, then macroblock by
   // macroblock: a stripe's keys stay in cache where a whole face's would not.
   const size_t width = static_cast<size_t>(flow.width);
+  const FlowKernels& flow_kernels = get_flow_kernels();
   std::vector<int32_t> stripe_keys(static_cast<size_t>(kMb) * width);
 
   for (int mby = 0; mby < mbs_y; ++mby) {
     const size_t stripe_begin = static_cast<size_t>(mby) * kMb * width;
     const size_t stripe_pixels = static_cast<size_t>(std::min(kMb, flow.height - mby * kMb)) * width;
-    half_pel_keys(flow.dx.data() + stripe_begin, flow.dy.data() + stripe_begin, flow.valid.data() + stripe_begin,
-                  stripe_pixels, limit, kNoKey, stripe_keys.data());
+    flow_kernels.half_pel_keys(flow.dx.data() + stripe_begin, flow.dy.data() + stripe_begin,
+                               flow.valid.data() + stripe_begin, stripe_pixels, limit, kNoKey, stripe_keys.data());
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
       int distinct_count = 0;
       const int y_begin = mby * kMb, y_end = std::min(flow.height, (mby + 1) * kMb);
@@ -443,7 +306,7 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
         if (row_length == kMb) {
           // Whole rows: one mask of where runs end, so the loop turns once per run
           // without a hard-to-predict branch per pixel.
-          unsigned ends = run_ends_16(row);
+          unsigned ends = flow_kernels.run_ends_16(row);
           int start = 0;
           while (ends != 0) {
             const int end = std::countr_zero(ends);

@@ -13,7 +13,7 @@ std::string with_input(const std::string& diff, int width, size_t offset) {
   return diff + " (width " + std::to_string(width) + ", offset " + std::to_string(offset) + ")";
 }
 
-std::string check_luma_row(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_luma_row(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations + 40; ++n) {
     const int width = random_width(random, n);
     const size_t offset = static_cast<size_t>(random.uniform(0, 15));
@@ -30,7 +30,7 @@ std::string check_luma_row(const DspTable& reference, const DspTable& variant, R
   return {};
 }
 
-std::string check_chroma_row(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_chroma_row(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations + 40; ++n) {
     const int width = random_width(random, n), chroma_width = (width + 1) / 2;
     const size_t offset = static_cast<size_t>(random.uniform(0, 15)), row_bytes = 3 * static_cast<size_t>(width);
@@ -49,7 +49,7 @@ std::string check_chroma_row(const DspTable& reference, const DspTable& variant,
   return {};
 }
 
-std::string check_rgb_row(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_rgb_row(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations + 40; ++n) {
     const int width = random_width(random, n), chroma_width = (width + 1) / 2;
     const size_t offset = static_cast<size_t>(random.uniform(0, 15));
@@ -73,14 +73,14 @@ std::string check_rgb_row(const DspTable& reference, const DspTable& variant, Ra
 
 constexpr int kBenchWidth = 512;  // a face row
 
-void bench_luma_row(const DspTable& table, int iterations) {
+void bench_luma_row(const Tables& table, int iterations) {
   std::vector<uint8_t> rgb(3 * kBenchWidth), y(kBenchWidth);
   for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>(i * 31);
   for (int n = 0; n < iterations; ++n) table.rgb_to_luma_row(rgb.data(), kBenchWidth, y.data());
   bench_sink = y[7];
 }
 
-void bench_chroma_row(const DspTable& table, int iterations) {
+void bench_chroma_row(const Tables& table, int iterations) {
   std::vector<uint8_t> rgb(6 * kBenchWidth), cb(kBenchWidth / 2), cr(kBenchWidth / 2);
   for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>(i * 31);
   for (int n = 0; n < iterations; ++n) {
@@ -89,7 +89,7 @@ void bench_chroma_row(const DspTable& table, int iterations) {
   bench_sink = cb[7] + cr[7];
 }
 
-void bench_rgb_row(const DspTable& table, int iterations) {
+void bench_rgb_row(const Tables& table, int iterations) {
   std::vector<uint8_t> planes(2 * kBenchWidth), rgb(3 * kBenchWidth);
   for (size_t i = 0; i < planes.size(); ++i) planes[i] = static_cast<uint8_t>(i * 31);
   const uint8_t* y = planes.data();
@@ -103,11 +103,11 @@ void bench_rgb_row(const DspTable& table, int iterations) {
 
 std::vector<Kernel> colour_kernels() {
   return {
-      {"rgb_to_luma_row", [](const DspTable& t) { return entry_of(t.rgb_to_luma_row); }, check_luma_row,
+      {"rgb_to_luma_row", [](const Tables& t) { return entry_of(t.rgb_to_luma_row); }, check_luma_row,
        bench_luma_row},
-      {"rgb_to_chroma_row", [](const DspTable& t) { return entry_of(t.rgb_to_chroma_row); }, check_chroma_row,
+      {"rgb_to_chroma_row", [](const Tables& t) { return entry_of(t.rgb_to_chroma_row); }, check_chroma_row,
        bench_chroma_row},
-      {"ycbcr_to_rgb_row", [](const DspTable& t) { return entry_of(t.ycbcr_to_rgb_row); }, check_rgb_row,
+      {"ycbcr_to_rgb_row", [](const Tables& t) { return entry_of(t.ycbcr_to_rgb_row); }, check_rgb_row,
        bench_rgb_row},
   };
 }

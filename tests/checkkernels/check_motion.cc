@@ -18,7 +18,7 @@ std::string describe(const std::string& diff, int width, int height, int fx, int
          ", fy " + std::to_string(fy) + ", stride " + std::to_string(stride) + ")";
 }
 
-std::string check_put_half_pel(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_put_half_pel(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     const int width = kBlockWidths[static_cast<size_t>(n) % kBlockWidths.size()];
     const int height = n % 3 == 0 ? width : random.uniform(1, 64);
@@ -40,7 +40,7 @@ std::string check_put_half_pel(const DspTable& reference, const DspTable& varian
   return {};
 }
 
-std::string check_average(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_average(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     const int count = n < 3 ? std::array{256, 64, 16}[static_cast<size_t>(n)] : random.uniform(1, 600);
     const size_t offset = static_cast<size_t>(random.uniform(0, 15)), size = static_cast<size_t>(count);
@@ -62,7 +62,7 @@ std::string check_average(const DspTable& reference, const DspTable& variant, Ra
   return {};
 }
 
-std::string check_sad(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_sad(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     const ptrdiff_t stride = 16 + random.uniform(0, 70);
     const size_t offset = static_cast<size_t>(random.uniform(0, 15));
@@ -85,7 +85,7 @@ std::string check_sad(const DspTable& reference, const DspTable& variant, Random
 }
 
 // The contract: exact when the SAD is within the limit, otherwise any value above it.
-std::string check_sad_half_pel(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_sad_half_pel(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     const int fx = n & 1, fy = (n >> 1) & 1;
     const ptrdiff_t reference_stride = 17 + random.uniform(0, 60), source_stride = 16 + random.uniform(0, 60);
@@ -143,7 +143,7 @@ WarpRow random_warp_row(Random& random, int size, int count) {
   }
 }
 
-std::string check_warp_row(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_warp_row(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   constexpr int kSize = 96;
   Buffer plane(kSize * kSize);
   for (int n = 0; n < iterations; ++n) {
@@ -170,7 +170,7 @@ struct BenchPlane {
   }
 };
 
-void bench_put_half_pel(const DspTable& table, int iterations) {
+void bench_put_half_pel(const Tables& table, int iterations) {
   const BenchPlane plane;
   uint8_t out[256];
   for (int n = 0; n < iterations; ++n)
@@ -178,7 +178,7 @@ void bench_put_half_pel(const DspTable& table, int iterations) {
   bench_sink = out[5];
 }
 
-void bench_average(const DspTable& table, int iterations) {
+void bench_average(const Tables& table, int iterations) {
   const BenchPlane plane;
   uint8_t out[256];
   for (int n = 0; n < iterations; ++n)
@@ -186,7 +186,7 @@ void bench_average(const DspTable& table, int iterations) {
   bench_sink = out[5];
 }
 
-void bench_sad(const DspTable& table, int iterations) {
+void bench_sad(const Tables& table, int iterations) {
   const BenchPlane plane;
   int sum = 0;
   for (int n = 0; n < iterations; ++n)
@@ -194,7 +194,7 @@ void bench_sad(const DspTable& table, int iterations) {
   bench_sink = sum;
 }
 
-void bench_sad_half_pel(const DspTable& table, int iterations) {
+void bench_sad_half_pel(const Tables& table, int iterations) {
   const BenchPlane plane;
   int sum = 0;
   for (int n = 0; n < iterations; ++n) {
@@ -204,7 +204,7 @@ void bench_sad_half_pel(const DspTable& table, int iterations) {
   bench_sink = sum;
 }
 
-void bench_warp_row(const DspTable& table, int iterations) {
+void bench_warp_row(const Tables& table, int iterations) {
   const BenchPlane plane;
   uint8_t out[16];
   const WarpRow row{16 * 20, 16 * 20, 32 * 37 + 11, 32 * -23 + 5, 2 * 41, 2 * -17, 9, 16};
@@ -216,13 +216,13 @@ void bench_warp_row(const DspTable& table, int iterations) {
 
 std::vector<Kernel> motion_kernels() {
   return {
-      {"put_half_pel", [](const DspTable& t) { return entry_of(t.put_half_pel); }, check_put_half_pel,
+      {"put_half_pel", [](const Tables& t) { return entry_of(t.put_half_pel); }, check_put_half_pel,
        bench_put_half_pel},
-      {"average", [](const DspTable& t) { return entry_of(t.average); }, check_average, bench_average},
-      {"sad_16x16", [](const DspTable& t) { return entry_of(t.sad_16x16); }, check_sad, bench_sad},
-      {"sad_half_pel_16x16", [](const DspTable& t) { return entry_of(t.sad_half_pel_16x16); }, check_sad_half_pel,
+      {"average", [](const Tables& t) { return entry_of(t.average); }, check_average, bench_average},
+      {"sad_16x16", [](const Tables& t) { return entry_of(t.sad_16x16); }, check_sad, bench_sad},
+      {"sad_half_pel_16x16", [](const Tables& t) { return entry_of(t.sad_half_pel_16x16); }, check_sad_half_pel,
        bench_sad_half_pel},
-      {"warp_row", [](const DspTable& t) { return entry_of(t.warp_row); }, check_warp_row, bench_warp_row},
+      {"warp_row", [](const Tables& t) { return entry_of(t.warp_row); }, check_warp_row, bench_warp_row},
   };
 }
 

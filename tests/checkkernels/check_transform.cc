@@ -22,7 +22,7 @@ void random_samples(Random& random, float* samples) {
   }
 }
 
-std::string check_forward_dct(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_forward_dct(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     float samples[64], expected[64], actual[64];
     random_samples(random, samples);
@@ -59,7 +59,7 @@ void random_coefficients(Random& random, int16_t* coefficients) {
   }
 }
 
-std::string check_inverse_dct(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_inverse_dct(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     int16_t coefficients[64], expected[64], actual[64];
     random_coefficients(random, coefficients);
@@ -92,7 +92,7 @@ void random_dct_output(Random& random, const codec::Quantizer& q, float* coeffic
   }
 }
 
-std::string check_quantize(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_quantize(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     const codec::Quantizer q = random_quantizer(random);
     float coefficients[64];
@@ -112,7 +112,7 @@ std::string check_quantize(const DspTable& reference, const DspTable& variant, R
   return {};
 }
 
-std::string check_dequantize(const DspTable& reference, const DspTable& variant, Random& random, int iterations) {
+std::string check_dequantize(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
     const codec::Quantizer q = random_quantizer(random);
     int16_t levels[64], expected[64], actual[64];
@@ -136,7 +136,7 @@ std::string check_dequantize(const DspTable& reference, const DspTable& variant,
   return {};
 }
 
-void bench_forward_dct(const DspTable& table, int iterations) {
+void bench_forward_dct(const Tables& table, int iterations) {
   float samples[64], coefficients[64];
   for (int i = 0; i < 64; ++i) samples[i] = static_cast<float>((i * 37) % 255 - 128);
   for (int n = 0; n < iterations; ++n) {
@@ -146,7 +146,7 @@ void bench_forward_dct(const DspTable& table, int iterations) {
   bench_sink = static_cast<int>(coefficients[0]);
 }
 
-void bench_inverse_dct(const DspTable& table, int iterations) {
+void bench_inverse_dct(const Tables& table, int iterations) {
   int16_t coefficients[64], samples[64];
   for (int i = 0; i < 64; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
   for (int n = 0; n < iterations; ++n) {
@@ -156,7 +156,7 @@ void bench_inverse_dct(const DspTable& table, int iterations) {
   bench_sink = samples[0];
 }
 
-void bench_quantize(const DspTable& table, int iterations) {
+void bench_quantize(const Tables& table, int iterations) {
   const codec::Quantizer q = codec::make_quantizer(codec::BlockKind::kNonIntra, 8);
   float coefficients[64];
   int16_t levels[64];
@@ -169,7 +169,7 @@ void bench_quantize(const DspTable& table, int iterations) {
   bench_sink = sum;
 }
 
-void bench_dequantize(const DspTable& table, int iterations) {
+void bench_dequantize(const Tables& table, int iterations) {
   const codec::Quantizer q = codec::make_quantizer(codec::BlockKind::kIntra, 8);
   int16_t levels[64], coefficients[64];
   for (int i = 0; i < 64; ++i) levels[i] = static_cast<int16_t>(i < 16 ? (i * 13) % 30 - 15 : 0);
@@ -184,12 +184,12 @@ void bench_dequantize(const DspTable& table, int iterations) {
 
 std::vector<Kernel> transform_kernels() {
   return {
-      {"forward_dct_8x8", [](const DspTable& t) { return entry_of(t.forward_dct_8x8); }, check_forward_dct,
+      {"forward_dct_8x8", [](const Tables& t) { return entry_of(t.forward_dct_8x8); }, check_forward_dct,
        bench_forward_dct},
-      {"inverse_dct_8x8", [](const DspTable& t) { return entry_of(t.inverse_dct_8x8); }, check_inverse_dct,
+      {"inverse_dct_8x8", [](const Tables& t) { return entry_of(t.inverse_dct_8x8); }, check_inverse_dct,
        bench_inverse_dct},
-      {"quantize_8x8", [](const DspTable& t) { return entry_of(t.quantize_8x8); }, check_quantize, bench_quantize},
-      {"dequantize_8x8", [](const DspTable& t) { return entry_of(t.dequantize_8x8); }, check_dequantize,
+      {"quantize_8x8", [](const Tables& t) { return entry_of(t.quantize_8x8); }, check_quantize, bench_quantize},
+      {"dequantize_8x8", [](const Tables& t) { return entry_of(t.dequantize_8x8); }, check_dequantize,
        bench_dequantize},
   };
 }

@@ -11,10 +11,14 @@
 #include <vector>
 
 #include "codec/dsp/dsp.h"
+#include "spatial/flow_kernels.h"
 
 namespace svc::checkkernels {
 
-using codec::dsp::DspTable;
+// The codec's kernels and the encoder's flow kernels, built for one feature set.
+struct Tables : codec::dsp::DspTable {
+  FlowKernels flow;
+};
 
 class Random {
  public:
@@ -87,17 +91,18 @@ const void* entry_of(Fn fn) {
 struct Kernel {
   const char* name;
   // The table entry, to tell whether a table holds a variant other than the reference.
-  const void* (*entry)(const DspTable& table);
+  const void* (*entry)(const Tables& table);
   // Compares `variant` with `reference` on random inputs and edge cases: "" when they
   // agree, else a description of the first mismatch and its input.
-  std::string (*check)(const DspTable& reference, const DspTable& variant, Random& random, int iterations);
+  std::string (*check)(const Tables& reference, const Tables& variant, Random& random, int iterations);
   // Runs the kernel `iterations` times on fixed inputs (for --bench).
-  void (*bench)(const DspTable& table, int iterations);
+  void (*bench)(const Tables& table, int iterations);
 };
 
 std::vector<Kernel> transform_kernels();
 std::vector<Kernel> colour_kernels();
 std::vector<Kernel> motion_kernels();
+std::vector<Kernel> flow_kernels();
 
 // Keeps benchmark results alive without I/O.
 inline volatile int bench_sink = 0;

@@ -22,28 +22,30 @@ using codec::dsp::kCpuSse41;
 
 struct Variant {
   const char* name;
-  DspTable table;
+  Tables tables;
 };
 
 // The plain table, then one table per feature level this machine has; a kernel's variant
 // at a level is the entry that differs from the level below.
 std::vector<Variant> variants_of_this_machine() {
   const unsigned detected = codec::dsp::detected_cpu_flags();
-  std::vector<Variant> variants = {{"c", codec::dsp::make_dsp_table(0)}};
+  auto tables_for = [](unsigned flags) {
+    return Tables{{codec::dsp::make_dsp_table(flags)}, make_flow_kernels(flags)};
+  };
+  std::vector<Variant> variants = {{"c", tables_for(0)}};
   const struct {
     const char* name;
     unsigned flags;
   } levels[] = {{"sse2", kCpuSse2}, {"sse4.1", kCpuSse2 | kCpuSse41}, {"avx2", kCpuSse2 | kCpuSse41 | kCpuAvx2}};
   for (const auto& level : levels) {
-    if ((detected & level.flags) == level.flags)
-      variants.push_back({level.name, codec::dsp::make_dsp_table(level.flags)});
+    if ((detected & level.flags) == level.flags) variants.push_back({level.name, tables_for(level.flags)});
   }
   return variants;
 }
 
 std::vector<Kernel> all_kernels() {
   std::vector<Kernel> kernels;
-  for (auto family : {transform_kernels, colour_kernels, motion_kernels}) {
+  for (auto family : {transform_kernels, colour_kernels, motion_kernels, flow_kernels}) {
     for (const Kernel& kernel : family()) kernels.push_back(kernel);
   }
   return kernels;
@@ -84,7 +86,7 @@ bool parse(int argc, char** argv, Options* options) {
 std::vector<size_t> distinct_variants(const Kernel& kernel, const std::vector<Variant>& variants) {
   std::vector<size_t> result;
   for (size_t v = 1; v < variants.size(); ++v) {
-    if (kernel.entry(variants[v].table) != kernel.entry(variants[v - 1].table)) result.push_back(v);
+    if (kernel.entry(variants[v].tables) != kernel.entry(variants[v - 1].tables)) result.push_back(v);
   }
   return result;
 }
@@ -97,7 +99,7 @@ int run_checks(const std::vector<Kernel>& kernels, const std::vector<Variant>& v
     for (size_t v : tested) {
       // Each kernel/variant pair draws its inputs from its own stream of the seed.
       Random random(options.seed ^ (std::hash<std::string>{}(std::string(kernel.name) + variants[v].name)));
-      const std::string failure = kernel.check(variants[0].table, variants[v].table, random, options.iterations);
+      const std::string failure = kernel.check(variants[0].tables, variants[v].tables, random, options.iterations);
       ++checked;
       if (failure.empty()) {
         std::printf("  %-20s %-7s ok\n", kernel.name, variants[v].name);
@@ -112,7 +114,7 @@ int run_checks(const std::vector<Kernel>& kernels, const std::vector<Variant>& v
   return failures == 0 ? 0 : 1;
 }
 
-double seconds_for(const Kernel& kernel, const DspTable& table, int iterations) {
+double seconds_for(const Kernel& kernel, const Tables& table, int iterations) {
   const auto start = std::chrono::steady_clock::now();
   kernel.bench(table, iterations);
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -129,7 +131,7 @@ void run_bench(const std::vector<Kernel>& kernels, const std::vector<Variant>& v
     std::vector<double> best(measured.size(), 1e30);
     for (int round = 0; round < kRounds; ++round) {
       for (size_t m = 0; m < measured.size(); ++m) {
-        best[m] = std::min(best[m], seconds_for(kernel, variants[measured[m]].table, kIterations));
+        best[m] = std::min(best[m], seconds_for(kernel, variants[measured[m]].tables, kIterations));
       }
     }
     for (size_t m = 0; m < measured.size(); ++m) {
