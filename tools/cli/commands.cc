@@ -91,6 +91,13 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out) {
               s.seconds > 0 ? s.faces / s.seconds : 0.0);
 }
 
+// A file encoded with --qscale records no quality (0): only its scale is shown.
+std::string coding_scale_text(const FileInfo& info) {
+  const std::string scale = "quantiser scale " + std::to_string(info.quant_scale);
+  if (info.quality <= 0) return scale;
+  return "quality " + std::to_string(info.quality) + ", " + scale;
+}
+
 json camera_json(const Camera& camera) {
   json m = json::array();
   for (double v : camera.world_to_camera) m.push_back(v);
@@ -296,7 +303,8 @@ int info_command(const InfoOptions& options) {
     j["grid"] = {{"dims", info.grid_dims}, {"origin", info.grid_origin}, {"spacing", info.grid_spacing}};
     j["face_size"] = {info.face_width, info.face_height};
     j["cells"] = cells.size();
-    j["coding"] = {{"quality", info.quality},
+    // A file encoded with an explicit quantiser scale has no quality.
+    j["coding"] = {{"quality", info.quality > 0 ? json(info.quality) : json(nullptr)},
                    {"quant_scale", info.quant_scale},
                    {"i_spacing", info.i_spacing},
                    {"motion", info.motion}};
@@ -313,8 +321,8 @@ int info_command(const InfoOptions& options) {
   std::printf("  faces     %d x %d pixels, %zu faces, raw RGB %s, compression %.1f:1\n", info.face_width,
               info.face_height, cells.size() * kFaceCount, human_bytes(raw).c_str(),
               info.file_bytes ? static_cast<double>(raw) / info.file_bytes : 0.0);
-  std::printf("  coding    quality %d, quantiser scale %d, I-cube spacing %d,%d,%d, motion from %s\n", info.quality,
-              info.quant_scale, info.i_spacing[0], info.i_spacing[1], info.i_spacing[2], info.motion.c_str());
+  std::printf("  coding    %s, I-cube spacing %d,%d,%d, motion from %s\n", coding_scale_text(info).c_str(),
+              info.i_spacing[0], info.i_spacing[1], info.i_spacing[2], info.motion.c_str());
   print_frame_stats("I-faces", stats[0]);
   print_frame_stats("B-faces", stats[1]);
   std::printf("  per cell  %.0f bytes on average\n",

@@ -1,0 +1,80 @@
+// The svc tool as a user runs it: what it prints, its exit codes, and what it refuses
+// to write. Runs the built build/bin/svc.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include <sys/wait.h>
+
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "svc/encoder.h"
+
+namespace svc {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+// Runs `svc ARGS` in `dir`; returns its exit code and what it printed.
+CliRun run_svc(const std::string& args, const fs::path& dir = fs::temp_directory_path()) {
+  const std::string command =
+      "cd " + quoted(dir) + " && " + quoted(fs::path(SVC_BINARY_DIR) / "bin" / "svc") + " " + args + " 2>&1";
+  CliRun run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir("svc-cli");
+    samples::SceneOptions options;
+    options.grid = {2, 1, 1};
+    options.face_size = 16;
+    ASSERT_TRUE(samples::generate_scene(options, db()).ok());
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path db() { return dir_->path() / "db"; }
+  static fs::path work(const std::string& name) { return dir_->path() / name; }
+
+  static testing::TempDir* dir_;
+};
+testing::TempDir* Cli::dir_ = nullptr;
+
+TEST_F(Cli, InfoOfAQscaleFileShowsTheScaleAndNoQuality) {
+  const fs::path file = work("qscale.svc");
+  ASSERT_EQ(run_svc("encode --quiet --qscale 20 " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
+  const CliRun info = run_svc("info " + quoted(file));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("quantiser scale 20"), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("quality"), std::string::npos) << info.output;
+  const CliRun json = run_svc("info --json " + quoted(file));
+  EXPECT_NE(json.output.find("\"quality\": null"), std::string::npos) << json.output;
+  EXPECT_NE(json.output.find("\"quant_scale\": 20"), std::string::npos) << json.output;
+
+  const fs::path by_quality = work("quality.svc");
+  ASSERT_EQ(run_svc("encode --quiet -q 60 " + quoted(db()) + " -o " + quoted(by_quality)).exit_code, 0);
+  const CliRun quality_info = run_svc("info " + quoted(by_quality));
+  EXPECT_NE(quality_info.output.find("quality 60, quantiser scale " + std::to_string(quant_scale_for_quality(60))),
+            std::string::npos)
+      << quality_info.output;
+}
+
+}  // namespace
+}  // namespace svc
