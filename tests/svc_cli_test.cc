@@ -76,5 +76,23 @@ TEST_F(Cli, InfoOfAQscaleFileShowsTheScaleAndNoQuality) {
       << quality_info.output;
 }
 
+TEST_F(Cli, OutputToStandardOutputIsRefused) {
+  const fs::path cwd = work("stdout");
+  fs::create_directories(cwd);
+  const fs::path file = work("for-stdout.svc");
+  ASSERT_EQ(run_svc("encode --quiet " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
+  const std::vector<std::string> commands = {
+      "encode " + quoted(db()) + " -o -",
+      "decode " + quoted(file) + " -o -",
+      "inspect " + quoted(file) + " --cell 0,0,0 --face px -o -",
+  };
+  for (const std::string& command : commands) {
+    const CliRun run = run_svc(command, cwd);
+    EXPECT_NE(run.exit_code, 0) << command;
+    EXPECT_NE(run.output.find("standard output"), std::string::npos) << command << "\n" << run.output;
+    EXPECT_FALSE(fs::exists(cwd / "-")) << command;
+  }
+}
+
 }  // namespace
 }  // namespace svc

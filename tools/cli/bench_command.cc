@@ -8,6 +8,7 @@
 
 #include "baseline/baseline.h"
 #include "cli/cli_util.h"
+#include "cli/output_paths.h"
 #include "svc_bench.h"
 
 namespace svc::cli {
@@ -30,7 +31,8 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
   command_->add_option("DB_DIR", options_->bench.db_dir, "svc-input database folder")->required();
   command_->add_option("--codecs", options_->codecs, "Comma-separated codecs to run")->capture_default_str();
   command_->add_option("--out", options_->out_dir, "Output folder for results.json, results.csv, plots, report.md")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(not_standard_output());
   command_->add_option("--threads", options_->bench.threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 1024))
       ->capture_default_str();

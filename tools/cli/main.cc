@@ -6,6 +6,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
+#include "cli/output_paths.h"
 #ifdef SVC_WITH_BENCH
 #include "cli/bench_command.h"
 #endif
@@ -52,7 +53,9 @@ int main(int argc, char** argv) {
   std::string encode_spacing = "3,1,3", encode_motion = "depth";
   auto* encode_cmd = app.add_subcommand("encode", "Encode an svc-input database into an .svc file");
   encode_cmd->add_option("DB_DIR", encode.db_dir, "svc-input database folder")->required();
-  encode_cmd->add_option("-o,--output", encode.output, "Output .svc file")->required();
+  encode_cmd->add_option("-o,--output", encode.output, "Output .svc file")
+      ->required()
+      ->check(not_standard_output());
   add_encoder_options(encode_cmd, &encode.settings, &encode_spacing, &encode_motion);
   encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
   encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
@@ -70,7 +73,7 @@ int main(int argc, char** argv) {
   std::string decode_cell, decode_face;
   auto* decode_cmd = app.add_subcommand("decode", "Decode faces into an svc-input database of PNGs");
   decode_cmd->add_option("IN", decode.input, "Input .svc file")->required();
-  decode_cmd->add_option("-o,--output", decode.output, "Output folder")->required();
+  decode_cmd->add_option("-o,--output", decode.output, "Output folder")->required()->check(not_standard_output());
   decode_cmd->add_option("--cell", decode_cell, "Only this cell, X,Y,Z");
   decode_cmd->add_option("--face", decode_face, "Only this face: px nx py ny pz nz");
   decode_cmd->add_flag("--quiet", decode.quiet, "Print nothing on success");
@@ -92,13 +95,14 @@ int main(int argc, char** argv) {
   inspect_cmd->add_option("IN", inspect.input, "Input .svc file")->required();
   inspect_cmd->add_option("--cell", inspect_cell, "Cell X,Y,Z")->required();
   inspect_cmd->add_option("--face", inspect_face, "Face: px nx py ny pz nz")->required();
-  inspect_cmd->add_option("-o,--output", inspect.output, "Output PNG")->required();
+  inspect_cmd->add_option("-o,--output", inspect.output, "Output PNG")->required()->check(not_standard_output());
 
   DemoOptions demo;
   std::string demo_kind = "hall", demo_spacing = "3,1,3", demo_motion = "depth";
   auto* demo_cmd = app.add_subcommand("demo", "Generate the sample scene, encode it, decode random cells, report");
   demo_cmd->add_option("--kind", demo_kind, "Scene kind: hall or house")->capture_default_str();
-  demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder");
+  demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder")
+      ->check(not_standard_output());
   add_encoder_options(demo_cmd, &demo.settings, &demo_spacing, &demo_motion);
 
 #ifdef SVC_WITH_BENCH
