@@ -23,10 +23,10 @@ struct CliRun {
 
 std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 
-// Runs `svc ARGS` in `dir`; returns its exit code and what it printed.
-CliRun run_svc(const std::string& args, const fs::path& dir = fs::temp_directory_path()) {
+// Runs build/bin/PROGRAM ARGS in `dir`; returns its exit code and what it printed.
+CliRun run_program(const std::string& program, const std::string& args, const fs::path& dir) {
   const std::string command =
-      "cd " + quoted(dir) + " && " + quoted(fs::path(SVC_BINARY_DIR) / "bin" / "svc") + " " + args + " 2>&1";
+      "cd " + quoted(dir) + " && " + quoted(fs::path(SVC_BINARY_DIR) / "bin" / program) + " " + args + " 2>&1";
   CliRun run;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -35,6 +35,10 @@ CliRun run_svc(const std::string& args, const fs::path& dir = fs::temp_directory
   const int status = ::pclose(pipe);
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return run;
+}
+
+CliRun run_svc(const std::string& args, const fs::path& dir = fs::temp_directory_path()) {
+  return run_program("svc", args, dir);
 }
 
 class Cli : public ::testing::Test {
@@ -88,10 +92,51 @@ TEST_F(Cli, OutputToStandardOutputIsRefused) {
   };
   for (const std::string& command : commands) {
     const CliRun run = run_svc(command, cwd);
-    EXPECT_NE(run.exit_code, 0) << command;
+    EXPECT_EQ(run.exit_code, 2) << command;
+    EXPECT_EQ(run.output.rfind("svc: ", 0), 0u) << run.output;
     EXPECT_NE(run.output.find("standard output"), std::string::npos) << command << "\n" << run.output;
     EXPECT_FALSE(fs::exists(cwd / "-")) << command;
   }
+}
+
+// Every usage error the parser catches exits 2 with a "svc: " message; the codes are in --help.
+TEST_F(Cli, UsageErrorsExitTwoWithThePrefix) {
+  const std::vector<std::string> usage_errors = {
+      "",        // no subcommand
+      "encode",  // missing DB_DIR
+      "encode " + quoted(db()) + " -o x.svc --no-such-option",
+      "encode " + quoted(db()) + " -o x.svc --motion sideways",
+      "encode " + quoted(db()) + " -o x.svc -q 101",
+      "encode " + quoted(db()) + " -o x.svc --threads -1",
+      "decode a.svc -o out --cell 1,2",
+  };
+  for (const std::string& args : usage_errors) {
+    const CliRun run = run_svc(args);
+    EXPECT_EQ(run.exit_code, 2) << "svc " << args << "\n" << run.output;
+    EXPECT_EQ(run.output.rfind("svc: ", 0), 0u) << "svc " << args << "\n" << run.output;
+  }
+  const CliRun not_a_number = run_svc("encode " + quoted(db()) + " -o x.svc -q abc");
+  EXPECT_EQ(not_a_number.exit_code, 2);
+  EXPECT_NE(not_a_number.output.find("'abc' is not a whole number"), std::string::npos) << not_a_number.output;
+  const CliRun help = run_svc("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("2 usage error"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("3 damaged .svc file"), std::string::npos) << help.output;
+  // A damaged file: 3; a missing one: 1.
+  EXPECT_EQ(run_svc("info /no/such/file.svc").exit_code, 1);
+  const fs::path damaged = work("damaged.svc");
+  std::ofstream(damaged) << "not an svc file at all, just some text long enough to be read";
+  EXPECT_EQ(run_svc("info " + quoted(damaged)).exit_code, 3);
+}
+
+TEST_F(Cli, SceneToolFollowsTheSameCodes) {
+  for (const std::string& args : {std::string("--no-such-option x"), std::string(""), std::string("--kind cave x"),
+                                  std::string("--face-size abc x")}) {
+    const CliRun run = run_program("svc-scene", args, dir_->path());
+    EXPECT_EQ(run.exit_code, 2) << "svc-scene " << args << "\n" << run.output;
+    EXPECT_EQ(run.output.rfind("svc-scene: ", 0), 0u) << "svc-scene " << args << "\n" << run.output;
+  }
+  EXPECT_NE(run_program("svc-scene", "--help", dir_->path()).output.find("2 usage error"), std::string::npos);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "baseline/baseline.h"
 #include "cli/cli_util.h"
 #include "cli/output_paths.h"
+#include "command_line/command_line.h"
 #include "svc_bench.h"
 
 namespace svc::cli {
@@ -34,15 +35,15 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
       ->capture_default_str()
       ->check(not_standard_output());
   command_->add_option("--threads", options_->bench.threads, "Worker threads (0: all cores)")
-      ->check(CLI::Range(0, 1024))
+      ->check(command_line::integer_in(0, 1024))
       ->capture_default_str();
   command_->add_option("--accesses", options_->bench.random_accesses, "Random faces per codec for access cost")
-      ->check(CLI::Range(1, 1000000))
+      ->check(command_line::integer_in(1, 1000000))
       ->capture_default_str();
   command_->add_option("--seed", options_->bench.seed, "Seed of the random access picks")->capture_default_str();
   command_->add_flag("--quick", options_->bench.quick, "Two PSNR targets, at most three encodes per codec");
   command_->add_option("--gop", options_->bench.gop, "GOP (frames between I-frames) of x264, x265 and AV1")
-      ->check(CLI::Range(1, 1000))
+      ->check(command_line::integer_in(1, 1000))
       ->capture_default_str();
   command_->add_option("--anchor-preset", options_->presets,
                        "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_util.h"
+#include "command_line/command_line.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
 #include "scene/scene.h"
@@ -336,7 +337,7 @@ int verify_command(const VerifyOptions& options) {
   const Status status = (*reader)->verify();
   if (!status.ok()) {
     std::fprintf(stderr, "svc: %s is damaged:\n%s\n", options.input.string().c_str(), status.message().c_str());
-    return 3;
+    return command_line::kExitCorrupt;
   }
   if (!options.quiet) {
     std::printf("%s: ok (%zu cells, %zu faces, every chunk's CRC-32 and every face decode checked)\n",
