@@ -19,6 +19,7 @@ struct BenchSubcommand::Options {
   std::string codecs;
   std::string out_dir = "bench-results";
   bool no_experiments = false;
+  bool overwrite = false;
   std::vector<std::string> presets;  // CODEC=PRESET
 };
 
@@ -48,6 +49,7 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
   command_->add_option("--anchor-preset", options_->presets,
                        "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "
                        "libaom cpu-used where SVT-AV1 is missing), avif=6 (libaom cpu-used), jxl=7 (effort)");
+  add_overwrite_flag(command_, &options_->overwrite);
   command_->add_flag("--no-experiments", options_->no_experiments,
                      "Skip the dissertation experiments (Table 7.5, Figure 7.16, Table 7.4)");
 }
@@ -57,6 +59,9 @@ BenchSubcommand::~BenchSubcommand() = default;
 bool BenchSubcommand::parsed() const { return command_->parsed(); }
 
 int BenchSubcommand::run() const {
+  const Status writable =
+      check_output(options_->out_dir, OutputKind::kFolder, options_->overwrite, {options_->bench.db_dir});
+  if (!writable.ok()) return report_error(writable);
   bench::BenchOptions options = options_->bench;
   options.out_dir = options_->out_dir;
   options.experiments = !options_->no_experiments;

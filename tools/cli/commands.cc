@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_util.h"
+#include "cli/output_paths.h"
 #include "command_line/command_line.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
@@ -171,6 +172,8 @@ int add_command(const AddOptions& options) {
 }
 
 int encode_command(const EncodeOptions& options) {
+  const Status writable = check_output(options.output, OutputKind::kFile, options.overwrite, {options.db_dir});
+  if (!writable.ok()) return report_error(writable);
   auto summary = run_encode(options.db_dir, options.output, options.settings, !options.quiet && !options.json);
   if (!summary.ok()) return report_error(summary.status());
   if (options.json) {
@@ -182,6 +185,8 @@ int encode_command(const EncodeOptions& options) {
 }
 
 int decode_command(const DecodeOptions& options) {
+  const Status writable = check_output(options.output, OutputKind::kFolder, options.overwrite, {options.input});
+  if (!writable.ok()) return report_error(writable);
   auto reader = Reader::open(options.input);
   if (!reader.ok()) return report_error(reader.status());
   const FileInfo& info = (*reader)->info();
@@ -351,6 +356,10 @@ int demo_command(const DemoOptions& options) {
   std::error_code ec;
   fs::path work = options.keep_dir;
   const bool temporary = work.empty();
+  if (!temporary) {
+    const Status writable = check_output(work, OutputKind::kFolder, options.overwrite, {});
+    if (!writable.ok()) return report_error(writable);
+  }
   if (temporary) {
     work = fs::temp_directory_path() / ("svc-demo-" + std::to_string(std::random_device{}()));
   }

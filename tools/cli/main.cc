@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   add_encoder_options(encode_cmd, &encode.settings, &encode_spacing, &encode_motion);
   encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
   encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
+  add_overwrite_flag(encode_cmd, &encode.overwrite);
 
   AddOptions add;
   auto* add_cmd = app.add_subcommand("add", "Add a database's new cells to an .svc file in place (crash-safe)");
@@ -81,6 +82,7 @@ int main(int argc, char** argv) {
   decode_cmd->add_option("--cell", decode_cell, "Only this cell, X,Y,Z");
   decode_cmd->add_option("--face", decode_face, "Only this face: px nx py ny pz nz");
   decode_cmd->add_flag("--quiet", decode.quiet, "Print nothing on success");
+  add_overwrite_flag(decode_cmd, &decode.overwrite);
 
   InfoOptions info;
   auto* info_cmd = app.add_subcommand("info", "Describe an .svc file: grid, coding settings, bytes");
@@ -100,6 +102,7 @@ int main(int argc, char** argv) {
   inspect_cmd->add_option("--cell", inspect_cell, "Cell X,Y,Z")->required();
   inspect_cmd->add_option("--face", inspect_face, "Face: px nx py ny pz nz")->required();
   inspect_cmd->add_option("-o,--output", inspect.output, "Output PNG")->required()->check(not_standard_output());
+  add_overwrite_flag(inspect_cmd, &inspect.overwrite);
 
   DemoOptions demo;
   std::string demo_kind = "hall", demo_spacing = "3,1,3", demo_motion = "depth";
@@ -108,6 +111,7 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder")
       ->check(not_standard_output());
   add_encoder_options(demo_cmd, &demo.settings, &demo_spacing, &demo_motion);
+  add_overwrite_flag(demo_cmd, &demo.overwrite);
 
 #ifdef SVC_WITH_BENCH
   BenchSubcommand bench(app);
