@@ -119,6 +119,7 @@ testing::TempDir* Add::dir_ = nullptr;
 
 TEST_F(Add, AddsNewCellsAndOldCellsDecodeBitExact) {
   const fs::path file = copy_of_base("grown.svc");
+  const uint64_t size_before = fs::file_size(file);
   const DecodedFaces before = decode_all(file);
   auto reader_before = Reader::open(file);
   ASSERT_TRUE(reader_before.ok());
@@ -142,6 +143,9 @@ TEST_F(Add, AddsNewCellsAndOldCellsDecodeBitExact) {
   EXPECT_EQ(last_total, 36u);
   EXPECT_EQ(summary->generation, 2u);
   EXPECT_EQ(summary->grid_dims, (std::array<int32_t, 3>{4, 1, 3}));
+  // The figures are the file's growth: face chunks and the new index together.
+  EXPECT_EQ(summary->file_bytes, fs::file_size(file));
+  EXPECT_EQ(summary->bytes_appended, fs::file_size(file) - size_before);
   // x = 3 lies in a group of its own whose nominal I-cube (x = 4) is outside the grid:
   // the nearest present cell, (3,0,1), becomes its I-cube; the rest are B-cubes.
   EXPECT_EQ(summary->intra_cells_added, 1u);

@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "command_line/command_line.h"
 #include "scene/scene.h"
 
 namespace {
@@ -63,19 +64,20 @@ int main(int argc, char** argv) {
       "Photographic hall and house (OpenArena textures, Debian openarena-081-textures):\n"
       "  textures=$(scripts/fetch-textures.sh)\n"
       "  svc-scene photo-hall/ --kind hall --textures \"$textures\"\n"
-      "  svc-scene photo-house/ --kind house --textures \"$textures\"");
-  CLI11_PARSE(app, argc, argv);
+      "  svc-scene photo-house/ --kind house --textures \"$textures\"\n\n" +
+      svc::command_line::exit_codes_help(false));
+  if (auto exit_code = svc::command_line::parse(app, argc, argv, "svc-scene")) return *exit_code;
 
   svc::samples::parse_scene_kind(kind, &options.kind);
   std::vector<int> dims;
   if (!parse_list(grid, &dims) || dims.size() != 3) {
     std::fprintf(stderr, "svc-scene: --grid wants X,Y,Z, got \"%s\"\n", grid.c_str());
-    return 2;
+    return svc::command_line::kExitUsage;
   }
   std::vector<double> steps;
   if (!parse_list(spacing, &steps) || (steps.size() != 1 && steps.size() != 3)) {
     std::fprintf(stderr, "svc-scene: --spacing wants S or SX,SY,SZ, got \"%s\"\n", spacing.c_str());
-    return 2;
+    return svc::command_line::kExitUsage;
   }
   options.grid = {dims[0], dims[1], dims[2]};
   options.spacing = steps.size() == 1 ? std::array<double, 3>{steps[0], steps[0], steps[0]}
@@ -95,7 +97,7 @@ int main(int argc, char** argv) {
   if (!status.ok()) {
     if (show_progress) std::fputc('\n', stderr);
     std::fprintf(stderr, "svc-scene: %s\n", status.to_string().c_str());
-    return 1;
+    return svc::command_line::kExitFailure;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet) {

@@ -233,6 +233,11 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
                   "thread count " + std::to_string(settings.threads) + " is outside 0..1024");
   }
   SVC_ASSIGN_OR_RETURN(auto updater, ContainerUpdater::open(svc_file));
+  // Measured once open has cut off what an interrupted update left, before any face is
+  // appended: the growth from here is what this add wrote.
+  std::error_code size_error;
+  const uint64_t size_before = std::filesystem::file_size(svc_file, size_error);
+  if (size_error) return Status(ErrorCode::kIoError, "cannot read the size of " + svc_file.string());
   const ContainerIndex& old = updater->committed().index;
   SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest, load_manifest(db_dir));
   if (manifest.cells.empty()) {
@@ -245,7 +250,7 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   const std::vector<UnionCell> cells = merge_cells(old, manifest, &summary);
   summary.grid_dims = old.grid.dims;
   summary.generation = updater->committed().generation;
-  summary.file_bytes = updater->file().size();
+  summary.file_bytes = size_before;
   if (summary.cells_added == 0) return summary;  // nothing to do: the file is not touched
 
   const ReaderLimits limits;
@@ -274,8 +279,6 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   job.progress = progress;
   SVC_RETURN_IF_ERROR(code_faces(job));
 
-  std::error_code size_error;
-  const uint64_t size_before = std::filesystem::file_size(svc_file, size_error);
   SVC_RETURN_IF_ERROR(updater->commit(index));
   std::error_code ec;
   summary.file_bytes = std::filesystem::file_size(svc_file, ec);

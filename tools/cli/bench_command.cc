@@ -8,6 +8,8 @@
 
 #include "baseline/baseline.h"
 #include "cli/cli_util.h"
+#include "cli/output_paths.h"
+#include "command_line/command_line.h"
 #include "svc_bench.h"
 
 namespace svc::cli {
@@ -17,6 +19,7 @@ struct BenchSubcommand::Options {
   std::string codecs;
   std::string out_dir = "bench-results";
   bool no_experiments = false;
+  bool overwrite = false;
   std::vector<std::string> presets;  // CODEC=PRESET
 };
 
@@ -30,21 +33,23 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
   command_->add_option("DB_DIR", options_->bench.db_dir, "svc-input database folder")->required();
   command_->add_option("--codecs", options_->codecs, "Comma-separated codecs to run")->capture_default_str();
   command_->add_option("--out", options_->out_dir, "Output folder for results.json, results.csv, plots, report.md")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(not_standard_output());
   command_->add_option("--threads", options_->bench.threads, "Worker threads (0: all cores)")
-      ->check(CLI::Range(0, 1024))
+      ->check(command_line::integer_in(0, 1024))
       ->capture_default_str();
   command_->add_option("--accesses", options_->bench.random_accesses, "Random faces per codec for access cost")
-      ->check(CLI::Range(1, 1000000))
+      ->check(command_line::integer_in(1, 1000000))
       ->capture_default_str();
   command_->add_option("--seed", options_->bench.seed, "Seed of the random access picks")->capture_default_str();
   command_->add_flag("--quick", options_->bench.quick, "Two PSNR targets, at most three encodes per codec");
   command_->add_option("--gop", options_->bench.gop, "GOP (frames between I-frames) of x264, x265 and AV1")
-      ->check(CLI::Range(1, 1000))
+      ->check(command_line::integer_in(1, 1000))
       ->capture_default_str();
   command_->add_option("--anchor-preset", options_->presets,
                        "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "
                        "libaom cpu-used where SVT-AV1 is missing), avif=6 (libaom cpu-used), jxl=7 (effort)");
+  add_overwrite_flag(command_, &options_->overwrite);
   command_->add_flag("--no-experiments", options_->no_experiments,
                      "Skip the dissertation experiments (Table 7.5, Figure 7.16, Table 7.4)");
 }
@@ -54,6 +59,9 @@ BenchSubcommand::~BenchSubcommand() = default;
 bool BenchSubcommand::parsed() const { return command_->parsed(); }
 
 int BenchSubcommand::run() const {
+  const Status writable =
+      check_output(options_->out_dir, OutputKind::kFolder, options_->overwrite, {options_->bench.db_dir});
+  if (!writable.ok()) return report_error(writable);
   bench::BenchOptions options = options_->bench;
   options.out_dir = options_->out_dir;
   options.experiments = !options_->no_experiments;

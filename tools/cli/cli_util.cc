@@ -6,6 +6,8 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include "command_line/command_line.h"
+
 namespace svc::cli {
 
 ProgressBar::ProgressBar(std::string label, bool enabled)
@@ -43,9 +45,9 @@ void ProgressBar::finish() {
 int report_error(const Status& status) {
   std::fprintf(stderr, "svc: %s\n", status.to_string().c_str());
   switch (status.code()) {
-    case ErrorCode::kInvalidArgument: return 2;
-    case ErrorCode::kCorruptData: return 3;
-    default: return 1;
+    case ErrorCode::kInvalidArgument: return command_line::kExitUsage;
+    case ErrorCode::kCorruptData: return command_line::kExitCorrupt;
+    default: return command_line::kExitFailure;
   }
 }
 

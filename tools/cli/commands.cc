@@ -14,6 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_util.h"
+#include "cli/output_paths.h"
+#include "command_line/command_line.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
 #include "scene/scene.h"
@@ -91,6 +93,13 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out) {
               s.seconds > 0 ? s.faces / s.seconds : 0.0);
 }
 
+// A file encoded with --qscale records no quality (0): only its scale is shown.
+std::string coding_scale_text(const FileInfo& info) {
+  const std::string scale = "quantiser scale " + std::to_string(info.quant_scale);
+  if (info.quality <= 0) return scale;
+  return "quality " + std::to_string(info.quality) + ", " + scale;
+}
+
 json camera_json(const Camera& camera) {
   json m = json::array();
   for (double v : camera.world_to_camera) m.push_back(v);
@@ -163,6 +172,8 @@ int add_command(const AddOptions& options) {
 }
 
 int encode_command(const EncodeOptions& options) {
+  const Status writable = check_output(options.output, OutputKind::kFile, options.overwrite, {options.db_dir});
+  if (!writable.ok()) return report_error(writable);
   auto summary = run_encode(options.db_dir, options.output, options.settings, !options.quiet && !options.json);
   if (!summary.ok()) return report_error(summary.status());
   if (options.json) {
@@ -174,6 +185,8 @@ int encode_command(const EncodeOptions& options) {
 }
 
 int decode_command(const DecodeOptions& options) {
+  const Status writable = check_output(options.output, OutputKind::kFolder, options.overwrite, {options.input});
+  if (!writable.ok()) return report_error(writable);
   auto reader = Reader::open(options.input);
   if (!reader.ok()) return report_error(reader.status());
   const FileInfo& info = (*reader)->info();
@@ -296,7 +309,8 @@ int info_command(const InfoOptions& options) {
     j["grid"] = {{"dims", info.grid_dims}, {"origin", info.grid_origin}, {"spacing", info.grid_spacing}};
     j["face_size"] = {info.face_width, info.face_height};
     j["cells"] = cells.size();
-    j["coding"] = {{"quality", info.quality},
+    // A file encoded with an explicit quantiser scale has no quality.
+    j["coding"] = {{"quality", info.quality > 0 ? json(info.quality) : json(nullptr)},
                    {"quant_scale", info.quant_scale},
                    {"i_spacing", info.i_spacing},
                    {"motion", info.motion}};
@@ -313,8 +327,8 @@ int info_command(const InfoOptions& options) {
   std::printf("  faces     %d x %d pixels, %zu faces, raw RGB %s, compression %.1f:1\n", info.face_width,
               info.face_height, cells.size() * kFaceCount, human_bytes(raw).c_str(),
               info.file_bytes ? static_cast<double>(raw) / info.file_bytes : 0.0);
-  std::printf("  coding    quality %d, quantiser scale %d, I-cube spacing %d,%d,%d, motion from %s\n", info.quality,
-              info.quant_scale, info.i_spacing[0], info.i_spacing[1], info.i_spacing[2], info.motion.c_str());
+  std::printf("  coding    %s, I-cube spacing %d,%d,%d, motion from %s\n", coding_scale_text(info).c_str(),
+              info.i_spacing[0], info.i_spacing[1], info.i_spacing[2], info.motion.c_str());
   print_frame_stats("I-faces", stats[0]);
   print_frame_stats("B-faces", stats[1]);
   std::printf("  per cell  %.0f bytes on average\n",
@@ -328,7 +342,7 @@ int verify_command(const VerifyOptions& options) {
   const Status status = (*reader)->verify();
   if (!status.ok()) {
     std::fprintf(stderr, "svc: %s is damaged:\n%s\n", options.input.string().c_str(), status.message().c_str());
-    return 3;
+    return command_line::kExitCorrupt;
   }
   if (!options.quiet) {
     std::printf("%s: ok (%zu cells, %zu faces, every chunk's CRC-32 and every face decode checked)\n",
@@ -342,6 +356,10 @@ int demo_command(const DemoOptions& options) {
   std::error_code ec;
   fs::path work = options.keep_dir;
   const bool temporary = work.empty();
+  if (!temporary) {
+    const Status writable = check_output(work, OutputKind::kFolder, options.overwrite, {});
+    if (!writable.ok()) return report_error(writable);
+  }
   if (temporary) {
     work = fs::temp_directory_path() / ("svc-demo-" + std::to_string(std::random_device{}()));
   }

@@ -16,6 +16,7 @@ struct EncodeOptions {
   EncoderSettings settings;
   bool json = false;
   bool quiet = false;
+  bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 struct DecodeOptions {
@@ -24,6 +25,7 @@ struct DecodeOptions {
   std::optional<CellIndex> cell;
   std::optional<Face> face;
   bool quiet = false;
+  bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 struct InfoOptions {
@@ -41,6 +43,7 @@ struct InspectOptions {
   std::filesystem::path output;  // PNG
   CellIndex cell;
   Face face = Face::kPX;
+  bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 struct AddOptions {
@@ -54,6 +57,7 @@ struct DemoOptions {
   samples::SceneKind kind = samples::SceneKind::kHall;
   std::filesystem::path keep_dir;  // empty: a temporary folder, removed at the end
   EncoderSettings settings;
+  bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 Result<EncodeSummary> run_encode(const std::filesystem::path& db, const std::filesystem::path& out,

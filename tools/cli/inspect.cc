@@ -5,6 +5,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
+#include "cli/output_paths.h"
 #include "svc/reader.h"
 
 namespace svc::cli {
@@ -34,6 +35,8 @@ std::array<int, 3> mode_colour(MacroblockCoding mode) {
 }  // namespace
 
 int inspect_command(const InspectOptions& options) {
+  const Status writable = check_output(options.output, OutputKind::kFile, options.overwrite, {options.input});
+  if (!writable.ok()) return report_error(writable);
   auto reader = Reader::open(options.input);
   if (!reader.ok()) return report_error(reader.status());
   auto inspected = (*reader)->inspect_face(options.cell, options.face);

@@ -6,6 +6,8 @@
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
+#include "cli/output_paths.h"
+#include "command_line/command_line.h"
 #ifdef SVC_WITH_BENCH
 #include "cli/bench_command.h"
 #endif
@@ -14,16 +16,18 @@ namespace {
 
 using namespace svc;
 using namespace svc::cli;
+using svc::command_line::integer_in;
+using svc::command_line::kExitUsage;
 
 // Options shared by encode and demo.
 void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, std::string* i_spacing, std::string* motion) {
   cmd->add_option("-q,--quality", settings->quality, "Quality 1 (smallest) to 100 (best)")
-      ->check(CLI::Range(1, 100))
+      ->check(integer_in(1, 100))
       ->capture_default_str();
   cmd->add_option("--qscale", settings->quant_scale, "Quantiser scale 1..112 (overrides --quality)")
-      ->check(CLI::Range(1, 112));
+      ->check(integer_in(1, 112));
   cmd->add_option("--threads", settings->threads, "Worker threads (0: all cores); output does not depend on it")
-      ->check(CLI::Range(0, 1024))
+      ->check(integer_in(0, 1024))
       ->capture_default_str();
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
   cmd->add_option("--i-spacing", *i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")->capture_default_str();
@@ -47,22 +51,26 @@ int main(int argc, char** argv) {
   CLI::App app{"svc: spatial video codec for image-based impostor databases"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "svc 0.1.0");
+  app.footer(command_line::exit_codes_help(true));
 
   EncodeOptions encode;
   std::string encode_spacing = "3,1,3", encode_motion = "depth";
   auto* encode_cmd = app.add_subcommand("encode", "Encode an svc-input database into an .svc file");
   encode_cmd->add_option("DB_DIR", encode.db_dir, "svc-input database folder")->required();
-  encode_cmd->add_option("-o,--output", encode.output, "Output .svc file")->required();
+  encode_cmd->add_option("-o,--output", encode.output, "Output .svc file")
+      ->required()
+      ->check(not_standard_output());
   add_encoder_options(encode_cmd, &encode.settings, &encode_spacing, &encode_motion);
   encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
   encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
+  add_overwrite_flag(encode_cmd, &encode.overwrite);
 
   AddOptions add;
   auto* add_cmd = app.add_subcommand("add", "Add a database's new cells to an .svc file in place (crash-safe)");
   add_cmd->add_option("IN", add.input, "The .svc file to add to")->required();
   add_cmd->add_option("DB_DIR", add.db_dir, "svc-input database holding the cells to add")->required();
   add_cmd->add_option("--threads", add.threads, "Worker threads (0: all cores); output does not depend on it")
-      ->check(CLI::Range(0, 1024))
+      ->check(integer_in(0, 1024))
       ->capture_default_str();
   add_cmd->add_flag("--quiet", add.quiet, "Print nothing on success");
 
@@ -70,10 +78,11 @@ int main(int argc, char** argv) {
   std::string decode_cell, decode_face;
   auto* decode_cmd = app.add_subcommand("decode", "Decode faces into an svc-input database of PNGs");
   decode_cmd->add_option("IN", decode.input, "Input .svc file")->required();
-  decode_cmd->add_option("-o,--output", decode.output, "Output folder")->required();
+  decode_cmd->add_option("-o,--output", decode.output, "Output folder")->required()->check(not_standard_output());
   decode_cmd->add_option("--cell", decode_cell, "Only this cell, X,Y,Z");
   decode_cmd->add_option("--face", decode_face, "Only this face: px nx py ny pz nz");
   decode_cmd->add_flag("--quiet", decode.quiet, "Print nothing on success");
+  add_overwrite_flag(decode_cmd, &decode.overwrite);
 
   InfoOptions info;
   auto* info_cmd = app.add_subcommand("info", "Describe an .svc file: grid, coding settings, bytes");
@@ -92,23 +101,26 @@ int main(int argc, char** argv) {
   inspect_cmd->add_option("IN", inspect.input, "Input .svc file")->required();
   inspect_cmd->add_option("--cell", inspect_cell, "Cell X,Y,Z")->required();
   inspect_cmd->add_option("--face", inspect_face, "Face: px nx py ny pz nz")->required();
-  inspect_cmd->add_option("-o,--output", inspect.output, "Output PNG")->required();
+  inspect_cmd->add_option("-o,--output", inspect.output, "Output PNG")->required()->check(not_standard_output());
+  add_overwrite_flag(inspect_cmd, &inspect.overwrite);
 
   DemoOptions demo;
   std::string demo_kind = "hall", demo_spacing = "3,1,3", demo_motion = "depth";
   auto* demo_cmd = app.add_subcommand("demo", "Generate the sample scene, encode it, decode random cells, report");
   demo_cmd->add_option("--kind", demo_kind, "Scene kind: hall or house")->capture_default_str();
-  demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder");
+  demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder")
+      ->check(not_standard_output());
   add_encoder_options(demo_cmd, &demo.settings, &demo_spacing, &demo_motion);
+  add_overwrite_flag(demo_cmd, &demo.overwrite);
 
 #ifdef SVC_WITH_BENCH
   BenchSubcommand bench(app);
 #endif
 
-  CLI11_PARSE(app, argc, argv);
+  if (auto exit_code = command_line::parse(app, argc, argv, "svc")) return *exit_code;
 
   if (encode_cmd->parsed()) {
-    if (!apply_encoder_options(&encode.settings, encode_spacing, encode_motion)) return 2;
+    if (!apply_encoder_options(&encode.settings, encode_spacing, encode_motion)) return kExitUsage;
     return encode_command(encode);
   }
   if (add_cmd->parsed()) return add_command(add);
@@ -117,7 +129,7 @@ int main(int argc, char** argv) {
       CellIndex cell;
       if (!parse_cell(decode_cell, &cell)) {
         std::fprintf(stderr, "svc: --cell takes X,Y,Z, not '%s'\n", decode_cell.c_str());
-        return 2;
+        return kExitUsage;
       }
       decode.cell = cell;
     }
@@ -125,7 +137,7 @@ int main(int argc, char** argv) {
       decode.face = face_from_name(decode_face);
       if (!decode.face) {
         std::fprintf(stderr, "svc: --face takes px, nx, py, ny, pz or nz, not '%s'\n", decode_face.c_str());
-        return 2;
+        return kExitUsage;
       }
     }
     return decode_command(decode);
@@ -135,7 +147,7 @@ int main(int argc, char** argv) {
     const auto face = face_from_name(inspect_face);
     if (!parse_cell(inspect_cell, &inspect.cell) || !face) {
       std::fprintf(stderr, "svc: inspect takes --cell X,Y,Z and --face px|nx|py|ny|pz|nz\n");
-      return 2;
+      return kExitUsage;
     }
     inspect.face = *face;
     return inspect_command(inspect);
@@ -144,13 +156,13 @@ int main(int argc, char** argv) {
   if (demo_cmd->parsed()) {
     if (!samples::parse_scene_kind(demo_kind, &demo.kind)) {
       std::fprintf(stderr, "svc: --kind takes hall or house, not '%s'\n", demo_kind.c_str());
-      return 2;
+      return kExitUsage;
     }
-    if (!apply_encoder_options(&demo.settings, demo_spacing, demo_motion)) return 2;
+    if (!apply_encoder_options(&demo.settings, demo_spacing, demo_motion)) return kExitUsage;
     return demo_command(demo);
   }
 #ifdef SVC_WITH_BENCH
   if (bench.parsed()) return bench.run();
 #endif
-  return 2;
+  return kExitUsage;
 }

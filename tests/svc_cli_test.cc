@@ -1,0 +1,225 @@
+// The svc tool as a user runs it: what it prints, its exit codes, and what it refuses
+// to write. Runs the built build/bin/svc.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+
+#include <sys/wait.h>
+
+#include "scene/scene.h"
+#include "support/test_support.h"
+#include "svc/encoder.h"
+
+namespace svc {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+// Runs build/bin/PROGRAM ARGS in `dir`; returns its exit code and what it printed.
+CliRun run_program(const std::string& program, const std::string& args, const fs::path& dir) {
+  const std::string command =
+      "cd " + quoted(dir) + " && " + quoted(fs::path(SVC_BINARY_DIR) / "bin" / program) + " " + args + " 2>&1";
+  CliRun run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+CliRun run_svc(const std::string& args, const fs::path& dir = fs::temp_directory_path()) {
+  return run_program("svc", args, dir);
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir("svc-cli");
+    samples::SceneOptions options;
+    options.grid = {2, 1, 1};
+    options.face_size = 16;
+    ASSERT_TRUE(samples::generate_scene(options, db()).ok());
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path db() { return dir_->path() / "db"; }
+  static fs::path work(const std::string& name) { return dir_->path() / name; }
+
+  static testing::TempDir* dir_;
+};
+testing::TempDir* Cli::dir_ = nullptr;
+
+TEST_F(Cli, InfoOfAQscaleFileShowsTheScaleAndNoQuality) {
+  const fs::path file = work("qscale.svc");
+  ASSERT_EQ(run_svc("encode --quiet --qscale 20 " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
+  const CliRun info = run_svc("info " + quoted(file));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("quantiser scale 20"), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("quality"), std::string::npos) << info.output;
+  const CliRun json = run_svc("info --json " + quoted(file));
+  EXPECT_NE(json.output.find("\"quality\": null"), std::string::npos) << json.output;
+  EXPECT_NE(json.output.find("\"quant_scale\": 20"), std::string::npos) << json.output;
+
+  const fs::path by_quality = work("quality.svc");
+  ASSERT_EQ(run_svc("encode --quiet -q 60 " + quoted(db()) + " -o " + quoted(by_quality)).exit_code, 0);
+  const CliRun quality_info = run_svc("info " + quoted(by_quality));
+  EXPECT_NE(quality_info.output.find("quality 60, quantiser scale " + std::to_string(quant_scale_for_quality(60))),
+            std::string::npos)
+      << quality_info.output;
+}
+
+TEST_F(Cli, OutputToStandardOutputIsRefused) {
+  const fs::path cwd = work("stdout");
+  fs::create_directories(cwd);
+  const fs::path file = work("for-stdout.svc");
+  ASSERT_EQ(run_svc("encode --quiet " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
+  const std::vector<std::string> commands = {
+      "encode " + quoted(db()) + " -o -",
+      "decode " + quoted(file) + " -o -",
+      "inspect " + quoted(file) + " --cell 0,0,0 --face px -o -",
+  };
+  for (const std::string& command : commands) {
+    const CliRun run = run_svc(command, cwd);
+    EXPECT_EQ(run.exit_code, 2) << command;
+    EXPECT_EQ(run.output.rfind("svc: ", 0), 0u) << run.output;
+    EXPECT_NE(run.output.find("standard output"), std::string::npos) << command << "\n" << run.output;
+    EXPECT_FALSE(fs::exists(cwd / "-")) << command;
+  }
+}
+
+// Every usage error the parser catches exits 2 with a "svc: " message; the codes are in --help.
+TEST_F(Cli, UsageErrorsExitTwoWithThePrefix) {
+  const std::vector<std::string> usage_errors = {
+      "",        // no subcommand
+      "encode",  // missing DB_DIR
+      "encode " + quoted(db()) + " -o x.svc --no-such-option",
+      "encode " + quoted(db()) + " -o x.svc --motion sideways",
+      "encode " + quoted(db()) + " -o x.svc -q 101",
+      "encode " + quoted(db()) + " -o x.svc --threads -1",
+      "decode a.svc -o out --cell 1,2",
+  };
+  for (const std::string& args : usage_errors) {
+    const CliRun run = run_svc(args);
+    EXPECT_EQ(run.exit_code, 2) << "svc " << args << "\n" << run.output;
+    EXPECT_EQ(run.output.rfind("svc: ", 0), 0u) << "svc " << args << "\n" << run.output;
+  }
+  const CliRun not_a_number = run_svc("encode " + quoted(db()) + " -o x.svc -q abc");
+  EXPECT_EQ(not_a_number.exit_code, 2);
+  EXPECT_NE(not_a_number.output.find("'abc' is not a whole number"), std::string::npos) << not_a_number.output;
+  const CliRun help = run_svc("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("2 usage error"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("3 damaged .svc file"), std::string::npos) << help.output;
+  // A damaged file: 3; a missing one: 1.
+  EXPECT_EQ(run_svc("info /no/such/file.svc").exit_code, 1);
+  const fs::path damaged = work("damaged.svc");
+  std::ofstream(damaged) << "not an svc file at all, just some text long enough to be read";
+  EXPECT_EQ(run_svc("info " + quoted(damaged)).exit_code, 3);
+}
+
+TEST_F(Cli, SceneToolFollowsTheSameCodes) {
+  for (const std::string& args : {std::string("--no-such-option x"), std::string(""), std::string("--kind cave x"),
+                                  std::string("--face-size abc x")}) {
+    const CliRun run = run_program("svc-scene", args, dir_->path());
+    EXPECT_EQ(run.exit_code, 2) << "svc-scene " << args << "\n" << run.output;
+    EXPECT_EQ(run.output.rfind("svc-scene: ", 0), 0u) << "svc-scene " << args << "\n" << run.output;
+  }
+  EXPECT_NE(run_program("svc-scene", "--help", dir_->path()).output.find("2 usage error"), std::string::npos);
+}
+
+std::string contents(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// An existing output is kept unless -y; with -y it is replaced.
+TEST_F(Cli, ExistingOutputsAreKeptUnlessOverwriteIsGiven) {
+  const fs::path file = work("kept.svc");
+  std::ofstream(file) << "precious";
+  const CliRun refused = run_svc("encode --quiet " + quoted(db()) + " -o " + quoted(file));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_EQ(refused.output.rfind("svc: ", 0), 0u) << refused.output;
+  EXPECT_NE(refused.output.find("-y"), std::string::npos) << refused.output;
+  EXPECT_EQ(contents(file), "precious");
+  ASSERT_EQ(run_svc("encode --quiet -y " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
+  EXPECT_NE(contents(file), "precious");
+
+  // decode into a non-empty folder.
+  const fs::path folder = work("decoded");
+  fs::create_directories(folder);
+  std::ofstream(folder / "notes.txt") << "mine";
+  EXPECT_EQ(run_svc("decode --quiet " + quoted(file) + " -o " + quoted(folder)).exit_code, 2);
+  EXPECT_FALSE(fs::exists(folder / "manifest.json"));
+  ASSERT_EQ(run_svc("decode --quiet -y " + quoted(file) + " -o " + quoted(folder)).exit_code, 0);
+  EXPECT_TRUE(fs::exists(folder / "manifest.json"));
+  EXPECT_EQ(contents(folder / "notes.txt"), "mine");
+  // An empty folder is written into without -y.
+  const fs::path empty = work("empty");
+  fs::create_directories(empty);
+  EXPECT_EQ(run_svc("decode --quiet " + quoted(file) + " -o " + quoted(empty)).exit_code, 0);
+
+  // inspect onto an existing PNG.
+  const fs::path png = work("mb.png");
+  std::ofstream(png) << "old png";
+  EXPECT_EQ(run_svc("inspect " + quoted(file) + " --cell 0,0,0 --face px -o " + quoted(png)).exit_code, 2);
+  EXPECT_EQ(contents(png), "old png");
+  EXPECT_EQ(run_svc("inspect -y " + quoted(file) + " --cell 0,0,0 --face px -o " + quoted(png)).exit_code, 0);
+  EXPECT_NE(contents(png), "old png");
+
+  // demo --keep into a non-empty folder.
+  EXPECT_EQ(run_svc("demo --keep " + quoted(folder)).exit_code, 2);
+  // bench --out (when the tool is built with the benchmark): refused before any work.
+  if (run_svc("bench --help").exit_code == 0) {
+    const CliRun bench = run_svc("bench " + quoted(db()) + " --out " + quoted(folder));
+    EXPECT_EQ(bench.exit_code, 2) << bench.output;
+    EXPECT_FALSE(fs::exists(folder / "work"));
+    EXPECT_FALSE(fs::exists(folder / "results.json"));
+    EXPECT_EQ(run_svc("bench -y " + quoted(db()) + " --out " + quoted(db())).exit_code, 2);
+  }
+}
+
+// The input is never written over, not even with -y.
+TEST_F(Cli, TheInputIsNeverOverwritten) {
+  const fs::path scene = work("own-scene");
+  fs::copy(db(), scene, fs::copy_options::recursive);
+  const std::string manifest = contents(scene / "manifest.json");
+  const CliRun onto_manifest =
+      run_svc("encode --quiet -y " + quoted(scene) + " -o " + quoted(scene / "manifest.json"));
+  EXPECT_EQ(onto_manifest.exit_code, 2) << onto_manifest.output;
+  EXPECT_NE(onto_manifest.output.find("input"), std::string::npos) << onto_manifest.output;
+  EXPECT_EQ(contents(scene / "manifest.json"), manifest);
+  // A new file inside the database folder is no input: allowed.
+  ASSERT_EQ(run_svc("encode --quiet " + quoted(scene) + " -o " + quoted(scene / "scene.svc")).exit_code, 0);
+
+  // Decoding into the folder that holds the .svc (and the source images).
+  const fs::path png = scene / "cells" / "0_0_0" / "px.png";
+  const std::string source_png = contents(png);
+  const CliRun onto_source = run_svc("decode --quiet -y " + quoted(scene / "scene.svc") + " -o " + quoted(scene));
+  EXPECT_EQ(onto_source.exit_code, 2) << onto_source.output;
+  EXPECT_EQ(contents(png), source_png);
+  // inspect onto its own input.
+  const fs::path svc_file = scene / "scene.svc";
+  const std::string svc_bytes = contents(svc_file);
+  EXPECT_EQ(run_svc("inspect -y " + quoted(svc_file) + " --cell 0,0,0 --face px -o " + quoted(svc_file)).exit_code,
+            2);
+  EXPECT_EQ(contents(svc_file), svc_bytes);
+  // A relative spelling of the same path is the same input.
+  EXPECT_EQ(run_svc("encode --quiet -y own-scene -o own-scene/./manifest.json", dir_->path()).exit_code, 2);
+  EXPECT_EQ(contents(scene / "manifest.json"), manifest);
+}
+
+}  // namespace
+}  // namespace svc
