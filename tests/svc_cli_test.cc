@@ -221,5 +221,18 @@ TEST_F(Cli, TheInputIsNeverOverwritten) {
   EXPECT_EQ(contents(scene / "manifest.json"), manifest);
 }
 
+TEST_F(Cli, SceneToolKeepsANonEmptyFolderUnlessOverwriteIsGiven) {
+  const fs::path out = work("scene-out");
+  fs::create_directories(out);
+  std::ofstream(out / "notes.txt") << "mine";
+  const std::string args = quoted(out) + " --grid 1,1,1 --face-size 16 --quiet";
+  const CliRun refused = run_program("svc-scene", args, dir_->path());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_EQ(refused.output.rfind("svc-scene: ", 0), 0u) << refused.output;
+  EXPECT_FALSE(fs::exists(out / "manifest.json"));
+  EXPECT_EQ(run_program("svc-scene", "-y " + args, dir_->path()).exit_code, 0);
+  EXPECT_TRUE(fs::exists(out / "manifest.json"));
+}
+
 }  // namespace
 }  // namespace svc

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "command_line/command_line.h"
+#include "command_line/output_paths.h"
 #include "scene/scene.h"
 
 namespace {
@@ -60,6 +61,9 @@ int main(int argc, char** argv) {
                  "scripts/fetch-textures.sh extracts a set");
   app.add_flag("--sparse", options.sparse, "Leave out cells whose centre is inside geometry");
   app.add_flag("--quiet", quiet, "Print nothing but errors");
+  bool overwrite = false;
+  svc::command_line::add_overwrite_flag(&app, &overwrite);
+  app.get_option("OUT_DIR")->check(svc::command_line::not_standard_output());
   app.footer(
       "Photographic hall and house (OpenArena textures, Debian openarena-081-textures):\n"
       "  textures=$(scripts/fetch-textures.sh)\n"
@@ -68,6 +72,14 @@ int main(int argc, char** argv) {
       svc::command_line::exit_codes_help(false));
   if (auto exit_code = svc::command_line::parse(app, argc, argv, "svc-scene")) return *exit_code;
 
+  std::vector<std::filesystem::path> inputs;
+  if (!options.textures.empty()) inputs.push_back(options.textures);
+  const svc::Status writable =
+      svc::command_line::check_output(out_dir, svc::command_line::OutputKind::kFolder, overwrite, inputs);
+  if (!writable.ok()) {
+    std::fprintf(stderr, "svc-scene: %s\n", writable.message().c_str());
+    return svc::command_line::kExitUsage;
+  }
   svc::samples::parse_scene_kind(kind, &options.kind);
   std::vector<int> dims;
   if (!parse_list(grid, &dims) || dims.size() != 3) {

@@ -8,11 +8,16 @@
 
 #include "baseline/baseline.h"
 #include "cli/cli_util.h"
-#include "cli/output_paths.h"
 #include "command_line/command_line.h"
+#include "command_line/output_paths.h"
 #include "svc_bench.h"
 
 namespace svc::cli {
+
+using command_line::add_overwrite_flag;
+using command_line::check_output;
+using command_line::not_standard_output;
+using command_line::OutputKind;
 
 struct BenchSubcommand::Options {
   bench::BenchOptions bench;

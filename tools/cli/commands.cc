@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_util.h"
-#include "cli/output_paths.h"
 #include "command_line/command_line.h"
+#include "command_line/output_paths.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
 #include "scene/scene.h"
@@ -24,6 +24,9 @@
 #include "svc/reader.h"
 
 namespace svc::cli {
+
+using command_line::check_output;
+using command_line::OutputKind;
 
 namespace {
 

@@ -5,10 +5,13 @@
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
-#include "cli/output_paths.h"
+#include "command_line/output_paths.h"
 #include "svc/reader.h"
 
 namespace svc::cli {
+
+using command_line::check_output;
+using command_line::OutputKind;
 
 namespace {
 

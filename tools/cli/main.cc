@@ -6,8 +6,8 @@
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
-#include "cli/output_paths.h"
 #include "command_line/command_line.h"
+#include "command_line/output_paths.h"
 #ifdef SVC_WITH_BENCH
 #include "cli/bench_command.h"
 #endif
@@ -16,8 +16,7 @@ namespace {
 
 using namespace svc;
 using namespace svc::cli;
-using svc::command_line::integer_in;
-using svc::command_line::kExitUsage;
+using namespace svc::command_line;
 
 // Options shared by encode and demo.
 void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, std::string* i_spacing, std::string* motion) {

@@ -1,4 +1,4 @@
-// Rules for where the svc tool may write, checked before any work is done.
+// Rules for where svc and svc-scene may write, checked before any work is done.
 #pragma once
 
 #include <filesystem>
@@ -8,7 +8,7 @@
 
 #include "svc/status.h"
 
-namespace svc::cli {
+namespace svc::command_line {
 
 // Refuses "-" as an output: the tool writes only to named, seekable files and folders
 // (an .svc file is written with its index patched in place, so standard output cannot
@@ -27,4 +27,4 @@ Status check_output(const std::filesystem::path& output, OutputKind kind, bool o
 // Adds -y/--overwrite to a command that writes.
 void add_overwrite_flag(CLI::App* command, bool* overwrite);
 
-}  // namespace svc::cli
+}  // namespace svc::command_line

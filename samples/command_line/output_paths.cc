@@ -1,8 +1,8 @@
-#include "cli/output_paths.h"
+#include "command_line/output_paths.h"
 
 #include <string>
 
-namespace svc::cli {
+namespace svc::command_line {
 
 namespace fs = std::filesystem;
 
@@ -76,4 +76,4 @@ void add_overwrite_flag(CLI::App* command, bool* overwrite) {
   command->add_flag("-y,--overwrite", *overwrite, "Overwrite an existing output (never the input)");
 }
 
-}  // namespace svc::cli
+}  // namespace svc::command_line
