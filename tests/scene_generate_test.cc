@@ -24,13 +24,8 @@ namespace fs = std::filesystem;
 
 constexpr const char* kFaces[6] = {"px", "nx", "py", "ny", "pz", "nz"};
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 nlohmann::json read_manifest(const fs::path& dir) {
-  return nlohmann::json::parse(read_bytes(dir / "manifest.json"));
+  return nlohmann::json::parse(testing::read_file_bytes(dir / "manifest.json"));
 }
 
 struct Image {
@@ -103,15 +98,7 @@ TEST(SceneGenerate, SameOptionsGiveSameBytesWhateverTheThreadCount) {
   options.threads = 3;
   ASSERT_TRUE(generate_scene(options, second.path()).ok());
 
-  int files = 0;
-  for (const auto& entry : fs::recursive_directory_iterator(first.path())) {
-    if (!entry.is_regular_file()) continue;
-    const fs::path rel = fs::relative(entry.path(), first.path());
-    ASSERT_TRUE(fs::exists(second.path() / rel)) << rel;
-    EXPECT_EQ(read_bytes(entry.path()), read_bytes(second.path() / rel)) << rel;
-    ++files;
-  }
-  EXPECT_EQ(files, 1 + 4 * 6 * 2);
+  EXPECT_EQ(testing::expect_identical_trees(first.path(), second.path()), 1 + 4 * 6 * 2);
 }
 
 TEST(SceneGenerate, SeedChangesTheScene) {

@@ -61,11 +61,6 @@ void write_texture_folder(const fs::path& dir) {
   write_blocks(dir / "set" / "skies" / "clouds.png", {200, 210, 230}, {120, 150, 210});
 }
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // Pixels of `face` whose depth is within 1 cm of `depth`: a known plane.
 std::vector<Rgb> pixels_at_depth(const SceneFace& face, double depth) {
   std::vector<Rgb> out;
@@ -189,17 +184,10 @@ TEST(ScenePhoto, SameOptionsAndFolderGiveSameBytesWhateverTheThreadCount) {
     ASSERT_TRUE(generate_scene(options, first.path()).ok());
     options.threads = 3;
     ASSERT_TRUE(generate_scene(options, second.path()).ok());
-    int files = 0;
-    for (const auto& entry : fs::recursive_directory_iterator(first.path())) {
-      if (!entry.is_regular_file()) continue;
-      const fs::path rel = fs::relative(entry.path(), first.path());
-      EXPECT_EQ(read_bytes(entry.path()), read_bytes(second.path() / rel)) << rel;
-      ++files;
-    }
-    EXPECT_EQ(files, 1 + 4 * 6 * 2);
+    EXPECT_EQ(testing::expect_identical_trees(first.path(), second.path()), 1 + 4 * 6 * 2);
 
     // The manifest names the images used, relative to the folder.
-    const auto manifest = nlohmann::json::parse(read_bytes(first.path() / "manifest.json"));
+    const auto manifest = nlohmann::json::parse(testing::read_file_bytes(first.path() / "manifest.json"));
     const auto names = manifest.at("generator").at("textures").get<std::vector<std::string>>();
     EXPECT_FALSE(names.empty());
     for (const std::string& name : names) EXPECT_TRUE(fs::exists(tex.path() / name)) << name;

@@ -140,11 +140,6 @@ TEST_F(Cli, SceneToolFollowsTheSameCodes) {
   EXPECT_NE(run_program("svc-scene", "--help", dir_->path()).output.find("2 usage error"), std::string::npos);
 }
 
-std::string contents(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 // An existing output is kept unless -y; with -y it is replaced.
 TEST_F(Cli, ExistingOutputsAreKeptUnlessOverwriteIsGiven) {
   const fs::path file = work("kept.svc");
@@ -153,9 +148,9 @@ TEST_F(Cli, ExistingOutputsAreKeptUnlessOverwriteIsGiven) {
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_EQ(refused.output.rfind("svc: ", 0), 0u) << refused.output;
   EXPECT_NE(refused.output.find("-y"), std::string::npos) << refused.output;
-  EXPECT_EQ(contents(file), "precious");
+  EXPECT_EQ(testing::read_file_bytes(file), "precious");
   ASSERT_EQ(run_svc("encode --quiet -y " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
-  EXPECT_NE(contents(file), "precious");
+  EXPECT_NE(testing::read_file_bytes(file), "precious");
 
   // decode into a non-empty folder.
   const fs::path folder = work("decoded");
@@ -165,7 +160,7 @@ TEST_F(Cli, ExistingOutputsAreKeptUnlessOverwriteIsGiven) {
   EXPECT_FALSE(fs::exists(folder / "manifest.json"));
   ASSERT_EQ(run_svc("decode --quiet -y " + quoted(file) + " -o " + quoted(folder)).exit_code, 0);
   EXPECT_TRUE(fs::exists(folder / "manifest.json"));
-  EXPECT_EQ(contents(folder / "notes.txt"), "mine");
+  EXPECT_EQ(testing::read_file_bytes(folder / "notes.txt"), "mine");
   // An empty folder is written into without -y.
   const fs::path empty = work("empty");
   fs::create_directories(empty);
@@ -175,9 +170,9 @@ TEST_F(Cli, ExistingOutputsAreKeptUnlessOverwriteIsGiven) {
   const fs::path png = work("mb.png");
   std::ofstream(png) << "old png";
   EXPECT_EQ(run_svc("inspect " + quoted(file) + " --cell 0,0,0 --face px -o " + quoted(png)).exit_code, 2);
-  EXPECT_EQ(contents(png), "old png");
+  EXPECT_EQ(testing::read_file_bytes(png), "old png");
   EXPECT_EQ(run_svc("inspect -y " + quoted(file) + " --cell 0,0,0 --face px -o " + quoted(png)).exit_code, 0);
-  EXPECT_NE(contents(png), "old png");
+  EXPECT_NE(testing::read_file_bytes(png), "old png");
 
   // demo --keep into a non-empty folder.
   EXPECT_EQ(run_svc("demo --keep " + quoted(folder)).exit_code, 2);
@@ -195,30 +190,30 @@ TEST_F(Cli, ExistingOutputsAreKeptUnlessOverwriteIsGiven) {
 TEST_F(Cli, TheInputIsNeverOverwritten) {
   const fs::path scene = work("own-scene");
   fs::copy(db(), scene, fs::copy_options::recursive);
-  const std::string manifest = contents(scene / "manifest.json");
+  const std::string manifest = testing::read_file_bytes(scene / "manifest.json");
   const CliRun onto_manifest =
       run_svc("encode --quiet -y " + quoted(scene) + " -o " + quoted(scene / "manifest.json"));
   EXPECT_EQ(onto_manifest.exit_code, 2) << onto_manifest.output;
   EXPECT_NE(onto_manifest.output.find("input"), std::string::npos) << onto_manifest.output;
-  EXPECT_EQ(contents(scene / "manifest.json"), manifest);
+  EXPECT_EQ(testing::read_file_bytes(scene / "manifest.json"), manifest);
   // A new file inside the database folder is no input: allowed.
   ASSERT_EQ(run_svc("encode --quiet " + quoted(scene) + " -o " + quoted(scene / "scene.svc")).exit_code, 0);
 
   // Decoding into the folder that holds the .svc (and the source images).
   const fs::path png = scene / "cells" / "0_0_0" / "px.png";
-  const std::string source_png = contents(png);
+  const std::string source_png = testing::read_file_bytes(png);
   const CliRun onto_source = run_svc("decode --quiet -y " + quoted(scene / "scene.svc") + " -o " + quoted(scene));
   EXPECT_EQ(onto_source.exit_code, 2) << onto_source.output;
-  EXPECT_EQ(contents(png), source_png);
+  EXPECT_EQ(testing::read_file_bytes(png), source_png);
   // inspect onto its own input.
   const fs::path svc_file = scene / "scene.svc";
-  const std::string svc_bytes = contents(svc_file);
+  const std::string svc_bytes = testing::read_file_bytes(svc_file);
   EXPECT_EQ(run_svc("inspect -y " + quoted(svc_file) + " --cell 0,0,0 --face px -o " + quoted(svc_file)).exit_code,
             2);
-  EXPECT_EQ(contents(svc_file), svc_bytes);
+  EXPECT_EQ(testing::read_file_bytes(svc_file), svc_bytes);
   // A relative spelling of the same path is the same input.
   EXPECT_EQ(run_svc("encode --quiet -y own-scene -o own-scene/./manifest.json", dir_->path()).exit_code, 2);
-  EXPECT_EQ(contents(scene / "manifest.json"), manifest);
+  EXPECT_EQ(testing::read_file_bytes(scene / "manifest.json"), manifest);
 }
 
 TEST_F(Cli, SceneToolKeepsANonEmptyFolderUnlessOverwriteIsGiven) {

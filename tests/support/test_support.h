@@ -19,4 +19,11 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// The whole file as bytes; empty when it cannot be read.
+std::string read_file_bytes(const std::filesystem::path& path);
+
+// Fails the running test for every regular file of `first` that is missing from `second`
+// or differs in a byte; returns the number of files compared.
+int expect_identical_trees(const std::filesystem::path& first, const std::filesystem::path& second);
+
 }  // namespace svc::testing
