@@ -40,6 +40,8 @@ class Bench {
   // The quality search, speed and random access of one codec.
   Result<CodecResult> run_codec(const CodecPlan& plan);
   Result<Experiments> run_experiments(const std::vector<CodecResult>& codecs, std::vector<PartTiming>* timings);
+  // ablation.cc
+  Result<std::vector<AblationRow>> run_ablation(const CodecResult& svc);
 
  private:
   void fill_rates(QualityPoint* p, uint64_t faces) const;

@@ -153,6 +153,16 @@ Status write_results_json(const BenchResults& r, const std::filesystem::path& pa
   } else {
     j["experiments"] = nullptr;
   }
+  json ablation = json::array();
+  for (const AblationRow& row : r.ablation) {
+    json points = json::array();
+    for (const QualityPoint& p : row.points) points.push_back(point_json(p));
+    ablation.push_back({{"tool", row.tool},
+                        {"bd_rate_psnr_y", row.bd_rate_y ? json(*row.bd_rate_y) : json(nullptr)},
+                        {"encode_seconds", row.encode_seconds},
+                        {"points", points}});
+  }
+  j["ablation"] = ablation;
   return write_text(path, j.dump(2) + "\n");
 }
 
@@ -335,6 +345,16 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
   md << "\nFor svc the frame count is the face plus its references; with warm caches the reader may serve the "
         "references without decoding them again, so the warm count is an upper bound.\n\n";
   md << "![random access cost](access_cost.png)\n";
+
+  if (!r.ablation.empty()) {
+    md << "\n## Ablation: svc without each coding tool\n\nBD-rate (PSNR-Y) of svc with the tool switched off "
+          "against svc with every tool, at svc's quality settings: what the tool saves at equal quality. "
+          "\"all\" switches every listed tool off.\n\n| tool off | BD-rate | encode s |\n|---|---:|---:|\n";
+    for (const AblationRow& row : r.ablation) {
+      md << "| " << row.tool << " | " << (row.bd_rate_y ? format("%+.1f%%", *row.bd_rate_y * 100) : "n/a") << " | "
+         << format("%.1f", row.encode_seconds) << " |\n";
+    }
+  }
 
   if (r.experiments) {
     const Experiments& e = *r.experiments;

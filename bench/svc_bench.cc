@@ -38,6 +38,19 @@ void compute_bd_rates(std::vector<CodecResult>* codecs) {
   }
 }
 
+Status run_ablation(Bench& bench, BenchResults* results) {
+  const auto svc = std::find_if(results->codecs.begin(), results->codecs.end(),
+                                [](const CodecResult& c) { return c.name == "svc" && !c.skipped; });
+  if (svc == results->codecs.end()) {
+    bench.log("ablation skipped: it needs the svc codec in --codecs");
+    return Status::Ok();
+  }
+  const auto t0 = Clock::now();
+  SVC_ASSIGN_OR_RETURN(results->ablation, bench.run_ablation(*svc));
+  results->timings.push_back({"ablation", seconds_since(t0)});
+  return Status::Ok();
+}
+
 // The requested codecs in report order, svc first: the others pick their reference
 // point by svc's PSNR.
 Result<std::vector<std::string>> ordered_codecs(const BenchOptions& options) {
@@ -137,6 +150,7 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
   } else if (status.ok() && options.experiments) {
     bench.log("dissertation experiments skipped: they need the svc codec in --codecs");
   }
+  if (status.ok() && options.ablation) status = run_ablation(bench, &results);
   bench.remove_work_dir();
   SVC_RETURN_IF_ERROR(status);
   results.total_seconds = seconds_since(start);

@@ -56,6 +56,9 @@ struct BenchOptions {
   int random_accesses = 120;  // random (cell, face) picks per codec and mode
   uint32_t seed = 1;          // for the random picks
   bool experiments = true;    // Table 7.5, Figure 7.16, Table 7.4 (need svc)
+  // svc without each coding tool (svc::CodingTools) at svc's quality settings, and the
+  // BD-rate of each against svc with every tool (needs svc).
+  bool ablation = false;
   // Two PSNR targets and at most three encodes per codec: for tests and quick looks.
   bool quick = false;
   // GOP of x264, x265 and AV1, and presets replacing the defaults (see anchors.h).
@@ -152,6 +155,16 @@ struct Experiments {
   double equal_psnr_y = 0;  // Table 7.4 comparison point
 };
 
+// svc with one coding tool switched off ("all" switches every tool off).
+struct AblationRow {
+  std::string tool;
+  std::vector<QualityPoint> points;  // at the settings of svc's own points
+  // Bytes without the tool / bytes with every tool, at equal PSNR-Y, minus 1: what the
+  // tool saves. Unset when the curves share no PSNR range.
+  std::optional<double> bd_rate_y;
+  double encode_seconds = 0;  // summed over the points
+};
+
 struct PartTiming {
   std::string part;
   double seconds = 0;
@@ -168,6 +181,7 @@ struct BenchResults {
   int threads = 1;
   std::vector<CodecResult> codecs;
   std::optional<Experiments> experiments;
+  std::vector<AblationRow> ablation;
   std::vector<PartTiming> timings;
   double total_seconds = 0;
 };

@@ -14,6 +14,7 @@
 #include "rd_curve.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
+#include "svc/encoder.h"
 #include "svc_bench.h"
 
 namespace svc::bench {
@@ -41,6 +42,7 @@ class BenchRun : public ::testing::Test {
     options.out_dir = dir_->path() / "out";
     options.codecs = {"png", "svc", "mpeg2", "jpeg"};  // run in report order whatever the order here
     options.quick = true;
+    options.ablation = true;
     options.random_accesses = 12;
     options.threads = 2;
     options.progress = [](const std::string& line) { progress_lines_.push_back(line); };
@@ -147,6 +149,39 @@ TEST_F(BenchRun, BdRateMatchesTheCurvesInTheResults) {
   }
   const std::string report = read_text(out() / "report.md");
   EXPECT_LT(report.find("## Ranking by BD-rate"), report.find("## Summary at svc"));
+}
+
+// One row per coding tool and one with all of them off, each at svc's own settings,
+// with the BD-rate its points give against svc's.
+TEST_F(BenchRun, AblationEncodesWithoutEachTool) {
+  ASSERT_TRUE(results_);
+  const CodecResult* svc = nullptr;
+  for (const CodecResult& c : results_->codecs) {
+    if (c.name == "svc") svc = &c;
+  }
+  ASSERT_TRUE(svc);
+  std::vector<std::string> expected = coding_tool_names();
+  expected.push_back("all");
+  ASSERT_EQ(results_->ablation.size(), expected.size());
+  auto psnr_y = [](const std::vector<QualityPoint>& points) {
+    std::vector<RatePoint> rate;
+    for (const QualityPoint& p : points) rate.push_back({double(p.bytes), p.psnr_y});
+    return rate;
+  };
+  const std::string report = read_text(out() / "report.md");
+  for (size_t i = 0; i < expected.size(); ++i) {
+    const AblationRow& row = results_->ablation[i];
+    EXPECT_EQ(row.tool, expected[i]);
+    ASSERT_EQ(row.points.size(), svc->points.size()) << row.tool;
+    for (size_t k = 0; k < row.points.size(); ++k) {
+      EXPECT_EQ(row.points[k].setting, svc->points[k].setting) << row.tool;
+      EXPECT_GT(row.points[k].bytes, 0u) << row.tool;
+    }
+    const auto bd = bd_rate(psnr_y(svc->points), psnr_y(row.points));
+    ASSERT_EQ(bd.has_value(), row.bd_rate_y.has_value()) << row.tool;
+    if (bd) EXPECT_NEAR(*row.bd_rate_y, bd->ratio - 1, 1e-12) << row.tool;
+    EXPECT_NE(report.find("| " + row.tool + " | "), std::string::npos) << row.tool;
+  }
 }
 
 TEST_F(BenchRun, ExperimentsCoverTheDissertationTables) {

@@ -5,11 +5,32 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "svc/status.h"
 #include "svc/types.h"
 
 namespace svc {
+
+// The coding tools the encoder may use. Every tool is on by default; switching one off
+// only restricts the encoder's choices (every decoder still reads the stream), so the
+// gain of each tool can be measured on its own (`svc encode --disable-tool NAME`, the
+// ablation of `svc bench --ablation`). Not stored in the file: `svc add` uses all tools.
+struct CodingTools {
+  // B-faces: macroblocks predicted through a field of corner vectors (docs/codec.md 10.1).
+  bool warped_prediction = true;
+  // B-faces: the half-pel neighbours of the best candidate vector are tried as well.
+  bool sub_pel_refinement = true;
+};
+
+// Names of the coding tools, in the order of CodingTools, for --disable-tool.
+std::vector<std::string> coding_tool_names();
+
+// Switches the tool called `name` off. Errors: kInvalidArgument naming the valid tools
+// when `name` is not one of coding_tool_names().
+Status disable_coding_tool(CodingTools* tools, std::string_view name);
 
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best). Maps to a quantiser scale (quant_scale_for_quality):
@@ -25,6 +46,7 @@ struct EncoderSettings {
   // Every cell an I-cube (same as i_spacing {1,1,1}).
   bool intra_only = false;
   MotionSearch motion = MotionSearch::kDepth;
+  CodingTools tools;
 };
 
 // Fills settings with the defaults documented on each field.

@@ -28,6 +28,8 @@ struct CodingJob {
   std::function<Result<FaceData>(uint32_t frame)> load;
   // Appends a FACE chunk to the file; returns its offset.
   std::function<Result<uint64_t>(std::span<const uint8_t> payload)> append;
+  // Tools the coder may use (encode's settings; all of them for `svc add`).
+  CodingTools tools;
   int threads = 1;
   const char* action = "encode";  // names the run in the cancellation message
   EncodeProgress progress;

@@ -129,6 +129,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
     return load_face(manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
   };
   job.append = [&](std::span<const uint8_t> payload) { return writer->append_frame(payload); };
+  job.tools = settings.tools;
   job.threads = resolve_thread_count(settings.threads);
   job.progress = progress;
   SVC_RETURN_IF_ERROR(code_faces(job));

@@ -57,6 +57,8 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
   add_overwrite_flag(command_, &options_->overwrite);
   command_->add_flag("--no-experiments", options_->no_experiments,
                      "Skip the dissertation experiments (Table 7.5, Figure 7.16, Table 7.4)");
+  command_->add_flag("--ablation", options_->bench.ablation,
+                     "Also encode svc without each coding tool and report the BD-rate of each");
 }
 
 BenchSubcommand::~BenchSubcommand() = default;

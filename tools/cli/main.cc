@@ -1,6 +1,7 @@
 // svc: encode, decode, inspect and verify spatial video databases.
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -18,8 +19,15 @@ using namespace svc;
 using namespace svc::cli;
 using namespace svc::command_line;
 
+// Encoder options given as text, checked after parsing.
+struct EncoderOptionText {
+  std::string i_spacing = "3,1,3";
+  std::string motion = "depth";
+  std::vector<std::string> disabled_tools;
+};
+
 // Options shared by encode and demo.
-void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, std::string* i_spacing, std::string* motion) {
+void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOptionText* text) {
   cmd->add_option("-q,--quality", settings->quality, "Quality 1 (smallest) to 100 (best)")
       ->check(integer_in(1, 100))
       ->capture_default_str();
@@ -29,18 +37,30 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, std::string* 
       ->check(integer_in(0, 1024))
       ->capture_default_str();
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
-  cmd->add_option("--i-spacing", *i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")->capture_default_str();
-  cmd->add_option("--motion", *motion, "Motion source: depth (reprojection) or log (logarithmic search)")
+  cmd->add_option("--i-spacing", text->i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")
+      ->capture_default_str();
+  cmd->add_option("--motion", text->motion, "Motion source: depth (reprojection) or log (logarithmic search)")
       ->check(CLI::IsMember({"depth", "log"}))
       ->capture_default_str();
+  std::string tools;
+  for (const std::string& name : coding_tool_names()) tools += (tools.empty() ? "" : ", ") + name;
+  cmd->add_option("--disable-tool", text->disabled_tools,
+                  "Do not use this coding tool (repeatable; to measure its gain): " + tools);
 }
 
-bool apply_encoder_options(EncoderSettings* settings, const std::string& i_spacing, const std::string& motion) {
-  if (!parse_triple(i_spacing, &settings->i_spacing)) {
-    std::fprintf(stderr, "svc: --i-spacing takes X,Y,Z or N with positive integers, not '%s'\n", i_spacing.c_str());
+bool apply_encoder_options(EncoderSettings* settings, const EncoderOptionText& text) {
+  if (!parse_triple(text.i_spacing, &settings->i_spacing)) {
+    std::fprintf(stderr, "svc: --i-spacing takes X,Y,Z or N with positive integers, not '%s'\n",
+                 text.i_spacing.c_str());
     return false;
   }
-  settings->motion = motion == "log" ? MotionSearch::kLogarithmic : MotionSearch::kDepth;
+  settings->motion = text.motion == "log" ? MotionSearch::kLogarithmic : MotionSearch::kDepth;
+  for (const std::string& name : text.disabled_tools) {
+    if (Status status = disable_coding_tool(&settings->tools, name); !status.ok()) {
+      std::fprintf(stderr, "svc: --disable-tool: %s\n", status.message().c_str());
+      return false;
+    }
+  }
   return true;
 }
 
@@ -53,13 +73,13 @@ int main(int argc, char** argv) {
   app.footer(command_line::exit_codes_help(true));
 
   EncodeOptions encode;
-  std::string encode_spacing = "3,1,3", encode_motion = "depth";
+  EncoderOptionText encode_text;
   auto* encode_cmd = app.add_subcommand("encode", "Encode an svc-input database into an .svc file");
   encode_cmd->add_option("DB_DIR", encode.db_dir, "svc-input database folder")->required();
   encode_cmd->add_option("-o,--output", encode.output, "Output .svc file")
       ->required()
       ->check(not_standard_output());
-  add_encoder_options(encode_cmd, &encode.settings, &encode_spacing, &encode_motion);
+  add_encoder_options(encode_cmd, &encode.settings, &encode_text);
   encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
   encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
   add_overwrite_flag(encode_cmd, &encode.overwrite);
@@ -104,12 +124,13 @@ int main(int argc, char** argv) {
   add_overwrite_flag(inspect_cmd, &inspect.overwrite);
 
   DemoOptions demo;
-  std::string demo_kind = "hall", demo_spacing = "3,1,3", demo_motion = "depth";
+  std::string demo_kind = "hall";
+  EncoderOptionText demo_text;
   auto* demo_cmd = app.add_subcommand("demo", "Generate the sample scene, encode it, decode random cells, report");
   demo_cmd->add_option("--kind", demo_kind, "Scene kind: hall or house")->capture_default_str();
   demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder")
       ->check(not_standard_output());
-  add_encoder_options(demo_cmd, &demo.settings, &demo_spacing, &demo_motion);
+  add_encoder_options(demo_cmd, &demo.settings, &demo_text);
   add_overwrite_flag(demo_cmd, &demo.overwrite);
 
 #ifdef SVC_WITH_BENCH
@@ -119,7 +140,7 @@ int main(int argc, char** argv) {
   if (auto exit_code = command_line::parse(app, argc, argv, "svc")) return *exit_code;
 
   if (encode_cmd->parsed()) {
-    if (!apply_encoder_options(&encode.settings, encode_spacing, encode_motion)) return kExitUsage;
+    if (!apply_encoder_options(&encode.settings, encode_text)) return kExitUsage;
     return encode_command(encode);
   }
   if (add_cmd->parsed()) return add_command(add);
@@ -157,7 +178,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "svc: --kind takes hall or house, not '%s'\n", demo_kind.c_str());
       return kExitUsage;
     }
-    if (!apply_encoder_options(&demo.settings, demo_spacing, demo_motion)) return kExitUsage;
+    if (!apply_encoder_options(&demo.settings, demo_text)) return kExitUsage;
     return demo_command(demo);
   }
 #ifdef SVC_WITH_BENCH

@@ -1,0 +1,43 @@
+// The names of the encoder's coding tools: one table, read by --disable-tool and by the
+// bench's ablation.
+#include <array>
+
+#include "svc/encoder.h"
+
+namespace svc {
+
+namespace {
+
+struct CodingToolEntry {
+  const char* name;
+  bool CodingTools::*enabled;
+};
+
+constexpr std::array kCodingTools{
+    CodingToolEntry{"warped-prediction", &CodingTools::warped_prediction},
+    CodingToolEntry{"sub-pel-refinement", &CodingTools::sub_pel_refinement},
+};
+
+}  // namespace
+
+std::vector<std::string> coding_tool_names() {
+  std::vector<std::string> names;
+  for (const CodingToolEntry& tool : kCodingTools) names.emplace_back(tool.name);
+  return names;
+}
+
+Status disable_coding_tool(CodingTools* tools, std::string_view name) {
+  std::string valid;
+  for (const CodingToolEntry& tool : kCodingTools) {
+    if (name == tool.name) {
+      tools->*tool.enabled = false;
+      return Status::Ok();
+    }
+    valid += valid.empty() ? "" : ", ";
+    valid += tool.name;
+  }
+  return Status(ErrorCode::kInvalidArgument,
+                "unknown coding tool '" + std::string(name) + "' (tools: " + valid + ")");
+}
+
+}  // namespace svc
