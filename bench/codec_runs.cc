@@ -74,7 +74,7 @@ Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacin
     }
   }
   run.point.decode_seconds = seconds_since(t0);
-  std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs;
+  std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs, b_face_pairs;
   for (size_t c = 0; c < cells.size(); ++c) {
     CellIndex original = cells[c].index;
     for (int axis : horizontal_) component(original, axis) *= sample_spacing;
@@ -85,12 +85,20 @@ Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacin
     }
     for (Face f : kAllFaces) {
       pairs.emplace_back(&source_.face(*ordinal, f), &decoded[c * kFaceCount + static_cast<size_t>(f)]);
+      const FaceEntry& entry = cells[c].faces[static_cast<size_t>(f)];
+      if (entry.type != FaceType::kPredicted) continue;
+      b_face_pairs.push_back(pairs.back());
+      run.point.b_face_bytes += entry.coded_bytes;
     }
   }
   SVC_ASSIGN_OR_RETURN(Score score, score_faces(pairs, threads_));
   run.point.psnr_rgb = score.psnr_rgb;
   run.point.psnr_y = score.psnr_y;
   run.point.ssim = score.ssim;
+  if (!b_face_pairs.empty()) {
+    SVC_ASSIGN_OR_RETURN(Score b_faces, score_faces(b_face_pairs, threads_));
+    run.point.b_face_psnr_y = b_faces.psnr_y;
+  }
   if (reader_out) *reader_out = std::move(reader);
   return run;
 }

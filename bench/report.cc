@@ -40,6 +40,10 @@ json point_json(const QualityPoint& p) {
   j["ssim"] = p.ssim;
   j["encode_seconds"] = p.encode_seconds;
   j["decode_seconds"] = p.decode_seconds;
+  if (p.b_face_bytes) {
+    j["b_face_bytes"] = p.b_face_bytes;
+    j["b_face_psnr_y"] = p.b_face_psnr_y;
+  }
   return j;
 }
 
@@ -163,6 +167,14 @@ Status write_results_json(const BenchResults& r, const std::filesystem::path& pa
                         {"points", points}});
   }
   j["ablation"] = ablation;
+  if (r.before) {
+    auto optional_json = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+    j["before"] = {{"results", r.before->results},
+                   {"bd_rate_psnr_y", optional_json(r.before->bd_rate_y)},
+                   {"b_faces_bd_rate_psnr_y", optional_json(r.before->b_faces_bd_rate)}};
+  } else {
+    j["before"] = nullptr;
+  }
   return write_text(path, j.dump(2) + "\n");
 }
 
@@ -345,6 +357,13 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
   md << "\nFor svc the frame count is the face plus its references; with warm caches the reader may serve the "
         "references without decoding them again, so the warm count is an upper bound.\n\n";
   md << "![random access cost](access_cost.png)\n";
+
+  if (r.before) {
+    auto percent = [](const std::optional<double>& v) { return v ? format("%+.1f%%", *v * 100) : "n/a"; };
+    md << "\n## svc against an earlier run\n\nBD-rate (PSNR-Y) of this run's svc against the svc of `"
+       << r.before->results << "` on the same database: whole database " << percent(r.before->bd_rate_y)
+       << ", B-faces alone (their bytes against their PSNR-Y) " << percent(r.before->b_faces_bd_rate) << ".\n";
+  }
 
   if (!r.ablation.empty()) {
     md << "\n## Ablation: svc without each coding tool\n\nBD-rate (PSNR-Y) of svc with the tool switched off "

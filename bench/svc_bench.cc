@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "bd_rate.h"
+#include "before_comparison.h"
 #include "bench_runner.h"
 
 namespace svc::bench {
@@ -111,6 +112,10 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
   if (options.random_accesses < 1) {
     return Status(ErrorCode::kInvalidArgument, "svc bench: random_accesses must be at least 1");
   }
+  std::vector<QualityPoint> before;
+  if (!options.before_results.empty()) {
+    SVC_ASSIGN_OR_RETURN(before, load_svc_points(options.before_results));
+  }
   const int threads = resolve_thread_count(options.threads);
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir / "work", ec);
@@ -151,6 +156,12 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
     bench.log("dissertation experiments skipped: they need the svc codec in --codecs");
   }
   if (status.ok() && options.ablation) status = run_ablation(bench, &results);
+  if (status.ok() && !before.empty()) {
+    for (const CodecResult& c : results.codecs) {
+      if (c.name == "svc" && !c.skipped)
+        results.before = compare_with_before(options.before_results, before, c.points);
+    }
+  }
   bench.remove_work_dir();
   SVC_RETURN_IF_ERROR(status);
   results.total_seconds = seconds_since(start);

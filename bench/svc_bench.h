@@ -59,6 +59,9 @@ struct BenchOptions {
   // svc without each coding tool (svc::CodingTools) at svc's quality settings, and the
   // BD-rate of each against svc with every tool (needs svc).
   bool ablation = false;
+  // results.json of an earlier run on the same database: svc's curve (and its B-faces')
+  // is compared with that run's by BD-rate. Empty: no comparison.
+  std::filesystem::path before_results;
   // Two PSNR targets and at most three encodes per codec: for tests and quick looks.
   bool quick = false;
   // GOP of x264, x265 and AV1, and presets replacing the defaults (see anchors.h).
@@ -80,6 +83,10 @@ struct QualityPoint {
   double ssim = 0;  // mean luma SSIM over faces
   double encode_seconds = 0;
   double decode_seconds = 0;  // sequential decode of every face
+  // svc only: the B-faces' coded bytes and the PSNR-Y over the B-faces alone (0 when the
+  // file has none), to follow the predicted faces apart from the I-faces they lean on.
+  uint64_t b_face_bytes = 0;
+  double b_face_psnr_y = 0;
 };
 
 struct AccessStats {
@@ -165,6 +172,13 @@ struct AblationRow {
   double encode_seconds = 0;  // summed over the points
 };
 
+// svc against the svc of an earlier run (BenchOptions::before_results).
+struct BeforeComparison {
+  std::string results;                    // the earlier results.json
+  std::optional<double> bd_rate_y;        // whole database, PSNR-Y: now / before - 1
+  std::optional<double> b_faces_bd_rate;  // B-faces' bytes against their PSNR-Y
+};
+
 struct PartTiming {
   std::string part;
   double seconds = 0;
@@ -182,6 +196,7 @@ struct BenchResults {
   std::vector<CodecResult> codecs;
   std::optional<Experiments> experiments;
   std::vector<AblationRow> ablation;
+  std::optional<BeforeComparison> before;
   std::vector<PartTiming> timings;
   double total_seconds = 0;
 };

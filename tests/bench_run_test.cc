@@ -184,6 +184,41 @@ TEST_F(BenchRun, AblationEncodesWithoutEachTool) {
   }
 }
 
+// svc's points record the B-faces apart; a second run against the first one's
+// results.json finds the same encoder: BD-rate 0 on the whole database and the B-faces.
+TEST_F(BenchRun, ComparesWithAnEarlierRunsSvc) {
+  ASSERT_TRUE(results_);
+  for (const CodecResult& c : results_->codecs) {
+    if (c.name != "svc") continue;
+    for (const QualityPoint& p : c.points) {
+      EXPECT_GT(p.b_face_bytes, 0u);
+      EXPECT_LT(p.b_face_bytes, p.bytes);
+      EXPECT_GT(p.b_face_psnr_y, 20.0);
+    }
+  }
+  BenchOptions options;
+  options.db_dir = dir_->path() / "db";
+  options.out_dir = dir_->path() / "again";
+  options.codecs = {"svc"};
+  options.quick = true;
+  options.experiments = false;
+  options.random_accesses = 4;
+  options.threads = 2;
+  options.before_results = out() / "results.json";
+  auto again = run_bench(options);
+  ASSERT_TRUE(again.ok()) << again.status().to_string();
+  ASSERT_TRUE(again->before);
+  ASSERT_TRUE(again->before->bd_rate_y && again->before->b_faces_bd_rate);
+  EXPECT_NEAR(*again->before->bd_rate_y, 0.0, 1e-9);
+  EXPECT_NEAR(*again->before->b_faces_bd_rate, 0.0, 1e-9);
+
+  options.before_results = out() / "report.md";
+  const auto refused = run_bench(options);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(refused.status().message().find("report.md"), std::string::npos);
+}
+
 TEST_F(BenchRun, ExperimentsCoverTheDissertationTables) {
   ASSERT_TRUE(results_ && results_->experiments);
   const Experiments& e = *results_->experiments;

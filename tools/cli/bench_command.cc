@@ -59,6 +59,11 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
                      "Skip the dissertation experiments (Table 7.5, Figure 7.16, Table 7.4)");
   command_->add_flag("--ablation", options_->bench.ablation,
                      "Also encode svc without each coding tool and report the BD-rate of each");
+  command_
+      ->add_option("--before", options_->bench.before_results,
+                   "results.json of an earlier run on the same database: BD-rate of svc (and of its B-faces) "
+                   "against that run's svc")
+      ->check(CLI::ExistingFile);
 }
 
 BenchSubcommand::~BenchSubcommand() = default;
