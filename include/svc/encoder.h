@@ -49,7 +49,9 @@ using EncodeProgress = std::function<bool(uint64_t done, uint64_t total)>;
 // Reads the database in `db_dir` and writes `out_path`. The output appears only when
 // complete: on any error (bad input, unwritable path, cancel) nothing is left at
 // `out_path` and an existing file there is untouched. Errors name the cell, face and
-// file at fault. Thread-safe: independent calls may run concurrently.
+// file at fault. Memory: a bounded window of faces (64 MiB of reference I-faces, 5 faces
+// per thread) plus the manifest and index, whatever the database's size (docs/format.md,
+// "Memory"). Thread-safe: independent calls may run concurrently.
 Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
                                       const EncoderSettings& settings, const EncodeProgress& progress = {});
 
