@@ -8,9 +8,15 @@ packages=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
   ffmpeg clang-format-14
+  # scripts/encode-parallel.sh runs the shards of an encode with GNU parallel.
+  parallel
   # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
   openarena-081-textures unzip
 )
+# scripts/encode-slurm.sh and the one-node cluster of scripts/slurm-localhost.sh.
+if [[ "${SVC_WITH_SLURM:-0}" == 1 ]]; then
+  packages+=(slurm-wlm munge)
+fi
 if [[ "${SVC_WITH_CLANG:-0}" == 1 ]]; then
   packages+=(clang libclang-rt-14-dev)
 fi

@@ -229,5 +229,34 @@ TEST_F(Cli, SceneToolKeepsANonEmptyFolderUnlessOverwriteIsGiven) {
   EXPECT_TRUE(fs::exists(out / "manifest.json"));
 }
 
+TEST_F(Cli, ShardsMergeIntoTheEncodeAndBadPartsExitOne) {
+  ASSERT_EQ(run_svc("encode " + quoted(db()) + " -o " + quoted(work("whole.svc")) + " --quiet").exit_code, 0);
+  for (int k = 1; k <= 2; ++k) {
+    const std::string part = quoted(work("part-" + std::to_string(k) + ".svcpart"));
+    ASSERT_EQ(run_svc("encode " + quoted(db()) + " --shard " + std::to_string(k) + "/2 -o " + part + " --quiet")
+                  .exit_code,
+              0);
+  }
+  const std::string parts = quoted(work("part-2.svcpart")) + " " + quoted(work("part-1.svcpart"));
+  ASSERT_EQ(run_svc("merge " + parts + " -o " + quoted(work("merged.svc"))).exit_code, 0);
+  EXPECT_EQ(testing::read_file_bytes(work("merged.svc")), testing::read_file_bytes(work("whole.svc")));
+
+  const CliRun missing = run_svc("merge " + quoted(work("part-1.svcpart")) + " -o " + quoted(work("half.svc")));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find("part(s) 2 of 2 missing"), std::string::npos) << missing.output;
+  EXPECT_FALSE(fs::exists(work("half.svc")));
+  // The merge keeps an existing output without -y (a usage error, as for encode), and
+  // never writes over a part.
+  EXPECT_EQ(run_svc("merge " + parts + " -o " + quoted(work("merged.svc"))).exit_code, 2);
+  const std::string part_before = testing::read_file_bytes(work("part-1.svcpart"));
+  EXPECT_NE(run_svc("merge " + parts + " -o " + quoted(work("part-1.svcpart")) + " -y").exit_code, 0);
+  EXPECT_EQ(testing::read_file_bytes(work("part-1.svcpart")), part_before);
+  for (const char* shard : {"0/2", "3/2", "1", "a/b", "1/0"}) {
+    EXPECT_EQ(
+        run_svc("encode " + quoted(db()) + " --shard " + shard + " -o " + quoted(work("x.svcpart"))).exit_code, 2)
+        << shard;
+  }
+}
+
 }  // namespace
 }  // namespace svc

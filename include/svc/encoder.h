@@ -70,9 +70,42 @@ using EncodeProgress = std::function<bool(uint64_t done, uint64_t total)>;
 // Reads the database in `db_dir` and writes `out_path`. The output appears only when
 // complete: on any error (bad input, unwritable path, cancel) nothing is left at
 // `out_path` and an existing file there is untouched. Errors name the cell, face and
-// file at fault. Thread-safe: independent calls may run concurrently.
+// file at fault. Memory: a bounded window of faces (64 MiB of reference I-faces, 5 faces
+// per thread) plus the manifest and index, whatever the database's size (docs/format.md,
+// "Memory"). Thread-safe: independent calls may run concurrently.
 Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
                                       const EncoderSettings& settings, const EncodeProgress& progress = {});
+
+// --- Sharded encoding (docs/format.md, "Shards") ------------------------------------------
+
+// Encodes part `shard` (1..shard_count, at most kMaxShards) of the database into the
+// part file `part_path`: every shard plans the whole encode, codes its share of the
+// I-faces and of the B-faces, and codes again the few reference I-faces another shard
+// owns. merge_shards joins the parts into exactly the bytes encode_database writes,
+// whatever the shard count. The part appears only when complete (as encode_database);
+// a failed or killed shard can be run again alone. Settings must be the same for every
+// part (the merge checks). The summary counts this part's faces (file_bytes: the part).
+// Thread-safe: independent calls may run concurrently.
+inline constexpr int kMaxShards = 65536;
+Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const std::filesystem::path& part_path,
+                                   const EncoderSettings& settings, int shard, int shard_count,
+                                   const EncodeProgress& progress = {});
+
+struct MergeSummary {
+  uint64_t parts = 0;
+  uint64_t cells = 0;
+  uint64_t faces = 0;
+  uint64_t file_bytes = 0;
+  double seconds = 0;
+};
+
+// Joins the part files of one sharded encode (any order) into `out_path`. Refused, with
+// nothing written and an error naming the part file: a file that is not a complete,
+// undamaged part (every chunk's CRC is checked); parts of different databases, settings,
+// shard counts or svc versions; a part given twice; a part missing. Output rules as
+// encode_database. Thread-safe: independent calls may run concurrently.
+Result<MergeSummary> merge_shards(const std::vector<std::filesystem::path>& parts,
+                                  const std::filesystem::path& out_path);
 
 // --- Incremental additions (docs/format.md, "Incremental additions") ---------------------
 

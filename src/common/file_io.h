@@ -46,6 +46,8 @@ class AtomicOutputFile {
   Status write(std::span<const uint8_t> data);
   Status write_at(uint64_t offset, std::span<const uint8_t> data);
   uint64_t position() const { return position_; }
+  // The temporary file being written, for reading back what is written so far.
+  const std::filesystem::path& temp_path() const { return temp_path_; }
   Status commit();
 
  private:

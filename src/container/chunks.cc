@@ -71,7 +71,8 @@ CommitSlot parse_slot(std::span<const uint8_t> bytes) {
   return slot;
 }
 
-// Reads and checks a chunk's framing; returns its payload.
+}  // namespace
+
 Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offset, uint64_t chunk_size,
                                         uint32_t expected_tag, const std::string& what) {
   if (chunk_size < kChunkOverhead || offset > file.size() || chunk_size > file.size() - offset) {
@@ -96,8 +97,6 @@ Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offse
   bytes.erase(bytes.begin(), bytes.begin() + 12);
   return bytes;
 }
-
-}  // namespace
 
 Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLimits& limits) {
   const std::string name = file.path().string();

@@ -104,6 +104,11 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what);
 
+// Reads the chunk of `chunk_size` bytes (overhead included) at `offset` and checks its
+// tag, size field and CRC-32; returns its payload. Errors name `what` and the offset.
+Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offset, uint64_t chunk_size,
+                                        uint32_t expected_tag, const std::string& what);
+
 // kCorruptData: `what` at byte `offset` of the file.
 Status corrupt_at(const std::string& what, uint64_t offset);
 

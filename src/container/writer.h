@@ -16,6 +16,8 @@ class ContainerWriter {
   static Result<std::unique_ptr<ContainerWriter>> create(const std::filesystem::path& path);
   // Appends a FACE chunk; returns its file offset.
   Result<uint64_t> append_frame(std::span<const uint8_t> payload);
+  // The file as written so far, for reading chunks back (read_frame_payload).
+  Result<std::unique_ptr<ReadOnlyFile>> open_written() const { return ReadOnlyFile::open(out_->temp_path()); }
   // Writes the index, commits slot 0 and renames the file into place.
   Status finish(const ContainerIndex& index);
 

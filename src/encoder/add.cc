@@ -12,7 +12,6 @@
 #include "container/updater.h"
 #include "database/database.h"
 #include "encoder/coding_pipeline.h"
-#include "reader/face_decode.h"
 #include "spatial/placement.h"
 #include "svc/encoder.h"
 
@@ -205,24 +204,6 @@ ContainerIndex merged_index(const ContainerIndex& old, const std::vector<UnionCe
   return index;
 }
 
-// Decodes the old I-faces the new B-faces use, before anything is written: exactly the
-// encoder's reconstructions.
-Status decode_old_references(const ContainerUpdater& updater, const std::vector<UnionCell>& cells,
-                             const ContainerIndex& index, CodingJob* job) {
-  const ContainerIndex& old = updater.committed().index;
-  for (uint32_t frame : job->frames) {
-    for (uint32_t ref : index.frames[frame].references) {
-      const int64_t old_cell = cells[index.frames[ref].cell].old_cell;
-      if (old_cell < 0 || job->reconstructions.count(ref)) continue;
-      const uint32_t old_frame = static_cast<uint32_t>(old_cell) * kFaceCount + ref % kFaceCount;
-      auto image = decode_indexed_face(updater.file(), old, old_frame);
-      if (!image.ok()) return image.status().with_context("a reference of the cells to add");
-      job->reconstructions.emplace(ref, **image);
-    }
-  }
-  return Status::Ok();
-}
-
 }  // namespace
 
 Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const std::filesystem::path& db_dir,
@@ -268,12 +249,13 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
     for (int f = 0; f < kFaceCount; ++f) job.frames.push_back(static_cast<uint32_t>(c * kFaceCount + f));
     (types.intra[c][0] ? summary.intra_cells_added : summary.predicted_cells_added) += 1;
   }
-  SVC_RETURN_IF_ERROR(decode_old_references(*updater, cells, index, &job));
   job.load = [&](uint32_t frame) {
     const size_t source = static_cast<size_t>(cells[frame / kFaceCount].source);
     return load_face(manifest, source, static_cast<Face>(frame % kFaceCount));
   };
   job.append = [&](std::span<const uint8_t> payload) { return updater->append_frame(payload); };
+  // Old references are read from the file too: decoding gives the encoder's reconstruction.
+  job.open_written = [&] { return ReadOnlyFile::open(svc_file); };
   job.threads = resolve_thread_count(settings.threads);
   job.action = "add";
   job.progress = progress;

@@ -7,6 +7,8 @@
 #include "codec/intra_codec.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"
+#include "reader/face_decode.h"
+#include "reader/shared_cache.h"
 
 namespace svc {
 
@@ -17,9 +19,14 @@ struct CodedIntra {
   ImageYCbCr420 reconstruction;
 };
 
+uint64_t image_bytes(const ImageYCbCr420& image) { return image.y.size() + image.cb.size() + image.cr.size(); }
+
+using ReferenceCache = reader_internal::SharedCache<ImageYCbCr420>;
+
 class Pipeline {
  public:
-  explicit Pipeline(CodingJob& job) : job_(job), index_(*job.index) {
+  explicit Pipeline(CodingJob& job)
+      : job_(job), index_(*job.index), references_(kReferenceCacheBytes, &image_bytes) {
     for (uint32_t frame : job.frames) {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
@@ -33,6 +40,8 @@ class Pipeline {
     SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedIntra>(
         intra_.size(), job_.threads, [&](size_t k) { return code_intra(intra_[k]); },
         [&](size_t k, CodedIntra& coded) { return store_intra(intra_[k], coded); }));
+    if (predicted_.empty()) return Status::Ok();
+    SVC_ASSIGN_OR_RETURN(written_, job_.open_written());
     return ordered_parallel_map<CodedPredictedFace>(
         predicted_.size(), job_.threads, [&](size_t k) { return code_predicted(predicted_[k]); },
         [&](size_t k, CodedPredictedFace& coded) { return store_predicted(predicted_[k], coded); });
@@ -52,18 +61,32 @@ class Pipeline {
     const codec::BlockLayout layout =
         codec::block_layout(static_cast<int>(index_.face_width), static_cast<int>(index_.face_height));
     index_.stats[0].mb_intra += uint64_t(layout.luma_blocks_x / 2) * uint64_t(layout.luma_blocks_y / 2);
-    // Kept only while a B-face may still use it.
-    if (!predicted_.empty()) job_.reconstructions.emplace(frame, std::move(coded.reconstruction));
     return Status::Ok();
   }
 
-  Result<CodedPredictedFace> code_predicted(uint32_t frame) const {
+  // A reference I-face as the decoder will see it: decoded from the file when it is
+  // there, else coded again from its source (same bytes, same reconstruction).
+  Result<FacePointer> reference(uint32_t frame) {
+    return references_.get(frame, reader_internal::Origin::kCaller, [&]() -> Result<FacePointer> {
+      if (index_.frames[frame].chunk_offset != 0) {
+        FileCodedFaceSource source(*written_, index_);
+        return source.intra_face(frame);
+      }
+      SVC_ASSIGN_OR_RETURN(CodedIntra coded, code_intra(frame));
+      return FacePointer(std::make_shared<const ImageYCbCr420>(std::move(coded.reconstruction)));
+    });
+  }
+
+  Result<CodedPredictedFace> code_predicted(uint32_t frame) {
     const FrameRecord& record = index_.frames[frame];
     const int f = static_cast<int>(record.face);
     SVC_ASSIGN_OR_RETURN(FaceData data, job_.load(frame));
+    std::vector<FacePointer> held;  // keeps the references alive while the cache may evict them
     std::vector<FaceReference> refs;
     for (uint32_t ref : record.references) {
-      refs.push_back({&job_.reconstructions.at(ref), &index_.cells[index_.frames[ref].cell].cameras[f]});
+      SVC_ASSIGN_OR_RETURN(FacePointer image, reference(ref));
+      held.push_back(image);
+      refs.push_back({image.get(), &index_.cells[index_.frames[ref].cell].cameras[f]});
     }
     return code_predicted_face(data, index_.cells[record.cell].cameras[f], refs,
                                index_.coding.motion == MotionSearch::kDepth, b_params_, frame_name(frame));
@@ -105,6 +128,8 @@ class Pipeline {
 
   CodingJob& job_;
   ContainerIndex& index_;
+  ReferenceCache references_;
+  std::unique_ptr<ReadOnlyFile> written_;
   std::vector<uint32_t> intra_, predicted_;
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;

@@ -1,19 +1,24 @@
-// The coding of a list of faces into a container: shared by a full encode and by
-// `svc add`, so both code, store and count new faces the same way.
+// The coding of a list of faces into a container: shared by a full encode, a shard
+// encode and `svc add`, so all three code, store and count faces the same way.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
+#include "common/file_io.h"
 #include "container/container.h"
 #include "database/database.h"
 #include "svc/encoder.h"
 #include "svc/status.h"
 
 namespace svc {
+
+// Bytes of decoded reference I-faces a coding run keeps at most; one run holds these,
+// the faces in flight (4 per thread) and the index. docs/format.md, "Memory".
+inline constexpr uint64_t kReferenceCacheBytes = 64ull << 20;
 
 struct CodingJob {
   // The index being built. Each frame to code has its cell, face, kind and references
@@ -22,14 +27,19 @@ struct CodingJob {
   // Frames to code, in cell order. I-faces are coded first (B-faces predict from their
   // reconstructions), then B-faces; each group keeps this order.
   std::vector<uint32_t> frames;
-  // Reconstructions of I-faces coded earlier that the B-faces above use, by frame.
-  std::unordered_map<uint32_t, ImageYCbCr420> reconstructions;
-  // The source colour and depth of a frame to code.
+  // The source colour and depth of a frame to code (or of a reference I-face that is in
+  // no file, see below).
   std::function<Result<FaceData>(uint32_t frame)> load;
   // Appends a FACE chunk to the file; returns its offset.
   std::function<Result<uint64_t>(std::span<const uint8_t> payload)> append;
   // Tools the coder may use (encode's settings; all of them for `svc add`).
   CodingTools tools;
+  // Opens the file being written for reading, once the I-faces are in it. A reference
+  // I-face with a chunk offset is decoded from there (exactly the encoder's
+  // reconstruction); one without (coded by another shard) is coded again from `load`,
+  // which gives the same reconstruction. Either way only kReferenceCacheBytes of them
+  // stay in memory.
+  std::function<Result<std::unique_ptr<ReadOnlyFile>>()> open_written;
   int threads = 1;
   const char* action = "encode";  // names the run in the cancellation message
   EncodeProgress progress;

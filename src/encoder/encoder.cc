@@ -11,6 +11,7 @@
 #include "container/writer.h"
 #include "database/database.h"
 #include "encoder/coding_pipeline.h"
+#include "encoder/encode_plan.h"
 #include "spatial/placement.h"
 
 namespace svc {
@@ -59,19 +60,17 @@ int quant_scale_for_quality(int quality) {
   return std::clamp(static_cast<int>(std::lround(scale)), codec::kMinQuantScale, codec::kMaxQuantScale);
 }
 
-Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
-                                      const EncoderSettings& settings, const EncodeProgress& progress) {
-  const auto start = std::chrono::steady_clock::now();
+Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings) {
   SVC_RETURN_IF_ERROR(validate_settings(settings));
-  SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest, load_manifest(db_dir));
+  EncodePlan plan;
+  SVC_ASSIGN_OR_RETURN(plan.manifest, load_manifest(db_dir));
+  DatabaseManifest& manifest = plan.manifest;
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
   }
   const int quant_scale = settings.quant_scale != 0 ? settings.quant_scale
                                                     : quant_scale_for_quality(settings.quality);
-  SVC_ASSIGN_OR_RETURN(auto writer, ContainerWriter::create(out_path));
-
-  ContainerIndex index;
+  ContainerIndex& index = plan.index;
   index.face_width = static_cast<uint32_t>(manifest.face_width);
   index.face_height = static_cast<uint32_t>(manifest.face_height);
   index.grid = manifest.grid;
@@ -94,14 +93,6 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
     index.cells.push_back(cell);
   }
 
-  const size_t face_count = manifest.cells.size() * kFaceCount;
-  index.frames.resize(face_count);
-  EncodeSummary summary;
-  summary.cells = manifest.cells.size();
-  summary.faces = face_count;
-  summary.quant_scale = quant_scale;
-  summary.raw_bytes = uint64_t{3} * manifest.face_width * manifest.face_height * face_count;
-
   // Placement: which cells are I-cubes, and the references of every B-cube.
   PlacementSettings placement_settings;
   placement_settings.i_spacing = settings.intra_only ? std::array<int32_t, 3>{1, 1, 1} : settings.i_spacing;
@@ -110,33 +101,61 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
   for (const CellSource& source : manifest.cells) cell_indices.push_back(source.index);
   SVC_ASSIGN_OR_RETURN(std::vector<CellPlacement> placement,
                        place_cubes(cell_indices, manifest.grid.dims, placement_settings, manifest.grid.spacing));
-
-  CodingJob job;
-  job.index = &index;
+  index.frames.resize(manifest.cells.size() * kFaceCount);
   for (size_t cell = 0; cell < manifest.cells.size(); ++cell) {
     for (int f = 0; f < kFaceCount; ++f) {
-      const uint32_t frame = static_cast<uint32_t>(cell * kFaceCount + f);
-      FrameRecord& record = index.frames[frame];
+      FrameRecord& record = index.frames[cell * kFaceCount + f];
       record.cell = static_cast<uint32_t>(cell);
       record.face = static_cast<Face>(f);
       record.type = placement[cell].intra ? FaceType::kIntra : FaceType::kPredicted;
       for (uint32_t ref_cell : placement[cell].references)
         record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
-      job.frames.push_back(frame);
     }
   }
+  return plan;
+}
+
+Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const FaceSink& sink,
+                           const EncoderSettings& settings, const EncodeProgress& progress) {
+  CodingJob job;
+  job.index = &plan.index;
+  job.frames = std::move(frames);
   job.load = [&](uint32_t frame) {
-    return load_face(manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
+    return load_face(plan.manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
   };
-  job.append = [&](std::span<const uint8_t> payload) { return writer->append_frame(payload); };
   job.tools = settings.tools;
+  job.append = sink.append;
+  job.open_written = sink.open_written;
   job.threads = resolve_thread_count(settings.threads);
   job.progress = progress;
-  SVC_RETURN_IF_ERROR(code_faces(job));
-  summary.intra = index.stats[0];
-  summary.predicted = index.stats[1];
-  SVC_RETURN_IF_ERROR(writer->finish(index));
+  return code_faces(job);
+}
 
+EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
+  EncodeSummary summary;
+  summary.cells = plan.index.cells.size();
+  summary.faces = frames;
+  summary.quant_scale = static_cast<int>(plan.index.coding.quant_scale);
+  summary.raw_bytes = uint64_t{3} * plan.index.face_width * plan.index.face_height * frames;
+  summary.intra = plan.index.stats[0];
+  summary.predicted = plan.index.stats[1];
+  return summary;
+}
+
+Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
+                                      const EncoderSettings& settings, const EncodeProgress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  SVC_ASSIGN_OR_RETURN(EncodePlan plan, plan_encode(db_dir, settings));
+  SVC_ASSIGN_OR_RETURN(auto writer, ContainerWriter::create(out_path));
+  std::vector<uint32_t> frames(plan.index.frames.size());
+  for (size_t frame = 0; frame < frames.size(); ++frame) frames[frame] = static_cast<uint32_t>(frame);
+  FaceSink sink;
+  sink.append = [&](std::span<const uint8_t> payload) { return writer->append_frame(payload); };
+  sink.open_written = [&] { return writer->open_written(); };
+  SVC_RETURN_IF_ERROR(code_planned_frames(plan, std::move(frames), sink, settings, progress));
+  SVC_RETURN_IF_ERROR(writer->finish(plan.index));
+
+  EncodeSummary summary = summarize_encode(plan, plan.index.frames.size());
   std::error_code ec;
   summary.file_bytes = std::filesystem::file_size(out_path, ec);
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -177,12 +177,38 @@ int add_command(const AddOptions& options) {
 int encode_command(const EncodeOptions& options) {
   const Status writable = check_output(options.output, OutputKind::kFile, options.overwrite, {options.db_dir});
   if (!writable.ok()) return report_error(writable);
-  auto summary = run_encode(options.db_dir, options.output, options.settings, !options.quiet && !options.json);
+  Result<EncodeSummary> summary = Status(ErrorCode::kInternal, "no encode ran");
+  if (options.shard_count > 0) {
+    ProgressBar bar("encoding part " + std::to_string(options.shard) + "/" + std::to_string(options.shard_count),
+                    !options.quiet && !options.json);
+    summary = encode_shard(options.db_dir, options.output, options.settings, options.shard, options.shard_count,
+                           [&](uint64_t done, uint64_t total) {
+                             bar.update(done, total);
+                             return true;
+                           });
+    bar.finish();
+  } else {
+    summary = run_encode(options.db_dir, options.output, options.settings, !options.quiet && !options.json);
+  }
   if (!summary.ok()) return report_error(summary.status());
   if (options.json) {
     std::printf("%s\n", summary_json(*summary, options.output).dump(2).c_str());
   } else if (!options.quiet) {
     print_summary(*summary, options.output);
+  }
+  return 0;
+}
+
+int merge_command(const MergeOptions& options) {
+  const Status writable = check_output(options.output, OutputKind::kFile, options.overwrite, options.parts);
+  if (!writable.ok()) return report_error(writable);
+  auto summary = merge_shards(options.parts, options.output);
+  if (!summary.ok()) return report_error(summary.status());
+  if (!options.quiet) {
+    std::printf("merged %llu parts into %s: %llu cells, %llu faces, %s, %.2f s\n",
+                static_cast<unsigned long long>(summary->parts), options.output.string().c_str(),
+                static_cast<unsigned long long>(summary->cells), static_cast<unsigned long long>(summary->faces),
+                human_bytes(summary->file_bytes).c_str(), summary->seconds);
   }
   return 0;
 }

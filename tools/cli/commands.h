@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "scene/scene.h"
 #include "svc/encoder.h"
@@ -17,6 +18,15 @@ struct EncodeOptions {
   bool json = false;
   bool quiet = false;
   bool overwrite = false;  // -y: replace an existing output (never the input)
+  int shard = 0;           // --shard K/N: write part K of N (0: the whole database)
+  int shard_count = 0;
+};
+
+struct MergeOptions {
+  std::vector<std::filesystem::path> parts;
+  std::filesystem::path output;
+  bool quiet = false;
+  bool overwrite = false;  // -y: replace an existing output (never a part)
 };
 
 struct DecodeOptions {
@@ -64,6 +74,7 @@ Result<EncodeSummary> run_encode(const std::filesystem::path& db, const std::fil
                                  const EncoderSettings& settings, bool show_progress);
 
 int encode_command(const EncodeOptions& options);
+int merge_command(const MergeOptions& options);
 int decode_command(const DecodeOptions& options);
 int info_command(const InfoOptions& options);
 int verify_command(const VerifyOptions& options);

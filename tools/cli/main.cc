@@ -1,4 +1,5 @@
 // svc: encode, decode, inspect and verify spatial video databases.
+#include <charconv>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -48,6 +49,17 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
                   "Do not use this coding tool (repeatable; to measure its gain): " + tools);
 }
 
+// "K/N" with 1 <= K <= N <= kMaxShards.
+bool parse_shard(const std::string& text, int* shard, int* count) {
+  const size_t slash = text.find('/');
+  if (slash == std::string::npos) return false;
+  const char* end = text.data() + text.size();
+  const auto k = std::from_chars(text.data(), text.data() + slash, *shard);
+  const auto n = std::from_chars(text.data() + slash + 1, end, *count);
+  return k.ec == std::errc() && k.ptr == text.data() + slash && n.ec == std::errc() && n.ptr == end &&
+         *shard >= 1 && *shard <= *count && *count <= kMaxShards;
+}
+
 bool apply_encoder_options(EncoderSettings* settings, const EncoderOptionText& text) {
   if (!parse_triple(text.i_spacing, &settings->i_spacing)) {
     std::fprintf(stderr, "svc: --i-spacing takes X,Y,Z or N with positive integers, not '%s'\n",
@@ -82,7 +94,16 @@ int main(int argc, char** argv) {
   add_encoder_options(encode_cmd, &encode.settings, &encode_text);
   encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
   encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
+  std::string encode_shard;
+  encode_cmd->add_option("--shard", encode_shard, "Write part K/N of a sharded encode (join with svc merge)");
   add_overwrite_flag(encode_cmd, &encode.overwrite);
+
+  MergeOptions merge;
+  auto* merge_cmd = app.add_subcommand("merge", "Join the part files of a sharded encode into one .svc file");
+  merge_cmd->add_option("PARTS", merge.parts, "Part files from svc encode --shard K/N, in any order")->required();
+  merge_cmd->add_option("-o,--output", merge.output, "Output .svc file")->required()->check(not_standard_output());
+  merge_cmd->add_flag("--quiet", merge.quiet, "Print nothing on success");
+  add_overwrite_flag(merge_cmd, &merge.overwrite);
 
   AddOptions add;
   auto* add_cmd = app.add_subcommand("add", "Add a database's new cells to an .svc file in place (crash-safe)");
@@ -141,8 +162,14 @@ int main(int argc, char** argv) {
 
   if (encode_cmd->parsed()) {
     if (!apply_encoder_options(&encode.settings, encode_text)) return kExitUsage;
+    if (!encode_shard.empty() && !parse_shard(encode_shard, &encode.shard, &encode.shard_count)) {
+      std::fprintf(stderr, "svc: --shard takes K/N with 1 <= K <= N <= %d, not '%s'\n", kMaxShards,
+                   encode_shard.c_str());
+      return kExitUsage;
+    }
     return encode_command(encode);
   }
+  if (merge_cmd->parsed()) return merge_command(merge);
   if (add_cmd->parsed()) return add_command(add);
   if (decode_cmd->parsed()) {
     if (!decode_cell.empty()) {

@@ -1,0 +1,45 @@
+// What a full encode and a shard encode share: the settings checked, the database read,
+// the index planned (every frame's type and references from the placement rules) and
+// the coding of any subset of its frames.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "common/file_io.h"
+#include "container/container.h"
+#include "database/database.h"
+#include "svc/encoder.h"
+#include "svc/status.h"
+
+namespace svc {
+
+struct EncodePlan {
+  DatabaseManifest manifest;
+  // Grid, cameras, coding record, and every frame's cell, face, type and references;
+  // chunk offsets and statistics are filled in by coding.
+  ContainerIndex index;
+};
+
+// Checks `settings`, reads the manifest of `db_dir` and plans every frame.
+Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings);
+
+// Where coded faces go: FACE chunks appended to a file being written.
+struct FaceSink {
+  std::function<Result<uint64_t>(std::span<const uint8_t> payload)> append;
+  std::function<Result<std::unique_ptr<ReadOnlyFile>>()> open_written;
+};
+
+// Codes `frames` of the plan (I-faces first, then B-faces, each in frame order) into
+// `sink`, filling in their index records and the plan's statistics.
+Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const FaceSink& sink,
+                           const EncoderSettings& settings, const EncodeProgress& progress);
+
+// The summary of an encode of the plan's database whose coded faces are `frames`.
+EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames);
+
+}  // namespace svc

@@ -1,0 +1,20 @@
+// What ties a part file to its database (docs/format.md, "Shards").
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+
+#include "database/database.h"
+#include "svc/status.h"
+
+namespace svc {
+
+// The version of svc that writes and merges part files; parts of another are refused.
+extern const char* const kSvcVersion;
+
+// A 64-bit FNV-1a hash of the manifest file's bytes and of the path and size of every
+// file its faces name. Contents are not read: a changed image of the same size is not
+// noticed (hashing would read the whole database once per shard).
+Result<uint64_t> database_fingerprint(const std::filesystem::path& db_dir, const DatabaseManifest& manifest);
+
+}  // namespace svc
