@@ -16,6 +16,8 @@ inline constexpr int kMaxQuantScale = 112;
 
 struct CodingParams {
   int quant_scale = 8;  // MPEG-2 style quantiser_scale, kMinQuantScale..kMaxQuantScale
+  // Encoder restriction: when false, every block uses the planar or DC mode only.
+  bool directional_intra = true;
 };
 
 // Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.
@@ -24,11 +26,11 @@ inline constexpr uint8_t kIntraSyntaxVersion = 2;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 
-// The quantized DCT levels of an intra frame in a compact sparse form: the state after
-// entropy decoding ("semi-decoded"), cached by the runtime. Dequantization, a multiply
-// and shift per non-zero level (quant.h, dequantize_level), is deferred to
-// reconstruct_intra_frame, which keeps entries at 16 bits. Immutable once built, so it
-// may be shared between threads.
+// The prediction modes and quantized DCT levels of an intra frame in a compact sparse
+// form: the state after entropy decoding ("semi-decoded"), cached by the runtime.
+// Dequantization (quant.h, dequantize_level), prediction and the inverse DCT are
+// deferred to reconstruct_intra_frame, which keeps entries at 16 bits. Immutable once
+// built, so it may be shared between threads.
 struct CoefficientFrame {
   int width = 0;
   int height = 0;
@@ -36,6 +38,9 @@ struct CoefficientFrame {
   // Per 8x8 block, in coding order (all luma blocks of the macroblock-padded plane in
   // raster order, then Cb, then Cr): the number of non-zero levels, 0..64.
   std::vector<uint8_t> block_counts;
+  // Per 8x8 block in the same order: its intra prediction mode, 0..kIntraModes - 1
+  // (codec/intra_prediction.h; a Cr block repeats its Cb block's mode).
+  std::vector<uint8_t> block_modes;
   // The non-zero levels of each block in turn, in scan order. One 16-bit entry per level:
   // natural (row-major) position in the low 6 bits, the level as a 10-bit two's
   // complement number in the upper 10 bits. The level value -512 is an escape: the real
@@ -92,7 +97,9 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
 // offset or block). Never reads outside `bytes`.
 Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out);
 
-// Inverse DCT of parsed coefficients into pixels (bit-exact). `out` is resized.
+// Prediction plus inverse DCT of parsed coefficients into pixels (bit-exact). `out` is
+// resized; a frame not built by parse_intra_frame or encode_intra_frame gives some
+// pixels of the right size, never a crash.
 void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out);
 
 // parse_intra_frame followed by reconstruct_intra_frame.

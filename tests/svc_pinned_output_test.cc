@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "076724999f19c0a8bc919316ab58b41959788ad3e734bb5712b74debff2c35ef",
-     "8ab2edc7040e74097fc6ad7f2507e62b6ea49889498950a7bc4f431f10dbbcef"},
+     "c6286777c5a6aa6cbed1b6d5c555492a89297044caba58499d6c734b5b3791cd",
+     "d077bbf1d23b740d39fc2ed45733db33d708d8dfc1e218f9813de328fdeaadf2"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "3ad9ec5925f5233ff12772be13485ad05df324c3c44743726bd918a892d5618b",
-     "a60a0815234c5f6b07386026dd7fc67fd35cfe14308312f82b1946daae7e9481"},
+     "ddf94c8f19dc052f44cceaf2f72413b1c2f306ae20895db973325076fb115a45",
+     "b58a8ef5c34e67e41133e4888352299b271eaa5cb1e2a1f7cd606f844271d9e1"},
 };
 
 std::string file_sha256(const fs::path& path) {

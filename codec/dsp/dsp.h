@@ -36,6 +36,9 @@ struct WarpRow {
   int count;           // 8 or 16
 };
 
+// Samples of an intra prediction edge: 16 left (bottom to top), the corner, 16 above.
+inline constexpr int kIntraEdgeSamples = 33;
+
 struct DspTable {
   // 8x8 forward DCT (float, encoder only) and the bit-exact integer inverse; blocks are
   // 64 values, row-major.
@@ -70,6 +73,15 @@ struct DspTable {
                             const uint8_t* source, ptrdiff_t source_stride, int limit);
   // Bilinear warped samples along one row, all taps inside `plane`.
   void (*warp_row)(const uint8_t* plane, ptrdiff_t stride, const WarpRow& row, uint8_t* out);
+
+  // Intra prediction of an 8x8 block (64 samples, row-major) in mode 0..34 (planar, DC,
+  // angles; docs/codec.md 3.1) from its edge: edge[15 - i] is the left neighbour of row
+  // i (i = 0..15, rows 8..15 below the block), edge[16] the top-left corner, edge[17 + i]
+  // the sample above column i.
+  void (*intra_predict_8x8)(const uint8_t* edge, int mode, uint8_t* out);
+  // Sum of absolute 8x8 Hadamard coefficients (unnormalised) of source - prediction
+  // (encoder only: mode pre-selection).
+  int (*satd_8x8)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.

@@ -11,12 +11,23 @@ void init_quant_c(DspTable* table);
 void init_color_c(DspTable* table);
 void init_mc_c(DspTable* table);
 void init_warp_c(DspTable* table);
+void init_intra_c(DspTable* table);
 
 // Plain kernels that x86 variants fall back to for the sizes they do not specialise.
 void put_half_pel_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
                     uint8_t* out, ptrdiff_t out_stride);
 void rgb_to_luma_row_c(const uint8_t* rgb, int width, uint8_t* y);
 void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
+void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out);
+// The reference row of an angular mode (2..34), smoothed where the mode asks:
+// main[kIntraAngularReferenceOffset + k], k = -8..17, is sample k of the projected edge.
+inline constexpr int kIntraAngularReferenceOffset = 8;
+struct IntraAngularReference {
+  int angle;  // 1/32 sample per row
+  uint8_t main[kIntraAngularReferenceOffset + 18];
+};
+void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngularReference* out);
+int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -26,6 +37,7 @@ void init_warp_sse2(DspTable* table);
 void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
 void init_mc_avx2(DspTable* table);
+void init_intra_sse41(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp

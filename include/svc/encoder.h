@@ -23,6 +23,9 @@ struct CodingTools {
   bool warped_prediction = true;
   // B-faces: the half-pel neighbours of the best candidate vector are tried as well.
   bool sub_pel_refinement = true;
+  // I-faces: the 33 angular intra prediction modes; without them every block is
+  // predicted by the planar or DC mode (docs/codec.md 3.1).
+  bool intra_directional = true;
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.

@@ -31,6 +31,7 @@ class Pipeline {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
     intra_params_.quant_scale = static_cast<int>(index_.coding.quant_scale);
+    intra_params_.directional_intra = job.tools.intra_directional;
     b_params_.quant_scale = codec::suggested_b_quant_scale(intra_params_.quant_scale);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.half_pel_refinement = job.tools.sub_pel_refinement;

@@ -103,6 +103,7 @@ std::vector<Kernel> transform_kernels();
 std::vector<Kernel> colour_kernels();
 std::vector<Kernel> motion_kernels();
 std::vector<Kernel> flow_kernels();
+std::vector<Kernel> intra_kernels();
 
 // Keeps benchmark results alive without I/O.
 inline volatile int bench_sink = 0;

@@ -1,0 +1,51 @@
+// Spatial intra prediction of 8x8 blocks from reconstructed neighbours: the reference
+// edge of a block, the most probable modes derived from its left and above neighbours,
+// and the coding of a block's mode. The predictors themselves are kernels
+// (dsp::DspTable::intra_predict_8x8). Exact definitions in docs/codec.md 3.1-3.2.
+//
+// Threading: pure functions; IntraModeContexts is plain mutable data owned by one coder.
+// Errors: decode_intra_mode never fails (every bit pattern is a valid mode).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "codec/dsp/dsp.h"
+#include "codec/range_coder.h"
+
+namespace svc::codec {
+
+inline constexpr int kIntraModes = 35;
+inline constexpr int kPlanarMode = 0;
+inline constexpr int kDcMode = 1;
+inline constexpr int kHorizontalMode = 10;
+inline constexpr int kVerticalMode = 26;
+inline constexpr int kMostProbableModes = 3;
+
+// Fills edge[dsp::kIntraEdgeSamples] for the 8x8 block (bx, by) of a plane of
+// blocks_x blocks per row whose earlier blocks (raster order) are reconstructed in
+// `plane` (stride samples per row). Missing neighbours are substituted as docs/codec.md
+// 3.1 defines.
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int bx, int by, int blocks_x, uint8_t* edge);
+
+// The three most probable modes for a block whose left and above neighbours use
+// left_mode and above_mode (kDcMode where a neighbour is missing); all different.
+std::array<int, kMostProbableModes> most_probable_modes(int left_mode, int above_mode);
+
+struct IntraModeContexts {
+  AdaptiveBit is_most_probable;
+  std::array<AdaptiveBit, 2> most_probable_index;
+};
+
+// Mode coding: a flag, then the index among the most probable modes (truncated unary)
+// or the 5-bit rank of the mode among the other 32 (bypass bits).
+void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts,
+                       const std::array<int, kMostProbableModes>& candidates, int mode);
+int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts,
+                      const std::array<int, kMostProbableModes>& candidates);
+// Bits encode_intra_mode spends on `mode`, counting the flag and index as one bit each
+// (encoder only: mode pre-selection).
+int intra_mode_bits(const std::array<int, kMostProbableModes>& candidates, int mode);
+
+}  // namespace svc::codec

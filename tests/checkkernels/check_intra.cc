@@ -1,0 +1,84 @@
+// Intra prediction and SATD kernels against their references.
+#include "checkkernels/harness.h"
+
+namespace svc::checkkernels {
+namespace {
+
+// Edges as the codec builds them: random, flat, a step between left and above,
+// alternating extremes.
+void random_edge(Random& random, uint8_t* edge) {
+  const int pattern = random.uniform(0, 3);
+  if (pattern == 0) {
+    random.fill_with_extremes(edge, codec::dsp::kIntraEdgeSamples);
+  } else if (pattern == 1) {
+    const uint8_t left = random.byte(), above = random.byte();
+    for (int i = 0; i < codec::dsp::kIntraEdgeSamples; ++i) edge[i] = i < 16 ? left : above;
+  } else {
+    random.fill(edge, codec::dsp::kIntraEdgeSamples);
+  }
+}
+
+std::string check_intra_predict(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    uint8_t edge[codec::dsp::kIntraEdgeSamples], expected[64], actual[64];
+    random_edge(random, edge);
+    for (int mode = 0; mode < 35; ++mode) {
+      reference.intra_predict_8x8(edge, mode, expected);
+      variant.intra_predict_8x8(edge, mode, actual);
+      if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) {
+        return "mode " + std::to_string(mode) + ": " + diff;
+      }
+    }
+  }
+  return {};
+}
+
+std::string check_satd(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  Buffer source(8 * 40), prediction(64);
+  for (int n = 0; n < iterations; ++n) {
+    const int stride = random.uniform(8, 40), offset = random.uniform(0, 7);
+    uint8_t* s = source.at(offset);
+    random.fill_with_extremes(s, static_cast<size_t>(7 * stride + 8));
+    random.fill_with_extremes(prediction.at(0), 64);
+    const int expected = reference.satd_8x8(s, stride, prediction.at(0));
+    const int actual = variant.satd_8x8(s, stride, prediction.at(0));
+    if (expected != actual) {
+      return "stride " + std::to_string(stride) + ": reference " + std::to_string(expected) + ", variant " +
+             std::to_string(actual);
+    }
+  }
+  return {};
+}
+
+void bench_intra_predict(const Tables& table, int iterations) {
+  uint8_t edge[codec::dsp::kIntraEdgeSamples], out[64];
+  for (int i = 0; i < codec::dsp::kIntraEdgeSamples; ++i) edge[i] = static_cast<uint8_t>(i * 7);
+  for (int n = 0; n < iterations; ++n) table.intra_predict_8x8(edge, n % 35, out);
+  bench_sink = out[0];
+}
+
+void bench_satd(const Tables& table, int iterations) {
+  uint8_t source[64], prediction[64];
+  for (int i = 0; i < 64; ++i) {
+    source[i] = static_cast<uint8_t>(i * 37);
+    prediction[i] = static_cast<uint8_t>(i * 11);
+  }
+  int sum = 0;
+  for (int n = 0; n < iterations; ++n) {
+    source[n & 63] ^= 1;
+    sum += table.satd_8x8(source, 8, prediction);
+  }
+  bench_sink = sum;
+}
+
+}  // namespace
+
+std::vector<Kernel> intra_kernels() {
+  return {
+      {"intra_predict_8x8", [](const Tables& t) { return entry_of(t.intra_predict_8x8); }, check_intra_predict,
+       bench_intra_predict},
+      {"satd_8x8", [](const Tables& t) { return entry_of(t.satd_8x8); }, check_satd, bench_satd},
+  };
+}
+
+}  // namespace svc::checkkernels

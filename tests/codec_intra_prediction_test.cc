@@ -1,0 +1,146 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+#include "codec/dsp/dsp.h"
+#include "codec/intra_codec.h"
+#include "codec/intra_prediction.h"
+#include "codec/range_coder.h"
+
+namespace svc::codec {
+namespace {
+
+constexpr int kEdge = dsp::kIntraEdgeSamples;
+
+std::array<uint8_t, 64> predict(const std::array<uint8_t, kEdge>& edge, int mode) {
+  std::array<uint8_t, 64> out{};
+  dsp::get_dsp().intra_predict_8x8(edge.data(), mode, out.data());
+  return out;
+}
+
+// Left samples `left`, corner `corner`, above sample i = above_base + above_step * i.
+std::array<uint8_t, kEdge> make_edge(int left, int corner, int above_base, int above_step) {
+  std::array<uint8_t, kEdge> edge{};
+  for (int i = 0; i < 16; ++i) {
+    edge[15 - i] = static_cast<uint8_t>(left);
+    edge[17 + i] = static_cast<uint8_t>(above_base + above_step * i);
+  }
+  edge[16] = static_cast<uint8_t>(corner);
+  return edge;
+}
+
+TEST(IntraPrediction, FlatEdgePredictsFlatBlockInEveryMode) {
+  const auto edge = make_edge(77, 77, 77, 0);
+  for (int mode = 0; mode < kIntraModes; ++mode) {
+    const auto block = predict(edge, mode);
+    EXPECT_TRUE(std::all_of(block.begin(), block.end(), [](uint8_t v) { return v == 77; })) << "mode " << mode;
+  }
+}
+
+TEST(IntraPrediction, VerticalHorizontalAndDcFollowTheirEdges) {
+  const auto edge = make_edge(50, 90, 10, 10);  // above: 10, 20, ..., 80 over the block
+  const auto vertical = predict(edge, kVerticalMode), horizontal = predict(edge, kHorizontalMode);
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 8; ++x) {
+      EXPECT_EQ(vertical[8 * y + x], 10 + 10 * x);
+      EXPECT_EQ(horizontal[8 * y + x], 50);
+    }
+  }
+  // (8 x 50 + (10 + ... + 80) + 8) >> 4 = (400 + 360 + 8) >> 4 = 48.
+  EXPECT_EQ(predict(edge, kDcMode)[27], 48);
+}
+
+TEST(IntraPrediction, AngularModeInterpolatesBetweenReferenceSamples) {
+  const auto edge = make_edge(0, 0, 10, 10);
+  const auto block = predict(edge, 30);  // angle 13/32 per row, unsmoothed edge
+  // Row 0: ((32 - 13) A[x] + 13 A[x + 1] + 16) >> 5 with A[x] = 10 + 10 x.
+  EXPECT_EQ(block[0], (19 * 10 + 13 * 20 + 16) >> 5);
+  EXPECT_EQ(block[1], (19 * 20 + 13 * 30 + 16) >> 5);
+  // Row 2: 39/32 = 1 sample and 7/32.
+  EXPECT_EQ(block[16], (25 * 20 + 7 * 30 + 16) >> 5);
+}
+
+TEST(IntraPrediction, EdgeSubstitutesMissingNeighbours) {
+  // A 3x2-block plane whose samples hold 100 + block index.
+  const int blocks_x = 3, stride = 24;
+  std::vector<uint8_t> plane(static_cast<size_t>(stride) * 16);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < stride; ++x)
+      plane[static_cast<size_t>(y) * stride + x] = static_cast<uint8_t>(100 + (y / 8) * 3 + x / 8);
+  }
+  std::array<uint8_t, kEdge> edge{};
+  build_intra_edge(plane.data(), stride, 0, 0, blocks_x, edge.data());
+  EXPECT_TRUE(std::all_of(edge.begin(), edge.end(), [](uint8_t v) { return v == 128; }));
+
+  build_intra_edge(plane.data(), stride, 1, 0, blocks_x, edge.data());  // left only
+  EXPECT_TRUE(std::all_of(edge.begin(), edge.end(), [](uint8_t v) { return v == 100; }));
+
+  build_intra_edge(plane.data(), stride, 0, 1, blocks_x, edge.data());  // above and above-right
+  for (int i = 0; i < 17; ++i) EXPECT_EQ(edge[i], 100) << i;
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(edge[25 + i], 101) << i;
+
+  build_intra_edge(plane.data(), stride, 2, 1, blocks_x, edge.data());  // no above-right
+  EXPECT_EQ(edge[16], 101);                                             // corner
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(edge[17 + i], 102) << i;
+  for (int i = 0; i < 16; ++i) EXPECT_EQ(edge[15 - i], 104) << i;
+}
+
+TEST(IntraPrediction, EveryModeRoundTripsThroughModeCoding) {
+  for (int left = 0; left < kIntraModes; ++left) {
+    for (int above = 0; above < kIntraModes; above += 3) {
+      const auto candidates = most_probable_modes(left, above);
+      EXPECT_NE(candidates[0], candidates[1]);
+      EXPECT_NE(candidates[0], candidates[2]);
+      EXPECT_NE(candidates[1], candidates[2]);
+      std::vector<uint8_t> bytes;
+      RangeEncoder encoder(&bytes);
+      IntraModeContexts contexts;
+      for (int mode = 0; mode < kIntraModes; ++mode) encode_intra_mode(encoder, contexts, candidates, mode);
+      encoder.finish();
+      RangeDecoder decoder(bytes);
+      IntraModeContexts decoding;
+      for (int mode = 0; mode < kIntraModes; ++mode) {
+        ASSERT_EQ(decode_intra_mode(decoder, decoding, candidates), mode) << left << " " << above;
+      }
+    }
+  }
+}
+
+// Rows of constant value: every luma block with a left neighbour is predicted exactly by
+// the horizontal mode, which the encoder finds; without directional modes it cannot.
+TEST(IntraPrediction, EncoderChoosesHorizontalModeForHorizontalStripes) {
+  ImageYCbCr420 image;
+  image.width = image.height = 64;
+  image.y.resize(64 * 64);
+  image.cb.assign(32 * 32, 128);
+  image.cr.assign(32 * 32, 128);
+  for (int y = 0; y < 64; ++y) std::fill_n(image.y.begin() + 64 * y, 64, static_cast<uint8_t>((y * 37) % 200 + 20));
+  for (bool directional : {true, false}) {
+    CodingParams params;
+    params.quant_scale = 4;
+    params.directional_intra = directional;
+    ImageYCbCr420 reconstruction;
+    const auto bytes = encode_intra_frame(image, params, &reconstruction);
+    CoefficientFrame parsed;
+    ASSERT_TRUE(parse_intra_frame(bytes, 64, 64, &parsed).ok());
+    ImageYCbCr420 decoded;
+    reconstruct_intra_frame(parsed, &decoded);
+    EXPECT_TRUE(decoded.y == reconstruction.y);
+    int horizontal = 0, others = 0;
+    for (int by = 0; by < 8; ++by) {
+      for (int bx = 1; bx < 8; ++bx) (parsed.block_modes[8 * by + bx] == kHorizontalMode ? horizontal : others)++;
+    }
+    if (directional) {
+      EXPECT_EQ(others, 0);
+    } else {
+      EXPECT_EQ(horizontal, 0);
+      EXPECT_TRUE(std::all_of(parsed.block_modes.begin(), parsed.block_modes.end(),
+                              [](uint8_t mode) { return mode == kPlanarMode || mode == kDcMode; }));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace svc::codec
