@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "076724999f19c0a8bc919316ab58b41959788ad3e734bb5712b74debff2c35ef",
-     "8ab2edc7040e74097fc6ad7f2507e62b6ea49889498950a7bc4f431f10dbbcef"},
+     "5e77e2f841ffaed666d3277b4b8ccee1bb2a8161b45e287cbdf67555d42e8865",
+     "35bb6f0ef08f18554d428ae8c103eea457a92a5b37f7d2595fd3231dc3d13a02"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "3ad9ec5925f5233ff12772be13485ad05df324c3c44743726bd918a892d5618b",
-     "a60a0815234c5f6b07386026dd7fc67fd35cfe14308312f82b1946daae7e9481"},
+     "7014ce872992e1379d499f1222e0db5379bd93e453b79a34803e82666b3a1b6d",
+     "445db554190c587e48fb7eb2a6c0f87d01a55006f8d0d60053b032683bd407d2"},
 };
 
 std::string file_sha256(const fs::path& path) {
