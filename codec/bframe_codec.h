@@ -52,11 +52,14 @@ int suggested_b_quant_scale(int intra_quant_scale);
 struct BFrameParams {
   // quant_scale of the whole B-frame (residual and intra macroblocks), 1..112.
   int quant_scale = 10;
-  // Tries the 8 half-pel neighbours of each reference's best candidate (8 SADs per
-  // macroblock and reference). Depth-derived candidates are already at half-pel
-  // precision, but the best one for a whole macroblock often lies between them: 6 %
-  // fewer bytes at equal PSNR on the sample hall (docs/codec.md, section 10.5).
-  bool half_pel_refinement = true;
+  // Tries the 8 half-pel neighbours of each reference's best candidate, then the 8
+  // quarter-pel neighbours of the best of those (16 SADs per macroblock and reference).
+  // Depth-derived candidates are already at quarter-pel precision, but the best one for
+  // a whole macroblock often lies between them (docs/codec.md, section 10.5).
+  bool sub_pel_refinement = true;
+  // Quarter-pel vectors; off, the encoder picks only half-pel positions (candidates
+  // rounded away from zero, no quarter-pel refinement), for ablation.
+  bool quarter_pel = true;
   // Rate-distortion trade-off: lambda = lambda_factor * quant_scale^2 squared-error units
   // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice).
   double lambda_factor = 0.12;

@@ -148,7 +148,7 @@ class MacroblockReader {
       const int vx = predictors_[r].x + dx, vy = predictors_[r].y + dy;
       if (std::abs(vx) > s_.vector_limit || std::abs(vy) > s_.vector_limit) {
         return fail("motion vector (" + std::to_string(vx) + ", " + std::to_string(vy) +
-                    ") half-pels beyond the limit " + std::to_string(s_.vector_limit));
+                    ") quarter-pels beyond the limit " + std::to_string(s_.vector_limit));
       }
       info_.vectors[r] = MotionVector{static_cast<int16_t>(vx), static_cast<int16_t>(vy)};
       info_.mvd_magnitude[0] += std::abs(dx);

@@ -63,12 +63,16 @@ int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_st
   return sum;
 }
 
+// The share of a new warp node's bits charged to the macroblock that sends it.
+constexpr float kNewNodeShare = 0.5f;
+
 class BFrameEncoder {
  public:
   BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params)
       : s_(state),
         source_(source),
-        refine_(params.half_pel_refinement),
+        refine_(params.sub_pel_refinement),
+        quarter_pel_(params.quarter_pel),
         full_evaluations_(std::max(1, params.inter_evaluations)),
         max_candidates_(std::max(1, params.max_candidates)) {
     lambda_ = std::max(0.0, params.lambda_factor) * s_.inter_quantizer.quant_scale * s_.inter_quantizer.quant_scale;
@@ -114,7 +118,7 @@ class BFrameEncoder {
     std::array<Screened, 6> screened{};
     int screened_count = 0;
     const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my) * source_.strides[0] + 16 * mx;
-    std::array<std::array<uint8_t, 256>, 2> luma{}, warped{};
+    std::array<std::array<int16_t, 256>, 2> luma{}, warped{};
     // Warping is screened only towards references whose corner nodes differ: with four
     // (nearly) equal corners it predicts what a translation does, at a higher price.
     unsigned screen_warp = 0;
@@ -142,14 +146,13 @@ class BFrameEncoder {
         }
         float bits = mode_bits(s_, mx, my, mode);
         if (warp_allowed(s_, mode)) bits += bit_cost(s_.contexts.warp[warp_context(s_, mx, my)], warp);
-        int sad;
+        uint8_t prediction[256];
         if (mode == MacroblockMode::kBidirectional) {
-          uint8_t mean[256];
-          average_samples(planes[0].data(), planes[1].data(), 256, mean);
-          sad = sad_16x16(source, source_.strides[0], mean);
+          average_prediction(planes[0].data(), planes[1].data(), 256, prediction);
         } else {
-          sad = sad_16x16(source, source_.strides[0], planes[mode == MacroblockMode::kBackward ? 1 : 0].data());
+          round_prediction(planes[mode == MacroblockMode::kBackward ? 1 : 0].data(), 256, prediction);
         }
+        const int sad = sad_16x16(source, source_.strides[0], prediction);
         if (warp) {
           bits += warp_nodes_bits(mode);
         } else {
@@ -242,10 +245,10 @@ class BFrameEncoder {
   // screening, skip and inter evaluation (the corner nodes do not change within it).
   struct WarpCache {
     bool luma = false, chroma = false;
-    MacroblockPrediction prediction;
+    MacroblockIntermediate prediction;
   };
 
-  const MacroblockPrediction& warped_prediction(int reference, bool with_chroma) {
+  const MacroblockIntermediate& warped_prediction(int reference, bool with_chroma) {
     WarpCache& cache = warp_cache_[static_cast<size_t>(reference)];
     const WarpCorners corners = macroblock_corners(s_, reference, mx_, my_);
     if (!cache.luma) {
@@ -262,9 +265,9 @@ class BFrameEncoder {
   // build_warp_prediction from the cache.
   void build_cached_warp_prediction(MacroblockMode mode, MacroblockPrediction* out) {
     if (mode == MacroblockMode::kBidirectional) {
-      average_predictions(warped_prediction(0, true), warped_prediction(1, true), out);
+      finish_prediction(warped_prediction(0, true), &warped_prediction(1, true), out);
     } else {
-      *out = warped_prediction(mode == MacroblockMode::kBackward ? 1 : 0, true);
+      finish_prediction(warped_prediction(mode == MacroblockMode::kBackward ? 1 : 0, true), nullptr, out);
     }
   }
 
@@ -277,12 +280,15 @@ class BFrameEncoder {
     }
   }
 
+  // The bits of the nodes a warp must send, weighted by kNewNodeShare: a node sent now
+  // also serves the later macroblocks that share the corner, and charging it whole to
+  // the first one keeps a face from ever starting to warp.
   float warp_nodes_bits(MacroblockMode mode) {
     float bits = 0;
     for (int r = 0; r < s_.reference_count; ++r) {
       if (uses_reference(mode, r)) bits += missing_nodes_bits(s_, r, mx_, my_, predictors_[r]);
     }
-    return bits;
+    return kNewNodeShare * bits;
   }
 
   void compute_visible() {
@@ -312,9 +318,15 @@ class BFrameEncoder {
            mvd_component_bits(s_.contexts, 1, mvd_context(s_, mx_, my_, 1), vector.y - predictors_[reference].y);
   }
 
+  // Within the range and, without quarter-pel vectors, on a half-pel position (odd
+  // components away from zero).
   MotionVector clamp_vector(MotionVector v) const {
-    return MotionVector{static_cast<int16_t>(std::clamp<int>(v.x, -s_.vector_limit, s_.vector_limit)),
-                        static_cast<int16_t>(std::clamp<int>(v.y, -s_.vector_limit, s_.vector_limit))};
+    auto component = [&](int c) {
+      if (!quarter_pel_ && (c & 1) != 0) c += c > 0 ? 1 : -1;
+      const int limit = quarter_pel_ ? s_.vector_limit : s_.vector_limit & ~1;
+      return static_cast<int16_t>(std::clamp(c, -limit, limit));
+    };
+    return MotionVector{component(v.x), component(v.y)};
   }
 
   // Best vector towards one reference by SAD + lambda * vector bits over the supplied
@@ -332,8 +344,7 @@ class BFrameEncoder {
       tried_.push_back(v);
       const double rate = lambda_sad_ * vector_bits(reference, v);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
-      const int limit = static_cast<int>(std::min(best_cost - rate, 1e9));
-      const int sad = sad_macroblock_luma(ref, mx_, my_, v, source, source_.strides[0], limit);
+      const int sad = sad_macroblock_luma(ref, mx_, my_, v, source, source_.strides[0]);
       if (stats != nullptr) ++stats->sad_evaluations;
       const double cost = sad + rate;
       if (cost < best_cost) {
@@ -352,11 +363,14 @@ class BFrameEncoder {
     if (supplied == 0) try_vector(MotionVector{});
     try_vector(predictors_[reference]);
     if (refine_) {
-      const MotionVector centre = best;
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dx != 0 || dy != 0) {
-            try_vector(MotionVector{static_cast<int16_t>(centre.x + dx), static_cast<int16_t>(centre.y + dy)});
+      // The half-pel ring around the best, then the quarter-pel ring around the new best.
+      for (int step = 2; step >= (quarter_pel_ ? 1 : 2); --step) {
+        const MotionVector centre = best;
+        for (int dy = -step; dy <= step; dy += step) {
+          for (int dx = -step; dx <= step; dx += step) {
+            if (dx != 0 || dy != 0) {
+              try_vector(MotionVector{static_cast<int16_t>(centre.x + dx), static_cast<int16_t>(centre.y + dy)});
+            }
           }
         }
       }
@@ -489,6 +503,7 @@ class BFrameEncoder {
   double lambda_ = 0, lambda_sad_ = 0;
   // From BFrameParams, whose fields hold the defaults.
   const bool refine_;
+  const bool quarter_pel_;
   const int full_evaluations_;
   const int max_candidates_;
   int mx_ = 0, my_ = 0;

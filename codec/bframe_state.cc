@@ -137,12 +137,12 @@ WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vec
   if (s.known(r, i - 1, j)) return node(i - 1, j);
   if (s.known(r, i, j - 1)) return node(i, j - 1);
   if (s.known(r, i + 1, j)) return node(i + 1, j);
-  return WarpNode{4 * vector_predictor.x, 4 * vector_predictor.y};
+  return WarpNode{2 * vector_predictor.x, 2 * vector_predictor.y};
 }
 
 MotionVector warp_centre_vector(const FrameState& s, const WarpCorners& c) {
   auto component = [&](int sum) {
-    return static_cast<int16_t>(std::clamp((sum + 8) >> 4, -s.vector_limit, s.vector_limit));
+    return static_cast<int16_t>(std::clamp((sum + 4) >> 3, -s.vector_limit, s.vector_limit));
   };
   return MotionVector{component(c[0].x + c[1].x + c[2].x + c[3].x), component(c[0].y + c[1].y + c[2].y + c[3].y)};
 }
@@ -155,26 +155,22 @@ int mvd_context(const FrameState& s, int mx, int my, int component) {
 
 void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out) {
-  if (mode == MacroblockMode::kBackward) {
-    predict_macroblock(*s.references[1], mx, my, vectors[1], out);
-  } else {
-    predict_macroblock(*s.references[0], mx, my, vectors[0], out);
-    if (mode == MacroblockMode::kBidirectional) {
-      MacroblockPrediction second;
-      predict_macroblock(*s.references[1], mx, my, vectors[1], &second);
-      average_predictions(*out, second, out);
-    }
-  }
+  MacroblockIntermediate first, second;
+  const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
+  predict_macroblock(*s.references[first_reference], mx, my, vectors[first_reference], &first);
+  if (mode == MacroblockMode::kBidirectional) predict_macroblock(*s.references[1], mx, my, vectors[1], &second);
+  finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out) {
-  const int first = mode == MacroblockMode::kBackward ? 1 : 0;
-  predict_warp_macroblock(*s.references[first], mx, my, macroblock_corners(s, first, mx, my), out);
+  MacroblockIntermediate first, second;
+  const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
+  predict_warp_macroblock(*s.references[first_reference], mx, my, macroblock_corners(s, first_reference, mx, my),
+                          &first);
   if (mode == MacroblockMode::kBidirectional) {
-    MacroblockPrediction second;
     predict_warp_macroblock(*s.references[1], mx, my, macroblock_corners(s, 1, mx, my), &second);
-    average_predictions(*out, second, out);
   }
+  finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }
 
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,

@@ -191,7 +191,7 @@ WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int m
 WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vector_predictor, int* kind);
 
 // The vector a warped macroblock leaves for its neighbours' predictors: the mean of its
-// corner nodes in half-pels, (sum + 8) >> 4, clamped to the vector range.
+// corner nodes in quarter-pels, (sum + 4) >> 3, clamped to the vector range.
 MotionVector warp_centre_vector(const FrameState& s, const WarpCorners& c);
 
 int mvd_context(const FrameState& s, int mx, int my, int component);

@@ -17,12 +17,12 @@ class MacroblockSearch {
   MacroblockSearch(const uint8_t* source, int source_stride, const ImageYCbCr420& reference, int mb_x, int mb_y)
       : source_(source), source_stride_(source_stride), reference_(reference), mb_x_(mb_x), mb_y_(mb_y) {}
 
-  // SAD of a vector in half-pel units: exact up to `limit`, some value above it beyond.
-  int sad(int x, int y, int limit) {
+  // SAD of a vector in quarter-pel units.
+  int sad(int x, int y) {
     ++evaluations_;
     return sad_macroblock_luma(reference_, mb_x_, mb_y_,
                                MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)}, source_,
-                               source_stride_, limit);
+                               source_stride_);
   }
   int64_t evaluations() const { return evaluations_; }
 
@@ -36,7 +36,7 @@ class MacroblockSearch {
 
 MotionVector search_macroblock(MacroblockSearch& search, const LogSearchParams& params, int window) {
   int cx = 0, cy = 0;
-  int best = search.sad(0, 0, 1 << 30);
+  int best = search.sad(0, 0);
   int step = window >= 2 ? 1 << (std::bit_width(static_cast<unsigned>(window)) - 2) : 1;
   auto inside = [&](int x, int y) { return std::abs(x) <= window && std::abs(y) <= window; };
   // Scores centre + offsets * step; moves the centre to the best. Returns whether it moved.
@@ -45,7 +45,7 @@ MotionVector search_macroblock(MacroblockSearch& search, const LogSearchParams& 
     for (const auto& d : offsets) {
       const int x = cx + d[0] * distance, y = cy + d[1] * distance;
       if (!inside(x, y)) continue;
-      const int value = search.sad(2 * x, 2 * y, best);
+      const int value = search.sad(4 * x, 4 * y);
       if (value < best) {
         best = value;
         bx = x;
@@ -70,15 +70,15 @@ MotionVector search_macroblock(MacroblockSearch& search, const LogSearchParams& 
     }
     round(kSquare, 1);  // final step: the full 3x3 neighbourhood
   }
-  int hx = 2 * cx, hy = 2 * cy;
+  int hx = 4 * cx, hy = 4 * cy;
   if (params.half_pel) {
     const int ix = hx, iy = hy;
     for (const auto& d : kSquare) {
-      const int value = search.sad(ix + d[0], iy + d[1], best);
+      const int value = search.sad(ix + 2 * d[0], iy + 2 * d[1]);
       if (value < best) {
         best = value;
-        hx = ix + d[0];
-        hy = iy + d[1];
+        hx = ix + 2 * d[0];
+        hy = iy + 2 * d[1];
       }
     }
   }

@@ -52,7 +52,7 @@ struct LogSearchStats {
 // Like every image-space search, both can settle in a false minimum on periodic or
 // strongly oriented texture (the aperture problem); that is the behaviour compared. Reference samples
 // outside the face are edge-extended as in motion compensation. Returns one list of one
-// vector (half-pel units) per macroblock, row-major; empty for inconsistent images.
+// vector (quarter-pel units) per macroblock, row-major; empty for inconsistent images.
 FaceCandidates log_search_candidates(const ImageYCbCr420& source, const ImageYCbCr420& reference,
                                      const LogSearchParams& params = {}, LogSearchStats* stats = nullptr);
 

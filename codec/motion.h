@@ -10,8 +10,9 @@ namespace svc::codec {
 
 inline constexpr int kMacroblockSize = 16;
 
-// A luma displacement in half-pixel units: the prediction for pixel (x, y) of the
-// current face is taken at (x + x/2, y + y/2) in the reference face.
+// A luma displacement in quarter-pixel units: the prediction for pixel (x, y) of the
+// current face is taken at (x + x/4, y + y/4) in the reference face (chroma reads the
+// same numbers in eighth chroma pixels).
 struct MotionVector {
   int16_t x = 0;
   int16_t y = 0;
@@ -21,6 +22,7 @@ struct MotionVector {
 // A warp node: the displacement of a macroblock corner in 1/8 luma pel (see
 // warp_prediction.h). Wider than MotionVector: nodes of large faces exceed 16 bits.
 inline constexpr int kWarpNodeUnitsPerPixel = 8;
+inline constexpr int kVectorUnitsPerPixel = 4;
 struct WarpNode {
   int32_t x = 0;
   int32_t y = 0;

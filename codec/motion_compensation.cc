@@ -2,13 +2,58 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 
 #include "codec/dsp/dsp.h"
 
 namespace svc::codec {
+namespace {
+
+// HEVC's DCT-based interpolation filters (luma 8 taps, chroma 4 taps centred in 8).
+constexpr std::array<std::array<int8_t, 8>, 4> kLumaTaps = {{
+    {0, 0, 0, 64, 0, 0, 0, 0},
+    {-1, 4, -10, 58, 17, -5, 1, 0},
+    {-1, 4, -11, 40, 40, -11, 4, -1},
+    {0, 1, -5, 17, 58, -10, 4, -1},
+}};
+constexpr std::array<std::array<int8_t, 8>, 8> kChromaTaps = {{
+    {0, 0, 0, 64, 0, 0, 0, 0},
+    {0, 0, -2, 58, 10, -2, 0, 0},
+    {0, 0, -4, 54, 16, -2, 0, 0},
+    {0, 0, -6, 46, 28, -4, 0, 0},
+    {0, 0, -4, 36, 36, -4, 0, 0},
+    {0, 0, -4, 28, 46, -6, 0, 0},
+    {0, 0, -2, 16, 54, -4, 0, 0},
+    {0, 0, -2, 10, 58, -2, 0, 0},
+}};
+
+// The 8 taps reach 3 samples before and 4 after the integer position.
+constexpr int kTapsBefore = 3, kTapExtent = 7;
+// Window rows are read up to 8 samples past the taps' reach (dsp.h).
+constexpr int kWindowStride = kMaxPredictionBlock + kTapExtent + 8;
+
+int fraction_bits(PlaneKind kind) { return kind == PlaneKind::kLuma ? 2 : 3; }
+
+// Copies the samples a block's taps read, (width + 7) x (height + 7) from (left, top),
+// with every coordinate clamped to the plane: the one place edge extension happens.
+void fetch_window(const uint8_t* plane, int plane_width, int plane_height, int left, int top, int width, int height,
+                  uint8_t* window) {
+  const bool inside_x = left >= 0 && left + width <= plane_width;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = plane + static_cast<ptrdiff_t>(std::clamp(top + y, 0, plane_height - 1)) * plane_width;
+    uint8_t* dst = window + y * kWindowStride;
+    if (inside_x) {
+      std::memcpy(dst, row + left, static_cast<size_t>(width));
+    } else {
+      for (int x = 0; x < width; ++x) dst[x] = row[std::clamp(left + x, 0, plane_width - 1)];
+    }
+  }
+}
+
+}  // namespace
 
 int max_vector_component(int width, int height) {
-  const long long limit = 2LL * std::max(width, height) + 64;
+  const long long limit = 4LL * std::max(width, height) + 128;
   return static_cast<int>(std::min<long long>(limit, 32767));
 }
 
@@ -17,88 +62,91 @@ bool vector_in_range(MotionVector vector, int width, int height) {
   return std::abs(vector.x) <= limit && std::abs(vector.y) <= limit;
 }
 
-void predict_block(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0, int block_width,
-                   int block_height, int vector_x, int vector_y, uint8_t* out, int out_stride) {
-  if (block_width > kMaxPredictionBlock || block_height > kMaxPredictionBlock) {
-    predict_block_reference(plane, plane_width, plane_height, x0, y0, block_width, block_height, vector_x, vector_y,
-                            out, out_stride);
-    return;
-  }
-  const int full_x = 2 * x0 + vector_x, full_y = 2 * y0 + vector_y;
-  const int ix = full_x >> 1, iy = full_y >> 1;
-  const int fx = full_x & 1, fy = full_y & 1;
-  // The window read by put_half_pel: one extra column/row only where interpolating.
-  const int need_w = block_width + fx, need_h = block_height + fy;
-  if (ix >= 0 && iy >= 0 && ix + need_w <= plane_width && iy + need_h <= plane_height) {
-    dsp::get_dsp().put_half_pel(plane + static_cast<ptrdiff_t>(iy) * plane_width + ix, plane_width, block_width,
-                                block_height, fx, fy, out, out_stride);
-    return;
-  }
-  // Partly or wholly outside: gather an edge-extended window first.
-  uint8_t window[(kMaxPredictionBlock + 1) * (kMaxPredictionBlock + 1)];
-  const int window_stride = kMaxPredictionBlock + 1;
-  int columns[kMaxPredictionBlock + 1];
-  for (int x = 0; x < need_w; ++x) columns[x] = std::clamp(ix + x, 0, plane_width - 1);
-  for (int y = 0; y < need_h; ++y) {
-    const uint8_t* row = plane + static_cast<ptrdiff_t>(std::clamp(iy + y, 0, plane_height - 1)) * plane_width;
-    uint8_t* dst = window + y * window_stride;
-    for (int x = 0; x < need_w; ++x) dst[x] = row[columns[x]];
-  }
-  dsp::get_dsp().put_half_pel(window, window_stride, block_width, block_height, fx, fy, out, out_stride);
+const std::array<int8_t, 8>& interpolation_taps(PlaneKind kind, int phase) {
+  return kind == PlaneKind::kLuma ? kLumaTaps[static_cast<size_t>(phase & 3)]
+                                  : kChromaTaps[static_cast<size_t>(phase & 7)];
 }
 
-void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, int x0, int y0,
-                             int block_width, int block_height, int vector_x, int vector_y, uint8_t* out,
+void predict_block(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0, int y0,
+                   int block_width, int block_height, int vector_x, int vector_y, int16_t* out, int out_stride) {
+  if (block_width > kMaxPredictionBlock || block_height > kMaxPredictionBlock || block_width % 4 != 0) {
+    predict_block_reference(plane, plane_width, plane_height, kind, x0, y0, block_width, block_height, vector_x,
+                            vector_y, out, out_stride);
+    return;
+  }
+  const int bits = fraction_bits(kind), mask = (1 << bits) - 1;
+  const int full_x = (x0 << bits) + vector_x, full_y = (y0 << bits) + vector_y;
+  uint8_t window[(kMaxPredictionBlock + kTapExtent) * kWindowStride];
+  fetch_window(plane, plane_width, plane_height, (full_x >> bits) - kTapsBefore, (full_y >> bits) - kTapsBefore,
+               block_width + kTapExtent, block_height + kTapExtent, window);
+  dsp::get_dsp().interpolate_8tap(window, kWindowStride, block_width, block_height,
+                                  interpolation_taps(kind, full_x & mask).data(),
+                                  interpolation_taps(kind, full_y & mask).data(), out, out_stride);
+}
+
+void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0,
+                             int y0, int block_width, int block_height, int vector_x, int vector_y, int16_t* out,
                              int out_stride) {
-  auto sample = [&](long long u, long long v) -> int {
+  auto sample = [&](long long u, long long v) -> long long {
     const long long cu = std::clamp<long long>(u, 0, plane_width - 1);
     const long long cv = std::clamp<long long>(v, 0, plane_height - 1);
     return plane[cv * plane_width + cu];
   };
+  const long long scale = 1LL << fraction_bits(kind);
+  auto floor_div = [&](long long value) { return value >= 0 ? value / scale : -((-value + scale - 1) / scale); };
   for (int j = 0; j < block_height; ++j) {
     for (int i = 0; i < block_width; ++i) {
-      const long long full_x = 2LL * (x0 + i) + vector_x, full_y = 2LL * (y0 + j) + vector_y;
-      const long long px = full_x >= 0 ? full_x / 2 : -((-full_x + 1) / 2);  // floor
-      const long long py = full_y >= 0 ? full_y / 2 : -((-full_y + 1) / 2);
-      const bool half_x = (full_x - 2 * px) != 0, half_y = (full_y - 2 * py) != 0;
-      int value;
-      if (!half_x && !half_y) {
-        value = sample(px, py);
-      } else if (half_x && !half_y) {
-        value = (sample(px, py) + sample(px + 1, py) + 1) / 2;
-      } else if (!half_x && half_y) {
-        value = (sample(px, py) + sample(px, py + 1) + 1) / 2;
-      } else {
-        value = (sample(px, py) + sample(px + 1, py) + sample(px, py + 1) + sample(px + 1, py + 1) + 2) / 4;
+      const long long full_x = scale * (x0 + i) + vector_x, full_y = scale * (y0 + j) + vector_y;
+      const long long ix = floor_div(full_x), iy = floor_div(full_y);
+      const auto& h = interpolation_taps(kind, static_cast<int>(full_x - scale * ix));
+      const auto& v = interpolation_taps(kind, static_cast<int>(full_y - scale * iy));
+      long long sum = 0;
+      for (int row = 0; row < 8; ++row) {
+        long long across = 0;
+        for (int k = 0; k < 8; ++k) across += h[static_cast<size_t>(k)] * sample(ix - 3 + k, iy - 3 + row);
+        sum += v[static_cast<size_t>(row)] * across;
       }
-      out[static_cast<ptrdiff_t>(j) * out_stride + i] = static_cast<uint8_t>(value);
+      const long long shifted = sum >= 0 ? sum / 64 : -((-sum + 63) / 64);  // floor
+      out[static_cast<ptrdiff_t>(j) * out_stride + i] = static_cast<int16_t>(shifted - kIntermediateOffset);
     }
   }
 }
 
 void predict_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                        MacroblockPrediction* out) {
+                        MacroblockIntermediate* out) {
   predict_macroblock_luma(reference, mb_x, mb_y, vector, out->y.data());
   const int cw = (reference.width + 1) / 2, ch = (reference.height + 1) / 2;
-  const MotionVector c = chroma_vector(vector);
-  predict_block(reference.cb.data(), cw, ch, mb_x * 8, mb_y * 8, 8, 8, c.x, c.y, out->cb.data(), 8);
-  predict_block(reference.cr.data(), cw, ch, mb_x * 8, mb_y * 8, 8, 8, c.x, c.y, out->cr.data(), 8);
+  predict_block(reference.cb.data(), cw, ch, PlaneKind::kChroma, mb_x * 8, mb_y * 8, 8, 8, vector.x, vector.y,
+                out->cb.data(), 8);
+  predict_block(reference.cr.data(), cw, ch, PlaneKind::kChroma, mb_x * 8, mb_y * 8, 8, 8, vector.x, vector.y,
+                out->cr.data(), 8);
 }
 
 void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                             uint8_t* out) {
-  predict_block(reference.y.data(), reference.width, reference.height, mb_x * 16, mb_y * 16, 16, 16, vector.x,
-                vector.y, out, 16);
+                             int16_t* out) {
+  predict_block(reference.y.data(), reference.width, reference.height, PlaneKind::kLuma, mb_x * 16, mb_y * 16, 16,
+                16, vector.x, vector.y, out, 16);
 }
 
-void average_samples(const uint8_t* a, const uint8_t* b, int count, uint8_t* out) {
-  dsp::get_dsp().average(a, b, count, out);
+void round_prediction(const int16_t* in, int count, uint8_t* out) {
+  dsp::get_dsp().put_intermediate(in, count, out);
 }
 
-void average_predictions(const MacroblockPrediction& a, const MacroblockPrediction& b, MacroblockPrediction* out) {
-  average_samples(a.y.data(), b.y.data(), 256, out->y.data());
-  average_samples(a.cb.data(), b.cb.data(), 64, out->cb.data());
-  average_samples(a.cr.data(), b.cr.data(), 64, out->cr.data());
+void average_prediction(const int16_t* a, const int16_t* b, int count, uint8_t* out) {
+  dsp::get_dsp().average_intermediate(a, b, count, out);
+}
+
+void finish_prediction(const MacroblockIntermediate& first, const MacroblockIntermediate* second,
+                       MacroblockPrediction* out) {
+  if (second == nullptr) {
+    round_prediction(first.y.data(), 256, out->y.data());
+    round_prediction(first.cb.data(), 64, out->cb.data());
+    round_prediction(first.cr.data(), 64, out->cr.data());
+    return;
+  }
+  average_prediction(first.y.data(), second->y.data(), 256, out->y.data());
+  average_prediction(first.cb.data(), second->cb.data(), 64, out->cb.data());
+  average_prediction(first.cr.data(), second->cr.data(), 64, out->cr.data());
 }
 
 int sad_16x16(const uint8_t* source, int source_stride, const uint8_t* prediction) {
@@ -118,18 +166,12 @@ int sad_16x16_reference(const uint8_t* source, int source_stride, const uint8_t*
 }
 
 int sad_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                        const uint8_t* source, int source_stride, int limit) {
-  const int width = reference.width, height = reference.height;
-  const int full_x = 32 * mb_x + vector.x, full_y = 32 * mb_y + vector.y;
-  const int ix = full_x >> 1, iy = full_y >> 1, fx = full_x & 1, fy = full_y & 1;
-  if (ix < 0 || iy < 0 || ix + 16 + fx > width || iy + 16 + fy > height) {
-    uint8_t prediction[256];
-    predict_macroblock_luma(reference, mb_x, mb_y, vector, prediction);
-    return sad_16x16(source, source_stride, prediction);
-  }
-  // Inside the plane: the kernel interpolates row by row and stops once the limit is passed.
-  const uint8_t* base = reference.y.data() + static_cast<ptrdiff_t>(iy) * width + ix;
-  return dsp::get_dsp().sad_half_pel_16x16(base, width, fx, fy, source, source_stride, limit);
+                        const uint8_t* source, int source_stride) {
+  int16_t intermediate[256];
+  uint8_t prediction[256];
+  predict_macroblock_luma(reference, mb_x, mb_y, vector, intermediate);
+  round_prediction(intermediate, 256, prediction);
+  return sad_16x16(source, source_stride, prediction);
 }
 
 }  // namespace svc::codec

@@ -2,114 +2,93 @@
 
 #include <algorithm>
 
-#include "codec/dsp/dsp.h"
-
 namespace svc::codec {
 namespace {
 
-inline int bilinear(int a, int b, int c, int d, int fx, int fy) {
-  return ((16 - fx) * (16 - fy) * a + fx * (16 - fy) * b + (16 - fx) * fy * c + fx * fy * d + 128) >> 8;
+template <typename Integer>
+Integer bilinear_sum(Integer n0, Integer n1, Integer n2, Integer n3, Integer a, Integer b) {
+  return (32 - a) * (32 - b) * n0 + a * (32 - b) * n1 + (32 - a) * b * n2 + a * b * n3;
 }
 
-// One plane of a warped block. `size` is 16 (luma) or 8 (chroma); `half` the weight
-// denominator (32 or 16) and `shift` the rounding shift (9 or 8). The per-pixel vector
-// is affine along a row, so it is stepped incrementally (exactly: integers). Blocks whose
-// whole footprint lies inside the plane skip the clamping.
-template <int kSize, int kDenominator, int kShift>
-void warp_plane(const uint8_t* plane, int width, int height, int x0, int y0, const WarpCorners& n, uint8_t* out) {
-  int min_x = n[0].x, max_x = n[0].x, min_y = n[0].y, max_y = n[0].y;
-  for (const WarpNode& node : n) {
-    min_x = std::min(min_x, node.x);
-    max_x = std::max(max_x, node.x);
-    min_y = std::min(min_y, node.y);
-    max_y = std::max(max_y, node.y);
-  }
-  // Node units per 1/16 sample: 2 for luma (1/8 pel nodes), 1 for chroma.
-  constexpr int kScale = kDenominator == 32 ? 2 : 1;
-  const bool inside = ((16 * x0 + kScale * min_x - 1) >> 4) >= 0 && ((16 * y0 + kScale * min_y - 1) >> 4) >= 0 &&
-                      ((16 * (x0 + kSize - 1) + kScale * max_x + 1) >> 4) + 1 <= width - 1 &&
-                      ((16 * (y0 + kSize - 1) + kScale * max_y + 1) >> 4) + 1 <= height - 1;
-  constexpr int kRound = 1 << (kShift - 1);
-  for (int v = 0; v < kSize; ++v) {
-    const int b = 2 * v + 1;
-    // S(a) = left + a * slope for a = 2u + 1, per component.
-    const int left_x = (kDenominator - b) * n[0].x + b * n[2].x, right_x = (kDenominator - b) * n[1].x + b * n[3].x;
-    const int left_y = (kDenominator - b) * n[0].y + b * n[2].y, right_y = (kDenominator - b) * n[1].y + b * n[3].y;
-    const int slope_x = right_x - left_x, slope_y = right_y - left_y;
-    int sx = kDenominator * left_x + slope_x, sy = kDenominator * left_y + slope_y;  // a = 1
-    const int base_y = 16 * (y0 + v);
-    uint8_t* dst = out + v * kSize;
-    if (inside) {
-      const dsp::WarpRow row{16 * x0, base_y, sx, sy, 2 * slope_x, 2 * slope_y, kShift, kSize};
-      dsp::get_dsp().warp_row(plane, width, row, dst);
-    } else {
-      for (int u = 0; u < kSize; ++u, sx += 2 * slope_x, sy += 2 * slope_y) {
-        const int X = 16 * (x0 + u) + ((sx + kRound) >> kShift), Y = base_y + ((sy + kRound) >> kShift);
-        const int ix = X >> 4, iy = Y >> 4;
-        const int c0 = std::clamp(ix, 0, width - 1), c1 = std::clamp(ix + 1, 0, width - 1);
-        const uint8_t* r0 = plane + static_cast<ptrdiff_t>(std::clamp(iy, 0, height - 1)) * width;
-        const uint8_t* r1 = plane + static_cast<ptrdiff_t>(std::clamp(iy + 1, 0, height - 1)) * width;
-        dst[u] = static_cast<uint8_t>(bilinear(r0[c0], r0[c1], r1[c0], r1[c1], X & 15, Y & 15));
-      }
+// Predicts `blocks` x `blocks` sub-blocks of `size` x `size` samples of one plane, each
+// with the vector at its centre; `span` is the sub-block's extent in half luma pixels.
+template <typename Predict>
+void warp_plane(const WarpCorners& n, int blocks, int size, int span, int16_t* out, int out_stride,
+                Predict predict) {
+  for (int q = 0; q < blocks; ++q) {
+    for (int p = 0; p < blocks; ++p) {
+      const std::array<int, 2> v = warp_subblock_vector(n, span * p + span / 2, span * q + span / 2);
+      predict(p * size, q * size, v[0], v[1], out + q * size * out_stride + p * size);
     }
   }
 }
 
 }  // namespace
 
-int max_warp_node_component(int width, int height) { return 4 * max_vector_component(width, height); }
+int max_warp_node_component(int width, int height) { return 2 * max_vector_component(width, height); }
+
+std::array<int, 2> warp_subblock_vector(const WarpCorners& n, int a, int b) {
+  // |S| <= 1024 * 2 * 32767: fits int32.
+  const int sx = bilinear_sum(n[0].x, n[1].x, n[2].x, n[3].x, a, b);
+  const int sy = bilinear_sum(n[0].y, n[1].y, n[2].y, n[3].y, a, b);
+  return {(sx + 1024) >> 11, (sy + 1024) >> 11};
+}
 
 void predict_warp_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                  uint8_t* out) {
-  warp_plane<16, 32, 9>(reference.y.data(), reference.width, reference.height, 16 * mb_x, 16 * mb_y, corners, out);
+                                  int16_t* out) {
+  warp_plane(corners, 4, 4, 8, out, 16, [&](int x, int y, int vx, int vy, int16_t* dst) {
+    predict_block(reference.y.data(), reference.width, reference.height, PlaneKind::kLuma, 16 * mb_x + x,
+                  16 * mb_y + y, 4, 4, vx, vy, dst, 16);
+  });
 }
 
 void predict_warp_macroblock_chroma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                    MacroblockPrediction* out) {
+                                    MacroblockIntermediate* out) {
   const int cw = (reference.width + 1) / 2, ch = (reference.height + 1) / 2;
-  warp_plane<8, 16, 8>(reference.cb.data(), cw, ch, 8 * mb_x, 8 * mb_y, corners, out->cb.data());
-  warp_plane<8, 16, 8>(reference.cr.data(), cw, ch, 8 * mb_x, 8 * mb_y, corners, out->cr.data());
+  for (int plane = 0; plane < 2; ++plane) {
+    const uint8_t* samples = plane == 0 ? reference.cb.data() : reference.cr.data();
+    int16_t* dst_plane = plane == 0 ? out->cb.data() : out->cr.data();
+    warp_plane(corners, 2, 4, 16, dst_plane, 8, [&](int x, int y, int vx, int vy, int16_t* dst) {
+      predict_block(samples, cw, ch, PlaneKind::kChroma, 8 * mb_x + x, 8 * mb_y + y, 4, 4, vx, vy, dst, 8);
+    });
+  }
 }
 
 void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                             MacroblockPrediction* out) {
+                             MacroblockIntermediate* out) {
   predict_warp_macroblock_luma(reference, mb_x, mb_y, corners, out->y.data());
   predict_warp_macroblock_chroma(reference, mb_x, mb_y, corners, out);
 }
 
 void predict_warp_macroblock_reference(const ImageYCbCr420& reference, int mb_x, int mb_y,
-                                       const WarpCorners& corners, MacroblockPrediction* out) {
-  auto plane_block = [&](const uint8_t* plane, int width, int height, int size, uint8_t* dst) {
-    const long long denominator = 2LL * size, shift = size == 16 ? 9 : 8;
-    auto sample = [&](long long u, long long v) -> long long {
-      return plane[std::clamp<long long>(v, 0, height - 1) * width + std::clamp<long long>(u, 0, width - 1)];
+                                       const WarpCorners& corners, MacroblockIntermediate* out) {
+  auto vector = [&](long long a, long long b) {
+    auto component = [&](long long n0, long long n1, long long n2, long long n3) {
+      const long long s = bilinear_sum(n0, n1, n2, n3, a, b) + 1024;
+      return static_cast<int>(s >= 0 ? s / 2048 : -((-s + 2047) / 2048));  // floor
     };
-    auto floor_shift = [](long long value, long long bits) {  // floor(value / 2^bits)
-      const long long d = 1LL << bits;
-      return value >= 0 ? value / d : -((-value + d - 1) / d);
-    };
-    for (int v = 0; v < size; ++v) {
-      for (int u = 0; u < size; ++u) {
-        const long long a = 2 * u + 1, b = 2 * v + 1;
-        const long long w0 = (denominator - a) * (denominator - b), w1 = a * (denominator - b),
-                        w2 = (denominator - a) * b, w3 = a * b;
-        const long long sx = w0 * corners[0].x + w1 * corners[1].x + w2 * corners[2].x + w3 * corners[3].x;
-        const long long sy = w0 * corners[0].y + w1 * corners[1].y + w2 * corners[2].y + w3 * corners[3].y;
-        const long long X = 16LL * (size * mb_x + u) + floor_shift(sx + (1LL << (shift - 1)), shift);
-        const long long Y = 16LL * (size * mb_y + v) + floor_shift(sy + (1LL << (shift - 1)), shift);
-        const long long ix = floor_shift(X, 4), iy = floor_shift(Y, 4);
-        const long long fx = X - 16 * ix, fy = Y - 16 * iy;
-        const long long value = ((16 - fx) * (16 - fy) * sample(ix, iy) + fx * (16 - fy) * sample(ix + 1, iy) +
-                                 (16 - fx) * fy * sample(ix, iy + 1) + fx * fy * sample(ix + 1, iy + 1) + 128) /
-                                256;
-        dst[v * size + u] = static_cast<uint8_t>(value);
-      }
-    }
+    return std::array<int, 2>{component(corners[0].x, corners[1].x, corners[2].x, corners[3].x),
+                              component(corners[0].y, corners[1].y, corners[2].y, corners[3].y)};
   };
-  plane_block(reference.y.data(), reference.width, reference.height, 16, out->y.data());
+  for (int q = 0; q < 4; ++q) {
+    for (int p = 0; p < 4; ++p) {
+      const auto v = vector(8 * p + 4, 8 * q + 4);
+      predict_block_reference(reference.y.data(), reference.width, reference.height, PlaneKind::kLuma,
+                              16 * mb_x + 4 * p, 16 * mb_y + 4 * q, 4, 4, v[0], v[1],
+                              out->y.data() + 64 * q + 4 * p, 16);
+    }
+  }
   const int cw = (reference.width + 1) / 2, ch = (reference.height + 1) / 2;
-  plane_block(reference.cb.data(), cw, ch, 8, out->cb.data());
-  plane_block(reference.cr.data(), cw, ch, 8, out->cr.data());
+  for (int q = 0; q < 2; ++q) {
+    for (int p = 0; p < 2; ++p) {
+      const auto v = vector(16 * p + 8, 16 * q + 8);
+      const int x = 8 * mb_x + 4 * p, y = 8 * mb_y + 4 * q, offset = 32 * q + 4 * p;
+      predict_block_reference(reference.cb.data(), cw, ch, PlaneKind::kChroma, x, y, 4, 4, v[0], v[1],
+                              out->cb.data() + offset, 8);
+      predict_block_reference(reference.cr.data(), cw, ch, PlaneKind::kChroma, x, y, 4, 4, v[0], v[1],
+                              out->cr.data() + offset, 8);
+    }
+  }
 }
 
 }  // namespace svc::codec

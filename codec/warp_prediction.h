@@ -1,11 +1,12 @@
 // Warped (mesh) motion compensation: a macroblock predicted with a smoothly varying
-// vector per pixel instead of one translation. Each macroblock corner is a node carrying
-// a vector in 1/8 pel; a pixel's vector is the bilinear interpolation of its macroblock's
-// four corner nodes at the pixel centre, rounded to 1/16 pel, and the reference is sampled
-// there with bilinear interpolation (edge-clamped). Chroma uses the same node field at
-// half resolution. This follows perspective change (floors, walls and ceilings seen
-// obliquely) that a single vector per 16x16 block cannot. Exact integer arithmetic is part
-// of the bitstream contract (docs/codec.md, section 10.1).
+// vector instead of one translation. Each macroblock corner is a node carrying a vector
+// in 1/8 pel; every 4x4 luma block (and every 4x4 chroma block, an 8x8 luma area) takes
+// the bilinear interpolation of its macroblock's four corner nodes at its centre,
+// rounded to 1/4 luma pel (1/8 chroma pel), and is predicted through the same
+// interpolation filters as a translation (motion_compensation.h), as VVC's affine and
+// AV1's warped motion predict per sub-block. This follows perspective change (floors,
+// walls and ceilings seen obliquely) that a single vector per 16x16 block cannot. Exact
+// integer arithmetic is part of the bitstream contract (docs/codec.md, section 10.1).
 //
 // All functions are pure and thread-safe; pointers and sizes are the caller's
 // responsibility as in motion_compensation.h.
@@ -25,32 +26,29 @@ namespace svc::codec {
 using WarpCorners = std::array<WarpNode, 4>;
 
 // Largest |component| (1/8 pel) of a node vector for a face of this size:
-// 4 * max_vector_component(width, height). Encoders clamp to it; decoders reject beyond.
+// 2 * max_vector_component(width, height). Encoders clamp to it; decoders reject beyond.
 int max_warp_node_component(int width, int height);
 
-// Predicts the 16x16 luma block of macroblock (mb_x, mb_y) and its two 8x8 chroma blocks
-// from `reference` (same size as the current face). For luma sample (u, v) of the block,
-// with a = 2u + 1, b = 2v + 1 (pixel centres in half-pixels from the corner) and
-//   S = (32-a)(32-b) N0 + a(32-b) N1 + (32-a) b N2 + a b N3     (per component)
-//   V = (S + 256) >> 9                                          (1/16 pel)
-//   X = 16 (16 mb_x + u) + Vx, Y likewise; ix = X >> 4, fx = X & 15 (iy, fy likewise)
-//   p = ((16-fx)(16-fy) s(ix,iy) + fx(16-fy) s(ix+1,iy) + (16-fx) fy s(ix,iy+1)
-//        + fx fy s(ix+1,iy+1) + 128) >> 8,   s clamped to the plane.
-// Chroma sample (u, v) of the 8x8 block: a = 2u + 1, b = 2v + 1 over 16,
-//   S = (16-a)(16-b) N0 + a(16-b) N1 + (16-a) b N2 + a b N3, V = (S + 128) >> 8 in 1/16
-// chroma pel (a luma 1/8 pel is a chroma 1/16 pel), X = 16 (8 mb_x + u) + Vx.
-void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                             MacroblockPrediction* out);
-// Luma only (256 samples, row-major), for screening.
-void predict_warp_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                  uint8_t* out);
-// Chroma only (out->cb and out->cr; out->y untouched), completing a luma-only prediction.
-void predict_warp_macroblock_chroma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                    MacroblockPrediction* out);
+// The vector of the sub-block centred at (a, b) half luma pixels from the macroblock's
+// top-left corner (0 < a, b < 32), in 1/4 luma pel:
+//   S = (32-a)(32-b) N0 + a(32-b) N1 + (32-a) b N2 + a b N3,  V = (S + 1024) >> 11.
+// Luma block (p, q) (0..3) is centred at a = 8p + 4, b = 8q + 4; chroma block (p, q)
+// (0..1) at a = 16p + 8, b = 16q + 8, and reads V in 1/8 chroma pel.
+std::array<int, 2> warp_subblock_vector(const WarpCorners& corners, int a, int b);
 
-// The same definition evaluated sample by sample in 64-bit arithmetic with explicit
-// clamping: the plain reference the fast path is tested against (bit-identical output).
+// Intermediates of the warped prediction of macroblock (mb_x, mb_y) from `reference`
+// (same size as the current face): luma and chroma, luma only (for screening), or chroma
+// only (completing a luma-only prediction; out->y untouched).
+void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
+                             MacroblockIntermediate* out);
+void predict_warp_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
+                                  int16_t* out);
+void predict_warp_macroblock_chroma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
+                                    MacroblockIntermediate* out);
+
+// The same definition with 64-bit vector arithmetic and predict_block_reference: the
+// plain reference the fast path is tested against (bit-identical output).
 void predict_warp_macroblock_reference(const ImageYCbCr420& reference, int mb_x, int mb_y,
-                                       const WarpCorners& corners, MacroblockPrediction* out);
+                                       const WarpCorners& corners, MacroblockIntermediate* out);
 
 }  // namespace svc::codec

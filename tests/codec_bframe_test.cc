@@ -227,7 +227,7 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
       for (bool refine : {false, true}) {
         BFrameParams params;
         params.quant_scale = references == 1 ? 5 : 12;
-        params.half_pel_refinement = refine;
+        params.sub_pel_refinement = refine;
         ImageYCbCr420 reconstruction;
         BFrameStats stats;
         const ImageYCbCr420* second = references == 2 ? &ref1 : nullptr;

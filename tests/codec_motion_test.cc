@@ -61,6 +61,36 @@ ImageYCbCr420 textured_crop(int width, int height, int ox, int oy, uint32_t seed
   return image;
 }
 
+// A random block placement and vector: mostly near the face, sometimes far outside it.
+struct BlockCase {
+  PlaneKind kind;
+  int x0, y0, width, height, vx, vy;
+};
+
+BlockCase random_case(std::mt19937& rng, int trial, int w, int h) {
+  BlockCase c;
+  c.kind = trial % 2 == 0 ? PlaneKind::kLuma : PlaneKind::kChroma;
+  const int shape = trial % 4;
+  c.width = shape == 0 ? 16 : (shape == 1 ? 8 : (shape == 2 ? 4 : 1 + static_cast<int>(rng() % 20)));
+  c.height = shape == 0 ? 16 : (shape == 1 ? 8 : (shape == 2 ? 4 : 1 + static_cast<int>(rng() % 20)));
+  c.x0 = static_cast<int>(rng() % static_cast<unsigned>(w + 16));
+  c.y0 = static_cast<int>(rng() % static_cast<unsigned>(h + 16));
+  const int range = trial % 5 == 0 ? 4000 : 8 * std::max(w, h) + 16;
+  c.vx = static_cast<int>(rng() % static_cast<unsigned>(2 * range + 1)) - range;
+  c.vy = static_cast<int>(rng() % static_cast<unsigned>(2 * range + 1)) - range;
+  return c;
+}
+
+void expect_fast_equals_reference(const std::vector<uint8_t>& plane, int w, int h, const BlockCase& c) {
+  std::vector<int16_t> fast(static_cast<size_t>(c.width) * c.height, 0), reference(fast.size(), 1);
+  predict_block(plane.data(), w, h, c.kind, c.x0, c.y0, c.width, c.height, c.vx, c.vy, fast.data(), c.width);
+  predict_block_reference(plane.data(), w, h, c.kind, c.x0, c.y0, c.width, c.height, c.vx, c.vy, reference.data(),
+                          c.width);
+  ASSERT_EQ(fast, reference) << (c.kind == PlaneKind::kLuma ? "luma " : "chroma ") << w << "x" << h << " block "
+                             << c.width << "x" << c.height << " at (" << c.x0 << ", " << c.y0 << ") vector ("
+                             << c.vx << ", " << c.vy << ")";
+}
+
 TEST(MotionCompensation, FastPredictionMatchesReferenceOnRandomData) {
   std::mt19937 rng(42);
   const int sizes[][2] = {{37, 29}, {16, 16}, {1, 1}, {3, 50}, {64, 48}, {8, 8}};
@@ -68,125 +98,137 @@ TEST(MotionCompensation, FastPredictionMatchesReferenceOnRandomData) {
     const int w = size[0], h = size[1];
     std::vector<uint8_t> plane(static_cast<size_t>(w) * h);
     for (uint8_t& v : plane) v = static_cast<uint8_t>(rng());
-    for (int trial = 0; trial < 400; ++trial) {
-      const int block_w = trial % 3 == 0 ? 16 : (trial % 3 == 1 ? 8 : 1 + static_cast<int>(rng() % 20));
-      const int block_h = trial % 3 == 0 ? 16 : (trial % 3 == 1 ? 8 : 1 + static_cast<int>(rng() % 20));
-      const int x0 = static_cast<int>(rng() % static_cast<unsigned>(w + 16));
-      const int y0 = static_cast<int>(rng() % static_cast<unsigned>(h + 16));
-      // Mostly near the face, sometimes far outside it.
-      const int range = trial % 5 == 0 ? 2000 : 4 * std::max(w, h) + 8;
-      const int vx = static_cast<int>(rng() % static_cast<unsigned>(2 * range + 1)) - range;
-      const int vy = static_cast<int>(rng() % static_cast<unsigned>(2 * range + 1)) - range;
-      std::vector<uint8_t> fast(static_cast<size_t>(block_w) * block_h, 0), reference(fast.size(), 1);
-      predict_block(plane.data(), w, h, x0, y0, block_w, block_h, vx, vy, fast.data(), block_w);
-      predict_block_reference(plane.data(), w, h, x0, y0, block_w, block_h, vx, vy, reference.data(), block_w);
-      ASSERT_EQ(fast, reference) << w << "x" << h << " block " << block_w << "x" << block_h << " at (" << x0 << ", "
-                                 << y0 << ") vector (" << vx << ", " << vy << ")";
-    }
+    for (int trial = 0; trial < 400; ++trial)
+      expect_fast_equals_reference(plane, w, h, random_case(rng, trial, w, h));
   }
 }
 
-// Half-pel averages at the ends of the sample range, where a rounding or overflow slip in
-// the vector paths would show.
+// The ends of the sample range, where the filters' negative taps reach the extremes of
+// the 16-bit intermediates.
 TEST(MotionCompensation, FastPredictionMatchesReferenceAtExtremeSamples) {
   std::mt19937 rng(9);
   const uint8_t extremes[] = {0, 1, 2, 127, 128, 253, 254, 255};
   const int w = 40, h = 40;
   std::vector<uint8_t> plane(static_cast<size_t>(w) * h);
   for (uint8_t& v : plane) v = extremes[rng() % 8];
+  // Alternating 0 / 255 columns and rows: the largest and smallest sums of both passes.
+  std::vector<uint8_t> checker(plane.size());
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) checker[static_cast<size_t>(y) * w + x] = ((x ^ y) & 1) ? 255 : 0;
+  }
   for (int trial = 0; trial < 600; ++trial) {
-    const int block = trial % 2 == 0 ? 16 : 8;
-    const int x0 = static_cast<int>(rng() % 24), y0 = static_cast<int>(rng() % 24);
-    const int vx = static_cast<int>(rng() % 17) - 8, vy = static_cast<int>(rng() % 17) - 8;
-    std::vector<uint8_t> fast(static_cast<size_t>(block) * block, 0), reference(fast.size(), 1);
-    predict_block(plane.data(), w, h, x0, y0, block, block, vx, vy, fast.data(), block);
-    predict_block_reference(plane.data(), w, h, x0, y0, block, block, vx, vy, reference.data(), block);
-    ASSERT_EQ(fast, reference) << "block " << block << " at (" << x0 << ", " << y0 << ") vector (" << vx << ", "
-                               << vy << ")";
+    BlockCase c = random_case(rng, trial, w, h);
+    c.vx = static_cast<int>(rng() % 33) - 16;
+    c.vy = static_cast<int>(rng() % 33) - 16;
+    expect_fast_equals_reference(trial % 2 ? plane : checker, w, h, c);
   }
 }
 
-TEST(MotionCompensation, EarlyExitSadMatchesPredictionAndSad) {
+TEST(MotionCompensation, SadOfPredictionMatchesPlainSad) {
   std::mt19937 rng(3);
   const ImageYCbCr420 reference = textured_crop(53, 40, 5, 5);
   std::vector<uint8_t> source(64 * 48);
   for (uint8_t& v : source) v = static_cast<uint8_t>(rng());
-  for (int trial = 0; trial < 2000; ++trial) {
+  for (int trial = 0; trial < 500; ++trial) {
     const int mb_x = static_cast<int>(rng() % 4), mb_y = static_cast<int>(rng() % 3);
-    const int range = trial % 4 == 0 ? 300 : 40;
+    const int range = trial % 4 == 0 ? 600 : 80;
     const MotionVector v{static_cast<int16_t>(static_cast<int>(rng() % (2 * range + 1)) - range),
                          static_cast<int16_t>(static_cast<int>(rng() % (2 * range + 1)) - range)};
+    int16_t intermediate[256];
     uint8_t prediction[256];
-    predict_macroblock_luma(reference, mb_x, mb_y, v, prediction);
+    predict_macroblock_luma(reference, mb_x, mb_y, v, intermediate);
+    round_prediction(intermediate, 256, prediction);
     const uint8_t* block = source.data() + 16 * mb_y * 64 + 16 * mb_x;
     const int exact = sad_16x16_reference(block, 64, prediction);
     ASSERT_EQ(sad_16x16(block, 64, prediction), exact);
-    ASSERT_EQ(sad_macroblock_luma(reference, mb_x, mb_y, v, block, 64, 1 << 30), exact);
-    const int limit = static_cast<int>(rng() % 40000);
-    const int bounded = sad_macroblock_luma(reference, mb_x, mb_y, v, block, 64, limit);
-    if (exact <= limit) {
-      ASSERT_EQ(bounded, exact);
-    } else {
-      ASSERT_GT(bounded, limit);
-    }
+    ASSERT_EQ(sad_macroblock_luma(reference, mb_x, mb_y, v, block, 64), exact);
   }
 }
 
-TEST(MotionCompensation, InterpolationFollowsMpeg2Rounding) {
-  // 2x2 plane: 10 20 / 30 41.
-  const std::vector<uint8_t> plane = {10, 20, 30, 41};
-  uint8_t out[1];
-  predict_block_reference(plane.data(), 2, 2, 0, 0, 1, 1, 1, 0, out, 1);
-  EXPECT_EQ(out[0], 15);  // (10 + 20 + 1) >> 1
-  predict_block(plane.data(), 2, 2, 0, 0, 1, 1, 0, 1, out, 1);
-  EXPECT_EQ(out[0], 20);  // (10 + 30 + 1) >> 1
-  predict_block(plane.data(), 2, 2, 0, 0, 1, 1, 1, 1, out, 1);
-  EXPECT_EQ(out[0], 25);  // (10 + 20 + 30 + 41 + 2) >> 2 = 103 >> 2
-  predict_block(plane.data(), 2, 2, 1, 1, 1, 1, 1, 1, out, 1);
-  EXPECT_EQ(out[0], 41);  // edge extension: all four samples clamp to (1, 1)
-  predict_block(plane.data(), 2, 2, 0, 0, 1, 1, -1, -1, out, 1);
-  EXPECT_EQ(out[0], 10);  // (-1/2, -1/2) clamps to (0, 0)
-  predict_block(plane.data(), 2, 2, 0, 0, 1, 1, -3, 0, out, 1);
-  EXPECT_EQ(out[0], 10);  // x = -1.5: samples -2 and -1 both clamp to column 0
-  predict_block(plane.data(), 2, 2, 0, 0, 1, 1, 1000, 1000, out, 1);
-  EXPECT_EQ(out[0], 41);
+// One row of samples 10, 20, ..., 80 predicted at one position.
+int predict_on_ramp(PlaneKind kind, int x0, int vector_x) {
+  const std::vector<uint8_t> ramp = {10, 20, 30, 40, 50, 60, 70, 80};
+  int16_t intermediate = 0;
+  predict_block(ramp.data(), 8, 1, kind, x0, 0, 1, 1, vector_x, 0, &intermediate, 1);
+  uint8_t sample = 0;
+  round_prediction(&intermediate, 1, &sample);
+  return sample;
 }
 
-TEST(MotionCompensation, ChromaVectorTruncatesTowardZero) {
-  EXPECT_EQ(chroma_vector(MotionVector{3, -3}), (MotionVector{1, -1}));
-  EXPECT_EQ(chroma_vector(MotionVector{-1, 1}), (MotionVector{0, 0}));
-  EXPECT_EQ(chroma_vector(MotionVector{8, -10}), (MotionVector{4, -5}));
+TEST(MotionCompensation, InterpolationFollowsHevcFilters) {
+  // Half pel between 40 and 50: -10 + 80 - 330 + 1600 + 2000 - 660 + 280 - 80 = 2880.
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kLuma, 3, 2), 45);
+  // Quarter pel: -10 + 80 - 300 + 2320 + 850 - 300 + 70 = 2710; (2710 + 32) >> 6 = 42.
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kLuma, 3, 1), 42);
+  // Three quarters: 20 - 150 + 680 + 2900 - 600 + 280 - 80 = 3050; (3050 + 32) >> 6 = 48.
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kLuma, 3, 3), 48);
+  // Chroma 3/8 pel between 40 and 50: -6*30 + 46*40 + 28*50 - 4*60 = 2820; 44.
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kChroma, 3, 3), 44);
+  // Whole pels and edge extension: every tap clamps to the first or last sample.
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kLuma, 3, 4), 50);
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kLuma, 0, -1000), 10);
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kChroma, 7, 1000), 80);
+  // Near the edge the clamped taps repeat 10: at x = 1/4 the taps at -3..4 read 10, 10,
+  // 10, 10, 20, 30, 40, 50: -10 + 40 - 100 + 580 + 340 - 150 + 40 = 740.
+  EXPECT_EQ(predict_on_ramp(PlaneKind::kLuma, 0, 1), (-10 + 40 - 100 + 580 + 340 - 150 + 40 + 32) >> 6);
+}
+
+TEST(MotionCompensation, RoundingAndBidirectionalAverageKeepPrecision) {
+  // Intermediates are 64 x the sample less 8192: 10.25 and 10.5 average to 10.375 -> 10,
+  // where rounding each first (10 and 11) would give 11.
+  const int16_t a[1] = {static_cast<int16_t>(64 * 10 + 16 - kIntermediateOffset)};
+  const int16_t b[1] = {static_cast<int16_t>(64 * 10 + 32 - kIntermediateOffset)};
+  uint8_t out[1];
+  average_prediction(a, b, 1, out);
+  EXPECT_EQ(out[0], 10);
+  round_prediction(b, 1, out);
+  EXPECT_EQ(out[0], 11);
+  // Negative-tap overshoot clips to 0..255.
+  const int16_t low[1] = {-9000}, high[1] = {24000};
+  round_prediction(low, 1, out);
+  EXPECT_EQ(out[0], 0);
+  round_prediction(high, 1, out);
+  EXPECT_EQ(out[0], 255);
+  average_prediction(high, high, 1, out);
+  EXPECT_EQ(out[0], 255);
 }
 
 TEST(MotionCompensation, VectorRange) {
-  EXPECT_EQ(max_vector_component(256, 100), 576);
+  EXPECT_EQ(max_vector_component(256, 100), 1152);
   EXPECT_EQ(max_vector_component(16384, 16384), 32767);
-  EXPECT_TRUE(vector_in_range(MotionVector{576, -576}, 256, 100));
-  EXPECT_FALSE(vector_in_range(MotionVector{577, 0}, 256, 100));
-  EXPECT_FALSE(vector_in_range(MotionVector{0, -577}, 256, 100));
+  EXPECT_TRUE(vector_in_range(MotionVector{1152, -1152}, 256, 100));
+  EXPECT_FALSE(vector_in_range(MotionVector{1153, 0}, 256, 100));
+  EXPECT_FALSE(vector_in_range(MotionVector{0, -1153}, 256, 100));
 }
 
 TEST(MotionCompensation, IntegerVectorCopiesShiftedMacroblock) {
   const ImageYCbCr420 reference = textured_crop(64, 48, 10, 10);
+  MacroblockIntermediate intermediate;
   MacroblockPrediction prediction;
-  predict_macroblock(reference, 1, 1, MotionVector{6, -4}, &prediction);  // (+3, -2) pixels
+  predict_macroblock(reference, 1, 1, MotionVector{12, -8}, &intermediate);  // (+3, -2) pixels
+  finish_prediction(intermediate, nullptr, &prediction);
   for (int y = 0; y < 16; ++y) {
     for (int x = 0; x < 16; ++x) {
       ASSERT_EQ(prediction.y[16 * y + x], reference.y[static_cast<size_t>(16 + y - 2) * 64 + 16 + x + 3]);
     }
   }
-  // Chroma vector (3, -2) half-pels: x is interpolated, y whole.
+  // Chroma reads (12, -8) in eighth pels: x at 1.5 (the 4-tap half filter), y whole.
   const int cw = 32;
   for (int y = 0; y < 8; ++y) {
     for (int x = 0; x < 8; ++x) {
       const size_t i = static_cast<size_t>(8 + y - 1) * cw + 8 + x + 1;
-      ASSERT_EQ(prediction.cb[8 * y + x], (reference.cb[i] + reference.cb[i + 1] + 1) >> 1);
+      const int sum =
+          -4 * reference.cb[i - 1] + 36 * reference.cb[i] + 36 * reference.cb[i + 1] - 4 * reference.cb[i + 2];
+      ASSERT_EQ(prediction.cb[8 * y + x], std::clamp((sum + 32) >> 6, 0, 255));
     }
   }
-  MacroblockPrediction other, mean;
+  MacroblockIntermediate other;
+  MacroblockPrediction mean;
   predict_macroblock(reference, 1, 1, MotionVector{0, 0}, &other);
-  average_predictions(prediction, other, &mean);
-  for (int i = 0; i < 256; ++i) ASSERT_EQ(mean.y[i], (prediction.y[i] + other.y[i] + 1) >> 1);
+  finish_prediction(intermediate, &other, &mean);
+  for (int i = 0; i < 256; ++i)
+    ASSERT_EQ(mean.y[i],
+              (prediction.y[i] + reference.y[static_cast<size_t>(16 + i / 16) * 64 + 16 + i % 16] + 1) >> 1);
 }
 
 // Luma from a function of the pixel position, sampled at (x + ox, y + oy); grey chroma.
@@ -225,13 +267,14 @@ std::vector<double> blob_field(int size, uint32_t seed) {
   return field;
 }
 
-// Interior macroblocks (no edge extension involved) of a 128x96 face whose vector is (10, -6).
+// Interior macroblocks (no edge extension involved) of a 128x96 face whose vector is
+// (20, -12) quarter pels.
 int exact_interior(const FaceCandidates& candidates) {
   int exact = 0;
   for (int my = 1; my < 5; ++my) {
     for (int mx = 1; mx < 7; ++mx) {
       const CandidateList& list = candidates[static_cast<size_t>(my) * 8 + mx];
-      exact += list.size() == 1 && list[0] == MotionVector{10, -6};
+      exact += list.size() == 1 && list[0] == MotionVector{20, -12};
     }
   }
   return exact;
@@ -277,15 +320,15 @@ TEST(LogSearch, FindsHalfPelTranslationAndHandlesOddSizes) {
       source.y[i] = static_cast<uint8_t>((base.y[i] + base.y[i + 1] + 1) >> 1);
     }
   }
-  // source(x) = mean of reference(x) and reference(x + 1): vector (+1, 0) half-pels.
+  // source(x) = mean of reference(x) and reference(x + 1): vector (+2, 0) quarter pels.
   const FaceCandidates candidates = log_search_candidates(source, reference);
   ASSERT_EQ(candidates.size(), 3u * 2u);
-  EXPECT_EQ(candidates[0][0], (MotionVector{1, 0}));
+  EXPECT_EQ(candidates[0][0], (MotionVector{2, 0}));
   LogSearchParams integer_only;
   integer_only.half_pel = false;
   for (const CandidateList& list : log_search_candidates(source, reference, integer_only)) {
-    EXPECT_EQ(list[0].x % 2, 0);
-    EXPECT_EQ(list[0].y % 2, 0);
+    EXPECT_EQ(list[0].x % 4, 0);
+    EXPECT_EQ(list[0].y % 4, 0);
   }
   EXPECT_TRUE(log_search_candidates(source, textured_crop(20, 20, 0, 0)).empty());
 }
@@ -295,8 +338,8 @@ TEST(LogSearch, StaysInsideTheWindow) {
   const ImageYCbCr420 a = textured_crop(96, 64, 0, 0, 3), b = textured_crop(96, 64, 0, 0, 99);
   for (const CandidateList& list : log_search_candidates(a, b)) {
     ASSERT_EQ(list.size(), 1u);
-    EXPECT_LE(std::abs(list[0].x), 65);
-    EXPECT_LE(std::abs(list[0].y), 65);
+    EXPECT_LE(std::abs(list[0].x), 130);
+    EXPECT_LE(std::abs(list[0].y), 130);
   }
 }
 

@@ -93,7 +93,7 @@ WarpField exact_nodes(int width, int height, const Homography& h) {
   return field;
 }
 
-// Per macroblock the distinct half-pel vectors of the exact flow, most frequent first: what
+// Per macroblock the distinct quarter-pel vectors of the exact flow, most frequent first: what
 // a depth-driven encoder offers without warping.
 FaceCandidates exact_candidates(int width, int height, const Homography& h) {
   const int mbs_x = (width + 15) / 16, mbs_y = (height + 15) / 16;
@@ -105,8 +105,8 @@ FaceCandidates exact_candidates(int width, int height, const Homography& h) {
         for (int x = 16 * mx; x < std::min(width, 16 * mx + 16); ++x) {
           double u, v;
           h.apply(x, y, &u, &v);
-          const MotionVector mv{static_cast<int16_t>(std::lround((u - x) * 2)),
-                                static_cast<int16_t>(std::lround((v - y) * 2))};
+          const MotionVector mv{static_cast<int16_t>(std::lround((u - x) * 4)),
+                                static_cast<int16_t>(std::lround((v - y) * 4))};
           auto it = std::find_if(counted.begin(), counted.end(), [&](const auto& c) { return c.second == mv; });
           if (it == counted.end()) {
             counted.push_back({1, mv});
@@ -142,13 +142,13 @@ TEST(WarpPrediction, FastMatchesReferenceOnRandomData) {
         node.x = base_x + static_cast<int>(rng() % (2 * spread + 1)) - spread;
         node.y = base_y + static_cast<int>(rng() % (2 * spread + 1)) - spread;
       }
-      MacroblockPrediction fast, plain;
+      MacroblockIntermediate fast, plain;
       predict_warp_macroblock(reference, mx, my, corners, &fast);
       predict_warp_macroblock_reference(reference, mx, my, corners, &plain);
       ASSERT_EQ(fast.y, plain.y) << w << "x" << h << " trial " << trial;
       ASSERT_EQ(fast.cb, plain.cb) << w << "x" << h << " trial " << trial;
       ASSERT_EQ(fast.cr, plain.cr) << w << "x" << h << " trial " << trial;
-      uint8_t luma[256];
+      int16_t luma[256];
       predict_warp_macroblock_luma(reference, mx, my, corners, luma);
       ASSERT_TRUE(std::equal(luma, luma + 256, plain.y.begin()));
     }
@@ -156,19 +156,35 @@ TEST(WarpPrediction, FastMatchesReferenceOnRandomData) {
 }
 
 TEST(WarpPrediction, UniformNodesEqualTranslation) {
-  // Equal nodes at a whole or half pixel reproduce half-pel motion compensation where
-  // rounding agrees: whole pixels exactly, half pixels within 1.
+  // Equal nodes on the quarter-pel grid give every sub-block the same vector: the
+  // translation, exactly, luma and chroma.
   const int w = 64, h = 48;
   const ImageYCbCr420 reference = random_image(w, h, 3);
-  for (const WarpNode node : {WarpNode{8, -16}, WarpNode{-24, 40}, WarpNode{4, 12}}) {
+  for (const WarpNode node : {WarpNode{8, -16}, WarpNode{-24, 40}, WarpNode{2, 14}, WarpNode{-6, 6}}) {
     const WarpCorners corners = {node, node, node, node};
-    const MotionVector vector{static_cast<int16_t>(node.x / 4), static_cast<int16_t>(node.y / 4)};
-    MacroblockPrediction warped, translated;
+    const MotionVector vector{static_cast<int16_t>(node.x / 2), static_cast<int16_t>(node.y / 2)};
+    MacroblockIntermediate warped, translated;
     predict_warp_macroblock(reference, 1, 1, corners, &warped);
     predict_macroblock(reference, 1, 1, vector, &translated);
-    for (int i = 0; i < 256; ++i) EXPECT_LE(std::abs(warped.y[i] - translated.y[i]), 1) << i;
-    if (node.x % 8 == 0 && node.y % 8 == 0) EXPECT_EQ(warped.y, translated.y);
+    EXPECT_EQ(warped.y, translated.y);
+    EXPECT_EQ(warped.cb, translated.cb);
+    EXPECT_EQ(warped.cr, translated.cr);
   }
+}
+
+TEST(WarpPrediction, SubblockVectorsInterpolateTheCorners) {
+  // Corners (0, 0), (64, 0), (0, 32), (64, 32) in 1/8 pel: the vector grows by 8 (1 pixel)
+  // across the block horizontally and 4 vertically; sub-block centres sit at 1/8, 3/8, ...
+  const WarpCorners corners = {WarpNode{0, 0}, WarpNode{64, 0}, WarpNode{0, 32}, WarpNode{64, 32}};
+  // Luma (0, 0) at a = b = 4: x = 64 * 4/32 = 8 eighths = 4 quarters; y = 32 * 4/32 = 2.
+  EXPECT_EQ(warp_subblock_vector(corners, 4, 4), (std::array<int, 2>{4, 2}));
+  EXPECT_EQ(warp_subblock_vector(corners, 28, 20), (std::array<int, 2>{28, 10}));
+  // Chroma (1, 1) at a = b = 24: x = 48 eighths = 24 quarters, y = 24 / 2 = 12.
+  EXPECT_EQ(warp_subblock_vector(corners, 24, 24), (std::array<int, 2>{24, 12}));
+  // Rounding: S = 1024 * 3 (3/8 pel everywhere) is 1.5 quarters, rounded up to 2;
+  // -3/8 is -1.5, rounded up to -1 (floor after adding half).
+  const WarpNode three{3, -3};
+  EXPECT_EQ(warp_subblock_vector({three, three, three, three}, 12, 12), (std::array<int, 2>{2, -1}));
 }
 
 // Node fields that vary smoothly with some jitter and a jump, for bit-exactness tests.
@@ -207,8 +223,8 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
                                              6);
     const WarpField field0 = test_field(w, h, -3, -2, 1), field1 = test_field(w, h, 2, -1, 2);
     const FaceCandidates c0(static_cast<size_t>((w + 15) / 16) * ((h + 15) / 16),
-                            CandidateList{MotionVector{-6, -4}});
-    const FaceCandidates c1(c0.size(), CandidateList{MotionVector{5, -2}});
+                            CandidateList{MotionVector{-12, -8}});
+    const FaceCandidates c1(c0.size(), CandidateList{MotionVector{10, -3}});
     for (int references = 1; references <= 2; ++references) {
       for (int fields = 0; fields < 3; ++fields) {  // both, only the first, only the second
         BFrameParams params;
@@ -258,8 +274,10 @@ TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
     for (int mx = 0; mx < w / 16; ++mx) {
       WarpCorners corners;
       for (int k = 0; k < 4; ++k) corners[k] = field.at(mx + (k & 1), my + (k >> 1));
+      MacroblockIntermediate intermediate;
       MacroblockPrediction prediction;
-      predict_warp_macroblock(original, mx, my, corners, &prediction);
+      predict_warp_macroblock(original, mx, my, corners, &intermediate);
+      finish_prediction(intermediate, nullptr, &prediction);
       for (int y = 0; y < 16; ++y) {
         for (int x = 0; x < 16; ++x) {
           const double d = prediction.y[16 * y + x] - source.y[static_cast<size_t>(16 * my + y) * w + 16 * mx + x];

@@ -337,13 +337,13 @@ TEST(SpatialReprojection, CubeFacesOfNeighbouringCellsAgreeWithProjection) {
   EXPECT_GT(forward.dy[at(w, w / 2, h - 1)], 0.0f);
 }
 
-TEST(SpatialReprojection, QuantizeRoundsToNearestHalfPixel) {
+TEST(SpatialReprojection, QuantizeRoundsToNearestQuarterPixel) {
   EXPECT_EQ(quantize_flow(0.0, 0.0), (codec::MotionVector{0, 0}));
-  EXPECT_EQ(quantize_flow(0.24, -0.24), (codec::MotionVector{0, 0}));
-  EXPECT_EQ(quantize_flow(0.25, -0.25), (codec::MotionVector{1, -1}));  // halves away from 0
-  EXPECT_EQ(quantize_flow(0.26, -0.74), (codec::MotionVector{1, -1}));
-  EXPECT_EQ(quantize_flow(0.75, -0.76), (codec::MotionVector{2, -2}));
-  EXPECT_EQ(quantize_flow(3.1, -7.9), (codec::MotionVector{6, -16}));
+  EXPECT_EQ(quantize_flow(0.12, -0.12), (codec::MotionVector{0, 0}));
+  EXPECT_EQ(quantize_flow(0.125, -0.125), (codec::MotionVector{1, -1}));  // halves away from 0
+  EXPECT_EQ(quantize_flow(0.13, -0.37), (codec::MotionVector{1, -1}));
+  EXPECT_EQ(quantize_flow(0.375, -0.38), (codec::MotionVector{2, -2}));
+  EXPECT_EQ(quantize_flow(3.1, -7.9), (codec::MotionVector{12, -32}));
   EXPECT_EQ(quantize_flow(1e9, -1e9), (codec::MotionVector{32767, -32767}));
 }
 
@@ -352,7 +352,7 @@ TEST(SpatialReprojection, ConstantFlowGivesOneCandidatePerMacroblock) {
   const auto candidates = macroblock_candidates(flow);
   ASSERT_EQ(candidates.size(), 6u);
   for (const auto& list : candidates) {
-    EXPECT_EQ(list, (codec::CandidateList{{3, -1}}));
+    EXPECT_EQ(list, (codec::CandidateList{{5, -3}}));
   }
   EXPECT_DOUBLE_EQ(mean_candidates_per_macroblock(candidates), 1.0);
 }
@@ -380,9 +380,9 @@ TEST(SpatialReprojection, CandidatesAreDistinctMostFrequentFirst) {
     for (int i = 16; i < 32; ++i) flow.dx[at(32, i, j)] = (i % 2) ? 2.1f : 1.9f;
   const auto candidates = macroblock_candidates(flow);
   ASSERT_EQ(candidates.size(), 2u);
-  // Equal counts: (2, 0) half-pels has y 0 < 2, so it precedes (0, 2).
-  EXPECT_EQ(candidates[0], (codec::CandidateList{{2, 0}, {0, 2}, {1, 0}}));
-  EXPECT_EQ(candidates[1], (codec::CandidateList{{4, 0}}));
+  // Equal counts: (4, 0) quarter-pels has y 0 < 4, so it precedes (0, 4).
+  EXPECT_EQ(candidates[0], (codec::CandidateList{{4, 0}, {0, 4}, {2, 0}}));
+  EXPECT_EQ(candidates[1], (codec::CandidateList{{8, 0}}));
   const CandidateStats stats = candidate_stats(candidates);
   EXPECT_EQ(stats.macroblocks, 2u);
   EXPECT_EQ(stats.candidates, 4u);
@@ -403,21 +403,21 @@ TEST(SpatialReprojection, CandidateCountIsCappedAndRangeBounded) {
   auto candidates = macroblock_candidates(flow);
   ASSERT_EQ(candidates.size(), 1u);
   ASSERT_EQ(candidates[0].size(), static_cast<size_t>(kMaxCandidatesPerMacroblock));
-  EXPECT_EQ(candidates[0][0], (codec::MotionVector{10, 5}));
-  // The rest in (y, x) order of their half-pel values, smallest first.
-  EXPECT_EQ(candidates[0][1], (codec::MotionVector{6, 0}));
+  EXPECT_EQ(candidates[0][0], (codec::MotionVector{20, 10}));
+  // The rest in (y, x) order of their quarter-pel values, smallest first.
+  EXPECT_EQ(candidates[0][1], (codec::MotionVector{12, 0}));
 
-  // Components beyond 2*max(w, h) = 32 half-pels (16 px) contribute nothing.
+  // Components beyond 4*max(w, h) = 64 quarter-pels (16 px) contribute nothing.
   FlowField far = constant_flow(16, 16, 40.0f, 0.0f);
   far.dx[0] = 16.0f;  // exactly at the bound: kept
   candidates = macroblock_candidates(far);
-  EXPECT_EQ(candidates[0], (codec::CandidateList{{32, 0}}));
+  EXPECT_EQ(candidates[0], (codec::CandidateList{{64, 0}}));
 }
 
 // Plain counting with a map: the oracle for macroblock_candidates.
 codec::FaceCandidates plain_candidates(const FlowField& flow) {
   const int mbs_x = (flow.width + 15) / 16, mbs_y = (flow.height + 15) / 16;
-  const int limit = 2 * std::max(flow.width, flow.height);
+  const int limit = 4 * std::max(flow.width, flow.height);
   codec::FaceCandidates out;
   for (int mby = 0; mby < mbs_y; ++mby) {
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
@@ -463,11 +463,11 @@ TEST(SpatialReprojection, CandidatesMatchPlainCounting) {
 }
 
 // The vectorised rounding against the plain one on the values where rounding is delicate:
-// exact quarter pixels (halves of a half-pel), their float neighbours, the range bound,
+// exact eighth pixels (halves of a quarter-pel), their float neighbours, the range bound,
 // NaN and infinities; widths that are not a multiple of four exercise the scalar tail.
 TEST(SpatialReprojection, CandidatesMatchPlainCountingOnEdgeValues) {
   std::vector<float> edges;
-  for (float base : {0.25f, 0.75f, 1.25f, 7.75f, 15.75f, 16.0f, 16.25f}) {
+  for (float base : {0.125f, 0.375f, 1.125f, 7.875f, 15.875f, 16.0f, 16.125f}) {
     for (float sign : {1.0f, -1.0f}) {
       const float v = sign * base;
       edges.insert(edges.end(), {v, std::nextafter(v, 0.0f), std::nextafter(v, 2 * v)});
@@ -478,7 +478,7 @@ TEST(SpatialReprojection, CandidatesMatchPlainCountingOnEdgeValues) {
                 -std::numeric_limits<float>::infinity(), 1e30f, -1e30f, 3e-39f});
   std::mt19937 rng(11);
   for (int round = 0; round < 12; ++round) {
-    const int w = 5 + round * 3, h = 7 + round;  // 16-px bound at w = 8 (limit 2 * max(w, h))
+    const int w = 5 + round * 3, h = 7 + round;  // the bound, max(w, h) px, passes 16 at round 4
     FlowField flow = constant_flow(w, h, 0.0f, 0.0f);
     for (size_t k = 0; k < flow.dx.size(); ++k) {
       flow.dx[k] = edges[rng() % edges.size()];
@@ -500,10 +500,10 @@ TEST(SpatialReprojection, ParallaxOfTwoDepthsGivesTwoCandidates) {
     for (int i = 0; i < w; ++i) depth[at(w, i, j)] = i < 24 ? 2.0f : 6.0f;
   const auto candidates = macroblock_candidates(compute_flow(current, reference, w, h, depth));
   ASSERT_EQ(candidates.size(), 3u);
-  // f*b/z = 24*0.5/2 = 6 px (12 half-pels), 24*0.5/6 = 2 px (4 half-pels).
-  EXPECT_EQ(candidates[0], (codec::CandidateList{{-12, 0}}));
-  EXPECT_EQ(candidates[1], (codec::CandidateList{{-12, 0}, {-4, 0}}));
-  EXPECT_EQ(candidates[2], (codec::CandidateList{{-4, 0}}));
+  // f*b/z = 24*0.5/2 = 6 px (24 quarter-pels), 24*0.5/6 = 2 px (8 quarter-pels).
+  EXPECT_EQ(candidates[0], (codec::CandidateList{{-24, 0}}));
+  EXPECT_EQ(candidates[1], (codec::CandidateList{{-24, 0}, {-8, 0}}));
+  EXPECT_EQ(candidates[2], (codec::CandidateList{{-8, 0}}));
 }
 
 // A wall 5 units in front of the current camera, seen by a reference 1 unit behind it:

@@ -38,21 +38,17 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   init_quant_c(&table);
   init_color_c(&table);
   init_mc_c(&table);
-  init_warp_c(&table);
   init_intra_c(&table);
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);
     init_transform_sse2(&table);
-    init_warp_sse2(&table);
     init_color_sse2(&table);
   }
   if ((cpu_flags & (kCpuSse2 | kCpuSse41)) == (kCpuSse2 | kCpuSse41)) {
     init_color_sse41(&table);
     init_intra_sse41(&table);
-  }
-  if ((cpu_flags & (kCpuSse2 | kCpuSse41 | kCpuAvx2)) == (kCpuSse2 | kCpuSse41 | kCpuAvx2)) {
-    init_mc_avx2(&table);
+    init_mc_sse41(&table);
   }
 #endif
   return table;

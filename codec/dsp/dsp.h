@@ -25,17 +25,6 @@ unsigned detected_cpu_flags();
 // (a number, e.g. 0 for the plain references only, 0x1 for SSE2); read once.
 unsigned active_cpu_flags();
 
-// One step of warped prediction along a row (codec/warp_prediction.h has the formulas):
-// sample u of `count` sits at X = x16 + 16 u + ((sx + u step_x + round) >> shift) in
-// 1/16 pel (Y likewise, with y16 fixed), every tap inside the plane.
-struct WarpRow {
-  int x16, y16;        // 16 x (block column), 16 x (block row)
-  int sx, sy;          // weighted node sums at the first sample
-  int step_x, step_y;  // their change per sample
-  int shift;           // 9 (luma) or 8 (chroma); round = 1 << (shift - 1)
-  int count;           // 8 or 16
-};
-
 // Samples of an intra prediction edge: 16 left (bottom to top), the corner, 16 above.
 inline constexpr int kIntraEdgeSamples = 33;
 
@@ -59,21 +48,20 @@ struct DspTable {
   void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
   void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
-  // Half-pel interpolation of a width x height block (fx, fy in {0, 1}) from a window
-  // holding (width + fx) x (height + fy) samples; sizes up to 64.
-  void (*put_half_pel)(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
-                       uint8_t* out, ptrdiff_t out_stride);
-  // (a + b + 1) >> 1 per sample; out may alias a or b.
-  void (*average)(const uint8_t* a, const uint8_t* b, int count, uint8_t* out);
+  // Separable 8-tap interpolation (docs/codec.md, section 10.1): `window` points at the
+  // top-left tap, 3 samples left of and above the block's integer position, and holds
+  // (width + 7) x (height + 7) samples; h_taps and v_taps hold 8 coefficients each
+  // (summing to 64). out = ((sum_j v[j] sum_i h[i] window[y + j][x + i]) >> 6) - 8192,
+  // the intermediate sample of 14 bits less the offset that makes it fit int16. Widths
+  // 4 to 64 in steps of 4, heights 1 to 64.
+  void (*interpolate_8tap)(const uint8_t* window, ptrdiff_t window_stride, int width, int height,
+                           const int8_t* h_taps, const int8_t* v_taps, int16_t* out, ptrdiff_t out_stride);
+  // Single prediction from intermediates: clip((in + 8192 + 32) >> 6, 0, 255).
+  void (*put_intermediate)(const int16_t* in, int count, uint8_t* out);
+  // Bidirectional prediction: clip((a + b + 2 * 8192 + 64) >> 7, 0, 255).
+  void (*average_intermediate)(const int16_t* a, const int16_t* b, int count, uint8_t* out);
   // SAD of a 16x16 block against 256 packed samples.
   int (*sad_16x16)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
-  // SAD of a 16x16 block against the half-pel interpolation of `reference` (17x17 window
-  // read where fx, fy ask for it), exact when <= limit, else some value > limit.
-  int (*sad_half_pel_16x16)(const uint8_t* reference, ptrdiff_t reference_stride, int fx, int fy,
-                            const uint8_t* source, ptrdiff_t source_stride, int limit);
-  // Bilinear warped samples along one row, all taps inside `plane`.
-  void (*warp_row)(const uint8_t* plane, ptrdiff_t stride, const WarpRow& row, uint8_t* out);
-
   // Intra prediction of an 8x8 block (64 samples, row-major) in mode 0..34 (planar, DC,
   // angles; docs/codec.md 3.1) from its edge: edge[15 - i] is the left neighbour of row
   // i (i = 0..15, rows 8..15 below the block), edge[16] the top-left corner, edge[17 + i]

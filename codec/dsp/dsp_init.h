@@ -10,12 +10,17 @@ void init_transform_c(DspTable* table);
 void init_quant_c(DspTable* table);
 void init_color_c(DspTable* table);
 void init_mc_c(DspTable* table);
-void init_warp_c(DspTable* table);
 void init_intra_c(DspTable* table);
 
+// Interpolation: the largest block side and the offset of stored intermediates.
+inline constexpr int kMaxInterpolationBlock = 64;
+inline constexpr int kIntermediateOffset = 8192;
+
 // Plain kernels that x86 variants fall back to for the sizes they do not specialise.
-void put_half_pel_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
-                    uint8_t* out, ptrdiff_t out_stride);
+void interpolate_8tap_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, const int8_t* h_taps,
+                        const int8_t* v_taps, int16_t* out, ptrdiff_t out_stride);
+void put_intermediate_c(const int16_t* in, int count, uint8_t* out);
+void average_intermediate_c(const int16_t* a, const int16_t* b, int count, uint8_t* out);
 void rgb_to_luma_row_c(const uint8_t* rgb, int width, uint8_t* y);
 void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
 void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out);
@@ -33,10 +38,9 @@ void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, 
 #if defined(__x86_64__) || defined(__i386__)
 void init_mc_sse2(DspTable* table);
 void init_transform_sse2(DspTable* table);
-void init_warp_sse2(DspTable* table);
+void init_mc_sse41(DspTable* table);
 void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
-void init_mc_avx2(DspTable* table);
 void init_intra_sse41(DspTable* table);
 #endif
 

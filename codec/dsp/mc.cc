@@ -1,5 +1,6 @@
-// Plain motion-compensation kernels: MPEG-2 half-pel interpolation, bi-prediction
-// averaging and SADs (codec/motion_compensation.h defines the arithmetic).
+// Plain motion-compensation kernels: the separable 8-tap interpolation to 14-bit
+// intermediates, their rounding to samples (single and bidirectional) and the SAD
+// (docs/codec.md, section 10.1, defines the arithmetic).
 #include <algorithm>
 #include <cstdlib>
 
@@ -7,31 +8,39 @@
 
 namespace svc::codec::dsp {
 
-void put_half_pel_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
-                    uint8_t* out, ptrdiff_t out_stride) {
+void interpolate_8tap_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, const int8_t* h_taps,
+                        const int8_t* v_taps, int16_t* out, ptrdiff_t out_stride) {
+  // First pass over the height + 7 rows the second reads; fits int16 (|sum| <= 88 * 255).
+  int16_t rows[(kMaxInterpolationBlock + 7) * kMaxInterpolationBlock];
+  for (int y = 0; y < height + 7; ++y) {
+    const uint8_t* src = window + y * window_stride;
+    for (int x = 0; x < width; ++x) {
+      int sum = 0;
+      for (int i = 0; i < 8; ++i) sum += h_taps[i] * src[x + i];
+      rows[y * width + x] = static_cast<int16_t>(sum);
+    }
+  }
   for (int y = 0; y < height; ++y) {
-    const uint8_t* row = window + y * window_stride;
-    const uint8_t* below = row + window_stride;
-    uint8_t* dst = out + y * out_stride;
-    if (fx == 0 && fy == 0) {
-      std::copy_n(row, width, dst);
-    } else if (fy == 0) {
-      for (int x = 0; x < width; ++x) dst[x] = static_cast<uint8_t>((row[x] + row[x + 1] + 1) >> 1);
-    } else if (fx == 0) {
-      for (int x = 0; x < width; ++x) dst[x] = static_cast<uint8_t>((row[x] + below[x] + 1) >> 1);
-    } else {
-      for (int x = 0; x < width; ++x) {
-        dst[x] = static_cast<uint8_t>((row[x] + row[x + 1] + below[x] + below[x + 1] + 2) >> 2);
-      }
+    for (int x = 0; x < width; ++x) {
+      int sum = 0;
+      for (int j = 0; j < 8; ++j) sum += v_taps[j] * rows[(y + j) * width + x];
+      out[y * out_stride + x] = static_cast<int16_t>((sum >> 6) - kIntermediateOffset);
     }
   }
 }
 
-namespace {
-
-void average_c(const uint8_t* a, const uint8_t* b, int count, uint8_t* out) {
-  for (int i = 0; i < count; ++i) out[i] = static_cast<uint8_t>((a[i] + b[i] + 1) >> 1);
+void put_intermediate_c(const int16_t* in, int count, uint8_t* out) {
+  for (int i = 0; i < count; ++i)
+    out[i] = static_cast<uint8_t>(std::clamp((in[i] + kIntermediateOffset + 32) >> 6, 0, 255));
 }
+
+void average_intermediate_c(const int16_t* a, const int16_t* b, int count, uint8_t* out) {
+  for (int i = 0; i < count; ++i) {
+    out[i] = static_cast<uint8_t>(std::clamp((a[i] + b[i] + 2 * kIntermediateOffset + 64) >> 7, 0, 255));
+  }
+}
+
+namespace {
 
 int sad_16x16_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
   int sum = 0;
@@ -43,26 +52,13 @@ int sad_16x16_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* p
   return sum;
 }
 
-int sad_half_pel_16x16_c(const uint8_t* reference, ptrdiff_t reference_stride, int fx, int fy,
-                         const uint8_t* source, ptrdiff_t source_stride, int limit) {
-  int sum = 0;
-  for (int y = 0; y < 16; ++y) {
-    uint8_t prediction[16];
-    put_half_pel_c(reference + y * reference_stride, reference_stride, 16, 1, fx, fy, prediction, 16);
-    const uint8_t* src = source + y * source_stride;
-    for (int x = 0; x < 16; ++x) sum += std::abs(src[x] - prediction[x]);
-    if (sum > limit) return sum;  // the search only needs to know it lost
-  }
-  return sum;
-}
-
 }  // namespace
 
 void init_mc_c(DspTable* table) {
-  table->put_half_pel = put_half_pel_c;
-  table->average = average_c;
+  table->interpolate_8tap = interpolate_8tap_c;
+  table->put_intermediate = put_intermediate_c;
+  table->average_intermediate = average_intermediate_c;
   table->sad_16x16 = sad_16x16_c;
-  table->sad_half_pel_16x16 = sad_half_pel_16x16_c;
 }
 
 }  // namespace svc::codec::dsp

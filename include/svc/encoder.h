@@ -21,11 +21,14 @@ namespace svc {
 struct CodingTools {
   // B-faces: macroblocks predicted through a field of corner vectors (docs/codec.md 10.1).
   bool warped_prediction = true;
-  // B-faces: the half-pel neighbours of the best candidate vector are tried as well.
+  // B-faces: the half-pel, then quarter-pel neighbours of the best candidate vector are
+  // tried as well.
   bool sub_pel_refinement = true;
   // I-faces: the 33 angular intra prediction modes; without them every block is
   // predicted by the planar or DC mode (docs/codec.md 3.1).
   bool intra_directional = true;
+  // B-faces: quarter-pel vectors (off: the encoder keeps to half-pel positions).
+  bool quarter_pel = true;
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.

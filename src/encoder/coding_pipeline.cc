@@ -34,7 +34,8 @@ class Pipeline {
     intra_params_.directional_intra = job.tools.intra_directional;
     b_params_.quant_scale = codec::suggested_b_quant_scale(intra_params_.quant_scale);
     b_params_.warp = job.tools.warped_prediction;
-    b_params_.half_pel_refinement = job.tools.sub_pel_refinement;
+    b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
+    b_params_.quarter_pel = job.tools.quarter_pel;
   }
 
   Status run() {

@@ -11,9 +11,9 @@ void flow_row_c(const FlowRow& row, const float* depth, float* dx, float* dy, ui
   for (int i = 0; i < row.count; ++i) flow_pixel(row, i, depth[i], &dx[i], &dy[i], &valid[i]);
 }
 
-void half_pel_keys_c(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit,
-                     int32_t no_key, int32_t* keys) {
-  for (size_t i = 0; i < count; ++i) keys[i] = half_pel_key(dx[i], dy[i], valid[i], limit, no_key);
+void quarter_pel_keys_c(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit,
+                        int32_t no_key, int32_t* keys) {
+  for (size_t i = 0; i < count; ++i) keys[i] = quarter_pel_key(dx[i], dy[i], valid[i], limit, no_key);
 }
 
 unsigned run_ends_16_c(const int32_t* row) {
@@ -25,7 +25,7 @@ unsigned run_ends_16_c(const int32_t* row) {
 }  // namespace
 
 FlowKernels make_flow_kernels(unsigned cpu_flags) {
-  FlowKernels kernels{flow_row_c, half_pel_keys_c, run_ends_16_c};
+  FlowKernels kernels{flow_row_c, quarter_pel_keys_c, run_ends_16_c};
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & codec::dsp::kCpuSse2) init_flow_sse2(&kernels);
 #else

@@ -34,11 +34,11 @@ struct FlowKernels {
   // Flow (dx, dy) and validity of `row.count` pixels from their depths; invalid pixels
   // get dx = dy = 0.
   void (*flow_row)(const FlowRow& row, const float* depth, float* dx, float* dy, uint8_t* valid);
-  // Half-pel keys (y * 65536 + x) of `count` pixels: each component rounded to the
-  // nearest half pixel, halves away from zero, kept only within +-limit (limit <= 32767)
+  // Quarter-pel keys (y * 65536 + x) of `count` pixels: each component rounded to the
+  // nearest quarter pixel, halves away from zero, kept only within +-limit (limit <= 32767)
   // and for valid pixels; `no_key` otherwise.
-  void (*half_pel_keys)(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit,
-                        int32_t no_key, int32_t* keys);
+  void (*quarter_pel_keys)(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit,
+                           int32_t no_key, int32_t* keys);
   // Bit i set where a run of equal keys ends at key i of a row of 16: key i differs from
   // key i + 1, or i is the last.
   unsigned (*run_ends_16)(const int32_t* row);

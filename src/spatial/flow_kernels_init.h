@@ -35,13 +35,13 @@ inline void flow_pixel(const FlowRow& r, int i, float z, float* dx, float* dy, u
   *valid = ok;
 }
 
-// One component in half pels, halves away from zero; false beyond +-limit, for NaN and
-// for infinities. Every float step is exact (doubling, truncating a value below 2^15,
-// subtracting that), so four lanes at a time give the same results.
+// One component in quarter pels, halves away from zero; false beyond +-limit, for NaN
+// and for infinities. Every float step is exact (multiplying by 4, truncating a value
+// below 2^15, subtracting that), so four lanes at a time give the same results.
 inline bool round_half_away(float d, float bound, int limit, int* out) {
-  const float twice = d * 2.0f;
-  const bool in_range = std::abs(twice) < bound;  // false for NaN
-  const float safe = in_range ? twice : 0.0f;
+  const float scaled = d * 4.0f;
+  const bool in_range = std::abs(scaled) < bound;  // false for NaN
+  const float safe = in_range ? scaled : 0.0f;
   int rounded = static_cast<int>(safe);
   const float fraction = safe - static_cast<float>(rounded);
   rounded += static_cast<int>(fraction >= 0.5f) - static_cast<int>(fraction <= -0.5f);
@@ -49,7 +49,7 @@ inline bool round_half_away(float d, float bound, int limit, int* out) {
   return in_range & (rounded <= limit) & (rounded >= -limit);
 }
 
-inline int32_t half_pel_key(float dx, float dy, uint8_t valid, int limit, int32_t no_key) {
+inline int32_t quarter_pel_key(float dx, float dy, uint8_t valid, int limit, int32_t no_key) {
   const float bound = static_cast<float>(limit) + 0.5f;
   int x = 0, y = 0;
   const bool x_ok = round_half_away(dx, bound, limit, &x);

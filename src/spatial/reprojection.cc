@@ -220,13 +220,13 @@ std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& r
 }
 
 codec::MotionVector quantize_flow(double dx, double dy) {
-  auto to_half_pel = [](double d) -> int16_t {
-    const double half_pels = std::round(d * 2.0);  // halves away from zero
-    if (!(half_pels > -32767.0)) return -32767;    // NaN saturates low
-    if (half_pels > 32767.0) return 32767;
-    return static_cast<int16_t>(half_pels);
+  auto to_quarter_pel = [](double d) -> int16_t {
+    const double quarter_pels = std::round(d * codec::kVectorUnitsPerPixel);  // halves away from zero
+    if (!(quarter_pels > -32767.0)) return -32767;                            // NaN saturates low
+    if (quarter_pels > 32767.0) return 32767;
+    return static_cast<int16_t>(quarter_pels);
   };
-  return codec::MotionVector{to_half_pel(dx), to_half_pel(dy)};
+  return codec::MotionVector{to_quarter_pel(dx), to_quarter_pel(dy)};
 }
 
 // One function (about 150 lines) on purpose: its scratch tables (histogram, hash slots,
@@ -240,7 +240,7 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   if (n == 0 || flow.dx.size() != n || flow.dy.size() != n || flow.valid.size() != n) {
     return result;
   }
-  const int limit = std::min(2 * std::max(flow.width, flow.height), 32767);
+  const int limit = std::min(codec::kVectorUnitsPerPixel * std::max(flow.width, flow.height), 32767);
 
   // A vector's key orders vectors by y, then x: key = y * 65536 + x. No valid key equals
   // kNoKey (|x|, |y| <= 32767).
@@ -281,8 +281,9 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   for (int mby = 0; mby < mbs_y; ++mby) {
     const size_t stripe_begin = static_cast<size_t>(mby) * kMb * width;
     const size_t stripe_pixels = static_cast<size_t>(std::min(kMb, flow.height - mby * kMb)) * width;
-    flow_kernels.half_pel_keys(flow.dx.data() + stripe_begin, flow.dy.data() + stripe_begin,
-                               flow.valid.data() + stripe_begin, stripe_pixels, limit, kNoKey, stripe_keys.data());
+    flow_kernels.quarter_pel_keys(flow.dx.data() + stripe_begin, flow.dy.data() + stripe_begin,
+                                  flow.valid.data() + stripe_begin, stripe_pixels, limit, kNoKey,
+                                  stripe_keys.data());
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
       int distinct_count = 0;
       const int y_begin = mby * kMb, y_end = std::min(flow.height, (mby + 1) * kMb);

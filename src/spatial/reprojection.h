@@ -72,15 +72,15 @@ std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& r
 // work on chaotic blocks (foliage, depth edges); the dissertation reports ~5 on average.
 inline constexpr int kMaxCandidatesPerMacroblock = 32;
 
-// A flow in pixels rounded to half-pixel units, each component to the nearest half
-// pixel (halves rounded away from zero). Components beyond +-32767 are saturated.
+// A flow in pixels rounded to quarter-pixel units, each component to the nearest
+// quarter pixel (halves rounded away from zero). Components beyond +-32767 are saturated.
 codec::MotionVector quantize_flow(double dx, double dy);
 
-// Distinct half-pixel vectors of each 16x16 macroblock, most frequent first (ties: by
+// Distinct quarter-pixel vectors of each 16x16 macroblock, most frequent first (ties: by
 // smaller y, then smaller x). Faces are padded to whole macroblocks: ceil(w/16) x
 // ceil(h/16) lists in row-major macroblock order; pixels outside the face and invalid
 // pixels contribute nothing, so a list may be empty. A pixel whose quantized vector has
-// a component beyond +-2*max(w, h) half pixels (a displacement larger than the face)
+// a component beyond +-4*max(w, h) quarter pixels (a displacement larger than the face)
 // contributes nothing either. At most kMaxCandidatesPerMacroblock vectors per list.
 codec::FaceCandidates macroblock_candidates(const FlowField& flow);
 

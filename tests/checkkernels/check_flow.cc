@@ -134,7 +134,7 @@ float random_component(Random& random, int limit) {
   }
 }
 
-std::string check_half_pel_keys(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+std::string check_quarter_pel_keys(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   constexpr int32_t kNoKey = std::numeric_limits<int32_t>::min();
   for (int n = 0; n < iterations + 64; ++n) {
     const size_t count = n < 64 ? static_cast<size_t>(n)
@@ -156,10 +156,10 @@ std::string check_half_pel_keys(const Tables& reference, const Tables& variant, 
       valid[i] = static_cast<uint8_t>(v == 0 ? 0 : v == 1 ? random.byte() : 1);
     }
     std::vector<int32_t> expected(size, 0x5a5a5a5a), actual(size, 0x5a5a5a5a);
-    reference.flow.half_pel_keys(dx.data() + offset, dy.data() + offset, valid.data() + offset, count, limit,
-                                 kNoKey, expected.data() + offset);
-    variant.flow.half_pel_keys(dx.data() + offset, dy.data() + offset, valid.data() + offset, count, limit, kNoKey,
-                               actual.data() + offset);
+    reference.flow.quarter_pel_keys(dx.data() + offset, dy.data() + offset, valid.data() + offset, count, limit,
+                                    kNoKey, expected.data() + offset);
+    variant.flow.quarter_pel_keys(dx.data() + offset, dy.data() + offset, valid.data() + offset, count, limit,
+                                  kNoKey, actual.data() + offset);
     if (auto diff = first_difference(expected.data(), actual.data(), size); !diff.empty()) {
       const size_t at =
           std::min(size - 1,
@@ -236,7 +236,7 @@ void bench_flow_row(const Tables& table, int iterations) {
   bench_sink = valid[7] + static_cast<int>(dx[7]);
 }
 
-void bench_half_pel_keys(const Tables& table, int iterations) {
+void bench_quarter_pel_keys(const Tables& table, int iterations) {
   std::vector<float> dx(kBenchWidth), dy(kBenchWidth);
   std::vector<uint8_t> valid(kBenchWidth, 1);
   for (int i = 0; i < kBenchWidth; ++i) {
@@ -245,7 +245,7 @@ void bench_half_pel_keys(const Tables& table, int iterations) {
   }
   std::vector<int32_t> keys(kBenchWidth);
   for (int n = 0; n < iterations; ++n) {
-    table.flow.half_pel_keys(dx.data(), dy.data(), valid.data(), kBenchWidth, 1024, -1, keys.data());
+    table.flow.quarter_pel_keys(dx.data(), dy.data(), valid.data(), kBenchWidth, 1024, -1, keys.data());
   }
   bench_sink = keys[7];
 }
@@ -263,8 +263,8 @@ void bench_run_ends_16(const Tables& table, int iterations) {
 std::vector<Kernel> flow_kernels() {
   return {
       {"flow_row", [](const Tables& t) { return entry_of(t.flow.flow_row); }, check_flow_row, bench_flow_row},
-      {"half_pel_keys", [](const Tables& t) { return entry_of(t.flow.half_pel_keys); }, check_half_pel_keys,
-       bench_half_pel_keys},
+      {"quarter_pel_keys", [](const Tables& t) { return entry_of(t.flow.quarter_pel_keys); },
+       check_quarter_pel_keys, bench_quarter_pel_keys},
       {"run_ends_16", [](const Tables& t) { return entry_of(t.flow.run_ends_16); }, check_run_ends_16,
        bench_run_ends_16},
   };

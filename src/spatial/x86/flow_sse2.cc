@@ -1,5 +1,5 @@
 // SSE2 flow kernels: the plain formulas two pixels (flow, in doubles) or four pixels
-// (half-pel keys) at a time with the same operations in the same order, so the same
+// (quarter-pel keys) at a time with the same operations in the same order, so the same
 // bits; comparison masks replace the branches.
 #include <emmintrin.h>
 
@@ -63,9 +63,9 @@ void flow_row_sse2(const FlowRow& r, const float* depth, float* dx, float* dy, u
 // round_half_away four lanes at a time; *ok is -1 where the lane is in range.
 __m128i round_half_away4(__m128 d, __m128 bound, __m128i limit, __m128i* ok) {
   const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-  const __m128 twice = _mm_add_ps(d, d);
-  const __m128 in_range = _mm_cmplt_ps(_mm_and_ps(twice, abs_mask), bound);  // false for NaN
-  const __m128 safe = _mm_and_ps(twice, in_range);
+  const __m128 scaled = _mm_mul_ps(d, _mm_set1_ps(4.0f));
+  const __m128 in_range = _mm_cmplt_ps(_mm_and_ps(scaled, abs_mask), bound);  // false for NaN
+  const __m128 safe = _mm_and_ps(scaled, in_range);
   __m128i rounded = _mm_cvttps_epi32(safe);
   const __m128 fraction = _mm_sub_ps(safe, _mm_cvtepi32_ps(rounded));
   // Comparison masks are -1 where true.
@@ -77,8 +77,8 @@ __m128i round_half_away4(__m128 d, __m128 bound, __m128i limit, __m128i* ok) {
   return rounded;
 }
 
-void half_pel_keys_sse2(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit,
-                        int32_t no_key, int32_t* keys) {
+void quarter_pel_keys_sse2(const float* dx, const float* dy, const uint8_t* valid, size_t count, int limit,
+                           int32_t no_key, int32_t* keys) {
   const __m128 bound = _mm_set1_ps(static_cast<float>(limit) + 0.5f);
   const __m128i limit4 = _mm_set1_epi32(limit), no_key4 = _mm_set1_epi32(no_key), zero = _mm_setzero_si128();
   size_t i = 0;
@@ -94,7 +94,7 @@ void half_pel_keys_sse2(const float* dx, const float* dy, const uint8_t* valid, 
     _mm_storeu_si128(reinterpret_cast<__m128i*>(keys + i),
                      _mm_or_si128(_mm_and_si128(ok, key), _mm_andnot_si128(ok, no_key4)));
   }
-  for (; i < count; ++i) keys[i] = half_pel_key(dx[i], dy[i], valid[i], limit, no_key);
+  for (; i < count; ++i) keys[i] = quarter_pel_key(dx[i], dy[i], valid[i], limit, no_key);
 }
 
 unsigned run_ends_16_sse2(const int32_t* row) {
@@ -114,7 +114,7 @@ unsigned run_ends_16_sse2(const int32_t* row) {
 
 void init_flow_sse2(FlowKernels* kernels) {
   kernels->flow_row = flow_row_sse2;
-  kernels->half_pel_keys = half_pel_keys_sse2;
+  kernels->quarter_pel_keys = quarter_pel_keys_sse2;
   kernels->run_ends_16 = run_ends_16_sse2;
 }
 
