@@ -26,6 +26,9 @@ struct CodingTools {
   // I-faces: the 33 angular intra prediction modes; without them every block is
   // predicted by the planar or DC mode (docs/codec.md 3.1).
   bool intra_directional = true;
+  // I-faces: each block's mode and whether it keeps its levels chosen by
+  // rate-distortion cost among the best modes by SATD (docs/codec.md 3.2).
+  bool intra_rd_search = true;
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.
