@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "codec/bframe_syntax.h"
 #include "codec/block_coder.h"
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
@@ -94,23 +95,116 @@ std::array<PlaneGeometry, 3> planes_of(const BlockLayout& layout, int width, int
 
 Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "intra frame: " + what); }
 
-// Encoder only: the mode with the least SATD of its residual plus a rate term.
-int choose_intra_mode(const uint8_t* source, int stride, const uint8_t* edge,
-                      const std::array<int, kMostProbableModes>& candidates, int quant_scale, bool directional) {
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  const int lambda = 4 * quant_scale;  // SATD units per bit, tuned on the photographic scenes
-  int best_mode = kDcMode, best_cost = std::numeric_limits<int>::max();
+// Encoder only: a block's mode, prediction and residual levels.
+struct BlockChoice {
+  int mode = kDcMode;
+  bool coded = false;
   uint8_t prediction[64];
-  for (int mode = 0; mode < (directional ? kIntraModes : 2); ++mode) {
-    dsp.intra_predict_8x8(edge, mode, prediction);
-    const int cost = dsp.satd_8x8(source, stride, prediction) + lambda * intra_mode_bits(candidates, mode);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best_mode = mode;
+  int16_t levels[64];
+};
+
+float intra_mode_cost(const IntraModeContexts& c, const std::array<int, kMostProbableModes>& candidates, int mode) {
+  const auto found = std::find(candidates.begin(), candidates.end(), mode);
+  const int index = static_cast<int>(found - candidates.begin());
+  if (found == candidates.end()) return bframe::bit_cost(c.is_most_probable, 0) + 5;
+  float bits = bframe::bit_cost(c.is_most_probable, 1) + bframe::bit_cost(c.most_probable_index[0], index > 0);
+  return index > 0 ? bits + bframe::bit_cost(c.most_probable_index[1], index > 1) : bits;
+}
+
+int block_sse(const uint8_t* source, int stride, const uint8_t* block) {
+  int sum = 0;
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 8; ++x) {
+      const int d = source[y * stride + x] - block[8 * y + x];
+      sum += d * d;
     }
   }
-  return best_mode;
+  return sum;
 }
+
+// Encoder only: chooses a block's mode in two steps, as libaom and x265 do: the SATD of
+// every mode's residual plus a rate term keeps a few candidates, then each is
+// transformed, quantized and costed as SSE + lambda * bits with the current contexts
+// (its levels dropped when the prediction alone costs less).
+class BlockSearch {
+ public:
+  BlockSearch(const Quantizer& quantizer, int quant_scale, const CodingParams& params)
+      : quantizer_(quantizer),
+        quant_scale_(quant_scale),
+        modes_(params.directional_intra ? kIntraModes : 2),
+        rd_search_(params.rd_intra_search),
+        lambda_(0.1f * static_cast<float>(quant_scale * quant_scale)) {}
+
+  // `candidates` null: the mode is fixed (a Cr block takes its Cb block's).
+  void choose(const uint8_t* source, int stride, const uint8_t* edge, const PlaneContexts& contexts,
+              const std::array<int, kMostProbableModes>* candidates, int cbf_context, BlockChoice* best) const {
+    std::array<int, kSearchedModes> searched{best->mode, -1, -1};
+    if (candidates != nullptr) searched = preselect(source, stride, edge, *candidates);
+    float best_cost = std::numeric_limits<float>::max();
+    for (int mode : searched) {
+      if (mode < 0) continue;
+      BlockChoice trial;
+      trial.mode = mode;
+      const float mode_bits = candidates != nullptr ? intra_mode_cost(contexts.modes, *candidates, mode) : 0;
+      const float cost = evaluate(source, stride, edge, contexts.residual, cbf_context, mode_bits, &trial);
+      if (cost < best_cost) {
+        best_cost = cost;
+        *best = trial;
+      }
+    }
+  }
+
+ private:
+  static constexpr int kSearchedModes = 3;
+
+  std::array<int, kSearchedModes> preselect(const uint8_t* source, int stride, const uint8_t* edge,
+                                            const std::array<int, kMostProbableModes>& candidates) const {
+    const dsp::DspTable& dsp = dsp::get_dsp();
+    const int lambda = 4 * quant_scale_;  // SATD units per bit, tuned on the photographic scenes
+    std::array<std::pair<int, int>, kIntraModes> costs;
+    uint8_t prediction[64];
+    for (int mode = 0; mode < modes_; ++mode) {
+      dsp.intra_predict_8x8(edge, mode, prediction);
+      costs[mode] = {dsp.satd_8x8(source, stride, prediction) + lambda * intra_mode_bits(candidates, mode), mode};
+    }
+    const int kept = rd_search_ ? std::min(kSearchedModes, modes_) : 1;
+    std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + modes_);
+    std::array<int, kSearchedModes> searched{-1, -1, -1};
+    for (int i = 0; i < kept; ++i) searched[i] = costs[i].second;
+    return searched;
+  }
+
+  float evaluate(const uint8_t* source, int stride, const uint8_t* edge, const BlockContextSet& contexts,
+                 int cbf_context, float mode_bits, BlockChoice* trial) const {
+    dsp::get_dsp().intra_predict_8x8(edge, trial->mode, trial->prediction);
+    int16_t residual[64], coefficients[64];
+    for (int y = 0; y < 8; ++y) {
+      for (int x = 0; x < 8; ++x)
+        residual[8 * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[8 * y + x]);
+    }
+    trial->coded = transform_quantize_block(quantizer_, residual, trial->levels) > 0;
+    const int16_t zero[64] = {};
+    const float uncoded_cost = static_cast<float>(block_sse(source, stride, trial->prediction)) +
+                               lambda_ * (mode_bits + bframe::block_levels_bits(contexts, zero, 0, cbf_context));
+    if (!trial->coded) return uncoded_cost;
+    uint8_t reconstructed[64];
+    dequantize_block(quantizer_, trial->levels, coefficients);
+    reconstruct_block(trial->prediction, coefficients, reconstructed, 8);
+    const float coded_cost =
+        static_cast<float>(block_sse(source, stride, reconstructed)) +
+        lambda_ * (mode_bits + bframe::block_levels_bits(contexts, trial->levels, 0, cbf_context));
+    if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;
+    trial->coded = false;
+    std::fill_n(trial->levels, 64, int16_t{0});
+    return uncoded_cost;
+  }
+
+  const Quantizer& quantizer_;
+  int quant_scale_;
+  int modes_;
+  bool rd_search_;  // else the SATD's best mode, its levels as quantized
+  float lambda_;    // SSE per bit, tuned on the photographic scenes
+};
 
 }  // namespace
 
@@ -142,7 +236,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   Quantizer quantizer = residual_quantizer(quant_scale);
   // A narrower dead zone than inter residuals use (0.2), tuned on the photographic scenes.
   quantizer.rounding_dc = quantizer.rounding_ac = 0.25f;
-  const dsp::DspTable& dsp = dsp::get_dsp();
+  const BlockSearch search(quantizer, quant_scale, params);
   const BlockLayout layout = block_layout(width, height);
   auto planes = planes_of(layout, width, height);
   planes[0].pixels = source.y.data();
@@ -172,30 +266,27 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       for (int bx = 0; bx < plane.blocks_x; ++bx) {
         const size_t index = static_cast<size_t>(by) * plane.blocks_x + bx;
         const size_t offset = static_cast<size_t>(by) * 8 * plane.stride() + bx * 8;
-        uint8_t edge[dsp::kIntraEdgeSamples], prediction[64];
+        uint8_t edge[dsp::kIntraEdgeSamples];
         build_intra_edge(recon.data(), plane.stride(), bx, by, plane.blocks_x, edge);
-        int mode = p == 2 ? chroma_modes[index] : kDcMode;
-        if (p != 2) {
+        const int cbf_context = state.coded_block_context(plane.blocks_x, bx, by);
+        BlockChoice choice;
+        if (p == 2) {
+          choice.mode = chroma_modes[index];
+          search.choose(padded_source.data() + offset, plane.stride(), edge, contexts, nullptr, cbf_context,
+                        &choice);
+        } else {
           const auto candidates = state.candidates(plane.blocks_x, bx, by);
-          mode = choose_intra_mode(padded_source.data() + offset, plane.stride(), edge, candidates, quant_scale,
-                                   params.directional_intra);
-          encode_intra_mode(encoder, contexts.modes, candidates, mode);
+          search.choose(padded_source.data() + offset, plane.stride(), edge, contexts, &candidates, cbf_context,
+                        &choice);
+          encode_intra_mode(encoder, contexts.modes, candidates, choice.mode);
         }
-        state.modes[index] = static_cast<uint8_t>(mode);
-        dsp.intra_predict_8x8(edge, mode, prediction);
-        int16_t residual[64], levels[64], coefficients[64];
-        for (int y = 0; y < 8; ++y) {
-          for (int x = 0; x < 8; ++x) {
-            residual[8 * y + x] =
-                static_cast<int16_t>(padded_source[offset + y * plane.stride() + x] - prediction[8 * y + x]);
-          }
-        }
-        const bool coded = transform_quantize_block(quantizer, residual, levels) > 0;
-        encode_block_levels(encoder, contexts.residual, levels, 0,
-                            state.coded_block_context(plane.blocks_x, bx, by));
-        state.has_levels[index] = coded;
-        if (coded) dequantize_block(quantizer, levels, coefficients);
-        reconstruct_block(prediction, coded ? coefficients : nullptr, recon.data() + offset, plane.stride());
+        state.modes[index] = static_cast<uint8_t>(choice.mode);
+        encode_block_levels(encoder, contexts.residual, choice.levels, 0, cbf_context);
+        state.has_levels[index] = choice.coded;
+        int16_t coefficients[64];
+        if (choice.coded) dequantize_block(quantizer, choice.levels, coefficients);
+        reconstruct_block(choice.prediction, choice.coded ? coefficients : nullptr, recon.data() + offset,
+                          plane.stride());
       }
     }
     if (p == 1) chroma_modes = state.modes;

@@ -18,6 +18,10 @@ struct CodingParams {
   int quant_scale = 8;  // MPEG-2 style quantiser_scale, kMinQuantScale..kMaxQuantScale
   // Encoder restriction: when false, every block uses the planar or DC mode only.
   bool directional_intra = true;
+  // Encoder choice: when false, each block takes the mode of least SATD (plus a rate
+  // term) and its levels as quantized, without the rate-distortion comparison of a
+  // few modes and of dropping the levels.
+  bool rd_intra_search = true;
 };
 
 // Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <random>
 #include <vector>
 
 #include "codec/dsp/dsp.h"
@@ -139,6 +141,46 @@ TEST(IntraPrediction, EncoderChoosesHorizontalModeForHorizontalStripes) {
       EXPECT_TRUE(std::all_of(parsed.block_modes.begin(), parsed.block_modes.end(),
                               [](uint8_t mode) { return mode == kPlanarMode || mode == kDcMode; }));
     }
+  }
+}
+
+// Diagonal texture with noise, odd size: every encoder restriction still gives a stream
+// that decodes to the encoder's reconstruction, and the rate-distortion search lowers
+// the rate-distortion cost it optimises.
+TEST(IntraPrediction, EveryEncoderRestrictionDecodesToTheEncodersReconstruction) {
+  ImageYCbCr420 image;
+  image.width = 75;
+  image.height = 41;
+  std::mt19937 random(7);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      image.y.push_back(static_cast<uint8_t>(128 + 60 * std::sin((x + 2 * y) * 0.3) + random() % 11));
+    }
+  }
+  for (int i = 0; i < 38 * 21; ++i) {
+    image.cb.push_back(static_cast<uint8_t>(100 + i % 37));
+    image.cr.push_back(static_cast<uint8_t>(150 - i % 23));
+  }
+  for (int quant_scale : {3, 30}) {
+    double cost[2] = {};
+    for (int restriction = 0; restriction < 4; ++restriction) {
+      CodingParams params;
+      params.quant_scale = quant_scale;
+      params.directional_intra = (restriction & 1) == 0;
+      params.rd_intra_search = (restriction & 2) == 0;
+      ImageYCbCr420 reconstruction, decoded;
+      const auto bytes = encode_intra_frame(image, params, &reconstruction);
+      ASSERT_TRUE(decode_intra_frame(bytes, image.width, image.height, &decoded).ok());
+      EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
+                  decoded.cr == reconstruction.cr)
+          << "restriction " << restriction << ", quant_scale " << quant_scale;
+      if (params.directional_intra) {
+        double squared_error = 0;
+        for (size_t i = 0; i < image.y.size(); ++i) squared_error += std::pow(image.y[i] - decoded.y[i], 2.0);
+        cost[params.rd_intra_search ? 0 : 1] = squared_error + 0.1 * quant_scale * quant_scale * 8.0 * bytes.size();
+      }
+    }
+    EXPECT_LT(cost[0], cost[1]) << "quant_scale " << quant_scale;
   }
 }
 

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "c6286777c5a6aa6cbed1b6d5c555492a89297044caba58499d6c734b5b3791cd",
-     "d077bbf1d23b740d39fc2ed45733db33d708d8dfc1e218f9813de328fdeaadf2"},
+     "52d3d51cfb2c7702f1af81266187948d67a72275a8978c3eefa71fda5e0163f0",
+     "2356fad0e05fdde821d0824d7b26a493418cbf44dcae48b5ca24eabd2544931c"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "ddf94c8f19dc052f44cceaf2f72413b1c2f306ae20895db973325076fb115a45",
-     "b58a8ef5c34e67e41133e4888352299b271eaa5cb1e2a1f7cd606f844271d9e1"},
+     "59c4285254a51d7969291440eb7aa6b8e74ce27698644e9602a244acf3fb84b0",
+     "4a7c8e77959a456cebebbf1b51d266540882a2bc0777084e151c25522e315ea8"},
 };
 
 std::string file_sha256(const fs::path& path) {

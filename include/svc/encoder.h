@@ -27,6 +27,9 @@ struct CodingTools {
   // I-faces: the 33 angular intra prediction modes; without them every block is
   // predicted by the planar or DC mode (docs/codec.md 3.1).
   bool intra_directional = true;
+  // I-faces: each block's mode and whether it keeps its levels chosen by
+  // rate-distortion cost among the best modes by SATD (docs/codec.md 3.2).
+  bool intra_rd_search = true;
   // B-faces: quarter-pel vectors (off: the encoder keeps to half-pel positions).
   bool quarter_pel = true;
 };

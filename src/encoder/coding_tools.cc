@@ -17,6 +17,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"warped-prediction", &CodingTools::warped_prediction},
     CodingToolEntry{"sub-pel-refinement", &CodingTools::sub_pel_refinement},
     CodingToolEntry{"intra-directional", &CodingTools::intra_directional},
+    CodingToolEntry{"intra-rd-search", &CodingTools::intra_rd_search},
     CodingToolEntry{"quarter-pel", &CodingTools::quarter_pel},
 };
 
