@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "5e77e2f841ffaed666d3277b4b8ccee1bb2a8161b45e287cbdf67555d42e8865",
-     "35bb6f0ef08f18554d428ae8c103eea457a92a5b37f7d2595fd3231dc3d13a02"},
+     "e94a9da5f621b99fe9a0e0c2eac9124b18fee020a35bb8ce19edfaaacc5bf4f2",
+     "3d8bcc095ef60928e74d4513b83b82d2b61ac2f796d06b1534996c91b4de98cf"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "7014ce872992e1379d499f1222e0db5379bd93e453b79a34803e82666b3a1b6d",
-     "445db554190c587e48fb7eb2a6c0f87d01a55006f8d0d60053b032683bd407d2"},
+     "f8f737ad5c11071d0f134b0e352043736e0277c3eb2b36ed8f31f091ef42a70b",
+     "87f44591816cd5a061d19eb56043a0b7306d5bddcfd5bb363eb7c5438880998d"},
 };
 
 std::string file_sha256(const fs::path& path) {
