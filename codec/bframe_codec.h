@@ -61,15 +61,19 @@ struct BFrameParams {
   // rounded away from zero, no quarter-pel refinement), for ablation.
   bool quarter_pel = true;
   // Rate-distortion trade-off: lambda = lambda_factor * quant_scale^2 squared-error units
-  // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice).
-  double lambda_factor = 0.12;
+  // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice). 0.25:
+  // on the photographic hall at quant_scale 8, factors 0.08 / 0.12 / 0.18 / 0.25 / 0.35 /
+  // 0.5 gave B-faces about 12 / 9.5 / 7.6 / 6 / 6.5 / 6.5 % more bytes than the encoder
+  // before quarter-pel motion at equal PSNR-Y (docs/codec.md, 10.5).
+  double lambda_factor = 0.25;
   // Offers warped prediction (warp_prediction.h) for references whose node field is
   // given to encode_b_frame.
   bool warp = true;
   // Candidates tried per macroblock and reference: the first max_candidates of each
-  // supplied list (lists come ranked, most pixels first), plus the predictor. 16 covers
-  // the mean distinct count of depth-derived lists on the sample scenes (about 16).
-  int max_candidates = 16;
+  // supplied list (lists come ranked, most pixels first), plus the predictor. Quarter-pel
+  // depth lists hold more distinct vectors than half-pel ones did; 32 instead of 16
+  // saved 1.3 % of the B-face bytes on the photographic hall (docs/codec.md, 10.5).
+  int max_candidates = 32;
   // Inter options (forward, backward, bidirectional, each translational or warped) are
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.

@@ -93,11 +93,12 @@ ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int quant_scale) {
 
 TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   const int w = 128, h = 96, q = 8;
-  // source(x, y) = reference(x + 3, y + 2): vector (+6, +4) half-pels.
+  // source(x, y) = reference(x + 3, y + 2): vector (+12, +8) quarter-pels.
   const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q);
   const ImageYCbCr420 source = textured_crop(w, h, 43, 42);
   const FaceCandidates candidates =
-      uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}, MotionVector{-8, 2}, MotionVector{5, 4}});
+      uniform_candidates(w, h,
+                         {MotionVector{0, 0}, MotionVector{12, 8}, MotionVector{-16, 4}, MotionVector{10, 8}});
   BFrameParams params;
   params.quant_scale = q;
   ImageYCbCr420 reconstruction;
@@ -123,8 +124,9 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
       encode_b_frame(source, reference, nullptr, candidates, {}, params, &coarser, &coarser_stats);
   EXPECT_LT(coarser_bytes.size() * 7, intra.size()) << coarser_bytes.size() << " vs intra " << intra.size();
   EXPECT_GE(coarser_stats.mb_skipped, 24);
-  // Within 1 dB of intra coding at the 2.5x finer step: the prediction carries the detail.
-  EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 1.0);
+  // Within 1.5 dB of intra coding at the 2.5x finer step: the prediction carries the
+  // detail (lambda 0.25 trades some PSNR for bytes; 0.12 gave 1.0 dB).
+  EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 1.5);
 
   ImageYCbCr420 decoded;
   std::vector<MacroblockMode> modes;
@@ -220,10 +222,10 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
     const ImageYCbCr420 source = textured_crop(w, h, 50, 50);
     const ImageYCbCr420 ref0 = decoded_intra(textured_crop(w, h, 47, 51), 6);
     const ImageYCbCr420 ref1 = decoded_intra(textured_crop(w, h, 52, 48), 6);
-    // Varied candidates: the true motion, half-pel and far-outside vectors.
+    // Varied candidates: the true motion, quarter-pel and far-outside vectors.
     FaceCandidates c0 =
-        uniform_candidates(w, h, {MotionVector{-6, 2}, MotionVector{-5, 3}, MotionVector{-900, 40}});
-    FaceCandidates c1 = uniform_candidates(w, h, {MotionVector{4, -4}, MotionVector{31000, -31000}});
+        uniform_candidates(w, h, {MotionVector{-12, 4}, MotionVector{-11, 5}, MotionVector{-1800, 80}});
+    FaceCandidates c1 = uniform_candidates(w, h, {MotionVector{8, -8}, MotionVector{31000, -31000}});
     if (c1.size() > 1) c1[1].clear();
     for (int references = 1; references <= 2; ++references) {
       for (bool refine : {false, true}) {
@@ -294,8 +296,8 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   BFrameParams params;
   params.quant_scale = 4;
   const std::vector<uint8_t> valid =
-      encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{4, -2}}),
-                     uniform_candidates(w, h, {MotionVector{-4, 2}}), params, nullptr, nullptr);
+      encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{8, -4}}),
+                     uniform_candidates(w, h, {MotionVector{-8, 4}}), params, nullptr, nullptr);
   ASSERT_GT(valid.size(), 40u);
   ImageYCbCr420 out;
   std::vector<MacroblockMode> modes;
