@@ -25,6 +25,9 @@ struct EncoderSettings {
   // Every cell an I-cube (same as i_spacing {1,1,1}).
   bool intra_only = false;
   MotionSearch motion = MotionSearch::kDepth;
+  // Let the manifest name face files outside the database folder (absolute paths,
+  // "../"). Off by default: such a manifest is refused with kBadInput naming the file.
+  bool allow_outside_paths = false;
 };
 
 // Fills settings with the defaults documented on each field.
@@ -58,6 +61,8 @@ struct AddSettings {
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
   // depend on this.
   int threads = 0;
+  // As EncoderSettings::allow_outside_paths.
+  bool allow_outside_paths = false;
 };
 
 struct AddSummary {

@@ -63,7 +63,8 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
                                       const EncoderSettings& settings, const EncodeProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
   SVC_RETURN_IF_ERROR(validate_settings(settings));
-  SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest, load_manifest(db_dir));
+  SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest,
+                       load_manifest(db_dir, ManifestOptions{settings.allow_outside_paths}));
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
   }
