@@ -8,6 +8,8 @@ packages=(
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
   ffmpeg clang-format-14
+  # tests/renderer_manifest_test.sh runs docs/input-format.md's manifest writer.
+  python3
   # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
   openarena-081-textures unzip
 )

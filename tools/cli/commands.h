@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "command_line/progress.h"
 #include "scene/scene.h"
 #include "svc/encoder.h"
 #include "svc/types.h"
@@ -14,8 +15,8 @@ struct EncodeOptions {
   std::filesystem::path db_dir;
   std::filesystem::path output;
   EncoderSettings settings;
-  bool json = false;
-  bool quiet = false;
+  bool psnr = false;  // measure PSNR-Y, PSNR-RGB and SSIM of the result against the source
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
@@ -24,18 +25,27 @@ struct DecodeOptions {
   std::filesystem::path output;
   std::optional<CellIndex> cell;
   std::optional<Face> face;
-  bool quiet = false;
+  int threads = 0;
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 struct InfoOptions {
   std::filesystem::path input;
-  bool json = false;
+  command_line::Verbosity verbosity;
 };
 
 struct VerifyOptions {
   std::filesystem::path input;
-  bool quiet = false;
+  int threads = 0;
+  command_line::Verbosity verbosity;
+};
+
+struct CheckOptions {
+  std::filesystem::path db_dir;
+  int threads = 0;
+  bool allow_outside_paths = false;
+  command_line::Verbosity verbosity;
 };
 
 struct InspectOptions {
@@ -43,14 +53,16 @@ struct InspectOptions {
   std::filesystem::path output;  // PNG
   CellIndex cell;
   Face face = Face::kPX;
+  int scale = 0;  // pixels per face pixel; 0: enough for a sheet at least 512 pixels tall
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 struct AddOptions {
   std::filesystem::path input;   // .svc file, updated in place
   std::filesystem::path db_dir;  // svc-input database with the cells to add
-  int threads = 0;
-  bool quiet = false;
+  AddSettings settings;
+  command_line::Verbosity verbosity;
 };
 
 struct DemoOptions {
@@ -60,13 +72,11 @@ struct DemoOptions {
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
-Result<EncodeSummary> run_encode(const std::filesystem::path& db, const std::filesystem::path& out,
-                                 const EncoderSettings& settings, bool show_progress);
-
 int encode_command(const EncodeOptions& options);
 int decode_command(const DecodeOptions& options);
 int info_command(const InfoOptions& options);
 int verify_command(const VerifyOptions& options);
+int check_command(const CheckOptions& options);
 int demo_command(const DemoOptions& options);
 int add_command(const AddOptions& options);
 int inspect_command(const InspectOptions& options);
