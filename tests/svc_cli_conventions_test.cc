@@ -381,5 +381,17 @@ TEST_F(CliInterrupts, AddLeavesTheFileAsItWas) {
   EXPECT_TRUE((*reader)->verify().ok());
 }
 
+// An interrupted benchmark removes its work folder, and the output folder it created.
+TEST_F(CliInterrupts, BenchLeavesNothing) {
+  if (svc("bench --help").exit_code != 0) GTEST_SKIP() << "svc built without the benchmark";
+  const fs::path out = work("stopped-bench");
+  const Spawned run = spawn_svc({"bench", big_db().string(), "--codecs", "svc,jpeg", "--quick", "--no-experiments",
+                                 "--threads", "1", "--out", out.string()},
+                                work("bench.log"));
+  ASSERT_GT(run.pid, 0);
+  EXPECT_EQ(interrupt_when(run, "quality search", SIGINT), 130) << testing::read_file_bytes(run.log);
+  EXPECT_FALSE(fs::exists(out)) << testing::read_file_bytes(run.log);
+}
+
 }  // namespace
 }  // namespace svc
