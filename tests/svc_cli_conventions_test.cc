@@ -341,6 +341,7 @@ TEST_F(CliInterrupts, EncodeLeavesNothing) {
     EXPECT_FALSE(fs::exists(out));
     expect_nothing_left(dir_->path(), "stopped.svc");
   }
+  EXPECT_NE(svc("--help").output.find("130 or 143 stopped by SIGINT"), std::string::npos);
 }
 
 TEST_F(CliInterrupts, DecodeLeavesNothing) {
