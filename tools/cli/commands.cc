@@ -9,6 +9,7 @@
 #include "cli/cli_util.h"
 #include "cli/quality_report.h"
 #include "command_line/command_line.h"
+#include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
 #include "common/parallel.h"
 #include "database/database.h"
@@ -122,6 +123,11 @@ int encode_command(const EncodeOptions& options) {
   std::optional<QualityReport> quality;
   if (options.psnr) {
     auto measured = measure_encoded(options);
+    if (!measured.ok() && command_line::interrupted()) {
+      std::fprintf(stderr, "svc: stopped by %s while measuring; %s is complete\n",
+                   command_line::interrupting_signal_name(), options.output.string().c_str());
+      return command_line::interrupted_exit_code();
+    }
     if (!measured.ok()) {
       std::fprintf(stderr, "svc: %s was written; measuring its quality failed:\n", options.output.string().c_str());
       return report_error(measured.status());
