@@ -54,6 +54,7 @@ Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacin
   if (sample_spacing > 1) {
     db = work_dir_ / ("subsampled-" + std::to_string(sample_spacing));
     SVC_RETURN_IF_ERROR(write_subsampled_manifest(options_.db_dir, sample_spacing, db));
+    run.settings.allow_outside_paths = true;  // the thinned manifest names the source's images
   }
   run.file = work_dir_ / (tag + ".svc");
   SVC_ASSIGN_OR_RETURN(run.summary, encode_database(db, run.file, run.settings));

@@ -57,9 +57,11 @@ Status run_ablation(Bench& bench, BenchResults* results) {
 Result<std::vector<std::string>> ordered_codecs(const BenchOptions& options) {
   const std::vector<std::string>& all = all_codec_names();
   const std::vector<std::string>& codecs = options.codecs.empty() ? all : options.codecs;
+  std::string valid;
+  for (const std::string& name : all) valid += (valid.empty() ? "" : ", ") + name;
   for (const std::string& name : codecs) {
     if (std::find(all.begin(), all.end(), name) == all.end()) {
-      return Status(ErrorCode::kInvalidArgument, "svc bench: unknown codec '" + name + "'");
+      return Status(ErrorCode::kInvalidArgument, "svc bench: unknown codec '" + name + "' (valid: " + valid + ")");
     }
   }
   for (const auto& [name, preset] : options.anchor_presets) {
@@ -117,17 +119,17 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
     SVC_ASSIGN_OR_RETURN(before, load_svc_points(options.before_results));
   }
   const int threads = resolve_thread_count(options.threads);
+  BenchResults results;
+  results.database = options.db_dir.string();
+  results.threads = threads;
+  auto t0 = Clock::now();
+  // The database is read before anything is created, so a bad one leaves no folder.
+  SVC_ASSIGN_OR_RETURN(SourceFaces source, load_sources(options.db_dir, threads));
   std::error_code ec;
   std::filesystem::create_directories(options.out_dir / "work", ec);
   if (ec)
     return Status(ErrorCode::kIoError,
                   "cannot create " + (options.out_dir / "work").string() + ": " + ec.message());
-
-  BenchResults results;
-  results.database = options.db_dir.string();
-  results.threads = threads;
-  auto t0 = Clock::now();
-  SVC_ASSIGN_OR_RETURN(SourceFaces source, load_sources(options.db_dir, threads));
   results.grid = {source.manifest.grid.dims[0], source.manifest.grid.dims[1], source.manifest.grid.dims[2]};
   results.cells = source.manifest.cells.size();
   results.faces = source.faces.size();

@@ -238,6 +238,32 @@ TEST_F(ManifestTest, OptionalSettingsAndAbsolutePaths) {
   EXPECT_EQ(resolve_database_path(*result, pz.color_path), fs::path(absolute));
 }
 
+// A manifest from elsewhere must not pull arbitrary files into an .svc file: paths that
+// leave the database folder are refused unless the caller allows them.
+TEST_F(ManifestTest, PathsOutsideTheDatabaseNeedPermission) {
+  const testing::TempDir elsewhere("svc-database-elsewhere");
+  write_rgb_png(elsewhere.path() / "secret.png", kWidth, kHeight);
+  const std::string absolute = (elsewhere.path() / "secret.png").string();
+  const std::string climbing =
+      (fs::path("cells") / ".." / ".." / elsewhere.path().filename() / "secret.png").string();
+  for (const std::string& outside : {absolute, climbing}) {
+    json manifest = valid_manifest();
+    manifest["cells"][1]["faces"]["ny"]["color"] = outside;
+    write_manifest(manifest);
+    expect_load_error(ErrorCode::kBadInput, {"manifest.json", "cell (1,0,0)", "face ny", "color file", outside,
+                                             "outside the database folder", "--allow-outside-paths"});
+    const auto allowed = load_manifest(dir_.path(), ManifestOptions{.allow_outside_paths = true});
+    ASSERT_TRUE(allowed.ok()) << allowed.status().to_string();
+    const FaceSource& ny = allowed->cells[1].faces[static_cast<size_t>(Face::kNY)];
+    EXPECT_TRUE(fs::equivalent(resolve_database_path(*allowed, ny.color_path), elsewhere.path() / "secret.png"));
+  }
+  // ".." that stays inside the folder is fine.
+  json manifest = valid_manifest();
+  manifest["cells"][1]["faces"]["ny"]["depth"] = "cells/../cells/depth.exr";
+  write_manifest(manifest);
+  EXPECT_TRUE(load_manifest(dir_.path()).ok());
+}
+
 TEST_F(ManifestTest, RejectsInvalidJsonWithPosition) {
   write_manifest_text("{\n  \"format\": \"svc-input\",\n  \"version\": 1,\n  \"grid\": [1, 2,\n}");
   expect_load_error(ErrorCode::kBadInput, {"manifest.json", "not valid JSON", "line 5"});

@@ -20,6 +20,11 @@ cmake --install "$build_dir" --prefix "$work/first prefix" >/dev/null
 mkdir "$work/moved"
 mv "$work/first prefix" "$work/moved/svc install"
 export SVC_PREFIX="$work/moved/svc install"
+# The tools come with the libraries, and run from the moved prefix.
+for tool in svc svc-scene svc-walkthrough; do
+  [[ -x "$SVC_PREFIX/bin/$tool" ]] || fail "the install lacks bin/$tool"
+  "$SVC_PREFIX/bin/$tool" --help >/dev/null || fail "the installed $tool does not run"
+done
 
 # The README's recipe, run from a copy of the tree's samples/embed.
 recipe=$(awk '/<!-- embed-recipe/ {found = 1; next}

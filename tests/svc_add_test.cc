@@ -42,7 +42,7 @@ void write_bytes(const fs::path& path, const std::vector<uint8_t>& bytes) {
 }
 
 // A database that lists only the cells of `full` for which `keep` holds, with grid dims
-// `dims`, reading the same image files.
+// `dims`, holding copies of their image files (a manifest may not reach outside its folder).
 void write_partial_database(const fs::path& full, const fs::path& out, const std::array<int, 3>& dims,
                             const std::function<bool(const json& index)>& keep) {
   std::ifstream in(full / "manifest.json");
@@ -51,8 +51,11 @@ void write_partial_database(const fs::path& full, const fs::path& out, const std
   for (json cell : manifest["cells"]) {
     if (!keep(cell["index"])) continue;
     for (auto& [name, face] : cell["faces"].items()) {
-      face["color"] = (full / face["color"].get<std::string>()).string();
-      face["depth"] = (full / face["depth"].get<std::string>()).string();
+      for (const char* key : {"color", "depth"}) {
+        const std::string path = face[key].get<std::string>();
+        fs::create_directories((out / path).parent_path());
+        fs::copy_file(full / path, out / path, fs::copy_options::overwrite_existing);
+      }
     }
     cells.push_back(cell);
   }

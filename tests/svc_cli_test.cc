@@ -6,8 +6,6 @@
 #include <fstream>
 #include <iterator>
 
-#include <sys/wait.h>
-
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
@@ -17,26 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
-
-// Runs build/bin/PROGRAM ARGS in `dir`; returns its exit code and what it printed.
-CliRun run_program(const std::string& program, const std::string& args, const fs::path& dir) {
-  const std::string command =
-      "cd " + quoted(dir) + " && " + quoted(fs::path(SVC_BINARY_DIR) / "bin" / program) + " " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
+using testing::CliRun;
+using testing::quoted;
+using testing::run_program;
 
 CliRun run_svc(const std::string& args, const fs::path& dir = fs::temp_directory_path()) {
   return run_program("svc", args, dir);

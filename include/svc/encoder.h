@@ -56,6 +56,9 @@ struct EncoderSettings {
   bool intra_only = false;
   MotionSearch motion = MotionSearch::kDepth;
   CodingTools tools;
+  // Let the manifest name face files outside the database folder (absolute paths,
+  // "../"). Off by default: such a manifest is refused with kBadInput naming the file.
+  bool allow_outside_paths = false;
 };
 
 // Fills settings with the defaults documented on each field.
@@ -122,6 +125,8 @@ struct AddSettings {
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
   // depend on this.
   int threads = 0;
+  // As EncoderSettings::allow_outside_paths.
+  bool allow_outside_paths = false;
 };
 
 struct AddSummary {

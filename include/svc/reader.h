@@ -28,6 +28,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,6 +39,15 @@
 #include "svc/types.h"
 
 namespace svc {
+
+struct VerifySettings {
+  // Threads that check faces at once (the caller's among them); 0 uses the machine's
+  // hardware concurrency. The result does not depend on it.
+  int threads = 1;
+  // Called after each face, one call at a time (from any of the threads): (faces
+  // checked, faces total). Return false to stop; verify then returns kCancelled.
+  std::function<bool(uint64_t done, uint64_t total)> progress;
+};
 
 struct ReaderSettings {
   // Caps on what the file may make the reader allocate (see svc/limits.h).
@@ -199,8 +209,9 @@ class Reader {
 
   // Checks the CRC of every chunk and decodes every face, bypassing the caches. Returns
   // the first problems found, naming the damaged chunk (offset, cell, face); ok when the
-  // file is intact.
-  Status verify();
+  // file is intact. The problems reported, and their order, do not depend on
+  // settings.threads.
+  Status verify(const VerifySettings& settings = VerifySettings{});
 
   struct Impl;
 

@@ -1,20 +1,22 @@
 // svc-scene: writes a procedural or photographic sample scene as an svc-input database.
 //
 //   svc-scene OUT_DIR [--kind hall|house] [--grid X,Y,Z] [--spacing S | SX,SY,SZ]
-//             [--face-size N] [--seed N] [--textures DIR] [--sparse] [--threads N] [--quiet]
+//             [--origin X,Y,Z] [--face-size N] [--seed N] [--textures DIR] [--sparse]
+//             [--threads N] [--quiet] [--progress | --no-progress] [-y]
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
-
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
 #include "command_line/command_line.h"
 #include "command_line/output_paths.h"
+#include "command_line/progress.h"
 #include "scene/scene.h"
 
 namespace {
@@ -41,18 +43,23 @@ bool parse_list(const std::string& text, std::vector<T>* out) {
 int main(int argc, char** argv) {
   CLI::App app{
       "Write a procedural (or, with --textures, photographic) architectural scene as an\nsvc-input database."};
-  std::string out_dir, kind = "hall", grid = "9,1,9", spacing = "0.5,1.0,0.5";
+  std::string out_dir, kind = "hall", grid = "9,1,9", spacing = "0.5,1.0,0.5", origin;
   svc::samples::SceneOptions options;
-  bool quiet = false;
+  svc::command_line::Verbosity verbosity;
   app.add_option("OUT_DIR", out_dir, "Output directory (created if missing)")->required();
   app.add_option("--kind", kind, "Scene: hall or house")
       ->capture_default_str()
       ->check(CLI::IsMember({"hall", "house"}));
   app.add_option("--grid", grid, "Cells along x,y,z (y counts layers)")->capture_default_str();
   app.add_option("--spacing", spacing, "Cell spacing in metres: S or SX,SY,SZ")->capture_default_str();
+  app.add_option("--origin", origin,
+                 "Centre of cell (0,0,0), X,Y,Z in metres (default: the grid centred, lowest layer at eye height); "
+                 "a second database with the first one's origin and a larger grid extends it (svc add)");
   app.add_option("--face-size", options.face_size, "Square face size in pixels")->capture_default_str();
   app.add_option("--seed", options.seed, "Layout and texture variation")->capture_default_str();
-  app.add_option("--threads", options.threads, "Faces rendered at once (output is identical)")
+  int threads = 0;
+  app.add_option("--threads", threads, "Faces rendered at once, 0: all cores (the output does not depend on it)")
+      ->check(svc::command_line::integer_in(0, 256))
       ->capture_default_str();
   app.add_option("--textures", options.textures,
                  "Photographic variant: map the images of this folder (jpg, tga, png, ...) "
@@ -60,7 +67,7 @@ int main(int argc, char** argv) {
                  "concrete, wood, metal, tile, wall, ceil, grass, sky); "
                  "scripts/fetch-textures.sh extracts a set");
   app.add_flag("--sparse", options.sparse, "Leave out cells whose centre is inside geometry");
-  app.add_flag("--quiet", quiet, "Print nothing but errors");
+  svc::command_line::add_verbosity_options(&app, &verbosity, false);
   bool overwrite = false;
   svc::command_line::add_overwrite_flag(&app, &overwrite);
   app.get_option("OUT_DIR")->check(svc::command_line::not_standard_output());
@@ -91,28 +98,35 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "svc-scene: --spacing wants S or SX,SY,SZ, got \"%s\"\n", spacing.c_str());
     return svc::command_line::kExitUsage;
   }
+  if (!origin.empty()) {
+    std::vector<double> at;
+    if (!parse_list(origin, &at) || at.size() != 3) {
+      std::fprintf(stderr, "svc-scene: --origin wants X,Y,Z, got \"%s\"\n", origin.c_str());
+      return svc::command_line::kExitUsage;
+    }
+    options.origin = std::array<double, 3>{at[0], at[1], at[2]};
+  }
+  options.threads =
+      threads > 0 ? threads : std::min(256, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   options.grid = {dims[0], dims[1], dims[2]};
   options.spacing = steps.size() == 1 ? std::array<double, 3>{steps[0], steps[0], steps[0]}
                                       : std::array<double, 3>{steps[0], steps[1], steps[2]};
 
-  const bool show_progress = !quiet && ::isatty(STDERR_FILENO);
   int cells_written = 0;
   const auto start = std::chrono::steady_clock::now();
+  svc::command_line::ProgressBar bar("generating", verbosity.show_progress());
   const svc::Status status = svc::samples::generate_scene(options, out_dir, [&](int done, int total) {
     cells_written = done;
-    if (show_progress) {
-      std::fprintf(stderr, "\rsvc-scene: cell %d/%d", done, total);
-      if (done == total) std::fputc('\n', stderr);
-      std::fflush(stderr);
-    }
+    bar.update(done, total);
   });
+  bar.finish();
   if (!status.ok()) {
-    if (show_progress) std::fputc('\n', stderr);
     std::fprintf(stderr, "svc-scene: %s\n", status.to_string().c_str());
-    return svc::command_line::kExitFailure;
+    return status.code() == svc::ErrorCode::kInvalidArgument ? svc::command_line::kExitUsage
+                                                             : svc::command_line::kExitFailure;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!quiet) {
+  if (verbosity.show_summary()) {
     std::printf("svc-scene: wrote %s%s scene, %d cells (%d faces of %dx%d) to %s in %.1f s\n",
                 options.textures.empty() ? "" : "photographic ", svc::samples::scene_kind_name(options.kind),
                 cells_written, cells_written * 6, options.face_size, options.face_size, out_dir.c_str(), seconds);

@@ -132,6 +132,13 @@ Status validate_scene_options(const SceneOptions& options) {
                                                      std::to_string(options.spacing[a]) + " is outside (0, 100]");
     }
   }
+  for (int a = 0; options.origin && a < 3; ++a) {
+    if (!std::isfinite((*options.origin)[a]) || std::abs((*options.origin)[a]) > 1e6) {
+      return Status(ErrorCode::kInvalidArgument, std::string("origin ") + axes[a] + " = " +
+                                                     std::to_string((*options.origin)[a]) +
+                                                     " is outside [-1e6, 1e6]");
+    }
+  }
   if (cells > 1000000) {
     return Status(ErrorCode::kInvalidArgument, "grid has " + std::to_string(cells) + " cells, more than 1000000");
   }
@@ -146,6 +153,7 @@ Status validate_scene_options(const SceneOptions& options) {
 }
 
 std::array<double, 3> scene_grid_origin(const SceneOptions& options) {
+  if (options.origin) return *options.origin;
   // Centred on the vertical axis of the scene, the lowest layer at eye height.
   constexpr double kEyeHeight = 1.6;
   return {-(options.grid[0] - 1) * options.spacing[0] / 2, kEyeHeight,

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct SceneOptions {
   SceneKind kind = SceneKind::kHall;
   std::array<int, 3> grid{9, 1, 9};  // cells along x, y (layers), z
   std::array<double, 3> spacing{0.5, 1.0, 0.5};
+  // Centre of cell (0,0,0); the scene is built around the grid wherever it lies. Unset:
+  // the grid is centred on the vertical axis, its lowest layer at eye height.
+  std::optional<std::array<double, 3>> origin;
   int face_size = 256;  // square faces, pixels
   uint32_t seed = 1;    // texture and layout variation
   bool sparse = false;  // drop cells that fall inside solid geometry
@@ -36,7 +40,7 @@ struct SceneOptions {
 };
 
 // Checks ranges: grid 1..1024 per axis and at most 1,000,000 cells, spacing finite in
-// (0, 100], face_size 4..8192, threads 1..256. kInvalidArgument naming the field.
+// (0, 100], origin finite, face_size 4..8192, threads 1..256. kInvalidArgument naming the field.
 Status validate_scene_options(const SceneOptions& options);
 
 // Where each grid cell falls in the scene the options describe (all cells, sparse or not),

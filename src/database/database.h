@@ -53,13 +53,21 @@ struct DatabaseManifest {
   std::vector<CellSource> cells;  // sorted by (y, z, x) cell index, no duplicates
 };
 
+struct ManifestOptions {
+  // Face files may lie outside the database folder (absolute paths, "../"). Off by
+  // default: a manifest from elsewhere must not pull arbitrary files into an .svc file.
+  bool allow_outside_paths = false;
+};
+
 // Reads and validates manifest.json: JSON syntax (errors give line and column), required
 // keys, value ranges, cell indices inside the grid and unique, all six faces present,
 // finite view matrices whose last row is (0,0,0,1) and whose rotation part is orthonormal
-// (within 1e-3), valid frusta, referenced files exist. Keys the format does not describe
-// are ignored. `db_dir` is the database directory; a path to the manifest file itself is
-// accepted too (the root is then its parent directory). An empty cell list is rejected.
-Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir);
+// (within 1e-3), valid frusta, referenced files exist and lie inside the database folder
+// (unless options.allow_outside_paths; a path that leaves it is kBadInput). Keys the
+// format does not describe are ignored. `db_dir` is the database directory; a path to
+// the manifest file itself is accepted too (the root is then its parent directory). An
+// empty cell list is rejected.
+Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir, const ManifestOptions& options = {});
 
 // One face's pixels. Depth is converted to eye-space z (distance along the view axis,
 // positive); pixels that saw no geometry (+inf, NaN, <= 0, >= far) hold +infinity.

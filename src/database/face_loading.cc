@@ -8,6 +8,8 @@
 #include <limits>
 #include <string>
 
+#include "database/png_chunks.h"
+
 namespace svc {
 
 namespace {
@@ -18,6 +20,9 @@ std::string in_quotes(const std::string& text) { return "\"" + text + "\""; }
 
 // ---------------------------------------------------------------------------------------
 // Faces
+
+// The image library's first line: the rest repeats it in other words.
+std::string first_line(const std::string& message) { return message.substr(0, message.find('\n')); }
 
 // All channels of an image as float (integer types normalised to [0,1] by OpenImageIO).
 struct FloatImage {
@@ -42,13 +47,14 @@ Result<FloatImage> read_float_image(const fs::path& resolved, const std::string&
     std::ifstream probe(resolved, std::ios::binary);
     if (!probe) return Status(ErrorCode::kIoError, what + ": cannot open the file for reading");
   }
+  SVC_RETURN_IF_ERROR(check_png_chunks(resolved, what));
   // Colour values are taken as stored: without this OpenImageIO premultiplies the colour
   // of PNG and TIFF files with unassociated alpha.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
   auto input = OIIO::ImageInput::open(resolved.string(), &config);
   if (!input) {
-    return Status(ErrorCode::kBadInput, what + ": not a readable image: " + OIIO::geterror());
+    return Status(ErrorCode::kBadInput, what + ": not a readable image: " + first_line(OIIO::geterror()));
   }
   const OIIO::ImageSpec& spec = input->spec();
   if (spec.width != expected_width || spec.height != expected_height || spec.depth != 1) {
@@ -71,7 +77,7 @@ Result<FloatImage> read_float_image(const fs::path& resolved, const std::string&
   }
   image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
-    return Status(ErrorCode::kBadInput, what + ": cannot decode the image: " + input->geterror());
+    return Status(ErrorCode::kBadInput, what + ": cannot decode the image: " + first_line(input->geterror()));
   }
   return image;
 }

@@ -270,6 +270,33 @@ Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t
   return parsed;
 }
 
+// Whether a manifest path stays inside the database folder once "." and ".." are
+// resolved (an absolute path may name a file inside it). Symbolic links inside the folder
+// are followed as they are.
+bool stays_inside_database(const DatabaseManifest& manifest, const std::string& path) {
+  std::error_code ec;
+  const fs::path root = fs::absolute(manifest.root, ec).lexically_normal();
+  const fs::path file = fs::absolute(resolve_database_path(manifest, path), ec).lexically_normal();
+  auto f = file.begin();
+  for (auto r = root.begin(); r != root.end(); ++r, ++f) {
+    if (r->empty()) continue;  // a trailing separator
+    if (f == file.end() || *f != *r) return false;
+  }
+  return f != file.end();
+}
+
+// Refuses a path that leaves the database folder unless the caller allows it: a manifest
+// from elsewhere must not pull arbitrary files of the machine into an .svc file.
+Status check_inside_database(const std::string& manifest_label, const DatabaseManifest& manifest,
+                             const CellSource& cell, Face face, const char* role, const std::string& path,
+                             const ManifestOptions& options) {
+  if (options.allow_outside_paths || stays_inside_database(manifest, path)) return Status::Ok();
+  return Status(ErrorCode::kBadInput, manifest_label + ": " + cell_label(cell.index) + ", face " + face_name(face) +
+                                          ": " + role + " file " + in_quotes(path) +
+                                          " lies outside the database folder (allow it with "
+                                          "--allow-outside-paths)");
+}
+
 // Checks that a file the manifest names exists; errors name cell, face and file.
 Status check_file_exists(const std::string& manifest_label, const DatabaseManifest& manifest,
                          const CellSource& cell, Face face, const char* role, const std::string& path) {
@@ -344,7 +371,7 @@ std::pair<size_t, size_t> line_and_column(const std::string& text, size_t offset
 }
 
 Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string& label,
-                                        DatabaseManifest manifest) {
+                                        const ManifestOptions& options, DatabaseManifest manifest) {
   const ManifestParser p(label);
   SVC_RETURN_IF_ERROR(p.expect_object(root_json, ""));
 
@@ -464,6 +491,8 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
   for (const CellSource& cell : manifest.cells) {
     for (const Face face : kAllFaces) {
       const FaceSource& source = cell.faces[static_cast<size_t>(face)];
+      SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "color", source.color_path, options));
+      SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "depth", source.depth_path, options));
       SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "color", source.color_path));
       if (source.depth_path != source.color_path) {
         SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
@@ -501,7 +530,7 @@ std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellInde
   return static_cast<size_t>(it - manifest.cells.begin());
 }
 
-Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir) {
+Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir, const ManifestOptions& options) {
   std::error_code ec;
   const fs::file_status status = fs::status(db_dir, ec);
   if (!fs::exists(status)) {
@@ -537,7 +566,7 @@ Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir) {
     return Status(ErrorCode::kBadInput, label + ": not valid JSON: " + e.what());
   }
   try {
-    return parse_manifest(root_json, label, std::move(manifest));
+    return parse_manifest(root_json, label, options, std::move(manifest));
   } catch (const json::exception& e) {
     // The parser checks every type before reading it; this is a safety net.
     return Status(ErrorCode::kBadInput, label + ": " + e.what());

@@ -220,7 +220,8 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   const uint64_t size_before = std::filesystem::file_size(svc_file, size_error);
   if (size_error) return Status(ErrorCode::kIoError, "cannot read the size of " + svc_file.string());
   const ContainerIndex& old = updater->committed().index;
-  SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest, load_manifest(db_dir));
+  SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest,
+                       load_manifest(db_dir, ManifestOptions{settings.allow_outside_paths}));
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
   }

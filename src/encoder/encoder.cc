@@ -63,7 +63,7 @@ int quant_scale_for_quality(int quality) {
 Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings) {
   SVC_RETURN_IF_ERROR(validate_settings(settings));
   EncodePlan plan;
-  SVC_ASSIGN_OR_RETURN(plan.manifest, load_manifest(db_dir));
+  SVC_ASSIGN_OR_RETURN(plan.manifest, load_manifest(db_dir, ManifestOptions{settings.allow_outside_paths}));
   DatabaseManifest& manifest = plan.manifest;
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");

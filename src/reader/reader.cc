@@ -16,6 +16,7 @@
 #include "codec/color.h"
 #include "codec/intra_codec.h"
 #include "common/file_io.h"
+#include "common/parallel.h"
 #include "container/container.h"
 #include "reader/face_decode.h"
 #include "reader/prefetch_order.h"
@@ -430,7 +431,7 @@ ReaderStats Reader::stats() const {
 
 void Reader::close() { impl_->close(); }
 
-Status Reader::verify() {
+Status Reader::verify(const VerifySettings& settings) {
   std::string problems;
   int count = 0;
   for (int slot = 0; slot < 2; ++slot) {
@@ -442,14 +443,25 @@ Status Reader::verify() {
       ++count;
     }
   }
-  for (uint32_t frame = 0; frame < impl_->index.frames.size(); ++frame) {
-    auto payload = impl_->read_payload(frame);
-    Status status = payload.status();
-    if (status.ok()) status = impl_->decode_uncached(frame).status();
-    if (!status.ok()) {
-      if (count < 20) problems += (count ? "\n" : "") + status.message();
-      ++count;
-    }
+  const size_t frames = impl_->index.frames.size();
+  // Every face's outcome is kept and reported in frame order, whatever the threads did.
+  std::vector<Status> outcomes(frames);
+  std::mutex progress_mutex;
+  uint64_t checked = 0;
+  const Status run = parallel_for(frames, resolve_thread_count(settings.threads), [&](size_t frame) -> Status {
+    auto payload = impl_->read_payload(static_cast<uint32_t>(frame));
+    outcomes[frame] = payload.status();
+    if (outcomes[frame].ok()) outcomes[frame] = impl_->decode_uncached(static_cast<uint32_t>(frame)).status();
+    if (!settings.progress) return Status::Ok();
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    if (settings.progress(++checked, frames)) return Status::Ok();
+    return Status(ErrorCode::kCancelled, "verify of " + impl_->file->path().string() + " cancelled");
+  });
+  if (!run.ok()) return run;
+  for (const Status& status : outcomes) {
+    if (status.ok()) continue;
+    if (count < 20) problems += (count ? "\n" : "") + status.message();
+    ++count;
   }
   if (count == 0) return Status::Ok();
   if (count > 20) problems += "\n... and " + std::to_string(count - 20) + " more damaged faces";

@@ -1,12 +1,14 @@
 #include "support/test_support.h"
 
 #include <atomic>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <random>
 #include <system_error>
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace svc::testing {
@@ -49,6 +51,22 @@ int expect_identical_trees(const std::filesystem::path& first, const std::filesy
     ++files;
   }
   return files;
+}
+
+std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+CliRun run_program(const std::string& program, const std::string& args, const std::filesystem::path& dir) {
+  const std::string command = "cd " + quoted(dir) + " && " +
+                              quoted(std::filesystem::path(SVC_BINARY_DIR) / "bin" / program) + " " + args +
+                              " 2>&1";
+  CliRun run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.output.append(buffer, n);
+  const int status = ::pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
 }
 
 }  // namespace svc::testing

@@ -26,4 +26,16 @@ std::string read_file_bytes(const std::filesystem::path& path);
 // or differs in a byte; returns the number of files compared.
 int expect_identical_trees(const std::filesystem::path& first, const std::filesystem::path& second);
 
+// A program of the build (build/bin/PROGRAM) as a user runs it from a shell.
+struct CliRun {
+  int exit_code = -1;  // -1 when it did not exit normally
+  std::string output;  // stdout and stderr together
+};
+
+// 'path' with single quotes, for a shell command line.
+std::string quoted(const std::filesystem::path& path);
+
+// Runs build/bin/PROGRAM ARGS (ARGS as a shell sees them) in `dir`.
+CliRun run_program(const std::string& program, const std::string& args, const std::filesystem::path& dir);
+
 }  // namespace svc::testing

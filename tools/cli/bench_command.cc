@@ -1,14 +1,18 @@
 #include "cli/bench_command.h"
 
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "baseline/baseline.h"
 #include "cli/cli_util.h"
 #include "command_line/command_line.h"
+#include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
 #include "svc_bench.h"
 
@@ -18,6 +22,46 @@ using command_line::add_overwrite_flag;
 using command_line::check_output;
 using command_line::not_standard_output;
 using command_line::OutputKind;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Removes what an unfinished run wrote: the work folder, and the output folder when this
+// run created it and nothing else is in it.
+void remove_unfinished(const fs::path& out_dir, bool out_dir_existed) {
+  std::error_code ec;
+  fs::remove_all(out_dir / "work", ec);
+  if (!out_dir_existed && fs::is_empty(out_dir, ec)) fs::remove(out_dir, ec);
+}
+
+// The benchmark cannot be cancelled from inside; on SIGINT or SIGTERM this watcher
+// removes its unfinished output and ends the program with the signal's exit status.
+class InterruptWatcher {
+ public:
+  InterruptWatcher(fs::path out_dir, bool out_dir_existed)
+      : thread_([this, out_dir, out_dir_existed] {
+          while (!done_) {
+            if (command_line::interrupted()) {
+              std::fprintf(stderr, "\nsvc: stopped by %s; removing %s\n", command_line::interrupting_signal_name(),
+                           (out_dir / "work").string().c_str());
+              remove_unfinished(out_dir, out_dir_existed);
+              std::_Exit(command_line::interrupted_exit_code());
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+          }
+        }) {}
+  ~InterruptWatcher() {
+    done_ = true;
+    thread_.join();
+  }
+
+ private:
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+}  // namespace
 
 struct BenchSubcommand::Options {
   bench::BenchOptions bench;
@@ -96,8 +140,16 @@ int BenchSubcommand::run() const {
   baseline::quiet_ffmpeg_logging();
   // SVT-AV1 prints its configuration to the terminal unless told otherwise (errors only).
   setenv("SVT_LOG", "1", 0);
-  auto results = bench::run_bench(options);
-  if (!results.ok()) return report_error(results.status());
+  std::error_code ec;
+  const bool out_dir_existed = fs::exists(options.out_dir, ec);
+  auto results = [&] {
+    InterruptWatcher watcher(options.out_dir, out_dir_existed);
+    return bench::run_bench(options);
+  }();
+  if (!results.ok()) {
+    remove_unfinished(options.out_dir, out_dir_existed);
+    return report_error(results.status());
+  }
   Status written = bench::write_all(*results, options.out_dir);
   if (!written.ok()) return report_error(written);
   std::printf("%s\n", bench::summary_table_markdown(*results).c_str());

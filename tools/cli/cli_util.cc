@@ -4,51 +4,58 @@
 #include <sstream>
 
 #include <OpenImageIO/imageio.h>
-#include <unistd.h>
 
 #include "command_line/command_line.h"
+#include "command_line/interrupt.h"
 
 namespace svc::cli {
 
-ProgressBar::ProgressBar(std::string label, bool enabled)
-    : label_(std::move(label)),
-      enabled_(enabled && ::isatty(STDERR_FILENO)),
-      start_(std::chrono::steady_clock::now()) {}
-
-ProgressBar::~ProgressBar() { finish(); }
-
-void ProgressBar::update(uint64_t done, uint64_t total) {
-  if (!enabled_ || total == 0) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (drawn_ && done < total && now - last_draw_ < std::chrono::milliseconds(100)) return;
-  last_draw_ = now;
-  drawn_ = true;
-  const int width = 30;
-  const double fraction = static_cast<double>(done) / static_cast<double>(total);
-  const int filled = static_cast<int>(fraction * width);
-  const double elapsed = std::chrono::duration<double>(now - start_).count();
-  const double eta = done > 0 ? elapsed * (static_cast<double>(total) - done) / done : 0;
-  std::fprintf(stderr, "\r%s [%.*s%*s] %llu/%llu %3.0f%%  %.1fs elapsed, %.1fs left ", label_.c_str(), filled,
-               "##############################", width - filled, "", static_cast<unsigned long long>(done),
-               static_cast<unsigned long long>(total), fraction * 100.0, elapsed, eta);
-  std::fflush(stderr);
-}
-
-void ProgressBar::finish() {
-  if (enabled_ && drawn_) {
-    std::fprintf(stderr, "\r\033[K");
-    std::fflush(stderr);
-  }
-  drawn_ = false;
-}
-
 int report_error(const Status& status) {
+  if (command_line::interrupted()) {
+    std::fprintf(stderr, "svc: stopped by %s; nothing was written\n", command_line::interrupting_signal_name());
+    return command_line::interrupted_exit_code();
+  }
   std::fprintf(stderr, "svc: %s\n", status.to_string().c_str());
   switch (status.code()) {
     case ErrorCode::kInvalidArgument: return command_line::kExitUsage;
     case ErrorCode::kCorruptData: return command_line::kExitCorrupt;
     default: return command_line::kExitFailure;
   }
+}
+
+bool keep_going() { return !command_line::interrupted(); }
+
+void print_json(const json& value) { std::printf("%s\n", value.dump(2).c_str()); }
+
+json face_type_stats_json(const FaceTypeStats& s) {
+  json j;
+  j["faces"] = s.faces;
+  j["bytes"] = s.bytes;
+  j["macroblocks"] = {{"intra", s.mb_intra},
+                      {"forward", s.mb_forward},
+                      {"backward", s.mb_backward},
+                      {"bidirectional", s.mb_bidirectional},
+                      {"skipped", s.mb_skipped}};
+  j["mean_unique_candidates_per_macroblock"] =
+      s.candidate_macroblocks ? static_cast<double>(s.candidate_vectors) / s.candidate_macroblocks : 0.0;
+  return j;
+}
+
+void print_face_type_stats(const char* name, const FaceTypeStats& s) {
+  if (s.faces == 0) return;
+  std::printf("  %-9s %6llu faces  %10s", name, static_cast<unsigned long long>(s.faces),
+              human_bytes(s.bytes).c_str());
+  if (s.mb_forward + s.mb_backward + s.mb_bidirectional + s.mb_skipped > 0) {
+    std::printf("  macroblocks: intra %llu, forward %llu, backward %llu, bidirectional %llu, skipped %llu",
+                static_cast<unsigned long long>(s.mb_intra), static_cast<unsigned long long>(s.mb_forward),
+                static_cast<unsigned long long>(s.mb_backward), static_cast<unsigned long long>(s.mb_bidirectional),
+                static_cast<unsigned long long>(s.mb_skipped));
+    if (s.candidate_macroblocks) {
+      std::printf("; %.2f unique candidates/macroblock",
+                  static_cast<double>(s.candidate_vectors) / s.candidate_macroblocks);
+    }
+  }
+  std::printf("\n");
 }
 
 bool parse_cell(const std::string& text, CellIndex* out) {
@@ -77,6 +84,10 @@ bool parse_triple(const std::string& text, std::array<int32_t, 3>* out) {
   return (*out)[0] > 0 && (*out)[1] > 0 && (*out)[2] > 0;
 }
 
+std::string cell_folder(const CellIndex& cell) {
+  return "cells/" + std::to_string(cell.x) + "_" + std::to_string(cell.y) + "_" + std::to_string(cell.z);
+}
+
 std::string human_bytes(uint64_t bytes) {
   char buf[64];
   if (bytes >= (1ull << 30)) {
@@ -100,20 +111,6 @@ Status write_png(const std::filesystem::path& path, const ImageRGB8& image) {
     return Status(ErrorCode::kIoError, "cannot write " + path.string() + ": " + out->geterror());
   }
   return Status::Ok();
-}
-
-Result<ImageRGB8> read_rgb(const std::filesystem::path& path) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) return Status(ErrorCode::kIoError, "cannot read " + path.string() + ": " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  ImageRGB8 image;
-  image.width = spec.width;
-  image.height = spec.height;
-  image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * 3);
-  if (spec.nchannels < 3 || !in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, image.pixels.data())) {
-    return Status(ErrorCode::kIoError, "cannot read RGB from " + path.string());
-  }
-  return image;
 }
 
 }  // namespace svc::cli

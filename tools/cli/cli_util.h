@@ -1,47 +1,49 @@
 // Shared pieces of the svc command-line tool.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "command_line/progress.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
 namespace svc::cli {
 
-// A one-line progress bar on stderr, drawn only when stderr is a terminal.
-class ProgressBar {
- public:
-  explicit ProgressBar(std::string label, bool enabled = true);
-  ~ProgressBar();
-  void update(uint64_t done, uint64_t total);
-  void finish();
+using command_line::ProgressBar;
+using command_line::Verbosity;
+using json = nlohmann::ordered_json;
 
- private:
-  std::string label_;
-  bool enabled_;
-  bool drawn_ = false;
-  std::chrono::steady_clock::time_point start_;
-  std::chrono::steady_clock::time_point last_draw_;
-};
-
-// Prints "svc: <message>" on stderr and returns the exit status for it.
+// Prints "svc: <message>" on stderr and returns the exit status for it. After SIGINT or
+// SIGTERM it reports the interruption instead and returns 128 + the signal number.
 int report_error(const Status& status);
+
+// For progress callbacks: false once SIGINT or SIGTERM asked the program to stop.
+bool keep_going();
+
+// Prints a command's JSON result on standard output.
+void print_json(const json& value);
+
+// One face's statistics as every --json output names them.
+json face_type_stats_json(const FaceTypeStats& stats);
+
+// "  I-faces  N faces  SIZE  macroblocks: ..." for the human-readable summaries.
+void print_face_type_stats(const char* name, const FaceTypeStats& stats);
 
 // "X,Y,Z" -> CellIndex.
 bool parse_cell(const std::string& text, CellIndex* out);
 // "X,Y,Z" or "N" (all axes) -> three positive integers.
 bool parse_triple(const std::string& text, std::array<int32_t, 3>* out);
 
+// "cells/X_Y_Z": where svc-input databases written by svc keep a cell's faces.
+std::string cell_folder(const CellIndex& cell);
+
 std::string human_bytes(uint64_t bytes);
 
 // Writes an 8-bit RGB PNG.
 Status write_png(const std::filesystem::path& path, const ImageRGB8& image);
-// Reads an image as 8-bit RGB (through the svc-input colour rules).
-Result<ImageRGB8> read_rgb(const std::filesystem::path& path);
 
 }  // namespace svc::cli

@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include "command_line/progress.h"
 #include "scene/scene.h"
 #include "svc/encoder.h"
 #include "svc/types.h"
@@ -15,8 +16,8 @@ struct EncodeOptions {
   std::filesystem::path db_dir;
   std::filesystem::path output;
   EncoderSettings settings;
-  bool json = false;
-  bool quiet = false;
+  bool psnr = false;  // measure PSNR-Y, PSNR-RGB and SSIM of the result against the source
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never the input)
   int shard = 0;           // --shard K/N: write part K of N (0: the whole database)
   int shard_count = 0;
@@ -25,7 +26,7 @@ struct EncodeOptions {
 struct MergeOptions {
   std::vector<std::filesystem::path> parts;
   std::filesystem::path output;
-  bool quiet = false;
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never a part)
 };
 
@@ -34,18 +35,27 @@ struct DecodeOptions {
   std::filesystem::path output;
   std::optional<CellIndex> cell;
   std::optional<Face> face;
-  bool quiet = false;
+  int threads = 0;
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 struct InfoOptions {
   std::filesystem::path input;
-  bool json = false;
+  command_line::Verbosity verbosity;
 };
 
 struct VerifyOptions {
   std::filesystem::path input;
-  bool quiet = false;
+  int threads = 0;
+  command_line::Verbosity verbosity;
+};
+
+struct CheckOptions {
+  std::filesystem::path db_dir;
+  int threads = 0;
+  bool allow_outside_paths = false;
+  command_line::Verbosity verbosity;
 };
 
 struct InspectOptions {
@@ -53,14 +63,16 @@ struct InspectOptions {
   std::filesystem::path output;  // PNG
   CellIndex cell;
   Face face = Face::kPX;
+  int scale = 0;  // pixels per face pixel; 0: enough for a sheet at least 512 pixels tall
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
 struct AddOptions {
   std::filesystem::path input;   // .svc file, updated in place
   std::filesystem::path db_dir;  // svc-input database with the cells to add
-  int threads = 0;
-  bool quiet = false;
+  AddSettings settings;
+  command_line::Verbosity verbosity;
 };
 
 struct DemoOptions {
@@ -70,14 +82,12 @@ struct DemoOptions {
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 
-Result<EncodeSummary> run_encode(const std::filesystem::path& db, const std::filesystem::path& out,
-                                 const EncoderSettings& settings, bool show_progress);
-
 int encode_command(const EncodeOptions& options);
 int merge_command(const MergeOptions& options);
 int decode_command(const DecodeOptions& options);
 int info_command(const InfoOptions& options);
 int verify_command(const VerifyOptions& options);
+int check_command(const CheckOptions& options);
 int demo_command(const DemoOptions& options);
 int add_command(const AddOptions& options);
 int inspect_command(const InspectOptions& options);

@@ -1,7 +1,9 @@
-// svc inspect: a decoded face beside its macroblock classification (intra red,
-// predicted green, skipped blue), as in the dissertation's Figure 4.5.
+// svc inspect: a decoded face beside its macroblock classification, as in the
+// dissertation's Figure 4.5, with a legend naming each colour, at a readable scale.
+#include <algorithm>
 #include <cstdio>
 #include <map>
+#include <string_view>
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
@@ -15,6 +17,10 @@ using command_line::OutputKind;
 
 namespace {
 
+constexpr MacroblockCoding kModes[] = {MacroblockCoding::kIntra, MacroblockCoding::kForward,
+                                       MacroblockCoding::kBackward, MacroblockCoding::kBidirectional,
+                                       MacroblockCoding::kSkipped};
+
 const char* mode_name(MacroblockCoding mode) {
   switch (mode) {
     case MacroblockCoding::kIntra: return "intra";
@@ -26,13 +32,103 @@ const char* mode_name(MacroblockCoding mode) {
   return "other";
 }
 
-// Intra red, any prediction green, skipped blue.
-std::array<int, 3> mode_colour(MacroblockCoding mode) {
+// Colours far apart in hue and lightness, so that each mode reads at a glance.
+std::array<uint8_t, 3> mode_colour(MacroblockCoding mode) {
   switch (mode) {
-    case MacroblockCoding::kIntra: return {230, 40, 40};
-    case MacroblockCoding::kSkipped: return {40, 90, 240};
-    default: return {40, 200, 60};
+    case MacroblockCoding::kIntra: return {220, 40, 40};           // red
+    case MacroblockCoding::kForward: return {40, 190, 60};         // green
+    case MacroblockCoding::kBackward: return {240, 200, 30};       // yellow
+    case MacroblockCoding::kBidirectional: return {170, 60, 220};  // purple
+    case MacroblockCoding::kSkipped: return {40, 110, 240};        // blue
   }
+  return {128, 128, 128};
+}
+
+// 3x5 glyphs of the letters the legend uses, one row per 3 bits (top row first).
+uint16_t glyph(char c) {
+  switch (c) {
+    case 'a': return 0b010101111101101;
+    case 'b': return 0b110101110101110;
+    case 'c': return 0b011100100100011;
+    case 'd': return 0b110101101101110;
+    case 'e': return 0b111100110100111;
+    case 'f': return 0b111100110100100;
+    case 'i': return 0b111010010010111;
+    case 'k': return 0b101101110101101;
+    case 'l': return 0b100100100100111;
+    case 'n': return 0b101111111111101;
+    case 'o': return 0b010101101101010;
+    case 'p': return 0b110101110100100;
+    case 'r': return 0b110101110101101;
+    case 's': return 0b011100010001110;
+    case 't': return 0b111010010010010;
+    case 'w': return 0b101101111111101;
+    default: return 0;
+  }
+}
+
+class Sheet {
+ public:
+  Sheet(int width, int height) {
+    image_.width = width;
+    image_.height = height;
+    image_.pixels.assign(static_cast<size_t>(width) * height * 3, 255);
+  }
+  void fill(int x0, int y0, int w, int h, const std::array<uint8_t, 3>& colour) {
+    for (int y = std::max(0, y0); y < std::min(image_.height, y0 + h); ++y) {
+      for (int x = std::max(0, x0); x < std::min(image_.width, x0 + w); ++x) set(x, y, colour);
+    }
+  }
+  void set(int x, int y, const std::array<uint8_t, 3>& colour) {
+    uint8_t* p = &image_.pixels[(static_cast<size_t>(y) * image_.width + x) * 3];
+    p[0] = colour[0], p[1] = colour[1], p[2] = colour[2];
+  }
+  // Text in the 3x5 glyphs, each glyph pixel `unit` wide.
+  void text(int x, int y, std::string_view s, int unit) {
+    for (char c : s) {
+      const uint16_t bits = glyph(c);
+      for (int row = 0; row < 5; ++row) {
+        for (int col = 0; col < 3; ++col) {
+          if (bits >> (14 - row * 3 - col) & 1) fill(x + col * unit, y + row * unit, unit, unit, {20, 20, 20});
+        }
+      }
+      x += 4 * unit;
+    }
+  }
+  const ImageRGB8& image() const { return image_; }
+
+ private:
+  ImageRGB8 image_;
+};
+
+// Left: the decoded face. Right: the same face dimmed and tinted by macroblock mode,
+// macroblock edges drawn. Below: one swatch and name per mode.
+ImageRGB8 draw_sheet(const InspectedFace& inspected, int scale) {
+  const ImageRGB8& face = inspected.image;
+  const int w = face.width * scale, h = face.height * scale, gap = 8;
+  const int unit = std::max(2, h / 160), line = 8 * unit;
+  Sheet sheet(2 * w + gap, h + gap + line * static_cast<int>(std::size(kModes)));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const int fx = x / scale, fy = y / scale;
+      const uint8_t* src = &face.pixels[(static_cast<size_t>(fy) * face.width + fx) * 3];
+      const auto colour =
+          mode_colour(inspected.modes[static_cast<size_t>(fy / 16) * inspected.macroblocks_x + fx / 16]);
+      const bool edge = (x % (16 * scale)) < std::max(1, scale / 2) || (y % (16 * scale)) < std::max(1, scale / 2);
+      std::array<uint8_t, 3> tinted;
+      for (int c = 0; c < 3; ++c)
+        tinted[c] = edge ? colour[c] : static_cast<uint8_t>((src[c] * 2 + colour[c] * 3) / 5);
+      sheet.set(x, y, {src[0], src[1], src[2]});
+      sheet.set(w + gap + x, y, tinted);
+    }
+  }
+  int y = h + gap;
+  for (MacroblockCoding mode : kModes) {
+    sheet.fill(0, y, 6 * unit, 6 * unit, mode_colour(mode));
+    sheet.text(8 * unit, y + unit / 2, mode_name(mode), unit);
+    y += line;
+  }
+  return sheet.image();
 }
 
 }  // namespace
@@ -44,41 +140,34 @@ int inspect_command(const InspectOptions& options) {
   if (!reader.ok()) return report_error(reader.status());
   auto inspected = (*reader)->inspect_face(options.cell, options.face);
   if (!inspected.ok()) return report_error(inspected.status());
-  const ImageRGB8& face = inspected->image;
-  const int w = face.width, h = face.height, mbw = inspected->macroblocks_x;
-  const std::vector<MacroblockCoding>& modes = inspected->modes;
-  const std::vector<uint8_t>& rgb = face.pixels;
-  // Left: the decoded face. Right: the same face, dimmed, tinted by macroblock mode,
-  // with the macroblock grid drawn.
-  const int gap = 8;
-  ImageRGB8 sheet;
-  sheet.width = 2 * w + gap;
-  sheet.height = h;
-  sheet.pixels.assign(static_cast<size_t>(sheet.width) * h * 3, 255);
-  std::map<int, uint64_t> counts;
-  for (MacroblockCoding m : modes) counts[static_cast<int>(m)] += 1;
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const uint8_t* src = &rgb[(static_cast<size_t>(y) * w + x) * 3];
-      uint8_t* left = &sheet.pixels[(static_cast<size_t>(y) * sheet.width + x) * 3];
-      uint8_t* right = &sheet.pixels[(static_cast<size_t>(y) * sheet.width + w + gap + x) * 3];
-      const auto colour = mode_colour(modes[static_cast<size_t>(y / 16) * mbw + x / 16]);
-      const bool edge = x % 16 == 0 || y % 16 == 0;
-      for (int c = 0; c < 3; ++c) {
-        left[c] = src[c];
-        right[c] = edge ? static_cast<uint8_t>(colour[c]) : static_cast<uint8_t>((src[c] * 2 + colour[c] * 3) / 5);
-      }
-    }
-  }
-  Status status = write_png(options.output, sheet);
+  const int scale = options.scale > 0 ? options.scale
+                                      : std::max(1, (512 + inspected->image.height - 1) / inspected->image.height);
+  Status status = write_png(options.output, draw_sheet(*inspected, scale));
   if (!status.ok()) return report_error(status);
-  std::printf("%s: %s-face, %zu macroblocks:", face_label(options.cell, options.face).c_str(),
-              inspected->type == FaceType::kIntra ? "I" : "B", modes.size());
-  for (const auto& [mode, count] : counts) {
-    std::printf(" %s %llu", mode_name(static_cast<MacroblockCoding>(mode)), static_cast<unsigned long long>(count));
+  std::map<MacroblockCoding, uint64_t> counts;
+  for (MacroblockCoding m : inspected->modes) counts[m] += 1;
+  if (options.verbosity.json) {
+    json modes = json::object();
+    for (MacroblockCoding mode : kModes) modes[mode_name(mode)] = counts[mode];
+    print_json({{"command", "inspect"},
+                {"input", options.input.string()},
+                {"output", options.output.string()},
+                {"cell", {options.cell.x, options.cell.y, options.cell.z}},
+                {"face", face_name(options.face)},
+                {"type", inspected->type == FaceType::kIntra ? "intra" : "predicted"},
+                {"scale", scale},
+                {"macroblocks", modes}});
+    return 0;
   }
-  std::printf("\nwrote %s (left: decoded face; right: intra red, predicted green, skipped blue)\n",
-              options.output.string().c_str());
+  if (!options.verbosity.show_summary()) return 0;
+  std::printf("%s: %s-face, %zu macroblocks:", face_label(options.cell, options.face).c_str(),
+              inspected->type == FaceType::kIntra ? "I" : "B", inspected->modes.size());
+  for (const auto& [mode, count] : counts)
+    std::printf(" %s %llu", mode_name(mode), static_cast<unsigned long long>(count));
+  std::printf(
+      "\nwrote %s at %dx (left: decoded face; right: intra red, forward green, backward yellow, "
+      "bidirectional purple, skipped blue; legend below)\n",
+      options.output.string().c_str(), scale);
   return 0;
 }
 

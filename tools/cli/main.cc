@@ -1,4 +1,4 @@
-// svc: encode, decode, inspect and verify spatial video databases.
+// svc: encode, decode, check, inspect and verify spatial video databases.
 #include <charconv>
 #include <cstdio>
 #include <string>
@@ -9,6 +9,7 @@
 #include "cli/cli_util.h"
 #include "cli/commands.h"
 #include "command_line/command_line.h"
+#include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
 #ifdef SVC_WITH_BENCH
 #include "cli/bench_command.h"
@@ -27,6 +28,17 @@ struct EncoderOptionText {
   std::vector<std::string> disabled_tools;
 };
 
+void add_threads_option(CLI::App* cmd, int* threads) {
+  cmd->add_option("--threads", *threads, "Worker threads (0: all cores); the output does not depend on it")
+      ->check(integer_in(0, 1024))
+      ->capture_default_str();
+}
+
+void add_outside_paths_flag(CLI::App* cmd, bool* allow) {
+  cmd->add_flag("--allow-outside-paths", *allow,
+                "Let the manifest name images outside the database folder (absolute paths, ../)");
+}
+
 // Options shared by encode and demo.
 void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOptionText* text) {
   cmd->add_option("-q,--quality", settings->quality, "Quality 1 (smallest) to 100 (best)")
@@ -34,9 +46,7 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
       ->capture_default_str();
   cmd->add_option("--qscale", settings->quant_scale, "Quantiser scale 1..112 (overrides --quality)")
       ->check(integer_in(1, 112));
-  cmd->add_option("--threads", settings->threads, "Worker threads (0: all cores); output does not depend on it")
-      ->check(integer_in(0, 1024))
-      ->capture_default_str();
+  add_threads_option(cmd, &settings->threads);
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
   cmd->add_option("--i-spacing", text->i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")
       ->capture_default_str();
@@ -76,6 +86,19 @@ bool apply_encoder_options(EncoderSettings* settings, const EncoderOptionText& t
   return true;
 }
 
+bool parse_cell_option(const std::string& text, CellIndex* cell) {
+  if (parse_cell(text, cell)) return true;
+  std::fprintf(stderr, "svc: --cell takes X,Y,Z, not '%s'\n", text.c_str());
+  return false;
+}
+
+bool parse_face_option(const std::string& text, Face* face) {
+  const auto parsed = face_from_name(text);
+  if (parsed) *face = *parsed;
+  if (!parsed) std::fprintf(stderr, "svc: --face takes px, nx, py, ny, pz or nz, not '%s'\n", text.c_str());
+  return parsed.has_value();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,8 +115,10 @@ int main(int argc, char** argv) {
       ->required()
       ->check(not_standard_output());
   add_encoder_options(encode_cmd, &encode.settings, &encode_text);
-  encode_cmd->add_flag("--json", encode.json, "Print the summary as JSON");
-  encode_cmd->add_flag("--quiet", encode.quiet, "Print nothing on success");
+  encode_cmd->add_flag("--psnr", encode.psnr,
+                       "Decode the result and report PSNR-Y, PSNR-RGB and SSIM against the source");
+  add_outside_paths_flag(encode_cmd, &encode.settings.allow_outside_paths);
+  add_verbosity_options(encode_cmd, &encode.verbosity);
   std::string encode_shard;
   encode_cmd->add_option("--shard", encode_shard, "Write part K/N of a sharded encode (join with svc merge)");
   add_overwrite_flag(encode_cmd, &encode.overwrite);
@@ -102,17 +127,24 @@ int main(int argc, char** argv) {
   auto* merge_cmd = app.add_subcommand("merge", "Join the part files of a sharded encode into one .svc file");
   merge_cmd->add_option("PARTS", merge.parts, "Part files from svc encode --shard K/N, in any order")->required();
   merge_cmd->add_option("-o,--output", merge.output, "Output .svc file")->required()->check(not_standard_output());
-  merge_cmd->add_flag("--quiet", merge.quiet, "Print nothing on success");
+  add_verbosity_options(merge_cmd, &merge.verbosity);
   add_overwrite_flag(merge_cmd, &merge.overwrite);
 
   AddOptions add;
   auto* add_cmd = app.add_subcommand("add", "Add a database's new cells to an .svc file in place (crash-safe)");
   add_cmd->add_option("IN", add.input, "The .svc file to add to")->required();
   add_cmd->add_option("DB_DIR", add.db_dir, "svc-input database holding the cells to add")->required();
-  add_cmd->add_option("--threads", add.threads, "Worker threads (0: all cores); output does not depend on it")
-      ->check(integer_in(0, 1024))
-      ->capture_default_str();
-  add_cmd->add_flag("--quiet", add.quiet, "Print nothing on success");
+  add_threads_option(add_cmd, &add.settings.threads);
+  add_outside_paths_flag(add_cmd, &add.settings.allow_outside_paths);
+  add_verbosity_options(add_cmd, &add.verbosity);
+
+  CheckOptions check;
+  auto* check_cmd = app.add_subcommand(
+      "check", "Check an svc-input database as the encoder reads it (manifest, every image), without encoding");
+  check_cmd->add_option("DB_DIR", check.db_dir, "svc-input database folder")->required();
+  add_threads_option(check_cmd, &check.threads);
+  add_outside_paths_flag(check_cmd, &check.allow_outside_paths);
+  add_verbosity_options(check_cmd, &check.verbosity);
 
   DecodeOptions decode;
   std::string decode_cell, decode_face;
@@ -121,18 +153,21 @@ int main(int argc, char** argv) {
   decode_cmd->add_option("-o,--output", decode.output, "Output folder")->required()->check(not_standard_output());
   decode_cmd->add_option("--cell", decode_cell, "Only this cell, X,Y,Z");
   decode_cmd->add_option("--face", decode_face, "Only this face: px nx py ny pz nz");
-  decode_cmd->add_flag("--quiet", decode.quiet, "Print nothing on success");
+  add_threads_option(decode_cmd, &decode.threads);
+  add_verbosity_options(decode_cmd, &decode.verbosity);
   add_overwrite_flag(decode_cmd, &decode.overwrite);
 
   InfoOptions info;
-  auto* info_cmd = app.add_subcommand("info", "Describe an .svc file: grid, coding settings, bytes");
+  auto* info_cmd =
+      app.add_subcommand("info", "Describe an .svc file: grid, coding settings, bytes per face type and cell");
   info_cmd->add_option("IN", info.input, "Input .svc file")->required();
-  info_cmd->add_flag("--json", info.json, "Print as JSON");
+  add_verbosity_options(info_cmd, &info.verbosity);
 
   VerifyOptions verify;
   auto* verify_cmd = app.add_subcommand("verify", "Check every CRC and decode every face");
   verify_cmd->add_option("IN", verify.input, "Input .svc file")->required();
-  verify_cmd->add_flag("--quiet", verify.quiet, "Print nothing on success");
+  add_threads_option(verify_cmd, &verify.threads);
+  add_verbosity_options(verify_cmd, &verify.verbosity);
 
   InspectOptions inspect;
   std::string inspect_cell, inspect_face;
@@ -142,6 +177,10 @@ int main(int argc, char** argv) {
   inspect_cmd->add_option("--cell", inspect_cell, "Cell X,Y,Z")->required();
   inspect_cmd->add_option("--face", inspect_face, "Face: px nx py ny pz nz")->required();
   inspect_cmd->add_option("-o,--output", inspect.output, "Output PNG")->required()->check(not_standard_output());
+  inspect_cmd->add_option("--scale", inspect.scale, "Output pixels per face pixel (0: at least 512 pixels tall)")
+      ->check(integer_in(0, 64))
+      ->capture_default_str();
+  add_verbosity_options(inspect_cmd, &inspect.verbosity);
   add_overwrite_flag(inspect_cmd, &inspect.overwrite);
 
   DemoOptions demo;
@@ -159,6 +198,7 @@ int main(int argc, char** argv) {
 #endif
 
   if (auto exit_code = command_line::parse(app, argc, argv, "svc")) return *exit_code;
+  stop_on_interrupt();
 
   if (encode_cmd->parsed()) {
     if (!apply_encoder_options(&encode.settings, encode_text)) return kExitUsage;
@@ -167,36 +207,33 @@ int main(int argc, char** argv) {
                    encode_shard.c_str());
       return kExitUsage;
     }
+    if (encode.shard_count > 0 && encode.psnr) {
+      std::fprintf(stderr, "svc: --psnr measures a whole database; measure the merged file's, not a part's\n");
+      return kExitUsage;
+    }
     return encode_command(encode);
   }
   if (merge_cmd->parsed()) return merge_command(merge);
   if (add_cmd->parsed()) return add_command(add);
+  if (check_cmd->parsed()) return check_command(check);
   if (decode_cmd->parsed()) {
     if (!decode_cell.empty()) {
       CellIndex cell;
-      if (!parse_cell(decode_cell, &cell)) {
-        std::fprintf(stderr, "svc: --cell takes X,Y,Z, not '%s'\n", decode_cell.c_str());
-        return kExitUsage;
-      }
+      if (!parse_cell_option(decode_cell, &cell)) return kExitUsage;
       decode.cell = cell;
     }
     if (!decode_face.empty()) {
-      decode.face = face_from_name(decode_face);
-      if (!decode.face) {
-        std::fprintf(stderr, "svc: --face takes px, nx, py, ny, pz or nz, not '%s'\n", decode_face.c_str());
-        return kExitUsage;
-      }
+      Face face;
+      if (!parse_face_option(decode_face, &face)) return kExitUsage;
+      decode.face = face;
     }
     return decode_command(decode);
   }
   if (info_cmd->parsed()) return info_command(info);
   if (inspect_cmd->parsed()) {
-    const auto face = face_from_name(inspect_face);
-    if (!parse_cell(inspect_cell, &inspect.cell) || !face) {
-      std::fprintf(stderr, "svc: inspect takes --cell X,Y,Z and --face px|nx|py|ny|pz|nz\n");
+    if (!parse_cell_option(inspect_cell, &inspect.cell) || !parse_face_option(inspect_face, &inspect.face)) {
       return kExitUsage;
     }
-    inspect.face = *face;
     return inspect_command(inspect);
   }
   if (verify_cmd->parsed()) return verify_command(verify);
