@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "codec/bframe_codec.h"
@@ -10,6 +11,7 @@
 #include "common/parallel.h"
 #include "container/writer.h"
 #include "database/database.h"
+#include "encoder/cell_visibility.h"
 #include "encoder/coding_pipeline.h"
 #include "spatial/placement.h"
 
@@ -38,6 +40,31 @@ Status validate_settings(const EncoderSettings& settings) {
     }
   }
   return Status::Ok();
+}
+
+PlacementSettings placement_settings_of(const EncoderSettings& settings) {
+  PlacementSettings placement;
+  placement.i_spacing = settings.intra_only ? std::array<int32_t, 3>{1, 1, 1} : settings.i_spacing;
+  const bool intra_only = placement.i_spacing == std::array<int32_t, 3>{1, 1, 1};
+  placement.layout = settings.layout == CubeLayout::kVisibility && !intra_only ? Layout::kVisibility
+                                                                               : Layout::kRegular;
+  placement.visibility_references = settings.tools.visibility_references && !intra_only;
+  return placement;
+}
+
+// Which cells are I-cubes, and the references of every B-cube.
+Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manifest,
+                                                  const PlacementSettings& settings, int threads) {
+  std::vector<CellIndex> cells;
+  for (const CellSource& source : manifest.cells) cells.push_back(source.index);
+  if (settings.layout == Layout::kRegular && !settings.visibility_references) {
+    return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing);
+  }
+  SVC_ASSIGN_OR_RETURN(auto pairs, reach_pairs(cells, settings.i_spacing));
+  std::vector<std::optional<size_t>> sources(cells.size());
+  for (size_t c = 0; c < cells.size(); ++c) sources[c] = c;
+  SVC_ASSIGN_OR_RETURN(VisibilityTable table, measure_visibility(manifest, sources, pairs, threads));
+  return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing, &table);
 }
 
 }  // namespace
@@ -102,14 +129,10 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
   summary.quant_scale = quant_scale;
   summary.raw_bytes = uint64_t{3} * manifest.face_width * manifest.face_height * face_count;
 
-  // Placement: which cells are I-cubes, and the references of every B-cube.
-  PlacementSettings placement_settings;
-  placement_settings.i_spacing = settings.intra_only ? std::array<int32_t, 3>{1, 1, 1} : settings.i_spacing;
+  const PlacementSettings placement_settings = placement_settings_of(settings);
   index.coding.i_spacing = placement_settings.i_spacing;
-  std::vector<CellIndex> cell_indices;
-  for (const CellSource& source : manifest.cells) cell_indices.push_back(source.index);
   SVC_ASSIGN_OR_RETURN(std::vector<CellPlacement> placement,
-                       place_cubes(cell_indices, manifest.grid.dims, placement_settings, manifest.grid.spacing));
+                       place_database(manifest, placement_settings, resolve_thread_count(settings.threads)));
 
   CodingJob job;
   job.index = &index;
