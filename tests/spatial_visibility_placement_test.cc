@@ -169,6 +169,52 @@ TEST(VisibilityPlacement, ResultDoesNotDependOnCellOrder) {
   EXPECT_EQ(added, 5u);  // the lattice's four and one that serves the column
 }
 
+// `full` reduced to the pairs whose reference `keep` accepts.
+template <typename Keep>
+VisibilityTable reduced(const std::vector<CellIndex>& cells, const VisibilityTable& full, Keep keep) {
+  VisibilityTable table(cells.size());
+  for (uint32_t c = 0; c < cells.size(); ++c) table.set_samples(c, full.samples(c));
+  const auto pairs = reach_pairs(cells, {3, 1, 3});
+  for (const auto& [cell, reference] : *pairs) {
+    if (keep(reference)) table.set_seen(cell, reference, *full.seen(cell, reference));
+  }
+  return table;
+}
+
+TEST(VisibilityPlacement, CandidatePairsAloneGiveTheSamePlacement) {
+  std::vector<CellIndex> cells;
+  for (int z = 0; z < 6; ++z)
+    for (int x = 0; x < 12; ++x) cells.push_back({x, 0, z});
+  std::map<std::pair<Key, Key>, std::vector<uint64_t>> hidden;
+  for (const CellIndex& seen : cells)
+    for (const CellIndex& seer : cells)
+      if ((seen.x == 0) != (seer.x == 0)) hidden[{Key{seer.x, 0, seer.z}, Key{seen.x, 0, seen.z}}] = bits(0, 16);
+  const VisibilityTable full = table_for(cells, {3, 1, 3}, hidden);
+  const PlacementSettings settings = visibility_settings();
+  auto lattice = place_cubes(cells, {12, 1, 6}, PlacementSettings{}, {1, 1, 1});
+  ASSERT_TRUE(lattice.ok());
+  const VisibilityTable lattice_only = reduced(cells, full, [&](uint32_t k) { return (*lattice)[k].intra; });
+  auto candidates = layout_candidates(cells, {12, 1, 6}, settings, {1, 1, 1}, lattice_only);
+  ASSERT_TRUE(candidates.ok()) << candidates.status().to_string();
+  // Cells out of reach of the hidden column (x >= 6) could never pay: every cell they
+  // reach is seen whole already.
+  ASSERT_FALSE(candidates->empty());
+  for (uint32_t k : *candidates) EXPECT_LT(cells[k].x, 6) << k;
+  const VisibilityTable partial = reduced(cells, full, [&](uint32_t k) {
+    return (*lattice)[k].intra || std::count(candidates->begin(), candidates->end(), k) > 0;
+  });
+  auto from_full = place_cubes(cells, {12, 1, 6}, settings, {1, 1, 1}, &full);
+  auto from_partial = place_cubes(cells, {12, 1, 6}, settings, {1, 1, 1}, &partial);
+  ASSERT_TRUE(from_full.ok() && from_partial.ok());
+  size_t intra = 0;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    EXPECT_EQ((*from_full)[c].intra, (*from_partial)[c].intra);
+    EXPECT_EQ((*from_full)[c].references, (*from_partial)[c].references);
+    intra += (*from_full)[c].intra ? 1 : 0;
+  }
+  EXPECT_EQ(intra, 9u);  // the lattice's eight and one for the column
+}
+
 TEST(VisibilityPlacement, MissingTableIsAnError) {
   const std::vector<CellIndex> cells = grid_3x3();
   PlacementSettings settings;

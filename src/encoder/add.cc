@@ -109,25 +109,22 @@ struct NewCellTypes {
   std::vector<std::array<std::vector<uint32_t>, kFaceCount>> references;
 };
 
-// Existing cells keep their types; a new cell takes the type the placement rules give
-// it over the union (the regular lattice), and becomes an I-cube when a face has no
-// I-face in reach; a new B-face's references are the I-faces in reach that see most of it
-// (new_cell_references). New
-// I-cubes can give later cells references, so this repeats until nothing changes (each
-// round only turns B-cubes into I-cubes, so it ends).
 // What the cubes see of the new cells, from the database's depth: every union cell the
 // database holds (new cells, and old ones it holds again) has samples.
 Result<VisibilityTable> new_cell_visibility(const std::vector<UnionCell>& cells, const DatabaseManifest& manifest,
                                             const ContainerIndex& old, int threads) {
   std::vector<CellIndex> indices;
-  std::vector<std::optional<size_t>> sources(cells.size());
-  for (size_t c = 0; c < cells.size(); ++c) {
-    indices.push_back(cells[c].index);
-    sources[c] = cells[c].source >= 0 ? std::optional<size_t>(static_cast<size_t>(cells[c].source))
-                                      : find_cell(manifest, cells[c].index);
-  }
+  for (const UnionCell& cell : cells) indices.push_back(cell.index);
   SVC_ASSIGN_OR_RETURN(auto pairs, reach_pairs(indices, old.coding.i_spacing));
   std::erase_if(pairs, [&](const auto& pair) { return cells[pair.first].old_cell >= 0; });
+  // Depth is loaded only for the cells the pairs name.
+  std::vector<std::optional<size_t>> sources(cells.size());
+  for (const auto& [cell, reference] : pairs) {
+    for (uint32_t c : {cell, reference}) {
+      sources[c] = cells[c].source >= 0 ? std::optional<size_t>(static_cast<size_t>(cells[c].source))
+                                        : find_cell(manifest, cells[c].index);
+    }
+  }
   return measure_visibility(manifest, sources, pairs, threads);
 }
 
@@ -143,6 +140,11 @@ std::vector<uint32_t> new_cell_references(const UnionCell& cell, uint32_t ordina
                             [&](uint32_t id) -> const std::vector<uint64_t>& { return *table.seen(ordinal, id); });
 }
 
+// Existing cells keep their types; a new cell takes the type the placement rules give
+// it over the union (the regular lattice), and becomes an I-cube when a face has no
+// I-face in reach; a new B-face's references are chosen by new_cell_references. New
+// I-cubes can give later cells references, so this repeats until nothing changes (each
+// round only turns B-cubes into I-cubes, so it ends).
 Result<NewCellTypes> type_new_cells(const std::vector<UnionCell>& cells, const ContainerIndex& old,
                                     const GridSpec& grid, const VisibilityTable& table) {
   std::vector<CellIndex> indices;

@@ -10,6 +10,7 @@
 
 #include "database/database.h"
 #include "spatial/placement.h"
+#include "spatial/visibility.h"
 #include "svc/status.h"
 
 namespace svc {
@@ -21,6 +22,23 @@ namespace svc {
 // threads; the table does not depend on the thread count. Errors: those of load_face,
 // naming the cell, face and file; kBadInput when a face's depth does not have the
 // manifest's face size.
+// The sampled depth of a database's cells, loaded once, from which visibility pairs are
+// measured in as many steps as the caller needs.
+class CellVisibility {
+ public:
+  // Loads the cells of `sources` (as for measure_visibility), on up to `threads` threads.
+  static Result<CellVisibility> load(const DatabaseManifest& manifest,
+                                     const std::vector<std::optional<size_t>>& sources, int threads);
+  // A table with every cell's sample count and no pairs.
+  VisibilityTable empty_table() const;
+  // Adds to `table` each pair of `pairs` whose cells both have samples.
+  void measure(const std::vector<std::pair<uint32_t, uint32_t>>& pairs, int threads, VisibilityTable* table) const;
+
+ private:
+  std::vector<CubeSamples> cubes_;
+  std::vector<uint8_t> present_;
+};
+
 Result<VisibilityTable> measure_visibility(const DatabaseManifest& manifest,
                                            const std::vector<std::optional<size_t>>& sources,
                                            const std::vector<std::pair<uint32_t, uint32_t>>& pairs, int threads);

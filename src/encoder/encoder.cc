@@ -52,6 +52,17 @@ PlacementSettings placement_settings_of(const EncoderSettings& settings) {
   return placement;
 }
 
+// The pairs whose reference `wanted` accepts.
+template <typename Wanted>
+std::vector<std::pair<uint32_t, uint32_t>> pairs_to(const std::vector<std::pair<uint32_t, uint32_t>>& pairs,
+                                                    Wanted wanted) {
+  std::vector<std::pair<uint32_t, uint32_t>> kept;
+  for (const auto& pair : pairs) {
+    if (wanted(pair.second)) kept.push_back(pair);
+  }
+  return kept;
+}
+
 // Which cells are I-cubes, and the references of every B-cube.
 Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manifest,
                                                   const PlacementSettings& settings, int threads) {
@@ -60,10 +71,24 @@ Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manife
   if (settings.layout == Layout::kRegular && !settings.visibility_references) {
     return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing);
   }
-  SVC_ASSIGN_OR_RETURN(auto pairs, reach_pairs(cells, settings.i_spacing));
   std::vector<std::optional<size_t>> sources(cells.size());
   for (size_t c = 0; c < cells.size(); ++c) sources[c] = c;
-  SVC_ASSIGN_OR_RETURN(VisibilityTable table, measure_visibility(manifest, sources, pairs, threads));
+  SVC_ASSIGN_OR_RETURN(CellVisibility visibility, CellVisibility::load(manifest, sources, threads));
+  VisibilityTable table = visibility.empty_table();
+  // First what the lattice's I-cubes see, then what the cells that could become I-cubes
+  // see: most cells never can, and their pairs would cost most of the time.
+  SVC_ASSIGN_OR_RETURN(const auto pairs, reach_pairs(cells, settings.i_spacing));
+  PlacementSettings regular;
+  regular.i_spacing = settings.i_spacing;
+  SVC_ASSIGN_OR_RETURN(const auto lattice, place_cubes(cells, manifest.grid.dims, regular, manifest.grid.spacing));
+  visibility.measure(pairs_to(pairs, [&](uint32_t k) { return lattice[k].intra; }), threads, &table);
+  if (settings.layout == Layout::kVisibility) {
+    SVC_ASSIGN_OR_RETURN(const auto candidates,
+                         layout_candidates(cells, manifest.grid.dims, settings, manifest.grid.spacing, table));
+    std::vector<uint8_t> is_candidate(cells.size(), 0);
+    for (uint32_t k : candidates) is_candidate[k] = 1;
+    visibility.measure(pairs_to(pairs, [&](uint32_t k) { return is_candidate[k] != 0; }), threads, &table);
+  }
   return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing, &table);
 }
 

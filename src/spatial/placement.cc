@@ -154,21 +154,42 @@ class CostPlacement {
         placement_(*placement),
         reach_(reach_lists(cells, i_spacing)) {}
 
-  Status run() {
+  // Lattice I-cubes' pairs; and which B-cubes have all their pairs, so may be added.
+  Status prepare() {
+    candidate_.assign(cells_.size(), 1);
     for (uint32_t c = 0; c < cells_.size(); ++c) {
       for (uint32_t k : reach_[c]) {
-        if (!table_.seen(c, k)) return missing_pair(cells_, c, k);
+        if (table_.seen(c, k)) continue;
+        if (placement_[k].intra) return missing_pair(cells_, c, k);
+        candidate_[k] = 0;
       }
     }
     best_.assign(cells_.size(), 0);
     for (uint32_t c = 0; c < cells_.size(); ++c) best_[c] = best_pair_seen(c);
+    return Status::Ok();
+  }
+
+  // B-cubes whose change could pay if it made every B-cube in reach seen whole.
+  std::vector<uint32_t> may_pay() const {
+    std::vector<uint32_t> found;
+    for (uint32_t k = 0; k < cells_.size(); ++k) {
+      if (placement_[k].intra) continue;
+      double most_saved = 0;
+      for (uint32_t c : reach_[k]) {
+        if (!placement_[c].intra) most_saved += b_cost(c, best_[c]) - costs_.seen_b_face;
+      }
+      if (most_saved > 1.0 - b_cost(k, best_[k]) + kMinGain) found.push_back(k);
+    }
+    return found;
+  }
+
+  Status run() {
+    SVC_RETURN_IF_ERROR(prepare());
     for (;;) {
-      // Additions must lower the cost by more than rounding could.
-      constexpr double kMinGain = 1e-9;
       double best_change = 0;
       int64_t chosen = -1;
       for (uint32_t k = 0; k < cells_.size(); ++k) {
-        if (placement_[k].intra) continue;
+        if (placement_[k].intra || !candidate_[k]) continue;
         const double change = change_if_intra(k);
         if (!(change < -kMinGain)) continue;
         if (chosen < 0 || change < best_change - kMinGain ||
@@ -187,6 +208,9 @@ class CostPlacement {
   }
 
  private:
+  // Additions must lower the cost by more than rounding could.
+  static constexpr double kMinGain = 1e-9;
+
   double share(uint32_t cell, size_t seen) const {
     const size_t samples = table_.samples(cell);
     return samples == 0 ? 1.0 : static_cast<double>(seen) / static_cast<double>(samples);
@@ -239,6 +263,7 @@ class CostPlacement {
   std::vector<CellPlacement>& placement_;
   const std::vector<std::vector<uint32_t>> reach_;
   std::vector<size_t> best_;
+  std::vector<uint8_t> candidate_;
 };
 
 Status add_intra_by_cost(const std::vector<CellIndex>& cells, const std::array<int32_t, 3>& i_spacing,
@@ -331,6 +356,23 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
     }
   }
   return placement;
+}
+
+Result<std::vector<uint32_t>> layout_candidates(const std::vector<CellIndex>& cells,
+                                                const std::array<int32_t, 3>& dims,
+                                                const PlacementSettings& settings,
+                                                const std::array<double, 3>& grid_spacing,
+                                                const VisibilityTable& visibility) {
+  PlacementSettings lattice = settings;
+  lattice.layout = Layout::kRegular;
+  lattice.visibility_references = false;
+  SVC_ASSIGN_OR_RETURN(std::vector<CellPlacement> placement, place_cubes(cells, dims, lattice, grid_spacing));
+  if (visibility.cells() != cells.size()) {
+    return Status(ErrorCode::kInvalidArgument, "placement: the visibility table does not cover every cell");
+  }
+  CostPlacement cost(cells, settings.i_spacing, settings.costs, visibility, &placement);
+  SVC_RETURN_IF_ERROR(cost.prepare());
+  return cost.may_pay();
 }
 
 Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,

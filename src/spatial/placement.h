@@ -124,10 +124,11 @@ Result<std::vector<std::pair<uint32_t, uint32_t>>> reach_pairs(const std::vector
                                                                const std::array<int32_t, 3>& i_spacing);
 
 // Placement with the layout and reference rule of `settings`. `visibility` must hold
-// every pair of reach_pairs when settings.layout is kVisibility or
-// settings.visibility_references is set (kInvalidArgument otherwise); it may be null
-// for the regular layout with the nearest references. The visibility layout keeps the
-// lattice's I-cubes and adds others greedily: the added cube is the B-cube whose
+// the pairs of reach_pairs whose reference is an I-cube when settings.layout is
+// kVisibility or settings.visibility_references is set (kInvalidArgument otherwise); it
+// may be null for the regular layout with the nearest references. The visibility layout keeps the
+// lattice's I-cubes and adds others greedily among the B-cubes all of whose pairs the
+// table holds (see layout_candidates): the added cube is the B-cube whose
 // change lowers sum over cells of (1 for an I-cube; seen_b_face * s + unseen_b_face *
 // (1 - s) for a B-cube whose best pair in reach sees the share s of its samples) most,
 // ties to the smallest (y, z, x) index, until no change lowers it. A pure function of
@@ -137,6 +138,19 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
                                                const PlacementSettings& settings,
                                                const std::array<double, 3>& grid_spacing,
                                                const VisibilityTable* visibility);
+
+// The B-cubes of the lattice that the visibility layout could make I-cubes: those whose
+// change would lower the estimated cost even if every B-cube in their reach came to be
+// seen whole. Needs in `visibility` only the pairs (c, k) of reach_pairs whose k is an
+// I-cube of the lattice. Once the table also holds every pair (c, k) for the cells k
+// listed here, place_cubes gives the same placement as with every pair of reach_pairs
+// (it considers as additions only cells all of whose pairs the table holds), so a caller
+// need not measure the rest. Sorted; same errors as place_cubes.
+Result<std::vector<uint32_t>> layout_candidates(const std::vector<CellIndex>& cells,
+                                                const std::array<int32_t, 3>& dims,
+                                                const PlacementSettings& settings,
+                                                const std::array<double, 3>& grid_spacing,
+                                                const VisibilityTable& visibility);
 
 // As above with unit grid spacing (distances in cell-index units).
 Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
