@@ -42,9 +42,14 @@ CodecPlan svc_plan(const std::string& name) {
   plan.name = name;
   plan.is_svc = true;
   plan.svc_intra = name == "svc-intra";
+  plan.svc_regular = name == "svc-regular";
   plan.encoder = "svc";
   plan.setting_name = "quality";
-  plan.description = plan.svc_intra ? "every cell an I-cube" : "I-cubes every 3x1x3 cells, depth motion";
+  plan.description =
+      plan.svc_intra ? "every cell an I-cube"
+      : plan.svc_regular
+          ? "I-cubes every 3x1x3 cells, nearest references, depth motion"
+          : "I-cubes every 3x1x3 cells and where references see too little, references by visibility, depth motion";
   plan.range = {5, 100, true, {75}};
   return plan;
 }
@@ -168,7 +173,7 @@ Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& option
   if (options.gop < 1)
     return Status(ErrorCode::kInvalidArgument, "GOP must be at least 1, not " + std::to_string(options.gop));
   CodecPlan plan;
-  if (name == "svc" || name == "svc-intra") {
+  if (name == "svc" || name == "svc-intra" || name == "svc-regular") {
     plan = svc_plan(name);
   } else if (name == "mpeg2" || name == "mpeg2-hilbert") {
     plan = mpeg2_plan(name);

@@ -43,6 +43,7 @@ struct CodecPlan {
   SettingRange range;
   bool is_svc = false;
   bool svc_intra = false;
+  bool svc_regular = false;       // the i_spacing lattice alone, nearest references
   bool intra = false;             // every face coded on its own
   bool force_row_starts = false;  // the dissertation's I-frame at every row start
   baseline::CellOrder order = baseline::CellOrder::kRowMajor;

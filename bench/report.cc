@@ -211,7 +211,7 @@ Status write_plots(const BenchResults& r, const std::filesystem::path& directory
       plot::Series a, b;
       a.label = b.label = c.name;
       a.color = b.color = plot::palette(i);
-      a.dashed = b.dashed = c.name != "svc" && c.name != "svc-intra" && c.name.rfind("mpeg2", 0) != 0;
+      a.dashed = b.dashed = c.name.rfind("svc", 0) != 0 && c.name.rfind("mpeg2", 0) != 0;
       for (const QualityPoint& p : c.points) {
         a.points.emplace_back(p.bits_per_pixel, p.psnr_y);
         b.points.emplace_back(p.bits_per_pixel, p.ssim);

@@ -32,6 +32,18 @@ struct CodingTools {
   bool intra_rd_search = true;
   // B-faces: quarter-pel vectors (off: the encoder keeps to half-pel positions).
   bool quarter_pel = true;
+  // B-cubes: the (at most) two I-cubes in reach that together see most of the cell, from
+  // depth, rather than the nearest two (docs/format.md, "I-cube placement").
+  bool visibility_references = true;
+};
+
+// Where the encoder puts I-cubes (docs/format.md, "I-cube placement").
+enum class CubeLayout : uint8_t {
+  // The i_spacing lattice, plus I-cubes where the references in reach see too little of
+  // the cells around them and an I-cube costs less than predicting them.
+  kVisibility = 0,
+  // The i_spacing lattice alone: one I-cube per group.
+  kRegular = 1,
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.
@@ -54,6 +66,8 @@ struct EncoderSettings {
   std::array<int32_t, 3> i_spacing{3, 1, 3};
   // Every cell an I-cube (same as i_spacing {1,1,1}).
   bool intra_only = false;
+  // The visibility layout starts from the i_spacing lattice; kRegular keeps it alone.
+  CubeLayout layout = CubeLayout::kVisibility;
   MotionSearch motion = MotionSearch::kDepth;
   CodingTools tools;
   // Let the manifest name face files outside the database folder (absolute paths,
@@ -153,9 +167,9 @@ struct AddSummary {
 //   - existing cells keep their frame type and references. A new cell is an I-cube when
 //     the placement rules (spatial/placement.h) over the union of old and new cells make
 //     it one, or when no I-cube (old or new) is in its reach; otherwise a B-cube
-//     predicted from the nearest one or two I-cubes in reach, old or new, by the same
-//     distance and tie rules. Old I-faces used as references are decoded from the file,
-//     which gives exactly the encoder's reconstruction.
+//     predicted from one or two I-cubes in reach, old or new: those that see most of it
+//     when the database holds the depth of each of them, else the nearest (docs/format.md). Old I-faces used as
+//     references are decoded from the file, which gives exactly the encoder's reconstruction.
 //   - the new faces are appended, then the new index (cells in (y, z, x) order, frames
 //     renumbered) is committed in place (ContainerUpdater). A failure or a kill at any
 //     point leaves the file opening as exactly the old database.

@@ -6,11 +6,13 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "common/parallel.h"
 #include "container/updater.h"
 #include "database/database.h"
+#include "encoder/cell_visibility.h"
 #include "encoder/coding_pipeline.h"
 #include "spatial/placement.h"
 #include "svc/encoder.h"
@@ -106,12 +108,44 @@ struct NewCellTypes {
   std::vector<std::array<std::vector<uint32_t>, kFaceCount>> references;
 };
 
+// What the cubes see of the new cells, from the database's depth: every union cell the
+// database holds (new cells, and old ones it holds again) has samples.
+Result<VisibilityTable> new_cell_visibility(const std::vector<UnionCell>& cells, const DatabaseManifest& manifest,
+                                            const ContainerIndex& old, int threads) {
+  std::vector<CellIndex> indices;
+  for (const UnionCell& cell : cells) indices.push_back(cell.index);
+  SVC_ASSIGN_OR_RETURN(auto pairs, reach_pairs(indices, old.coding.i_spacing));
+  std::erase_if(pairs, [&](const auto& pair) { return cells[pair.first].old_cell >= 0; });
+  // Depth is loaded only for the cells the pairs name.
+  std::vector<std::optional<size_t>> sources(cells.size());
+  for (const auto& [cell, reference] : pairs) {
+    for (uint32_t c : {cell, reference}) {
+      sources[c] = cells[c].source >= 0 ? std::optional<size_t>(static_cast<size_t>(cells[c].source))
+                                        : find_cell(manifest, cells[c].index);
+    }
+  }
+  return measure_visibility(manifest, sources, pairs, threads);
+}
+
+// The references of a new B-face among `candidates`: the pair that sees most when the
+// table knows what each of them sees of the cell, else the nearest two.
+std::vector<uint32_t> new_cell_references(const UnionCell& cell, uint32_t ordinal,
+                                          const std::vector<ReferenceCandidate>& candidates, const GridSpec& grid,
+                                          const VisibilityTable& table) {
+  for (const ReferenceCandidate& candidate : candidates) {
+    if (!table.seen(ordinal, candidate.id)) return nearest_references(cell.index, candidates, grid.spacing);
+  }
+  return visible_references(cell.index, candidates, grid.spacing,
+                            [&](uint32_t id) -> const std::vector<uint64_t>& { return *table.seen(ordinal, id); });
+}
+
 // Existing cells keep their types; a new cell takes the type the placement rules give
-// it over the union, and becomes an I-cube when a face has no I-face in reach. New
+// it over the union (the regular lattice), and becomes an I-cube when a face has no
+// I-face in reach; a new B-face's references are chosen by new_cell_references. New
 // I-cubes can give later cells references, so this repeats until nothing changes (each
 // round only turns B-cubes into I-cubes, so it ends).
 Result<NewCellTypes> type_new_cells(const std::vector<UnionCell>& cells, const ContainerIndex& old,
-                                    const GridSpec& grid) {
+                                    const GridSpec& grid, const VisibilityTable& table) {
   std::vector<CellIndex> indices;
   for (const UnionCell& cell : cells) indices.push_back(cell.index);
   PlacementSettings placement_settings;
@@ -142,7 +176,8 @@ Result<NewCellTypes> type_new_cells(const std::vector<UnionCell>& cells, const C
       if (cells[c].old_cell >= 0 || types.intra[c][0]) continue;
       bool every_face_has_one = true;
       for (int f = 0; f < kFaceCount; ++f) {
-        types.references[c][f] = reach[f].references(cells[c].index, grid.spacing);
+        types.references[c][f] =
+            new_cell_references(cells[c], static_cast<uint32_t>(c), reach[f].in_reach(cells[c].index), grid, table);
         if (types.references[c][f].empty()) every_face_has_one = false;
       }
       if (!every_face_has_one) {
@@ -240,7 +275,9 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
     return mismatch(svc_file, std::to_string(cells.size()) + " cells would exceed the reader's limit of " +
                                   std::to_string(limits.max_cells));
   }
-  SVC_ASSIGN_OR_RETURN(NewCellTypes types, type_new_cells(cells, old, grid));
+  SVC_ASSIGN_OR_RETURN(VisibilityTable visibility,
+                       new_cell_visibility(cells, manifest, old, resolve_thread_count(settings.threads)));
+  SVC_ASSIGN_OR_RETURN(NewCellTypes types, type_new_cells(cells, old, grid, visibility));
   ContainerIndex index = merged_index(old, cells, manifest, grid, types);
 
   CodingJob job;

@@ -19,6 +19,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"intra-directional", &CodingTools::intra_directional},
     CodingToolEntry{"intra-rd-search", &CodingTools::intra_rd_search},
     CodingToolEntry{"quarter-pel", &CodingTools::quarter_pel},
+    CodingToolEntry{"visibility-references", &CodingTools::visibility_references},
 };
 
 }  // namespace

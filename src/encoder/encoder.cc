@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "codec/bframe_codec.h"
@@ -10,6 +11,7 @@
 #include "common/parallel.h"
 #include "container/writer.h"
 #include "database/database.h"
+#include "encoder/cell_visibility.h"
 #include "encoder/coding_pipeline.h"
 #include "encoder/encode_plan.h"
 #include "spatial/placement.h"
@@ -39,6 +41,56 @@ Status validate_settings(const EncoderSettings& settings) {
     }
   }
   return Status::Ok();
+}
+
+PlacementSettings placement_settings_of(const EncoderSettings& settings) {
+  PlacementSettings placement;
+  placement.i_spacing = settings.intra_only ? std::array<int32_t, 3>{1, 1, 1} : settings.i_spacing;
+  const bool intra_only = placement.i_spacing == std::array<int32_t, 3>{1, 1, 1};
+  placement.layout = settings.layout == CubeLayout::kVisibility && !intra_only ? Layout::kVisibility
+                                                                               : Layout::kRegular;
+  placement.visibility_references = settings.tools.visibility_references && !intra_only;
+  return placement;
+}
+
+// The pairs whose reference `wanted` accepts.
+template <typename Wanted>
+std::vector<std::pair<uint32_t, uint32_t>> pairs_to(const std::vector<std::pair<uint32_t, uint32_t>>& pairs,
+                                                    Wanted wanted) {
+  std::vector<std::pair<uint32_t, uint32_t>> kept;
+  for (const auto& pair : pairs) {
+    if (wanted(pair.second)) kept.push_back(pair);
+  }
+  return kept;
+}
+
+// Which cells are I-cubes, and the references of every B-cube.
+Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manifest,
+                                                  const PlacementSettings& settings, int threads) {
+  std::vector<CellIndex> cells;
+  for (const CellSource& source : manifest.cells) cells.push_back(source.index);
+  if (settings.layout == Layout::kRegular && !settings.visibility_references) {
+    return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing);
+  }
+  std::vector<std::optional<size_t>> sources(cells.size());
+  for (size_t c = 0; c < cells.size(); ++c) sources[c] = c;
+  SVC_ASSIGN_OR_RETURN(CellVisibility visibility, CellVisibility::load(manifest, sources, threads));
+  VisibilityTable table = visibility.empty_table();
+  // First what the lattice's I-cubes see, then what the cells that could become I-cubes
+  // see: most cells never can, and their pairs would cost most of the time.
+  SVC_ASSIGN_OR_RETURN(const auto pairs, reach_pairs(cells, settings.i_spacing));
+  PlacementSettings regular;
+  regular.i_spacing = settings.i_spacing;
+  SVC_ASSIGN_OR_RETURN(const auto lattice, place_cubes(cells, manifest.grid.dims, regular, manifest.grid.spacing));
+  visibility.measure(pairs_to(pairs, [&](uint32_t k) { return lattice[k].intra; }), threads, &table);
+  if (settings.layout == Layout::kVisibility) {
+    SVC_ASSIGN_OR_RETURN(const auto candidates,
+                         layout_candidates(cells, manifest.grid.dims, settings, manifest.grid.spacing, table));
+    std::vector<uint8_t> is_candidate(cells.size(), 0);
+    for (uint32_t k : candidates) is_candidate[k] = 1;
+    visibility.measure(pairs_to(pairs, [&](uint32_t k) { return is_candidate[k] != 0; }), threads, &table);
+  }
+  return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing, &table);
 }
 
 }  // namespace
@@ -93,14 +145,10 @@ Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const Encode
     index.cells.push_back(cell);
   }
 
-  // Placement: which cells are I-cubes, and the references of every B-cube.
-  PlacementSettings placement_settings;
-  placement_settings.i_spacing = settings.intra_only ? std::array<int32_t, 3>{1, 1, 1} : settings.i_spacing;
+  const PlacementSettings placement_settings = placement_settings_of(settings);
   index.coding.i_spacing = placement_settings.i_spacing;
-  std::vector<CellIndex> cell_indices;
-  for (const CellSource& source : manifest.cells) cell_indices.push_back(source.index);
   SVC_ASSIGN_OR_RETURN(std::vector<CellPlacement> placement,
-                       place_cubes(cell_indices, manifest.grid.dims, placement_settings, manifest.grid.spacing));
+                       place_database(manifest, placement_settings, resolve_thread_count(settings.threads)));
   index.frames.resize(manifest.cells.size() * kFaceCount);
   for (size_t cell = 0; cell < manifest.cells.size(); ++cell) {
     for (int f = 0; f < kFaceCount; ++f) {

@@ -1,5 +1,7 @@
 #include "spatial/placement.h"
 
+#include "spatial/visibility.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -77,13 +79,219 @@ Status validate(const std::vector<CellIndex>& cells, const std::array<int32_t, 3
   return Status::Ok();
 }
 
+bool index_less(const CellIndex& a, const CellIndex& b) {
+  if (a.y != b.y) return a.y < b.y;
+  if (a.z != b.z) return a.z < b.z;
+  return a.x < b.x;
+}
+
+// The ids of all candidates in the order of the References rule, nearest first.
+// Selection by linear scans rather than a sort: the tolerant comparison is not a strict
+// weak order, and a scan stays well defined with it.
+std::vector<uint32_t> distance_order(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
+                                     const std::array<double, 3>& grid_spacing) {
+  const std::array<double, 3> here = as_point(cell);
+  std::vector<Ranked> ranked;
+  ranked.reserve(candidates.size());
+  for (const ReferenceCandidate& candidate : candidates) {
+    ranked.push_back({distance_squared(here, candidate.index, grid_spacing), candidate.index, candidate.id});
+  }
+  std::vector<uint32_t> order;
+  while (!ranked.empty()) {
+    size_t best = 0;
+    for (size_t i = 1; i < ranked.size(); ++i) {
+      if (ranks_before(ranked[i], ranked[best])) best = i;
+    }
+    order.push_back(ranked[best].ordinal);
+    ranked.erase(ranked.begin() + static_cast<std::ptrdiff_t>(best));
+  }
+  return order;
+}
+
+// Per cell the other cells in its reach (own and adjacent groups), in (y, z, x) order so
+// that sums over them do not depend on the order of `cells`. Reach is symmetric.
+std::vector<std::vector<uint32_t>> reach_lists(const std::vector<CellIndex>& cells,
+                                               const std::array<int32_t, 3>& i_spacing) {
+  ReachIndex index(i_spacing);
+  for (uint32_t ordinal = 0; ordinal < cells.size(); ++ordinal) index.add({cells[ordinal], ordinal});
+  std::vector<std::vector<uint32_t>> lists(cells.size());
+  for (uint32_t ordinal = 0; ordinal < cells.size(); ++ordinal) {
+    for (const ReferenceCandidate& other : index.in_reach(cells[ordinal])) {
+      if (other.id != ordinal) lists[ordinal].push_back(other.id);
+    }
+    std::sort(lists[ordinal].begin(), lists[ordinal].end(),
+              [&](uint32_t a, uint32_t b) { return index_less(cells[a], cells[b]); });
+  }
+  return lists;
+}
+
+Status missing_pair(const std::vector<CellIndex>& cells, uint32_t cell, uint32_t reference) {
+  return Status(ErrorCode::kInvalidArgument, "placement: the visibility table lacks what cell " +
+                                                 index_text(cells[reference]) + " sees of cell " +
+                                                 index_text(cells[cell]));
+}
+
+Result<std::vector<uint32_t>> references_by_visibility(const std::vector<CellIndex>& cells, uint32_t ordinal,
+                                                       const ReachIndex& reach,
+                                                       const std::array<double, 3>& grid_spacing,
+                                                       const VisibilityTable& table) {
+  const std::vector<ReferenceCandidate> candidates = reach.in_reach(cells[ordinal]);
+  for (const ReferenceCandidate& candidate : candidates) {
+    if (!table.seen(ordinal, candidate.id)) return missing_pair(cells, ordinal, candidate.id);
+  }
+  return visible_references(cells[ordinal], candidates, grid_spacing,
+                            [&](uint32_t id) -> const std::vector<uint64_t>& { return *table.seen(ordinal, id); });
+}
+
+// The greedy part of the visibility layout (placement.h, place_cubes).
+class CostPlacement {
+ public:
+  CostPlacement(const std::vector<CellIndex>& cells, const std::array<int32_t, 3>& i_spacing,
+                const LayoutCosts& costs, const VisibilityTable& table, std::vector<CellPlacement>* placement)
+      : cells_(cells),
+        costs_(costs),
+        table_(table),
+        placement_(*placement),
+        reach_(reach_lists(cells, i_spacing)) {}
+
+  // Lattice I-cubes' pairs; and which B-cubes have all their pairs, so may be added.
+  Status prepare() {
+    candidate_.assign(cells_.size(), 1);
+    for (uint32_t c = 0; c < cells_.size(); ++c) {
+      for (uint32_t k : reach_[c]) {
+        if (table_.seen(c, k)) continue;
+        if (placement_[k].intra) return missing_pair(cells_, c, k);
+        candidate_[k] = 0;
+      }
+    }
+    best_.assign(cells_.size(), 0);
+    for (uint32_t c = 0; c < cells_.size(); ++c) best_[c] = best_pair_seen(c);
+    return Status::Ok();
+  }
+
+  // B-cubes whose change could pay if it made every B-cube in reach seen whole.
+  std::vector<uint32_t> may_pay() const {
+    std::vector<uint32_t> found;
+    for (uint32_t k = 0; k < cells_.size(); ++k) {
+      if (placement_[k].intra) continue;
+      double most_saved = 0;
+      for (uint32_t c : reach_[k]) {
+        if (!placement_[c].intra) most_saved += b_cost(c, best_[c]) - costs_.seen_b_face;
+      }
+      if (most_saved > 1.0 - b_cost(k, best_[k]) + kMinGain) found.push_back(k);
+    }
+    return found;
+  }
+
+  Status run() {
+    SVC_RETURN_IF_ERROR(prepare());
+    for (;;) {
+      double best_change = 0;
+      int64_t chosen = -1;
+      for (uint32_t k = 0; k < cells_.size(); ++k) {
+        if (placement_[k].intra || !candidate_[k]) continue;
+        const double change = change_if_intra(k);
+        if (!(change < -kMinGain)) continue;
+        if (chosen < 0 || change < best_change - kMinGain ||
+            (change <= best_change + kMinGain && index_less(cells_[k], cells_[static_cast<size_t>(chosen)]))) {
+          best_change = change;
+          chosen = k;
+        }
+      }
+      if (chosen < 0) return Status::Ok();
+      const uint32_t k = static_cast<uint32_t>(chosen);
+      for (uint32_t c : reach_[k]) {
+        if (!placement_[c].intra) best_[c] = seen_with(c, k);
+      }
+      placement_[k].intra = true;
+    }
+  }
+
+ private:
+  // Additions must lower the cost by more than rounding could.
+  static constexpr double kMinGain = 1e-9;
+
+  double share(uint32_t cell, size_t seen) const {
+    const size_t samples = table_.samples(cell);
+    return samples == 0 ? 1.0 : static_cast<double>(seen) / static_cast<double>(samples);
+  }
+  double b_cost(uint32_t cell, size_t seen) const {
+    const double s = share(cell, seen);
+    return costs_.seen_b_face * s + costs_.unseen_b_face * (1.0 - s);
+  }
+
+  // Most samples of B-cube `c` a pair (or one) of the I-cubes in its reach sees.
+  size_t best_pair_seen(uint32_t c) const {
+    size_t best = 0;
+    const std::vector<uint32_t>& near = reach_[c];
+    for (size_t a = 0; a < near.size(); ++a) {
+      if (!placement_[near[a]].intra) continue;
+      const std::vector<uint64_t>& seen_a = *table_.seen(c, near[a]);
+      best = std::max(best, count_seen(seen_a));
+      for (size_t b = a + 1; b < near.size(); ++b) {
+        if (placement_[near[b]].intra)
+          best = std::max(best, count_seen_by_either(seen_a, *table_.seen(c, near[b])));
+      }
+    }
+    return best;
+  }
+
+  // best_pair_seen of `c` once `k` (in its reach) is an I-cube too.
+  size_t seen_with(uint32_t c, uint32_t k) const {
+    const std::vector<uint64_t>& seen_k = *table_.seen(c, k);
+    size_t best = std::max(best_[c], count_seen(seen_k));
+    for (uint32_t j : reach_[c]) {
+      if (placement_[j].intra) best = std::max(best, count_seen_by_either(seen_k, *table_.seen(c, j)));
+    }
+    return best;
+  }
+
+  // Change of the estimated cost (in I-faces per face direction) if B-cube k became an
+  // I-cube.
+  double change_if_intra(uint32_t k) const {
+    double change = 1.0 - b_cost(k, best_[k]);
+    for (uint32_t c : reach_[k]) {
+      if (placement_[c].intra) continue;
+      change += b_cost(c, seen_with(c, k)) - b_cost(c, best_[c]);
+    }
+    return change;
+  }
+
+  const std::vector<CellIndex>& cells_;
+  const LayoutCosts& costs_;
+  const VisibilityTable& table_;
+  std::vector<CellPlacement>& placement_;
+  const std::vector<std::vector<uint32_t>> reach_;
+  std::vector<size_t> best_;
+  std::vector<uint8_t> candidate_;
+};
+
+Status add_intra_by_cost(const std::vector<CellIndex>& cells, const std::array<int32_t, 3>& i_spacing,
+                         const LayoutCosts& costs, const VisibilityTable& table,
+                         std::vector<CellPlacement>* placement) {
+  return CostPlacement(cells, i_spacing, costs, table, placement).run();
+}
+
 }  // namespace
 
 Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
                                                const std::array<int32_t, 3>& dims,
                                                const PlacementSettings& settings,
                                                const std::array<double, 3>& grid_spacing) {
+  return place_cubes(cells, dims, settings, grid_spacing, nullptr);
+}
+
+Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
+                                               const std::array<int32_t, 3>& dims,
+                                               const PlacementSettings& settings,
+                                               const std::array<double, 3>& grid_spacing,
+                                               const VisibilityTable* visibility) {
   SVC_RETURN_IF_ERROR(validate(cells, dims, settings, grid_spacing));
+  const bool needs_visibility = settings.layout == Layout::kVisibility || settings.visibility_references;
+  if (needs_visibility && (visibility == nullptr || visibility->cells() != cells.size())) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "placement: the visibility layout and references need a visibility table of every cell");
+  }
   const auto& s = settings.i_spacing;
 
   // Group membership, keyed by group index; std::map keeps every later step independent
@@ -124,19 +332,47 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
   for (uint32_t ordinal = 0; ordinal < cells.size(); ++ordinal) placement[ordinal].intra = false;
   for (const auto& [key, ordinal] : group_intra) placement[ordinal].intra = true;
 
-  // References: the two nearest I-cubes among the own and adjacent groups.
+  if (settings.layout == Layout::kVisibility) {
+    SVC_RETURN_IF_ERROR(add_intra_by_cost(cells, s, settings.costs, *visibility, &placement));
+  }
+
+  // References: among the I-cubes of the own and adjacent groups, the nearest two or the
+  // two that see most.
   ReachIndex reach(s);
-  for (const auto& [key, ordinal] : group_intra) reach.add({cells[ordinal], ordinal});
+  for (uint32_t ordinal = 0; ordinal < cells.size(); ++ordinal) {
+    if (placement[ordinal].intra) reach.add({cells[ordinal], ordinal});
+  }
   for (uint32_t ordinal = 0; ordinal < cells.size(); ++ordinal) {
     if (placement[ordinal].intra) continue;
     const CellIndex& c = cells[ordinal];
     auto& refs = placement[ordinal].references;
-    refs = reach.references(c, grid_spacing);
+    if (settings.visibility_references) {
+      SVC_ASSIGN_OR_RETURN(refs, references_by_visibility(cells, ordinal, reach, grid_spacing, *visibility));
+    } else {
+      refs = reach.references(c, grid_spacing);
+    }
     if (refs.empty()) {
       return Status(ErrorCode::kInternal, "placement: B-cube " + index_text(c) + " has no I-cube in its own group");
     }
   }
   return placement;
+}
+
+Result<std::vector<uint32_t>> layout_candidates(const std::vector<CellIndex>& cells,
+                                                const std::array<int32_t, 3>& dims,
+                                                const PlacementSettings& settings,
+                                                const std::array<double, 3>& grid_spacing,
+                                                const VisibilityTable& visibility) {
+  PlacementSettings lattice = settings;
+  lattice.layout = Layout::kRegular;
+  lattice.visibility_references = false;
+  SVC_ASSIGN_OR_RETURN(std::vector<CellPlacement> placement, place_cubes(cells, dims, lattice, grid_spacing));
+  if (visibility.cells() != cells.size()) {
+    return Status(ErrorCode::kInvalidArgument, "placement: the visibility table does not cover every cell");
+  }
+  CostPlacement cost(cells, settings.i_spacing, settings.costs, visibility, &placement);
+  SVC_RETURN_IF_ERROR(cost.prepare());
+  return cost.may_pay();
 }
 
 Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
@@ -145,46 +381,87 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
   return place_cubes(cells, dims, settings, {1.0, 1.0, 1.0});
 }
 
+void VisibilityTable::set_seen(uint32_t cell, uint32_t reference, std::vector<uint64_t> bits) {
+  seen_[{cell, reference}] = std::move(bits);
+}
+
+const std::vector<uint64_t>* VisibilityTable::seen(uint32_t cell, uint32_t reference) const {
+  const auto it = seen_.find({cell, reference});
+  return it == seen_.end() ? nullptr : &it->second;
+}
+
+Result<std::vector<std::pair<uint32_t, uint32_t>>> reach_pairs(const std::vector<CellIndex>& cells,
+                                                               const std::array<int32_t, 3>& i_spacing) {
+  PlacementSettings settings;
+  settings.i_spacing = i_spacing;
+  std::array<int32_t, 3> dims{1, 1, 1};
+  for (const CellIndex& c : cells) {
+    if (c.x < 0 || c.y < 0 || c.z < 0) {
+      return Status(ErrorCode::kInvalidArgument, "placement: cell " + index_text(c) + " has a negative index");
+    }
+    dims = {std::max(dims[0], c.x + 1), std::max(dims[1], c.y + 1), std::max(dims[2], c.z + 1)};
+  }
+  SVC_RETURN_IF_ERROR(validate(cells, dims, settings, {1.0, 1.0, 1.0}));
+  const std::vector<std::vector<uint32_t>> lists = reach_lists(cells, i_spacing);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (uint32_t c = 0; c < cells.size(); ++c) {
+    for (uint32_t k : lists[c]) pairs.emplace_back(c, k);
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
 void ReachIndex::add(const ReferenceCandidate& candidate) {
   const CellIndex& c = candidate.index;
   by_group_[{c.x / spacing_[0], c.y / spacing_[1], c.z / spacing_[2]}].push_back(candidate);
 }
 
-std::vector<uint32_t> ReachIndex::references(const CellIndex& cell,
-                                             const std::array<double, 3>& grid_spacing) const {
+std::vector<ReferenceCandidate> ReachIndex::in_reach(const CellIndex& cell) const {
   const GroupKey own = {cell.x / spacing_[0], cell.y / spacing_[1], cell.z / spacing_[2]};
-  std::vector<ReferenceCandidate> in_reach;
+  std::vector<ReferenceCandidate> found;
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dz = -1; dz <= 1; ++dz) {
       for (int dx = -1; dx <= 1; ++dx) {
         const auto it = by_group_.find({own[0] + dx, own[1] + dy, own[2] + dz});
-        if (it != by_group_.end()) in_reach.insert(in_reach.end(), it->second.begin(), it->second.end());
+        if (it != by_group_.end()) found.insert(found.end(), it->second.begin(), it->second.end());
       }
     }
   }
-  return nearest_references(cell, in_reach, grid_spacing);
+  return found;
+}
+
+std::vector<uint32_t> ReachIndex::references(const CellIndex& cell,
+                                             const std::array<double, 3>& grid_spacing) const {
+  return nearest_references(cell, in_reach(cell), grid_spacing);
 }
 
 std::vector<uint32_t> nearest_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
                                          const std::array<double, 3>& grid_spacing) {
-  const std::array<double, 3> here = as_point(cell);
-  std::vector<Ranked> ranked;
-  ranked.reserve(candidates.size());
-  for (const ReferenceCandidate& candidate : candidates) {
-    ranked.push_back({distance_squared(here, candidate.index, grid_spacing), candidate.index, candidate.id});
-  }
-  // Selection by linear scans rather than a sort: the tolerant comparison is not a
-  // strict weak order, and a scan stays well defined with it.
-  std::vector<uint32_t> nearest;
-  for (int pick = 0; pick < 2 && !ranked.empty(); ++pick) {
-    size_t best = 0;
-    for (size_t i = 1; i < ranked.size(); ++i) {
-      if (ranks_before(ranked[i], ranked[best])) best = i;
+  std::vector<uint32_t> ranked = distance_order(cell, candidates, grid_spacing);
+  if (ranked.size() > 2) ranked.resize(2);
+  return ranked;
+}
+
+std::vector<uint32_t> visible_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
+                                         const std::array<double, 3>& grid_spacing,
+                                         const std::function<const std::vector<uint64_t>&(uint32_t id)>& seen) {
+  const std::vector<uint32_t> ranked = distance_order(cell, candidates, grid_spacing);
+  if (ranked.size() <= 1) return ranked;
+  size_t best_first = 0, best_second = 1, best_seen = 0;
+  bool have_best = false;
+  for (size_t first = 0; first < ranked.size(); ++first) {
+    const std::vector<uint64_t>& a = seen(ranked[first]);
+    for (size_t second = first + 1; second < ranked.size(); ++second) {
+      const size_t together = count_seen_by_either(a, seen(ranked[second]));
+      if (!have_best || together > best_seen) {
+        best_first = first;
+        best_second = second;
+        best_seen = together;
+        have_best = true;
+      }
     }
-    nearest.push_back(ranked[best].ordinal);
-    ranked.erase(ranked.begin() + static_cast<std::ptrdiff_t>(best));
   }
-  return nearest;
+  return {ranked[best_first], ranked[best_second]};
 }
 
 }  // namespace svc

@@ -40,7 +40,9 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "svc/status.h"
@@ -51,10 +53,30 @@ namespace svc {
 // Largest i_spacing accepted on any axis.
 inline constexpr int32_t kMaxIntraSpacing = 1024;
 
+// Where I-cubes go. kRegular: the lattice above, one per group. kVisibility: the lattice,
+// then further I-cubes added one at a time where the references in reach see too little
+// of the cells around them, each the addition that lowers the estimated cost most
+// (LayoutCosts), until no addition lowers it (see place_cubes).
+enum class Layout : uint8_t { kRegular = 0, kVisibility = 1 };
+
+// Estimated bytes of a face, in units of an I-face's, that the visibility layout weighs.
+// A B-face costs seen_b_face when its references together see all of it, unseen_b_face
+// when they see none of it, and in between in proportion to the share they see. Measured
+// on the photographic hall and house (docs/codec.md 10.6).
+struct LayoutCosts {
+  double seen_b_face = 0.3;
+  double unseen_b_face = 0.5;
+};
+
 // I-cube spacing per axis (x, y, z). {3,1,3} puts an I-cube at the centre of each 3x3
 // group of cells in a layer (VWALK). A spacing of 1 on every axis is intra-only.
 struct PlacementSettings {
   std::array<int32_t, 3> i_spacing{3, 1, 3};
+  Layout layout = Layout::kRegular;
+  // References: the pair in reach that together sees most of the cell (ties by the
+  // distance order of the References rule) instead of the nearest two.
+  bool visibility_references = false;
+  LayoutCosts costs;
 };
 
 struct CellPlacement {
@@ -75,6 +97,60 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
                                                const std::array<int32_t, 3>& dims,
                                                const PlacementSettings& settings,
                                                const std::array<double, 3>& grid_spacing);
+
+// What reference cubes see of cells, by cell ordinal (into place_cubes' `cells`): per
+// cell its number of sample points, and per (cell, reference) pair the bitset of the
+// cell's samples the reference sees (spatial/visibility.h, seen_by). Filled by the
+// caller for the pairs reach_pairs lists.
+class VisibilityTable {
+ public:
+  explicit VisibilityTable(size_t cells) : samples_(cells, 0) {}
+  void set_samples(uint32_t cell, size_t count) { samples_.at(cell) = count; }
+  void set_seen(uint32_t cell, uint32_t reference, std::vector<uint64_t> bits);
+  size_t cells() const { return samples_.size(); }
+  size_t samples(uint32_t cell) const { return cell < samples_.size() ? samples_[cell] : 0; }
+  // Null when the pair was not set.
+  const std::vector<uint64_t>* seen(uint32_t cell, uint32_t reference) const;
+
+ private:
+  std::vector<size_t> samples_;
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<uint64_t>> seen_;
+};
+
+// The (cell, reference) ordinal pairs place_cubes may ask a VisibilityTable for: every
+// two distinct cells where the second lies in the first's reach (own or adjacent
+// group). Sorted. Same errors as place_cubes for the cells and spacing.
+Result<std::vector<std::pair<uint32_t, uint32_t>>> reach_pairs(const std::vector<CellIndex>& cells,
+                                                               const std::array<int32_t, 3>& i_spacing);
+
+// Placement with the layout and reference rule of `settings`. `visibility` must hold
+// the pairs of reach_pairs whose reference is an I-cube when settings.layout is
+// kVisibility or settings.visibility_references is set (kInvalidArgument otherwise); it
+// may be null for the regular layout with the nearest references. The visibility layout keeps the
+// lattice's I-cubes and adds others greedily among the B-cubes all of whose pairs the
+// table holds (see layout_candidates): the added cube is the B-cube whose
+// change lowers sum over cells of (1 for an I-cube; seen_b_face * s + unseen_b_face *
+// (1 - s) for a B-cube whose best pair in reach sees the share s of its samples) most,
+// ties to the smallest (y, z, x) index, until no change lowers it. A pure function of
+// the cells, settings and table: every caller computes the same placement.
+Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
+                                               const std::array<int32_t, 3>& dims,
+                                               const PlacementSettings& settings,
+                                               const std::array<double, 3>& grid_spacing,
+                                               const VisibilityTable* visibility);
+
+// The B-cubes of the lattice that the visibility layout could make I-cubes: those whose
+// change would lower the estimated cost even if every B-cube in their reach came to be
+// seen whole. Needs in `visibility` only the pairs (c, k) of reach_pairs whose k is an
+// I-cube of the lattice. Once the table also holds every pair (c, k) for the cells k
+// listed here, place_cubes gives the same placement as with every pair of reach_pairs
+// (it considers as additions only cells all of whose pairs the table holds), so a caller
+// need not measure the rest. Sorted; same errors as place_cubes.
+Result<std::vector<uint32_t>> layout_candidates(const std::vector<CellIndex>& cells,
+                                                const std::array<int32_t, 3>& dims,
+                                                const PlacementSettings& settings,
+                                                const std::array<double, 3>& grid_spacing,
+                                                const VisibilityTable& visibility);
 
 // As above with unit grid spacing (distances in cell-index units).
 Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cells,
@@ -97,6 +173,8 @@ class ReachIndex {
   // The ids of the (at most) two I-cubes in reach of `cell` nearest to it, nearest
   // first; empty when none is in reach.
   std::vector<uint32_t> references(const CellIndex& cell, const std::array<double, 3>& grid_spacing) const;
+  // Every candidate in reach of `cell`, in group order.
+  std::vector<ReferenceCandidate> in_reach(const CellIndex& cell) const;
 
  private:
   std::array<int32_t, 3> spacing_;
@@ -109,5 +187,15 @@ class ReachIndex {
 // both choose references with it.
 std::vector<uint32_t> nearest_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
                                          const std::array<double, 3>& grid_spacing);
+
+// The (at most) two candidates that together see most of a cell: the pair (or, with one
+// candidate, the single one) whose union of seen samples is largest, where `seen(id)`
+// gives what candidate `id` sees of the cell. Of pairs that see as much, the first in
+// the lexicographic order of their members' ranks by the References rule (distance,
+// then (y, z, x) index) wins, so where every pair sees all it is the nearest two.
+// Nearest first.
+std::vector<uint32_t> visible_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
+                                         const std::array<double, 3>& grid_spacing,
+                                         const std::function<const std::vector<uint64_t>&(uint32_t id)>& seen);
 
 }  // namespace svc

@@ -25,6 +25,7 @@ using namespace svc::command_line;
 struct EncoderOptionText {
   std::string i_spacing = "3,1,3";
   std::string motion = "depth";
+  std::string layout = "visibility";
   std::vector<std::string> disabled_tools;
 };
 
@@ -49,6 +50,11 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   add_threads_option(cmd, &settings->threads);
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
   cmd->add_option("--i-spacing", text->i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")
+      ->capture_default_str();
+  cmd->add_option("--layout", text->layout,
+                  "I-cube layout: visibility (the --i-spacing lattice plus I-cubes where references see too "
+                  "little) or regular (the lattice alone)")
+      ->check(CLI::IsMember({"visibility", "regular"}))
       ->capture_default_str();
   cmd->add_option("--motion", text->motion, "Motion source: depth (reprojection) or log (logarithmic search)")
       ->check(CLI::IsMember({"depth", "log"}))
@@ -77,6 +83,7 @@ bool apply_encoder_options(EncoderSettings* settings, const EncoderOptionText& t
     return false;
   }
   settings->motion = text.motion == "log" ? MotionSearch::kLogarithmic : MotionSearch::kDepth;
+  settings->layout = text.layout == "regular" ? CubeLayout::kRegular : CubeLayout::kVisibility;
   for (const std::string& name : text.disabled_tools) {
     if (Status status = disable_coding_tool(&settings->tools, name); !status.ok()) {
       std::fprintf(stderr, "svc: --disable-tool: %s\n", status.message().c_str());
