@@ -6,11 +6,24 @@
 #include <cmath>
 #include <string>
 
+#include "codec/cube_padding.h"
+
+namespace svc::codec {
+
+int reference_border_units(int extra) {
+  const int unit = 2 * kCubeBorderUnitPixels;
+  if (extra < 0 || extra % unit != 0 || extra / unit > kMaxCubeBorderUnits) return -1;
+  return extra / unit;
+}
+
+}  // namespace svc::codec
+
 namespace svc::codec::bframe {
 
 void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
-                const ImageYCbCr420* ref1) {
+                const ImageYCbCr420* ref1, int border_mbs) {
   s.width = width;
+  s.border_mbs = border_mbs;
   s.height = height;
   s.mbs_x = (width + 15) / 16;
   s.mbs_y = (height + 15) / 16;
@@ -156,12 +169,12 @@ int mvd_context(const FrameState& s, int mx, int my, int component) {
 void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out) {
   if (mode == MacroblockMode::kBackward) {
-    predict_macroblock(*s.references[1], mx, my, vectors[1], out);
+    predict_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), vectors[1], out);
   } else {
-    predict_macroblock(*s.references[0], mx, my, vectors[0], out);
+    predict_macroblock(*s.references[0], reference_mb(s, mx), reference_mb(s, my), vectors[0], out);
     if (mode == MacroblockMode::kBidirectional) {
       MacroblockPrediction second;
-      predict_macroblock(*s.references[1], mx, my, vectors[1], &second);
+      predict_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), vectors[1], &second);
       average_predictions(*out, second, out);
     }
   }
@@ -169,12 +182,44 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out) {
   const int first = mode == MacroblockMode::kBackward ? 1 : 0;
-  predict_warp_macroblock(*s.references[first], mx, my, macroblock_corners(s, first, mx, my), out);
+  predict_warp_macroblock(*s.references[first], reference_mb(s, mx), reference_mb(s, my),
+                          macroblock_corners(s, first, mx, my), out);
   if (mode == MacroblockMode::kBidirectional) {
     MacroblockPrediction second;
-    predict_warp_macroblock(*s.references[1], mx, my, macroblock_corners(s, 1, mx, my), &second);
+    predict_warp_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my),
+                            macroblock_corners(s, 1, mx, my), &second);
     average_predictions(*out, second, out);
   }
+}
+
+bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode mode, bool warp,
+                            const std::array<MotionVector, 2>& vectors) {
+  // Sample span in 1/16 pel of the block's pixel centres displaced, plus the one sample
+  // interpolation reads beyond it; a warp's extremes lie at its corner pixels, since its
+  // vector is bilinear over the block.
+  auto outside = [&](int x16, int y16) {
+    return x16 < 0 || y16 < 0 || (x16 >> 4) + ((x16 & 15) != 0) >= s.width ||
+           (y16 >> 4) + ((y16 & 15) != 0) >= s.height;
+  };
+  for (int r = 0; r < s.reference_count; ++r) {
+    if (!uses_reference(mode, r)) continue;
+    for (int k = 0; k < 4; ++k) {
+      const int u = (k & 1) * 15, v = (k >> 1) * 15;
+      int vx16 = 8 * vectors[r].x, vy16 = 8 * vectors[r].y;
+      if (warp) {
+        const WarpCorners c = macroblock_corners(s, r, mx, my);
+        const int a = 2 * u + 1, b = 2 * v + 1;
+        vx16 =
+            ((32 - a) * (32 - b) * c[0].x + a * (32 - b) * c[1].x + (32 - a) * b * c[2].x + a * b * c[3].x + 256) >>
+            9;
+        vy16 =
+            ((32 - a) * (32 - b) * c[0].y + a * (32 - b) * c[1].y + (32 - a) * b * c[2].y + a * b * c[3].y + 256) >>
+            9;
+      }
+      if (outside(16 * (16 * mx + u) + vx16, 16 * (16 * my + v) + vy16)) return true;
+    }
+  }
+  return false;
 }
 
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
