@@ -23,6 +23,10 @@ struct CodingTools {
   bool warped_prediction = true;
   // B-faces: the half-pel neighbours of the best candidate vector are tried as well.
   bool sub_pel_refinement = true;
+  // B-faces: references padded with the adjacent faces of their cube, so vectors that
+  // leave the reference face find what lies past its edge (docs/codec.md 10.6). Off: the
+  // bare reference faces, and a B-face depends on its reference faces only.
+  bool cube_references = true;
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.

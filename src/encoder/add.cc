@@ -211,7 +211,7 @@ Status decode_old_references(const ContainerUpdater& updater, const std::vector<
                              const ContainerIndex& index, CodingJob* job) {
   const ContainerIndex& old = updater.committed().index;
   for (uint32_t frame : job->frames) {
-    for (uint32_t ref : index.frames[frame].references) {
+    for (uint32_t ref : frame_dependencies(index.frames[frame])) {
       const int64_t old_cell = cells[index.frames[ref].cell].old_cell;
       if (old_cell < 0 || job->reconstructions.count(ref)) continue;
       const uint32_t old_frame = static_cast<uint32_t>(old_cell) * kFaceCount + ref % kFaceCount;
@@ -265,7 +265,11 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   job.index = &index;
   for (size_t c = 0; c < cells.size(); ++c) {
     if (cells[c].old_cell >= 0) continue;
-    for (int f = 0; f < kFaceCount; ++f) job.frames.push_back(static_cast<uint32_t>(c * kFaceCount + f));
+    for (int f = 0; f < kFaceCount; ++f) {
+      FrameRecord& frame = index.frames[c * kFaceCount + f];
+      frame.cube_references = frame.type == FaceType::kPredicted && uses_cube_references(index, job.tools);
+      job.frames.push_back(static_cast<uint32_t>(c * kFaceCount + f));
+    }
     (types.intra[c][0] ? summary.intra_cells_added : summary.predicted_cells_added) += 1;
   }
   SVC_RETURN_IF_ERROR(decode_old_references(*updater, cells, index, &job));

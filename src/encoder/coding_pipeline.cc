@@ -4,6 +4,7 @@
 
 #include "codec/bframe_codec.h"
 #include "codec/color.h"
+#include "codec/cube_padding.h"
 #include "codec/intra_codec.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"
@@ -33,6 +34,7 @@ class Pipeline {
     SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedIntra>(
         intra_.size(), job_.threads, [&](size_t k) { return code_intra(intra_[k]); },
         [&](size_t k, CodedIntra& coded) { return store_intra(intra_[k], coded); }));
+    SVC_RETURN_IF_ERROR(pad_references());
     return ordered_parallel_map<CodedPredictedFace>(
         predicted_.size(), job_.threads, [&](size_t k) { return code_predicted(predicted_[k]); },
         [&](size_t k, CodedPredictedFace& coded) { return store_predicted(predicted_[k], coded); });
@@ -57,13 +59,35 @@ class Pipeline {
     return Status::Ok();
   }
 
+  // The padded reference of every I-face a B-face with cube references uses, built once
+  // from the reconstructions of its cube.
+  Status pad_references() {
+    for (uint32_t frame : predicted_) {
+      const FrameRecord& record = index_.frames[frame];
+      if (!record.cube_references) continue;
+      for (uint32_t ref : record.references) {
+        if (padded_.count(ref)) continue;
+        codec::CubeFaces cube{};
+        for (uint32_t dependency : frame_dependencies(record)) {
+          if (dependency - dependency % kFaceCount == ref - ref % kFaceCount) {
+            cube[dependency % kFaceCount] = &job_.reconstructions.at(dependency);
+          }
+        }
+        const Status status = codec::pad_cube_face(cube, record.face, kCubeBorderUnits, &padded_[ref]);
+        if (!status.ok()) return Status(ErrorCode::kInternal, frame_name(ref) + ": " + status.message());
+      }
+    }
+    return Status::Ok();
+  }
+
   Result<CodedPredictedFace> code_predicted(uint32_t frame) const {
     const FrameRecord& record = index_.frames[frame];
     const int f = static_cast<int>(record.face);
     SVC_ASSIGN_OR_RETURN(FaceData data, job_.load(frame));
     std::vector<FaceReference> refs;
     for (uint32_t ref : record.references) {
-      refs.push_back({&job_.reconstructions.at(ref), &index_.cells[index_.frames[ref].cell].cameras[f]});
+      const ImageYCbCr420& image = record.cube_references ? padded_.at(ref) : job_.reconstructions.at(ref);
+      refs.push_back({&image, &index_.cells[index_.frames[ref].cell].cameras[f]});
     }
     return code_predicted_face(data, index_.cells[record.cell].cameras[f], refs,
                                index_.coding.motion == MotionSearch::kDepth, b_params_, frame_name(frame));
@@ -106,12 +130,18 @@ class Pipeline {
   CodingJob& job_;
   ContainerIndex& index_;
   std::vector<uint32_t> intra_, predicted_;
+  std::unordered_map<uint32_t, ImageYCbCr420> padded_;  // by reference frame
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;
   uint64_t done_ = 0;
 };
 
 }  // namespace
+
+bool uses_cube_references(const ContainerIndex& index, const CodingTools& tools) {
+  return tools.cube_references &&
+         codec::cube_padding_possible(static_cast<int>(index.face_width), static_cast<int>(index.face_height));
+}
 
 Status code_faces(CodingJob& job) { return Pipeline(job).run(); }
 

@@ -122,6 +122,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
       record.type = placement[cell].intra ? FaceType::kIntra : FaceType::kPredicted;
       for (uint32_t ref_cell : placement[cell].references)
         record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
+      record.cube_references = record.type == FaceType::kPredicted && uses_cube_references(index, settings.tools);
       job.frames.push_back(frame);
     }
   }
