@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "076724999f19c0a8bc919316ab58b41959788ad3e734bb5712b74debff2c35ef",
-     "8ab2edc7040e74097fc6ad7f2507e62b6ea49889498950a7bc4f431f10dbbcef"},
+     "8dc21de00f94fe7bf02f4f67ddf76211532949134695ba5bdeeaed2df97db331",
+     "e6a614ff9ce7dd1f52216c3f444307625a9789acfd12f2028f6df1a5e440cf20"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "3ad9ec5925f5233ff12772be13485ad05df324c3c44743726bd918a892d5618b",
-     "a60a0815234c5f6b07386026dd7fc67fd35cfe14308312f82b1946daae7e9481"},
+     "1a541c6b2781a3ee98b8f25c22cda2cb8446f7c5b9dec36ab2ba805720a269cb",
+     "8d6f5e1c5d76f7897e38b5d876aafb0883dbe6a91f6ca49c5100a8b460ead655"},
 };
 
 std::string file_sha256(const fs::path& path) {
