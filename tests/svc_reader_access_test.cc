@@ -10,6 +10,8 @@
 
 #include "codec/intra_codec.h"
 #include "common/file_io.h"
+#include "container/container.h"
+#include "reader/face_decode.h"
 #include "reader/prefetch_order.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -229,6 +231,54 @@ TEST_F(ReaderAccess, CellDecodesFromAtMostItsTwoReferenceCubes) {
   EXPECT_EQ(stats.intra_faces_parsed, faces.size());
   EXPECT_EQ(stats.predicted_faces_decoded, 6u);
   EXPECT_EQ(stats.chunks_read, faces.size() + 6);
+}
+
+// The payload's reference border (B-frame byte 3) and the index's cube-references bit
+// must agree: a mismatch is damage, reported with the face, never decoded with the
+// wrong references.
+TEST_F(ReaderAccess, BorderAndCubeReferencesBitMustAgree) {
+  auto file_handle = ReadOnlyFile::open(file());
+  ASSERT_TRUE(file_handle.ok());
+  auto opened = open_container(**file_handle, ReaderLimits{});
+  ASSERT_TRUE(opened.ok());
+  ContainerIndex index = opened->index;
+  uint32_t b_frame = 0;
+  while (index.frames[b_frame].type != FaceType::kPredicted) ++b_frame;
+  ASSERT_TRUE(index.frames[b_frame].cube_references);
+  ASSERT_TRUE(decode_indexed_face(**file_handle, index, b_frame).ok());
+
+  // A source whose payload of b_frame carries another border.
+  class EditedSource : public FileCodedFaceSource {
+   public:
+    EditedSource(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame, uint8_t border)
+        : FileCodedFaceSource(file, index), frame_(frame), border_(border) {}
+    Result<std::vector<uint8_t>> payload(uint32_t frame) override {
+      SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, FileCodedFaceSource::payload(frame));
+      if (frame == frame_) bytes[3] = border_;
+      return bytes;
+    }
+
+   private:
+    uint32_t frame_;
+    uint8_t border_;
+  };
+  EditedSource bare(**file_handle, index, b_frame, 0);
+  auto decoded = decode_indexed_face(**file_handle, index, b_frame, bare);
+  ASSERT_FALSE(decoded.ok());
+  EXPECT_EQ(decoded.status().code(), ErrorCode::kCorruptData);
+  EXPECT_NE(decoded.status().message().find("reference border of 0 units but the index lists cube references"),
+            std::string::npos)
+      << decoded.status().message();
+  EXPECT_NE(decoded.status().message().find(frame_label(index, b_frame)), std::string::npos);
+  EditedSource too_wide(**file_handle, index, b_frame, 9);
+  decoded = decode_indexed_face(**file_handle, index, b_frame, too_wide);
+  ASSERT_FALSE(decoded.ok());
+  EXPECT_NE(decoded.status().message().find("byte 3"), std::string::npos) << decoded.status().message();
+  index.frames[b_frame].cube_references = false;
+  decoded = decode_indexed_face(**file_handle, index, b_frame);
+  ASSERT_FALSE(decoded.ok());
+  EXPECT_NE(decoded.status().message().find("does not list cube references"), std::string::npos)
+      << decoded.status().message();
 }
 
 TEST_F(ReaderAccess, ZeroBudgetsCacheNothing) {

@@ -65,6 +65,10 @@ struct EncodeSummary {
   double seconds = 0;
   FaceTypeStats intra;
   FaceTypeStats predicted;
+  // B-face macroblocks (inter or skipped) whose prediction reads reference samples
+  // outside the reference face: from the cube border with cube references, else from
+  // the edge extension. Not stored in the file.
+  uint64_t predicted_mb_leaving_face = 0;
 };
 
 // Called from the encoding thread after each face: (faces done, faces total). Return

@@ -101,6 +101,7 @@ class Pipeline {
     s.mb_backward += coded.stats.mb_backward;
     s.mb_bidirectional += coded.stats.mb_bidirectional;
     s.mb_skipped += coded.stats.mb_skipped;
+    job_.predicted_mb_leaving_face += static_cast<uint64_t>(coded.stats.mb_leaving_face);
     s.candidate_vectors += coded.candidates.candidates;
     s.candidate_macroblocks += coded.candidates.macroblocks;
     return Status::Ok();

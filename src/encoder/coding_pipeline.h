@@ -33,11 +33,14 @@ struct CodingJob {
   int threads = 1;
   const char* action = "encode";  // names the run in the cancellation message
   EncodeProgress progress;
+  // Filled by coding: B-face macroblocks predicted from outside their reference faces
+  // (EncodeSummary::predicted_mb_leaving_face).
+  uint64_t predicted_mb_leaving_face = 0;
 };
 
 // Width of the cube-map border of padded references, in units of 16 luma samples
 // (codec/cube_padding.h). Encoder's choice (docs/codec.md 10.5).
-inline constexpr int kCubeBorderUnits = 2;
+inline constexpr int kCubeBorderUnits = 4;
 
 // Whether B-faces of `index` are coded from padded references with `tools`: the tool is
 // on and the faces are square (cube faces).

@@ -136,6 +136,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
   SVC_RETURN_IF_ERROR(code_faces(job));
   summary.intra = index.stats[0];
   summary.predicted = index.stats[1];
+  summary.predicted_mb_leaving_face = job.predicted_mb_leaving_face;
   SVC_RETURN_IF_ERROR(writer->finish(index));
 
   std::error_code ec;
