@@ -54,10 +54,10 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "8dc21de00f94fe7bf02f4f67ddf76211532949134695ba5bdeeaed2df97db331",
+     "cae5f73fa67d055dc22ef985cc2aa61dd1274437dc216be2cf64026bd0edae83",
      "e6a614ff9ce7dd1f52216c3f444307625a9789acfd12f2028f6df1a5e440cf20"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "1a541c6b2781a3ee98b8f25c22cda2cb8446f7c5b9dec36ab2ba805720a269cb",
+     "ffacc91d29d3af1183d62ed01bec8accd41cb66c7bb0b5842aaa445865ea768f",
      "8d6f5e1c5d76f7897e38b5d876aafb0883dbe6a91f6ca49c5100a8b460ead655"},
 };
 
