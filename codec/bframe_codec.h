@@ -28,8 +28,14 @@
 namespace svc::codec {
 
 inline constexpr uint8_t kBFrameSyntaxVersion = 3;
-// Frame type, syntax version, quant_scale, reserved zero, reference count, warp mask.
+// Frame type, syntax version, quant_scale, reference border units, reference count, warp
+// mask.
 inline constexpr int kBFrameHeaderBytes = 6;
+
+// The border units (codec/cube_padding.h) of references `extra` samples wider and taller
+// than the face (a border of extra / 2 on each side), or -1 when `extra` is not a valid
+// border: 0 or an even multiple of 16 up to 2 x 16 x kMaxCubeBorderUnits.
+int reference_border_units(int extra);
 
 // The coding of one macroblock, as the decoder reports it (svc inspect draws intra red,
 // forward/backward/bidirectional green, skipped blue).
@@ -89,6 +95,9 @@ struct BFrameStats {
   int mb_skipped = 0;
   // Inter and skipped macroblocks among the above predicted by warping.
   int mb_warp = 0;
+  // Inter and skipped macroblocks whose luma prediction reads reference samples outside
+  // the face (the cube-map border when the references are padded).
+  int mb_leaving_face = 0;
   // Warp nodes transmitted, over both references.
   int64_t warp_nodes_coded = 0;
   // Distinct in-range candidate vectors tried (at most max_candidates per list), summed
@@ -102,11 +111,12 @@ struct BFrameStats {
 
 // Encodes `source` as a B-frame predicted from ref0 and, when not null, ref1 (decoded
 // references: pass what the decoder will have). All images must have the same size and
-// consistent plane sizes. candidates0/candidates1 hold one list per macroblock
-// (ceil(w/16) x ceil(h/16), row-major); missing or empty lists fall back to the zero
-// vector and the neighbours' vector; out-of-range vectors are clamped
-// (max_vector_component). `reconstruction` (optional) receives exactly what
-// decode_b_frame produces; `stats` (optional) the macroblock decisions. Deterministic.
+// consistent plane sizes, except that both references may instead be padded faces
+// (cube_padding.h: the face plus the same border of 16, 32, ... 64 samples on each side),
+// whose border the header then records and whose border samples vectors may reach. candidates0/candidates1 hold one
+// list per macroblock (ceil(w/16) x ceil(h/16), row-major); missing or empty lists fall back to the zero vector and
+// the neighbours' vector; out-of-range vectors are clamped (max_vector_component). `reconstruction` (optional)
+// receives exactly what decode_b_frame produces; `stats` (optional) the macroblock decisions. Deterministic.
 // Returns an empty vector when an image is missing, empty or inconsistent.
 std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
                                     const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
@@ -125,6 +135,9 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
 
 struct BFrameHeader {
   int quant_scale = 0;
+  // Cube-map border of the references in units of 16 luma samples a side (0: the
+  // references are the bare faces; codec/cube_padding.h builds padded ones).
+  int border_units = 0;
   int reference_count = 0;  // 1 or 2
   int warp_mask = 0;        // bit r: reference r may be warped
 };
@@ -133,8 +146,9 @@ struct BFrameHeader {
 Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 
 // Decodes a B-frame of width x height. ref1 must be null exactly when the frame was coded
-// with one reference; references must be width x height with consistent planes
-// (kInvalidArgument otherwise). `modes` (optional) receives the per-macroblock modes,
+// with one reference; references must be width x height with consistent planes, or
+// padded by the border the header names (parse_b_frame_header; kInvalidArgument
+// otherwise). `modes` (optional) receives the per-macroblock modes,
 // row-major. On error `out` and `modes` are left in an unspecified but valid state.
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
                       const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr);

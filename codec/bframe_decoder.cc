@@ -10,6 +10,7 @@
 
 #include "codec/bframe_state.h"
 #include "codec/bframe_syntax.h"
+#include "codec/cube_padding.h"
 
 namespace svc::codec {
 namespace {
@@ -209,7 +210,10 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   if (bytes[2] < kMinQuantScale || bytes[2] > kMaxQuantScale) {
     return corrupt("byte 2: quant_scale " + std::to_string(bytes[2]) + " outside 1..112");
   }
-  if (bytes[3] != 0) return corrupt("byte 3: reserved byte is " + std::to_string(bytes[3]));
+  if (bytes[3] > kMaxCubeBorderUnits) {
+    return corrupt("byte 3: reference border of " + std::to_string(bytes[3]) + " units outside 0.." +
+                   std::to_string(kMaxCubeBorderUnits));
+  }
   if (bytes[4] != 1 && bytes[4] != 2) {
     return corrupt("byte 4: reference count " + std::to_string(bytes[4]) + " is not 1 or 2");
   }
@@ -218,6 +222,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
                    std::to_string(bytes[4]) + " present");
   }
   out->quant_scale = bytes[2];
+  out->border_units = bytes[3];
   out->reference_count = bytes[4];
   out->warp_mask = bytes[5];
   return Status::Ok();
@@ -230,19 +235,23 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
                                                    std::to_string(height) + " outside 1.." +
                                                    std::to_string(kMaxFrameDimension));
   }
-  if (!consistent_image(ref0, width, height) || (ref1 != nullptr && !consistent_image(*ref1, width, height))) {
-    return Status(ErrorCode::kInvalidArgument, "B-frame: reference images are not " + std::to_string(width) + "x" +
-                                                   std::to_string(height) + " with 4:2:0 planes of matching size");
-  }
   BFrameHeader header;
   SVC_RETURN_IF_ERROR(parse_b_frame_header(bytes, &header));
+  const int extra = 2 * kCubeBorderUnitPixels * header.border_units;
+  if (!consistent_image(ref0, width + extra, height + extra) ||
+      (ref1 != nullptr && !consistent_image(*ref1, width + extra, height + extra))) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "B-frame: reference images are not " + std::to_string(width + extra) + "x" +
+                      std::to_string(height + extra) + " with 4:2:0 planes of matching size (a border of " +
+                      std::to_string(header.border_units) + " units)");
+  }
   const int given = ref1 != nullptr ? 2 : 1;
   if (header.reference_count != given) {
     return Status(ErrorCode::kInvalidArgument, "B-frame: coded with " + std::to_string(header.reference_count) +
                                                    " reference(s) but " + std::to_string(given) + " given");
   }
   FrameState s;
-  init_state(s, width, height, header.quant_scale, &ref0, ref1);
+  init_state(s, width, height, header.quant_scale, &ref0, ref1, header.border_units);
   s.warp_mask = header.warp_mask;
   if (modes != nullptr) {
     modes->clear();

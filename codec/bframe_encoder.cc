@@ -123,7 +123,8 @@ class BFrameEncoder {
     // (nearly) equal corners it predicts what a translation does, at a higher price.
     unsigned screen_warp = 0;
     for (int r = 0; r < s_.reference_count; ++r) {
-      predict_macroblock_luma(*s_.references[r], mx, my, best[r], luma[r].data());
+      predict_macroblock_luma(*s_.references[r], reference_mb(s_, mx), reference_mb(s_, my), best[r],
+                              luma[r].data());
       if ((s_.warp_mask >> r) & 1) {
         const std::array<WarpNode, 4> corners = macroblock_corners(s_, r, mx, my);
         int spread = 0;
@@ -252,11 +253,13 @@ class BFrameEncoder {
     WarpCache& cache = warp_cache_[static_cast<size_t>(reference)];
     const WarpCorners corners = macroblock_corners(s_, reference, mx_, my_);
     if (!cache.luma) {
-      predict_warp_macroblock_luma(*s_.references[reference], mx_, my_, corners, cache.prediction.y.data());
+      predict_warp_macroblock_luma(*s_.references[reference], reference_mb(s_, mx_), reference_mb(s_, my_), corners,
+                                   cache.prediction.y.data());
       cache.luma = true;
     }
     if (with_chroma && !cache.chroma) {
-      predict_warp_macroblock_chroma(*s_.references[reference], mx_, my_, corners, &cache.prediction);
+      predict_warp_macroblock_chroma(*s_.references[reference], reference_mb(s_, mx_), reference_mb(s_, my_),
+                                     corners, &cache.prediction);
       cache.chroma = true;
     }
     return cache.prediction;
@@ -344,7 +347,7 @@ class BFrameEncoder {
       tried_.push_back(v);
       const double rate = lambda_sad_ * vector_bits(reference, v);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
-      const int sad = sad_macroblock_luma(ref, mx_, my_, v, source, source_.strides[0]);
+      const int sad = sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source, source_.strides[0]);
       if (stats != nullptr) ++stats->sad_evaluations;
       const double cost = sad + rate;
       if (cost < best_cost) {
@@ -534,14 +537,16 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     const WarpField* warp1, const BFrameParams& params,
                                     ImageYCbCr420* reconstruction, BFrameStats* stats) {
   const int width = source.width, height = source.height;
-  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension ||
-      !consistent_image(source, width, height) || !consistent_image(ref0, width, height) ||
-      (ref1 != nullptr && !consistent_image(*ref1, width, height))) {
+  const int border_units = reference_border_units(ref0.width - width);
+  const int padded_width = ref0.width, padded_height = height + (ref0.width - width);
+  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension || border_units < 0 ||
+      !consistent_image(source, width, height) || !consistent_image(ref0, padded_width, padded_height) ||
+      (ref1 != nullptr && !consistent_image(*ref1, padded_width, padded_height))) {
     return {};
   }
   const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
   FrameState state;
-  init_state(state, width, height, quant_scale, &ref0, ref1);
+  init_state(state, width, height, quant_scale, &ref0, ref1, border_units);
   const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
   for (int r = 0; r < state.reference_count; ++r) {
     const WarpField* field = fields[r];
@@ -563,7 +568,7 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
   }
 
   std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted),  kBFrameSyntaxVersion,
-                                static_cast<uint8_t>(quant_scale),           0,
+                                static_cast<uint8_t>(quant_scale),           static_cast<uint8_t>(border_units),
                                 static_cast<uint8_t>(state.reference_count), static_cast<uint8_t>(state.warp_mask)};
   RangeEncoder encoder(&bytes);
   BFrameEncoder coder(state, padded, params);
@@ -573,6 +578,11 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       const CandidateList* list0 = index < candidates0.size() ? &candidates0[index] : nullptr;
       const CandidateList* list1 = ref1 != nullptr && index < candidates1.size() ? &candidates1[index] : nullptr;
       const MacroblockChoice choice = coder.choose(mx, my, list0, list1, stats);
+      if (stats != nullptr && choice.mode != MacroblockMode::kIntra) {
+        const MacroblockMode prediction = choice.mode == MacroblockMode::kSkipped ? predicted_mode(state, mx, my)
+                                                                                  : choice.mode;
+        stats->mb_leaving_face += prediction_leaves_face(state, mx, my, prediction, choice.warp, choice.vectors);
+      }
       coder.write(encoder, choice);
       if (stats != nullptr) {
         stats->modes.push_back(choice.mode);

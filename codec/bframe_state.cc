@@ -6,11 +6,24 @@
 #include <cmath>
 #include <string>
 
+#include "codec/cube_padding.h"
+
+namespace svc::codec {
+
+int reference_border_units(int extra) {
+  const int unit = 2 * kCubeBorderUnitPixels;
+  if (extra < 0 || extra % unit != 0 || extra / unit > kMaxCubeBorderUnits) return -1;
+  return extra / unit;
+}
+
+}  // namespace svc::codec
+
 namespace svc::codec::bframe {
 
 void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
-                const ImageYCbCr420* ref1) {
+                const ImageYCbCr420* ref1, int border_mbs) {
   s.width = width;
+  s.border_mbs = border_mbs;
   s.height = height;
   s.mbs_x = (width + 15) / 16;
   s.mbs_y = (height + 15) / 16;
@@ -157,20 +170,50 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out) {
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
-  predict_macroblock(*s.references[first_reference], mx, my, vectors[first_reference], &first);
-  if (mode == MacroblockMode::kBidirectional) predict_macroblock(*s.references[1], mx, my, vectors[1], &second);
+  predict_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my), vectors[first_reference], &first);
+  if (mode == MacroblockMode::kBidirectional) predict_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), vectors[1], &second);
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out) {
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
-  predict_warp_macroblock(*s.references[first_reference], mx, my, macroblock_corners(s, first_reference, mx, my),
+  predict_warp_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my), macroblock_corners(s, first_reference, mx, my),
                           &first);
   if (mode == MacroblockMode::kBidirectional) {
-    predict_warp_macroblock(*s.references[1], mx, my, macroblock_corners(s, 1, mx, my), &second);
+    predict_warp_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), macroblock_corners(s, 1, mx, my), &second);
   }
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
+}
+
+bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode mode, bool warp,
+                            const std::array<MotionVector, 2>& vectors) {
+  // Sample span in 1/16 pel of the block's pixel centres displaced, plus the one sample
+  // interpolation reads beyond it; a warp's extremes lie at its corner pixels, since its
+  // vector is bilinear over the block.
+  auto outside = [&](int x16, int y16) {
+    return x16 < 0 || y16 < 0 || (x16 >> 4) + ((x16 & 15) != 0) >= s.width ||
+           (y16 >> 4) + ((y16 & 15) != 0) >= s.height;
+  };
+  for (int r = 0; r < s.reference_count; ++r) {
+    if (!uses_reference(mode, r)) continue;
+    for (int k = 0; k < 4; ++k) {
+      const int u = (k & 1) * 15, v = (k >> 1) * 15;
+      int vx16 = 8 * vectors[r].x, vy16 = 8 * vectors[r].y;
+      if (warp) {
+        const WarpCorners c = macroblock_corners(s, r, mx, my);
+        const int a = 2 * u + 1, b = 2 * v + 1;
+        vx16 =
+            ((32 - a) * (32 - b) * c[0].x + a * (32 - b) * c[1].x + (32 - a) * b * c[2].x + a * b * c[3].x + 256) >>
+            9;
+        vy16 =
+            ((32 - a) * (32 - b) * c[0].y + a * (32 - b) * c[1].y + (32 - a) * b * c[2].y + a * b * c[3].y + 256) >>
+            9;
+      }
+      if (outside(16 * (16 * mx + u) + vx16, 16 * (16 * my + v) + vy16)) return true;
+    }
+  }
+  return false;
 }
 
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,

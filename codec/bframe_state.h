@@ -60,6 +60,10 @@ struct FrameState {
   int chroma_width = 0, chroma_height = 0;  // visible
   int reference_count = 1;
   std::array<const ImageYCbCr420*, 2> references{};
+  // Macroblocks of cube-map border around each reference face (codec/cube_padding.h):
+  // macroblock (mx, my) of the face is macroblock (mx + border_mbs, my + border_mbs) of
+  // its reference planes. 0 without padding.
+  int border_mbs = 0;
   Quantizer intra_quantizer, inter_quantizer;
   int dc_step = 8;
   int vector_limit = 0;
@@ -90,8 +94,13 @@ struct FrameState {
   }
 };
 
+// The references are width x height, or that plus a border of border_mbs macroblocks on
+// each side.
 void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
-                const ImageYCbCr420* ref1);
+                const ImageYCbCr420* ref1, int border_mbs = 0);
+
+// Macroblock coordinate of the current face within the (padded) reference planes.
+inline int reference_mb(const FrameState& s, int m) { return m + s.border_mbs; }
 
 // ---- Block geometry within a macroblock: blocks 0..3 luma (raster), 4 Cb, 5 Cr. ----
 inline int block_plane(int b) { return b < 4 ? 0 : b - 3; }
@@ -200,6 +209,11 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out);
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out);
+
+// Whether the luma prediction of macroblock (mx, my) with this mode reads a reference
+// sample outside the face (in the cube border or, without one, the edge extension).
+bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode mode, bool warp,
+                            const std::array<MotionVector, 2>& vectors);
 
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
                                 int prediction_stride, uint8_t* out, int out_stride);

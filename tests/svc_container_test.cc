@@ -180,6 +180,7 @@ void expect_same_index(const ContainerIndex& a, const ContainerIndex& b) {
     EXPECT_EQ(a.frames[i].chunk_offset, b.frames[i].chunk_offset) << "frame " << i;
     EXPECT_EQ(a.frames[i].payload_size, b.frames[i].payload_size) << "frame " << i;
     EXPECT_EQ(a.frames[i].references, b.frames[i].references) << "frame " << i;
+    EXPECT_EQ(a.frames[i].cube_references, b.frames[i].cube_references) << "frame " << i;
   }
   for (int k = 0; k < 2; ++k) EXPECT_EQ(stat_fields(a.stats[k]), stat_fields(b.stats[k]));
 }
@@ -337,6 +338,38 @@ TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
   EXPECT_TRUE(std::signbit(parsed->cells[0].cameras[0].world_to_camera[14]));
 }
 
+// Cube references: one bit of the type byte; the dependencies it adds are the four
+// adjacent faces of each reference cube, which must be I-faces.
+TEST(ContainerIndexV2, CubeReferencesRoundTripAndNeedIntraCubes) {
+  ContainerIndex index = rig_index();
+  for (FrameRecord& frame : index.frames) frame.cube_references = frame.type == FaceType::kPredicted;
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_TRUE(parsed->frames[6 + 4].cube_references);
+  EXPECT_FALSE(parsed->frames[4].cube_references);
+  // Face pz of cell 1 predicts from pz of cell 0 and needs its px, nx, py, ny.
+  EXPECT_EQ(frame_dependencies(parsed->frames[6 + 4]), (std::vector<uint32_t>{4, 0, 1, 2, 3}));
+  EXPECT_EQ(frame_dependencies(parsed->frames[4]), std::vector<uint32_t>{});
+  index.frames[6 + 4].cube_references = false;
+  EXPECT_EQ(frame_dependencies(index.frames[6 + 4]), std::vector<uint32_t>{4});
+
+  // Cell 1 px becomes an I-face that cell 2 px predicts from, but cell 1 py stays a
+  // B-face: cell 2 px cannot have cube references.
+  index.frames[6].type = FaceType::kIntra;
+  index.frames[6].references.clear();
+  index.frames[6].cube_references = false;
+  index.frames[12].references = {6};
+  index.frames[12].cube_references = true;
+  parsed = parse_index(serialize_index(index), 0, kFileSize, ReaderLimits{});
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_EQ(parsed.status().code(), ErrorCode::kCorruptData);
+  EXPECT_NE(parsed.status().message().find("cell (1,0,0) face py of its reference cube is not an I-face"),
+            std::string::npos)
+      << parsed.status().message();
+}
+
 TEST(ContainerIndexV2, OutOfOrderChunksAndLargeValuesRoundTrip) {
   ContainerIndex index = rig_index();
   // As after svc add: the first cell's chunks were appended last, far into a large
@@ -483,7 +516,8 @@ TEST(ContainerIndexV2, BadVarintsAreRefused) {
   expect_refused(parse_edited(bytes, record + 1, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}),
                  "leads outside the file");
   // Reserved bits of the type byte; an unknown frame type.
-  expect_refused(parse_edited(bytes, record, 1, {0x10}), "reserved bits");
+  expect_refused(parse_edited(bytes, record, 1, {0x20}), "reserved bits");
+  expect_refused(parse_edited(bytes, record, 1, {0x10}), "cube-references bit");
   expect_refused(parse_edited(bytes, record, 1, {0x02}), "unknown frame type");
   // An I-face with a reference; a B-face reference past the frame count.
   expect_refused(parse_edited(bytes, record, 3, {0x04, 0, 50, 0}), "references, which its type does not allow");

@@ -103,7 +103,7 @@ class Corruption : public ::testing::Test {
       const CellIndex& cell = index_->cells[frame.cell].index;
       auto image = (*reader)->decode_face_ycbcr(cell, frame.face);
       bool depends_on_damage = damaged_frame && *damaged_frame == f;
-      for (uint32_t ref : frame.references) depends_on_damage |= damaged_frame && *damaged_frame == ref;
+      for (uint32_t ref : frame_dependencies(frame)) depends_on_damage |= damaged_frame && *damaged_frame == ref;
       if (image.ok()) {
         ++outcome.faces_ok;
         const ImageYCbCr420& original = (*originals_)[f];

@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <fstream>
 #include <random>
+#include <set>
 
 #include "codec/intra_codec.h"
 #include "common/file_io.h"
+#include "container/container.h"
+#include "reader/face_decode.h"
 #include "reader/prefetch_order.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -67,7 +70,11 @@ class ReaderAccess : public ::testing::Test {
   static std::pair<size_t, std::vector<size_t>> some_b_face(const Reader& reader, size_t skip = 0) {
     for (size_t c = 0; c < reader.cells().size(); ++c) {
       const FaceEntry& entry = reader.cells()[c].faces[0];
-      if (entry.type != FaceType::kPredicted || entry.references.size() != 2) continue;
+      // Two reference cubes: two reference faces, plus four adjacent faces of each cube
+      // with cube references.
+      if (entry.type != FaceType::kPredicted || (entry.references.size() != 2 && entry.references.size() != 10)) {
+        continue;
+      }
       if (skip-- > 0) continue;
       std::vector<size_t> refs;
       for (const auto& [cell, face] : entry.references) refs.push_back(cell * kFaceCount + static_cast<int>(face));
@@ -145,16 +152,19 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   auto face = (*reader)->decode_face_ycbcr(cells[first / kFaceCount].index, Face::kPX);
   ASSERT_TRUE(face.ok());
   EXPECT_TRUE(same_image(*face, reference(first)));
+  // Exactly the faces the index lists are read and entropy-decoded: the two reference
+  // faces and, with cube references, the four adjacent faces of both reference cubes.
+  ASSERT_EQ(refs.size(), 10u);
   ReaderStats stats = (*reader)->stats();
-  EXPECT_EQ(stats.intra_faces_parsed, 2u);
+  EXPECT_EQ(stats.intra_faces_parsed, refs.size());
   EXPECT_EQ(stats.predicted_faces_decoded, 1u);
-  EXPECT_EQ(stats.chunks_read, 3u);
-  EXPECT_EQ(stats.coefficient_cache.misses, 2u);
-  EXPECT_EQ(stats.coefficient_cache.entries, 2u);
+  EXPECT_EQ(stats.chunks_read, refs.size() + 1);
+  EXPECT_EQ(stats.coefficient_cache.misses, refs.size());
+  EXPECT_EQ(stats.coefficient_cache.entries, refs.size());
   const uint64_t bytes_after_first = stats.bytes_read;
-  EXPECT_EQ(bytes_after_first, cells[first / kFaceCount].faces[0].coded_bytes +
-                                   cells[refs[0] / kFaceCount].faces[0].coded_bytes +
-                                   cells[refs[1] / kFaceCount].faces[0].coded_bytes + 3 * 16);
+  uint64_t expected_bytes = cells[first / kFaceCount].faces[0].coded_bytes + (refs.size() + 1) * 16;
+  for (size_t ref : refs) expected_bytes += cells[ref / kFaceCount].faces[ref % kFaceCount].coded_bytes;
+  EXPECT_EQ(bytes_after_first, expected_bytes);
 
   // Another B-face predicted from the same two I-faces: only its own chunk is read and
   // only its own bytes are entropy-decoded.
@@ -168,17 +178,17 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   ASSERT_TRUE(face.ok());
   EXPECT_TRUE(same_image(*face, reference(second)));
   stats = (*reader)->stats();
-  EXPECT_EQ(stats.intra_faces_parsed, 2u);
+  EXPECT_EQ(stats.intra_faces_parsed, refs.size());
   EXPECT_EQ(stats.predicted_faces_decoded, 2u);
-  EXPECT_EQ(stats.chunks_read, 4u);
-  EXPECT_EQ(stats.coefficient_cache.hits, 2u);
+  EXPECT_EQ(stats.chunks_read, refs.size() + 2);
+  EXPECT_EQ(stats.coefficient_cache.hits, refs.size());
 
   // The same face again: no read, no decode, a face-cache hit; the shared image is the
   // cached one and outlives close().
   auto shared = (*reader)->acquire_face_ycbcr(cells[second / kFaceCount].index, Face::kPX);
   ASSERT_TRUE(shared.ok());
   stats = (*reader)->stats();
-  EXPECT_EQ(stats.chunks_read, 4u);
+  EXPECT_EQ(stats.chunks_read, refs.size() + 2);
   EXPECT_EQ(stats.predicted_faces_decoded, 2u);
   EXPECT_EQ(stats.face_cache.hits, 1u);
   auto again = (*reader)->acquire_face_ycbcr(cells[second / kFaceCount].index, Face::kPX);
@@ -188,6 +198,87 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   EXPECT_TRUE(same_image(**shared, reference(second)));
   EXPECT_EQ((*reader)->stats().face_cache.bytes_held, 0u);
   EXPECT_EQ((*reader)->stats().coefficient_cache.bytes_held, 0u);
+}
+
+// A cell's random access: its six faces decode from the faces of at most its two
+// reference cubes (cube references add adjacent faces, never another cube), each
+// I-face parsed once, and every face equals the sequential decode.
+TEST_F(ReaderAccess, CellDecodesFromAtMostItsTwoReferenceCubes) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  auto reader = Reader::open(file(), settings);
+  ASSERT_TRUE(reader.ok());
+  const auto [b_frame, refs] = some_b_face(**reader, 0);
+  ASSERT_NE(b_frame, SIZE_MAX);
+  const size_t cell = b_frame / kFaceCount;
+  const CellEntry& entry = (*reader)->cells()[cell];
+  std::set<size_t> cubes, faces;
+  for (const FaceEntry& face : entry.faces) {
+    for (const auto& [ref_cell, ref_face] : face.references) {
+      cubes.insert(ref_cell);
+      faces.insert(ref_cell * kFaceCount + static_cast<size_t>(ref_face));
+    }
+  }
+  EXPECT_EQ(cubes.size(), 2u);
+  EXPECT_EQ(faces.size(), 12u);  // both reference cubes whole
+  for (size_t f : faces) EXPECT_EQ((*reader)->cells()[f / kFaceCount].faces[f % kFaceCount].type, FaceType::kIntra);
+  for (int f = 0; f < kFaceCount; ++f) {
+    auto face = (*reader)->decode_face_ycbcr(entry.index, static_cast<Face>(f));
+    ASSERT_TRUE(face.ok()) << face.status().to_string();
+    EXPECT_TRUE(same_image(*face, reference(cell * kFaceCount + f))) << "face " << f;
+  }
+  const ReaderStats stats = (*reader)->stats();
+  EXPECT_EQ(stats.intra_faces_parsed, faces.size());
+  EXPECT_EQ(stats.predicted_faces_decoded, 6u);
+  EXPECT_EQ(stats.chunks_read, faces.size() + 6);
+}
+
+// The payload's reference border (B-frame byte 3) and the index's cube-references bit
+// must agree: a mismatch is damage, reported with the face, never decoded with the
+// wrong references.
+TEST_F(ReaderAccess, BorderAndCubeReferencesBitMustAgree) {
+  auto file_handle = ReadOnlyFile::open(file());
+  ASSERT_TRUE(file_handle.ok());
+  auto opened = open_container(**file_handle, ReaderLimits{});
+  ASSERT_TRUE(opened.ok());
+  ContainerIndex index = opened->index;
+  uint32_t b_frame = 0;
+  while (index.frames[b_frame].type != FaceType::kPredicted) ++b_frame;
+  ASSERT_TRUE(index.frames[b_frame].cube_references);
+  ASSERT_TRUE(decode_indexed_face(**file_handle, index, b_frame).ok());
+
+  // A source whose payload of b_frame carries another border.
+  class EditedSource : public FileCodedFaceSource {
+   public:
+    EditedSource(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame, uint8_t border)
+        : FileCodedFaceSource(file, index), frame_(frame), border_(border) {}
+    Result<std::vector<uint8_t>> payload(uint32_t frame) override {
+      SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, FileCodedFaceSource::payload(frame));
+      if (frame == frame_) bytes[3] = border_;
+      return bytes;
+    }
+
+   private:
+    uint32_t frame_;
+    uint8_t border_;
+  };
+  EditedSource bare(**file_handle, index, b_frame, 0);
+  auto decoded = decode_indexed_face(**file_handle, index, b_frame, bare);
+  ASSERT_FALSE(decoded.ok());
+  EXPECT_EQ(decoded.status().code(), ErrorCode::kCorruptData);
+  EXPECT_NE(decoded.status().message().find("reference border of 0 units but the index lists cube references"),
+            std::string::npos)
+      << decoded.status().message();
+  EXPECT_NE(decoded.status().message().find(frame_label(index, b_frame)), std::string::npos);
+  EditedSource too_wide(**file_handle, index, b_frame, 9);
+  decoded = decode_indexed_face(**file_handle, index, b_frame, too_wide);
+  ASSERT_FALSE(decoded.ok());
+  EXPECT_NE(decoded.status().message().find("byte 3"), std::string::npos) << decoded.status().message();
+  index.frames[b_frame].cube_references = false;
+  decoded = decode_indexed_face(**file_handle, index, b_frame);
+  ASSERT_FALSE(decoded.ok());
+  EXPECT_NE(decoded.status().message().find("does not list cube references"), std::string::npos)
+      << decoded.status().message();
 }
 
 TEST_F(ReaderAccess, ZeroBudgetsCacheNothing) {

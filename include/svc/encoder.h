@@ -35,6 +35,10 @@ struct CodingTools {
   // B-cubes: the (at most) two I-cubes in reach that together see most of the cell, from
   // depth, rather than the nearest two (docs/format.md, "I-cube placement").
   bool visibility_references = true;
+  // B-faces: references padded with the adjacent faces of their cube, so vectors that
+  // leave the reference face find what lies past its edge (docs/codec.md 10.6). Off: the
+  // bare reference faces, and a B-face depends on its reference faces only.
+  bool cube_references = true;
 };
 
 // Where the encoder puts I-cubes (docs/format.md, "I-cube placement").
@@ -87,6 +91,10 @@ struct EncodeSummary {
   double seconds = 0;
   FaceTypeStats intra;
   FaceTypeStats predicted;
+  // B-face macroblocks (inter or skipped) whose prediction reads reference samples
+  // outside the reference face: from the cube border with cube references, else from
+  // the edge extension. Not stored in the file.
+  uint64_t predicted_mb_leaving_face = 0;
 };
 
 // Called from the encoding thread after each face: (faces done, faces total). Return

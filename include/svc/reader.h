@@ -76,7 +76,10 @@ struct FaceEntry {
   FaceType type = FaceType::kIntra;
   uint64_t offset = 0;       // file offset of the face's chunk
   uint64_t coded_bytes = 0;  // coded payload size
-  // Faces this one is predicted from: (cell ordinal, face). Empty for an I-face.
+  // Faces this one needs decoded, as (cell ordinal, face); empty for an I-face. First the
+  // one or two faces it is predicted from (forward, backward), then, for a B-face with
+  // cube references, the four faces adjacent to its face in each of those cubes, whose
+  // content pads the references (docs/codec.md 10.6).
   std::vector<std::pair<uint32_t, Face>> references;
 };
 

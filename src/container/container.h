@@ -51,7 +51,16 @@ struct FrameRecord {
   uint64_t chunk_offset = 0;         // file offset of the FACE chunk
   uint32_t payload_size = 0;         // coded bytes inside the chunk
   std::vector<uint32_t> references;  // ordinals into ContainerIndex::frames
+  // A B-face predicting from padded references (docs/codec.md 10.6): it also depends on
+  // the four faces adjacent to its face in each reference cube (frame_dependencies).
+  bool cube_references = false;
 };
+
+// Every frame `frame` needs decoded before it can be: its references, then, with cube
+// references, the four adjacent faces of each reference cube (codec/cube_padding.h
+// order). Frames lie cell-major, six per cell, so the cube's faces are found by
+// position.
+std::vector<uint32_t> frame_dependencies(const FrameRecord& frame);
 
 struct ContainerIndex {
   uint32_t face_width = 0;

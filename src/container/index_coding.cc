@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "codec/cube_padding.h"
 #include "common/bytes.h"
 #include "container/container.h"
 
@@ -24,11 +25,13 @@ constexpr uint64_t kFrameRecordMinBytesV2 = 1 + 1 + 1;                  // type 
 constexpr uint8_t kExplicitCameraMarker = 255;
 constexpr size_t kMaxRigEntries = 64;
 constexpr uint64_t kRigEntryBytes = (9 + 6) * 8;
-// Version 2 frame record type byte: bits 0-1 frame type, bits 2-3 reference count.
+// Version 2 frame record type byte: bits 0-1 frame type, bits 2-3 reference count, bit 4
+// cube references.
 constexpr uint8_t kFaceTypeMask = 0x03;
 constexpr int kRefCountShift = 2;
 constexpr uint8_t kRefCountMask = 0x03;
-constexpr uint8_t kFrameHeadReservedMask = 0xF0;
+constexpr uint8_t kCubeReferencesBit = 0x10;
+constexpr uint8_t kFrameHeadReservedMask = 0xE0;
 constexpr int kMaxVarintBytes = 10;
 
 std::string at_offset(uint64_t offset) { return " at byte offset " + std::to_string(offset); }
@@ -408,6 +411,10 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     }
     const uint8_t kind = head & kFaceTypeMask;
     const uint8_t ref_count = (head >> kRefCountShift) & kRefCountMask;
+    frame.cube_references = (head & kCubeReferencesBit) != 0;
+    if (frame.cube_references && static_cast<FaceType>(kind) != FaceType::kPredicted) {
+      return corrupt_at(what + " is not a B-face but has the cube-references bit set", record_at);
+    }
 
     SVC_ASSIGN_OR_RETURN(const uint64_t zigzag, read_varint(r, what + " chunk offset"));
     const int64_t delta = zigzag_decode(zigzag);
@@ -505,7 +512,8 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
   uint64_t previous_end = kPreludeSize;
   for (const FrameRecord& frame : index.frames) {
     w.u8(static_cast<uint8_t>((static_cast<uint8_t>(frame.type) & kFaceTypeMask) |
-                              (frame.references.size() & kRefCountMask) << kRefCountShift));
+                              (frame.references.size() & kRefCountMask) << kRefCountShift |
+                              (frame.cube_references ? kCubeReferencesBit : 0)));
     // Two's complement difference: chunks appended by `svc add` lie before earlier ones.
     write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
     write_varint(w, frame.payload_size);
@@ -555,8 +563,9 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   } else {
     SVC_RETURN_IF_ERROR(parse_frames_v2(r, file_size, limits, index));
   }
-  // References must name existing intra frames of the same face: then no cycle and no
-  // chain can exist, and any face decodes from at most two others.
+  // References must name existing intra frames of the same face, and cube references
+  // I-faces of the same cells: then no cycle and no chain can exist, and any face
+  // decodes from at most the faces of two I-cubes.
   for (uint64_t i = 0; i < frame_count; ++i) {
     const FrameRecord& frame = index.frames[i];
     for (uint32_t ref : frame.references) {
@@ -564,6 +573,13 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
           index.frames[ref].face != frame.face) {
         return corrupt_at(face_label(index.cells[frame.cell].index, frame.face) + " references frame " +
                               std::to_string(ref) + ", which is not an I-face of the same face",
+                          frames_at);
+      }
+    }
+    for (uint32_t dependency : frame_dependencies(frame)) {
+      if (index.frames[dependency].type != FaceType::kIntra) {
+        return corrupt_at(face_label(index.cells[frame.cell].index, frame.face) + " has cube references, but " +
+                              frame_name(index, dependency) + " of its reference cube is not an I-face",
                           frames_at);
       }
     }
@@ -579,6 +595,16 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
     return corrupt_at(std::to_string(r.remaining()) + " unexpected bytes after the index records", r.file_offset());
   }
   return index;
+}
+
+std::vector<uint32_t> frame_dependencies(const FrameRecord& frame) {
+  std::vector<uint32_t> out = frame.references;
+  if (!frame.cube_references) return out;
+  for (uint32_t ref : frame.references) {
+    const uint32_t cube = ref - ref % kFaceCount;
+    for (Face g : codec::adjacent_faces(frame.face)) out.push_back(cube + static_cast<uint32_t>(g));
+  }
+  return out;
 }
 
 }  // namespace svc

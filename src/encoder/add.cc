@@ -284,7 +284,11 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   job.index = &index;
   for (size_t c = 0; c < cells.size(); ++c) {
     if (cells[c].old_cell >= 0) continue;
-    for (int f = 0; f < kFaceCount; ++f) job.frames.push_back(static_cast<uint32_t>(c * kFaceCount + f));
+    for (int f = 0; f < kFaceCount; ++f) {
+      FrameRecord& frame = index.frames[c * kFaceCount + f];
+      frame.cube_references = frame.type == FaceType::kPredicted && uses_cube_references(index, job.tools);
+      job.frames.push_back(static_cast<uint32_t>(c * kFaceCount + f));
+    }
     (types.intra[c][0] ? summary.intra_cells_added : summary.predicted_cells_added) += 1;
   }
   job.load = [&](uint32_t frame) {

@@ -4,6 +4,7 @@
 
 #include "codec/bframe_codec.h"
 #include "codec/color.h"
+#include "codec/cube_padding.h"
 #include "codec/intra_codec.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"
@@ -26,7 +27,10 @@ using ReferenceCache = reader_internal::SharedCache<ImageYCbCr420>;
 class Pipeline {
  public:
   explicit Pipeline(CodingJob& job)
-      : job_(job), index_(*job.index), references_(kReferenceCacheBytes, &image_bytes) {
+      : job_(job),
+        index_(*job.index),
+        references_(kReferenceCacheBytes, &image_bytes),
+        padded_(kReferenceCacheBytes, &image_bytes) {
     for (uint32_t frame : job.frames) {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
@@ -80,6 +84,25 @@ class Pipeline {
     });
   }
 
+  // A reference I-face padded with the adjacent faces of its cube, as the decoder builds
+  // it for a B-face with cube references (docs/codec.md 10.6).
+  Result<FacePointer> padded_reference(const FrameRecord& record, uint32_t ref) {
+    return padded_.get(ref, reader_internal::Origin::kCaller, [&]() -> Result<FacePointer> {
+      std::vector<FacePointer> held;
+      codec::CubeFaces cube{};
+      for (uint32_t dependency : frame_dependencies(record)) {
+        if (dependency / kFaceCount != ref / kFaceCount) continue;
+        SVC_ASSIGN_OR_RETURN(FacePointer face, reference(dependency));
+        cube[dependency % kFaceCount] = face.get();
+        held.push_back(std::move(face));
+      }
+      auto padded = std::make_shared<ImageYCbCr420>();
+      const Status status = codec::pad_cube_face(cube, record.face, kCubeBorderUnits, padded.get());
+      if (!status.ok()) return Status(ErrorCode::kInternal, frame_name(ref) + ": " + status.message());
+      return FacePointer(std::move(padded));
+    });
+  }
+
   Result<CodedPredictedFace> code_predicted(uint32_t frame) {
     const FrameRecord& record = index_.frames[frame];
     const int f = static_cast<int>(record.face);
@@ -87,7 +110,8 @@ class Pipeline {
     std::vector<FacePointer> held;  // keeps the references alive while the cache may evict them
     std::vector<FaceReference> refs;
     for (uint32_t ref : record.references) {
-      SVC_ASSIGN_OR_RETURN(FacePointer image, reference(ref));
+      SVC_ASSIGN_OR_RETURN(FacePointer image,
+                           record.cube_references ? padded_reference(record, ref) : reference(ref));
       held.push_back(image);
       refs.push_back({image.get(), &index_.cells[index_.frames[ref].cell].cameras[f]});
     }
@@ -103,6 +127,7 @@ class Pipeline {
     s.mb_backward += coded.stats.mb_backward;
     s.mb_bidirectional += coded.stats.mb_bidirectional;
     s.mb_skipped += coded.stats.mb_skipped;
+    job_.predicted_mb_leaving_face += static_cast<uint64_t>(coded.stats.mb_leaving_face);
     s.candidate_vectors += coded.candidates.candidates;
     s.candidate_macroblocks += coded.candidates.macroblocks;
     return Status::Ok();
@@ -134,12 +159,18 @@ class Pipeline {
   ReferenceCache references_;
   std::unique_ptr<ReadOnlyFile> written_;
   std::vector<uint32_t> intra_, predicted_;
+  ReferenceCache padded_;  // padded reference I-faces, by frame
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;
   uint64_t done_ = 0;
 };
 
 }  // namespace
+
+bool uses_cube_references(const ContainerIndex& index, const CodingTools& tools) {
+  return tools.cube_references &&
+         codec::cube_padding_possible(static_cast<int>(index.face_width), static_cast<int>(index.face_height));
+}
 
 Status code_faces(CodingJob& job) { return Pipeline(job).run(); }
 

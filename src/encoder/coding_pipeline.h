@@ -43,7 +43,18 @@ struct CodingJob {
   int threads = 1;
   const char* action = "encode";  // names the run in the cancellation message
   EncodeProgress progress;
+  // Filled by coding: B-face macroblocks predicted from outside their reference faces
+  // (EncodeSummary::predicted_mb_leaving_face).
+  uint64_t predicted_mb_leaving_face = 0;
 };
+
+// Width of the cube-map border of padded references, in units of 16 luma samples
+// (codec/cube_padding.h). Encoder's choice (docs/codec.md 10.5).
+inline constexpr int kCubeBorderUnits = 4;
+
+// Whether B-faces of `index` are coded from padded references with `tools`: the tool is
+// on and the faces are square (cube faces).
+bool uses_cube_references(const ContainerIndex& index, const CodingTools& tools);
 
 // Codes job.frames with the index's coding settings and appends them in order. Bytes do
 // not depend on the thread count. Errors: loading, the file's, or kCancelled when

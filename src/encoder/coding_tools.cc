@@ -20,6 +20,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"intra-rd-search", &CodingTools::intra_rd_search},
     CodingToolEntry{"quarter-pel", &CodingTools::quarter_pel},
     CodingToolEntry{"visibility-references", &CodingTools::visibility_references},
+    CodingToolEntry{"cube-references", &CodingTools::cube_references},
 };
 
 }  // namespace

@@ -23,6 +23,8 @@ struct EncodePlan {
   // Grid, cameras, coding record, and every frame's cell, face, type and references;
   // chunk offsets and statistics are filled in by coding.
   ContainerIndex index;
+  // B macroblocks coded so far whose prediction reads past their reference face.
+  uint64_t predicted_mb_leaving_face = 0;
 };
 
 // Checks `settings`, reads the manifest of `db_dir` and plans every frame.

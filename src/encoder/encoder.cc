@@ -158,6 +158,7 @@ Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const Encode
       record.type = placement[cell].intra ? FaceType::kIntra : FaceType::kPredicted;
       for (uint32_t ref_cell : placement[cell].references)
         record.references.push_back(ref_cell * kFaceCount + static_cast<uint32_t>(f));
+      record.cube_references = record.type == FaceType::kPredicted && uses_cube_references(index, settings.tools);
     }
   }
   return plan;
@@ -176,7 +177,9 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   job.open_written = sink.open_written;
   job.threads = resolve_thread_count(settings.threads);
   job.progress = progress;
-  return code_faces(job);
+  SVC_RETURN_IF_ERROR(code_faces(job));
+  plan.predicted_mb_leaving_face += job.predicted_mb_leaving_face;
+  return Status::Ok();
 }
 
 EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
@@ -187,6 +190,7 @@ EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
   summary.raw_bytes = uint64_t{3} * plan.index.face_width * plan.index.face_height * frames;
   summary.intra = plan.index.stats[0];
   summary.predicted = plan.index.stats[1];
+  summary.predicted_mb_leaving_face = plan.predicted_mb_leaving_face;
   return summary;
 }
 

@@ -2,6 +2,7 @@
 
 #include <array>
 
+#include "codec/cube_padding.h"
 #include "codec/intra_codec.h"
 
 namespace svc {
@@ -29,24 +30,68 @@ Result<FacePointer> FileCodedFaceSource::intra_face(uint32_t frame) {
   return FacePointer(std::move(image));
 }
 
+namespace {
+
+// A reference I-face of B-face `frame`, with context naming the face that needed it.
+Result<FacePointer> reference_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
+                                   uint32_t ref, CodedFaceSource& source) {
+  // parse_index admits only I-faces as dependencies: one level at most.
+  Result<FacePointer> image =
+      index.frames[ref].type == FaceType::kIntra
+          ? source.intra_face(ref)
+          : Result<FacePointer>(
+                frame_error(Status(ErrorCode::kCorruptData, "reference is not an I-face"), file, index, ref));
+  if (!image.ok())
+    return image.status().with_context(frame_label(index, frame) + " cannot be decoded: its reference");
+  return image;
+}
+
+// Reference `ref` of B-face `frame` padded with `units` of cube border from the adjacent
+// faces of its cube (docs/codec.md 10.6).
+Result<FacePointer> padded_reference(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
+                                     uint32_t ref, int units, CodedFaceSource& source) {
+  const FrameRecord& record = index.frames[frame];
+  const uint32_t cube_first = ref - ref % kFaceCount;
+  std::array<FacePointer, kFaceCount> held;
+  codec::CubeFaces cube{};
+  SVC_ASSIGN_OR_RETURN(held[static_cast<int>(record.face)], reference_face(file, index, frame, ref, source));
+  for (Face g : codec::adjacent_faces(record.face)) {
+    const int k = static_cast<int>(g);
+    SVC_ASSIGN_OR_RETURN(held[k],
+                         reference_face(file, index, frame, cube_first + static_cast<uint32_t>(k), source));
+  }
+  for (int k = 0; k < kFaceCount; ++k) cube[k] = held[k].get();
+  auto padded = std::make_shared<ImageYCbCr420>();
+  const Status status = codec::pad_cube_face(cube, record.face, units, padded.get());
+  if (!status.ok()) return frame_error(Status(ErrorCode::kCorruptData, status.message()), file, index, frame);
+  return FacePointer(std::move(padded));
+}
+
+}  // namespace
+
 Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
                                         CodedFaceSource& source, std::vector<codec::MacroblockMode>* modes) {
   const FrameRecord& record = index.frames[frame];
   if (modes) modes->clear();
   if (record.type == FaceType::kIntra) return source.intra_face(frame);
   SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, source.payload(frame));
+  codec::BFrameHeader header;
+  if (const Status status = codec::parse_b_frame_header(payload, &header); !status.ok()) {
+    return frame_error(status, file, index, frame);
+  }
+  if ((header.border_units > 0) != record.cube_references) {
+    return frame_error(Status(ErrorCode::kCorruptData,
+                              "payload has a reference border of " + std::to_string(header.border_units) +
+                                  " units but the index " + (record.cube_references ? "lists" : "does not list") +
+                                  " cube references"),
+                       file, index, frame);
+  }
   std::array<FacePointer, 2> refs;
   for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
-    // parse_index admits only I-faces as references: one level at most.
     const uint32_t ref = record.references[r];
-    Result<FacePointer> image =
-        index.frames[ref].type == FaceType::kIntra
-            ? source.intra_face(ref)
-            : Result<FacePointer>(
-                  frame_error(Status(ErrorCode::kCorruptData, "reference is not an I-face"), file, index, ref));
-    if (!image.ok())
-      return image.status().with_context(frame_label(index, frame) + " cannot be decoded: its reference");
-    refs[r] = std::move(image).value();
+    SVC_ASSIGN_OR_RETURN(refs[r], record.cube_references
+                                      ? padded_reference(file, index, frame, ref, header.border_units, source)
+                                      : reference_face(file, index, frame, ref, source));
   }
   if (!refs[0])
     return frame_error(Status(ErrorCode::kCorruptData, "B-face without references"), file, index, frame);

@@ -323,7 +323,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
       face.type = frame.type;
       face.offset = frame.chunk_offset;
       face.coded_bytes = frame.payload_size;
-      for (uint32_t ref : frame.references) {
+      for (uint32_t ref : frame_dependencies(frame)) {
         face.references.emplace_back(index.frames[ref].cell, index.frames[ref].face);
       }
     }

@@ -1,0 +1,44 @@
+// Geometry padding of cube-map reference faces: a face extended by a border in which
+// each sample shows what the same camera would see past the face edge, taken from the
+// adjacent faces of the same cube (the cube-map projection continued across the edge,
+// as 360-degree video coders pad cube maps). Motion vectors of a B-face that leave the
+// reference face then find the right content instead of repeated edge samples.
+// Integer arithmetic only: part of the bitstream contract (docs/codec.md, section 10.6).
+//
+// All functions are pure and thread-safe.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc::codec {
+
+// A border is a whole number of macroblocks wide (16 luma, 8 chroma samples a unit), so
+// macroblock (mx, my) of a face is macroblock (mx + units, my + units) of its padded
+// reference. The B-frame header stores the unit count (0 = no padding).
+inline constexpr int kCubeBorderUnitPixels = 16;
+inline constexpr int kMaxCubeBorderUnits = 4;
+
+// The four faces sharing an edge with `face` (every face but itself and its opposite),
+// in face order px, nx, py, ny, pz, nz.
+std::array<Face, 4> adjacent_faces(Face face);
+
+// Whether faces of this size can be padded: cube faces are square.
+inline bool cube_padding_possible(int width, int height) { return width == height && width > 0; }
+
+// The six faces of one cube map, indexed by Face. Only the padded face and its adjacent
+// faces are read; the opposite face may be null.
+using CubeFaces = std::array<const ImageYCbCr420*, kFaceCount>;
+
+// The reference face `face` of `cube` with a border of `units` x 16 luma samples on each
+// side: (n + 32 units)^2 luma samples for n x n faces, chroma planes likewise with half
+// the border. Inside, the face's own samples; in the border, the adjacent face hit by
+// the same viewing direction, sampled bilinearly at 1/16 sample (docs/codec.md 10.6).
+// Errors (kInvalidArgument): units outside 0..kMaxCubeBorderUnits, faces that are not
+// square, of different sizes, or missing where needed. `out` is unchanged then.
+Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420* out);
+
+}  // namespace svc::codec
