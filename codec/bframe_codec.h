@@ -27,7 +27,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 3;
+inline constexpr uint8_t kBFrameSyntaxVersion = 4;
 // Frame type, syntax version, quant_scale, reference border units, reference count, warp
 // mask.
 inline constexpr int kBFrameHeaderBytes = 6;

@@ -26,7 +26,7 @@ struct CodingParams {
 
 // Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.
 inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 2;
+inline constexpr uint8_t kIntraSyntaxVersion = 3;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 
