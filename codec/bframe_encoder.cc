@@ -347,7 +347,8 @@ class BFrameEncoder {
       tried_.push_back(v);
       const double rate = lambda_sad_ * vector_bits(reference, v);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
-      const int sad = sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source, source_.strides[0]);
+      const int sad =
+          sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source, source_.strides[0]);
       if (stats != nullptr) ++stats->sad_evaluations;
       const double cost = sad + rate;
       if (cost < best_cost) {

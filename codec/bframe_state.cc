@@ -170,18 +170,21 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out) {
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
-  predict_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my), vectors[first_reference], &first);
-  if (mode == MacroblockMode::kBidirectional) predict_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), vectors[1], &second);
+  predict_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my),
+                     vectors[first_reference], &first);
+  if (mode == MacroblockMode::kBidirectional)
+    predict_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), vectors[1], &second);
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out) {
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
-  predict_warp_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my), macroblock_corners(s, first_reference, mx, my),
-                          &first);
+  predict_warp_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my),
+                          macroblock_corners(s, first_reference, mx, my), &first);
   if (mode == MacroblockMode::kBidirectional) {
-    predict_warp_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), macroblock_corners(s, 1, mx, my), &second);
+    predict_warp_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my),
+                            macroblock_corners(s, 1, mx, my), &second);
   }
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }

@@ -112,8 +112,9 @@ int encode_command(const EncodeOptions& options) {
   if (!status.ok()) return report_error(status);
   if (options.verbosity.verbose) print_settings(options);
   const bool shard = options.shard_count > 0;
-  ProgressBar bar(shard ? "encoding part " + std::to_string(options.shard) + "/" + std::to_string(options.shard_count)
-                        : std::string("encoding"),
+  ProgressBar bar(shard
+                      ? "encoding part " + std::to_string(options.shard) + "/" + std::to_string(options.shard_count)
+                      : std::string("encoding"),
                   options.verbosity.show_progress());
   const EncodeProgress progress = [&](uint64_t done, uint64_t total) {
     bar.update(done, total);
