@@ -198,5 +198,15 @@ TEST_F(Shard, ShardNumbersOutsideTheRangeAreRefused) {
   }
 }
 
+TEST_F(Shard, ASwitchedOffCodingToolIsRefused) {
+  EncoderSettings partial = settings(1);
+  ASSERT_TRUE(disable_coding_tool(&partial.tools, coding_tool_names().front()).ok());
+  auto result = encode_shard(full(), out("tools.part"), partial, 1, 2);
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(result.status().message().find("--disable-tool"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out("tools.part")));
+}
+
 }  // namespace
 }  // namespace svc

@@ -39,6 +39,8 @@ struct CodingTools {
   // leave the reference face find what lies past its edge (docs/codec.md 10.6). Off: the
   // bare reference faces, and a B-face depends on its reference faces only.
   bool cube_references = true;
+
+  bool operator==(const CodingTools&) const = default;
 };
 
 // Where the encoder puts I-cubes (docs/format.md, "I-cube placement").
@@ -104,9 +106,10 @@ using EncodeProgress = std::function<bool(uint64_t done, uint64_t total)>;
 // Reads the database in `db_dir` and writes `out_path`. The output appears only when
 // complete: on any error (bad input, unwritable path, cancel) nothing is left at
 // `out_path` and an existing file there is untouched. Errors name the cell, face and
-// file at fault. Memory: a bounded window of faces (64 MiB of reference I-faces, 5 faces
-// per thread) plus the manifest and index, whatever the database's size (docs/format.md,
-// "Memory"). Thread-safe: independent calls may run concurrently.
+// file at fault. Memory: a bounded window of faces (64 MiB of reference I-faces, 64 MiB
+// of them padded for cube references, 5 faces per thread) plus the manifest and index,
+// whatever the database's size (docs/format.md, "Memory"). Thread-safe: independent
+// calls may run concurrently.
 Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
                                       const EncoderSettings& settings, const EncodeProgress& progress = {});
 
@@ -118,7 +121,9 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
 // owns. merge_shards joins the parts into exactly the bytes encode_database writes,
 // whatever the shard count. The part appears only when complete (as encode_database);
 // a failed or killed shard can be run again alone. Settings must be the same for every
-// part (the merge checks). The summary counts this part's faces (file_bytes: the part).
+// part (the merge checks); every coding tool is on (a switched-off tool is refused with
+// kInvalidArgument, since parts do not record tools). The summary counts this part's
+// faces (file_bytes: the part).
 // Thread-safe: independent calls may run concurrently.
 inline constexpr int kMaxShards = 65536;
 Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const std::filesystem::path& part_path,

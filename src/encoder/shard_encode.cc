@@ -20,6 +20,12 @@ Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const st
                   "shard " + std::to_string(shard) + "/" + std::to_string(shard_count) +
                       " is not one of 1/N..N/N with N in 1.." + std::to_string(kMaxShards));
   }
+  // Parts record the settings the file keeps, not the tools; a tool switched off would
+  // go unnoticed by the merge.
+  if (!(settings.tools == CodingTools{})) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "a sharded encode uses every coding tool; --disable-tool is for measuring one encode");
+  }
   SVC_ASSIGN_OR_RETURN(EncodePlan plan, plan_encode(db_dir, settings));
   SVC_ASSIGN_OR_RETURN(const uint64_t fingerprint, database_fingerprint(db_dir, plan.manifest));
   SVC_ASSIGN_OR_RETURN(auto writer, PartWriter::create(part_path));
