@@ -222,7 +222,7 @@ TEST(CubePadding, RejectsWhatItCannotPad) {
 }
 
 // Candidate per macroblock: where the centre of the macroblock of a camera turned by
-// `yaw` lands on the reference face, in half-pels (a direction, so depth plays no role).
+// `yaw` lands on the reference face, in quarter pels (a direction, so depth plays no role).
 FaceCandidates rotation_candidates(int face, int n, double yaw) {
   FaceCandidates candidates;
   const Vec right = cross(kForward[face], kUp[face]);
@@ -233,8 +233,8 @@ FaceCandidates rotation_candidates(int face, int n, double yaw) {
       const double depth = dot(d, kForward[face]);
       const double x = dot(d, right) / depth, y = dot(d, kUp[face]) / depth;
       const double ri = (x + 1) * n / 2 - 0.5, rj = (1 - y) * n / 2 - 0.5;
-      candidates.push_back({MotionVector{static_cast<int16_t>(std::lround(2 * (ri - ci))),
-                                         static_cast<int16_t>(std::lround(2 * (rj - cj)))}});
+      candidates.push_back({MotionVector{static_cast<int16_t>(std::lround(4 * (ri - ci))),
+                                         static_cast<int16_t>(std::lround(4 * (rj - cj)))}});
     }
   }
   return candidates;

@@ -79,7 +79,8 @@ uint64_t high_water_bytes(pid_t pid) {
 // exec); the peak, the manifest's parse, comes early.
 uint64_t encode_peak_bytes(const fs::path& db, const fs::path& out) {
   const std::string svc = std::string(SVC_BINARY_DIR) + "/bin/svc";
-  std::vector<std::string> args = {svc, "encode", db.string(), "-o", out.string(), "--threads", "2", "--quiet"};
+  std::vector<std::string> args = {svc, "encode", db.string(), "-o", out.string(), "--threads", "2", "--quiet",
+                                   "--allow-outside-paths"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -113,7 +114,8 @@ TEST(Memory, EncodePeakDoesNotFollowTheFacesPixels) {
   // The pixels of 75,270 more faces are 231 MB: the growth is the metadata alone.
   EXPECT_LT(big - std::min(big, quarter), (100620 - 25350) * kBytesPerFaceLimit);
 
-  // On this file too a cold face costs its own chunk and its references' (at most 3),
+  // On this file too a cold face costs its own chunk and its references' (at most 11:
+  // the same face of two reference cubes and, for cube references, their 4 adjacent faces),
   // and a walk with prefetch keeps both caches within their budgets.
   ReaderSettings settings = default_reader_settings();
   settings.face_cache_bytes = 1 << 20;
@@ -125,7 +127,7 @@ TEST(Memory, EncodePeakDoesNotFollowTheFacesPixels) {
   auto face = (*reader)->decode_face_ycbcr(CellIndex{128, 0, 128}, Face::kNZ);
   ASSERT_TRUE(face.ok()) << face.status().to_string();
   EXPECT_EQ(face->width, 32);
-  EXPECT_LE((*reader)->stats().chunks_read, 3u);
+  EXPECT_LE((*reader)->stats().chunks_read, 11u);
   for (int32_t x = 0; x < 129; x += 2) {
     const CellIndex cell{x, 0, 64};
     ASSERT_TRUE((*reader)->set_viewer(cell).ok());
