@@ -79,8 +79,9 @@ uint64_t high_water_bytes(pid_t pid) {
 // exec); the peak, the manifest's parse, comes early.
 uint64_t encode_peak_bytes(const fs::path& db, const fs::path& out) {
   const std::string svc = std::string(SVC_BINARY_DIR) + "/bin/svc";
-  std::vector<std::string> args = {svc, "encode", db.string(), "-o", out.string(), "--threads", "2", "--quiet",
-                                   "--allow-outside-paths"};
+  std::vector<std::string> args = {svc,  "encode",     db.string(),
+                                   "-o", out.string(), "--threads",
+                                   "2",  "--quiet",    "--allow-outside-paths"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

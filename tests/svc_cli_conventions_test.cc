@@ -243,7 +243,8 @@ TEST_F(CliConventions, BenchNamesTheValidCodecsAndLeavesNothingOnFailure) {
   if (svc("bench --help").exit_code != 0) GTEST_SKIP() << "svc built without the benchmark";
   const CliRun unknown = svc("bench " + quoted(db()) + " --codecs svc,foo --out " + quoted(work("bench-foo")));
   EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
-  EXPECT_NE(unknown.output.find("'foo' (valid: svc, svc-regular, svc-intra, mpeg2"), std::string::npos) << unknown.output;
+  EXPECT_NE(unknown.output.find("'foo' (valid: svc, svc-regular, svc-intra, mpeg2"), std::string::npos)
+      << unknown.output;
   const CliRun missing = svc("bench nope --out " + quoted(work("bench-nope")));
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_FALSE(fs::exists(work("bench-nope"))) << missing.output;
