@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "52d3d51cfb2c7702f1af81266187948d67a72275a8978c3eefa71fda5e0163f0",
-     "2356fad0e05fdde821d0824d7b26a493418cbf44dcae48b5ca24eabd2544931c"},
+     "90b2f276a755f249353fb70a53bd2ab79d0b5cf21cbe1533d7473beb2dda5ed8",
+     "820a805640eef04fd8fee488b5d378ed4854269742af4d27cc5c892f87137ac5"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "59c4285254a51d7969291440eb7aa6b8e74ce27698644e9602a244acf3fb84b0",
-     "4a7c8e77959a456cebebbf1b51d266540882a2bc0777084e151c25522e315ea8"},
+     "698b299d70e9cdf44c8a564a341097f59ef2e7c129082d2b9351962215bc5037",
+     "634d1e8fbcf634c93175ef9e1f56f3c9c11cae541254c13c11ff57138292744d"},
 };
 
 std::string file_sha256(const fs::path& path) {
