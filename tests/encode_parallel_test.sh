@@ -6,10 +6,9 @@
 set -euo pipefail
 bin=$1/bin
 script=$2/scripts/encode-parallel.sh
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+test_name="encode-parallel test"
+source "$2/tests/support/script_test.sh"
 export SVC=$bin/svc
-fail() { echo "FAIL: $*" >&2; exit 1; }
 
 "$bin/svc-scene" "$work/db" --grid 7,1,4 --face-size 16 --quiet
 "$SVC" encode "$work/db" -o "$work/one.svc" --quiet --threads 2
@@ -26,13 +25,7 @@ cmp "$work/one.svc" "$work/kept.svc" || fail "-y did not write the merged file"
 
 # Shard 2 of 3 fails while $work/broken exists: nothing is merged, and the rerun encodes
 # shard 2 alone.
-cat >"$work/flaky-svc" <<FLAKY
-#!/usr/bin/env bash
-echo "\$*" >>"$work/runs.log"
-if [[ -e "$work/broken" && " \$* " == *" --shard 2/3 "* ]]; then echo "shard 2 broke" >&2; exit 1; fi
-exec "$bin/svc" "\$@"
-FLAKY
-chmod +x "$work/flaky-svc"
+write_flaky_svc "$bin/svc"
 touch "$work/broken"
 if SVC=$work/flaky-svc "$script" "$work/db" "$work/retry.svc" 3 -- --threads 1 2>/dev/null; then
   fail "a failed shard was not reported"

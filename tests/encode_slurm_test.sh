@@ -7,10 +7,10 @@
 set -euo pipefail
 bin=$1/bin
 scripts=$2/scripts
-work=$(mktemp -d)
+test_name="encode-slurm test"
+source "$2/tests/support/script_test.sh"
 export SVC_SLURM_DIR=$work/slurm SVC_SLURM_PORT=${SVC_SLURM_PORT:-6837}
 trap '"$scripts/slurm-localhost.sh" stop; rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
 
 if ! started=$("$scripts/slurm-localhost.sh" start 2>"$work/start.log"); then
   echo "SKIPPED: the one-node Slurm cluster did not start:"
@@ -26,13 +26,7 @@ timeout 300 "$scripts/encode-slurm.sh" --wait "$work/db" "$work/slurm.svc" 3
 cmp "$work/one.svc" "$work/slurm.svc" || fail "3 shards on Slurm differ from the one-process encode"
 
 # Shard 2 fails while $work/broken exists: the merge is cancelled, nothing is written.
-cat >"$work/flaky-svc" <<FLAKY
-#!/usr/bin/env bash
-echo "\$*" >>"$work/runs.log"
-if [[ -e "$work/broken" && " \$* " == *" --shard 2/3 "* ]]; then echo "shard 2 broke" >&2; exit 1; fi
-exec "$bin/svc" "\$@"
-FLAKY
-chmod +x "$work/flaky-svc"
+write_flaky_svc "$bin/svc"
 touch "$work/broken"
 if SVC=$work/flaky-svc timeout 300 "$scripts/encode-slurm.sh" --wait "$work/db" "$work/retry.svc" 3; then
   fail "a failed shard did not fail the run"

@@ -8,12 +8,8 @@
 set -euo pipefail
 build_dir=$1
 source_dir=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() {
-  echo "install test: $*" >&2
-  exit 1
-}
+test_name="install test"
+source "$source_dir/tests/support/script_test.sh"
 image_libs='OpenImageIO|OpenEXR|Imath|Iex|IlmThread|avcodec|avformat|avutil|swscale|swresample'
 
 cmake --install "$build_dir" --prefix "$work/first prefix" >/dev/null

@@ -5,12 +5,8 @@
 set -euo pipefail
 build_dir=$1
 source_dir=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() {
-  echo "readme commands test: $*" >&2
-  exit 1
-}
+test_name="readme commands test"
+source "$source_dir/tests/support/script_test.sh"
 
 commands=$(awk '/<!-- readme-commands/ {found = 1; next}
                 found && /^```sh/ {inside = 1; next}

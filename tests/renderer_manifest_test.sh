@@ -6,12 +6,8 @@
 set -euo pipefail
 build_dir=$1
 source_dir=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-fail() {
-  echo "renderer manifest test: $*" >&2
-  exit 1
-}
+test_name="renderer manifest test"
+source "$source_dir/tests/support/script_test.sh"
 
 awk '/<!-- renderer-manifest/ {found = 1; next}
      found && /^```python/ {inside = 1; next}
