@@ -28,7 +28,7 @@
 namespace svc::codec {
 
 inline constexpr uint8_t kBFrameSyntaxVersion = 3;
-// Frame type, syntax version, quant_scale, reserved zero, reference count, warp mask.
+// Frame type, syntax version, qindex, loop filter flags, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 6;
 
 // The coding of one macroblock, as the decoder reports it (svc inspect draws intra red,
@@ -41,23 +41,26 @@ enum class MacroblockMode : uint8_t {
   kSkipped = 4,        // predicted mode and vectors inherited, no residual
 };
 
-// The quant_scale this library suggests for B-frames next to I-frames coded at
-// `intra_quant_scale`: round(2.5 x), clamped to the valid range. References of good
+// The qindex this library suggests for B-frames next to I-frames coded at
+// `intra_qindex`: 42 indices coarser (a step 2^(42/32) = 2.48 times larger), clamped to
+// the valid range. References of good
 // quality help every face predicted from them, so B-frames can afford a coarser step:
 // on the sample hall at 38 dB, ratios 1.75, 2 and 2.5 gave 1.94x, 2.00x and 2.02x smaller
 // databases than intra-only, and the house is flat across them (1.39x); see docs/codec.md,
-// section 10.5. The frame header stores the scale used.
-int suggested_b_quant_scale(int intra_quant_scale);
+// section 10.5. The frame header stores the index used.
+inline constexpr int kBQIndexOffset = 42;
+int suggested_b_qindex(int intra_qindex);
 
 struct BFrameParams {
-  // quant_scale of the whole B-frame (residual and intra macroblocks), 1..112.
-  int quant_scale = 10;
+  // qindex of the whole B-frame (residual and intra macroblocks), 0..255.
+  int qindex = 138;
   // Tries the 8 half-pel neighbours of each reference's best candidate (8 SADs per
   // macroblock and reference). Depth-derived candidates are already at half-pel
   // precision, but the best one for a whole macroblock often lies between them: 6 %
   // fewer bytes at equal PSNR on the sample hall (docs/codec.md, section 10.5).
   bool half_pel_refinement = true;
-  // Rate-distortion trade-off: lambda = lambda_factor * quant_scale^2 squared-error units
+  // Rate-distortion trade-off: lambda = lambda_factor * scale^2 squared-error units, with
+  // scale = quantizer_scale_q8(qindex) / 256 (the MPEG-2 quantiser_scale it replaces),
   // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice).
   double lambda_factor = 0.12;
   // Offers warped prediction (warp_prediction.h) for references whose node field is
@@ -67,6 +70,9 @@ struct BFrameParams {
   // supplied list (lists come ranked, most pixels first), plus the predictor. 16 covers
   // the mean distinct count of depth-derived lists on the sample scenes (about 16).
   int max_candidates = 16;
+  // Offers the deblocking filter (loop_filter.h); the encoder switches it on for the frame
+  // where it lowers the squared error against the source.
+  bool deblocking = true;
   // Inter options (forward, backward, bidirectional, each translational or warped) are
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
@@ -117,7 +123,8 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     ImageYCbCr420* reconstruction, BFrameStats* stats);
 
 struct BFrameHeader {
-  int quant_scale = 0;
+  int qindex = 0;
+  int loop_filters = 0;     // kLoopFilter* bits (intra_codec.h)
   int reference_count = 0;  // 1 or 2
   int warp_mask = 0;        // bit r: reference r may be warped
 };

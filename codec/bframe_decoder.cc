@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "codec/bframe_loop_filter.h"
 #include "codec/bframe_state.h"
 #include "codec/bframe_syntax.h"
 
@@ -206,10 +207,9 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return Status(ErrorCode::kUnsupported, "B-frame: byte 1: syntax version " + std::to_string(bytes[1]) +
                                                " (this build reads " + std::to_string(kBFrameSyntaxVersion) + ")");
   }
-  if (bytes[2] < kMinQuantScale || bytes[2] > kMaxQuantScale) {
-    return corrupt("byte 2: quant_scale " + std::to_string(bytes[2]) + " outside 1..112");
+  if ((bytes[3] & ~kLoopFilterKnownBits) != 0) {
+    return corrupt("byte 3: unknown loop filter flags " + std::to_string(bytes[3]));
   }
-  if (bytes[3] != 0) return corrupt("byte 3: reserved byte is " + std::to_string(bytes[3]));
   if (bytes[4] != 1 && bytes[4] != 2) {
     return corrupt("byte 4: reference count " + std::to_string(bytes[4]) + " is not 1 or 2");
   }
@@ -217,7 +217,8 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return corrupt("byte 5: warp mask " + std::to_string(bytes[5]) + " names a reference beyond the " +
                    std::to_string(bytes[4]) + " present");
   }
-  out->quant_scale = bytes[2];
+  out->qindex = bytes[2];  // every byte value is a valid index
+  out->loop_filters = bytes[3];
   out->reference_count = bytes[4];
   out->warp_mask = bytes[5];
   return Status::Ok();
@@ -242,7 +243,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
                                                    " reference(s) but " + std::to_string(given) + " given");
   }
   FrameState s;
-  init_state(s, width, height, header.quant_scale, &ref0, ref1);
+  init_state(s, width, height, header.qindex, &ref0, ref1);
   s.warp_mask = header.warp_mask;
   if (modes != nullptr) {
     modes->clear();
@@ -267,6 +268,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   if (used != bytes.size()) {
     return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
   }
+  if (header.loop_filters & kLoopFilterDeblocking) deblock_planes(s);
   crop_output(s, out);
   return Status::Ok();
 }

@@ -61,7 +61,7 @@ struct FrameState {
   int reference_count = 1;
   std::array<const ImageYCbCr420*, 2> references{};
   Quantizer intra_quantizer, inter_quantizer;
-  int dc_step = 8;
+  int dc_scale = 2048;  // quant_step of the intra DC, 1/256 coefficient units
   int vector_limit = 0;
   int node_limit = 0;
   // References with a warp node field (bit r for reference r).
@@ -90,7 +90,7 @@ struct FrameState {
   }
 };
 
-void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
+void init_state(FrameState& s, int width, int height, int qindex, const ImageYCbCr420* ref0,
                 const ImageYCbCr420* ref1);
 
 // ---- Block geometry within a macroblock: blocks 0..3 luma (raster), 4 Cb, 5 Cr. ----
@@ -132,8 +132,9 @@ int predict_dc(const FrameState& s, const int* local, int plane, int mx, int my,
 int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, int my, int bx, int by);
 
 // DC level an intra block with these reconstructed samples would have: the block mean
-// minus 128, times 8 (the DCT's DC gain), divided by dc_step, rounded half away from 0.
-int derived_dc_level(const uint8_t* samples, int stride, int dc_step);
+// minus 128, times 8 (the DCT's DC gain), divided by the DC step dc_scale / 256, rounded
+// half away from 0.
+int derived_dc_level(const uint8_t* samples, int stride, int dc_scale);
 
 inline int median3(int a, int b, int c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
 

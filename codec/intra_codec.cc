@@ -5,10 +5,12 @@
 #include "codec/intra_codec.h"
 
 #include <algorithm>
+#include <array>
 #include <string>
 
 #include "codec/block_coder.h"
 #include "codec/dct.h"
+#include "codec/loop_filter.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
 
@@ -64,6 +66,97 @@ std::array<PlaneGeometry, 3> planes_of(const BlockLayout& layout, int width, int
 
 Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "intra frame: " + what); }
 
+// The reconstructed macroblock-padded planes of a frame, before cropping (stride = width).
+struct PaddedFrame {
+  std::array<std::vector<uint8_t>, 3> planes;
+  std::array<int, 3> widths{}, heights{};
+
+  std::array<PlaneView, 3> views() {
+    std::array<PlaneView, 3> result;
+    for (int p = 0; p < 3; ++p) result[p] = PlaneView{planes[p].data(), widths[p], widths[p], heights[p]};
+    return result;
+  }
+};
+
+PaddedFrame padded_frame(const BlockLayout& layout) {
+  PaddedFrame frame;
+  frame.widths = {8 * layout.luma_blocks_x, 8 * layout.chroma_blocks_x, 8 * layout.chroma_blocks_x};
+  frame.heights = {8 * layout.luma_blocks_y, 8 * layout.chroma_blocks_y, 8 * layout.chroma_blocks_y};
+  for (int p = 0; p < 3; ++p) frame.planes[p].assign(static_cast<size_t>(frame.widths[p]) * frame.heights[p], 0);
+  return frame;
+}
+
+// Inverse transforms every block of `coefficients` into `frame` (padding included: the
+// filters read across it). Returns false for a frame no parser or encoder built.
+bool reconstruct_blocks(const CoefficientFrame& coefficients, const BlockLayout& layout, PaddedFrame* frame) {
+  if (coefficients.block_counts.size() != static_cast<size_t>(layout.block_count())) return false;
+  const Quantizer quantizer = make_quantizer(BlockKind::kIntra, coefficients.qindex);
+  int16_t block[64] = {};
+  int16_t samples[64];
+  int positions[64];
+  size_t block_number = 0, entry = 0;
+  const std::array<PlaneView, 3> views = frame->views();
+  for (int p = 0; p < 3; ++p) {
+    const PlaneView& plane = views[p];
+    for (int by = 0; by < plane.height / 8; ++by) {
+      for (int bx = 0; bx < plane.width / 8; ++bx, ++block_number) {
+        const int count = std::min<int>(coefficients.block_counts[block_number], 64);
+        int decoded = 0;
+        for (; decoded < count; ++decoded) {
+          int position, level;
+          if (!coefficients.read(&entry, &position, &level)) break;
+          positions[decoded] = position;
+          block[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
+        }
+        inverse_dct_8x8(block, samples);
+        for (int y = 0; y < 8; ++y) {
+          uint8_t* row = plane.data + static_cast<size_t>(8 * by + y) * plane.stride + 8 * bx;
+          for (int x = 0; x < 8; ++x) row[x] = static_cast<uint8_t>(std::clamp(samples[8 * y + x] + 128, 0, 255));
+        }
+        for (int i = 0; i < decoded; ++i) block[positions[i]] = 0;
+      }
+    }
+  }
+  return true;
+}
+
+void deblock_intra(PaddedFrame* frame, int qindex) {
+  deblock_frame(DeblockMap::uniform(frame->widths[0], frame->heights[0], 2), qindex, frame->views());
+}
+
+void crop(const PaddedFrame& frame, int width, int height, ImageYCbCr420* out) {
+  out->width = width;
+  out->height = height;
+  std::vector<uint8_t>* outputs[3] = {&out->y, &out->cb, &out->cr};
+  for (int p = 0; p < 3; ++p) {
+    const int w = p == 0 ? width : (width + 1) / 2, h = p == 0 ? height : (height + 1) / 2;
+    outputs[p]->resize(static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y) {
+      const uint8_t* row = frame.planes[p].data() + static_cast<size_t>(y) * frame.widths[p];
+      std::copy_n(row, w, outputs[p]->data() + static_cast<size_t>(y) * w);
+    }
+  }
+}
+
+// Sum of squared differences of the visible part of a padded plane against a source plane.
+int64_t plane_error(const std::vector<uint8_t>& plane, int stride, const std::vector<uint8_t>& source, int width,
+                    int height) {
+  int64_t sum = 0;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* a = plane.data() + static_cast<size_t>(y) * stride;
+    const uint8_t* b = source.data() + static_cast<size_t>(y) * width;
+    for (int x = 0; x < width; ++x) sum += (a[x] - b[x]) * (a[x] - b[x]);
+  }
+  return sum;
+}
+
+int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
+  const int cw = (source.width + 1) / 2, ch = (source.height + 1) / 2;
+  return plane_error(frame.planes[0], frame.widths[0], source.y, source.width, source.height) +
+         plane_error(frame.planes[1], frame.widths[1], source.cb, cw, ch) +
+         plane_error(frame.planes[2], frame.widths[2], source.cr, cw, ch);
+}
+
 }  // namespace
 
 size_t CoefficientFrame::memory_bytes() const {
@@ -90,8 +183,8 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       source.cb.size() != chroma_size || source.cr.size() != chroma_size) {
     return {};
   }
-  const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
-  const Quantizer quantizer = make_quantizer(BlockKind::kIntra, quant_scale);
+  const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
+  const Quantizer quantizer = make_quantizer(BlockKind::kIntra, qindex);
   const BlockLayout layout = block_layout(width, height);
   auto planes = planes_of(layout, width, height);
   planes[0].pixels = source.y.data();
@@ -99,7 +192,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   planes[2].pixels = source.cr.data();
 
   std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kIntra), kIntraSyntaxVersion,
-                                static_cast<uint8_t>(quant_scale), 0};
+                                static_cast<uint8_t>(qindex), 0};
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
   RangeEncoder encoder(&bytes);
   BlockContextSet luma_contexts, chroma_contexts;
@@ -107,8 +200,8 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   CoefficientFrame coefficients;
   coefficients.width = width;
   coefficients.height = height;
-  coefficients.quant_scale = quant_scale;
-  if (reconstruction != nullptr) coefficients.block_counts.reserve(static_cast<size_t>(layout.block_count()));
+  coefficients.qindex = qindex;
+  coefficients.block_counts.reserve(static_cast<size_t>(layout.block_count()));
   const size_t max_plane_blocks = static_cast<size_t>(layout.luma_blocks_x) * layout.luma_blocks_y;
   std::vector<int> dc_levels(max_plane_blocks);
   std::vector<uint8_t> has_ac(max_plane_blocks);
@@ -130,22 +223,31 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
         encode_block_levels(encoder, contexts, levels, 1,
                             coded_block_context(has_ac.data(), plane.blocks_x, bx, by));
         has_ac[index] = any_ac;
-        if (reconstruction != nullptr) {
-          int count = 0;
-          for (int i = 0; i < 64; ++i) {
-            const int position = kZigZag[i];
-            if (levels[position] != 0) {
-              coefficients.append(position, levels[position]);
-              ++count;
-            }
+        int count = 0;
+        for (int i = 0; i < 64; ++i) {
+          const int position = kZigZag[i];
+          if (levels[position] != 0) {
+            coefficients.append(position, levels[position]);
+            ++count;
           }
-          coefficients.block_counts.push_back(static_cast<uint8_t>(count));
         }
+        coefficients.block_counts.push_back(static_cast<uint8_t>(count));
       }
     }
   }
   encoder.finish();
-  if (reconstruction != nullptr) reconstruct_intra_frame(coefficients, reconstruction);
+  // The filters change no coded symbol: decide them on the finished reconstruction.
+  PaddedFrame frame = padded_frame(layout);
+  reconstruct_blocks(coefficients, layout, &frame);
+  if (params.deblocking) {
+    PaddedFrame filtered = frame;
+    deblock_intra(&filtered, qindex);
+    if (frame_error(filtered, source) < frame_error(frame, source)) {
+      bytes[3] |= kLoopFilterDeblocking;
+      frame = std::move(filtered);
+    }
+  }
+  if (reconstruction != nullptr) crop(frame, width, height, reconstruction);
   return bytes;
 }
 
@@ -166,11 +268,10 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
     return Status(ErrorCode::kUnsupported, "intra frame: byte 1: syntax version " + std::to_string(bytes[1]) +
                                                " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
   }
-  const int quant_scale = bytes[2];
-  if (quant_scale < kMinQuantScale || quant_scale > kMaxQuantScale) {
-    return corrupt("byte 2: quant_scale " + std::to_string(quant_scale) + " outside 1..112");
+  const int qindex = bytes[2];  // every byte value is a valid index
+  if ((bytes[3] & ~kLoopFilterKnownBits) != 0) {
+    return corrupt("byte 3: unknown loop filter flags " + std::to_string(bytes[3]));
   }
-  if (bytes[3] != 0) return corrupt("byte 3: reserved byte is " + std::to_string(bytes[3]));
 
   const BlockLayout layout = block_layout(width, height);
   const auto planes = planes_of(layout, width, height);
@@ -180,7 +281,8 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   CoefficientFrame result;
   result.width = width;
   result.height = height;
-  result.quant_scale = quant_scale;
+  result.qindex = qindex;
+  result.loop_filters = bytes[3];
   result.block_counts.reserve(static_cast<size_t>(layout.block_count()));
   // A frame rarely holds more than a few coefficients per block; grow beyond that.
   result.entries.reserve(std::min<size_t>(bytes.size() * 2, static_cast<size_t>(layout.block_count()) * 64));
@@ -236,49 +338,19 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
 void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out) {
   const int width = coefficients.width, height = coefficients.height;
   const BlockLayout layout = block_layout(width, height);
-  const auto planes = planes_of(layout, width, height);
-  const bool valid_size = width > 0 && height > 0;
-  out->width = width;
-  out->height = height;
-  out->y.assign(valid_size ? static_cast<size_t>(width) * height : 0, 0);
-  out->cb.assign(valid_size ? static_cast<size_t>(planes[1].width) * planes[1].height : 0, 0);
-  out->cr.assign(out->cb.size(), 0);
-  if (!valid_size || coefficients.block_counts.size() != static_cast<size_t>(layout.block_count())) {
-    return;  // not a frame that parse_intra_frame or encode_intra_frame built
+  PaddedFrame frame = padded_frame(layout);
+  if (width <= 0 || height <= 0 || !reconstruct_blocks(coefficients, layout, &frame)) {
+    // Not a frame that parse_intra_frame or encode_intra_frame built: a black frame.
+    const bool valid_size = width > 0 && height > 0;
+    out->width = width;
+    out->height = height;
+    out->y.assign(valid_size ? static_cast<size_t>(width) * height : 0, 0);
+    out->cb.assign(valid_size ? static_cast<size_t>((width + 1) / 2) * ((height + 1) / 2) : 0, 0);
+    out->cr.assign(out->cb.size(), 0);
+    return;
   }
-  const Quantizer quantizer = make_quantizer(BlockKind::kIntra, coefficients.quant_scale);
-  uint8_t* const destinations[3] = {out->y.data(), out->cb.data(), out->cr.data()};
-  int16_t block[64] = {};
-  int16_t samples[64];
-  int positions[64];
-  size_t block_number = 0, entry = 0;
-  for (int p = 0; p < 3; ++p) {
-    const PlaneGeometry& plane = planes[p];
-    for (int by = 0; by < plane.blocks_y; ++by) {
-      for (int bx = 0; bx < plane.blocks_x; ++bx, ++block_number) {
-        const int count = std::min<int>(coefficients.block_counts[block_number], 64);
-        int decoded = 0;
-        for (; decoded < count; ++decoded) {
-          int position, level;
-          if (!coefficients.read(&entry, &position, &level)) break;
-          positions[decoded] = position;
-          block[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
-        }
-        const int x0 = bx * 8, y0 = by * 8;
-        if (x0 < plane.width && y0 < plane.height) {  // else: padding only, not shown
-          inverse_dct_8x8(block, samples);
-          const int w = std::min(8, plane.width - x0), h = std::min(8, plane.height - y0);
-          for (int y = 0; y < h; ++y) {
-            uint8_t* row = destinations[p] + static_cast<size_t>(y0 + y) * plane.width + x0;
-            for (int x = 0; x < w; ++x) {
-              row[x] = static_cast<uint8_t>(std::clamp(samples[8 * y + x] + 128, 0, 255));
-            }
-          }
-        }
-        for (int i = 0; i < decoded; ++i) block[positions[i]] = 0;
-      }
-    }
-  }
+  if (coefficients.loop_filters & kLoopFilterDeblocking) deblock_intra(&frame, coefficients.qindex);
+  crop(frame, width, height, out);
 }
 
 Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out) {

@@ -85,21 +85,21 @@ FaceCandidates uniform_candidates(int width, int height, const CandidateList& li
 }
 
 // An intra-coded reference as the decoder would hold it.
-ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int quant_scale) {
+ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int qindex) {
   ImageYCbCr420 reconstruction;
-  encode_intra_frame(image, CodingParams{quant_scale}, &reconstruction);
+  encode_intra_frame(image, CodingParams{qindex}, &reconstruction);
   return reconstruction;
 }
 
 TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
-  const int w = 128, h = 96, q = 8;
+  const int w = 128, h = 96, q = 128;
   // source(x, y) = reference(x + 3, y + 2): vector (+6, +4) half-pels.
   const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q);
   const ImageYCbCr420 source = textured_crop(w, h, 43, 42);
   const FaceCandidates candidates =
       uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}, MotionVector{-8, 2}, MotionVector{5, 4}});
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
@@ -115,8 +115,8 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   EXPECT_EQ(stats.candidates_evaluated, 48 * 4);
   EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 0.5);
 
-  // At the suggested B quant_scale most macroblocks need no residual at all.
-  params.quant_scale = suggested_b_quant_scale(q);
+  // At the suggested B qindex most macroblocks need no residual at all.
+  params.qindex = suggested_b_qindex(q);
   BFrameStats coarser_stats;
   ImageYCbCr420 coarser;
   const std::vector<uint8_t> coarser_bytes =
@@ -134,7 +134,7 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
 }
 
 TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
-  const int w = 128, h = 64, q = 8;
+  const int w = 128, h = 64, q = 128;
   const ImageYCbCr420 source = textured_crop(w, h, 20, 20);
   const ImageYCbCr420 other = textured_crop(w, h, 20, 20, 1234);
   // Reference 0 shows the source's left half, reference 1 its right half; the rest of
@@ -158,7 +158,7 @@ TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
   ref1 = decoded_intra(ref1, q);
   const FaceCandidates zero = uniform_candidates(w, h, {MotionVector{0, 0}});
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
@@ -192,11 +192,11 @@ TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
 }
 
 TEST(BFrame, WrongCandidatesFallBackToIntra) {
-  const int w = 96, h = 64, q = 8;
+  const int w = 96, h = 64, q = 128;
   const ImageYCbCr420 source = textured_crop(w, h, 0, 0);
   const ImageYCbCr420 unrelated = decoded_intra(textured_crop(w, h, 0, 0, 555), q);
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   ImageYCbCr420 reconstruction, intra_reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
@@ -226,7 +226,7 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
     for (int references = 1; references <= 2; ++references) {
       for (bool refine : {false, true}) {
         BFrameParams params;
-        params.quant_scale = references == 1 ? 5 : 12;
+        params.qindex = references == 1 ? 106 : 147;
         params.half_pel_refinement = refine;
         ImageYCbCr420 reconstruction;
         BFrameStats stats;
@@ -256,7 +256,7 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   BFrameHeader header;
   ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
   EXPECT_EQ(header.reference_count, 1);
-  EXPECT_EQ(header.quant_scale, BFrameParams{}.quant_scale);
+  EXPECT_EQ(header.qindex, BFrameParams{}.qindex);
   EXPECT_EQ(bytes[0], static_cast<uint8_t>(FaceType::kPredicted));
 
   ImageYCbCr420 out;
@@ -290,7 +290,7 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   const ImageYCbCr420 source = textured_crop(w, h, 10, 10);
   const ImageYCbCr420 ref0 = textured_crop(w, h, 12, 9), ref1 = textured_crop(w, h, 8, 11);
   BFrameParams params;
-  params.quant_scale = 4;
+  params.qindex = 96;
   const std::vector<uint8_t> valid =
       encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{4, -2}}),
                      uniform_candidates(w, h, {MotionVector{-4, 2}}), params, nullptr, nullptr);
@@ -322,8 +322,8 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
     for (uint8_t& b : bytes) b = static_cast<uint8_t>(rng());
     bytes[0] = 1;
     bytes[1] = kBFrameSyntaxVersion;
-    bytes[2] = static_cast<uint8_t>(1 + rng() % 112);
-    bytes[3] = 0;
+    bytes[2] = static_cast<uint8_t>(rng());
+    bytes[3] = static_cast<uint8_t>(rng() & kLoopFilterDeblocking);
     bytes[4] = 2;
     accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok();
   }
@@ -346,7 +346,7 @@ TEST(BFrame, EmptyCandidateListsFallBackToZeroAndNeighbours) {
 }
 
 TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
-  const int w = 96, h = 64, q = 8;
+  const int w = 96, h = 64, q = 128;
   // Smooth shading, where a logarithmic search finds the motion (see codec_motion_test).
   auto shaded = [&](int ox, int oy) {
     ImageYCbCr420 image;
@@ -368,7 +368,7 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   const ImageYCbCr420 source = shaded(45, 37);
   const FaceCandidates searched = log_search_candidates(source, reference);
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   BFrameStats stats;
   ImageYCbCr420 reconstruction;
   const std::vector<uint8_t> bytes =
@@ -379,13 +379,17 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   EXPECT_GT(psnr(source.y, reconstruction.y), 38.0);
 }
 
-TEST(BFrame, SuggestedQuantScale) {
-  EXPECT_EQ(suggested_b_quant_scale(8), 20);
-  EXPECT_EQ(suggested_b_quant_scale(3), 8);  // 7.5 rounds up
-  EXPECT_EQ(suggested_b_quant_scale(1), 3);
-  EXPECT_EQ(suggested_b_quant_scale(44), 110);
-  EXPECT_EQ(suggested_b_quant_scale(112), 112);
-  EXPECT_EQ(suggested_b_quant_scale(200), 112);
+TEST(BFrame, SuggestedQIndex) {
+  EXPECT_EQ(suggested_b_qindex(128), 170);
+  EXPECT_EQ(suggested_b_qindex(0), 42);
+  EXPECT_EQ(suggested_b_qindex(213), 255);
+  EXPECT_EQ(suggested_b_qindex(250), 255);
+  EXPECT_EQ(suggested_b_qindex(-5), 37);
+  // 42 indices make the step about 2.5 times coarser, as the MPEG-2 style ratio did.
+  for (int q : {0, 40, 100, 150, 200}) {
+    const double ratio = double(quantizer_scale_q8(q + 42)) / quantizer_scale_q8(q);
+    EXPECT_NEAR(ratio, 2.48, 0.05) << q;
+  }
 }
 
 }  // namespace

@@ -60,9 +60,9 @@ ImageYCbCr420 random_image(int width, int height, uint32_t seed) {
   return image;
 }
 
-ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int quant_scale) {
+ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int qindex) {
   ImageYCbCr420 reconstruction;
-  encode_intra_frame(image, CodingParams{quant_scale}, &reconstruction);
+  encode_intra_frame(image, CodingParams{qindex}, &reconstruction);
   return reconstruction;
 }
 
@@ -212,7 +212,7 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
     for (int references = 1; references <= 2; ++references) {
       for (int fields = 0; fields < 3; ++fields) {  // both, only the first, only the second
         BFrameParams params;
-        params.quant_scale = references == 1 ? 5 : 12;
+        params.qindex = references == 1 ? 106 : 147;
         const ImageYCbCr420* second = references == 2 ? &ref1 : nullptr;
         ImageYCbCr420 reconstruction;
         BFrameStats stats;
@@ -239,7 +239,7 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
 }
 
 TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
-  const int w = 128, h = 128, q = 8;
+  const int w = 128, h = 128, q = 128;
   // The reference shows the plane texture directly; the current face sees it through H.
   const ImageYCbCr420 original = sample_image(w, h, [](double x, double y, double* u, double* v) {
     *u = x;
@@ -273,7 +273,7 @@ TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
   EXPECT_GT(prediction_psnr, 40.0);
 
   BFrameParams params;
-  params.quant_scale = suggested_b_quant_scale(q);
+  params.qindex = suggested_b_qindex(q);
   BFrameStats warped_stats, plain_stats;
   ImageYCbCr420 warped_reconstruction, plain_reconstruction;
   const std::vector<uint8_t> warped = encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr,
@@ -309,7 +309,7 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   });
   const WarpField field0 = exact_nodes(w, h, kPlane), field1 = test_field(w, h, 1, 0, 4);
   BFrameParams params;
-  params.quant_scale = 4;
+  params.qindex = 96;
   BFrameStats stats;
   const std::vector<uint8_t> valid =
       encode_b_frame(source, ref0, &ref1, {}, {}, &field0, &field1, params, nullptr, &stats);

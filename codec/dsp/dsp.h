@@ -46,7 +46,8 @@ struct DspTable {
   // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.
   int (*quantize_8x8)(const float* coefficients, const float* inverse_step, float rounding_dc, float rounding_ac,
                       int16_t* levels);
-  // coefficient = sign(level) ((|level| scale[i] + 8) >> 4) saturated to [-2048, 2047].
+  // coefficient = sign(level) ((min(|level|, 4096) scale[i] + 128) >> 8) saturated to
+  // [-2048, 2047]; scale[i] in 128..2^18 (codec/quant.h).
   void (*dequantize_8x8)(const int16_t* levels, const int32_t* scale, int16_t* coefficients);
 
   // Colour conversion (codec/color.h): one row of luma from packed RGB; one row of 4:2:0
@@ -70,6 +71,13 @@ struct DspTable {
                             const uint8_t* source, ptrdiff_t source_stride, int limit);
   // Bilinear warped samples along one row, all taps inside `plane`.
   void (*warp_row)(const uint8_t* plane, ptrdiff_t stride, const WarpRow& row, uint8_t* out);
+
+  // Deblocking of one 4-sample segment of an edge (docs/codec.md, section 11): `pixels`
+  // is q0 of the first line, p_i lies at pixels - (i + 1) across, q_i at pixels + i across,
+  // line l at pixels + l along. Luma reads p3..q3 and writes at most p2..q2; chroma reads
+  // p1..q1 and writes p0, q0. beta 0..64, tc 0..24 (luma) or 0..24 (chroma).
+  void (*deblock_luma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc);
+  void (*deblock_chroma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc);
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.

@@ -23,10 +23,11 @@ class Pipeline {
     for (uint32_t frame : job.frames) {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
-    intra_params_.quant_scale = static_cast<int>(index_.coding.quant_scale);
-    b_params_.quant_scale = codec::suggested_b_quant_scale(intra_params_.quant_scale);
+    intra_params_.qindex = static_cast<int>(index_.coding.qindex);
+    b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.half_pel_refinement = job.tools.sub_pel_refinement;
+    intra_params_.deblocking = b_params_.deblocking = job.tools.deblocking;
   }
 
   Status run() {

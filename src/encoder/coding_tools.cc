@@ -16,6 +16,7 @@ struct CodingToolEntry {
 constexpr std::array kCodingTools{
     CodingToolEntry{"warped-prediction", &CodingTools::warped_prediction},
     CodingToolEntry{"sub-pel-refinement", &CodingTools::sub_pel_refinement},
+    CodingToolEntry{"deblocking", &CodingTools::deblocking},
 };
 
 }  // namespace

@@ -18,15 +18,14 @@ namespace svc {
 namespace {
 
 Status validate_settings(const EncoderSettings& settings) {
-  if (settings.quant_scale == 0 && (settings.quality < 1 || settings.quality > 100)) {
+  if (settings.qindex < 0 && (settings.quality < 1 || settings.quality > 100)) {
     return Status(ErrorCode::kInvalidArgument,
                   "quality " + std::to_string(settings.quality) + " is outside 1..100");
   }
-  if (settings.quant_scale != 0 &&
-      (settings.quant_scale < codec::kMinQuantScale || settings.quant_scale > codec::kMaxQuantScale)) {
-    return Status(ErrorCode::kInvalidArgument, "quantiser scale " + std::to_string(settings.quant_scale) +
-                                                   " is outside " + std::to_string(codec::kMinQuantScale) + ".." +
-                                                   std::to_string(codec::kMaxQuantScale));
+  if (settings.qindex < -1 || settings.qindex > codec::kMaxQIndex) {
+    return Status(ErrorCode::kInvalidArgument, "quantiser index " + std::to_string(settings.qindex) +
+                                                   " is outside " + std::to_string(codec::kMinQIndex) + ".." +
+                                                   std::to_string(codec::kMaxQIndex) + " (or -1 for the quality)");
   }
   if (settings.threads < 0 || settings.threads > 1024) {
     return Status(ErrorCode::kInvalidArgument,
@@ -44,19 +43,11 @@ Status validate_settings(const EncoderSettings& settings) {
 
 EncoderSettings default_encoder_settings() { return EncoderSettings{}; }
 
-int quant_scale_for_quality(int quality) {
-  quality = std::clamp(quality, 1, 100);
-  // 100 -> 1 (finest), 75 (the default) -> 4, 50 -> 16, geometric in between: each
-  // quality step scales the step size by the same factor. Below 50 the scale rises
-  // linearly to kMaxQuantScale at 1, so every quality keeps a distinct meaning. The
-  // scale is the I-faces'; B-faces use suggested_b_quant_scale of it (2.5x).
-  double scale;
-  if (quality >= 50) {
-    scale = std::pow(4.0, (100.0 - quality) / 25.0);
-  } else {
-    scale = 16.0 + (50.0 - quality) * (codec::kMaxQuantScale - 16.0) / 49.0;
-  }
-  return std::clamp(static_cast<int>(std::lround(scale)), codec::kMinQuantScale, codec::kMaxQuantScale);
+int qindex_for_quality(int quality) {
+  // The index is logarithmic in the step, so an even spread gives every quality step the
+  // same relative change of step size. Integer rounding half up, the same on every machine.
+  const int steps_from_best = 100 - std::clamp(quality, 1, 100);
+  return (steps_from_best * codec::kMaxQIndex * 2 + 99) / (2 * 99);
 }
 
 Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
@@ -67,8 +58,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
   }
-  const int quant_scale = settings.quant_scale != 0 ? settings.quant_scale
-                                                    : quant_scale_for_quality(settings.quality);
+  const int qindex = settings.qindex >= 0 ? settings.qindex : qindex_for_quality(settings.quality);
   SVC_ASSIGN_OR_RETURN(auto writer, ContainerWriter::create(out_path));
 
   ContainerIndex index;
@@ -82,8 +72,8 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
   }
   index.depth_mode = manifest.depth_mode;
   index.up_axis = manifest.up_axis;
-  index.coding.quality = settings.quant_scale != 0 ? 0 : static_cast<uint32_t>(settings.quality);
-  index.coding.quant_scale = static_cast<uint32_t>(quant_scale);
+  index.coding.quality = settings.qindex >= 0 ? 0 : static_cast<uint32_t>(settings.quality);
+  index.coding.qindex = static_cast<uint32_t>(qindex);
   index.coding.motion = settings.motion;
   index.cells.reserve(manifest.cells.size());
   for (const CellSource& source : manifest.cells) {
@@ -99,7 +89,7 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
   EncodeSummary summary;
   summary.cells = manifest.cells.size();
   summary.faces = face_count;
-  summary.quant_scale = quant_scale;
+  summary.qindex = qindex;
   summary.raw_bytes = uint64_t{3} * manifest.face_width * manifest.face_height * face_count;
 
   // Placement: which cells are I-cubes, and the references of every B-cube.

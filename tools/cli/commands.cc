@@ -58,7 +58,7 @@ json summary_json(const EncodeSummary& s, const std::filesystem::path& out) {
   j["raw_bytes"] = s.raw_bytes;
   j["file_bytes"] = s.file_bytes;
   j["compression_ratio"] = s.file_bytes ? static_cast<double>(s.raw_bytes) / s.file_bytes : 0.0;
-  j["quant_scale"] = s.quant_scale;
+  j["qindex"] = s.qindex;
   j["seconds"] = s.seconds;
   j["intra"] = frame_stats_json(s.intra);
   j["predicted"] = frame_stats_json(s.predicted);
@@ -92,13 +92,13 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out) {
               s.raw_bytes ? 8.0 * s.file_bytes / (s.raw_bytes / 3.0) : 0.0);
   print_frame_stats("I-faces", s.intra);
   print_frame_stats("B-faces", s.predicted);
-  std::printf("  quantiser scale %d, %.2f s (%.1f faces/s)\n", s.quant_scale, s.seconds,
+  std::printf("  quantiser index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
               s.seconds > 0 ? s.faces / s.seconds : 0.0);
 }
 
-// A file encoded with --qscale records no quality (0): only its scale is shown.
+// A file encoded with --qindex records no quality (0): only its index is shown.
 std::string coding_scale_text(const FileInfo& info) {
-  const std::string scale = "quantiser scale " + std::to_string(info.quant_scale);
+  const std::string scale = "quantiser index " + std::to_string(info.qindex);
   if (info.quality <= 0) return scale;
   return "quality " + std::to_string(info.quality) + ", " + scale;
 }
@@ -312,9 +312,9 @@ int info_command(const InfoOptions& options) {
     j["grid"] = {{"dims", info.grid_dims}, {"origin", info.grid_origin}, {"spacing", info.grid_spacing}};
     j["face_size"] = {info.face_width, info.face_height};
     j["cells"] = cells.size();
-    // A file encoded with an explicit quantiser scale has no quality.
+    // A file encoded with an explicit quantiser index has no quality.
     j["coding"] = {{"quality", info.quality > 0 ? json(info.quality) : json(nullptr)},
-                   {"quant_scale", info.quant_scale},
+                   {"qindex", info.qindex},
                    {"i_spacing", info.i_spacing},
                    {"motion", info.motion}};
     j["frame_types"] = {{"I", frame_stats_json(stats[0])}, {"B", frame_stats_json(stats[1])}};
