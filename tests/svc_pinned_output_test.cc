@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "076724999f19c0a8bc919316ab58b41959788ad3e734bb5712b74debff2c35ef",
-     "8ab2edc7040e74097fc6ad7f2507e62b6ea49889498950a7bc4f431f10dbbcef"},
+     "471efedcc09056f8753447fcd7ae551126de13d09bece832cfec59f87c6def47",
+     "de66479e78df416a7a1a52fa98d08d8b9bffda5bdb581dc91e9b7b39ec407846"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "3ad9ec5925f5233ff12772be13485ad05df324c3c44743726bd918a892d5618b",
-     "a60a0815234c5f6b07386026dd7fc67fd35cfe14308312f82b1946daae7e9481"},
+     "14254ee1d37772d3aa08d7727a68e0d15ba529454ba2d4f8f1a372df17dbbd07",
+     "d203dc66405277a83778d921b64f15fbf4dcf63d2db1a75ff881fa7880e5d61c"},
 };
 
 std::string file_sha256(const fs::path& path) {
