@@ -272,6 +272,11 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   changed[4] = 3;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
   changed = bytes;
+  changed[3] = 2;  // a loop filter this decoder does not know
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  changed[3] = static_cast<uint8_t>(bytes[3] ^ kLoopFilterDeblocking);  // valid either way
+  EXPECT_TRUE(decode_b_frame(changed, w, h, ref, nullptr, &out).ok());
+  changed = bytes;
   changed[0] = 0;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
   changed = bytes;
