@@ -73,6 +73,8 @@ struct BFrameParams {
   // Offers the deblocking filter (loop_filter.h); the encoder switches it on for the frame
   // where it lowers the squared error against the source.
   bool deblocking = true;
+  // Offers CDEF (cdef.h), chosen by squared error plus bits (lambda as above).
+  bool cdef = true;
   // Inter options (forward, backward, bidirectional, each translational or warped) are
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.

@@ -264,11 +264,20 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
                      std::to_string(bytes.size()) + " given)");
     }
   }
+  CdefParams cdef;
+  if (header.loop_filters & kLoopFilterCdef) {
+    read_cdef_syntax(decoder, cdef_units(16 * s.mbs_x), cdef_units(16 * s.mbs_y), &cdef);
+    if (decoder.overrun() > 0) {
+      return corrupt("payload truncated (CDEF syntax needs bytes beyond the " + std::to_string(bytes.size()) +
+                     " given)");
+    }
+  }
   const size_t used = decoder.consumed() + kBFrameHeaderBytes;
   if (used != bytes.size()) {
     return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
   }
   if (header.loop_filters & kLoopFilterDeblocking) deblock_planes(s);
+  if (header.loop_filters & kLoopFilterCdef) cdef_planes(s, cdef);
   crop_output(s, out);
   return Status::Ok();
 }

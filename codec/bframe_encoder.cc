@@ -86,6 +86,27 @@ uint8_t choose_loop_filters(FrameState& s, const PaddedSource& source, const BFr
   return 0;
 }
 
+// Chooses CDEF for the finished (deblocked) frame; when it pays, filters the frame, writes
+// its syntax and returns kLoopFilterCdef.
+uint8_t apply_cdef_choice(RangeEncoder& encoder, FrameState& s, const PaddedSource& source,
+                          const BFrameParams& params) {
+  if (!params.cdef) return 0;
+  const double scale = quantizer_scale_q8(s.inter_quantizer.qindex) / 256.0;
+  CdefSource visible;
+  for (int p = 0; p < 3; ++p) {
+    visible.planes[p] = source.planes[p].data();
+    visible.strides[p] = source.strides[p];
+  }
+  visible.width = s.width;
+  visible.height = s.height;
+  const CdefParams cdef = choose_cdef(plane_views(s), visible, s.inter_quantizer.qindex, cdef_skip_map(s),
+                                      std::max(0.0, params.lambda_factor) * scale * scale);
+  if (cdef.presets.empty()) return 0;
+  write_cdef_syntax(encoder, cdef, cdef_units(16 * s.mbs_x), cdef_units(16 * s.mbs_y));
+  cdef_planes(s, cdef);
+  return kLoopFilterCdef;
+}
+
 class BFrameEncoder {
  public:
   BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params)
@@ -598,8 +619,10 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       }
     }
   }
+  uint8_t loop_filters = choose_loop_filters(state, padded, params);
+  loop_filters |= apply_cdef_choice(encoder, state, padded, params);
   encoder.finish();
-  bytes[3] = choose_loop_filters(state, padded, params);
+  bytes[3] = loop_filters;
   if (stats != nullptr) {
     for (int r = 0; r < state.reference_count; ++r) {
       for (uint8_t known : state.node_known[r]) stats->warp_nodes_coded += known;

@@ -50,13 +50,34 @@ DeblockMap deblock_map(const FrameState& s) {
   return map;
 }
 
-void deblock_planes(FrameState& s) {
+std::array<PlaneView, 3> plane_views(FrameState& s) {
   std::array<PlaneView, 3> views;
   for (int p = 0; p < 3; ++p) {
     const int width = p == 0 ? 16 * s.mbs_x : 8 * s.mbs_x, height = p == 0 ? 16 * s.mbs_y : 8 * s.mbs_y;
     views[p] = PlaneView{s.planes[p].data(), s.strides[p], width, height};
   }
-  deblock_frame(deblock_map(s), s.inter_quantizer.qindex, views);
+  return views;
+}
+
+void deblock_planes(FrameState& s) { deblock_frame(deblock_map(s), s.inter_quantizer.qindex, plane_views(s)); }
+
+std::vector<uint8_t> cdef_skip_map(const FrameState& s) {
+  const int grid = s.grid_width(0);
+  std::vector<uint8_t> skip(static_cast<size_t>(grid) * 2 * s.mbs_y, 0);
+  for (int by = 0; by < 2 * s.mbs_y; ++by) {
+    for (int bx = 0; bx < grid; ++bx) {
+      const int mx = bx >> 1, my = by >> 1;
+      if (s.mb(mx, my).mode == MacroblockMode::kIntra) continue;
+      const size_t chroma = static_cast<size_t>(my) * s.grid_width(1) + mx;
+      const size_t block = static_cast<size_t>(by) * grid + bx;
+      skip[block] = !s.coded[0][block] && !s.coded[1][chroma] && !s.coded[2][chroma];
+    }
+  }
+  return skip;
+}
+
+void cdef_planes(FrameState& s, const CdefParams& params) {
+  cdef_frame(params, s.inter_quantizer.qindex, cdef_skip_map(s), plane_views(s));
 }
 
 }  // namespace svc::codec::bframe

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "codec/bframe_state.h"
+#include "codec/cdef.h"
 #include "codec/loop_filter.h"
 
 namespace svc::codec::bframe {
@@ -15,5 +16,15 @@ DeblockMap deblock_map(const FrameState& s);
 
 // Deblocks the frame state's padded planes in place.
 void deblock_planes(FrameState& s);
+
+// Per luma 8x8 block, row-major: 1 where CDEF leaves the block alone, a block of an
+// inter or skipped macroblock without coded levels in it or in the macroblock's chroma.
+std::vector<uint8_t> cdef_skip_map(const FrameState& s);
+
+// The frame state's padded planes as the filters see them.
+std::array<PlaneView, 3> plane_views(FrameState& s);
+
+// Applies CDEF with `params` to the frame state's padded planes in place.
+void cdef_planes(FrameState& s, const CdefParams& params);
 
 }  // namespace svc::codec::bframe

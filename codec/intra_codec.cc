@@ -124,6 +124,28 @@ void deblock_intra(PaddedFrame* frame, int qindex) {
   deblock_frame(DeblockMap::uniform(frame->widths[0], frame->heights[0], 2), qindex, frame->views());
 }
 
+// CDEF of an intra frame: no block is skipped (every block has a DC level).
+void cdef_intra(PaddedFrame* frame, const CdefParams& params, int qindex) {
+  cdef_frame(params, qindex, {}, frame->views());
+}
+
+// Encoder only: chooses CDEF for the deblocked frame, filters it and writes the syntax
+// when the filter pays. lambda as the B-frame encoder's default (0.12 scale^2 per bit).
+// Returns whether it did.
+bool apply_cdef_choice(RangeEncoder& encoder, PaddedFrame* frame, const ImageYCbCr420& source, int qindex) {
+  const double scale = quantizer_scale_q8(qindex) / 256.0;
+  CdefSource visible;
+  visible.planes = {source.y.data(), source.cb.data(), source.cr.data()};
+  visible.strides = {source.width, (source.width + 1) / 2, (source.width + 1) / 2};
+  visible.width = source.width;
+  visible.height = source.height;
+  const CdefParams params = choose_cdef(frame->views(), visible, qindex, {}, 0.12 * scale * scale);
+  if (params.presets.empty()) return false;
+  write_cdef_syntax(encoder, params, cdef_units(frame->widths[0]), cdef_units(frame->heights[0]));
+  cdef_intra(frame, params, qindex);
+  return true;
+}
+
 void crop(const PaddedFrame& frame, int width, int height, ImageYCbCr420* out) {
   out->width = width;
   out->height = height;
@@ -160,7 +182,8 @@ int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
 }  // namespace
 
 size_t CoefficientFrame::memory_bytes() const {
-  return sizeof(*this) + block_counts.capacity() * sizeof(uint8_t) + entries.capacity() * sizeof(uint16_t);
+  return sizeof(*this) + block_counts.capacity() * sizeof(uint8_t) + entries.capacity() * sizeof(uint16_t) +
+         cdef.memory_bytes();
 }
 
 BlockLayout block_layout(int width, int height) {
@@ -235,8 +258,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       }
     }
   }
-  encoder.finish();
-  // The filters change no coded symbol: decide them on the finished reconstruction.
+  // The filters change no block symbol: decide them on the finished reconstruction.
   PaddedFrame frame = padded_frame(layout);
   reconstruct_blocks(coefficients, layout, &frame);
   if (params.deblocking) {
@@ -247,6 +269,8 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       frame = std::move(filtered);
     }
   }
+  if (params.cdef && apply_cdef_choice(encoder, &frame, source, qindex)) bytes[3] |= kLoopFilterCdef;
+  encoder.finish();
   if (reconstruction != nullptr) crop(frame, width, height, reconstruction);
   return bytes;
 }
@@ -326,6 +350,14 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
       }
     }
   }
+  if (result.loop_filters & kLoopFilterCdef) {
+    read_cdef_syntax(decoder, cdef_units(8 * layout.luma_blocks_x), cdef_units(8 * layout.luma_blocks_y),
+                     &result.cdef);
+    if (decoder.overrun() > 0) {
+      return corrupt("payload truncated (CDEF syntax needs bytes beyond the " + std::to_string(bytes.size()) +
+                     " given)");
+    }
+  }
   const size_t used = decoder.consumed() + kFrameHeaderBytes;
   if (used != bytes.size()) {
     return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
@@ -350,6 +382,7 @@ void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420
     return;
   }
   if (coefficients.loop_filters & kLoopFilterDeblocking) deblock_intra(&frame, coefficients.qindex);
+  if (coefficients.loop_filters & kLoopFilterCdef) cdef_intra(&frame, coefficients.cdef, coefficients.qindex);
   crop(frame, width, height, out);
 }
 

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/cdef.h"
 #include "codec/quant.h"
 #include "svc/status.h"
 #include "svc/types.h"
@@ -17,12 +18,16 @@ struct CodingParams {
   // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
   // the squared error against the source (the flag costs nothing else).
   bool deblocking = true;
+  // Offers CDEF (cdef.h); the encoder chooses its presets and units by squared error
+  // plus their bits, and leaves it off where it does not pay.
+  bool cdef = true;
 };
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
 // section 11). A decoder rejects other bits.
 inline constexpr uint8_t kLoopFilterDeblocking = 1;
-inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking;
+inline constexpr uint8_t kLoopFilterCdef = 2;
+inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
 
 // Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
@@ -40,6 +45,7 @@ struct CoefficientFrame {
   int height = 0;
   int qindex = 0;
   uint8_t loop_filters = 0;  // kLoopFilter* bits of the header
+  CdefParams cdef;           // when loop_filters has kLoopFilterCdef
   // Per 8x8 block, in coding order (all luma blocks of the macroblock-padded plane in
   // raster order, then Cb, then Cr): the number of non-zero levels, 0..64.
   std::vector<uint8_t> block_counts;

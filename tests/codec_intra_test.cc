@@ -160,7 +160,7 @@ TEST(CodecFrame, CoefficientEntriesRoundTripIncludingEscapes) {
 
 TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   const ImageYCbCr420 source = synthetic_image(32, 32);
-  const std::vector<uint8_t> good = encode_intra_frame(source, {128}, nullptr);
+  const std::vector<uint8_t> good = encode_intra_frame(source, {128, true, false}, nullptr);  // no CDEF syntax
   ImageYCbCr420 out;
   EXPECT_TRUE(decode_intra_frame(good, 32, 32, &out).ok());
   auto with = [&](int index, uint8_t value) {
@@ -174,7 +174,8 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   EXPECT_TRUE(with(2, 0).ok());                                                 // every qindex is valid: the finest
   EXPECT_TRUE(with(2, 255).ok());                                               // and the coarsest
   EXPECT_TRUE(with(3, 0).ok());                           // loop filters off: other pixels, still valid
-  EXPECT_EQ(with(3, 2).code(), ErrorCode::kCorruptData);  // an unknown loop filter
+  EXPECT_EQ(with(3, 2).code(), ErrorCode::kCorruptData);  // CDEF without its syntax: reads past the end
+  EXPECT_EQ(with(3, 4).code(), ErrorCode::kCorruptData);  // an unknown loop filter
   EXPECT_EQ(with(3, 0x80).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame(good, 32, kMaxFrameDimension + 1, &out).code(), ErrorCode::kInvalidArgument);

@@ -111,7 +111,7 @@ TEST(LoopFilter, IntraFramesSignalAndApplyDeblocking) {
     for (size_t i = 0; i < image.y.size(); ++i) sum += std::pow(image.y[i] - source.y[i], 2.0);
     return sum;
   };
-  CodingParams on{200, true}, off{200, false};
+  CodingParams on{200, true, false}, off{200, false, false};  // CDEF aside (codec_cdef_test.cc)
   ImageYCbCr420 filtered, plain, decoded, from_coefficients;
   const std::vector<uint8_t> with = encode_intra_frame(source, on, &filtered);
   const std::vector<uint8_t> without = encode_intra_frame(source, off, &plain);

@@ -40,6 +40,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   init_mc_c(&table);
   init_warp_c(&table);
   init_deblock_c(&table);
+  init_cdef_c(&table);
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);
@@ -50,6 +51,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   if ((cpu_flags & (kCpuSse2 | kCpuSse41)) == (kCpuSse2 | kCpuSse41)) {
     init_color_sse41(&table);
     init_deblock_sse41(&table);
+    init_cdef_sse41(&table);
   }
   if ((cpu_flags & (kCpuSse2 | kCpuSse41 | kCpuAvx2)) == (kCpuSse2 | kCpuSse41 | kCpuAvx2)) {
     init_mc_avx2(&table);

@@ -36,6 +36,16 @@ struct WarpRow {
   int count;           // 8 or 16
 };
 
+// The CDEF filter of one block (docs/codec.md, section 11.2).
+struct CdefTaps {
+  int primary;    // primary strength after the contrast adjustment, 0..15
+  int secondary;  // secondary strength: 0, 1, 2 or 4
+  int direction;  // 0..7
+  int damping;    // 2..6
+};
+// A CDEF input sample outside the plane: it takes no part in the filter.
+inline constexpr uint16_t kCdefUnavailable = 30000;
+
 struct DspTable {
   // 8x8 forward DCT (float, encoder only) and the bit-exact integer inverse; blocks are
   // 64 values, row-major.
@@ -78,6 +88,15 @@ struct DspTable {
   // p1..q1 and writes p0, q0. beta 0..64, tc 0..24 (luma) or 0..24 (chroma).
   void (*deblock_luma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc);
   void (*deblock_chroma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc);
+
+  // CDEF (docs/codec.md, section 11.2): the direction 0..7 of an 8x8 block and, in
+  // *variance, the contrast of its best line fit against the orthogonal one.
+  int (*cdef_direction_8x8)(const uint8_t* pixels, ptrdiff_t stride, int32_t* variance);
+  // Filters a size x size block (8 or 4) of 16-bit samples `in` (the block's first
+  // sample, with 2 readable samples on every side, kCdefUnavailable outside the plane)
+  // into `out`.
+  void (*cdef_filter_block)(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride, int size,
+                            const CdefTaps& taps);
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.

@@ -12,6 +12,7 @@ void init_color_c(DspTable* table);
 void init_mc_c(DspTable* table);
 void init_warp_c(DspTable* table);
 void init_deblock_c(DspTable* table);
+void init_cdef_c(DspTable* table);
 
 // Plain kernels that x86 variants fall back to for the sizes they do not specialise.
 void put_half_pel_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, int fx, int fy,
@@ -27,6 +28,7 @@ void init_warp_sse2(DspTable* table);
 void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
 void init_deblock_sse41(DspTable* table);
+void init_cdef_sse41(DspTable* table);
 void init_mc_avx2(DspTable* table);
 #endif
 

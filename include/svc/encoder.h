@@ -25,6 +25,9 @@ struct CodingTools {
   bool sub_pel_refinement = true;
   // Every face: the deblocking filter (docs/codec.md 11), on where it lowers the error.
   bool deblocking = true;
+  // Every face: CDEF deringing after deblocking (docs/codec.md 11.2), per 64x64 unit
+  // where it pays.
+  bool cdef = true;
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.

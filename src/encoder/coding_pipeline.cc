@@ -28,6 +28,7 @@ class Pipeline {
     b_params_.warp = job.tools.warped_prediction;
     b_params_.half_pel_refinement = job.tools.sub_pel_refinement;
     intra_params_.deblocking = b_params_.deblocking = job.tools.deblocking;
+    intra_params_.cdef = b_params_.cdef = job.tools.cdef;
   }
 
   Status run() {

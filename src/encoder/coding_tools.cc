@@ -17,6 +17,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"warped-prediction", &CodingTools::warped_prediction},
     CodingToolEntry{"sub-pel-refinement", &CodingTools::sub_pel_refinement},
     CodingToolEntry{"deblocking", &CodingTools::deblocking},
+    CodingToolEntry{"cdef", &CodingTools::cdef},
 };
 
 }  // namespace
