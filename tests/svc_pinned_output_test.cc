@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "471efedcc09056f8753447fcd7ae551126de13d09bece832cfec59f87c6def47",
-     "de66479e78df416a7a1a52fa98d08d8b9bffda5bdb581dc91e9b7b39ec407846"},
+     "1ba1bad3e8dd7dbd62627fe1a66151a932b5b8cfa6a231f0b1ff303819459624",
+     "340466c1e5ae9d08ce6ebb0221dc866baa4b9ef2b0bcc39b648bb337da1997bf"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "14254ee1d37772d3aa08d7727a68e0d15ba529454ba2d4f8f1a372df17dbbd07",
-     "d203dc66405277a83778d921b64f15fbf4dcf63d2db1a75ff881fa7880e5d61c"},
+     "66e9297666544037b3ee0b355d7c79b83f12a97e9d7221e56c1ab9cc8a4c7e86",
+     "420c4b358d5f7c6ed843c5d24192af36ab4d5514205b9a1a283b5a2c25362627"},
 };
 
 std::string file_sha256(const fs::path& path) {
