@@ -181,9 +181,9 @@ int run(const samples::SceneOptions& options, int sample_count, int quality, dou
   }
 
   std::printf(
-      "\n  files: svc %.2f MiB (quality %d, quantiser scale %d), MPEG-2 baseline %.2f MiB (qscale 4, "
+      "\n  files: svc %.2f MiB (quality %d, quantiser index %d), MPEG-2 baseline %.2f MiB (qscale 4, "
       "GOP IBBPBB, row-major), raw RGB %.2f MiB\n",
-      summary->file_bytes / 1048576.0, quality, summary->quant_scale, mpeg2->total_bytes() / 1048576.0,
+      summary->file_bytes / 1048576.0, quality, summary->qindex, mpeg2->total_bytes() / 1048576.0,
       summary->raw_bytes / 1048576.0);
   std::printf("\n  random access, median of %zu cells %43s\n", sampled.size(), "");
   std::printf("  %-40s %12s %12s  %-5s %10s\n", "", "svc", "MPEG-2", "", "MPEG-2/svc");

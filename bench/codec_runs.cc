@@ -58,8 +58,8 @@ Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacin
   }
   run.file = work_dir_ / (tag + ".svc");
   SVC_ASSIGN_OR_RETURN(run.summary, encode_database(db, run.file, run.settings));
-  run.point.setting_name = settings.quant_scale ? "qscale" : "quality";
-  run.point.setting = settings.quant_scale ? settings.quant_scale : settings.quality;
+  run.point.setting_name = settings.qindex >= 0 ? "qindex" : "quality";
+  run.point.setting = settings.qindex >= 0 ? settings.qindex : settings.quality;
   run.point.bytes = run.summary.file_bytes;
   run.point.encode_seconds = run.summary.seconds;
   fill_rates(&run.point, run.summary.faces);

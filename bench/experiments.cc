@@ -41,7 +41,7 @@ const SvcRun* Bench::find_run(int quality, std::array<int32_t, 3> i_spacing, Mot
                               int spacing) const {
   for (const SvcRun& run : svc_runs_) {
     const auto effective = run.settings.intra_only ? std::array<int32_t, 3>{1, 1, 1} : run.settings.i_spacing;
-    if (run.settings.quality == quality && run.settings.quant_scale == 0 && effective == i_spacing &&
+    if (run.settings.quality == quality && run.settings.qindex < 0 && effective == i_spacing &&
         run.settings.motion == motion && run.sample_spacing == spacing) {
       return &run;
     }

@@ -3,9 +3,9 @@
 //
 //   build/bin/svc-bench-spatial [--kind hall|house|both] [--grid 9,1,9] [--face-size 256]
 //                               [--target 38] [--threads N] [--repeat 2] [--spacing 0.5]
-//                               [--scales 8,11,16]
+//                               [--qindices 128,147,160]
 //
-// For each scene it sweeps the quantiser scale for three encoder configurations
+// For each scene it sweeps the quantiser index for three encoder configurations
 // (intra-only; default I/B layout with motion from depth; the same layout with
 // logarithmic search) and prints: bytes at equal PSNR-Y (interpolated on log bytes),
 // the encode-time ratio of depth over log search summed over the sweep (configurations
@@ -39,7 +39,7 @@ using namespace svc;
 using bench::RdCurve;
 using bench::SvcMeasurement;
 
-std::vector<int> kScales = {3, 4, 6, 8, 11, 16, 22, 32};
+std::vector<int> kScales = {83, 96, 115, 128, 143, 160, 175, 192};  // quantiser indices
 
 struct Config {
   const char* name;
@@ -189,7 +189,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
   for (int q : kScales) {
     for (int k = 0; k < 3; ++k) {
       configs[k].settings.threads = threads;
-      configs[k].settings.quant_scale = q;
+      configs[k].settings.qindex = q;
       auto measured = bench::measure_svc(**scene, configs[k].settings);
       if (!measured.ok()) {
         std::fprintf(stderr, "%s\n", measured.status().to_string().c_str());
@@ -203,7 +203,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
         std::error_code ec;
         std::filesystem::remove(path, ec);
         if (!again.ok() || again->file_bytes != measured->summary.file_bytes) {
-          std::fprintf(stderr, "%s at qscale %d: a repeated encode gave different bytes\n", configs[k].name, q);
+          std::fprintf(stderr, "%s at qindex %d: a repeated encode gave different bytes\n", configs[k].name, q);
           return false;
         }
         measured->point.seconds = std::min(measured->point.seconds, seconds);
@@ -212,7 +212,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
     }
   }
 
-  std::printf("  %-14s %6s %11s %8s %9s %7s %7s %7s %7s %7s %6s\n", "config", "qscale", "bytes", "PSNR-Y",
+  std::printf("  %-14s %6s %11s %8s %9s %7s %7s %7s %7s %7s %6s\n", "config", "qindex", "bytes", "PSNR-Y",
               "encode s", "B intra", "fwd", "bwd", "bi", "skip", "cand");
   for (int k = 0; k < 3; ++k) {
     for (const auto& m : results[k]) {
@@ -261,7 +261,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
   const double time_ratio = depth_seconds / log_seconds;
   std::printf("    encode time depth / log search over the sweep = %.3f (goal: below 1)%s\n", time_ratio,
               time_ratio < 1.0 ? "" : "  ABOVE GOAL");
-  std::printf("    at qscale %d: depth %.2f s, log search %.2f s\n", d.point.setting, d.point.seconds,
+  std::printf("    at qindex %d: depth %.2f s, log search %.2f s\n", d.point.setting, d.point.seconds,
               l.point.seconds);
   const FaceTypeStats& b = d.summary.predicted;
   std::printf("    unique candidate vectors per macroblock and reference (depth): %.2f\n",
@@ -289,7 +289,7 @@ int main(int argc, char** argv) {
   double spacing = options.spacing[0];
   app.add_option("--spacing", spacing, "Cell spacing along x and z, metres")->capture_default_str();
   std::string scales_text;
-  app.add_option("--scales", scales_text, "Quantiser scales to sweep, comma-separated");
+  app.add_option("--qindices", scales_text, "Quantiser indices to sweep, comma-separated");
   CLI11_PARSE(app, argc, argv);
   if (std::sscanf(grid.c_str(), "%d,%d,%d", &options.grid[0], &options.grid[1], &options.grid[2]) != 3) {
     std::fprintf(stderr, "--grid takes X,Y,Z\n");

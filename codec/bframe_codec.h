@@ -27,10 +27,10 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 4;
-// Frame type, syntax version, quant_scale, reference border units, reference count, warp
-// mask.
-inline constexpr int kBFrameHeaderBytes = 6;
+inline constexpr uint8_t kBFrameSyntaxVersion = 5;
+// Frame type, syntax version, qindex, reference border units, loop filter flags,
+// reference count, warp mask.
+inline constexpr int kBFrameHeaderBytes = 7;
 
 // The border units (codec/cube_padding.h) of references `extra` samples wider and taller
 // than the face (a border of extra / 2 on each side), or -1 when `extra` is not a valid
@@ -47,17 +47,19 @@ enum class MacroblockMode : uint8_t {
   kSkipped = 4,        // predicted mode and vectors inherited, no residual
 };
 
-// The quant_scale this library suggests for B-frames next to I-frames coded at
-// `intra_quant_scale`: round(2.5 x), clamped to the valid range. References of good
+// The qindex this library suggests for B-frames next to I-frames coded at
+// `intra_qindex`: 42 indices coarser (a step 2^(42/32) = 2.48 times larger), clamped to
+// the valid range. References of good
 // quality help every face predicted from them, so B-frames can afford a coarser step:
 // on the sample hall at 38 dB, ratios 1.75, 2 and 2.5 gave 1.94x, 2.00x and 2.02x smaller
 // databases than intra-only, and the house is flat across them (1.39x); see docs/codec.md,
-// section 10.5. The frame header stores the scale used.
-int suggested_b_quant_scale(int intra_quant_scale);
+// section 10.5. The frame header stores the index used.
+inline constexpr int kBQIndexOffset = 42;
+int suggested_b_qindex(int intra_qindex);
 
 struct BFrameParams {
-  // quant_scale of the whole B-frame (residual and intra macroblocks), 1..112.
-  int quant_scale = 10;
+  // qindex of the whole B-frame (residual and intra macroblocks), 0..255.
+  int qindex = 138;
   // Tries the 8 half-pel neighbours of each reference's best candidate, then the 8
   // quarter-pel neighbours of the best of those (16 SADs per macroblock and reference).
   // Depth-derived candidates are already at quarter-pel precision, but the best one for
@@ -66,11 +68,12 @@ struct BFrameParams {
   // Quarter-pel vectors; off, the encoder picks only half-pel positions (candidates
   // rounded away from zero, no quarter-pel refinement), for ablation.
   bool quarter_pel = true;
-  // Rate-distortion trade-off: lambda = lambda_factor * quant_scale^2 squared-error units
+  // Rate-distortion trade-off: lambda = lambda_factor * scale^2 squared-error units, with
+  // scale = quantizer_scale_q8(qindex) / 256 (the MPEG-2 quantiser_scale it replaces),
   // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice). 0.25:
-  // on the photographic hall at quant_scale 8, factors 0.08 / 0.12 / 0.18 / 0.25 / 0.35 /
-  // 0.5 gave B-faces about 12 / 9.5 / 7.6 / 6 / 6.5 / 6.5 % more bytes than the encoder
-  // before quarter-pel motion at equal PSNR-Y (docs/codec.md, 10.5).
+  // on the photographic hall, factors 0.08 / 0.12 / 0.18 / 0.25 / 0.35 / 0.5 gave B-faces
+  // about 12 / 9.5 / 7.6 / 6 / 6.5 / 6.5 % more bytes than the encoder before quarter-pel
+  // motion at equal PSNR-Y (docs/codec.md, 10.5).
   double lambda_factor = 0.25;
   // Offers warped prediction (warp_prediction.h) for references whose node field is
   // given to encode_b_frame.
@@ -80,6 +83,11 @@ struct BFrameParams {
   // depth lists hold more distinct vectors than half-pel ones did; 32 instead of 16
   // saved 1.3 % of the B-face bytes on the photographic hall (docs/codec.md, 10.5).
   int max_candidates = 32;
+  // Offers the deblocking filter (loop_filter.h); the encoder switches it on for the frame
+  // where it lowers the squared error against the source.
+  bool deblocking = true;
+  // Offers CDEF (cdef.h), chosen by squared error plus bits (lambda as above).
+  bool cdef = true;
   // Inter options (forward, backward, bidirectional, each translational or warped) are
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
@@ -134,10 +142,11 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     ImageYCbCr420* reconstruction, BFrameStats* stats);
 
 struct BFrameHeader {
-  int quant_scale = 0;
+  int qindex = 0;
   // Cube-map border of the references in units of 16 luma samples a side (0: the
   // references are the bare faces; codec/cube_padding.h builds padded ones).
   int border_units = 0;
+  int loop_filters = 0;  // kLoopFilter* bits (intra_codec.h)
   int reference_count = 0;  // 1 or 2
   int warp_mask = 0;        // bit r: reference r may be warped
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "codec/bframe_loop_filter.h"
 #include "codec/bframe_state.h"
 #include "codec/bframe_syntax.h"
 #include "codec/cube_padding.h"
@@ -207,24 +208,25 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return Status(ErrorCode::kUnsupported, "B-frame: byte 1: syntax version " + std::to_string(bytes[1]) +
                                                " (this build reads " + std::to_string(kBFrameSyntaxVersion) + ")");
   }
-  if (bytes[2] < kMinQuantScale || bytes[2] > kMaxQuantScale) {
-    return corrupt("byte 2: quant_scale " + std::to_string(bytes[2]) + " outside 1..112");
-  }
   if (bytes[3] > kMaxCubeBorderUnits) {
     return corrupt("byte 3: reference border of " + std::to_string(bytes[3]) + " units outside 0.." +
                    std::to_string(kMaxCubeBorderUnits));
   }
-  if (bytes[4] != 1 && bytes[4] != 2) {
-    return corrupt("byte 4: reference count " + std::to_string(bytes[4]) + " is not 1 or 2");
+  if ((bytes[4] & ~kLoopFilterKnownBits) != 0) {
+    return corrupt("byte 4: unknown loop filter flags " + std::to_string(bytes[4]));
   }
-  if ((bytes[5] & ~((1 << bytes[4]) - 1)) != 0) {
-    return corrupt("byte 5: warp mask " + std::to_string(bytes[5]) + " names a reference beyond the " +
-                   std::to_string(bytes[4]) + " present");
+  if (bytes[5] != 1 && bytes[5] != 2) {
+    return corrupt("byte 5: reference count " + std::to_string(bytes[5]) + " is not 1 or 2");
   }
-  out->quant_scale = bytes[2];
+  if ((bytes[6] & ~((1 << bytes[5]) - 1)) != 0) {
+    return corrupt("byte 6: warp mask " + std::to_string(bytes[6]) + " names a reference beyond the " +
+                   std::to_string(bytes[5]) + " present");
+  }
+  out->qindex = bytes[2];  // every byte value is a valid index
   out->border_units = bytes[3];
-  out->reference_count = bytes[4];
-  out->warp_mask = bytes[5];
+  out->loop_filters = bytes[4];
+  out->reference_count = bytes[5];
+  out->warp_mask = bytes[6];
   return Status::Ok();
 }
 
@@ -251,7 +253,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
                                                    " reference(s) but " + std::to_string(given) + " given");
   }
   FrameState s;
-  init_state(s, width, height, header.quant_scale, &ref0, ref1, header.border_units);
+  init_state(s, width, height, header.qindex, &ref0, ref1, header.border_units);
   s.warp_mask = header.warp_mask;
   if (modes != nullptr) {
     modes->clear();
@@ -272,10 +274,20 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
                      std::to_string(bytes.size()) + " given)");
     }
   }
+  CdefParams cdef;
+  if (header.loop_filters & kLoopFilterCdef) {
+    read_cdef_syntax(decoder, cdef_units(16 * s.mbs_x), cdef_units(16 * s.mbs_y), &cdef);
+    if (decoder.overrun() > 0) {
+      return corrupt("payload truncated (CDEF syntax needs bytes beyond the " + std::to_string(bytes.size()) +
+                     " given)");
+    }
+  }
   const size_t used = decoder.consumed() + kBFrameHeaderBytes;
   if (used != bytes.size()) {
     return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
   }
+  if (header.loop_filters & kLoopFilterDeblocking) deblock_planes(s);
+  if (header.loop_filters & kLoopFilterCdef) cdef_planes(s, cdef);
   crop_output(s, out);
   return Status::Ok();
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <string>
 
+#include "codec/bframe_loop_filter.h"
 #include "codec/bframe_state.h"
 #include "codec/bframe_syntax.h"
 
@@ -65,6 +66,48 @@ int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_st
 
 // The share of a new warp node's bits charged to the macroblock that sends it.
 constexpr float kNewNodeShare = 0.5f;
+// Squared error of the visible part of the frame state's planes against the source.
+int64_t frame_error(const FrameState& s, const PaddedSource& source) {
+  int64_t sum = 0;
+  for (int p = 0; p < 3; ++p) {
+    const int w = p == 0 ? s.width : s.chroma_width, h = p == 0 ? s.height : s.chroma_height;
+    sum += squared_error(s.planes[p].data(), s.strides[p], source.planes[p].data(), source.strides[p], w, h);
+  }
+  return sum;
+}
+
+// Deblocks the finished frame when that brings it closer to the source; returns the
+// loop filter flags for the header. The filter changes no coded symbol.
+uint8_t choose_loop_filters(FrameState& s, const PaddedSource& source, const BFrameParams& params) {
+  if (!params.deblocking) return 0;
+  const std::array<std::vector<uint8_t>, 3> unfiltered = s.planes;
+  const int64_t before = frame_error(s, source);
+  deblock_planes(s);
+  if (frame_error(s, source) < before) return kLoopFilterDeblocking;
+  s.planes = unfiltered;
+  return 0;
+}
+
+// Chooses CDEF for the finished (deblocked) frame; when it pays, filters the frame, writes
+// its syntax and returns kLoopFilterCdef.
+uint8_t apply_cdef_choice(RangeEncoder& encoder, FrameState& s, const PaddedSource& source,
+                          const BFrameParams& params) {
+  if (!params.cdef) return 0;
+  const double scale = quantizer_scale_q8(s.inter_quantizer.qindex) / 256.0;
+  CdefSource visible;
+  for (int p = 0; p < 3; ++p) {
+    visible.planes[p] = source.planes[p].data();
+    visible.strides[p] = source.strides[p];
+  }
+  visible.width = s.width;
+  visible.height = s.height;
+  const CdefParams cdef = choose_cdef(plane_views(s), visible, s.inter_quantizer.qindex, cdef_skip_map(s),
+                                      std::max(0.0, params.lambda_factor) * scale * scale);
+  if (cdef.presets.empty()) return 0;
+  write_cdef_syntax(encoder, cdef, cdef_units(16 * s.mbs_x), cdef_units(16 * s.mbs_y));
+  cdef_planes(s, cdef);
+  return kLoopFilterCdef;
+}
 
 class BFrameEncoder {
  public:
@@ -75,7 +118,8 @@ class BFrameEncoder {
         quarter_pel_(params.quarter_pel),
         full_evaluations_(std::max(1, params.inter_evaluations)),
         max_candidates_(std::max(1, params.max_candidates)) {
-    lambda_ = std::max(0.0, params.lambda_factor) * s_.inter_quantizer.quant_scale * s_.inter_quantizer.quant_scale;
+    const double scale = quantizer_scale_q8(s_.inter_quantizer.qindex) / 256.0;
+    lambda_ = std::max(0.0, params.lambda_factor) * scale * scale;
     lambda_sad_ = std::sqrt(lambda_);
   }
 
@@ -519,9 +563,8 @@ class BFrameEncoder {
 
 }  // namespace
 
-int suggested_b_quant_scale(int intra_quant_scale) {
-  const int clamped = std::clamp(intra_quant_scale, kMinQuantScale, kMaxQuantScale);
-  return std::clamp((clamped * 5 + 1) / 2, kMinQuantScale, kMaxQuantScale);
+int suggested_b_qindex(int intra_qindex) {
+  return std::clamp(intra_qindex + kBQIndexOffset, kMinQIndex, kMaxQIndex);
 }
 
 std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
@@ -545,9 +588,9 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       (ref1 != nullptr && !consistent_image(*ref1, padded_width, padded_height))) {
     return {};
   }
-  const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
+  const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
   FrameState state;
-  init_state(state, width, height, quant_scale, &ref0, ref1, border_units);
+  init_state(state, width, height, qindex, &ref0, ref1, border_units);
   const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
   for (int r = 0; r < state.reference_count; ++r) {
     const WarpField* field = fields[r];
@@ -568,9 +611,13 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
     stats->modes.reserve(static_cast<size_t>(stats->macroblocks));
   }
 
-  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted),  kBFrameSyntaxVersion,
-                                static_cast<uint8_t>(quant_scale),           static_cast<uint8_t>(border_units),
-                                static_cast<uint8_t>(state.reference_count), static_cast<uint8_t>(state.warp_mask)};
+  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted),
+                                kBFrameSyntaxVersion,
+                                static_cast<uint8_t>(qindex),
+                                static_cast<uint8_t>(border_units),
+                                0,
+                                static_cast<uint8_t>(state.reference_count),
+                                static_cast<uint8_t>(state.warp_mask)};
   RangeEncoder encoder(&bytes);
   BFrameEncoder coder(state, padded, params);
   for (int my = 0; my < state.mbs_y; ++my) {
@@ -598,7 +645,10 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       }
     }
   }
+  uint8_t loop_filters = choose_loop_filters(state, padded, params);
+  loop_filters |= apply_cdef_choice(encoder, state, padded, params);
   encoder.finish();
+  bytes[4] = loop_filters;  // header byte 4, known only now
   if (stats != nullptr) {
     for (int r = 0; r < state.reference_count; ++r) {
       for (uint8_t known : state.node_known[r]) stats->warp_nodes_coded += known;

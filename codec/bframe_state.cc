@@ -20,7 +20,7 @@ int reference_border_units(int extra) {
 
 namespace svc::codec::bframe {
 
-void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
+void init_state(FrameState& s, int width, int height, int qindex, const ImageYCbCr420* ref0,
                 const ImageYCbCr420* ref1, int border_mbs) {
   s.width = width;
   s.border_mbs = border_mbs;
@@ -31,9 +31,9 @@ void init_state(FrameState& s, int width, int height, int quant_scale, const Ima
   s.chroma_height = (height + 1) / 2;
   s.references = {ref0, ref1};
   s.reference_count = ref1 != nullptr ? 2 : 1;
-  s.intra_quantizer = make_quantizer(BlockKind::kIntra, quant_scale);
-  s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, quant_scale);
-  s.dc_step = intra_dc_step(quant_scale);
+  s.intra_quantizer = make_quantizer(BlockKind::kIntra, qindex);
+  s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, qindex);
+  s.dc_scale = s.intra_quantizer.scale[0];
   s.vector_limit = max_vector_component(width, height);
   s.node_limit = max_warp_node_component(width, height);
   s.nodes_x = s.mbs_x + 1;
@@ -73,12 +73,13 @@ int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, 
          (by > 0 ? block_value(s, s.coded[plane], local, plane, mx, my, bx, by - 1) : 0);
 }
 
-int derived_dc_level(const uint8_t* samples, int stride, int dc_step) {
+int derived_dc_level(const uint8_t* samples, int stride, int dc_scale) {
   int sum = 0;
   for (int y = 0; y < 8; ++y) {
     for (int x = 0; x < 8; ++x) sum += samples[y * stride + x];
   }
-  const int numerator = sum - 64 * 128, denominator = 8 * dc_step;
+  // (sum - 8192) / 8 is the DC coefficient; the level is that over dc_scale / 256.
+  const int numerator = 32 * (sum - 64 * 128), denominator = dc_scale;
   return numerator >= 0 ? (numerator + denominator / 2) / denominator
                         : -((-numerator + denominator / 2) / denominator);
 }
@@ -257,7 +258,7 @@ void commit_macroblock(FrameState& s, int mx, int my, const MacroblockInfo& info
     s.coded[plane][index] = static_cast<uint8_t>((coded_mask >> b) & 1);
     s.dc[plane][index] = intra_dc != nullptr
                              ? intra_dc[b]
-                             : derived_dc_level(block_samples(reconstruction, b), block_stride(b), s.dc_step);
+                             : derived_dc_level(block_samples(reconstruction, b), block_stride(b), s.dc_scale);
   }
   s.macroblocks[static_cast<size_t>(my) * s.mbs_x + mx] = info;
 }

@@ -65,7 +65,7 @@ struct FrameState {
   // its reference planes. 0 without padding.
   int border_mbs = 0;
   Quantizer intra_quantizer, inter_quantizer;
-  int dc_step = 8;
+  int dc_scale = 2048;  // quant_step of the intra DC, 1/256 coefficient units
   int vector_limit = 0;
   int node_limit = 0;
   // References with a warp node field (bit r for reference r).
@@ -96,7 +96,7 @@ struct FrameState {
 
 // The references are width x height, or that plus a border of border_mbs macroblocks on
 // each side.
-void init_state(FrameState& s, int width, int height, int quant_scale, const ImageYCbCr420* ref0,
+void init_state(FrameState& s, int width, int height, int qindex, const ImageYCbCr420* ref0,
                 const ImageYCbCr420* ref1, int border_mbs = 0);
 
 // Macroblock coordinate of the current face within the (padded) reference planes.
@@ -141,8 +141,9 @@ int predict_dc(const FrameState& s, const int* local, int plane, int mx, int my,
 int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, int my, int bx, int by);
 
 // DC level an intra block with these reconstructed samples would have: the block mean
-// minus 128, times 8 (the DCT's DC gain), divided by dc_step, rounded half away from 0.
-int derived_dc_level(const uint8_t* samples, int stride, int dc_step);
+// minus 128, times 8 (the DCT's DC gain), divided by the DC step dc_scale / 256, rounded
+// half away from 0.
+int derived_dc_level(const uint8_t* samples, int stride, int dc_scale);
 
 inline int median3(int a, int b, int c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
 

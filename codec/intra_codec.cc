@@ -1,8 +1,9 @@
 // Intra frame coding: macroblock-padded planes, 8x8 blocks in raster order per plane
 // (Y, Cb, Cr), each predicted from its reconstructed neighbours in a signalled mode
 // (codec/intra_prediction.h) and its residual coded as quantized DCT levels by
-// block_coder. The decoder's reconstruction (reconstruct_block) is also the encoder's,
-// so the two agree bit for bit by construction.
+// block_coder; then the in-loop filters the header selects (deblocking, CDEF) over the
+// whole frame. The decoder's reconstruction (reconstruct_block, apply_loop_filters) is
+// also the encoder's, so the two agree bit for bit by construction.
 #include "codec/intra_codec.h"
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
 #include "codec/intra_prediction.h"
+#include "codec/loop_filter.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
 
@@ -50,7 +52,10 @@ struct PlaneState {
 
 // Residuals of every block use the flat matrix: spatial prediction leaves little
 // low-frequency energy for a perceptual matrix to spare.
-Quantizer residual_quantizer(int quant_scale) { return make_quantizer(BlockKind::kNonIntra, quant_scale); }
+Quantizer residual_quantizer(int qindex) { return make_quantizer(BlockKind::kNonIntra, qindex); }
+
+// The quantiser scale of an index as the MPEG-2 quantiser_scale it replaces.
+double scale_of(int qindex) { return quantizer_scale_q8(qindex) / 256.0; }
 
 // out = clip(prediction + inverse DCT of `coefficients`), or the prediction alone when
 // there are none.
@@ -62,15 +67,6 @@ void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, u
       const int value = prediction[8 * y + x] + (coefficients != nullptr ? residual[8 * y + x] : 0);
       out[y * stride + x] = static_cast<uint8_t>(std::clamp(value, 0, 255));
     }
-  }
-}
-
-// The visible part of a padded plane.
-void crop_plane(const std::vector<uint8_t>& padded, const PlaneGeometry& plane, std::vector<uint8_t>* out) {
-  out->resize(static_cast<size_t>(plane.width) * plane.height);
-  for (int y = 0; y < plane.height; ++y) {
-    std::copy_n(padded.data() + static_cast<size_t>(y) * plane.stride(), plane.width,
-                out->data() + static_cast<size_t>(y) * plane.width);
   }
 }
 
@@ -94,6 +90,118 @@ std::array<PlaneGeometry, 3> planes_of(const BlockLayout& layout, int width, int
 }
 
 Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "intra frame: " + what); }
+
+// The reconstructed macroblock-padded planes of a frame, before cropping (stride = width).
+struct PaddedFrame {
+  std::array<std::vector<uint8_t>, 3> planes;
+  std::array<int, 3> widths{}, heights{};
+
+  std::array<PlaneView, 3> views() {
+    std::array<PlaneView, 3> result;
+    for (int p = 0; p < 3; ++p) result[p] = PlaneView{planes[p].data(), widths[p], widths[p], heights[p]};
+    return result;
+  }
+};
+
+PaddedFrame padded_frame(const BlockLayout& layout) {
+  PaddedFrame frame;
+  frame.widths = {8 * layout.luma_blocks_x, 8 * layout.chroma_blocks_x, 8 * layout.chroma_blocks_x};
+  frame.heights = {8 * layout.luma_blocks_y, 8 * layout.chroma_blocks_y, 8 * layout.chroma_blocks_y};
+  for (int p = 0; p < 3; ++p) frame.planes[p].assign(static_cast<size_t>(frame.widths[p]) * frame.heights[p], 0);
+  return frame;
+}
+
+void deblock_intra(PaddedFrame* frame, int qindex) {
+  deblock_frame(DeblockMap::uniform(frame->widths[0], frame->heights[0], 2), qindex, frame->views());
+}
+
+// CDEF of an intra frame: no block is skipped (every block has a DC level).
+void cdef_intra(PaddedFrame* frame, const CdefParams& params, int qindex) {
+  cdef_frame(params, qindex, {}, frame->views());
+}
+
+// Encoder only: chooses CDEF for the deblocked frame, filters it and writes the syntax
+// when the filter pays. lambda as the B-frame encoder's default (0.12 scale^2 per bit).
+// Returns whether it did.
+bool apply_cdef_choice(RangeEncoder& encoder, PaddedFrame* frame, const ImageYCbCr420& source, int qindex) {
+  const double scale = quantizer_scale_q8(qindex) / 256.0;
+  CdefSource visible;
+  visible.planes = {source.y.data(), source.cb.data(), source.cr.data()};
+  visible.strides = {source.width, (source.width + 1) / 2, (source.width + 1) / 2};
+  visible.width = source.width;
+  visible.height = source.height;
+  const CdefParams params = choose_cdef(frame->views(), visible, qindex, {}, 0.12 * scale * scale);
+  if (params.presets.empty()) return false;
+  write_cdef_syntax(encoder, params, cdef_units(frame->widths[0]), cdef_units(frame->heights[0]));
+  cdef_intra(frame, params, qindex);
+  return true;
+}
+
+void crop(const PaddedFrame& frame, int width, int height, ImageYCbCr420* out) {
+  out->width = width;
+  out->height = height;
+  std::vector<uint8_t>* outputs[3] = {&out->y, &out->cb, &out->cr};
+  for (int p = 0; p < 3; ++p) {
+    const int w = p == 0 ? width : (width + 1) / 2, h = p == 0 ? height : (height + 1) / 2;
+    outputs[p]->resize(static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y) {
+      const uint8_t* row = frame.planes[p].data() + static_cast<size_t>(y) * frame.widths[p];
+      std::copy_n(row, w, outputs[p]->data() + static_cast<size_t>(y) * w);
+    }
+  }
+}
+
+// Sum of squared differences of the visible part of a padded plane against a source plane.
+int64_t plane_error(const std::vector<uint8_t>& plane, int stride, const std::vector<uint8_t>& source, int width,
+                    int height) {
+  int64_t sum = 0;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* a = plane.data() + static_cast<size_t>(y) * stride;
+    const uint8_t* b = source.data() + static_cast<size_t>(y) * width;
+    for (int x = 0; x < width; ++x) sum += (a[x] - b[x]) * (a[x] - b[x]);
+  }
+  return sum;
+}
+
+int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
+  const int cw = (source.width + 1) / 2, ch = (source.height + 1) / 2;
+  return plane_error(frame.planes[0], frame.widths[0], source.y, source.width, source.height) +
+         plane_error(frame.planes[1], frame.widths[1], source.cb, cw, ch) +
+         plane_error(frame.planes[2], frame.widths[2], source.cr, cw, ch);
+}
+
+// Predicts and reconstructs every block of `coefficients` into `frame` (padding
+// included: the filters read across it). The caller checked the block counts.
+void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLayout& layout, PaddedFrame* frame) {
+  const auto planes = planes_of(layout, coefficients.width, coefficients.height);
+  const Quantizer quantizer = residual_quantizer(coefficients.qindex);
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  int16_t block[64] = {};
+  int positions[64];
+  size_t block_number = 0, entry = 0;
+  for (int p = 0; p < 3; ++p) {
+    const PlaneGeometry& plane = planes[p];
+    std::vector<uint8_t>& recon = frame->planes[p];
+    for (int by = 0; by < plane.blocks_y; ++by) {
+      for (int bx = 0; bx < plane.blocks_x; ++bx, ++block_number) {
+        const int count = std::min<int>(coefficients.block_counts[block_number], 64);
+        int decoded = 0;
+        for (; decoded < count; ++decoded) {
+          int position, level;
+          if (!coefficients.read(&entry, &position, &level)) break;
+          positions[decoded] = position;
+          block[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
+        }
+        uint8_t edge[dsp::kIntraEdgeSamples], prediction[64];
+        const size_t offset = static_cast<size_t>(by) * 8 * plane.stride() + bx * 8;
+        build_intra_edge(recon.data(), plane.stride(), bx, by, plane.blocks_x, edge);
+        dsp.intra_predict_8x8(edge, coefficients.block_modes[block_number] % kIntraModes, prediction);
+        reconstruct_block(prediction, decoded > 0 ? block : nullptr, recon.data() + offset, plane.stride());
+        for (int i = 0; i < decoded; ++i) block[positions[i]] = 0;
+      }
+    }
+  }
+}
 
 // Encoder only: a block's mode, prediction and residual levels.
 struct BlockChoice {
@@ -128,12 +236,12 @@ int block_sse(const uint8_t* source, int stride, const uint8_t* block) {
 // (its levels dropped when the prediction alone costs less).
 class BlockSearch {
  public:
-  BlockSearch(const Quantizer& quantizer, int quant_scale, const CodingParams& params)
+  BlockSearch(const Quantizer& quantizer, const CodingParams& params)
       : quantizer_(quantizer),
-        quant_scale_(quant_scale),
         modes_(params.directional_intra ? kIntraModes : 2),
         rd_search_(params.rd_intra_search),
-        lambda_(0.1f * static_cast<float>(quant_scale * quant_scale)) {}
+        satd_lambda_(std::max(1, static_cast<int>(4 * scale_of(quantizer.qindex) + 0.5))),
+        lambda_(static_cast<float>(0.1 * scale_of(quantizer.qindex) * scale_of(quantizer.qindex))) {}
 
   // `candidates` null: the mode is fixed (a Cr block takes its Cb block's).
   void choose(const uint8_t* source, int stride, const uint8_t* edge, const PlaneContexts& contexts,
@@ -160,12 +268,11 @@ class BlockSearch {
   std::array<int, kSearchedModes> preselect(const uint8_t* source, int stride, const uint8_t* edge,
                                             const std::array<int, kMostProbableModes>& candidates) const {
     const dsp::DspTable& dsp = dsp::get_dsp();
-    const int lambda = 4 * quant_scale_;  // SATD units per bit, tuned on the photographic scenes
     std::array<std::pair<int, int>, kIntraModes> costs;
     uint8_t prediction[64];
     for (int mode = 0; mode < modes_; ++mode) {
       dsp.intra_predict_8x8(edge, mode, prediction);
-      costs[mode] = {dsp.satd_8x8(source, stride, prediction) + lambda * intra_mode_bits(candidates, mode), mode};
+      costs[mode] = {dsp.satd_8x8(source, stride, prediction) + satd_lambda_ * intra_mode_bits(candidates, mode), mode};
     }
     const int kept = rd_search_ ? std::min(kSearchedModes, modes_) : 1;
     std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + modes_);
@@ -200,16 +307,17 @@ class BlockSearch {
   }
 
   const Quantizer& quantizer_;
-  int quant_scale_;
   int modes_;
-  bool rd_search_;  // else the SATD's best mode, its levels as quantized
-  float lambda_;    // SSE per bit, tuned on the photographic scenes
+  bool rd_search_;   // else the SATD's best mode, its levels as quantized
+  int satd_lambda_;  // SATD units per bit, tuned on the photographic scenes
+  float lambda_;     // SSE per bit, tuned on the photographic scenes
 };
 
 }  // namespace
 
 size_t CoefficientFrame::memory_bytes() const {
-  return sizeof(*this) + block_counts.capacity() + block_modes.capacity() + entries.capacity() * sizeof(uint16_t);
+  return sizeof(*this) + block_counts.capacity() + block_modes.capacity() + entries.capacity() * sizeof(uint16_t) +
+         cdef.memory_bytes();
 }
 
 BlockLayout block_layout(int width, int height) {
@@ -232,11 +340,11 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       source.cb.size() != chroma_size || source.cr.size() != chroma_size) {
     return {};
   }
-  const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
-  Quantizer quantizer = residual_quantizer(quant_scale);
+  const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
+  Quantizer quantizer = residual_quantizer(qindex);
   // A narrower dead zone than inter residuals use (0.2), tuned on the photographic scenes.
   quantizer.rounding_dc = quantizer.rounding_ac = 0.25f;
-  const BlockSearch search(quantizer, quant_scale, params);
+  const BlockSearch search(quantizer, params);
   const BlockLayout layout = block_layout(width, height);
   auto planes = planes_of(layout, width, height);
   planes[0].pixels = source.y.data();
@@ -244,23 +352,18 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   planes[2].pixels = source.cr.data();
 
   std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kIntra), kIntraSyntaxVersion,
-                                static_cast<uint8_t>(quant_scale), 0};
+                                static_cast<uint8_t>(qindex), 0};
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
   RangeEncoder encoder(&bytes);
   PlaneContexts luma_contexts, chroma_contexts;
   std::vector<uint8_t> chroma_modes;
-  std::array<std::vector<uint8_t>*, 3> outputs = {nullptr, nullptr, nullptr};
-  if (reconstruction != nullptr) {
-    reconstruction->width = width;
-    reconstruction->height = height;
-    outputs = {&reconstruction->y, &reconstruction->cb, &reconstruction->cr};
-  }
+  PaddedFrame frame = padded_frame(layout);
 
   for (int p = 0; p < 3; ++p) {
     const PlaneGeometry& plane = planes[p];
     PlaneContexts& contexts = p == 0 ? luma_contexts : chroma_contexts;
     const std::vector<uint8_t> padded_source = pad_plane(plane);
-    std::vector<uint8_t> recon(plane.padded_size());
+    std::vector<uint8_t>& recon = frame.planes[p];
     PlaneState state(static_cast<size_t>(plane.blocks_x) * plane.blocks_y);
     for (int by = 0; by < plane.blocks_y; ++by) {
       for (int bx = 0; bx < plane.blocks_x; ++bx) {
@@ -290,9 +393,19 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       }
     }
     if (p == 1) chroma_modes = state.modes;
-    if (outputs[p] != nullptr) crop_plane(recon, plane, outputs[p]);
   }
+  // The filters change no block symbol: decide them on the finished reconstruction.
+  if (params.deblocking) {
+    PaddedFrame filtered = frame;
+    deblock_intra(&filtered, qindex);
+    if (frame_error(filtered, source) < frame_error(frame, source)) {
+      bytes[3] |= kLoopFilterDeblocking;
+      frame = std::move(filtered);
+    }
+  }
+  if (params.cdef && apply_cdef_choice(encoder, &frame, source, qindex)) bytes[3] |= kLoopFilterCdef;
   encoder.finish();
+  if (reconstruction != nullptr) crop(frame, width, height, reconstruction);
   return bytes;
 }
 
@@ -313,11 +426,10 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
     return Status(ErrorCode::kUnsupported, "intra frame: byte 1: syntax version " + std::to_string(bytes[1]) +
                                                " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
   }
-  const int quant_scale = bytes[2];
-  if (quant_scale < kMinQuantScale || quant_scale > kMaxQuantScale) {
-    return corrupt("byte 2: quant_scale " + std::to_string(quant_scale) + " outside 1..112");
+  const int qindex = bytes[2];  // every byte value is a valid index
+  if ((bytes[3] & ~kLoopFilterKnownBits) != 0) {
+    return corrupt("byte 3: unknown loop filter flags " + std::to_string(bytes[3]));
   }
-  if (bytes[3] != 0) return corrupt("byte 3: reserved byte is " + std::to_string(bytes[3]));
 
   const BlockLayout layout = block_layout(width, height);
   const auto planes = planes_of(layout, width, height);
@@ -327,7 +439,8 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   CoefficientFrame result;
   result.width = width;
   result.height = height;
-  result.quant_scale = quant_scale;
+  result.qindex = qindex;
+  result.loop_filters = bytes[3];
   result.block_counts.reserve(static_cast<size_t>(layout.block_count()));
   result.block_modes.reserve(static_cast<size_t>(layout.block_count()));
   // A frame rarely holds more than a few coefficients per block; grow beyond that.
@@ -366,6 +479,14 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
     }
     if (p == 1) chroma_modes = state.modes;
   }
+  if (result.loop_filters & kLoopFilterCdef) {
+    read_cdef_syntax(decoder, cdef_units(8 * layout.luma_blocks_x), cdef_units(8 * layout.luma_blocks_y),
+                     &result.cdef);
+    if (decoder.overrun() > 0) {
+      return corrupt("payload truncated (CDEF syntax needs bytes beyond the " + std::to_string(bytes.size()) +
+                     " given)");
+    }
+  }
   const size_t used = decoder.consumed() + kFrameHeaderBytes;
   if (used != bytes.size()) {
     return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
@@ -378,47 +499,23 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
 void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out) {
   const int width = coefficients.width, height = coefficients.height;
   const BlockLayout layout = block_layout(width, height);
-  const auto planes = planes_of(layout, width, height);
-  const bool valid_size = width > 0 && height > 0;
-  out->width = width;
-  out->height = height;
-  out->y.assign(valid_size ? static_cast<size_t>(width) * height : 0, 0);
-  out->cb.assign(valid_size ? static_cast<size_t>(planes[1].width) * planes[1].height : 0, 0);
-  out->cr.assign(out->cb.size(), 0);
   const size_t block_count = static_cast<size_t>(layout.block_count());
-  if (!valid_size || coefficients.block_counts.size() != block_count ||
+  if (width <= 0 || height <= 0 || coefficients.block_counts.size() != block_count ||
       coefficients.block_modes.size() != block_count) {
-    return;  // not a frame that parse_intra_frame or encode_intra_frame built
+    // Not a frame that parse_intra_frame or encode_intra_frame built: a black frame.
+    const bool valid_size = width > 0 && height > 0;
+    out->width = width;
+    out->height = height;
+    out->y.assign(valid_size ? static_cast<size_t>(width) * height : 0, 0);
+    out->cb.assign(valid_size ? static_cast<size_t>((width + 1) / 2) * ((height + 1) / 2) : 0, 0);
+    out->cr.assign(out->cb.size(), 0);
+    return;
   }
-  const Quantizer quantizer = residual_quantizer(coefficients.quant_scale);
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  std::vector<uint8_t>* const destinations[3] = {&out->y, &out->cb, &out->cr};
-  int16_t block[64] = {};
-  int positions[64];
-  size_t block_number = 0, entry = 0;
-  for (int p = 0; p < 3; ++p) {
-    const PlaneGeometry& plane = planes[p];
-    std::vector<uint8_t> recon(plane.padded_size());
-    for (int by = 0; by < plane.blocks_y; ++by) {
-      for (int bx = 0; bx < plane.blocks_x; ++bx, ++block_number) {
-        const int count = std::min<int>(coefficients.block_counts[block_number], 64);
-        int decoded = 0;
-        for (; decoded < count; ++decoded) {
-          int position, level;
-          if (!coefficients.read(&entry, &position, &level)) break;
-          positions[decoded] = position;
-          block[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
-        }
-        uint8_t edge[dsp::kIntraEdgeSamples], prediction[64];
-        const size_t offset = static_cast<size_t>(by) * 8 * plane.stride() + bx * 8;
-        build_intra_edge(recon.data(), plane.stride(), bx, by, plane.blocks_x, edge);
-        dsp.intra_predict_8x8(edge, coefficients.block_modes[block_number] % kIntraModes, prediction);
-        reconstruct_block(prediction, decoded > 0 ? block : nullptr, recon.data() + offset, plane.stride());
-        for (int i = 0; i < decoded; ++i) block[positions[i]] = 0;
-      }
-    }
-    crop_plane(recon, plane, destinations[p]);
-  }
+  PaddedFrame frame = padded_frame(layout);
+  predict_and_reconstruct(coefficients, layout, &frame);
+  if (coefficients.loop_filters & kLoopFilterDeblocking) deblock_intra(&frame, coefficients.qindex);
+  if (coefficients.loop_filters & kLoopFilterCdef) cdef_intra(&frame, coefficients.cdef, coefficients.qindex);
+  crop(frame, width, height, out);
 }
 
 Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out) {

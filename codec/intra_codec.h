@@ -6,27 +6,38 @@
 #include <span>
 #include <vector>
 
+#include "codec/cdef.h"
+#include "codec/quant.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
 namespace svc::codec {
 
-inline constexpr int kMinQuantScale = 1;
-inline constexpr int kMaxQuantScale = 112;
-
 struct CodingParams {
-  int quant_scale = 8;  // MPEG-2 style quantiser_scale, kMinQuantScale..kMaxQuantScale
+  int qindex = 96;  // quantiser index, kMinQIndex..kMaxQIndex (codec/quant.h)
   // Encoder restriction: when false, every block uses the planar or DC mode only.
   bool directional_intra = true;
   // Encoder choice: when false, each block takes the mode of least SATD (plus a rate
   // term) and its levels as quantized, without the rate-distortion comparison of a
   // few modes and of dropping the levels.
   bool rd_intra_search = true;
+  // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
+  // the squared error against the source (the flag costs nothing else).
+  bool deblocking = true;
+  // Offers CDEF (cdef.h); the encoder chooses its presets and units by squared error
+  // plus their bits, and leaves it off where it does not pay.
+  bool cdef = true;
 };
 
-// Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.
+// Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
+// section 11). A decoder rejects other bits.
+inline constexpr uint8_t kLoopFilterDeblocking = 1;
+inline constexpr uint8_t kLoopFilterCdef = 2;
+inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
+
+// Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 3;
+inline constexpr uint8_t kIntraSyntaxVersion = 4;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 
@@ -38,7 +49,9 @@ inline constexpr int kMaxFrameDimension = 16384;
 struct CoefficientFrame {
   int width = 0;
   int height = 0;
-  int quant_scale = 0;
+  int qindex = 0;
+  uint8_t loop_filters = 0;  // kLoopFilter* bits of the header
+  CdefParams cdef;           // when loop_filters has kLoopFilterCdef
   // Per 8x8 block, in coding order (all luma blocks of the macroblock-padded plane in
   // raster order, then Cb, then Cr): the number of non-zero levels, 0..64.
   std::vector<uint8_t> block_counts;
@@ -91,7 +104,7 @@ BlockLayout block_layout(int width, int height);
 // Encodes an intra frame. `reconstruction` (optional) receives exactly what the
 // decoder will produce. `source` must have positive size and planes of the sizes
 // ImageYCbCr420 documents; otherwise the result is empty (which no decoder accepts).
-// quant_scale is clamped to [kMinQuantScale, kMaxQuantScale]. Thread-safe (no shared state).
+// qindex is clamped to [kMinQIndex, kMaxQIndex]. Thread-safe (no shared state).
 std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const CodingParams& params,
                                         ImageYCbCr420* reconstruction);
 
@@ -101,9 +114,10 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
 // offset or block). Never reads outside `bytes`.
 Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out);
 
-// Prediction plus inverse DCT of parsed coefficients into pixels (bit-exact). `out` is
-// resized; a frame not built by parse_intra_frame or encode_intra_frame gives some
-// pixels of the right size, never a crash.
+// Prediction plus inverse DCT of parsed coefficients into pixels, then the in-loop
+// filters the frame header asks for (bit-exact). `out` is resized; a frame not built by
+// parse_intra_frame or encode_intra_frame gives some pixels of the right size, never a
+// crash.
 void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out);
 
 // parse_intra_frame followed by reconstruct_intra_frame.

@@ -26,26 +26,44 @@ const std::array<uint8_t, 64> kDefaultNonIntraMatrix = [] {
   return m;
 }();
 
-int intra_dc_step(int quant_scale) {
-  if (quant_scale <= 16) return std::clamp(quant_scale, 1, 8);
-  return std::min(16, quant_scale / 2);
+namespace {
+
+// round(128 * 2^(k / 32)): one octave of quantiser scales.
+constexpr std::array<int, kQIndexPerOctave> kScaleOctave = {
+    128, 131, 134, 137, 140, 143, 146, 149, 152, 156, 159, 162, 166, 170, 173, 177,  //
+    181, 185, 189, 193, 197, 202, 206, 211, 215, 220, 225, 230, 235, 240, 245, 251,  //
+};
+
+}  // namespace
+
+int quantizer_scale_q8(int qindex) {
+  qindex = std::clamp(qindex, kMinQIndex, kMaxQIndex);
+  return kScaleOctave[qindex % kQIndexPerOctave] << (qindex / kQIndexPerOctave);
 }
 
-Quantizer make_quantizer(BlockKind kind, int quant_scale) {
+int quant_step(BlockKind kind, int qindex, int position) {
+  const int scale = quantizer_scale_q8(qindex);
+  if (kind == BlockKind::kIntra && position == 0) {
+    return scale <= 4096 ? std::min(scale, 2048) : std::min(scale / 2, 4096);
+  }
+  const auto& matrix = kind == BlockKind::kIntra ? kDefaultIntraMatrix : kDefaultNonIntraMatrix;
+  return (static_cast<int>(matrix[position & 63]) * scale + 8) >> 4;
+}
+
+Quantizer make_quantizer(BlockKind kind, int qindex) {
   Quantizer q;
   q.kind = kind;
-  q.quant_scale = std::clamp(quant_scale, 1, 112);
-  const auto& matrix = kind == BlockKind::kIntra ? kDefaultIntraMatrix : kDefaultNonIntraMatrix;
-  for (int i = 0; i < 64; ++i) q.scale[i] = static_cast<int32_t>(matrix[i]) * q.quant_scale;
+  q.qindex = std::clamp(qindex, kMinQIndex, kMaxQIndex);
+  for (int i = 0; i < 64; ++i) q.scale[i] = quant_step(kind, q.qindex, i);
   if (kind == BlockKind::kIntra) {
-    q.scale[0] = 16 * intra_dc_step(q.quant_scale);
     q.rounding_dc = 0.5f;
     q.rounding_ac = 0.34f;  // intra: MPEG-style bias towards smaller levels
   } else {
     q.rounding_dc = 0.2f;  // residuals: wider dead zone, most blocks become empty
     q.rounding_ac = 0.2f;
   }
-  for (int i = 0; i < 64; ++i) q.inverse_step[i] = 16.0f / static_cast<float>(q.scale[i]);
+  for (int i = 0; i < 64; ++i)
+    q.inverse_step[i] = static_cast<float>(1 << kStepBits) / static_cast<float>(q.scale[i]);
   return q;
 }
 
@@ -55,7 +73,8 @@ int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_
 }
 
 int dequantize_level(const Quantizer& quantizer, int index, int level) {
-  const int magnitude = (std::abs(level) * quantizer.scale[index] + 8) >> 4;
+  const int magnitude =
+      (std::min(std::abs(level), kMaxLevel + 1) * quantizer.scale[index] + (1 << (kStepBits - 1))) >> kStepBits;
   return level < 0 ? std::max(-magnitude, kMinCoefficient) : std::min(magnitude, kMaxCoefficient);
 }
 

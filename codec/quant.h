@@ -1,4 +1,5 @@
-// MPEG-2 style quantization of 8x8 DCT blocks, shared by intra frames and the residual
+// Quantization of 8x8 DCT blocks with MPEG-2's weighting matrices and a logarithmic
+// quantiser index (qindex 0..255, the step doubling every 32 indices), shared by intra frames and the residual
 // blocks of B-frames. Dequantization is exact integer arithmetic and part of the
 // bitstream contract (docs/codec.md); quantization runs only in the encoder and may use
 // float with rate-distortion rounding offsets. Quantizer objects are immutable after
@@ -22,25 +23,40 @@ extern const std::array<uint8_t, 64> kDefaultNonIntraMatrix;
 // Largest |level| the quantizer produces and the bitstream allows.
 inline constexpr int kMaxLevel = 4095;
 
-// The intra DC step for a quant_scale: min(8, quant_scale) up to 16, then
-// quant_scale / 2 capped at 16. Part of the bitstream contract.
-int intra_dc_step(int quant_scale);
+inline constexpr int kMinQIndex = 0;
+inline constexpr int kMaxQIndex = 255;
+// Indices per doubling of the step.
+inline constexpr int kQIndexPerOctave = 32;
+// Dequantization multipliers are in units of 1 / 2^kStepBits of a coefficient.
+inline constexpr int kStepBits = 8;
+
+// The quantiser scale of an index in 1/256 units: T[qindex % 32] << (qindex / 32) with
+// T[k] = round(128 * 2^(k / 32)); 128 (an MPEG-2 quantiser_scale of 0.5) at index 0,
+// 512 (scale 2) at 64, 32128 (125.5) at 255. Part of the bitstream contract.
+int quantizer_scale_q8(int qindex);
+
+// The dequantization step at natural position `position` (0..63) of a block of `kind`
+// for `qindex` (clamped to 0..255), in 1/256 coefficient units: (W[i] * scale + 8) >> 4,
+// except the intra DC, which keeps 8-bit precision or finer at fine indices:
+// min(scale, 2048) while scale <= 4096, then min(scale / 2, 4096). Every transform size
+// derives its steps from this function. Part of the bitstream contract.
+int quant_step(BlockKind kind, int qindex, int position);
 
 struct Quantizer {
   BlockKind kind = BlockKind::kIntra;
-  int quant_scale = 8;
-  // coefficient = sign(level) * ((|level| * scale[i] + 8) >> 4), i in natural order.
-  // scale[i] = W[i] * quant_scale, except intra DC: 16 * intra_dc_step(quant_scale).
+  int qindex = 0;
+  // coefficient = sign(level) * ((|level| * scale[i] + 128) >> 8), i in natural order;
+  // scale[i] = quant_step(kind, qindex, i).
   std::array<int32_t, 64> scale{};
-  // Encoder only: 16 / scale[i] and the rounding offsets (fractions of a step added
+  // Encoder only: 256 / scale[i] and the rounding offsets (fractions of a step added
   // before truncation; 0.5 is plain rounding, smaller values widen the dead zone).
   std::array<float, 64> inverse_step{};
   float rounding_dc = 0.5f;
   float rounding_ac = 0.5f;
 };
 
-// quant_scale is clamped to [1, 112].
-Quantizer make_quantizer(BlockKind kind, int quant_scale);
+// qindex is clamped to [kMinQIndex, kMaxQIndex].
+Quantizer make_quantizer(BlockKind kind, int qindex);
 
 // Quantizes DCT coefficients (natural order) to levels in [-kMaxLevel, kMaxLevel].
 // Returns the number of non-zero levels.

@@ -85,14 +85,14 @@ FaceCandidates uniform_candidates(int width, int height, const CandidateList& li
 }
 
 // An intra-coded reference as the decoder would hold it.
-ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int quant_scale) {
+ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int qindex) {
   ImageYCbCr420 reconstruction;
-  encode_intra_frame(image, CodingParams{quant_scale}, &reconstruction);
+  encode_intra_frame(image, CodingParams{qindex}, &reconstruction);
   return reconstruction;
 }
 
 TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
-  const int w = 128, h = 96, q = 8;
+  const int w = 128, h = 96, q = 128;
   // source(x, y) = reference(x + 3, y + 2): vector (+12, +8) quarter-pels.
   const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q);
   const ImageYCbCr420 source = textured_crop(w, h, 43, 42);
@@ -100,7 +100,7 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
       uniform_candidates(w, h,
                          {MotionVector{0, 0}, MotionVector{12, 8}, MotionVector{-16, 4}, MotionVector{10, 8}});
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
@@ -116,8 +116,8 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   EXPECT_EQ(stats.candidates_evaluated, 48 * 4);
   EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 0.5);
 
-  // At the suggested B quant_scale most macroblocks need no residual at all.
-  params.quant_scale = suggested_b_quant_scale(q);
+  // At the suggested B qindex most macroblocks need no residual at all.
+  params.qindex = suggested_b_qindex(q);
   BFrameStats coarser_stats;
   ImageYCbCr420 coarser;
   const std::vector<uint8_t> coarser_bytes =
@@ -136,7 +136,7 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
 }
 
 TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
-  const int w = 128, h = 64, q = 8;
+  const int w = 128, h = 64, q = 128;
   const ImageYCbCr420 source = textured_crop(w, h, 20, 20);
   const ImageYCbCr420 other = textured_crop(w, h, 20, 20, 1234);
   // Reference 0 shows the source's left half, reference 1 its right half; the rest of
@@ -160,7 +160,7 @@ TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
   ref1 = decoded_intra(ref1, q);
   const FaceCandidates zero = uniform_candidates(w, h, {MotionVector{0, 0}});
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
@@ -194,11 +194,11 @@ TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
 }
 
 TEST(BFrame, WrongCandidatesFallBackToIntra) {
-  const int w = 96, h = 64, q = 8;
+  const int w = 96, h = 64, q = 128;
   const ImageYCbCr420 source = textured_crop(w, h, 0, 0);
   const ImageYCbCr420 unrelated = decoded_intra(textured_crop(w, h, 0, 0, 555), q);
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   ImageYCbCr420 reconstruction, intra_reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
@@ -207,7 +207,7 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   EXPECT_GE(stats.mb_intra, 20) << "of " << stats.macroblocks;
   // I-frames code spatial-prediction residuals with the flat matrix, finer at equal
-  // quant_scale than the intra matrix of B-frame intra macroblocks: hence 1.5 dB.
+  // qindex than the intra matrix of B-frame intra macroblocks: hence 1.5 dB.
   EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 1.5);
   EXPECT_LT(bytes.size(), intra.size() * 6 / 5) << bytes.size() << " vs intra " << intra.size();
   ImageYCbCr420 decoded;
@@ -230,7 +230,7 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
     for (int references = 1; references <= 2; ++references) {
       for (bool refine : {false, true}) {
         BFrameParams params;
-        params.quant_scale = references == 1 ? 5 : 12;
+        params.qindex = references == 1 ? 106 : 147;
         params.sub_pel_refinement = refine;
         ImageYCbCr420 reconstruction;
         BFrameStats stats;
@@ -260,7 +260,7 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   BFrameHeader header;
   ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
   EXPECT_EQ(header.reference_count, 1);
-  EXPECT_EQ(header.quant_scale, BFrameParams{}.quant_scale);
+  EXPECT_EQ(header.qindex, BFrameParams{}.qindex);
   EXPECT_EQ(bytes[0], static_cast<uint8_t>(FaceType::kPredicted));
 
   ImageYCbCr420 out;
@@ -273,8 +273,13 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   changed[1] = kBFrameSyntaxVersion - 1;  // older entropy coding
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
   changed = bytes;
-  changed[4] = 3;
+  changed[5] = 3;  // reference count
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  changed = bytes;
+  changed[4] = 4;  // a loop filter this decoder does not know
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  changed[4] = static_cast<uint8_t>(bytes[4] ^ kLoopFilterDeblocking);  // valid either way
+  EXPECT_TRUE(decode_b_frame(changed, w, h, ref, nullptr, &out).ok());
   changed = bytes;
   changed[0] = 0;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
@@ -294,7 +299,7 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   const ImageYCbCr420 source = textured_crop(w, h, 10, 10);
   const ImageYCbCr420 ref0 = textured_crop(w, h, 12, 9), ref1 = textured_crop(w, h, 8, 11);
   BFrameParams params;
-  params.quant_scale = 4;
+  params.qindex = 96;
   const std::vector<uint8_t> valid =
       encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{8, -4}}),
                      uniform_candidates(w, h, {MotionVector{-8, 4}}), params, nullptr, nullptr);
@@ -326,9 +331,10 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
     for (uint8_t& b : bytes) b = static_cast<uint8_t>(rng());
     bytes[0] = 1;
     bytes[1] = kBFrameSyntaxVersion;
-    bytes[2] = static_cast<uint8_t>(1 + rng() % 112);
-    bytes[3] = 0;
-    bytes[4] = 2;
+    bytes[2] = static_cast<uint8_t>(rng());
+    bytes[3] = 0;  // bare references
+    bytes[4] = static_cast<uint8_t>(rng() & kLoopFilterDeblocking);
+    bytes[5] = 2;
     accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok();
   }
   SUCCEED() << accepted << " damaged payloads decoded to some image";
@@ -350,7 +356,7 @@ TEST(BFrame, EmptyCandidateListsFallBackToZeroAndNeighbours) {
 }
 
 TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
-  const int w = 96, h = 64, q = 8;
+  const int w = 96, h = 64, q = 128;
   // Smooth shading, where a logarithmic search finds the motion (see codec_motion_test).
   auto shaded = [&](int ox, int oy) {
     ImageYCbCr420 image;
@@ -372,7 +378,7 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   const ImageYCbCr420 source = shaded(45, 37);
   const FaceCandidates searched = log_search_candidates(source, reference);
   BFrameParams params;
-  params.quant_scale = q;
+  params.qindex = q;
   BFrameStats stats;
   ImageYCbCr420 reconstruction;
   const std::vector<uint8_t> bytes =
@@ -383,13 +389,17 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   EXPECT_GT(psnr(source.y, reconstruction.y), 38.0);
 }
 
-TEST(BFrame, SuggestedQuantScale) {
-  EXPECT_EQ(suggested_b_quant_scale(8), 20);
-  EXPECT_EQ(suggested_b_quant_scale(3), 8);  // 7.5 rounds up
-  EXPECT_EQ(suggested_b_quant_scale(1), 3);
-  EXPECT_EQ(suggested_b_quant_scale(44), 110);
-  EXPECT_EQ(suggested_b_quant_scale(112), 112);
-  EXPECT_EQ(suggested_b_quant_scale(200), 112);
+TEST(BFrame, SuggestedQIndex) {
+  EXPECT_EQ(suggested_b_qindex(128), 170);
+  EXPECT_EQ(suggested_b_qindex(0), 42);
+  EXPECT_EQ(suggested_b_qindex(213), 255);
+  EXPECT_EQ(suggested_b_qindex(250), 255);
+  EXPECT_EQ(suggested_b_qindex(-5), 37);
+  // 42 indices make the step about 2.5 times coarser, as the MPEG-2 style ratio did.
+  for (int q : {0, 40, 100, 150, 200}) {
+    const double ratio = double(quantizer_scale_q8(q + 42)) / quantizer_scale_q8(q);
+    EXPECT_NEAR(ratio, 2.48, 0.05) << q;
+  }
 }
 
 }  // namespace

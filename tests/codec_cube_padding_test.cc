@@ -260,7 +260,7 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
   ImageYCbCr420 padded;
   ASSERT_TRUE(pad_cube_face(pointers(faces), Face::kPX, 2, &padded).ok());
   BFrameParams params;
-  params.quant_scale = 6;
+  params.qindex = 115;  // quantiser scale 6
   ImageYCbCr420 plain_recon, padded_recon, decoded;
   BFrameStats plain_stats, padded_stats;
   const std::vector<uint8_t> plain =
@@ -284,7 +284,7 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
 }
 
 TEST(CubePadding, HeaderRejectsBordersBeyondTheLimit) {
-  std::vector<uint8_t> header = {1, kBFrameSyntaxVersion, 10, kMaxCubeBorderUnits + 1, 1, 0};
+  std::vector<uint8_t> header = {1, kBFrameSyntaxVersion, 10, kMaxCubeBorderUnits + 1, 0, 1, 0};
   BFrameHeader parsed;
   const Status status = parse_b_frame_header(header, &parsed);
   EXPECT_EQ(status.code(), ErrorCode::kCorruptData);

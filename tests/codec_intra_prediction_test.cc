@@ -121,7 +121,7 @@ TEST(IntraPrediction, EncoderChoosesHorizontalModeForHorizontalStripes) {
   for (int y = 0; y < 64; ++y) std::fill_n(image.y.begin() + 64 * y, 64, static_cast<uint8_t>((y * 37) % 200 + 20));
   for (bool directional : {true, false}) {
     CodingParams params;
-    params.quant_scale = 4;
+    params.qindex = 96;  // quantiser scale 4
     params.directional_intra = directional;
     ImageYCbCr420 reconstruction;
     const auto bytes = encode_intra_frame(image, params, &reconstruction);
@@ -161,11 +161,13 @@ TEST(IntraPrediction, EveryEncoderRestrictionDecodesToTheEncodersReconstruction)
     image.cb.push_back(static_cast<uint8_t>(100 + i % 37));
     image.cr.push_back(static_cast<uint8_t>(150 - i % 23));
   }
-  for (int quant_scale : {3, 30}) {
+  for (int qindex : {83, 189}) {  // quantiser scales about 3 and 30
+    const double scale = quantizer_scale_q8(qindex) / 256.0;
     double cost[2] = {};
     for (int restriction = 0; restriction < 4; ++restriction) {
       CodingParams params;
-      params.quant_scale = quant_scale;
+      params.qindex = qindex;
+      params.deblocking = params.cdef = false;  // the block search alone
       params.directional_intra = (restriction & 1) == 0;
       params.rd_intra_search = (restriction & 2) == 0;
       ImageYCbCr420 reconstruction, decoded;
@@ -173,14 +175,14 @@ TEST(IntraPrediction, EveryEncoderRestrictionDecodesToTheEncodersReconstruction)
       ASSERT_TRUE(decode_intra_frame(bytes, image.width, image.height, &decoded).ok());
       EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
                   decoded.cr == reconstruction.cr)
-          << "restriction " << restriction << ", quant_scale " << quant_scale;
+          << "restriction " << restriction << ", qindex " << qindex;
       if (params.directional_intra) {
         double squared_error = 0;
         for (size_t i = 0; i < image.y.size(); ++i) squared_error += std::pow(image.y[i] - decoded.y[i], 2.0);
-        cost[params.rd_intra_search ? 0 : 1] = squared_error + 0.1 * quant_scale * quant_scale * 8.0 * bytes.size();
+        cost[params.rd_intra_search ? 0 : 1] = squared_error + 0.1 * scale * scale * 8.0 * bytes.size();
       }
     }
-    EXPECT_LT(cost[0], cost[1]) << "quant_scale " << quant_scale;
+    EXPECT_LT(cost[0], cost[1]) << "qindex " << qindex;
   }
 }
 

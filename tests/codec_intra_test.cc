@@ -66,8 +66,8 @@ void expect_same_image(const ImageYCbCr420& a, const ImageYCbCr420& b) {
 TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
   for (auto [width, height] : {std::pair{256, 256}, {17, 9}, {1, 1}, {250, 130}, {16, 16}, {33, 70}}) {
     const ImageYCbCr420 source = synthetic_image(width, height, static_cast<uint32_t>(width + height));
-    for (int qs : {1, 3, 8, 20, 60, 112}) {
-      SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " qs " + std::to_string(qs));
+    for (int qs : {0, 32, 83, 128, 170, 220, 255}) {
+      SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " qindex " + std::to_string(qs));
       ImageYCbCr420 reconstruction, decoded;
       const std::vector<uint8_t> bytes = encode_intra_frame(source, {qs}, &reconstruction);
       ASSERT_GE(bytes.size(), static_cast<size_t>(kFrameHeaderBytes));
@@ -79,18 +79,18 @@ TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
       expect_same_image(decoded, reconstruction);
       ASSERT_EQ(decoded.y.size(), source.y.size());
       ASSERT_EQ(decoded.cb.size(), source.cb.size());
-      if (qs <= 3) EXPECT_GT(psnr(source.y, decoded.y), 40.0);
+      if (qs <= 83) EXPECT_GT(psnr(source.y, decoded.y), 40.0);
       // Encoding is deterministic.
       EXPECT_EQ(encode_intra_frame(source, {qs}, nullptr), bytes);
     }
   }
 }
 
-TEST(CodecFrame, QualityRisesAndSizeGrowsAsQuantScaleFalls) {
+TEST(CodecFrame, QualityRisesAndSizeGrowsAsQIndexFalls) {
   const ImageYCbCr420 source = synthetic_image(256, 256);
   double previous_psnr = 0;
   size_t previous_bytes = 0;
-  for (int qs : {112, 64, 32, 16, 8, 4, 2, 1}) {
+  for (int qs : {255, 224, 192, 160, 128, 96, 64, 32, 0}) {
     ImageYCbCr420 decoded;
     const std::vector<uint8_t> bytes = encode_intra_frame(source, {qs}, &decoded);
     CoefficientFrame coefficients;
@@ -98,21 +98,21 @@ TEST(CodecFrame, QualityRisesAndSizeGrowsAsQuantScaleFalls) {
     const double y_psnr = psnr(source.y, decoded.y);
     const double cb_psnr = psnr(source.cb, decoded.cb);
     std::printf(
-        "[ synthetic 256x256 ] qs %3d: %6zu bytes, %.3f bit/pixel, PSNR-Y %.2f dB, "
+        "[ synthetic 256x256 ] qindex %3d: %6zu bytes, %.3f bit/pixel, PSNR-Y %.2f dB, "
         "PSNR-Cb %.2f dB, coefficient cache %zu bytes (%.3f x RGB)\n",
         qs, bytes.size(), bytes.size() * 8.0 / (256 * 256), y_psnr, cb_psnr, coefficients.memory_bytes(),
         coefficients.memory_bytes() / (3.0 * 256 * 256));
-    EXPECT_GT(y_psnr, previous_psnr + 0.3) << "qs " << qs;
-    EXPECT_GT(bytes.size(), previous_bytes) << "qs " << qs;
+    EXPECT_GT(y_psnr, previous_psnr + 0.3) << "qindex " << qs;
+    EXPECT_GT(bytes.size(), previous_bytes) << "qindex " << qs;
     previous_psnr = y_psnr;
     previous_bytes = bytes.size();
-    if (qs == 8) {
+    if (qs == 128) {
       EXPECT_GT(y_psnr, 36.0);
       // The semi-decoded form is far smaller than the RGB pixels it stands for.
       EXPECT_LT(coefficients.memory_bytes(), static_cast<size_t>(0.25 * 3 * 256 * 256));
     }
   }
-  EXPECT_GT(previous_psnr, 48.0);  // qs 1
+  EXPECT_GT(previous_psnr, 48.0);  // qindex 0
 }
 
 TEST(CodecFrame, FlatImageCodesToAFewBytesAndExactly) {
@@ -123,7 +123,7 @@ TEST(CodecFrame, FlatImageCodesToAFewBytesAndExactly) {
   flat.cb.assign(50 * 30, 140);
   flat.cr.assign(50 * 30, 99);
   ImageYCbCr420 decoded;
-  const std::vector<uint8_t> bytes = encode_intra_frame(flat, {8}, nullptr);
+  const std::vector<uint8_t> bytes = encode_intra_frame(flat, {128}, nullptr);
   EXPECT_LT(bytes.size(), 40u);
   ASSERT_TRUE(decode_intra_frame(bytes, 100, 60, &decoded).ok());
   expect_same_image(decoded, flat);
@@ -132,11 +132,11 @@ TEST(CodecFrame, FlatImageCodesToAFewBytesAndExactly) {
 TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   const ImageYCbCr420 source = synthetic_image(64, 48);
   ImageYCbCr420 reconstruction, from_coefficients;
-  const std::vector<uint8_t> bytes = encode_intra_frame(source, {5}, &reconstruction);
+  const std::vector<uint8_t> bytes = encode_intra_frame(source, {106}, &reconstruction);
   CoefficientFrame coefficients;
   ASSERT_TRUE(parse_intra_frame(bytes, 64, 48, &coefficients).ok());
   EXPECT_EQ(coefficients.width, 64);
-  EXPECT_EQ(coefficients.quant_scale, 5);
+  EXPECT_EQ(coefficients.qindex, 106);
   EXPECT_EQ(coefficients.block_counts.size(), static_cast<size_t>(block_layout(64, 48).block_count()));
   reconstruct_intra_frame(coefficients, &from_coefficients);
   expect_same_image(from_coefficients, reconstruction);
@@ -160,7 +160,7 @@ TEST(CodecFrame, CoefficientEntriesRoundTripIncludingEscapes) {
 
 TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   const ImageYCbCr420 source = synthetic_image(32, 32);
-  const std::vector<uint8_t> good = encode_intra_frame(source, {8}, nullptr);
+  const std::vector<uint8_t> good = encode_intra_frame(source, {.qindex = 128, .deblocking = true, .cdef = false}, nullptr);  // no CDEF syntax
   ImageYCbCr420 out;
   EXPECT_TRUE(decode_intra_frame(good, 32, 32, &out).ok());
   auto with = [&](int index, uint8_t value) {
@@ -171,9 +171,12 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   EXPECT_EQ(with(0, 1).code(), ErrorCode::kCorruptData);                        // B-frame type
   EXPECT_EQ(with(1, kIntraSyntaxVersion + 1).code(), ErrorCode::kUnsupported);  // future syntax
   EXPECT_EQ(with(1, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
-  EXPECT_EQ(with(2, 0).code(), ErrorCode::kCorruptData);                        // quant_scale 0
-  EXPECT_EQ(with(2, 113).code(), ErrorCode::kCorruptData);
-  EXPECT_EQ(with(3, 1).code(), ErrorCode::kCorruptData);  // reserved
+  EXPECT_TRUE(with(2, 0).ok());                                                 // every qindex is valid: the finest
+  EXPECT_TRUE(with(2, 255).ok());                                               // and the coarsest
+  EXPECT_TRUE(with(3, 0).ok());                           // loop filters off: other pixels, still valid
+  EXPECT_EQ(with(3, 2).code(), ErrorCode::kCorruptData);  // CDEF without its syntax: reads past the end
+  EXPECT_EQ(with(3, 4).code(), ErrorCode::kCorruptData);  // an unknown loop filter
+  EXPECT_EQ(with(3, 0x80).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame(good, 32, kMaxFrameDimension + 1, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame({}, 32, 32, &out).code(), ErrorCode::kCorruptData);
@@ -191,7 +194,7 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
 
 TEST(CodecFrame, EveryTruncationIsReportedAsCorrupt) {
   const ImageYCbCr420 source = synthetic_image(40, 24);
-  const std::vector<uint8_t> good = encode_intra_frame(source, {6}, nullptr);
+  const std::vector<uint8_t> good = encode_intra_frame(source, {115}, nullptr);
   ImageYCbCr420 out;
   for (size_t length = 0; length < good.size(); ++length) {
     const std::span<const uint8_t> prefix(good.data(), length);
@@ -203,7 +206,7 @@ TEST(CodecFrame, EveryTruncationIsReportedAsCorrupt) {
 TEST(CodecFrame, GarbageAndBitFlipsNeverCrash) {
   std::mt19937 rng(31);
   const ImageYCbCr420 source = synthetic_image(48, 40);
-  const std::vector<uint8_t> good = encode_intra_frame(source, {10}, nullptr);
+  const std::vector<uint8_t> good = encode_intra_frame(source, {138}, nullptr);
   int decoded_ok = 0, rejected = 0;
   for (int trial = 0; trial < 1500; ++trial) {
     std::vector<uint8_t> bytes;
@@ -213,7 +216,7 @@ TEST(CodecFrame, GarbageAndBitFlipsNeverCrash) {
       if (bytes.size() >= 4) {  // mostly a valid header, to reach the entropy decoder
         bytes[0] = 0;
         bytes[1] = kIntraSyntaxVersion;
-        bytes[2] = static_cast<uint8_t>(1 + rng() % 112);
+        bytes[2] = static_cast<uint8_t>(rng());
         bytes[3] = 0;
       }
     } else {

@@ -20,34 +20,61 @@ TEST(CodecQuant, DefaultMatricesAreMpeg2) {
   for (int w : kDefaultNonIntraMatrix) EXPECT_EQ(w, 16);
 }
 
-TEST(CodecQuant, IntraDcStep) {
-  EXPECT_EQ(intra_dc_step(1), 1);
-  EXPECT_EQ(intra_dc_step(4), 4);
-  EXPECT_EQ(intra_dc_step(8), 8);
-  EXPECT_EQ(intra_dc_step(16), 8);
-  EXPECT_EQ(intra_dc_step(20), 10);
-  EXPECT_EQ(intra_dc_step(112), 16);
+TEST(CodecQuant, ScaleDoublesEvery32Indices) {
+  EXPECT_EQ(quantizer_scale_q8(0), 128);  // MPEG-2 quantiser_scale 0.5
+  EXPECT_EQ(quantizer_scale_q8(1), 131);
+  EXPECT_EQ(quantizer_scale_q8(31), 251);
+  EXPECT_EQ(quantizer_scale_q8(32), 256);  // 1
+  EXPECT_EQ(quantizer_scale_q8(128), 2048);
+  EXPECT_EQ(quantizer_scale_q8(255), 251 << 7);
+  EXPECT_EQ(quantizer_scale_q8(-3), 128);  // clamped
+  EXPECT_EQ(quantizer_scale_q8(300), 251 << 7);
+  for (int q = 1; q <= kMaxQIndex; ++q) {
+    EXPECT_GT(quantizer_scale_q8(q), quantizer_scale_q8(q - 1)) << q;
+    const double expected = 128.0 * std::pow(2.0, q / 32.0);
+    EXPECT_NEAR(quantizer_scale_q8(q) / expected, 1.0, 0.01) << q;
+  }
+}
+
+TEST(CodecQuant, StepsFollowTheMatricesAndTheDcRule) {
+  // AC: (W * scale + 8) >> 4 in 1/256 units; scale 2048 (index 128) is MPEG-2's scale 8.
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 128, 1), 16 * 2048 / 16);
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 128, 63), 83 * 2048 / 16);
+  EXPECT_EQ(quant_step(BlockKind::kNonIntra, 128, 0), 2048);
+  EXPECT_EQ(quant_step(BlockKind::kNonIntra, 1, 5), (16 * 131 + 8) >> 4);
+  // Intra DC: the scale up to 2048 (8-bit precision), flat to 4096, then half the scale
+  // up to 4096 (a DC step of 16).
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 0, 0), 128);
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 96, 0), 1024);
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 140, 0), 2048);
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 160, 0), 2048);
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 170, 0), quantizer_scale_q8(170) / 2);
+  EXPECT_EQ(quant_step(BlockKind::kIntra, 255, 0), 4096);
+  const Quantizer q = make_quantizer(BlockKind::kIntra, 77);
+  for (int i = 0; i < 64; ++i) EXPECT_EQ(q.scale[i], quant_step(BlockKind::kIntra, 77, i)) << i;
 }
 
 TEST(CodecQuant, DequantizationIsTheDocumentedIntegerFormula) {
-  const Quantizer intra = make_quantizer(BlockKind::kIntra, 5);
-  EXPECT_EQ(intra.scale[0], 16 * 5);
+  const Quantizer intra = make_quantizer(BlockKind::kIntra, 106);  // about MPEG-2's scale 5
+  EXPECT_EQ(quantizer_scale_q8(106), 159 << 3);                    // T[10] << 3 = 1272
+  EXPECT_EQ(intra.scale[0], 1272);
   EXPECT_EQ(dequantize_level(intra, 0, 3), 15);     // DC: level * dc step
-  EXPECT_EQ(dequantize_level(intra, 1, 1), 5);      // (16*5 + 8) >> 4
-  EXPECT_EQ(dequantize_level(intra, 63, -2), -52);  // (2*83*5 + 8) >> 4 = 52
+  EXPECT_EQ(dequantize_level(intra, 1, 1), 5);      // (1 * 1272 + 128) >> 8
+  EXPECT_EQ(dequantize_level(intra, 63, -2), -52);  // (2 * 6599 + 128) >> 8 = 52
   EXPECT_EQ(dequantize_level(intra, 63, 4095), kMaxCoefficient);
   EXPECT_EQ(dequantize_level(intra, 63, -4095), kMinCoefficient);
-  const Quantizer non_intra = make_quantizer(BlockKind::kNonIntra, 3);
-  EXPECT_EQ(dequantize_level(non_intra, 0, 7), 21);
-  EXPECT_EQ(dequantize_level(non_intra, 9, -1), -3);
-  EXPECT_EQ(make_quantizer(BlockKind::kIntra, 500).quant_scale, 112);
-  EXPECT_EQ(make_quantizer(BlockKind::kIntra, 0).quant_scale, 1);
+  const Quantizer fine = make_quantizer(BlockKind::kNonIntra, 0);  // step 0.5
+  EXPECT_EQ(dequantize_level(fine, 0, 7), 4);                      // 3.5 rounds up
+  EXPECT_EQ(dequantize_level(fine, 9, -1), -1);
+  EXPECT_EQ(dequantize_level(fine, 9, 4095), 2047);
+  EXPECT_EQ(make_quantizer(BlockKind::kIntra, 500).qindex, kMaxQIndex);
+  EXPECT_EQ(make_quantizer(BlockKind::kIntra, -1).qindex, kMinQIndex);
 }
 
 TEST(CodecQuant, QuantizationErrorIsBoundedByTheStep) {
   std::mt19937 rng(5);
   for (BlockKind kind : {BlockKind::kIntra, BlockKind::kNonIntra}) {
-    for (int qs : {1, 2, 8, 31, 112}) {
+    for (int qs : {0, 32, 64, 128, 200, 255}) {
       const Quantizer q = make_quantizer(kind, qs);
       for (int n = 0; n < 200; ++n) {
         float coefficients[64];
@@ -57,7 +84,8 @@ TEST(CodecQuant, QuantizationErrorIsBoundedByTheStep) {
         dequantize_block(q, levels, back);
         for (int i = 0; i < 64; ++i) {
           ASSERT_LE(std::abs(levels[i]), kMaxLevel);
-          const double step = q.scale[i] / 16.0;
+          if (std::abs(levels[i]) == kMaxLevel) continue;  // capped: the bound does not hold
+          const double step = q.scale[i] / 256.0;
           const double rounding = i == 0 ? q.rounding_dc : q.rounding_ac;
           // Truncation after adding `rounding` steps, plus half a unit of integer rounding.
           const double bound = std::max(rounding, 1.0 - rounding) * step + 0.5 + 1e-3;
@@ -70,7 +98,7 @@ TEST(CodecQuant, QuantizationErrorIsBoundedByTheStep) {
 }
 
 TEST(CodecQuant, NonIntraDeadZoneDropsSmallResiduals) {
-  const Quantizer q = make_quantizer(BlockKind::kNonIntra, 8);  // step 8
+  const Quantizer q = make_quantizer(BlockKind::kNonIntra, 128);  // step 8
   float coefficients[64] = {};
   coefficients[0] = 6.0f;   // 0.75 step: below 1 - 0.2
   coefficients[5] = -6.3f;  // also dropped
@@ -80,10 +108,10 @@ TEST(CodecQuant, NonIntraDeadZoneDropsSmallResiduals) {
   EXPECT_EQ(levels[9], 1);
 }
 
-TEST(CodecQuant, BlockTransformRoundTripAtFinestScaleIsNearLossless) {
+TEST(CodecQuant, BlockTransformRoundTripAtMpeg2sFinestScaleIsNearLossless) {
   std::mt19937 rng(9);
   for (BlockKind kind : {BlockKind::kIntra, BlockKind::kNonIntra}) {
-    const Quantizer q = make_quantizer(kind, 1);
+    const Quantizer q = make_quantizer(kind, 32);  // MPEG-2's quantiser_scale 1
     double squared = 0;
     int peak = 0;
     for (int n = 0; n < 200; ++n) {

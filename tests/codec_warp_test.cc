@@ -60,9 +60,9 @@ ImageYCbCr420 random_image(int width, int height, uint32_t seed) {
   return image;
 }
 
-ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int quant_scale) {
+ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int qindex) {
   ImageYCbCr420 reconstruction;
-  encode_intra_frame(image, CodingParams{quant_scale}, &reconstruction);
+  encode_intra_frame(image, CodingParams{qindex}, &reconstruction);
   return reconstruction;
 }
 
@@ -228,7 +228,7 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
     for (int references = 1; references <= 2; ++references) {
       for (int fields = 0; fields < 3; ++fields) {  // both, only the first, only the second
         BFrameParams params;
-        params.quant_scale = references == 1 ? 5 : 12;
+        params.qindex = references == 1 ? 106 : 147;
         const ImageYCbCr420* second = references == 2 ? &ref1 : nullptr;
         ImageYCbCr420 reconstruction;
         BFrameStats stats;
@@ -255,7 +255,7 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
 }
 
 TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
-  const int w = 128, h = 128, q = 8;
+  const int w = 128, h = 128, q = 128;
   // The reference shows the plane texture directly; the current face sees it through H.
   const ImageYCbCr420 original = sample_image(w, h, [](double x, double y, double* u, double* v) {
     *u = x;
@@ -291,7 +291,8 @@ TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
   EXPECT_GT(prediction_psnr, 40.0);
 
   BFrameParams params;
-  params.quant_scale = suggested_b_quant_scale(q);
+  params.qindex = suggested_b_qindex(q);
+  params.deblocking = params.cdef = false;  // the predictions alone
   BFrameStats warped_stats, plain_stats;
   ImageYCbCr420 warped_reconstruction, plain_reconstruction;
   const std::vector<uint8_t> warped = encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr,
@@ -327,7 +328,7 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   });
   const WarpField field0 = exact_nodes(w, h, kPlane), field1 = test_field(w, h, 1, 0, 4);
   BFrameParams params;
-  params.quant_scale = 4;
+  params.qindex = 96;
   BFrameStats stats;
   const std::vector<uint8_t> valid =
       encode_b_frame(source, ref0, &ref1, {}, {}, &field0, &field1, params, nullptr, &stats);
@@ -341,13 +342,13 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   }
   // A warp mask naming a missing reference, or unknown bits.
   std::vector<uint8_t> changed = valid;
-  changed[5] = 4;
+  changed[6] = 4;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref0, &ref1, &out).code(), ErrorCode::kCorruptData);
   const std::vector<uint8_t> one_ref =
       encode_b_frame(source, ref0, nullptr, {}, {}, &field0, nullptr, params, nullptr, nullptr);
   changed = one_ref;
-  ASSERT_EQ(changed[5], 1);
-  changed[5] = 3;
+  ASSERT_EQ(changed[6], 1);
+  changed[6] = 3;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref0, nullptr, &out).code(), ErrorCode::kCorruptData);
 
   std::mt19937 rng(9);
@@ -368,10 +369,11 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
     for (uint8_t& b : bytes) b = static_cast<uint8_t>(rng());
     bytes[0] = 1;
     bytes[1] = kBFrameSyntaxVersion;
-    bytes[2] = static_cast<uint8_t>(1 + rng() % 112);
-    bytes[3] = 0;
-    bytes[4] = 2;
-    bytes[5] = 3;
+    bytes[2] = static_cast<uint8_t>(rng());
+    bytes[3] = 0;  // bare references
+    bytes[4] = static_cast<uint8_t>(rng() & kLoopFilterDeblocking);
+    bytes[5] = 2;
+    bytes[6] = 3;
     accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out).ok();
   }
   SUCCEED() << accepted << " damaged payloads decoded to some image";

@@ -43,21 +43,21 @@ class Cli : public ::testing::Test {
 };
 testing::TempDir* Cli::dir_ = nullptr;
 
-TEST_F(Cli, InfoOfAQscaleFileShowsTheScaleAndNoQuality) {
-  const fs::path file = work("qscale.svc");
-  ASSERT_EQ(run_svc("encode --quiet --qscale 20 " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
+TEST_F(Cli, InfoOfAQindexFileShowsTheIndexAndNoQuality) {
+  const fs::path file = work("qindex.svc");
+  ASSERT_EQ(run_svc("encode --quiet --qindex 20 " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
   const CliRun info = run_svc("info " + quoted(file));
   ASSERT_EQ(info.exit_code, 0) << info.output;
-  EXPECT_NE(info.output.find("quantiser scale 20"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("quantiser index 20"), std::string::npos) << info.output;
   EXPECT_EQ(info.output.find("quality"), std::string::npos) << info.output;
   const CliRun json = run_svc("info --json " + quoted(file));
   EXPECT_NE(json.output.find("\"quality\": null"), std::string::npos) << json.output;
-  EXPECT_NE(json.output.find("\"quant_scale\": 20"), std::string::npos) << json.output;
+  EXPECT_NE(json.output.find("\"qindex\": 20"), std::string::npos) << json.output;
 
   const fs::path by_quality = work("quality.svc");
   ASSERT_EQ(run_svc("encode --quiet -q 60 " + quoted(db()) + " -o " + quoted(by_quality)).exit_code, 0);
   const CliRun quality_info = run_svc("info " + quoted(by_quality));
-  EXPECT_NE(quality_info.output.find("quality 60, quantiser scale " + std::to_string(quant_scale_for_quality(60))),
+  EXPECT_NE(quality_info.output.find("quality 60, quantiser index " + std::to_string(qindex_for_quality(60))),
             std::string::npos)
       << quality_info.output;
 }

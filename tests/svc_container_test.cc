@@ -20,7 +20,7 @@ ContainerIndex sample_index() {
   index.grid.origin = {-1, 1.5, 2};
   index.grid.spacing = {0.5, 1, 0.25};
   index.coding.quality = 70;
-  index.coding.quant_scale = 5;
+  index.coding.qindex = 5;
   index.coding.i_spacing = {3, 1, 3};
   const CellIndex cells[] = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}};
   for (const CellIndex& c : cells) {
@@ -59,7 +59,7 @@ TEST(ContainerIndex, RoundTripsEveryField) {
   EXPECT_EQ(parsed->face_height, 48u);
   EXPECT_EQ(parsed->grid.dims, index.grid.dims);
   EXPECT_EQ(parsed->grid.spacing, index.grid.spacing);
-  EXPECT_EQ(parsed->coding.quant_scale, 5u);
+  EXPECT_EQ(parsed->coding.qindex, 5u);
   EXPECT_EQ(parsed->coding.i_spacing, index.coding.i_spacing);
   ASSERT_EQ(parsed->cells.size(), 3u);
   EXPECT_EQ(parsed->cells[2].index, (CellIndex{1, 0, 1}));
@@ -158,7 +158,7 @@ void expect_same_index(const ContainerIndex& a, const ContainerIndex& b) {
   EXPECT_EQ(a.depth_mode, b.depth_mode);
   EXPECT_EQ(a.up_axis, b.up_axis);
   EXPECT_EQ(a.coding.quality, b.coding.quality);
-  EXPECT_EQ(a.coding.quant_scale, b.coding.quant_scale);
+  EXPECT_EQ(a.coding.qindex, b.coding.qindex);
   EXPECT_EQ(a.coding.i_spacing, b.coding.i_spacing);
   EXPECT_EQ(a.coding.motion, b.coding.motion);
   ASSERT_EQ(a.cells.size(), b.cells.size());
@@ -222,7 +222,7 @@ ContainerIndex rig_index() {
   index.grid.dims = {3, 1, 3};
   index.grid.origin = {-0.75, 1.6, -1.25};
   index.grid.spacing = {0.5, 1, 0.5};
-  index.coding.quant_scale = 11;
+  index.coding.qindex = 11;
   index.coding.i_spacing = {3, 1, 3};
   for (int z = 0; z < 3; ++z) {
     for (int x = 0; x < 3; ++x) {

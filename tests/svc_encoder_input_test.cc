@@ -81,7 +81,7 @@ class EncoderInput : public ::testing::Test {
   static fs::path cli() { return fs::path(SVC_BINARY_DIR) / "bin" / "svc"; }
   static bool cli_exists() { return fs::exists(cli()); }
   static std::string cli_settings(const EncoderSettings& settings) {
-    if (settings.quant_scale != 0) return " --qscale " + std::to_string(settings.quant_scale);
+    if (settings.qindex >= 0) return " --qindex " + std::to_string(settings.qindex);
     return " --quality " + std::to_string(settings.quality);
   }
 
@@ -216,8 +216,8 @@ TEST_F(EncoderInput, QualityOutOfRange) {
     expect_rejected(pristine(), "quality " + std::to_string(quality), settings);
   }
   EncoderSettings settings;
-  settings.quant_scale = 200;
-  expect_rejected(pristine(), "quantiser scale 200", settings);
+  settings.qindex = 256;
+  expect_rejected(pristine(), "quantiser index 256", settings);
 }
 
 TEST_F(EncoderInput, UnwritableOutput) {

@@ -88,7 +88,7 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
     for (size_t i = 0; i < source.y.size(); ++i) {
       source.y[i] = static_cast<uint8_t>(std::min(255, source.y[(i + 1) % source.y.size()] + 9));
     }
-    for (int q : {2, 40}) {
+    for (int q : {64, 200}) {
       const std::vector<uint8_t> intra = codec::encode_intra_frame(source, codec::CodingParams{q}, nullptr);
       seeds["seed-intra-" + size + "-q" + std::to_string(q)] = fuzz::make_frame_input(0, w, h, intra);
     }
@@ -102,7 +102,7 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
     warp.nodes.assign(static_cast<size_t>(warp.nodes_x) * warp.nodes_y, codec::WarpNode{4, -3});
     for (int refs : {1, 2}) {
       codec::BFrameParams params;
-      params.quant_scale = 12;
+      params.qindex = 147;
       const std::vector<uint8_t> b = codec::encode_b_frame(source, ref0, refs == 2 ? &ref1 : nullptr, candidates,
                                                            candidates, &warp, refs == 2 ? &warp : nullptr, params,
                                                            nullptr, nullptr);

@@ -13,7 +13,7 @@ Result<SvcMeasurement> measure_svc(const SceneFaces& scene, const EncoderSetting
   SvcMeasurement m;
   SVC_ASSIGN_OR_RETURN(m.summary, encode_database(scene.db_dir, out, settings));
   m.point.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  m.point.setting = m.summary.quant_scale;
+  m.point.setting = m.summary.qindex;
   m.point.bytes = static_cast<double>(m.summary.file_bytes);
   SVC_ASSIGN_OR_RETURN(auto reader, Reader::open(out));
   SquaredError error;
@@ -31,10 +31,10 @@ Result<SvcMeasurement> measure_svc(const SceneFaces& scene, const EncoderSetting
 }
 
 Result<std::vector<SvcMeasurement>> sweep_svc(const SceneFaces& scene, EncoderSettings settings,
-                                              const std::vector<int>& quant_scales) {
+                                              const std::vector<int>& qindices) {
   std::vector<SvcMeasurement> out;
-  for (int q : quant_scales) {
-    settings.quant_scale = q;
+  for (int q : qindices) {
+    settings.qindex = q;
     SVC_ASSIGN_OR_RETURN(SvcMeasurement m, measure_svc(scene, settings));
     out.push_back(std::move(m));
   }

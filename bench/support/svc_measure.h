@@ -9,7 +9,7 @@
 namespace svc::bench {
 
 struct SvcMeasurement {
-  RdPoint point;  // setting = quant_scale; seconds = encode time
+  RdPoint point;  // setting = qindex; seconds = encode time
   EncodeSummary summary;
 };
 
@@ -17,6 +17,6 @@ Result<SvcMeasurement> measure_svc(const SceneFaces& scene, const EncoderSetting
 
 // measure_svc at each quantiser scale, as an RD curve.
 Result<std::vector<SvcMeasurement>> sweep_svc(const SceneFaces& scene, EncoderSettings settings,
-                                              const std::vector<int>& quant_scales);
+                                              const std::vector<int>& qindices);
 
 }  // namespace svc::bench

@@ -39,6 +39,8 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   init_color_c(&table);
   init_mc_c(&table);
   init_intra_c(&table);
+  init_deblock_c(&table);
+  init_cdef_c(&table);
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);
@@ -49,6 +51,8 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_color_sse41(&table);
     init_intra_sse41(&table);
     init_mc_sse41(&table);
+    init_deblock_sse41(&table);
+    init_cdef_sse41(&table);
   }
 #endif
   return table;

@@ -28,6 +28,16 @@ unsigned active_cpu_flags();
 // Samples of an intra prediction edge: 16 left (bottom to top), the corner, 16 above.
 inline constexpr int kIntraEdgeSamples = 33;
 
+// The CDEF filter of one block (docs/codec.md, section 11.2).
+struct CdefTaps {
+  int primary;    // primary strength after the contrast adjustment, 0..15
+  int secondary;  // secondary strength: 0, 1, 2 or 4
+  int direction;  // 0..7
+  int damping;    // 2..6
+};
+// A CDEF input sample outside the plane: it takes no part in the filter.
+inline constexpr uint16_t kCdefUnavailable = 30000;
+
 struct DspTable {
   // 8x8 forward DCT (float, encoder only) and the bit-exact integer inverse; blocks are
   // 64 values, row-major.
@@ -38,7 +48,8 @@ struct DspTable {
   // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.
   int (*quantize_8x8)(const float* coefficients, const float* inverse_step, float rounding_dc, float rounding_ac,
                       int16_t* levels);
-  // coefficient = sign(level) ((|level| scale[i] + 8) >> 4) saturated to [-2048, 2047].
+  // coefficient = sign(level) ((min(|level|, 4096) scale[i] + 128) >> 8) saturated to
+  // [-2048, 2047]; scale[i] in 128..2^18 (codec/quant.h).
   void (*dequantize_8x8)(const int16_t* levels, const int32_t* scale, int16_t* coefficients);
 
   // Colour conversion (codec/color.h): one row of luma from packed RGB; one row of 4:2:0
@@ -70,6 +81,22 @@ struct DspTable {
   // Sum of absolute 8x8 Hadamard coefficients (unnormalised) of source - prediction
   // (encoder only: mode pre-selection).
   int (*satd_8x8)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
+
+  // Deblocking of one 4-sample segment of an edge (docs/codec.md, section 11): `pixels`
+  // is q0 of the first line, p_i lies at pixels - (i + 1) across, q_i at pixels + i across,
+  // line l at pixels + l along. Luma reads p3..q3 and writes at most p2..q2; chroma reads
+  // p1..q1 and writes p0, q0. beta 0..64, tc 0..24 (luma) or 0..24 (chroma).
+  void (*deblock_luma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc);
+  void (*deblock_chroma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc);
+
+  // CDEF (docs/codec.md, section 11.2): the direction 0..7 of an 8x8 block and, in
+  // *variance, the contrast of its best line fit against the orthogonal one.
+  int (*cdef_direction_8x8)(const uint8_t* pixels, ptrdiff_t stride, int32_t* variance);
+  // Filters a size x size block (8 or 4) of 16-bit samples `in` (the block's first
+  // sample, with 2 readable samples on every side, kCdefUnavailable outside the plane)
+  // into `out`.
+  void (*cdef_filter_block)(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride, int size,
+                            const CdefTaps& taps);
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.

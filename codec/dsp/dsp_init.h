@@ -11,6 +11,8 @@ void init_quant_c(DspTable* table);
 void init_color_c(DspTable* table);
 void init_mc_c(DspTable* table);
 void init_intra_c(DspTable* table);
+void init_deblock_c(DspTable* table);
+void init_cdef_c(DspTable* table);
 
 // Interpolation: the largest block side and the offset of stored intermediates.
 inline constexpr int kMaxInterpolationBlock = 64;
@@ -42,6 +44,8 @@ void init_mc_sse41(DspTable* table);
 void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
 void init_intra_sse41(DspTable* table);
+void init_deblock_sse41(DspTable* table);
+void init_cdef_sse41(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp

@@ -27,7 +27,9 @@ int quantize_8x8_c(const float* coefficients, const float* inverse_step, float r
 void dequantize_8x8_c(const int16_t* levels, const int32_t* scale, int16_t* coefficients) {
   for (int i = 0; i < 64; ++i) {
     const int level = levels[i];
-    const int magnitude = (std::abs(level) * scale[i] + 8) >> 4;
+    // Every step is at least 128 / 256, so a level beyond 4096 saturates anyway; the
+    // clamp keeps the product inside 32 bits for any int16 input.
+    const int magnitude = (std::min(std::abs(level), 4096) * scale[i] + 128) >> 8;
     coefficients[i] = static_cast<int16_t>(level < 0 ? std::max(-magnitude, -2048) : std::min(magnitude, 2047));
   }
 }

@@ -39,6 +39,11 @@ struct CodingTools {
   // leave the reference face find what lies past its edge (docs/codec.md 10.6). Off: the
   // bare reference faces, and a B-face depends on its reference faces only.
   bool cube_references = true;
+  // Every face: the deblocking filter (docs/codec.md 11), on where it lowers the error.
+  bool deblocking = true;
+  // Every face: CDEF deringing after deblocking (docs/codec.md 11.2), per 64x64 unit
+  // where it pays.
+  bool cdef = true;
 
   bool operator==(const CodingTools&) const = default;
 };
@@ -60,11 +65,13 @@ std::vector<std::string> coding_tool_names();
 Status disable_coding_tool(CodingTools* tools, std::string_view name);
 
 struct EncoderSettings {
-  // 1 (smallest) .. 100 (best). Maps to a quantiser scale (quant_scale_for_quality):
-  // 100 -> 1, 75 -> 4, 50 -> 16, 1 -> 112 (the I-faces' scale; B-faces use 2.5x).
+  // 1 (smallest) .. 100 (best), spread evenly over the quantiser indices
+  // (qindex_for_quality): 100 -> 0 (the finest step, not lossless), 75 -> 64, 50 -> 129,
+  // 1 -> 255 (the I-faces' index; B-faces use 42 more, a 2.5 times coarser step).
   int quality = 75;
-  // When non-zero, overrides quality: the codec quantiser scale, 1..112.
-  int quant_scale = 0;
+  // When 0..255, overrides quality: the codec quantiser index (docs/codec.md, section 6).
+  // -1: use quality.
+  int qindex = -1;
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
   // depend on this.
   int threads = 0;
@@ -89,7 +96,7 @@ struct EncodeSummary {
   uint64_t faces = 0;
   uint64_t raw_bytes = 0;   // 3 bytes a pixel of RGB
   uint64_t file_bytes = 0;  // size of the .svc file
-  int quant_scale = 0;
+  int qindex = 0;           // the I-faces' quantiser index
   double seconds = 0;
   FaceTypeStats intra;
   FaceTypeStats predicted;
@@ -192,7 +199,8 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
                                    const AddSettings& settings = AddSettings{},
                                    const EncodeProgress& progress = {});
 
-// Quantiser scale used for a quality (1..100). Monotonic: higher quality, finer scale.
-int quant_scale_for_quality(int quality);
+// Quantiser index used for a quality (1..100, clamped): round((100 - quality) * 255 / 99),
+// so every quality step moves the index by 2 or 3 (a step 4.5 to 6.7 % finer).
+int qindex_for_quality(int quality);
 
 }  // namespace svc

@@ -32,8 +32,8 @@ inline constexpr uint32_t kFaceChunkTag = chunk_tag('F', 'A', 'C', 'E');
 inline constexpr uint32_t kIndexChunkTag = chunk_tag('I', 'N', 'D', 'X');
 
 struct CodingRecord {
-  uint32_t quality = 0;      // 1..100 as asked, or 0 when quant_scale was given
-  uint32_t quant_scale = 0;  // codec quantiser scale used for every face
+  uint32_t quality = 0;  // 1..100 as asked, or 0 when qindex was given
+  uint32_t qindex = 0;   // the I-faces' quantiser index (B-faces: codec::suggested_b_qindex)
   std::array<int32_t, 3> i_spacing{1, 1, 1};
   MotionSearch motion = MotionSearch::kDepth;
 };

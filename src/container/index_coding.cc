@@ -212,7 +212,7 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
   const uint8_t motion = r.u8();
   r.u8();
   index.coding.quality = r.u32();
-  index.coding.quant_scale = r.u32();
+  index.coding.qindex = r.u32();
   for (int32_t& s : index.coding.i_spacing) s = r.i32();
   if (!r.ok()) return corrupt_at("index header is truncated", r.failed_at());
 
@@ -465,7 +465,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
   w.u8(static_cast<uint8_t>(index.coding.motion));
   w.u8(0);
   w.u32(index.coding.quality);
-  w.u32(index.coding.quant_scale);
+  w.u32(index.coding.qindex);
   for (int32_t s : index.coding.i_spacing) w.i32(s);
 
   // Rig entries in first-use order; a face whose camera no entry reproduces bit for bit

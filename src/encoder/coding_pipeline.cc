@@ -34,13 +34,15 @@ class Pipeline {
     for (uint32_t frame : job.frames) {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
-    intra_params_.quant_scale = static_cast<int>(index_.coding.quant_scale);
+    intra_params_.qindex = static_cast<int>(index_.coding.qindex);
     intra_params_.directional_intra = job.tools.intra_directional;
     intra_params_.rd_intra_search = job.tools.intra_rd_search;
-    b_params_.quant_scale = codec::suggested_b_quant_scale(intra_params_.quant_scale);
+    b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
     b_params_.quarter_pel = job.tools.quarter_pel;
+    intra_params_.deblocking = b_params_.deblocking = job.tools.deblocking;
+    intra_params_.cdef = b_params_.cdef = job.tools.cdef;
   }
 
   Status run() {

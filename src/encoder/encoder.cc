@@ -21,15 +21,14 @@ namespace svc {
 namespace {
 
 Status validate_settings(const EncoderSettings& settings) {
-  if (settings.quant_scale == 0 && (settings.quality < 1 || settings.quality > 100)) {
+  if (settings.qindex < 0 && (settings.quality < 1 || settings.quality > 100)) {
     return Status(ErrorCode::kInvalidArgument,
                   "quality " + std::to_string(settings.quality) + " is outside 1..100");
   }
-  if (settings.quant_scale != 0 &&
-      (settings.quant_scale < codec::kMinQuantScale || settings.quant_scale > codec::kMaxQuantScale)) {
-    return Status(ErrorCode::kInvalidArgument, "quantiser scale " + std::to_string(settings.quant_scale) +
-                                                   " is outside " + std::to_string(codec::kMinQuantScale) + ".." +
-                                                   std::to_string(codec::kMaxQuantScale));
+  if (settings.qindex < -1 || settings.qindex > codec::kMaxQIndex) {
+    return Status(ErrorCode::kInvalidArgument, "quantiser index " + std::to_string(settings.qindex) +
+                                                   " is outside " + std::to_string(codec::kMinQIndex) + ".." +
+                                                   std::to_string(codec::kMaxQIndex) + " (or -1 for the quality)");
   }
   if (settings.threads < 0 || settings.threads > 1024) {
     return Status(ErrorCode::kInvalidArgument,
@@ -97,19 +96,11 @@ Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manife
 
 EncoderSettings default_encoder_settings() { return EncoderSettings{}; }
 
-int quant_scale_for_quality(int quality) {
-  quality = std::clamp(quality, 1, 100);
-  // 100 -> 1 (finest), 75 (the default) -> 4, 50 -> 16, geometric in between: each
-  // quality step scales the step size by the same factor. Below 50 the scale rises
-  // linearly to kMaxQuantScale at 1, so every quality keeps a distinct meaning. The
-  // scale is the I-faces'; B-faces use suggested_b_quant_scale of it (2.5x).
-  double scale;
-  if (quality >= 50) {
-    scale = std::pow(4.0, (100.0 - quality) / 25.0);
-  } else {
-    scale = 16.0 + (50.0 - quality) * (codec::kMaxQuantScale - 16.0) / 49.0;
-  }
-  return std::clamp(static_cast<int>(std::lround(scale)), codec::kMinQuantScale, codec::kMaxQuantScale);
+int qindex_for_quality(int quality) {
+  // The index is logarithmic in the step, so an even spread gives every quality step the
+  // same relative change of step size. Integer rounding half up, the same on every machine.
+  const int steps_from_best = 100 - std::clamp(quality, 1, 100);
+  return (steps_from_best * codec::kMaxQIndex * 2 + 99) / (2 * 99);
 }
 
 Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings) {
@@ -120,8 +111,7 @@ Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const Encode
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
   }
-  const int quant_scale = settings.quant_scale != 0 ? settings.quant_scale
-                                                    : quant_scale_for_quality(settings.quality);
+  const int qindex = settings.qindex >= 0 ? settings.qindex : qindex_for_quality(settings.quality);
   ContainerIndex& index = plan.index;
   index.face_width = static_cast<uint32_t>(manifest.face_width);
   index.face_height = static_cast<uint32_t>(manifest.face_height);
@@ -133,8 +123,8 @@ Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const Encode
   }
   index.depth_mode = manifest.depth_mode;
   index.up_axis = manifest.up_axis;
-  index.coding.quality = settings.quant_scale != 0 ? 0 : static_cast<uint32_t>(settings.quality);
-  index.coding.quant_scale = static_cast<uint32_t>(quant_scale);
+  index.coding.quality = settings.qindex >= 0 ? 0 : static_cast<uint32_t>(settings.quality);
+  index.coding.qindex = static_cast<uint32_t>(qindex);
   index.coding.motion = settings.motion;
   index.cells.reserve(manifest.cells.size());
   for (const CellSource& source : manifest.cells) {
@@ -186,7 +176,7 @@ EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
   EncodeSummary summary;
   summary.cells = plan.index.cells.size();
   summary.faces = frames;
-  summary.quant_scale = static_cast<int>(plan.index.coding.quant_scale);
+  summary.qindex = static_cast<int>(plan.index.coding.qindex);
   summary.raw_bytes = uint64_t{3} * plan.index.face_width * plan.index.face_height * frames;
   summary.intra = plan.index.stats[0];
   summary.predicted = plan.index.stats[1];

@@ -304,7 +304,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
   info.grid_origin = index.grid.origin;
   info.grid_spacing = index.grid.spacing;
   info.quality = static_cast<int>(index.coding.quality);
-  info.quant_scale = static_cast<int>(index.coding.quant_scale);
+  info.qindex = static_cast<int>(index.coding.qindex);
   info.i_spacing = index.coding.i_spacing;
   info.motion = index.coding.motion == MotionSearch::kDepth ? "depth" : "logarithmic";
   info.up_axis = "xyz"[static_cast<int>(index.up_axis)];

@@ -72,8 +72,9 @@ std::string check_inverse_dct(const Tables& reference, const Tables& variant, Ra
 
 codec::Quantizer random_quantizer(Random& random) {
   const auto kind = random.uniform(0, 1) ? codec::BlockKind::kIntra : codec::BlockKind::kNonIntra;
-  return codec::make_quantizer(kind, random.uniform(0, 3) == 0 ? (random.uniform(0, 1) ? 1 : 112)
-                                                               : random.uniform(1, 112));
+  return codec::make_quantizer(kind, random.uniform(0, 3) == 0
+                                         ? (random.uniform(0, 1) ? codec::kMinQIndex : codec::kMaxQIndex)
+                                         : random.uniform(codec::kMinQIndex, codec::kMaxQIndex));
 }
 
 // Coefficients spread over the whole range, some exactly on a rounding boundary (where
@@ -102,7 +103,7 @@ std::string check_quantize(const Tables& reference, const Tables& variant, Rando
         reference.quantize_8x8(coefficients, q.inverse_step.data(), q.rounding_dc, q.rounding_ac, expected);
     const int actual_count =
         variant.quantize_8x8(coefficients, q.inverse_step.data(), q.rounding_dc, q.rounding_ac, actual);
-    const std::string input = " (quant_scale " + std::to_string(q.quant_scale) + ")";
+    const std::string input = " (qindex " + std::to_string(q.qindex) + ")";
     if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) return diff + input;
     if (expected_count != actual_count) {
       return "non-zero count: reference " + std::to_string(expected_count) + ", variant " +
@@ -130,7 +131,7 @@ std::string check_dequantize(const Tables& reference, const Tables& variant, Ran
     reference.dequantize_8x8(levels, q.scale.data(), expected);
     variant.dequantize_8x8(levels, q.scale.data(), actual);
     if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) {
-      return diff + " (quant_scale " + std::to_string(q.quant_scale) + ")";
+      return diff + " (qindex " + std::to_string(q.qindex) + ")";
     }
   }
   return {};

@@ -2,6 +2,7 @@
 // first differing position, and the registry entry each kernel family provides.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -104,6 +105,7 @@ std::vector<Kernel> colour_kernels();
 std::vector<Kernel> motion_kernels();
 std::vector<Kernel> flow_kernels();
 std::vector<Kernel> intra_kernels();
+std::vector<Kernel> filter_kernels();
 
 // Keeps benchmark results alive without I/O.
 inline volatile int bench_sink = 0;

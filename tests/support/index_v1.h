@@ -23,7 +23,7 @@ inline std::vector<uint8_t> serialize_index_v1(const ContainerIndex& index) {
   w.u8(static_cast<uint8_t>(index.coding.motion));
   w.u8(0);
   w.u32(index.coding.quality);
-  w.u32(index.coding.quant_scale);
+  w.u32(index.coding.qindex);
   for (int32_t s : index.coding.i_spacing) w.i32(s);
   w.u32(static_cast<uint32_t>(index.cells.size()));
   for (const CellRecord& cell : index.cells) {

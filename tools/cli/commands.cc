@@ -42,7 +42,7 @@ json summary_json(const EncodeSummary& s, const std::filesystem::path& db, const
   j["raw_bytes"] = s.raw_bytes;
   j["file_bytes"] = s.file_bytes;
   j["compression_ratio"] = s.file_bytes ? static_cast<double>(s.raw_bytes) / s.file_bytes : 0.0;
-  j["quant_scale"] = s.quant_scale;
+  j["qindex"] = s.qindex;
   j["seconds"] = s.seconds;
   j["face_types"] = {{"intra", face_type_stats_json(s.intra)}, {"predicted", face_type_stats_json(s.predicted)}};
   return j;
@@ -57,7 +57,7 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out) {
               s.raw_bytes ? 8.0 * s.file_bytes / (s.raw_bytes / 3.0) : 0.0);
   print_face_type_stats("I-faces", s.intra);
   print_face_type_stats("B-faces", s.predicted);
-  std::printf("  quantiser scale %d, %.2f s (%.1f faces/s)\n", s.quant_scale, s.seconds,
+  std::printf("  quantiser index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
               s.seconds > 0 ? s.faces / s.seconds : 0.0);
 }
 
@@ -94,12 +94,13 @@ Result<QualityReport> measure_encoded(const EncodeOptions& options) {
 // -v: the settings in effect, before the work starts.
 void print_settings(const EncodeOptions& options) {
   const EncoderSettings& s = options.settings;
-  const int scale = s.quant_scale ? s.quant_scale : quant_scale_for_quality(s.quality);
+  const bool explicit_index = s.qindex >= 0;
+  const int qindex = explicit_index ? s.qindex : qindex_for_quality(s.quality);
   std::fprintf(
       stderr,
-      "svc: encoding %s: %s%d (quantiser scale %d), I-cube spacing %d,%d,%d%s, motion from %s, %d threads\n",
-      options.db_dir.string().c_str(), s.quant_scale ? "qscale " : "quality ",
-      s.quant_scale ? s.quant_scale : s.quality, scale, s.i_spacing[0], s.i_spacing[1], s.i_spacing[2],
+      "svc: encoding %s: %s%d (quantiser index %d), I-cube spacing %d,%d,%d%s, motion from %s, %d threads\n",
+      options.db_dir.string().c_str(), explicit_index ? "qindex " : "quality ",
+      explicit_index ? s.qindex : s.quality, qindex, s.i_spacing[0], s.i_spacing[1], s.i_spacing[2],
       s.intra_only ? " (intra only)" : "", s.motion == MotionSearch::kLogarithmic ? "log search" : "depth",
       resolve_thread_count(s.threads));
 }

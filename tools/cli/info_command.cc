@@ -22,9 +22,9 @@ std::string triple_text(const std::array<double, 3>& v) {
   return out;
 }
 
-// A file encoded with --qscale records no quality (0): only its scale is shown.
+// A file encoded with --qindex records no quality (0): only its index is shown.
 std::string coding_scale_text(const FileInfo& info) {
-  const std::string scale = "quantiser scale " + std::to_string(info.quant_scale);
+  const std::string scale = "quantiser index " + std::to_string(info.qindex);
   if (info.quality <= 0) return scale;
   return "quality " + std::to_string(info.quality) + ", " + scale;
 }
@@ -52,7 +52,7 @@ json info_json(const std::filesystem::path& input, const FileInfo& info, const s
   j["faces"] = cells.size() * kFaceCount;
   // A file encoded with an explicit quantiser scale has no quality.
   j["coding"] = {{"quality", info.quality > 0 ? json(info.quality) : json(nullptr)},
-                 {"quant_scale", info.quant_scale},
+                 {"qindex", info.qindex},
                  {"i_spacing", info.i_spacing},
                  {"motion", info.motion}};
   j["face_types"] = {{"intra", face_type_stats_json(info.face_type_stats[0])},
