@@ -322,10 +322,11 @@ TEST_F(ReaderAccess, SemiDecodedIFacesAreChargedWhatTheyHold) {
   const ReaderStats stats = (*reader)->stats();
   ASSERT_EQ(stats.coefficient_cache.entries, i_faces);
   EXPECT_EQ(stats.coefficient_cache.bytes_held, expected_bytes);
-  // Two bytes a non-zero level plus a fixed ~220 bytes a face: on these tiny, busy
-  // 48x48 faces about a third of RGB; svc-bench-access reports the 256x256 sample scenes.
+  // Two bytes a non-zero level plus a fixed ~300 bytes a face (modes, counts, CDEF
+  // parameters): on these tiny, busy 48x48 faces about half of RGB; svc-bench-access
+  // reports the 256x256 sample scenes.
   const double per_face = static_cast<double>(stats.coefficient_cache.bytes_held) / i_faces;
-  EXPECT_LT(per_face / (48.0 * 48.0 * 3.0), 0.5) << per_face << " bytes per I-face";
+  EXPECT_LT(per_face / (48.0 * 48.0 * 3.0), 0.6) << per_face << " bytes per I-face";
   EXPECT_LT(static_cast<double>(levels) / i_faces, 48.0 * 48.0 * 1.5 / 2) << "not sparse";
 }
 
