@@ -22,13 +22,14 @@
 
 #include "codec/intra_codec.h"
 #include "codec/motion.h"
+#include "codec/motion_compensation.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
 namespace svc::codec {
 
 inline constexpr uint8_t kBFrameSyntaxVersion = 3;
-// Frame type, syntax version, quant_scale, reserved zero, reference count, warp mask.
+// Frame type, syntax version, quant_scale, interpolation filter, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 6;
 
 // The coding of one macroblock, as the decoder reports it (svc inspect draws intra red,
@@ -78,6 +79,11 @@ struct BFrameParams {
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
   int inter_evaluations = 2;
+  // Codes the frame with each interpolation filter bank (regular, smooth, bilinear) and
+  // keeps the one of least SSD + lambda * bits; off, the regular bank only. The sharp
+  // regular filter loses to smoother ones on noisy references seen at other scales
+  // (docs/codec.md, 10.5). Triples the encoder's B-frame time.
+  bool switchable_filter = true;
 };
 
 struct BFrameStats {
@@ -127,6 +133,7 @@ struct BFrameHeader {
   int quant_scale = 0;
   int reference_count = 0;  // 1 or 2
   int warp_mask = 0;        // bit r: reference r may be warped
+  InterpolationFilter filter = InterpolationFilter::kRegular;
 };
 
 // Validates and reads the header of a B-frame payload (kCorruptData / kUnsupported).

@@ -209,7 +209,9 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   if (bytes[2] < kMinQuantScale || bytes[2] > kMaxQuantScale) {
     return corrupt("byte 2: quant_scale " + std::to_string(bytes[2]) + " outside 1..112");
   }
-  if (bytes[3] != 0) return corrupt("byte 3: reserved byte is " + std::to_string(bytes[3]));
+  if (bytes[3] >= kInterpolationFilterCount) {
+    return corrupt("byte 3: interpolation filter " + std::to_string(bytes[3]) + " is not 0, 1 or 2");
+  }
   if (bytes[4] != 1 && bytes[4] != 2) {
     return corrupt("byte 4: reference count " + std::to_string(bytes[4]) + " is not 1 or 2");
   }
@@ -220,6 +222,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   out->quant_scale = bytes[2];
   out->reference_count = bytes[4];
   out->warp_mask = bytes[5];
+  out->filter = static_cast<InterpolationFilter>(bytes[3]);
   return Status::Ok();
 }
 
@@ -244,6 +247,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   FrameState s;
   init_state(s, width, height, header.quant_scale, &ref0, ref1);
   s.warp_mask = header.warp_mask;
+  s.filter = header.filter;
   if (modes != nullptr) {
     modes->clear();
     modes->reserve(s.macroblocks.size());

@@ -123,7 +123,7 @@ class BFrameEncoder {
     // (nearly) equal corners it predicts what a translation does, at a higher price.
     unsigned screen_warp = 0;
     for (int r = 0; r < s_.reference_count; ++r) {
-      predict_macroblock_luma(*s_.references[r], mx, my, best[r], luma[r].data());
+      predict_macroblock_luma(*s_.references[r], mx, my, best[r], luma[r].data(), s_.filter);
       if ((s_.warp_mask >> r) & 1) {
         const std::array<WarpNode, 4> corners = macroblock_corners(s_, r, mx, my);
         int spread = 0;
@@ -252,11 +252,12 @@ class BFrameEncoder {
     WarpCache& cache = warp_cache_[static_cast<size_t>(reference)];
     const WarpCorners corners = macroblock_corners(s_, reference, mx_, my_);
     if (!cache.luma) {
-      predict_warp_macroblock_luma(*s_.references[reference], mx_, my_, corners, cache.prediction.y.data());
+      predict_warp_macroblock_luma(*s_.references[reference], mx_, my_, corners, cache.prediction.y.data(),
+                                   s_.filter);
       cache.luma = true;
     }
     if (with_chroma && !cache.chroma) {
-      predict_warp_macroblock_chroma(*s_.references[reference], mx_, my_, corners, &cache.prediction);
+      predict_warp_macroblock_chroma(*s_.references[reference], mx_, my_, corners, &cache.prediction, s_.filter);
       cache.chroma = true;
     }
     return cache.prediction;
@@ -344,7 +345,7 @@ class BFrameEncoder {
       tried_.push_back(v);
       const double rate = lambda_sad_ * vector_bits(reference, v);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
-      const int sad = sad_macroblock_luma(ref, mx_, my_, v, source, source_.strides[0]);
+      const int sad = sad_macroblock_luma(ref, mx_, my_, v, source, source_.strides[0], s_.filter);
       if (stats != nullptr) ++stats->sad_evaluations;
       const double cost = sad + rate;
       if (cost < best_cost) {
@@ -528,20 +529,20 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                         stats);
 }
 
-std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
-                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
-                                    const FaceCandidates& candidates1, const WarpField* warp0,
-                                    const WarpField* warp1, const BFrameParams& params,
-                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
+namespace {
+
+// The whole frame coded with one filter bank (arguments already validated).
+std::vector<uint8_t> encode_with_filter(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                        const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                        const FaceCandidates& candidates1, const WarpField* warp0,
+                                        const WarpField* warp1, const BFrameParams& params,
+                                        InterpolationFilter filter, ImageYCbCr420* reconstruction,
+                                        BFrameStats* stats) {
   const int width = source.width, height = source.height;
-  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension ||
-      !consistent_image(source, width, height) || !consistent_image(ref0, width, height) ||
-      (ref1 != nullptr && !consistent_image(*ref1, width, height))) {
-    return {};
-  }
   const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
   FrameState state;
   init_state(state, width, height, quant_scale, &ref0, ref1);
+  state.filter = filter;
   const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
   for (int r = 0; r < state.reference_count; ++r) {
     const WarpField* field = fields[r];
@@ -563,7 +564,7 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
   }
 
   std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted),  kBFrameSyntaxVersion,
-                                static_cast<uint8_t>(quant_scale),           0,
+                                static_cast<uint8_t>(quant_scale),           static_cast<uint8_t>(filter),
                                 static_cast<uint8_t>(state.reference_count), static_cast<uint8_t>(state.warp_mask)};
   RangeEncoder encoder(&bytes);
   BFrameEncoder coder(state, padded, params);
@@ -595,6 +596,56 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
   }
   if (reconstruction != nullptr) crop_output(state, reconstruction);
   return bytes;
+}
+
+int64_t image_squared_error(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  const int cw = (a.width + 1) / 2, ch = (a.height + 1) / 2;
+  return squared_error(a.y.data(), a.width, b.y.data(), b.width, a.width, a.height) +
+         squared_error(a.cb.data(), cw, b.cb.data(), cw, cw, ch) +
+         squared_error(a.cr.data(), cw, b.cr.data(), cw, cw, ch);
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                    const FaceCandidates& candidates1, const WarpField* warp0,
+                                    const WarpField* warp1, const BFrameParams& params,
+                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
+  const int width = source.width, height = source.height;
+  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension ||
+      !consistent_image(source, width, height) || !consistent_image(ref0, width, height) ||
+      (ref1 != nullptr && !consistent_image(*ref1, width, height))) {
+    return {};
+  }
+  if (!params.switchable_filter) {
+    return encode_with_filter(source, ref0, ref1, candidates0, candidates1, warp0, warp1, params,
+                              InterpolationFilter::kRegular, reconstruction, stats);
+  }
+  const int quant_scale = std::clamp(params.quant_scale, kMinQuantScale, kMaxQuantScale);
+  const double lambda = params.lambda_factor * quant_scale * quant_scale;
+  std::vector<uint8_t> best_bytes;
+  ImageYCbCr420 best_reconstruction;
+  BFrameStats best_stats;
+  double best_cost = 0;
+  for (int f = 0; f < kInterpolationFilterCount; ++f) {
+    ImageYCbCr420 trial_reconstruction;
+    BFrameStats trial_stats;
+    std::vector<uint8_t> bytes = encode_with_filter(source, ref0, ref1, candidates0, candidates1, warp0, warp1,
+                                                    params, static_cast<InterpolationFilter>(f),
+                                                    &trial_reconstruction, &trial_stats);
+    const double cost = static_cast<double>(image_squared_error(source, trial_reconstruction)) +
+                        lambda * 8.0 * static_cast<double>(bytes.size());
+    if (f == 0 || cost < best_cost) {  // ties keep the earlier bank
+      best_cost = cost;
+      best_bytes = std::move(bytes);
+      best_reconstruction = std::move(trial_reconstruction);
+      best_stats = std::move(trial_stats);
+    }
+  }
+  if (reconstruction != nullptr) *reconstruction = std::move(best_reconstruction);
+  if (stats != nullptr) *stats = std::move(best_stats);
+  return best_bytes;
 }
 
 }  // namespace svc::codec

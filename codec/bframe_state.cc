@@ -157,8 +157,9 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out) {
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
-  predict_macroblock(*s.references[first_reference], mx, my, vectors[first_reference], &first);
-  if (mode == MacroblockMode::kBidirectional) predict_macroblock(*s.references[1], mx, my, vectors[1], &second);
+  predict_macroblock(*s.references[first_reference], mx, my, vectors[first_reference], &first, s.filter);
+  if (mode == MacroblockMode::kBidirectional)
+    predict_macroblock(*s.references[1], mx, my, vectors[1], &second, s.filter);
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }
 
@@ -166,9 +167,9 @@ void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode m
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
   predict_warp_macroblock(*s.references[first_reference], mx, my, macroblock_corners(s, first_reference, mx, my),
-                          &first);
+                          &first, s.filter);
   if (mode == MacroblockMode::kBidirectional) {
-    predict_warp_macroblock(*s.references[1], mx, my, macroblock_corners(s, 1, mx, my), &second);
+    predict_warp_macroblock(*s.references[1], mx, my, macroblock_corners(s, 1, mx, my), &second, s.filter);
   }
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }

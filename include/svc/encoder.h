@@ -26,6 +26,9 @@ struct CodingTools {
   bool sub_pel_refinement = true;
   // B-faces: quarter-pel vectors (off: the encoder keeps to half-pel positions).
   bool quarter_pel = true;
+  // B-faces: each face picks its interpolation filter bank (regular, smooth, bilinear) by
+  // rate-distortion cost (off: the regular bank only; the encoder codes each face once).
+  bool switchable_filter = true;
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.

@@ -17,6 +17,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"warped-prediction", &CodingTools::warped_prediction},
     CodingToolEntry{"sub-pel-refinement", &CodingTools::sub_pel_refinement},
     CodingToolEntry{"quarter-pel", &CodingTools::quarter_pel},
+    CodingToolEntry{"switchable-filter", &CodingTools::switchable_filter},
 };
 
 }  // namespace
