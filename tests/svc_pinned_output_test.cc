@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "e94a9da5f621b99fe9a0e0c2eac9124b18fee020a35bb8ce19edfaaacc5bf4f2",
-     "3d8bcc095ef60928e74d4513b83b82d2b61ac2f796d06b1534996c91b4de98cf"},
+     "fd7911669a0003fd9ffc420c978777839bbd846d6d53839337a29ca388396632",
+     "57bb5f9899fa08560a8ce12ef95b582f98bdafaf39045b8322ad60589cb74742"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "f8f737ad5c11071d0f134b0e352043736e0277c3eb2b36ed8f31f091ef42a70b",
-     "87f44591816cd5a061d19eb56043a0b7306d5bddcfd5bb363eb7c5438880998d"},
+     "677f694a9a12e4335dbe638ca07d343ccee5d9d8ab3b50df14051d701d11e232",
+     "c638b206a0be813933848cae2dc8dac4874f738d7389de0e2f7322251d3ed3cc"},
 };
 
 std::string file_sha256(const fs::path& path) {
