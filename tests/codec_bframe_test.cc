@@ -357,19 +357,20 @@ ImageYCbCr420 half_pel_blur(const ImageYCbCr420& image) {
 
 TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
   const int w = 64, h = 48;
-  const ImageYCbCr420 ref = decoded_intra(textured_crop(w, h, 20, 20), 3);
+  const ImageYCbCr420 ref = decoded_intra(textured_crop(w, h, 20, 20), 83);
   const ImageYCbCr420 source = half_pel_blur(ref);
   const FaceCandidates candidates = uniform_candidates(w, h, {MotionVector{2, 0}});
   BFrameParams params;
-  params.quant_scale = 6;
+  params.qindex = 115;  // quantiser scale 6
   params.sub_pel_refinement = false;
+  const double scale = quantizer_scale_q8(params.qindex) / 256.0;
   auto cost = [&](const std::vector<uint8_t>& bytes, const ImageYCbCr420& decoded) {
     double squared = 0;
     for (size_t i = 0; i < source.y.size(); ++i) squared += std::pow(source.y[i] - decoded.y[i], 2);
     for (size_t i = 0; i < source.cb.size(); ++i) {
       squared += std::pow(source.cb[i] - decoded.cb[i], 2) + std::pow(source.cr[i] - decoded.cr[i], 2);
     }
-    return squared + params.lambda_factor * params.quant_scale * params.quant_scale * 8.0 * bytes.size();
+    return squared + params.lambda_factor * scale * scale * 8.0 * bytes.size();
   };
   std::vector<double> costs;
   for (bool switchable : {false, true}) {
