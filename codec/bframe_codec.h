@@ -22,6 +22,7 @@
 
 #include "codec/intra_codec.h"
 #include "codec/motion.h"
+#include "codec/motion_compensation.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
@@ -29,8 +30,8 @@ namespace svc::codec {
 
 inline constexpr uint8_t kBFrameSyntaxVersion = 5;
 // Frame type, syntax version, qindex, reference border units, loop filter flags,
-// reference count, warp mask.
-inline constexpr int kBFrameHeaderBytes = 7;
+// interpolation filter, reference count, warp mask.
+inline constexpr int kBFrameHeaderBytes = 8;
 
 // The border units (codec/cube_padding.h) of references `extra` samples wider and taller
 // than the face (a border of extra / 2 on each side), or -1 when `extra` is not a valid
@@ -92,6 +93,11 @@ struct BFrameParams {
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
   int inter_evaluations = 2;
+  // Codes the frame with each interpolation filter bank (regular, smooth, bilinear) and
+  // keeps the one of least SSD + lambda * bits; off, the regular bank only. The sharp
+  // regular filter loses to smoother ones on noisy references seen at other scales
+  // (docs/codec.md, 10.5). Triples the encoder's B-frame time.
+  bool switchable_filter = true;
 };
 
 struct BFrameStats {
@@ -149,6 +155,7 @@ struct BFrameHeader {
   int loop_filters = 0;  // kLoopFilter* bits (intra_codec.h)
   int reference_count = 0;  // 1 or 2
   int warp_mask = 0;        // bit r: reference r may be warped
+  InterpolationFilter filter = InterpolationFilter::kRegular;
 };
 
 // Validates and reads the header of a B-frame payload (kCorruptData / kUnsupported).

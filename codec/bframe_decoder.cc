@@ -215,18 +215,22 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   if ((bytes[4] & ~kLoopFilterKnownBits) != 0) {
     return corrupt("byte 4: unknown loop filter flags " + std::to_string(bytes[4]));
   }
-  if (bytes[5] != 1 && bytes[5] != 2) {
-    return corrupt("byte 5: reference count " + std::to_string(bytes[5]) + " is not 1 or 2");
+  if (bytes[5] >= kInterpolationFilterCount) {
+    return corrupt("byte 5: interpolation filter " + std::to_string(bytes[5]) + " is not 0, 1 or 2");
   }
-  if ((bytes[6] & ~((1 << bytes[5]) - 1)) != 0) {
-    return corrupt("byte 6: warp mask " + std::to_string(bytes[6]) + " names a reference beyond the " +
-                   std::to_string(bytes[5]) + " present");
+  if (bytes[6] != 1 && bytes[6] != 2) {
+    return corrupt("byte 6: reference count " + std::to_string(bytes[6]) + " is not 1 or 2");
+  }
+  if ((bytes[7] & ~((1 << bytes[6]) - 1)) != 0) {
+    return corrupt("byte 7: warp mask " + std::to_string(bytes[7]) + " names a reference beyond the " +
+                   std::to_string(bytes[6]) + " present");
   }
   out->qindex = bytes[2];  // every byte value is a valid index
   out->border_units = bytes[3];
   out->loop_filters = bytes[4];
-  out->reference_count = bytes[5];
-  out->warp_mask = bytes[6];
+  out->filter = static_cast<InterpolationFilter>(bytes[5]);
+  out->reference_count = bytes[6];
+  out->warp_mask = bytes[7];
   return Status::Ok();
 }
 
@@ -255,6 +259,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   FrameState s;
   init_state(s, width, height, header.qindex, &ref0, ref1, header.border_units);
   s.warp_mask = header.warp_mask;
+  s.filter = header.filter;
   if (modes != nullptr) {
     modes->clear();
     modes->reserve(s.macroblocks.size());

@@ -168,7 +168,7 @@ class BFrameEncoder {
     unsigned screen_warp = 0;
     for (int r = 0; r < s_.reference_count; ++r) {
       predict_macroblock_luma(*s_.references[r], reference_mb(s_, mx), reference_mb(s_, my), best[r],
-                              luma[r].data());
+                              luma[r].data(), s_.filter);
       if ((s_.warp_mask >> r) & 1) {
         const std::array<WarpNode, 4> corners = macroblock_corners(s_, r, mx, my);
         int spread = 0;
@@ -298,12 +298,12 @@ class BFrameEncoder {
     const WarpCorners corners = macroblock_corners(s_, reference, mx_, my_);
     if (!cache.luma) {
       predict_warp_macroblock_luma(*s_.references[reference], reference_mb(s_, mx_), reference_mb(s_, my_), corners,
-                                   cache.prediction.y.data());
+                                   cache.prediction.y.data(), s_.filter);
       cache.luma = true;
     }
     if (with_chroma && !cache.chroma) {
       predict_warp_macroblock_chroma(*s_.references[reference], reference_mb(s_, mx_), reference_mb(s_, my_),
-                                     corners, &cache.prediction);
+                                     corners, &cache.prediction, s_.filter);
       cache.chroma = true;
     }
     return cache.prediction;
@@ -391,8 +391,8 @@ class BFrameEncoder {
       tried_.push_back(v);
       const double rate = lambda_sad_ * vector_bits(reference, v);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
-      const int sad =
-          sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source, source_.strides[0]);
+      const int sad = sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source,
+                                          source_.strides[0], s_.filter);
       if (stats != nullptr) ++stats->sad_evaluations;
       const double cost = sad + rate;
       if (cost < best_cost) {
@@ -575,22 +575,21 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                         stats);
 }
 
-std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
-                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
-                                    const FaceCandidates& candidates1, const WarpField* warp0,
-                                    const WarpField* warp1, const BFrameParams& params,
-                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
+namespace {
+
+// The whole frame coded with one filter bank (arguments already validated).
+std::vector<uint8_t> encode_with_filter(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                        const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                        const FaceCandidates& candidates1, const WarpField* warp0,
+                                        const WarpField* warp1, const BFrameParams& params,
+                                        InterpolationFilter filter, ImageYCbCr420* reconstruction,
+                                        BFrameStats* stats) {
   const int width = source.width, height = source.height;
   const int border_units = reference_border_units(ref0.width - width);
-  const int padded_width = ref0.width, padded_height = height + (ref0.width - width);
-  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension || border_units < 0 ||
-      !consistent_image(source, width, height) || !consistent_image(ref0, padded_width, padded_height) ||
-      (ref1 != nullptr && !consistent_image(*ref1, padded_width, padded_height))) {
-    return {};
-  }
   const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
   FrameState state;
   init_state(state, width, height, qindex, &ref0, ref1, border_units);
+  state.filter = filter;
   const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
   for (int r = 0; r < state.reference_count; ++r) {
     const WarpField* field = fields[r];
@@ -616,6 +615,7 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                 static_cast<uint8_t>(qindex),
                                 static_cast<uint8_t>(border_units),
                                 0,
+                                static_cast<uint8_t>(filter),
                                 static_cast<uint8_t>(state.reference_count),
                                 static_cast<uint8_t>(state.warp_mask)};
   RangeEncoder encoder(&bytes);
@@ -656,6 +656,58 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
   }
   if (reconstruction != nullptr) crop_output(state, reconstruction);
   return bytes;
+}
+
+int64_t image_squared_error(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  const int cw = (a.width + 1) / 2, ch = (a.height + 1) / 2;
+  return squared_error(a.y.data(), a.width, b.y.data(), b.width, a.width, a.height) +
+         squared_error(a.cb.data(), cw, b.cb.data(), cw, cw, ch) +
+         squared_error(a.cr.data(), cw, b.cr.data(), cw, cw, ch);
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                    const FaceCandidates& candidates1, const WarpField* warp0,
+                                    const WarpField* warp1, const BFrameParams& params,
+                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
+  const int width = source.width, height = source.height;
+  const int border_units = reference_border_units(ref0.width - width);
+  const int padded_width = ref0.width, padded_height = height + (ref0.width - width);
+  if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension || border_units < 0 ||
+      !consistent_image(source, width, height) || !consistent_image(ref0, padded_width, padded_height) ||
+      (ref1 != nullptr && !consistent_image(*ref1, padded_width, padded_height))) {
+    return {};
+  }
+  if (!params.switchable_filter) {
+    return encode_with_filter(source, ref0, ref1, candidates0, candidates1, warp0, warp1, params,
+                              InterpolationFilter::kRegular, reconstruction, stats);
+  }
+  const double scale = quantizer_scale_q8(std::clamp(params.qindex, kMinQIndex, kMaxQIndex)) / 256.0;
+  const double lambda = params.lambda_factor * scale * scale;
+  std::vector<uint8_t> best_bytes;
+  ImageYCbCr420 best_reconstruction;
+  BFrameStats best_stats;
+  double best_cost = 0;
+  for (int f = 0; f < kInterpolationFilterCount; ++f) {
+    ImageYCbCr420 trial_reconstruction;
+    BFrameStats trial_stats;
+    std::vector<uint8_t> bytes = encode_with_filter(source, ref0, ref1, candidates0, candidates1, warp0, warp1,
+                                                    params, static_cast<InterpolationFilter>(f),
+                                                    &trial_reconstruction, &trial_stats);
+    const double cost = static_cast<double>(image_squared_error(source, trial_reconstruction)) +
+                        lambda * 8.0 * static_cast<double>(bytes.size());
+    if (f == 0 || cost < best_cost) {  // ties keep the earlier bank
+      best_cost = cost;
+      best_bytes = std::move(bytes);
+      best_reconstruction = std::move(trial_reconstruction);
+      best_stats = std::move(trial_stats);
+    }
+  }
+  if (reconstruction != nullptr) *reconstruction = std::move(best_reconstruction);
+  if (stats != nullptr) *stats = std::move(best_stats);
+  return best_bytes;
 }
 
 }  // namespace svc::codec

@@ -172,9 +172,9 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
   predict_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my),
-                     vectors[first_reference], &first);
+                     vectors[first_reference], &first, s.filter);
   if (mode == MacroblockMode::kBidirectional)
-    predict_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), vectors[1], &second);
+    predict_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my), vectors[1], &second, s.filter);
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }
 
@@ -182,10 +182,10 @@ void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode m
   MacroblockIntermediate first, second;
   const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
   predict_warp_macroblock(*s.references[first_reference], reference_mb(s, mx), reference_mb(s, my),
-                          macroblock_corners(s, first_reference, mx, my), &first);
+                          macroblock_corners(s, first_reference, mx, my), &first, s.filter);
   if (mode == MacroblockMode::kBidirectional) {
     predict_warp_macroblock(*s.references[1], reference_mb(s, mx), reference_mb(s, my),
-                            macroblock_corners(s, 1, mx, my), &second);
+                            macroblock_corners(s, 1, mx, my), &second, s.filter);
   }
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
 }

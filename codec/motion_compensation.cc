@@ -27,6 +27,42 @@ constexpr std::array<std::array<int8_t, 8>, 8> kChromaTaps = {{
     {0, 0, -2, 10, 58, -2, 0, 0},
 }};
 
+// AV1's EIGHTTAP_SMOOTH (av1_sub_pel_filters_8smooth) halved to a sum of 64: its 1/16
+// phases 4, 8, 12 for luma and 2, 4, .., 14 for chroma.
+constexpr std::array<std::array<int8_t, 8>, 4> kSmoothLumaTaps = {{
+    {0, 0, 0, 64, 0, 0, 0, 0},
+    {0, 0, 10, 30, 21, 3, 0, 0},
+    {0, -1, 7, 26, 26, 7, -1, 0},
+    {0, 0, 3, 21, 30, 10, 0, 0},
+}};
+constexpr std::array<std::array<int8_t, 8>, 8> kSmoothChromaTaps = {{
+    {0, 0, 0, 64, 0, 0, 0, 0},
+    {0, 0, 13, 31, 18, 2, 0, 0},
+    {0, 0, 10, 30, 21, 3, 0, 0},
+    {0, 0, 8, 28, 23, 5, 0, 0},
+    {0, -1, 7, 26, 26, 7, -1, 0},
+    {0, 0, 5, 23, 28, 8, 0, 0},
+    {0, 0, 3, 21, 30, 10, 0, 0},
+    {0, 0, 2, 18, 31, 13, 0, 0},
+}};
+// Bilinear between the samples at offsets 0 and 1.
+constexpr std::array<std::array<int8_t, 8>, 4> kBilinearLumaTaps = {{
+    {0, 0, 0, 64, 0, 0, 0, 0},
+    {0, 0, 0, 48, 16, 0, 0, 0},
+    {0, 0, 0, 32, 32, 0, 0, 0},
+    {0, 0, 0, 16, 48, 0, 0, 0},
+}};
+constexpr std::array<std::array<int8_t, 8>, 8> kBilinearChromaTaps = {{
+    {0, 0, 0, 64, 0, 0, 0, 0},
+    {0, 0, 0, 56, 8, 0, 0, 0},
+    {0, 0, 0, 48, 16, 0, 0, 0},
+    {0, 0, 0, 40, 24, 0, 0, 0},
+    {0, 0, 0, 32, 32, 0, 0, 0},
+    {0, 0, 0, 24, 40, 0, 0, 0},
+    {0, 0, 0, 16, 48, 0, 0, 0},
+    {0, 0, 0, 8, 56, 0, 0, 0},
+}};
+
 // The 8 taps reach 3 samples before and 4 after the integer position.
 constexpr int kTapsBefore = 3, kTapExtent = 7;
 // Window rows are read up to 8 samples past the taps' reach (dsp.h).
@@ -62,16 +98,23 @@ bool vector_in_range(MotionVector vector, int width, int height) {
   return std::abs(vector.x) <= limit && std::abs(vector.y) <= limit;
 }
 
-const std::array<int8_t, 8>& interpolation_taps(PlaneKind kind, int phase) {
-  return kind == PlaneKind::kLuma ? kLumaTaps[static_cast<size_t>(phase & 3)]
-                                  : kChromaTaps[static_cast<size_t>(phase & 7)];
+const std::array<int8_t, 8>& interpolation_taps(PlaneKind kind, int phase, InterpolationFilter filter) {
+  const bool luma = kind == PlaneKind::kLuma;
+  const auto index = static_cast<size_t>(phase & (luma ? 3 : 7));
+  switch (filter) {
+    case InterpolationFilter::kSmooth: return luma ? kSmoothLumaTaps[index] : kSmoothChromaTaps[index];
+    case InterpolationFilter::kBilinear: return luma ? kBilinearLumaTaps[index] : kBilinearChromaTaps[index];
+    case InterpolationFilter::kRegular: break;
+  }
+  return luma ? kLumaTaps[index] : kChromaTaps[index];
 }
 
 void predict_block(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0, int y0,
-                   int block_width, int block_height, int vector_x, int vector_y, int16_t* out, int out_stride) {
+                   int block_width, int block_height, int vector_x, int vector_y, int16_t* out, int out_stride,
+                   InterpolationFilter filter) {
   if (block_width > kMaxPredictionBlock || block_height > kMaxPredictionBlock || block_width % 4 != 0) {
     predict_block_reference(plane, plane_width, plane_height, kind, x0, y0, block_width, block_height, vector_x,
-                            vector_y, out, out_stride);
+                            vector_y, out, out_stride, filter);
     return;
   }
   const int bits = fraction_bits(kind), mask = (1 << bits) - 1;
@@ -80,13 +123,13 @@ void predict_block(const uint8_t* plane, int plane_width, int plane_height, Plan
   fetch_window(plane, plane_width, plane_height, (full_x >> bits) - kTapsBefore, (full_y >> bits) - kTapsBefore,
                block_width + kTapExtent, block_height + kTapExtent, window);
   dsp::get_dsp().interpolate_8tap(window, kWindowStride, block_width, block_height,
-                                  interpolation_taps(kind, full_x & mask).data(),
-                                  interpolation_taps(kind, full_y & mask).data(), out, out_stride);
+                                  interpolation_taps(kind, full_x & mask, filter).data(),
+                                  interpolation_taps(kind, full_y & mask, filter).data(), out, out_stride);
 }
 
 void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0,
                              int y0, int block_width, int block_height, int vector_x, int vector_y, int16_t* out,
-                             int out_stride) {
+                             int out_stride, InterpolationFilter filter) {
   auto sample = [&](long long u, long long v) -> long long {
     const long long cu = std::clamp<long long>(u, 0, plane_width - 1);
     const long long cv = std::clamp<long long>(v, 0, plane_height - 1);
@@ -98,8 +141,8 @@ void predict_block_reference(const uint8_t* plane, int plane_width, int plane_he
     for (int i = 0; i < block_width; ++i) {
       const long long full_x = scale * (x0 + i) + vector_x, full_y = scale * (y0 + j) + vector_y;
       const long long ix = floor_div(full_x), iy = floor_div(full_y);
-      const auto& h = interpolation_taps(kind, static_cast<int>(full_x - scale * ix));
-      const auto& v = interpolation_taps(kind, static_cast<int>(full_y - scale * iy));
+      const auto& h = interpolation_taps(kind, static_cast<int>(full_x - scale * ix), filter);
+      const auto& v = interpolation_taps(kind, static_cast<int>(full_y - scale * iy), filter);
       long long sum = 0;
       for (int row = 0; row < 8; ++row) {
         long long across = 0;
@@ -113,19 +156,19 @@ void predict_block_reference(const uint8_t* plane, int plane_width, int plane_he
 }
 
 void predict_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                        MacroblockIntermediate* out) {
-  predict_macroblock_luma(reference, mb_x, mb_y, vector, out->y.data());
+                        MacroblockIntermediate* out, InterpolationFilter filter) {
+  predict_macroblock_luma(reference, mb_x, mb_y, vector, out->y.data(), filter);
   const int cw = (reference.width + 1) / 2, ch = (reference.height + 1) / 2;
   predict_block(reference.cb.data(), cw, ch, PlaneKind::kChroma, mb_x * 8, mb_y * 8, 8, 8, vector.x, vector.y,
-                out->cb.data(), 8);
+                out->cb.data(), 8, filter);
   predict_block(reference.cr.data(), cw, ch, PlaneKind::kChroma, mb_x * 8, mb_y * 8, 8, 8, vector.x, vector.y,
-                out->cr.data(), 8);
+                out->cr.data(), 8, filter);
 }
 
-void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                             int16_t* out) {
+void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector, int16_t* out,
+                             InterpolationFilter filter) {
   predict_block(reference.y.data(), reference.width, reference.height, PlaneKind::kLuma, mb_x * 16, mb_y * 16, 16,
-                16, vector.x, vector.y, out, 16);
+                16, vector.x, vector.y, out, 16, filter);
 }
 
 void round_prediction(const int16_t* in, int count, uint8_t* out) {
@@ -166,10 +209,10 @@ int sad_16x16_reference(const uint8_t* source, int source_stride, const uint8_t*
 }
 
 int sad_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                        const uint8_t* source, int source_stride) {
+                        const uint8_t* source, int source_stride, InterpolationFilter filter) {
   int16_t intermediate[256];
   uint8_t prediction[256];
-  predict_macroblock_luma(reference, mb_x, mb_y, vector, intermediate);
+  predict_macroblock_luma(reference, mb_x, mb_y, vector, intermediate, filter);
   round_prediction(intermediate, 256, prediction);
   return sad_16x16(source, source_stride, prediction);
 }

@@ -28,10 +28,17 @@ bool vector_in_range(MotionVector vector, int width, int height);
 // positions in 1/8 pel with the 4-tap filter.
 enum class PlaneKind : uint8_t { kLuma, kChroma };
 
+// The filter bank of a B-frame (header byte 5, docs/codec.md 10.1): HEVC's DCT-based
+// filters, AV1's EIGHTTAP_SMOOTH, or bilinear. References carry quantisation noise and
+// are often seen at another scale, where a smoother filter predicts better.
+enum class InterpolationFilter : uint8_t { kRegular = 0, kSmooth = 1, kBilinear = 2 };
+inline constexpr int kInterpolationFilterCount = 3;
+
 // The filter taps of a phase (0..3 luma, 0..7 chroma) as 8 coefficients applied to the
 // samples at offsets -3..4 from the integer position (chroma's 4 taps at -1..2, zeros
-// elsewhere). Phase 0 is {0, 0, 0, 64, 0, 0, 0, 0}.
-const std::array<int8_t, 8>& interpolation_taps(PlaneKind kind, int phase);
+// elsewhere). Phase 0 is {0, 0, 0, 64, 0, 0, 0, 0} in every bank.
+const std::array<int8_t, 8>& interpolation_taps(PlaneKind kind, int phase,
+                                                InterpolationFilter filter = InterpolationFilter::kRegular);
 
 // Prediction samples before rounding: 64 x the interpolated value (14 bits), stored
 // less kIntermediateOffset so that they fit int16.
@@ -46,12 +53,13 @@ inline constexpr int kMaxPredictionBlock = 64;
 //   out = ((sum_j v[j] sum_i h[i] s(ix - 3 + i, iy - 3 + j)) >> 6) - 8192.
 // Block widths 4..64 in steps of 4, heights 1..64.
 void predict_block(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0, int y0,
-                   int block_width, int block_height, int vector_x, int vector_y, int16_t* out, int out_stride);
+                   int block_width, int block_height, int vector_x, int vector_y, int16_t* out, int out_stride,
+                   InterpolationFilter filter = InterpolationFilter::kRegular);
 // The same definition evaluated sample by sample with explicit clamping: the plain
 // reference predict_block is tested against (bit-identical output, any block size).
 void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0,
                              int y0, int block_width, int block_height, int vector_x, int vector_y, int16_t* out,
-                             int out_stride);
+                             int out_stride, InterpolationFilter filter = InterpolationFilter::kRegular);
 
 // A 16x16 luma and two 8x8 chroma blocks, row-major, tightly packed: final samples, and
 // intermediates of one reference's prediction.
@@ -69,9 +77,10 @@ struct MacroblockIntermediate {
 // Predicts macroblock (mb_x, mb_y) of a face the size of `reference` from it: luma with
 // `vector`, chroma with the same vector in 1/8 chroma pel.
 void predict_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                        MacroblockIntermediate* out);
+                        MacroblockIntermediate* out, InterpolationFilter filter = InterpolationFilter::kRegular);
 // Luma only (for motion search): 256 intermediates into out.
-void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector, int16_t* out);
+void predict_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector, int16_t* out,
+                             InterpolationFilter filter = InterpolationFilter::kRegular);
 
 // Final samples of a single prediction: clip((in + 8192 + 32) >> 6, 0, 255).
 void round_prediction(const int16_t* in, int count, uint8_t* out);
@@ -90,6 +99,7 @@ int sad_16x16_reference(const uint8_t* source, int source_stride, const uint8_t*
 // SAD between the 16x16 luma block at `source` (row stride source_stride) and the
 // single prediction of macroblock (mb_x, mb_y) from `reference` with `vector`.
 int sad_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, MotionVector vector,
-                        const uint8_t* source, int source_stride);
+                        const uint8_t* source, int source_stride,
+                        InterpolationFilter filter = InterpolationFilter::kRegular);
 
 }  // namespace svc::codec

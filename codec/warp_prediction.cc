@@ -35,33 +35,34 @@ std::array<int, 2> warp_subblock_vector(const WarpCorners& n, int a, int b) {
 }
 
 void predict_warp_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                  int16_t* out) {
+                                  int16_t* out, InterpolationFilter filter) {
   warp_plane(corners, 4, 4, 8, out, 16, [&](int x, int y, int vx, int vy, int16_t* dst) {
     predict_block(reference.y.data(), reference.width, reference.height, PlaneKind::kLuma, 16 * mb_x + x,
-                  16 * mb_y + y, 4, 4, vx, vy, dst, 16);
+                  16 * mb_y + y, 4, 4, vx, vy, dst, 16, filter);
   });
 }
 
 void predict_warp_macroblock_chroma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                    MacroblockIntermediate* out) {
+                                    MacroblockIntermediate* out, InterpolationFilter filter) {
   const int cw = (reference.width + 1) / 2, ch = (reference.height + 1) / 2;
   for (int plane = 0; plane < 2; ++plane) {
     const uint8_t* samples = plane == 0 ? reference.cb.data() : reference.cr.data();
     int16_t* dst_plane = plane == 0 ? out->cb.data() : out->cr.data();
     warp_plane(corners, 2, 4, 16, dst_plane, 8, [&](int x, int y, int vx, int vy, int16_t* dst) {
-      predict_block(samples, cw, ch, PlaneKind::kChroma, 8 * mb_x + x, 8 * mb_y + y, 4, 4, vx, vy, dst, 8);
+      predict_block(samples, cw, ch, PlaneKind::kChroma, 8 * mb_x + x, 8 * mb_y + y, 4, 4, vx, vy, dst, 8, filter);
     });
   }
 }
 
 void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                             MacroblockIntermediate* out) {
-  predict_warp_macroblock_luma(reference, mb_x, mb_y, corners, out->y.data());
-  predict_warp_macroblock_chroma(reference, mb_x, mb_y, corners, out);
+                             MacroblockIntermediate* out, InterpolationFilter filter) {
+  predict_warp_macroblock_luma(reference, mb_x, mb_y, corners, out->y.data(), filter);
+  predict_warp_macroblock_chroma(reference, mb_x, mb_y, corners, out, filter);
 }
 
 void predict_warp_macroblock_reference(const ImageYCbCr420& reference, int mb_x, int mb_y,
-                                       const WarpCorners& corners, MacroblockIntermediate* out) {
+                                       const WarpCorners& corners, MacroblockIntermediate* out,
+                                       InterpolationFilter filter) {
   auto vector = [&](long long a, long long b) {
     auto component = [&](long long n0, long long n1, long long n2, long long n3) {
       const long long s = bilinear_sum(n0, n1, n2, n3, a, b) + 1024;
@@ -75,7 +76,7 @@ void predict_warp_macroblock_reference(const ImageYCbCr420& reference, int mb_x,
       const auto v = vector(8 * p + 4, 8 * q + 4);
       predict_block_reference(reference.y.data(), reference.width, reference.height, PlaneKind::kLuma,
                               16 * mb_x + 4 * p, 16 * mb_y + 4 * q, 4, 4, v[0], v[1],
-                              out->y.data() + 64 * q + 4 * p, 16);
+                              out->y.data() + 64 * q + 4 * p, 16, filter);
     }
   }
   const int cw = (reference.width + 1) / 2, ch = (reference.height + 1) / 2;
@@ -84,9 +85,9 @@ void predict_warp_macroblock_reference(const ImageYCbCr420& reference, int mb_x,
       const auto v = vector(16 * p + 8, 16 * q + 8);
       const int x = 8 * mb_x + 4 * p, y = 8 * mb_y + 4 * q, offset = 32 * q + 4 * p;
       predict_block_reference(reference.cb.data(), cw, ch, PlaneKind::kChroma, x, y, 4, 4, v[0], v[1],
-                              out->cb.data() + offset, 8);
+                              out->cb.data() + offset, 8, filter);
       predict_block_reference(reference.cr.data(), cw, ch, PlaneKind::kChroma, x, y, 4, 4, v[0], v[1],
-                              out->cr.data() + offset, 8);
+                              out->cr.data() + offset, 8, filter);
     }
   }
 }

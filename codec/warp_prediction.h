@@ -40,15 +40,18 @@ std::array<int, 2> warp_subblock_vector(const WarpCorners& corners, int a, int b
 // (same size as the current face): luma and chroma, luma only (for screening), or chroma
 // only (completing a luma-only prediction; out->y untouched).
 void predict_warp_macroblock(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                             MacroblockIntermediate* out);
+                             MacroblockIntermediate* out,
+                             InterpolationFilter filter = InterpolationFilter::kRegular);
 void predict_warp_macroblock_luma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                  int16_t* out);
+                                  int16_t* out, InterpolationFilter filter = InterpolationFilter::kRegular);
 void predict_warp_macroblock_chroma(const ImageYCbCr420& reference, int mb_x, int mb_y, const WarpCorners& corners,
-                                    MacroblockIntermediate* out);
+                                    MacroblockIntermediate* out,
+                                    InterpolationFilter filter = InterpolationFilter::kRegular);
 
 // The same definition with 64-bit vector arithmetic and predict_block_reference: the
 // plain reference the fast path is tested against (bit-identical output).
 void predict_warp_macroblock_reference(const ImageYCbCr420& reference, int mb_x, int mb_y,
-                                       const WarpCorners& corners, MacroblockIntermediate* out);
+                                       const WarpCorners& corners, MacroblockIntermediate* out,
+                                       InterpolationFilter filter = InterpolationFilter::kRegular);
 
 }  // namespace svc::codec

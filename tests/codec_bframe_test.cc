@@ -273,7 +273,7 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   changed[1] = kBFrameSyntaxVersion - 1;  // older entropy coding
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
   changed = bytes;
-  changed[5] = 3;  // reference count
+  changed[6] = 3;  // reference count
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
   changed = bytes;
   changed[4] = 4;  // a loop filter this decoder does not know
@@ -334,10 +334,67 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
     bytes[2] = static_cast<uint8_t>(rng());
     bytes[3] = 0;  // bare references
     bytes[4] = static_cast<uint8_t>(rng() & kLoopFilterDeblocking);
-    bytes[5] = 2;
+    bytes[5] = static_cast<uint8_t>(rng() % kInterpolationFilterCount);
+    bytes[6] = 2;
     accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok();
   }
   SUCCEED() << accepted << " damaged payloads decoded to some image";
+}
+
+// Half-pel luma averages of a reference: what a smoothing filter predicts exactly and
+// the sharp regular filter does not.
+ImageYCbCr420 half_pel_blur(const ImageYCbCr420& image) {
+  ImageYCbCr420 out = image;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const size_t i = static_cast<size_t>(y) * image.width + x;
+      const int right = image.y[i + (x + 1 < image.width ? 1 : 0)];
+      out.y[i] = static_cast<uint8_t>((image.y[i] + right + 1) / 2);
+    }
+  }
+  return out;
+}
+
+TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
+  const int w = 64, h = 48;
+  const ImageYCbCr420 ref = decoded_intra(textured_crop(w, h, 20, 20), 83);
+  const ImageYCbCr420 source = half_pel_blur(ref);
+  const FaceCandidates candidates = uniform_candidates(w, h, {MotionVector{2, 0}});
+  BFrameParams params;
+  params.qindex = 115;  // quantiser scale 6
+  params.sub_pel_refinement = false;
+  const double scale = quantizer_scale_q8(params.qindex) / 256.0;
+  auto cost = [&](const std::vector<uint8_t>& bytes, const ImageYCbCr420& decoded) {
+    double squared = 0;
+    for (size_t i = 0; i < source.y.size(); ++i) squared += std::pow(source.y[i] - decoded.y[i], 2);
+    for (size_t i = 0; i < source.cb.size(); ++i) {
+      squared += std::pow(source.cb[i] - decoded.cb[i], 2) + std::pow(source.cr[i] - decoded.cr[i], 2);
+    }
+    return squared + params.lambda_factor * scale * scale * 8.0 * bytes.size();
+  };
+  std::vector<double> costs;
+  for (bool switchable : {false, true}) {
+    params.switchable_filter = switchable;
+    ImageYCbCr420 reconstruction, decoded;
+    const std::vector<uint8_t> bytes =
+        encode_b_frame(source, ref, nullptr, candidates, {}, params, &reconstruction, nullptr);
+    BFrameHeader header;
+    ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
+    EXPECT_EQ(header.filter == InterpolationFilter::kRegular, !switchable);
+    ASSERT_TRUE(decode_b_frame(bytes, w, h, ref, nullptr, &decoded).ok());
+    expect_same_image(decoded, reconstruction);
+    costs.push_back(cost(bytes, decoded));
+
+    // The decoder predicts through the bank the header names: another bank, other pixels.
+    std::vector<uint8_t> other = bytes;
+    other[5] = static_cast<uint8_t>((bytes[5] + 1) % kInterpolationFilterCount);
+    ImageYCbCr420 other_decoded;
+    ASSERT_TRUE(decode_b_frame(other, w, h, ref, nullptr, &other_decoded).ok());
+    EXPECT_FALSE(other_decoded.y == decoded.y);
+    other[5] = kInterpolationFilterCount;
+    EXPECT_EQ(decode_b_frame(other, w, h, ref, nullptr, &other_decoded).code(), ErrorCode::kCorruptData);
+  }
+  EXPECT_LT(costs[1], costs[0]);
 }
 
 TEST(BFrame, EmptyCandidateListsFallBackToZeroAndNeighbours) {

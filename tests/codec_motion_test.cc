@@ -65,6 +65,7 @@ ImageYCbCr420 textured_crop(int width, int height, int ox, int oy, uint32_t seed
 struct BlockCase {
   PlaneKind kind;
   int x0, y0, width, height, vx, vy;
+  InterpolationFilter filter = InterpolationFilter::kRegular;
 };
 
 BlockCase random_case(std::mt19937& rng, int trial, int w, int h) {
@@ -78,17 +79,19 @@ BlockCase random_case(std::mt19937& rng, int trial, int w, int h) {
   const int range = trial % 5 == 0 ? 4000 : 8 * std::max(w, h) + 16;
   c.vx = static_cast<int>(rng() % static_cast<unsigned>(2 * range + 1)) - range;
   c.vy = static_cast<int>(rng() % static_cast<unsigned>(2 * range + 1)) - range;
+  c.filter = static_cast<InterpolationFilter>(trial / 4 % kInterpolationFilterCount);
   return c;
 }
 
 void expect_fast_equals_reference(const std::vector<uint8_t>& plane, int w, int h, const BlockCase& c) {
   std::vector<int16_t> fast(static_cast<size_t>(c.width) * c.height, 0), reference(fast.size(), 1);
-  predict_block(plane.data(), w, h, c.kind, c.x0, c.y0, c.width, c.height, c.vx, c.vy, fast.data(), c.width);
+  predict_block(plane.data(), w, h, c.kind, c.x0, c.y0, c.width, c.height, c.vx, c.vy, fast.data(), c.width,
+                c.filter);
   predict_block_reference(plane.data(), w, h, c.kind, c.x0, c.y0, c.width, c.height, c.vx, c.vy, reference.data(),
-                          c.width);
+                          c.width, c.filter);
   ASSERT_EQ(fast, reference) << (c.kind == PlaneKind::kLuma ? "luma " : "chroma ") << w << "x" << h << " block "
                              << c.width << "x" << c.height << " at (" << c.x0 << ", " << c.y0 << ") vector ("
-                             << c.vx << ", " << c.vy << ")";
+                             << c.vx << ", " << c.vy << ") filter " << static_cast<int>(c.filter);
 }
 
 TEST(MotionCompensation, FastPredictionMatchesReferenceOnRandomData) {

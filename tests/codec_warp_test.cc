@@ -342,13 +342,13 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   }
   // A warp mask naming a missing reference, or unknown bits.
   std::vector<uint8_t> changed = valid;
-  changed[6] = 4;
+  changed[7] = 4;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref0, &ref1, &out).code(), ErrorCode::kCorruptData);
   const std::vector<uint8_t> one_ref =
       encode_b_frame(source, ref0, nullptr, {}, {}, &field0, nullptr, params, nullptr, nullptr);
   changed = one_ref;
-  ASSERT_EQ(changed[6], 1);
-  changed[6] = 3;
+  ASSERT_EQ(changed[7], 1);
+  changed[7] = 3;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref0, nullptr, &out).code(), ErrorCode::kCorruptData);
 
   std::mt19937 rng(9);
@@ -372,8 +372,9 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
     bytes[2] = static_cast<uint8_t>(rng());
     bytes[3] = 0;  // bare references
     bytes[4] = static_cast<uint8_t>(rng() & kLoopFilterDeblocking);
-    bytes[5] = 2;
-    bytes[6] = 3;
+    bytes[5] = static_cast<uint8_t>(rng() % kInterpolationFilterCount);
+    bytes[6] = 2;
+    bytes[7] = 3;
     accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out).ok();
   }
   SUCCEED() << accepted << " damaged payloads decoded to some image";

@@ -44,6 +44,9 @@ struct CodingTools {
   // Every face: CDEF deringing after deblocking (docs/codec.md 11.2), per 64x64 unit
   // where it pays.
   bool cdef = true;
+  // B-faces: each face picks its interpolation filter bank (regular, smooth, bilinear) by
+  // rate-distortion cost (off: the regular bank only; the encoder codes each face once).
+  bool switchable_filter = true;
 
   bool operator==(const CodingTools&) const = default;
 };

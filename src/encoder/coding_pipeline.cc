@@ -43,6 +43,7 @@ class Pipeline {
     b_params_.quarter_pel = job.tools.quarter_pel;
     intra_params_.deblocking = b_params_.deblocking = job.tools.deblocking;
     intra_params_.cdef = b_params_.cdef = job.tools.cdef;
+    b_params_.switchable_filter = job.tools.switchable_filter;
   }
 
   Status run() {

@@ -23,6 +23,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"cube-references", &CodingTools::cube_references},
     CodingToolEntry{"deblocking", &CodingTools::deblocking},
     CodingToolEntry{"cdef", &CodingTools::cdef},
+    CodingToolEntry{"switchable-filter", &CodingTools::switchable_filter},
 };
 
 }  // namespace

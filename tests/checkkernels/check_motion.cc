@@ -15,37 +15,64 @@ namespace {
 
 constexpr std::array<int, 8> kBlockWidths = {16, 8, 4, 12, 20, 32, 48, 64};
 
-// Taps of a random phase: luma 0..3 or chroma 0..7.
+// Taps of a random phase (luma 0..3 or chroma 0..7) of a random bank.
 const int8_t* random_taps(Random& random, int n) {
   const bool luma = (n & 1) == 0;
+  const auto filter =
+      static_cast<codec::InterpolationFilter>(random.uniform(0, codec::kInterpolationFilterCount - 1));
   return codec::interpolation_taps(luma ? codec::PlaneKind::kLuma : codec::PlaneKind::kChroma,
-                                   random.uniform(0, luma ? 3 : 7))
+                                   random.uniform(0, luma ? 3 : 7), filter)
       .data();
 }
 
+std::string compare_interpolation(const Tables& reference, const Tables& variant, Random& random, int width,
+                                  int height, const int8_t* h, const int8_t* v) {
+  // Rows hold width + 7 samples and may be read 8 past them (dsp.h).
+  const ptrdiff_t stride = width + 15 + random.uniform(0, 21), out_stride = width + random.uniform(0, 9);
+  const size_t offset = static_cast<size_t>(random.uniform(0, 15));
+  Buffer window(static_cast<size_t>(stride) * (height + 7) + 16);
+  random.fill_with_extremes(window.at(offset), static_cast<size_t>(stride) * (height + 7));
+  const size_t out_count = static_cast<size_t>(out_stride) * (height + 1);
+  Buffer expected(out_count * 2), actual(out_count * 2);
+  auto* expected_out = reinterpret_cast<int16_t*>(expected.at(2 * offset));
+  auto* actual_out = reinterpret_cast<int16_t*>(actual.at(2 * offset));
+  reference.interpolate_8tap(window.at(offset), stride, width, height, h, v, expected_out, out_stride);
+  variant.interpolate_8tap(window.at(offset), stride, width, height, h, v, actual_out, out_stride);
+  if (auto diff = first_difference(expected_out, actual_out, out_count, static_cast<size_t>(out_stride));
+      !diff.empty()) {
+    return diff + " (block " + std::to_string(width) + "x" + std::to_string(height) + ", h taps " +
+           std::to_string(h[2]) + "/" + std::to_string(h[3]) + "/" + std::to_string(h[4]) + ", v taps " +
+           std::to_string(v[2]) + "/" + std::to_string(v[3]) + "/" + std::to_string(v[4]) + ", stride " +
+           std::to_string(stride) + ")";
+  }
+  return {};
+}
+
+// Every phase pair of every bank and plane kind once, then random blocks and phases.
 std::string check_interpolate(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  for (int n = 0; n < iterations; ++n) {
+  int n = 0;
+  for (int f = 0; f < codec::kInterpolationFilterCount; ++f) {
+    const auto filter = static_cast<codec::InterpolationFilter>(f);
+    for (const auto kind : {codec::PlaneKind::kLuma, codec::PlaneKind::kChroma}) {
+      const int phases = kind == codec::PlaneKind::kLuma ? 4 : 8;
+      for (int pair = 0; pair < phases * phases; ++pair, ++n) {
+        const int width = kBlockWidths[static_cast<size_t>(n) % kBlockWidths.size()];
+        const int8_t* h = codec::interpolation_taps(kind, pair % phases, filter).data();
+        const int8_t* v = codec::interpolation_taps(kind, pair / phases, filter).data();
+        if (auto diff = compare_interpolation(reference, variant, random, width, random.uniform(1, 16), h, v);
+            !diff.empty()) {
+          return diff;
+        }
+      }
+    }
+  }
+  for (n = 0; n < iterations; ++n) {
     const int width = kBlockWidths[static_cast<size_t>(n) % kBlockWidths.size()];
     const int height = n % 3 == 0 ? width : random.uniform(1, 64);
     const int8_t* h = random_taps(random, n);
     const int8_t* v = random_taps(random, n >> 1);
-    // Rows hold width + 7 samples and may be read 8 past them (dsp.h).
-    const ptrdiff_t stride = width + 15 + random.uniform(0, 21), out_stride = width + random.uniform(0, 9);
-    const size_t offset = static_cast<size_t>(random.uniform(0, 15));
-    Buffer window(static_cast<size_t>(stride) * (height + 7) + 16);
-    random.fill_with_extremes(window.at(offset), static_cast<size_t>(stride) * (height + 7));
-    const size_t out_count = static_cast<size_t>(out_stride) * (height + 1);
-    Buffer expected(out_count * 2), actual(out_count * 2);
-    auto* expected_out = reinterpret_cast<int16_t*>(expected.at(2 * offset));
-    auto* actual_out = reinterpret_cast<int16_t*>(actual.at(2 * offset));
-    reference.interpolate_8tap(window.at(offset), stride, width, height, h, v, expected_out, out_stride);
-    variant.interpolate_8tap(window.at(offset), stride, width, height, h, v, actual_out, out_stride);
-    if (auto diff = first_difference(expected_out, actual_out, out_count, static_cast<size_t>(out_stride));
-        !diff.empty()) {
-      return diff + " (block " + std::to_string(width) + "x" + std::to_string(height) + ", h taps " +
-             std::to_string(h[2]) + "/" + std::to_string(h[3]) + ", v taps " + std::to_string(v[2]) + "/" +
-             std::to_string(v[3]) + ", stride " + std::to_string(stride) + ")";
-    }
+    if (auto diff = compare_interpolation(reference, variant, random, width, height, h, v); !diff.empty())
+      return diff;
   }
   return {};
 }
