@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "90b2f276a755f249353fb70a53bd2ab79d0b5cf21cbe1533d7473beb2dda5ed8",
-     "820a805640eef04fd8fee488b5d378ed4854269742af4d27cc5c892f87137ac5"},
+     "f8cbb6b45ae0314ee518fe2544fbd6dc27606814323b4d6f55089b6fbda02749",
+     "8bfca124910605f98de0d1cf9b0cb59d3a42c0191d8d0d2a2e785d6b8be38598"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "698b299d70e9cdf44c8a564a341097f59ef2e7c129082d2b9351962215bc5037",
-     "634d1e8fbcf634c93175ef9e1f56f3c9c11cae541254c13c11ff57138292744d"},
+     "b5ae335a60eb8068cf5867b1ef29d66781bb5f8925c776c17e36d21b49118427",
+     "8443d273c7616d263cbe1732103436af66be6502fbd18967a02f86fbdfb1d31e"},
 };
 
 std::string file_sha256(const fs::path& path) {
