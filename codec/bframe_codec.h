@@ -152,7 +152,7 @@ struct BFrameHeader {
   // Cube-map border of the references in units of 16 luma samples a side (0: the
   // references are the bare faces; codec/cube_padding.h builds padded ones).
   int border_units = 0;
-  int loop_filters = 0;  // kLoopFilter* bits (intra_codec.h)
+  int loop_filters = 0;     // kLoopFilter* bits (intra_codec.h)
   int reference_count = 0;  // 1 or 2
   int warp_mask = 0;        // bit r: reference r may be warped
   InterpolationFilter filter = InterpolationFilter::kRegular;

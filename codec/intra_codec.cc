@@ -272,7 +272,8 @@ class BlockSearch {
     uint8_t prediction[64];
     for (int mode = 0; mode < modes_; ++mode) {
       dsp.intra_predict_8x8(edge, mode, prediction);
-      costs[mode] = {dsp.satd_8x8(source, stride, prediction) + satd_lambda_ * intra_mode_bits(candidates, mode), mode};
+      costs[mode] = {dsp.satd_8x8(source, stride, prediction) + satd_lambda_ * intra_mode_bits(candidates, mode),
+                     mode};
     }
     const int kept = rd_search_ ? std::min(kSearchedModes, modes_) : 1;
     std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + modes_);

@@ -160,7 +160,8 @@ TEST(CodecFrame, CoefficientEntriesRoundTripIncludingEscapes) {
 
 TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   const ImageYCbCr420 source = synthetic_image(32, 32);
-  const std::vector<uint8_t> good = encode_intra_frame(source, {.qindex = 128, .deblocking = true, .cdef = false}, nullptr);  // no CDEF syntax
+  const std::vector<uint8_t> good =
+      encode_intra_frame(source, {.qindex = 128, .deblocking = true, .cdef = false}, nullptr);  // no CDEF syntax
   ImageYCbCr420 out;
   EXPECT_TRUE(decode_intra_frame(good, 32, 32, &out).ok());
   auto with = [&](int index, uint8_t value) {

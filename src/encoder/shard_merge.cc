@@ -26,8 +26,8 @@ std::vector<uint8_t> plan_bytes(ContainerIndex plan) {
 }
 
 std::string settings_text(const CodingRecord& c) {
-  return "quantiser index " + std::to_string(c.qindex) + ", quality " + std::to_string(c.quality) +
-         ", I-spacing " + std::to_string(c.i_spacing[0]) + "," + std::to_string(c.i_spacing[1]) + "," +
+  return "quantiser index " + std::to_string(c.qindex) + ", quality " + std::to_string(c.quality) + ", I-spacing " +
+         std::to_string(c.i_spacing[0]) + "," + std::to_string(c.i_spacing[1]) + "," +
          std::to_string(c.i_spacing[2]) + ", motion " + (c.motion == MotionSearch::kDepth ? "depth" : "log");
 }
 
@@ -45,8 +45,7 @@ Status check_matches(const OpenedPart& part, const OpenedPart& first, const std:
   }
   const CodingRecord& a = d.plan.coding;
   const CodingRecord& b = f.plan.coding;
-  if (a.qindex != b.qindex || a.quality != b.quality || a.i_spacing != b.i_spacing ||
-      a.motion != b.motion) {
+  if (a.qindex != b.qindex || a.quality != b.quality || a.i_spacing != b.i_spacing || a.motion != b.motion) {
     return refuse(path, "it was encoded with " + settings_text(a) + ", " + first.file->path().string() + " with " +
                             settings_text(b));
   }
