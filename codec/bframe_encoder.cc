@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "codec/bframe_loop_filter.h"
@@ -577,17 +578,37 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
 
 namespace {
 
-// The whole frame coded with one filter bank (arguments already validated).
-std::vector<uint8_t> encode_with_filter(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
-                                        const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
-                                        const FaceCandidates& candidates1, const WarpField* warp0,
-                                        const WarpField* warp1, const BFrameParams& params,
-                                        InterpolationFilter filter, ImageYCbCr420* reconstruction,
-                                        BFrameStats* stats) {
+void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
+  stats->modes.push_back(choice.mode);
+  if (choice.mode != MacroblockMode::kIntra && choice.warp) ++stats->mb_warp;
+  switch (choice.mode) {
+    case MacroblockMode::kIntra: ++stats->mb_intra; break;
+    case MacroblockMode::kForward: ++stats->mb_forward; break;
+    case MacroblockMode::kBackward: ++stats->mb_backward; break;
+    case MacroblockMode::kBidirectional: ++stats->mb_bidirectional; break;
+    case MacroblockMode::kSkipped: ++stats->mb_skipped; break;
+  }
+}
+
+// A frame whose macroblocks are coded with one filter bank, before its loop filters.
+struct CodedMacroblocks {
+  FrameState state;
+  PaddedSource padded;
+  std::unique_ptr<std::vector<uint8_t>> bytes;  // the range encoder appends here
+  std::unique_ptr<RangeEncoder> encoder;
+  BFrameStats stats;
+};
+
+// Codes every macroblock with filter bank `filter` (arguments already validated).
+CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr420& ref0, const ImageYCbCr420* ref1,
+                                  const FaceCandidates& candidates0, const FaceCandidates& candidates1,
+                                  const WarpField* warp0, const WarpField* warp1, const BFrameParams& params,
+                                  InterpolationFilter filter, bool with_stats) {
   const int width = source.width, height = source.height;
   const int border_units = reference_border_units(ref0.width - width);
   const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
-  FrameState state;
+  CodedMacroblocks coded;
+  FrameState& state = coded.state;
   init_state(state, width, height, qindex, &ref0, ref1, border_units);
   state.filter = filter;
   const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
@@ -603,23 +624,20 @@ std::vector<uint8_t> encode_with_filter(const ImageYCbCr420& source, const Image
                                    std::clamp(field->nodes[n].y, -state.node_limit, state.node_limit)};
     }
   }
-  const PaddedSource padded = pad_source(source, state);
+  coded.padded = pad_source(source, state);
+  BFrameStats* stats = with_stats ? &coded.stats : nullptr;
   if (stats != nullptr) {
-    *stats = BFrameStats{};
     stats->macroblocks = state.mbs_x * state.mbs_y;
     stats->modes.reserve(static_cast<size_t>(stats->macroblocks));
   }
 
-  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kPredicted),
-                                kBFrameSyntaxVersion,
-                                static_cast<uint8_t>(qindex),
-                                static_cast<uint8_t>(border_units),
-                                0,
-                                static_cast<uint8_t>(filter),
-                                static_cast<uint8_t>(state.reference_count),
-                                static_cast<uint8_t>(state.warp_mask)};
-  RangeEncoder encoder(&bytes);
-  BFrameEncoder coder(state, padded, params);
+  coded.bytes = std::make_unique<std::vector<uint8_t>>(
+      std::vector<uint8_t>{static_cast<uint8_t>(FaceType::kPredicted), kBFrameSyntaxVersion,
+                           static_cast<uint8_t>(qindex), static_cast<uint8_t>(border_units), 0,
+                           static_cast<uint8_t>(filter), static_cast<uint8_t>(state.reference_count),
+                           static_cast<uint8_t>(state.warp_mask)});
+  coded.encoder = std::make_unique<RangeEncoder>(coded.bytes.get());
+  BFrameEncoder coder(state, coded.padded, params);
   for (int my = 0; my < state.mbs_y; ++my) {
     for (int mx = 0; mx < state.mbs_x; ++mx) {
       const size_t index = static_cast<size_t>(my) * state.mbs_x + mx;
@@ -631,38 +649,30 @@ std::vector<uint8_t> encode_with_filter(const ImageYCbCr420& source, const Image
                                                                                   : choice.mode;
         stats->mb_leaving_face += prediction_leaves_face(state, mx, my, prediction, choice.warp, choice.vectors);
       }
-      coder.write(encoder, choice);
-      if (stats != nullptr) {
-        stats->modes.push_back(choice.mode);
-        if (choice.mode != MacroblockMode::kIntra && choice.warp) ++stats->mb_warp;
-        switch (choice.mode) {
-          case MacroblockMode::kIntra: ++stats->mb_intra; break;
-          case MacroblockMode::kForward: ++stats->mb_forward; break;
-          case MacroblockMode::kBackward: ++stats->mb_backward; break;
-          case MacroblockMode::kBidirectional: ++stats->mb_bidirectional; break;
-          case MacroblockMode::kSkipped: ++stats->mb_skipped; break;
-        }
-      }
+      coder.write(*coded.encoder, choice);
+      if (stats != nullptr) count_macroblock(choice, stats);
     }
   }
-  uint8_t loop_filters = choose_loop_filters(state, padded, params);
-  loop_filters |= apply_cdef_choice(encoder, state, padded, params);
-  encoder.finish();
+  return coded;
+}
+
+// Runs the loop filters the encoder chooses, finishes the payload and returns it.
+std::vector<uint8_t> finish_frame(CodedMacroblocks& coded, const BFrameParams& params,
+                                  ImageYCbCr420* reconstruction, BFrameStats* stats) {
+  FrameState& state = coded.state;
+  uint8_t loop_filters = choose_loop_filters(state, coded.padded, params);
+  loop_filters |= apply_cdef_choice(*coded.encoder, state, coded.padded, params);
+  coded.encoder->finish();
+  std::vector<uint8_t> bytes = std::move(*coded.bytes);
   bytes[4] = loop_filters;  // header byte 4, known only now
   if (stats != nullptr) {
+    *stats = std::move(coded.stats);
     for (int r = 0; r < state.reference_count; ++r) {
       for (uint8_t known : state.node_known[r]) stats->warp_nodes_coded += known;
     }
   }
   if (reconstruction != nullptr) crop_output(state, reconstruction);
   return bytes;
-}
-
-int64_t image_squared_error(const ImageYCbCr420& a, const ImageYCbCr420& b) {
-  const int cw = (a.width + 1) / 2, ch = (a.height + 1) / 2;
-  return squared_error(a.y.data(), a.width, b.y.data(), b.width, a.width, a.height) +
-         squared_error(a.cb.data(), cw, b.cb.data(), cw, cw, ch) +
-         squared_error(a.cr.data(), cw, b.cr.data(), cw, cw, ch);
 }
 
 }  // namespace
@@ -680,34 +690,31 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       (ref1 != nullptr && !consistent_image(*ref1, padded_width, padded_height))) {
     return {};
   }
-  if (!params.switchable_filter) {
-    return encode_with_filter(source, ref0, ref1, candidates0, candidates1, warp0, warp1, params,
-                              InterpolationFilter::kRegular, reconstruction, stats);
-  }
-  const double scale = quantizer_scale_q8(std::clamp(params.qindex, kMinQIndex, kMaxQIndex)) / 256.0;
-  const double lambda = params.lambda_factor * scale * scale;
-  std::vector<uint8_t> best_bytes;
-  ImageYCbCr420 best_reconstruction;
-  BFrameStats best_stats;
-  double best_cost = 0;
-  for (int f = 0; f < kInterpolationFilterCount; ++f) {
-    ImageYCbCr420 trial_reconstruction;
-    BFrameStats trial_stats;
-    std::vector<uint8_t> bytes = encode_with_filter(source, ref0, ref1, candidates0, candidates1, warp0, warp1,
-                                                    params, static_cast<InterpolationFilter>(f),
-                                                    &trial_reconstruction, &trial_stats);
-    const double cost = static_cast<double>(image_squared_error(source, trial_reconstruction)) +
-                        lambda * 8.0 * static_cast<double>(bytes.size());
-    if (f == 0 || cost < best_cost) {  // ties keep the earlier bank
-      best_cost = cost;
-      best_bytes = std::move(bytes);
-      best_reconstruction = std::move(trial_reconstruction);
-      best_stats = std::move(trial_stats);
+  auto code = [&](InterpolationFilter filter) {
+    return code_macroblocks(source, ref0, ref1, candidates0, candidates1, warp0, warp1, params, filter,
+                            stats != nullptr);
+  };
+  CodedMacroblocks best = code(InterpolationFilter::kRegular);
+  if (params.switchable_filter) {
+    // The bank is chosen on the unfiltered frames (squared error plus bits), so the loop
+    // filters' search runs once, on the winner.
+    const double scale = quantizer_scale_q8(std::clamp(params.qindex, kMinQIndex, kMaxQIndex)) / 256.0;
+    const double lambda = params.lambda_factor * scale * scale;
+    auto cost = [&](const CodedMacroblocks& coded) {
+      return static_cast<double>(frame_error(coded.state, coded.padded)) +
+             lambda * 8.0 * static_cast<double>(coded.bytes->size());
+    };
+    double best_cost = cost(best);
+    for (int f = 1; f < kInterpolationFilterCount; ++f) {
+      CodedMacroblocks trial = code(static_cast<InterpolationFilter>(f));
+      const double trial_cost = cost(trial);
+      if (trial_cost < best_cost) {  // ties keep the earlier bank
+        best_cost = trial_cost;
+        best = std::move(trial);
+      }
     }
   }
-  if (reconstruction != nullptr) *reconstruction = std::move(best_reconstruction);
-  if (stats != nullptr) *stats = std::move(best_stats);
-  return best_bytes;
+  return finish_frame(best, params, reconstruction, stats);
 }
 
 }  // namespace svc::codec
