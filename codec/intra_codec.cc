@@ -185,14 +185,14 @@ class BlockSearch {
     trial->coded = transform_quantize_block(quantizer_, residual, trial->levels) > 0;
     const int16_t zero[64] = {};
     const float uncoded_cost = static_cast<float>(block_sse(source, stride, trial->prediction)) +
-                               lambda_ * (mode_bits + bframe::block_levels_bits(contexts, zero, 0, cbf_context));
+                               lambda_ * (mode_bits + block_levels_bits(contexts, zero, 0, cbf_context));
     if (!trial->coded) return uncoded_cost;
     uint8_t reconstructed[64];
     dequantize_block(quantizer_, trial->levels, coefficients);
     reconstruct_block(trial->prediction, coefficients, reconstructed, 8);
     const float coded_cost =
         static_cast<float>(block_sse(source, stride, reconstructed)) +
-        lambda_ * (mode_bits + bframe::block_levels_bits(contexts, trial->levels, 0, cbf_context));
+        lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context));
     if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;
     trial->coded = false;
     std::fill_n(trial->levels, 64, int16_t{0});

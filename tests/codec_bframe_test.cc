@@ -298,7 +298,7 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   const std::vector<uint8_t> valid =
       encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{8, -4}}),
                      uniform_candidates(w, h, {MotionVector{-8, 4}}), params, nullptr, nullptr);
-  ASSERT_GT(valid.size(), 40u);
+  ASSERT_GT(valid.size(), 32u);  // enough payload for the damage below to reach the levels
   ImageYCbCr420 out;
   std::vector<MacroblockMode> modes;
   // Every truncation is detected: a complete payload is consumed to its last byte.
