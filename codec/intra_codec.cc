@@ -16,6 +16,7 @@
 #include "codec/intra_prediction.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
+#include "codec/rdoq.h"
 
 namespace svc::codec {
 namespace {
@@ -133,6 +134,7 @@ class BlockSearch {
         quant_scale_(quant_scale),
         modes_(params.directional_intra ? kIntraModes : 2),
         rd_search_(params.rd_intra_search),
+        rdoq_(params.rdoq),
         lambda_(0.1f * static_cast<float>(quant_scale * quant_scale)) {}
 
   // `candidates` null: the mode is fixed (a Cr block takes its Cb block's).
@@ -182,7 +184,8 @@ class BlockSearch {
       for (int x = 0; x < 8; ++x)
         residual[8 * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[8 * y + x]);
     }
-    trial->coded = transform_quantize_block(quantizer_, residual, trial->levels) > 0;
+    trial->coded = transform_quantize_block_rd(quantizer_, residual, rdoq_, contexts, 0, cbf_context, lambda_,
+                                               trial->levels) > 0;
     const int16_t zero[64] = {};
     const float uncoded_cost = static_cast<float>(block_sse(source, stride, trial->prediction)) +
                                lambda_ * (mode_bits + block_levels_bits(contexts, zero, 0, cbf_context));
@@ -190,9 +193,8 @@ class BlockSearch {
     uint8_t reconstructed[64];
     dequantize_block(quantizer_, trial->levels, coefficients);
     reconstruct_block(trial->prediction, coefficients, reconstructed, 8);
-    const float coded_cost =
-        static_cast<float>(block_sse(source, stride, reconstructed)) +
-        lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context));
+    const float coded_cost = static_cast<float>(block_sse(source, stride, reconstructed)) +
+                             lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context));
     if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;
     trial->coded = false;
     std::fill_n(trial->levels, 64, int16_t{0});
@@ -203,7 +205,8 @@ class BlockSearch {
   int quant_scale_;
   int modes_;
   bool rd_search_;  // else the SATD's best mode, its levels as quantized
-  float lambda_;    // SSE per bit, tuned on the photographic scenes
+  bool rdoq_;
+  float lambda_;  // SSE per bit, tuned on the photographic scenes
 };
 
 }  // namespace

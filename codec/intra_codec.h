@@ -22,6 +22,9 @@ struct CodingParams {
   // term) and its levels as quantized, without the rate-distortion comparison of a
   // few modes and of dropping the levels.
   bool rd_intra_search = true;
+  // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h)
+  // rather than by rounding with a dead zone.
+  bool rdoq = true;
 };
 
 // Every frame payload starts with: frame type, syntax version, quant_scale, a zero byte.

@@ -39,6 +39,10 @@ struct CodingTools {
   // leave the reference face find what lies past its edge (docs/codec.md 10.6). Off: the
   // bare reference faces, and a B-face depends on its reference faces only.
   bool cube_references = true;
+  // I- and B-faces: each block's levels chosen by rate-distortion optimized quantization
+  // (weighing each level, one less and zero, and where the block ends) rather than by
+  // rounding with a dead zone. Encoder only.
+  bool rdoq = true;
 
   bool operator==(const CodingTools&) const = default;
 };

@@ -37,10 +37,12 @@ class Pipeline {
     intra_params_.quant_scale = static_cast<int>(index_.coding.quant_scale);
     intra_params_.directional_intra = job.tools.intra_directional;
     intra_params_.rd_intra_search = job.tools.intra_rd_search;
+    intra_params_.rdoq = job.tools.rdoq;
     b_params_.quant_scale = codec::suggested_b_quant_scale(intra_params_.quant_scale);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
     b_params_.quarter_pel = job.tools.quarter_pel;
+    b_params_.rdoq = job.tools.rdoq;
   }
 
   Status run() {
