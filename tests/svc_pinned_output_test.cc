@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "90b2f276a755f249353fb70a53bd2ab79d0b5cf21cbe1533d7473beb2dda5ed8",
-     "820a805640eef04fd8fee488b5d378ed4854269742af4d27cc5c892f87137ac5"},
+     "d02de39bb1ea1c0dabda2ddabd43588fff1bb4ac4fe61a76ae5c5a58bb696c63",
+     "e66f80516c5d2d484a20e69dbd726881b0588f07e7e42a88ce104e7d269a7fc1"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "698b299d70e9cdf44c8a564a341097f59ef2e7c129082d2b9351962215bc5037",
-     "634d1e8fbcf634c93175ef9e1f56f3c9c11cae541254c13c11ff57138292744d"},
+     "7e361f1d984dd0f18ab55616d10fb65b62d8ccfafa0dd602b42cb23a2677726e",
+     "2e9b5bbf8fc6114a228582c3d7890aede5fa8599c14d83aeebcc3284592d59c1"},
 };
 
 std::string file_sha256(const fs::path& path) {
