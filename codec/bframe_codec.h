@@ -76,6 +76,8 @@ struct BFrameParams {
   // about 12 / 9.5 / 7.6 / 6 / 6.5 / 6.5 % more bytes than the encoder before quarter-pel
   // motion at equal PSNR-Y (docs/codec.md, 10.5).
   double lambda_factor = 0.25;
+  // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h).
+  bool rdoq = true;
   // Offers warped prediction (warp_prediction.h) for references whose node field is
   // given to encode_b_frame.
   bool warp = true;

@@ -13,6 +13,7 @@
 #include "codec/bframe_loop_filter.h"
 #include "codec/bframe_state.h"
 #include "codec/bframe_syntax.h"
+#include "codec/rdoq.h"
 
 namespace svc::codec {
 namespace {
@@ -118,7 +119,8 @@ class BFrameEncoder {
         refine_(params.sub_pel_refinement),
         quarter_pel_(params.quarter_pel),
         full_evaluations_(std::max(1, params.inter_evaluations)),
-        max_candidates_(std::max(1, params.max_candidates)) {
+        max_candidates_(std::max(1, params.max_candidates)),
+        rdoq_(params.rdoq) {
     const double scale = quantizer_scale_q8(s_.inter_quantizer.qindex) / 256.0;
     lambda_ = std::max(0.0, params.lambda_factor) * scale * scale;
     lambda_sad_ = std::sqrt(lambda_);
@@ -481,7 +483,9 @@ class BFrameEncoder {
           residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
       }
       int16_t* levels = out->levels[b].data();
-      const int nonzero = transform_quantize_block(s_.inter_quantizer, residual, levels);
+      const int nonzero = transform_quantize_block_rd(s_.inter_quantizer, residual, rdoq_,
+                                                      plane == 0 ? c.inter_luma : c.inter_chroma, 0,
+                                                      kNoCodedBlockFlag, static_cast<float>(lambda_), levels);
       const int64_t uncoded_error = block_error(b, pred);
       bool coded = false;
       if (nonzero > 0) {
@@ -529,13 +533,15 @@ class BFrameEncoder {
         for (int x = 0; x < 8; ++x) samples[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - 128);
       }
       int16_t* levels = out->levels[b].data();
-      transform_quantize_block(s_.intra_quantizer, samples, levels);
+      const int coded_context_b = coded_context(s_, local_coded, plane, mx_, my_, bx, by);
+      transform_quantize_block_rd(s_.intra_quantizer, samples, rdoq_, set, 1, coded_context_b,
+                                  static_cast<float>(lambda_), levels);
       out->dc_levels[b] = levels[0];
       const int difference = levels[0] - predict_dc(s_, out->dc_levels.data(), plane, mx_, my_, bx, by);
       int& previous = previous_category[plane == 0 ? 0 : 1];
       bits += dc_difference_bits(set, previous, difference);
       previous = difference == 0 ? 0 : std::bit_width(static_cast<unsigned>(std::abs(difference)));
-      bits += block_levels_bits(set, levels, 1, coded_context(s_, local_coded, plane, mx_, my_, bx, by));
+      bits += block_levels_bits(set, levels, 1, coded_context_b);
       bool any_ac = false;
       for (int i = 1; i < 64 && !any_ac; ++i) any_ac = levels[i] != 0;
       local_coded[b] = any_ac;
@@ -555,6 +561,7 @@ class BFrameEncoder {
   const bool quarter_pel_;
   const int full_evaluations_;
   const int max_candidates_;
+  const bool rdoq_;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};
   std::array<int, 6> visible_w_{}, visible_h_{};

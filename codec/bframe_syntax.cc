@@ -20,51 +20,6 @@ const std::array<float, 4097>& cost_table() {
   return table;
 }
 
-float block_levels_bits(const BlockContextSet& c, const int16_t* levels, int first_scan, int coded_block_context) {
-  int last_scan = -1;
-  for (int i = 63; i >= first_scan; --i) {
-    if (levels[kZigZag[i]] != 0) {
-      last_scan = i;
-      break;
-    }
-  }
-  float bits = 0;
-  if (coded_block_context >= 0) {
-    bits += bit_cost(c.coded_block[coded_block_context], last_scan >= 0);
-  }
-  if (last_scan < 0) return bits;
-  for (int i = first_scan; i < 63; ++i) {
-    const int significant = levels[kZigZag[i]] != 0;
-    bits += bit_cost(c.significant[i], significant);
-    if (significant) {
-      bits += bit_cost(c.last[i], i == last_scan);
-      if (i == last_scan) break;
-    }
-  }
-  int greater_one = 0, equal_one = 0;
-  for (int i = last_scan; i >= first_scan; --i) {
-    const int level = levels[kZigZag[i]];
-    if (level == 0) continue;
-    const int minus_one = std::abs(level) - 1;
-    const int context = greater_one != 0 ? 0 : std::min(4, 1 + equal_one);
-    bits += bit_cost(c.greater_than_one[context], minus_one > 0);
-    if (minus_one > 0) {
-      const AdaptiveBit& remainder = c.level_remainder[std::min(4, greater_one)];
-      int k = 1;
-      for (; k < 14; ++k) {
-        bits += bit_cost(remainder, minus_one > k);
-        if (minus_one <= k) break;
-      }
-      if (k == 14) bits += exp_golomb_bits(static_cast<uint32_t>(minus_one - 14));
-      ++greater_one;
-    } else {
-      ++equal_one;
-    }
-    bits += 1;  // sign
-  }
-  return bits;
-}
-
 float dc_difference_bits(const BlockContextSet& c, int previous_category, int difference) {
   const unsigned magnitude = static_cast<unsigned>(std::abs(difference));
   const int category = magnitude == 0 ? 0 : std::bit_width(magnitude);

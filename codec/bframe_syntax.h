@@ -21,8 +21,6 @@ inline float bit_cost(const AdaptiveBit& model, int bit) {
 
 inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1); }
 
-float block_levels_bits(const BlockContextSet& c, const int16_t* levels, int first_scan, int coded_block_context);
-
 float dc_difference_bits(const BlockContextSet& c, int previous_category, int difference);
 
 float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value);

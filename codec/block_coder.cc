@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdlib>
 
+#include "codec/bframe_syntax.h"
 #include "codec/quant.h"
 
 namespace svc::codec {
@@ -17,11 +18,124 @@ const std::array<uint8_t, 64> kZigZag = {
 
 namespace {
 
-constexpr int kLevelPrefixBins = 14;  // unary bins of |level| - 1 before the escape
-constexpr int kMaxExpGolombPrefix = 16;
+constexpr ScanOrder kScan8x8{8, 64, kZigZag.data()};
 
-inline int greater_one_context(int count_greater_one, int count_equal_one) {
-  return count_greater_one != 0 ? 0 : std::min(4, 1 + count_equal_one);
+// eob in [1, 256]: 0 for 1, 1 for 2, then c for 2^(c-1) < eob <= 2^c.
+int end_of_block_class(int eob) { return eob <= 2 ? eob - 1 : std::bit_width(static_cast<unsigned>(eob - 1)); }
+int class_first_eob(int eob_class) { return eob_class < 2 ? eob_class + 1 : (1 << (eob_class - 1)) + 1; }
+
+int last_scan_of(const ScanOrder& order, const int16_t* levels, int first_scan) {
+  for (int i = order.count - 1; i >= first_scan; --i) {
+    if (levels[order.scan[i]] != 0) return i;
+  }
+  return -1;
+}
+
+// The syntax writers, shared by the encoder (EncodeSink) and the encoder's bit
+// estimates (CostSink), so the two cannot drift apart.
+struct EncodeSink {
+  RangeEncoder& encoder;
+  void bit(AdaptiveBit& model, int bit) { encoder.encode(model, bit); }
+  void bypass(int bit) { encoder.encode_bypass(bit); }
+  void exp_golomb(uint32_t value) { encode_exp_golomb_bypass(encoder, value); }
+};
+
+struct CostSink {
+  float bits = 0;
+  void bit(const AdaptiveBit& model, int bit) { bits += bframe::bit_cost(model, bit); }
+  void bypass(int) { bits += 1; }
+  void exp_golomb(uint32_t value) { bits += bframe::exp_golomb_bits(value); }
+};
+
+template <class Sink, class Set>
+void write_end_of_block(Sink& sink, Set& contexts, const ScanOrder& order, TransformSize size, int first_scan,
+                        int last_scan) {
+  const size_t s = static_cast<size_t>(size);
+  const int eob = last_scan - first_scan + 1;
+  const int eob_class = end_of_block_class(eob), max_class = end_of_block_class(order.count - first_scan);
+  for (int j = 0; j < eob_class; ++j) sink.bit(contexts.eob_class[s][j], 1);
+  if (eob_class < max_class) sink.bit(contexts.eob_class[s][eob_class], 0);
+  if (eob_class < 2) return;
+  const int extra_bits = eob_class - 1, offset = eob - class_first_eob(eob_class);
+  sink.bit(contexts.eob_extra[s][eob_class], (offset >> (extra_bits - 1)) & 1);
+  for (int b = extra_bits - 2; b >= 0; --b) sink.bypass((offset >> b) & 1);
+}
+
+template <class Sink, class Set>
+void write_magnitude(Sink& sink, Set& contexts, const NeighbourMagnitudes& neighbours, int position,
+                     int base_context, int magnitude) {
+  sink.bit(contexts.greater_than_one[base_context], magnitude > 1);
+  if (magnitude == 1) return;
+  sink.bit(contexts.greater_than_two[base_context], magnitude > 2);
+  if (magnitude == 2) return;
+  auto& range = contexts.level_range[neighbours.range_context(position)];
+  for (int k = 3; k < kRangeLevel; ++k) {
+    sink.bit(range, magnitude > k);
+    if (magnitude == k) return;
+  }
+  const int rice = neighbours.rice_parameter(position);
+  const auto remainder = static_cast<uint32_t>(magnitude - kRangeLevel);
+  sink.exp_golomb(remainder >> rice);
+  for (int b = rice - 1; b >= 0; --b) sink.bypass((remainder >> b) & 1);
+}
+
+template <class Sink, class Set>
+void write_levels(Sink& sink, Set& contexts, const int16_t* levels, int first_scan, int coded_block_context,
+                  TransformSize size) {
+  const ScanOrder& order = scan_order(size);
+  const int last_scan = last_scan_of(order, levels, first_scan);
+  if (coded_block_context >= 0) sink.bit(contexts.coded_block[coded_block_context], last_scan >= 0);
+  if (last_scan < 0) return;
+  write_end_of_block(sink, contexts, order, size, first_scan, last_scan);
+  NeighbourMagnitudes neighbours(order);
+  for (int i = last_scan; i >= first_scan; --i) {
+    const int position = order.scan[i], level = levels[position], magnitude = std::abs(level);
+    int base_context = last_level_context(position, order.width);
+    if (i != last_scan) {
+      base_context = neighbours.significance_context(position);
+      sink.bit(contexts.significant[base_context], magnitude != 0);
+      if (magnitude == 0) continue;
+    }
+    write_magnitude(sink, contexts, neighbours, position, base_context, magnitude);
+    sink.bypass(level < 0);
+    neighbours.set(position, magnitude);
+  }
+}
+
+// Returns 0 on invalid syntax, else the end-of-block count (last scan - first_scan + 1).
+int read_end_of_block(RangeDecoder& decoder, BlockContextSet& contexts, const ScanOrder& order, TransformSize size,
+                      int first_scan) {
+  const size_t s = static_cast<size_t>(size);
+  const int max_eob = order.count - first_scan, max_class = end_of_block_class(max_eob);
+  int eob_class = 0;
+  while (eob_class < max_class && decoder.decode(contexts.eob_class[s][eob_class])) ++eob_class;
+  if (eob_class < 2) return eob_class + 1;
+  const int extra_bits = eob_class - 1;
+  int offset = decoder.decode(contexts.eob_extra[s][eob_class]);
+  for (int b = extra_bits - 2; b >= 0; --b) offset = (offset << 1) | decoder.decode_bypass();
+  const int eob = class_first_eob(eob_class) + offset;
+  return eob <= max_eob ? eob : 0;
+}
+
+bool read_magnitude(RangeDecoder& decoder, BlockContextSet& contexts, const NeighbourMagnitudes& neighbours,
+                    int position, int base_context, int* magnitude) {
+  *magnitude = 1;
+  if (!decoder.decode(contexts.greater_than_one[base_context])) return true;
+  *magnitude = 2;
+  if (!decoder.decode(contexts.greater_than_two[base_context])) return true;
+  AdaptiveBit& range = contexts.level_range[neighbours.range_context(position)];
+  for (int k = 3; k < kRangeLevel; ++k) {
+    *magnitude = k;
+    if (!decoder.decode(range)) return true;
+  }
+  uint32_t quotient = 0;
+  if (!decode_exp_golomb_bypass(decoder, &quotient) || quotient > static_cast<uint32_t>(kMaxLevel)) return false;
+  const int rice = neighbours.rice_parameter(position);
+  uint32_t remainder = quotient;
+  for (int b = 0; b < rice; ++b) remainder = (remainder << 1) | static_cast<uint32_t>(decoder.decode_bypass());
+  if (remainder > static_cast<uint32_t>(kMaxLevel - kRangeLevel)) return false;
+  *magnitude = kRangeLevel + static_cast<int>(remainder);
+  return true;
 }
 
 inline int dc_context_row(int previous_category) {
@@ -29,6 +143,37 @@ inline int dc_context_row(int previous_category) {
 }
 
 }  // namespace
+
+const ScanOrder& scan_order(TransformSize) { return kScan8x8; }
+
+int position_class(int position, int width) {
+  const int diagonal = position / width + position % width;
+  return diagonal == 0 ? 0 : diagonal <= 2 ? 1 : diagonal <= 5 ? 2 : 3;
+}
+
+int NeighbourMagnitudes::significance_context(int position) const {
+  const uint16_t* a = grid_.data() + index(position);
+  const int s = stride_;
+  const int magnitude = std::min<int>(a[1], 3) + std::min<int>(a[s], 3) + std::min<int>(a[s + 1], 3) +
+                        std::min<int>(a[2], 3) + std::min<int>(a[2 * s], 3);
+  return position_class(position, width_) * kNeighbourhoods + std::min((magnitude + 1) >> 1, kNeighbourhoods - 1);
+}
+
+int NeighbourMagnitudes::range_context(int position) const {
+  const uint16_t* a = grid_.data() + index(position);
+  const int s = stride_;
+  const int magnitude = std::min<int>(a[1], 15) + std::min<int>(a[s], 15) + std::min<int>(a[s + 1], 15);
+  const int row = position / width_, column = position % width_;
+  const int group = position == 0 ? 0 : (row < 2 && column < 2 ? 1 : 2);
+  return group * 7 + std::min((magnitude + 1) >> 1, 6);
+}
+
+int NeighbourMagnitudes::rice_parameter(int position) const {
+  const uint16_t* a = grid_.data() + index(position);
+  const int s = stride_;
+  const unsigned sum = unsigned{a[1]} + a[s] + a[s + 1] + a[2] + a[2 * s];
+  return std::min(kMaxRiceParameter, static_cast<int>(std::bit_width(sum >> 6)));
+}
 
 void encode_exp_golomb_bypass(RangeEncoder& encoder, uint32_t value) {
   int bits = 0;
@@ -42,6 +187,7 @@ void encode_exp_golomb_bypass(RangeEncoder& encoder, uint32_t value) {
 }
 
 bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value) {
+  constexpr int kMaxExpGolombPrefix = 16;
   int bits = 0;
   uint32_t base = 0;
   while (decoder.decode_bypass()) {
@@ -55,99 +201,56 @@ bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value) {
 }
 
 void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
-                         int coded_block_context) {
-  int last_scan = -1;
-  for (int i = 63; i >= first_scan; --i) {
-    if (levels[kZigZag[i]] != 0) {
-      last_scan = i;
-      break;
-    }
-  }
-  if (coded_block_context >= 0) {
-    encoder.encode(contexts.coded_block[coded_block_context], last_scan >= 0);
-    if (last_scan < 0) return;
-  }
-  // Significance map; position 63 is implied when no earlier "last" was sent.
-  for (int i = first_scan; i < 63; ++i) {
-    const int significant = levels[kZigZag[i]] != 0;
-    encoder.encode(contexts.significant[i], significant);
-    if (significant) {
-      const int is_last = i == last_scan;
-      encoder.encode(contexts.last[i], is_last);
-      if (is_last) break;
-    }
-  }
-  // Magnitudes and signs in reverse scan order.
-  int count_greater_one = 0, count_equal_one = 0;
-  for (int i = last_scan; i >= first_scan; --i) {
-    const int level = levels[kZigZag[i]];
-    if (level == 0) continue;
-    const int magnitude_minus_one = std::abs(level) - 1;
-    encoder.encode(contexts.greater_than_one[greater_one_context(count_greater_one, count_equal_one)],
-                   magnitude_minus_one > 0);
-    if (magnitude_minus_one > 0) {
-      AdaptiveBit& remainder = contexts.level_remainder[std::min(4, count_greater_one)];
-      int k = 1;
-      for (; k < kLevelPrefixBins; ++k) {
-        const int more = magnitude_minus_one > k;
-        encoder.encode(remainder, more);
-        if (!more) break;
-      }
-      if (k == kLevelPrefixBins) {
-        encode_exp_golomb_bypass(encoder, static_cast<uint32_t>(magnitude_minus_one - kLevelPrefixBins));
-      }
-      ++count_greater_one;
-    } else {
-      ++count_equal_one;
-    }
-    encoder.encode_bypass(level < 0);
-  }
+                         int coded_block_context, TransformSize size) {
+  EncodeSink sink{encoder};
+  write_levels(sink, contexts, levels, first_scan, coded_block_context, size);
+}
+
+float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int first_scan,
+                        int coded_block_context, TransformSize size) {
+  CostSink sink;
+  write_levels(sink, contexts, levels, first_scan, coded_block_context, size);
+  return sink.bits;
+}
+
+float end_of_block_bits(const BlockContextSet& contexts, int first_scan, int last_scan, TransformSize size) {
+  CostSink sink;
+  write_end_of_block(sink, contexts, scan_order(size), size, first_scan, last_scan);
+  return sink.bits;
+}
+
+float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours, int position,
+                     int base_context, int magnitude) {
+  CostSink sink;
+  write_magnitude(sink, contexts, neighbours, position, base_context, magnitude);
+  return sink.bits + 1;  // sign
 }
 
 bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan, int coded_block_context,
-                         BlockLevel* out, int* count) {
+                         BlockLevel* out, int* count, TransformSize size) {
   *count = 0;
-  if (first_scan < 0 || first_scan > 63) return false;
-  if (coded_block_context >= 0 && !decoder.decode(contexts.coded_block[coded_block_context])) {
-    return true;
-  }
+  const ScanOrder& order = scan_order(size);
+  if (first_scan < 0 || first_scan >= order.count) return false;
+  if (coded_block_context >= 0 && !decoder.decode(contexts.coded_block[coded_block_context])) return true;
+  const int eob = read_end_of_block(decoder, contexts, order, size, first_scan);
+  if (eob == 0) return false;
+  const int last_scan = first_scan + eob - 1;
+  NeighbourMagnitudes neighbours(order);
   int n = 0;
-  bool ended = false;
-  for (int i = first_scan; i < 63; ++i) {
-    if (decoder.decode(contexts.significant[i])) {
-      out[n++].position = static_cast<uint8_t>(i);  // scan index for now
-      if (decoder.decode(contexts.last[i])) {
-        ended = true;
-        break;
-      }
+  for (int i = last_scan; i >= first_scan; --i) {
+    const int position = order.scan[i];
+    int base_context = last_level_context(position, order.width);
+    if (i != last_scan) {
+      base_context = neighbours.significance_context(position);
+      if (!decoder.decode(contexts.significant[base_context])) continue;
     }
-  }
-  if (!ended) out[n++].position = 63;
-  int count_greater_one = 0, count_equal_one = 0;
-  for (int j = n - 1; j >= 0; --j) {
-    int magnitude = 1;
-    if (decoder.decode(contexts.greater_than_one[greater_one_context(count_greater_one, count_equal_one)])) {
-      AdaptiveBit& remainder = contexts.level_remainder[std::min(4, count_greater_one)];
-      int k = 1;
-      for (; k < kLevelPrefixBins; ++k) {
-        if (!decoder.decode(remainder)) break;
-      }
-      magnitude = k + 1;
-      if (k == kLevelPrefixBins) {
-        uint32_t escape = 0;
-        if (!decode_exp_golomb_bypass(decoder, &escape)) return false;
-        if (escape > static_cast<uint32_t>(kMaxLevel)) return false;
-        magnitude += static_cast<int>(escape);
-      }
-      if (magnitude > kMaxLevel) return false;
-      ++count_greater_one;
-    } else {
-      ++count_equal_one;
-    }
+    int magnitude = 0;
+    if (!read_magnitude(decoder, contexts, neighbours, position, base_context, &magnitude)) return false;
     const int negative = decoder.decode_bypass();
-    out[j].level = static_cast<int16_t>(negative ? -magnitude : magnitude);
-    out[j].position = kZigZag[out[j].position];
+    out[n++] = {static_cast<uint8_t>(position), static_cast<int16_t>(negative ? -magnitude : magnitude)};
+    neighbours.set(position, magnitude);
   }
+  std::reverse(out, out + n);
   *count = n;
   return true;
 }

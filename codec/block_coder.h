@@ -1,13 +1,18 @@
-// Entropy coding of quantized 8x8 blocks with the adaptive range coder: zig-zag scan,
-// coded-block flag, significance map with "last" flags, CABAC-style level magnitudes
-// and a category-coded DC difference. Each block class (intra luma, intra chroma,
+// Entropy coding of quantized transform blocks with the adaptive range coder, in the
+// manner of HEVC/AV1: coded-block flag, end-of-block position (class + offset), then in
+// reverse scan order each coefficient's significance, greater-than-1/2 flags, adaptive
+// level-range bins and an Exp-Golomb-k remainder, with contexts from the already coded
+// neighbours to the right and below and from the position. A category-coded DC difference
+// serves blocks whose DC is predicted. Block sizes are a parameter (scan and eob tables
+// per size; 8x8 is the one in use). Each block class (intra luma, intra chroma,
 // non-intra luma, ...) owns a BlockContextSet; encoder and decoder must feed the same
 // sequence of calls with the same context sets to stay in step. Exact syntax in
-// docs/codec.md.
+// docs/codec.md section 5.
 //
 // Threading: context sets are plain mutable data owned by one coder at a time.
-// Errors: decode functions return false on syntax that no encoder produces (a level
-// beyond kMaxLevel, an over-long escape code); they never read outside their inputs.
+// Errors: decode functions return false on syntax that no encoder produces (an end of
+// block past the block, a level beyond kMaxLevel, an over-long escape code); they never
+// read outside their inputs and always terminate.
 #pragma once
 
 #include <array>
@@ -20,20 +25,45 @@ namespace svc::codec {
 // MPEG-2 default zig-zag: kZigZag[scan index] = natural (row-major) position.
 extern const std::array<uint8_t, 64> kZigZag;
 
+enum class TransformSize : uint8_t { k8x8 = 0 };
+inline constexpr int kTransformSizes = 1;
+inline constexpr int kMaxTransformWidth = 16;  // the largest size the tables are laid out for
+
+// A size's scan: every position comes after its left and upper neighbours (a diagonal
+// order), so the reverse scan codes right and lower neighbours first.
+struct ScanOrder {
+  int width;            // coefficients per row and column
+  int count;            // width * width
+  const uint8_t* scan;  // scan index -> natural position (row * width + column)
+};
+const ScanOrder& scan_order(TransformSize size);
+
 inline constexpr int kCodedBlockContexts = 4;
 // Pass as coded_block_context when the block is known to hold a non-zero level (the
 // caller signalled it elsewhere): no coded-block flag is coded.
 inline constexpr int kNoCodedBlockFlag = -1;
+
+inline constexpr int kMaxEobClasses = 9;    // eob up to 256 (16x16)
+inline constexpr int kPositionClasses = 4;  // by row + column: 0, 1..2, 3..5, 6..
+inline constexpr int kNeighbourhoods = 5;   // significance: capped neighbour magnitude
+inline constexpr int kSignificanceContexts = kPositionClasses * kNeighbourhoods;
+// Greater-than-1/2: the significance context, or one per position class at the last.
+inline constexpr int kBaseLevelContexts = kSignificanceContexts + kPositionClasses;
+inline constexpr int kRangeContexts = 3 * 7;  // level-range bins: 3 position groups x 7
+inline constexpr int kRangeLevel = 15;        // magnitudes from here take a remainder
+inline constexpr int kMaxRiceParameter = 4;
 
 inline constexpr int kDcCategoryContexts = 3;
 inline constexpr int kMaxDcCategory = 14;  // |difference| < 2^14
 
 struct BlockContextSet {
   std::array<AdaptiveBit, kCodedBlockContexts> coded_block{};
-  std::array<AdaptiveBit, 64> significant{};  // by scan index
-  std::array<AdaptiveBit, 64> last{};         // by scan index
-  std::array<AdaptiveBit, 5> greater_than_one{};
-  std::array<AdaptiveBit, 5> level_remainder{};
+  std::array<std::array<AdaptiveBit, kMaxEobClasses>, kTransformSizes> eob_class{};
+  std::array<std::array<AdaptiveBit, kMaxEobClasses>, kTransformSizes> eob_extra{};  // by class
+  std::array<AdaptiveBit, kSignificanceContexts> significant{};
+  std::array<AdaptiveBit, kBaseLevelContexts> greater_than_one{};
+  std::array<AdaptiveBit, kBaseLevelContexts> greater_than_two{};
+  std::array<AdaptiveBit, kRangeContexts> level_range{};
   std::array<std::array<AdaptiveBit, kMaxDcCategory>, kDcCategoryContexts> dc_category{};
   // Category of the previous DC difference coded with this set (selects dc_category row).
   int previous_dc_category = 0;
@@ -45,17 +75,60 @@ struct BlockLevel {
   int16_t level;
 };
 
-// Codes scan positions [first_scan, 64) of `levels` (natural order, |level| <=
+// Magnitudes of the coefficients coded so far, in natural order with a zero border two
+// wide to the right and below, so the context templates need no bounds checks.
+class NeighbourMagnitudes {
+ public:
+  explicit NeighbourMagnitudes(const ScanOrder& order) : width_(order.width), stride_(order.width + 2) {
+    grid_.fill(0);
+  }
+  void set(int position, int magnitude) { grid_[index(position)] = static_cast<uint16_t>(magnitude); }
+  // Contexts of natural position `position` (docs/codec.md 5.2).
+  int significance_context(int position) const;
+  int range_context(int position) const;
+  int rice_parameter(int position) const;
+
+ private:
+  size_t index(int position) const {
+    return static_cast<size_t>((position / width_) * stride_ + position % width_);
+  }
+  int width_, stride_;
+  std::array<uint16_t, (kMaxTransformWidth + 2) * (kMaxTransformWidth + 2)> grid_;
+};
+
+// 0 for the DC, 1 for row + column <= 2, 2 up to 5, 3 beyond.
+int position_class(int position, int width);
+// The greater-than-1/2 context of the last significant coefficient (its neighbours to the
+// right and below are all zero, and its significance is implied).
+inline int last_level_context(int position, int width) {
+  return kSignificanceContexts + position_class(position, width);
+}
+
+// Codes scan positions [first_scan, count) of `levels` (natural order, |level| <=
 // kMaxLevel): with first_scan = 1 for intra AC after a separate DC, 0 otherwise.
 // coded_block_context in [0, kCodedBlockContexts) selects the coded-block flag's
 // context, or kNoCodedBlockFlag (then the block must contain a non-zero level).
 void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
-                         int coded_block_context);
+                         int coded_block_context, TransformSize size = TransformSize::k8x8);
 
 // Decodes what encode_block_levels wrote. Writes the non-zero levels in scan order to
-// out[0..count) (out must hold 64) and sets *count. Returns false on invalid syntax.
+// out[0..count) (out must hold the size's count) and sets *count. Returns false on
+// invalid syntax.
 bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan, int coded_block_context,
-                         BlockLevel* out, int* count);
+                         BlockLevel* out, int* count, TransformSize size = TransformSize::k8x8);
+
+// Encoder only: the bits encode_block_levels would write, from the contexts' current
+// probabilities (unchanged).
+float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int first_scan,
+                        int coded_block_context, TransformSize size = TransformSize::k8x8);
+
+// Encoder only, for rate-distortion quantization: bits of the end-of-block position
+// `last_scan`, and of one non-zero magnitude with its sign at natural `position`, given
+// the magnitudes coded before it and its `base_context` (significance context, or
+// last_level_context at the end of block); neither includes the significance flag.
+float end_of_block_bits(const BlockContextSet& contexts, int first_scan, int last_scan, TransformSize size);
+float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours, int position,
+                     int base_context, int magnitude);
 
 // DC difference (intra DC level minus its prediction), |difference| < 2^kMaxDcCategory.
 void encode_dc_difference(RangeEncoder& encoder, BlockContextSet& contexts, int difference);

@@ -18,6 +18,7 @@
 #include "codec/loop_filter.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
+#include "codec/rdoq.h"
 
 namespace svc::codec {
 namespace {
@@ -240,6 +241,7 @@ class BlockSearch {
       : quantizer_(quantizer),
         modes_(params.directional_intra ? kIntraModes : 2),
         rd_search_(params.rd_intra_search),
+        rdoq_(params.rdoq),
         satd_lambda_(std::max(1, static_cast<int>(4 * scale_of(quantizer.qindex) + 0.5))),
         lambda_(static_cast<float>(0.1 * scale_of(quantizer.qindex) * scale_of(quantizer.qindex))) {}
 
@@ -290,17 +292,17 @@ class BlockSearch {
       for (int x = 0; x < 8; ++x)
         residual[8 * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[8 * y + x]);
     }
-    trial->coded = transform_quantize_block(quantizer_, residual, trial->levels) > 0;
+    trial->coded = transform_quantize_block_rd(quantizer_, residual, rdoq_, contexts, 0, cbf_context, lambda_,
+                                               trial->levels) > 0;
     const int16_t zero[64] = {};
     const float uncoded_cost = static_cast<float>(block_sse(source, stride, trial->prediction)) +
-                               lambda_ * (mode_bits + bframe::block_levels_bits(contexts, zero, 0, cbf_context));
+                               lambda_ * (mode_bits + block_levels_bits(contexts, zero, 0, cbf_context));
     if (!trial->coded) return uncoded_cost;
     uint8_t reconstructed[64];
     dequantize_block(quantizer_, trial->levels, coefficients);
     reconstruct_block(trial->prediction, coefficients, reconstructed, 8);
-    const float coded_cost =
-        static_cast<float>(block_sse(source, stride, reconstructed)) +
-        lambda_ * (mode_bits + bframe::block_levels_bits(contexts, trial->levels, 0, cbf_context));
+    const float coded_cost = static_cast<float>(block_sse(source, stride, reconstructed)) +
+                             lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context));
     if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;
     trial->coded = false;
     std::fill_n(trial->levels, 64, int16_t{0});
@@ -310,6 +312,7 @@ class BlockSearch {
   const Quantizer& quantizer_;
   int modes_;
   bool rd_search_;   // else the SATD's best mode, its levels as quantized
+  bool rdoq_;
   int satd_lambda_;  // SATD units per bit, tuned on the photographic scenes
   float lambda_;     // SSE per bit, tuned on the photographic scenes
 };

@@ -27,6 +27,9 @@ struct CodingParams {
   // Offers CDEF (cdef.h); the encoder chooses its presets and units by squared error
   // plus their bits, and leaves it off where it does not pay.
   bool cdef = true;
+  // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h)
+  // rather than by rounding with a dead zone.
+  bool rdoq = true;
 };
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,

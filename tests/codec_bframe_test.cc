@@ -124,9 +124,10 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
       encode_b_frame(source, reference, nullptr, candidates, {}, params, &coarser, &coarser_stats);
   EXPECT_LT(coarser_bytes.size() * 7, intra.size()) << coarser_bytes.size() << " vs intra " << intra.size();
   EXPECT_GE(coarser_stats.mb_skipped, 24);
-  // Within 1.5 dB of intra coding at the 2.5x finer step: the prediction carries the
-  // detail (lambda 0.25 trades some PSNR for bytes; 0.12 gave 1.0 dB).
-  EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 1.5);
+  // Within 2 dB of intra coding at the 2.5x finer step: the prediction carries the
+  // detail (lambda 0.25 trades some PSNR for bytes; 0.12 gave 1.0 dB; the I-frame's
+  // rate-distortion quantization, which starts from nearest rounding, added 0.15 dB).
+  EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 2.0);
 
   ImageYCbCr420 decoded;
   std::vector<MacroblockMode> modes;
@@ -207,8 +208,9 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   EXPECT_GE(stats.mb_intra, 20) << "of " << stats.macroblocks;
   // I-frames code spatial-prediction residuals with the flat matrix, finer at equal
-  // qindex than the intra matrix of B-frame intra macroblocks: hence 1.5 dB.
-  EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 1.5);
+  // qindex than the intra matrix of B-frame intra macroblocks, and their
+  // rate-distortion quantization starts from nearest rounding: hence 2 dB.
+  EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 2.0);
   EXPECT_LT(bytes.size(), intra.size() * 6 / 5) << bytes.size() << " vs intra " << intra.size();
   ImageYCbCr420 decoded;
   ASSERT_TRUE(decode_b_frame(bytes, w, h, unrelated, nullptr, &decoded).ok());
@@ -303,7 +305,7 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   const std::vector<uint8_t> valid =
       encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{8, -4}}),
                      uniform_candidates(w, h, {MotionVector{-8, 4}}), params, nullptr, nullptr);
-  ASSERT_GT(valid.size(), 40u);
+  ASSERT_GT(valid.size(), 32u);  // enough payload for the damage below to reach the levels
   ImageYCbCr420 out;
   std::vector<MacroblockMode> modes;
   // Every truncation is detected: a complete payload is consumed to its last byte.

@@ -47,6 +47,10 @@ struct CodingTools {
   // B-faces: each face picks its interpolation filter bank (regular, smooth, bilinear) by
   // rate-distortion cost (off: the regular bank only; the encoder codes each face once).
   bool switchable_filter = true;
+  // I- and B-faces: each block's levels chosen by rate-distortion optimized quantization
+  // (weighing each level, one less and zero, and where the block ends) rather than by
+  // rounding with a dead zone. Encoder only.
+  bool rdoq = true;
 
   bool operator==(const CodingTools&) const = default;
 };

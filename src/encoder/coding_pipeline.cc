@@ -37,10 +37,12 @@ class Pipeline {
     intra_params_.qindex = static_cast<int>(index_.coding.qindex);
     intra_params_.directional_intra = job.tools.intra_directional;
     intra_params_.rd_intra_search = job.tools.intra_rd_search;
+    intra_params_.rdoq = job.tools.rdoq;
     b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
     b_params_.quarter_pel = job.tools.quarter_pel;
+    b_params_.rdoq = job.tools.rdoq;
     intra_params_.deblocking = b_params_.deblocking = job.tools.deblocking;
     intra_params_.cdef = b_params_.cdef = job.tools.cdef;
     b_params_.switchable_filter = job.tools.switchable_filter;

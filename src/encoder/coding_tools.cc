@@ -24,6 +24,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"deblocking", &CodingTools::deblocking},
     CodingToolEntry{"cdef", &CodingTools::cdef},
     CodingToolEntry{"switchable-filter", &CodingTools::switchable_filter},
+    CodingToolEntry{"rdoq", &CodingTools::rdoq},
 };
 
 }  // namespace

@@ -1,0 +1,37 @@
+// Encoder only: rate-distortion optimized quantization (in the manner of HEVC's RDOQ).
+// For each coefficient, in reverse scan order, it weighs the rounded level, one less,
+// and zero by transform-domain squared error + lambda * bits, the bits from the block
+// coder's contexts in their current state (unchanged); then it picks the end of block
+// (possibly zeroing the tail) by the same cost. The bitstream does not depend on it: the
+// result is a set of levels like any other.
+//
+// Threading: pure functions of their inputs. Errors: none (inputs are trusted encoder data).
+#pragma once
+
+#include <cstdint>
+
+#include "codec/block_coder.h"
+#include "codec/quant.h"
+
+namespace svc::codec {
+
+// The levels of `coefficients` (a forward DCT, natural order) that minimize
+// sum (coefficient - dequantized level)^2 + lambda * block_levels_bits(...), as far as the
+// search sees, and never cost more by that measure than quantize_block's. Positions
+// before `first_scan` take quantize_block's levels. `lambda` is in squared error per bit.
+// Returns the number of non-zero levels.
+int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, const BlockContextSet& contexts,
+                        int first_scan, int coded_block_context, float lambda, int16_t* levels);
+
+// The cost that rdoq_quantize_block minimizes, for `levels` in scan positions first_scan
+// and above.
+double quantization_rd_cost(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
+                            const BlockContextSet& contexts, int first_scan, int coded_block_context, float lambda);
+
+// Forward DCT of `samples` (as transform_quantize_block) followed by either
+// rdoq_quantize_block (rdoq true) or quantize_block.
+int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
+                                const BlockContextSet& contexts, int first_scan, int coded_block_context,
+                                float lambda, int16_t* levels);
+
+}  // namespace svc::codec
