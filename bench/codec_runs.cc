@@ -142,7 +142,7 @@ Result<baseline::EncodedDatabase> Bench::encode_baseline(const CodecPlan& plan,
                                                          const baseline::EncodeSettings& settings) {
   baseline::EncodedDatabase encoded;
   std::vector<CellIndex> cells;
-  for (const CellSource& c : source_.manifest.cells) cells.push_back(c.index);
+  for (const ManifestCell& c : source_.manifest.cells) cells.push_back(c.index);
   const auto& d = source_.manifest.grid.dims;
   SVC_ASSIGN_OR_RETURN(encoded.layout, baseline::order_cells(cells, {d[0], d[1], d[2]}, plan.order,
                                                              std::max(1, settings.gop_size)));

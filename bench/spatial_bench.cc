@@ -76,7 +76,7 @@ bool print_reference_analysis(const std::filesystem::path& db_dir) {
     return false;
   }
   std::vector<CellIndex> cells;
-  for (const CellSource& cell : manifest->cells) cells.push_back(cell.index);
+  for (const ManifestCell& cell : manifest->cells) cells.push_back(cell.index);
   auto placement = place_cubes(cells, manifest->grid.dims, PlacementSettings{}, manifest->grid.spacing);
   if (!placement.ok()) {
     std::fprintf(stderr, "%s\n", placement.status().to_string().c_str());
@@ -117,8 +117,15 @@ bool print_reference_analysis(const std::filesystem::path& db_dir) {
         auto [slot, added] = references.try_emplace(frame);
         if (added && !load(r, face, &slot->second)) return false;
         const LoadedFace& reference = slot->second;
-        const Camera& current_camera = manifest->cells[c].faces[static_cast<int>(face)].camera;
-        const Camera& reference_camera = manifest->cells[r].faces[static_cast<int>(face)].camera;
+        const auto current_cell = read_cell(*manifest, c);
+        const auto reference_cell = read_cell(*manifest, r);
+        if (!current_cell.ok() || !reference_cell.ok()) {
+          std::fprintf(stderr, "%s\n",
+                       (current_cell.ok() ? reference_cell : current_cell).status().to_string().c_str());
+          return false;
+        }
+        const Camera& current_camera = current_cell->faces[static_cast<int>(face)].camera;
+        const Camera& reference_camera = reference_cell->faces[static_cast<int>(face)].camera;
         seen.push_back(
             visible_in_reference(current_camera, reference_camera, w, h, current.data.depth, reference.data.depth));
 

@@ -51,6 +51,13 @@ std::vector<double> view_matrix(double degrees, double tx, double ty, double tz)
   return {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, tx, ty, tz, 1};
 }
 
+// The full sources of a loaded manifest's cell, read again from the file.
+CellSource cell_of(const DatabaseManifest& manifest, size_t ordinal) {
+  Result<CellSource> cell = read_cell(manifest, ordinal);
+  EXPECT_TRUE(cell.ok()) << cell.status().to_string();
+  return cell.ok() ? std::move(cell).value() : CellSource{};
+}
+
 json face_entry(const std::string& color, const std::string& depth, double degrees) {
   return json{{"color", color}, {"depth", depth}, {"world_to_camera", view_matrix(degrees, 1, 2, 3)}};
 }
@@ -136,7 +143,9 @@ TEST_F(ManifestTest, LoadsSparseGridSortedByYThenZThenX) {
   EXPECT_EQ(find_cell(m, CellIndex{1, 0, 0}), std::optional<size_t>(1));
   EXPECT_EQ(find_cell(m, CellIndex{1, 0, 1}), std::nullopt);
 
-  const FaceSource& px = m.cells[0].faces[static_cast<size_t>(Face::kPX)];
+  const CellSource first = cell_of(m, 0);
+  EXPECT_EQ(first.index, (CellIndex{0, 0, 0}));
+  const FaceSource& px = first.faces[static_cast<size_t>(Face::kPX)];
   EXPECT_EQ(px.color_path, "cells/color.png");
   EXPECT_EQ(px.depth_path, "cells/depth.exr");
   EXPECT_EQ(resolve_database_path(m, px.color_path), dir_.path() / "cells" / "color.png");
@@ -147,7 +156,7 @@ TEST_F(ManifestTest, ViewMatricesAreColumnMajor) {
   const auto result = load_manifest(dir_.path());
   ASSERT_TRUE(result.ok()) << result.status().to_string();
   // Face nx was written with a 10 degree rotation about y and translation (1,2,3).
-  const Camera& camera = result->cells[0].faces[static_cast<size_t>(Face::kNX)].camera;
+  const Camera camera = cell_of(*result, 0).faces[static_cast<size_t>(Face::kNX)].camera;
   const auto& m = camera.world_to_camera;
   const auto at = [&](int row, int column) { return m[column * 4 + row]; };
   const double a = 10 * 3.14159265358979323846 / 180.0;
@@ -170,7 +179,7 @@ TEST_F(ManifestTest, GlobalPerFaceAndExplicitProjections) {
   write_manifest(manifest);
   const auto result = load_manifest(dir_.path());
   ASSERT_TRUE(result.ok()) << result.status().to_string();
-  const CellSource& cell = result->cells[0];
+  const CellSource cell = cell_of(*result, 0);
   ASSERT_EQ(cell.index, (CellIndex{0, 0, 0}));
 
   const Frustum& global = cell.faces[static_cast<size_t>(Face::kPX)].camera.frustum;
@@ -197,7 +206,7 @@ TEST_F(ManifestTest, GlobalPerFaceAndExplicitProjections) {
   EXPECT_DOUBLE_EQ(explicit_frustum.far_plane, 80.0);
 
   // Other cells keep the global projection.
-  EXPECT_DOUBLE_EQ(result->cells[1].faces[static_cast<size_t>(Face::kNX)].camera.frustum.far_plane, 50.0);
+  EXPECT_DOUBLE_EQ(cell_of(*result, 1).faces[static_cast<size_t>(Face::kNX)].camera.frustum.far_plane, 50.0);
 }
 
 TEST_F(ManifestTest, PerFaceProjectionsWithoutGlobalProjection) {
@@ -211,7 +220,7 @@ TEST_F(ManifestTest, PerFaceProjectionsWithoutGlobalProjection) {
   write_manifest(manifest);
   const auto result = load_manifest(dir_.path());
   ASSERT_TRUE(result.ok()) << result.status().to_string();
-  EXPECT_NEAR(result->cells[2].faces[5].camera.frustum.top, 0.2, 1e-12);
+  EXPECT_NEAR(cell_of(*result, 2).faces[5].camera.frustum.top, 0.2, 1e-12);
 
   manifest["cells"][0]["faces"].erase("nz");
   manifest["cells"][0]["faces"]["nz"] = face_entry("cells/color.png", "cells/depth.exr", 0);
@@ -233,7 +242,7 @@ TEST_F(ManifestTest, OptionalSettingsAndAbsolutePaths) {
   EXPECT_EQ(result->root, dir_.path());
   EXPECT_EQ(result->depth_mode, DepthMode::kRadial);
   EXPECT_EQ(result->up_axis, UpAxis::kZ);
-  const FaceSource& pz = result->cells[2].faces[static_cast<size_t>(Face::kPZ)];
+  const FaceSource pz = cell_of(*result, 2).faces[static_cast<size_t>(Face::kPZ)];
   EXPECT_EQ(pz.color_path, absolute);
   EXPECT_EQ(resolve_database_path(*result, pz.color_path), fs::path(absolute));
 }
@@ -254,7 +263,7 @@ TEST_F(ManifestTest, PathsOutsideTheDatabaseNeedPermission) {
                                              "outside the database folder", "--allow-outside-paths"});
     const auto allowed = load_manifest(dir_.path(), ManifestOptions{.allow_outside_paths = true});
     ASSERT_TRUE(allowed.ok()) << allowed.status().to_string();
-    const FaceSource& ny = allowed->cells[1].faces[static_cast<size_t>(Face::kNY)];
+    const FaceSource ny = cell_of(*allowed, 1).faces[static_cast<size_t>(Face::kNY)];
     EXPECT_TRUE(fs::equivalent(resolve_database_path(*allowed, ny.color_path), elsewhere.path() / "secret.png"));
   }
   // ".." that stays inside the folder is fine.
@@ -347,6 +356,83 @@ TEST_F(ManifestTest, RejectsMissingFilesNamingCellFaceAndFile) {
                ErrorCode::kNotFound, {"cell (0,0,1)", "face nz", "depth", "elsewhere/absent.exr", "not found"});
   expect_error([](json& m) { m["cells"][0]["faces"]["nz"]["depth"] = "cells"; }, ErrorCode::kNotFound,
                {"cell (0,0,1)", "face nz", "not a regular file"});
+}
+
+// Of two missing files, the one of the first cell in (y, z, x) order is reported, not the
+// first one listed: the streamed parse reports what a whole-document parse did.
+TEST_F(ManifestTest, ReportsTheMissingFileOfTheFirstCellInCellOrder) {
+  expect_error(
+      [](json& m) {
+        m["cells"][0]["faces"]["px"]["color"] = "cells/listed-first.png";  // cell (0,0,1)
+        m["cells"][2]["faces"]["nz"]["color"] = "cells/sorted-first.png";  // cell (0,0,0)
+      },
+      ErrorCode::kNotFound, {"cell (0,0,0)", "face nz", "cells/sorted-first.png"});
+}
+
+// The cells are read as a stream whatever the order of the keys; a repeated "cells" key
+// means its last array, as for any repeated key.
+TEST_F(ManifestTest, StreamsTheCellsWhereverTheyStandAndKeepsTheLastRepeatedKey) {
+  const json manifest = valid_manifest();
+  const std::string cells_first = manifest.dump();  // keys sorted: "cells" comes first
+  ASSERT_EQ(cells_first.rfind("{\"cells\":", 0), 0u);
+  const std::string lone_cell = json::array({cell_entry(1, 0, 1)}).dump();
+
+  write_manifest_text("{\"cells\": " + lone_cell + ", " + cells_first.substr(1));
+  auto result = load_manifest(dir_.path());
+  ASSERT_TRUE(result.ok()) << result.status().to_string();
+  ASSERT_EQ(result->cells.size(), 3u);
+  EXPECT_EQ(find_cell(*result, CellIndex{1, 0, 1}), std::nullopt);
+
+  write_manifest_text(cells_first.substr(0, cells_first.size() - 1) + ", \"cells\": " + lone_cell + "}");
+  result = load_manifest(dir_.path());
+  ASSERT_TRUE(result.ok()) << result.status().to_string();
+  ASSERT_EQ(result->cells.size(), 1u);
+  EXPECT_EQ(result->cells[0].index, (CellIndex{1, 0, 1}));
+  EXPECT_EQ(cell_of(*result, 0).faces[static_cast<size_t>(Face::kNY)].color_path, "cells/color.png");
+}
+
+TEST_F(ManifestTest, VisitorSeesEveryCellOnceInListedOrder) {
+  write_manifest(valid_manifest());
+  std::vector<CellIndex> seen;
+  const auto result = load_manifest(dir_.path(), {}, [&](const CellSource& cell, size_t listed_at, size_t listed) {
+    EXPECT_EQ(listed_at, seen.size());
+    EXPECT_EQ(listed, 3u);
+    EXPECT_EQ(cell.faces[static_cast<size_t>(Face::kPZ)].depth_path, "cells/depth.exr");
+    seen.push_back(cell.index);
+    return Status::Ok();
+  });
+  ASSERT_TRUE(result.ok()) << result.status().to_string();
+  EXPECT_EQ(seen, (std::vector<CellIndex>{{0, 0, 1}, {1, 0, 0}, {0, 0, 0}}));
+
+  const auto refused = load_manifest(dir_.path(), {}, [](const CellSource& cell, size_t, size_t) {
+    return cell.index == CellIndex{1, 0, 0} ? Status(ErrorCode::kLimitExceeded, "no room for cell (1,0,0)")
+                                            : Status::Ok();
+  });
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), ErrorCode::kLimitExceeded);
+  EXPECT_EQ(refused.status().message(), "no room for cell (1,0,0)");
+}
+
+// read_cell reads a cell's entry again; a manifest rewritten since it was loaded is
+// noticed, not misread.
+TEST_F(ManifestTest, ReadCellNoticesAManifestChangedSinceItWasLoaded) {
+  write_manifest(valid_manifest());
+  const auto result = load_manifest(dir_.path());
+  ASSERT_TRUE(result.ok()) << result.status().to_string();
+  for (size_t c = 0; c < result->cells.size(); ++c) EXPECT_EQ(cell_of(*result, c).index, result->cells[c].index);
+  const auto out_of_range = read_cell(*result, 3);
+  ASSERT_FALSE(out_of_range.ok());
+  EXPECT_EQ(out_of_range.status().code(), ErrorCode::kInvalidArgument);
+
+  json moved = valid_manifest();
+  moved["a_note"] = "a key written before the cells, which moves every entry";
+  write_manifest(moved);
+  const auto changed = read_cell(*result, 1);
+  ASSERT_FALSE(changed.ok());
+  EXPECT_EQ(changed.status().code(), ErrorCode::kBadInput);
+  for (const std::string needle : {"manifest.json", "cell (1,0,0)", "byte", "changed"}) {
+    EXPECT_NE(changed.status().message().find(needle), std::string::npos) << changed.status().message();
+  }
 }
 
 TEST_F(ManifestTest, RejectsBadViewMatrices) {

@@ -67,7 +67,7 @@ TEST(ContainerIndex, RoundTripsEveryField) {
   EXPECT_EQ(parsed->cells[1].cameras[4].frustum.far_plane, 77);
   ASSERT_EQ(parsed->frames.size(), 18u);
   EXPECT_EQ(parsed->frames[7].type, FaceType::kPredicted);
-  EXPECT_EQ(parsed->frames[7].references, std::vector<uint32_t>{1});
+  EXPECT_EQ(parsed->frames[7].references, FrameReferences{1});
   EXPECT_EQ(parsed->frames[17].chunk_offset, kPreludeSize + 1700);
   EXPECT_EQ(serialize_index(*parsed), bytes);
 }

@@ -5,8 +5,12 @@
 // container/writer.h, adding to one in place container/updater.h.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cassert>
+#include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 #include <vector>
 
@@ -44,17 +48,59 @@ struct CellRecord {
   std::array<Camera, kFaceCount> cameras;
 };
 
+// A frame's references: none for an I-face, one or two for a B-face (docs/format.md).
+// Held inline, so that an index of any size makes no allocation per frame.
+class FrameReferences {
+ public:
+  static constexpr size_t kCapacity = 2;
+
+  FrameReferences() = default;
+  FrameReferences(std::initializer_list<uint32_t> refs) {
+    for (uint32_t ref : refs) push_back(ref);
+  }
+
+  // A third reference is a caller's error (the placement gives at most two); it is
+  // dropped rather than written past the end.
+  void push_back(uint32_t ref) {
+    assert(size_ < kCapacity);
+    if (size_ < kCapacity) refs_[size_++] = ref;
+  }
+  // n <= kCapacity; new references are 0.
+  void resize(size_t n) {
+    assert(n <= kCapacity);
+    for (size_t i = size_; i < n && i < kCapacity; ++i) refs_[i] = 0;
+    size_ = static_cast<uint8_t>(std::min(n, kCapacity));
+  }
+  void clear() { size_ = 0; }
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  uint32_t operator[](size_t i) const { return refs_[i]; }
+  uint32_t* begin() { return refs_.data(); }
+  uint32_t* end() { return refs_.data() + size_; }
+  const uint32_t* begin() const { return refs_.data(); }
+  const uint32_t* end() const { return refs_.data() + size_; }
+  friend bool operator==(const FrameReferences& a, const FrameReferences& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end());
+  }
+
+ private:
+  std::array<uint32_t, kCapacity> refs_{};
+  uint8_t size_ = 0;
+};
+
+// Packed: 32 bytes a frame, the index's cost per face besides its camera.
 struct FrameRecord {
-  uint32_t cell = 0;  // ordinal into ContainerIndex::cells
+  uint64_t chunk_offset = 0;   // file offset of the FACE chunk
+  uint32_t cell = 0;           // ordinal into ContainerIndex::cells
+  uint32_t payload_size = 0;   // coded bytes inside the chunk
+  FrameReferences references;  // ordinals into ContainerIndex::frames
   Face face = Face::kPX;
   FaceType type = FaceType::kIntra;
-  uint64_t chunk_offset = 0;         // file offset of the FACE chunk
-  uint32_t payload_size = 0;         // coded bytes inside the chunk
-  std::vector<uint32_t> references;  // ordinals into ContainerIndex::frames
   // A B-face predicting from padded references (docs/codec.md 10.6): it also depends on
   // the four faces adjacent to its face in each reference cube (frame_dependencies).
   bool cube_references = false;
 };
+static_assert(sizeof(FrameRecord) <= 32);
 
 // Every frame `frame` needs decoded before it can be: its references, then, with cube
 // references, the four adjacent faces of each reference cube (codec/cube_padding.h

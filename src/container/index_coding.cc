@@ -598,7 +598,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
 }
 
 std::vector<uint32_t> frame_dependencies(const FrameRecord& frame) {
-  std::vector<uint32_t> out = frame.references;
+  std::vector<uint32_t> out(frame.references.begin(), frame.references.end());
   if (!frame.cube_references) return out;
   for (uint32_t ref : frame.references) {
     const uint32_t cube = ref - ref % kFaceCount;

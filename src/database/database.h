@@ -7,15 +7,17 @@
 // directories as kNotFound, and files the operating system refuses to read as kIoError.
 // Messages name the manifest file, the cell ("cell (x,y,z)"), the face and the file.
 //
-// Threading: load_manifest and load_face keep no shared mutable state; any number of
-// threads may call load_face on the same manifest at once (each call opens its own
-// OpenImageIO ImageInput; OpenImageIO's shared ImageCache is not used).
+// Threading: load_manifest, read_cell and load_face keep no shared mutable state; any
+// number of threads may call read_cell and load_face on the same manifest at once (each
+// call opens its own manifest stream and OpenImageIO ImageInput; OpenImageIO's shared
+// ImageCache is not used).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,14 +45,28 @@ struct CellSource {
   std::array<FaceSource, kFaceCount> faces;  // indexed by Face
 };
 
+// A listed cell as the manifest keeps it: its index, its position, and where its entry
+// lies in manifest.json. Its face sources (paths, cameras) are read again from there when
+// needed (read_cell) rather than held, so a manifest costs a few bytes a cell however
+// large the database.
+struct ManifestCell {
+  CellIndex index;
+  uint32_t listed_at = 0;  // position in the manifest's "cells" array
+  std::array<double, 3> position{0, 0, 0};
+  uint64_t entry_offset = 0;  // of the cell's JSON object in manifest.json
+  uint64_t entry_size = 0;    // its bytes, braces included
+};
+
 struct DatabaseManifest {
-  std::filesystem::path root;  // the database directory
+  std::filesystem::path root;           // the database directory
+  std::filesystem::path manifest_file;  // manifest.json (or the file given)
   GridSpec grid;
   int face_width = 0;
   int face_height = 0;
   DepthMode depth_mode = DepthMode::kEyeZ;
   UpAxis up_axis = UpAxis::kY;
-  std::vector<CellSource> cells;  // sorted by (y, z, x) cell index, no duplicates
+  std::optional<Frustum> projection;  // the global projection, when the manifest has one
+  std::vector<ManifestCell> cells;    // sorted by (y, z, x) cell index, no duplicates
 };
 
 struct ManifestOptions {
@@ -67,7 +83,20 @@ struct ManifestOptions {
 // format does not describe are ignored. `db_dir` is the database directory; a path to
 // the manifest file itself is accepted too (the root is then its parent directory). An
 // empty cell list is rejected.
-Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir, const ManifestOptions& options = {});
+// The file is read as a stream, twice (the keys other than the cells, then the cells one
+// at a time): memory holds one cell's entry at a time, never the whole document. Each
+// cell's full sources go to `visit_cell`, when given, once, in the manifest's order
+// (`listed_at` of `cells_listed`) and before the checks across cells (duplicates,
+// files); an error it returns ends the load with that error.
+using CellVisitor = std::function<Status(const CellSource& cell, size_t listed_at, size_t cells_listed)>;
+Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir, const ManifestOptions& options = {},
+                                       const CellVisitor& visit_cell = {});
+
+// The full sources of manifest.cells[cell_ordinal], read again from its entry in
+// manifest.json. A cell_ordinal out of range is kInvalidArgument; an entry that no longer
+// reads as that cell (the file changed since load_manifest) is kBadInput naming the cell
+// and the offset. Thread-safe: each call opens the file on its own.
+Result<CellSource> read_cell(const DatabaseManifest& manifest, size_t cell_ordinal);
 
 // One face's pixels. Depth is converted to eye-space z (distance along the view axis,
 // positive); pixels that saw no geometry (+inf, NaN, <= 0, >= far) hold +infinity.
@@ -76,7 +105,8 @@ struct FaceData {
   std::vector<float> depth;  // width * height, row 0 at the top
 };
 
-// Loads colour and depth of one face of manifest.cells[cell_ordinal].
+// Loads colour and depth of one face of manifest.cells[cell_ordinal] (read_cell, then the
+// overload below).
 // Colour: channels R, G, B by name (or "<layer>.R/G/B"), else the first three channels;
 // a one- or two-channel image (grey, grey + alpha) is grey, expanded to RGB; other
 // channels are ignored. 8-bit values are taken as they are; other integer types are
@@ -88,6 +118,8 @@ struct FaceData {
 // background test (inf, NaN, <= 0, eye z >= far) is made after that conversion.
 // A cell_ordinal or face out of range is kInvalidArgument. Thread-safe.
 Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
+// The same for a cell whose sources the caller has read already. Thread-safe.
+Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face);
 
 // Where a manifest path lives on disk: absolute paths as they are, relative paths under
 // manifest.root.

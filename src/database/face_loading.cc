@@ -210,16 +210,15 @@ uint8_t linear_to_srgb8(float linear) noexcept {
 }
 
 Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face) {
-  if (cell_ordinal >= manifest.cells.size()) {
-    return Status(ErrorCode::kInvalidArgument, "cell ordinal " + std::to_string(cell_ordinal) +
-                                                   " is out of range (" + std::to_string(manifest.cells.size()) +
-                                                   " cells)");
-  }
+  SVC_ASSIGN_OR_RETURN(const CellSource cell, read_cell(manifest, cell_ordinal));
+  return load_face(manifest, cell, face);
+}
+
+Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face) {
   const auto face_slot = static_cast<size_t>(face);
   if (face_slot >= kFaceCount) {
     return Status(ErrorCode::kInvalidArgument, "face " + std::to_string(face_slot) + " is out of range");
   }
-  const CellSource& cell = manifest.cells[cell_ordinal];
   const FaceSource& source = cell.faces[face_slot];
   const std::string where = cell_label(cell.index) + ", face " + face_name(face);
   const fs::path color_path = resolve_database_path(manifest, source.color_path);

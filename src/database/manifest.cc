@@ -7,10 +7,13 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <system_error>
 #include <tuple>
 #include <utility>
+
+#include "database/json_stream.h"
 
 namespace svc {
 
@@ -270,6 +273,10 @@ Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t
   return parsed;
 }
 
+double aspect_of(const DatabaseManifest& manifest) {
+  return static_cast<double>(manifest.face_width) / manifest.face_height;
+}
+
 // Whether a manifest path stays inside the database folder once "." and ".." are
 // resolved (an absolute path may name a file inside it). Symbolic links inside the folder
 // are followed as they are.
@@ -310,7 +317,8 @@ Status check_file_exists(const std::string& manifest_label, const DatabaseManife
                                           ") " + what);
 }
 
-Result<std::string> read_text_file(const fs::path& path) {
+// Opens manifest.json for a streamed read.
+Result<std::ifstream> open_manifest(const fs::path& path) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) {
@@ -321,58 +329,21 @@ Result<std::string> read_text_file(const fs::path& path) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) return Status(ErrorCode::kIoError, path.string() + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return Status(ErrorCode::kIoError, path.string() + ": read failed");
-  return text.str();
+  return in;
 }
 
-// Accepts every JSON value and records the first syntax error.
-class SyntaxChecker final : public nlohmann::json_sax<json> {
- public:
-  bool null() override { return true; }
-  bool boolean(bool) override { return true; }
-  bool number_integer(number_integer_t) override { return true; }
-  bool number_unsigned(number_unsigned_t) override { return true; }
-  bool number_float(number_float_t, const string_t&) override { return true; }
-  bool string(string_t&) override { return true; }
-  bool binary(binary_t&) override { return true; }
-  bool start_object(std::size_t) override { return true; }
-  bool key(string_t&) override { return true; }
-  bool end_object() override { return true; }
-  bool start_array(std::size_t) override { return true; }
-  bool end_array() override { return true; }
-  bool parse_error(std::size_t position, const std::string& last_token,
-                   const nlohmann::detail::exception& ex) override {
-    error_offset = position;
-    error_token = last_token;
-    error_message = ex.what();
-    error_has_position = dynamic_cast<const json::parse_error*>(&ex) != nullptr;
-    return false;
+Status syntax_error(const std::string& label, std::istream& in, const JsonSyntaxError& error) {
+  if (error.has_position) {
+    return Status(ErrorCode::kBadInput, label + ": not valid JSON: " + error.message);
   }
-
-  std::size_t error_offset = 0;
-  std::string error_token;
-  std::string error_message;
-  bool error_has_position = false;  // parse_error messages carry line and column already
-};
-
-// 1-based line and column of a byte offset (the offset just past the failing token).
-std::pair<size_t, size_t> line_and_column(const std::string& text, size_t offset) {
-  offset = std::min(offset, text.size());
-  size_t line = 1, line_start = 0;
-  for (size_t i = 0; i < offset; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      line_start = i + 1;
-    }
-  }
-  return {line, offset - line_start + 1};
+  const auto [line, column] = line_and_column(in, error.offset);
+  return Status(ErrorCode::kBadInput, label + ": not valid JSON near line " + std::to_string(line) + ", column " +
+                                          std::to_string(column) + " (last token " + in_quotes(error.last_token) +
+                                          "): " + error.message);
 }
 
-Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string& label,
-                                        const ManifestOptions& options, DatabaseManifest manifest) {
-  const ManifestParser p(label);
+// Everything but the cells: format, version, grid, face size, projection, depth, up axis.
+Status parse_header(const json& root_json, const ManifestParser& p, DatabaseManifest& manifest) {
   SVC_RETURN_IF_ERROR(p.expect_object(root_json, ""));
 
   SVC_ASSIGN_OR_RETURN(const json* format, p.required(root_json, "format", ""));
@@ -431,11 +402,8 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
     manifest.face_width = static_cast<int>(size[0]);
     manifest.face_height = static_cast<int>(size[1]);
   }
-  const double aspect = static_cast<double>(manifest.face_width) / manifest.face_height;
-
-  std::optional<Frustum> global_projection;
   if (const auto it = root_json.find("projection"); it != root_json.end()) {
-    SVC_ASSIGN_OR_RETURN(global_projection, parse_projection(p, *it, "projection", aspect));
+    SVC_ASSIGN_OR_RETURN(manifest.projection, parse_projection(p, *it, "projection", aspect_of(manifest)));
   }
 
   if (const auto it = root_json.find("depth"); it != root_json.end()) {
@@ -461,45 +429,85 @@ Result<DatabaseManifest> parse_manifest(const json& root_json, const std::string
     }
   }
 
-  // cells
-  SVC_ASSIGN_OR_RETURN(const json* cells, p.required(root_json, "cells", ""));
-  if (!cells->is_array()) {
-    return p.error("cells", "expected an array, got " + std::string(cells->type_name()));
+  return Status::Ok();
+}
+
+Result<ParsedCell> parse_cell_safely(const ManifestParser& p, const json& element, size_t ordinal,
+                                     const DatabaseManifest& manifest) {
+  try {
+    return parse_cell(p, element, ordinal, manifest.grid, manifest.projection, aspect_of(manifest));
+  } catch (const json::exception& e) {
+    // The parser checks every type before reading it; this is a safety net.
+    return p.error("cells[" + std::to_string(ordinal) + "]", e.what());
   }
-  if (cells->empty()) return p.error("cells", "the database lists no cells");
-  std::vector<ParsedCell> parsed;
-  parsed.reserve(cells->size());
-  for (size_t i = 0; i < cells->size(); ++i) {
-    SVC_ASSIGN_OR_RETURN(ParsedCell cell, parse_cell(p, (*cells)[i], i, manifest.grid, global_projection, aspect));
-    parsed.push_back(std::move(cell));
+}
+
+// The first failing file check of a cell: files inside the database folder (unless
+// allowed), then present, face by face.
+Status check_cell_files(const std::string& label, const DatabaseManifest& manifest, const CellSource& cell,
+                        const ManifestOptions& options) {
+  for (const Face face : kAllFaces) {
+    const FaceSource& source = cell.faces[static_cast<size_t>(face)];
+    SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "color", source.color_path, options));
+    SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "depth", source.depth_path, options));
+    SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "color", source.color_path));
+    if (source.depth_path != source.color_path) {
+      SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
+    }
   }
-  const auto key = [](const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); };
-  std::stable_sort(parsed.begin(), parsed.end(),
-                   [&](const ParsedCell& a, const ParsedCell& b) { return key(a.cell.index) < key(b.cell.index); });
-  for (size_t i = 1; i < parsed.size(); ++i) {
-    if (parsed[i].cell.index == parsed[i - 1].cell.index) {
-      const size_t first = std::min(parsed[i - 1].listed_at, parsed[i].listed_at);
-      const size_t second = std::max(parsed[i - 1].listed_at, parsed[i].listed_at);
-      return p.error("cells[" + std::to_string(second) + "]", cell_label(parsed[i].cell.index) +
+  return Status::Ok();
+}
+
+std::tuple<int32_t, int32_t, int32_t> cell_key(const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); }
+
+// The second pass over the file: every cell parsed and checked as it streams past.
+// Errors come in the order a whole-document parse gives them: the first bad entry in the
+// list, then a cell listed twice, then the first bad file in cell order.
+Status parse_cells(std::istream& in, int cells_array, size_t cells_listed, const ManifestParser& p,
+                   const std::string& label, const ManifestOptions& options, const CellVisitor& visit_cell,
+                   DatabaseManifest& manifest) {
+  Status failed = Status::Ok();
+  std::optional<std::pair<std::tuple<int32_t, int32_t, int32_t>, Status>> first_bad_file;
+  const JsonElementHandler on_cell = [&](json& element, uint64_t offset, uint64_t size) {
+    const size_t ordinal = manifest.cells.size();
+    Result<ParsedCell> parsed = parse_cell_safely(p, element, ordinal, manifest);
+    if (parsed.ok() && visit_cell) {
+      Status visited = visit_cell(parsed->cell, ordinal, cells_listed);
+      if (!visited.ok()) parsed = std::move(visited);
+    }
+    if (!parsed.ok()) {
+      failed = parsed.status();
+      return false;
+    }
+    const CellSource& cell = parsed->cell;
+    manifest.cells.push_back(ManifestCell{cell.index, static_cast<uint32_t>(ordinal), cell.position, offset, size});
+    const auto key = cell_key(cell.index);
+    if (!first_bad_file || key < first_bad_file->first) {
+      Status files = check_cell_files(label, manifest, cell, options);
+      if (!files.ok()) first_bad_file.emplace(key, std::move(files));
+    }
+    return true;
+  };
+  in.clear();
+  in.seekg(0);
+  const StreamedJson streamed = stream_json(in, "cells", cells_array, on_cell);
+  if (!failed.ok()) return failed;
+  if (!streamed.syntax_ok) return syntax_error(label, in, streamed.syntax_error);  // the file changed meanwhile
+
+  std::stable_sort(manifest.cells.begin(), manifest.cells.end(), [](const ManifestCell& a, const ManifestCell& b) {
+    return cell_key(a.index) < cell_key(b.index);
+  });
+  for (size_t i = 1; i < manifest.cells.size(); ++i) {
+    if (manifest.cells[i].index == manifest.cells[i - 1].index) {
+      const size_t first = std::min(manifest.cells[i - 1].listed_at, manifest.cells[i].listed_at);
+      const size_t second = std::max(manifest.cells[i - 1].listed_at, manifest.cells[i].listed_at);
+      return p.error("cells[" + std::to_string(second) + "]", cell_label(manifest.cells[i].index) +
                                                                   " is listed twice (also at cells[" +
                                                                   std::to_string(first) + "])");
     }
   }
-  manifest.cells.reserve(parsed.size());
-  for (ParsedCell& cell : parsed) manifest.cells.push_back(std::move(cell.cell));
-
-  for (const CellSource& cell : manifest.cells) {
-    for (const Face face : kAllFaces) {
-      const FaceSource& source = cell.faces[static_cast<size_t>(face)];
-      SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "color", source.color_path, options));
-      SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "depth", source.depth_path, options));
-      SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "color", source.color_path));
-      if (source.depth_path != source.color_path) {
-        SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
-      }
-    }
-  }
-  return manifest;
+  if (first_bad_file) return first_bad_file->second;
+  return Status::Ok();
 }
 
 }  // namespace
@@ -523,54 +531,80 @@ std::filesystem::path resolve_database_path(const DatabaseManifest& manifest, co
 }
 
 std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellIndex& index) {
-  const auto key = [](const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); };
-  const auto it = std::lower_bound(manifest.cells.begin(), manifest.cells.end(), key(index),
-                                   [&](const CellSource& cell, const auto& k) { return key(cell.index) < k; });
+  const auto it =
+      std::lower_bound(manifest.cells.begin(), manifest.cells.end(), cell_key(index),
+                       [&](const ManifestCell& cell, const auto& k) { return cell_key(cell.index) < k; });
   if (it == manifest.cells.end() || !(it->index == index)) return std::nullopt;
   return static_cast<size_t>(it - manifest.cells.begin());
 }
 
-Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir, const ManifestOptions& options) {
+Result<DatabaseManifest> load_manifest(const std::filesystem::path& db_dir, const ManifestOptions& options,
+                                       const CellVisitor& visit_cell) {
   std::error_code ec;
   const fs::file_status status = fs::status(db_dir, ec);
   if (!fs::exists(status)) {
     return Status(ErrorCode::kNotFound, "database " + db_dir.string() + ": not found");
   }
   DatabaseManifest manifest;
-  fs::path manifest_path;
   if (fs::is_directory(status)) {
     manifest.root = db_dir;
-    manifest_path = db_dir / "manifest.json";
+    manifest.manifest_file = db_dir / "manifest.json";
   } else {
-    manifest_path = db_dir;
+    manifest.manifest_file = db_dir;
     manifest.root = db_dir.parent_path().empty() ? fs::path(".") : db_dir.parent_path();
   }
-  SVC_ASSIGN_OR_RETURN(const std::string text, read_text_file(manifest_path));
-  const std::string label = manifest_path.string();
-  // A first SAX pass finds syntax errors with their position, including those that
-  // nlohmann::json reports without one (a number too large for a double).
-  SyntaxChecker checker;
-  if (!json::sax_parse(text, &checker)) {
-    if (checker.error_has_position) {
-      return Status(ErrorCode::kBadInput, label + ": not valid JSON: " + checker.error_message);
+  SVC_ASSIGN_OR_RETURN(std::ifstream in, open_manifest(manifest.manifest_file));
+  const std::string label = manifest.manifest_file.string();
+  const ManifestParser p(label);
+  // First pass: the syntax of the whole file (errors with their position, including a
+  // number too large for a double, which nlohmann::json reports without one) and the
+  // keys other than the cells, which may come after them.
+  const StreamedJson outline = stream_json(in, "cells", 0, {});
+  if (in.bad()) return Status(ErrorCode::kIoError, label + ": read failed");
+  if (!outline.syntax_ok) return syntax_error(label, in, outline.syntax_error);
+  try {
+    SVC_RETURN_IF_ERROR(parse_header(outline.outline, p, manifest));
+    SVC_ASSIGN_OR_RETURN(const json* cells, p.required(outline.outline, "cells", ""));
+    if (!cells->is_array()) {
+      return p.error("cells", "expected an array, got " + std::string(cells->type_name()));
     }
-    const auto [line, column] = line_and_column(text, checker.error_offset);
-    return Status(ErrorCode::kBadInput, label + ": not valid JSON near line " + std::to_string(line) + ", column " +
-                                            std::to_string(column) + " (last token " +
-                                            in_quotes(checker.error_token) + "): " + checker.error_message);
-  }
-  json root_json;
-  try {
-    root_json = json::parse(text);
-  } catch (const json::exception& e) {
-    return Status(ErrorCode::kBadInput, label + ": not valid JSON: " + e.what());
-  }
-  try {
-    return parse_manifest(root_json, label, options, std::move(manifest));
   } catch (const json::exception& e) {
     // The parser checks every type before reading it; this is a safety net.
     return Status(ErrorCode::kBadInput, label + ": " + e.what());
   }
+  if (outline.last_array_size == 0) return p.error("cells", "the database lists no cells");
+  manifest.cells.reserve(outline.last_array_size);
+  // Second pass: the cells, one at a time; a repeated "cells" key means its last array.
+  SVC_RETURN_IF_ERROR(
+      parse_cells(in, outline.array_count, outline.last_array_size, p, label, options, visit_cell, manifest));
+  if (in.bad()) return Status(ErrorCode::kIoError, label + ": read failed");
+  return manifest;
+}
+
+Result<CellSource> read_cell(const DatabaseManifest& manifest, size_t cell_ordinal) {
+  if (cell_ordinal >= manifest.cells.size()) {
+    return Status(ErrorCode::kInvalidArgument, "cell ordinal " + std::to_string(cell_ordinal) +
+                                                   " is out of range (" + std::to_string(manifest.cells.size()) +
+                                                   " cells)");
+  }
+  const ManifestCell& entry = manifest.cells[cell_ordinal];
+  const std::string label = manifest.manifest_file.string();
+  const auto changed = [&] {
+    return Status(ErrorCode::kBadInput, label + ": " + cell_label(entry.index) + ": its entry at byte " +
+                                            std::to_string(entry.entry_offset) +
+                                            " no longer reads as that cell (the file changed since it was read)");
+  };
+  SVC_ASSIGN_OR_RETURN(std::ifstream in, open_manifest(manifest.manifest_file));
+  std::string text(entry.entry_size, '\0');
+  in.seekg(static_cast<std::streamoff>(entry.entry_offset));
+  if (!in.read(text.data(), static_cast<std::streamsize>(text.size()))) return changed();
+  const json element = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (element.is_discarded()) return changed();
+  const ManifestParser p(label);
+  Result<ParsedCell> parsed = parse_cell_safely(p, element, entry.listed_at, manifest);
+  if (!parsed.ok()) return parsed.status();
+  if (!(parsed->cell.index == entry.index)) return changed();
+  return std::move(parsed->cell);
 }
 
 }  // namespace svc

@@ -192,8 +192,9 @@ Result<NewCellTypes> type_new_cells(const std::vector<UnionCell>& cells, const C
 
 // The merged index: old frames renumbered with their cells, new frames typed and
 // referenced but not coded yet.
-ContainerIndex merged_index(const ContainerIndex& old, const std::vector<UnionCell>& cells,
-                            const DatabaseManifest& manifest, const GridSpec& grid, const NewCellTypes& types) {
+Result<ContainerIndex> merged_index(const ContainerIndex& old, const std::vector<UnionCell>& cells,
+                                    const DatabaseManifest& manifest, const GridSpec& grid,
+                                    const NewCellTypes& types) {
   std::vector<uint32_t> new_cell_of_old(old.cells.size());
   for (size_t c = 0; c < cells.size(); ++c) {
     if (cells[c].old_cell >= 0) new_cell_of_old[static_cast<size_t>(cells[c].old_cell)] = static_cast<uint32_t>(c);
@@ -222,7 +223,7 @@ ContainerIndex merged_index(const ContainerIndex& old, const std::vector<UnionCe
       }
       continue;
     }
-    const CellSource& source = manifest.cells[static_cast<size_t>(cells[c].source)];
+    SVC_ASSIGN_OR_RETURN(const CellSource source, read_cell(manifest, static_cast<size_t>(cells[c].source)));
     record.index = source.index;
     record.position = source.position;
     for (int f = 0; f < kFaceCount; ++f) {
@@ -278,7 +279,7 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   SVC_ASSIGN_OR_RETURN(VisibilityTable visibility,
                        new_cell_visibility(cells, manifest, old, resolve_thread_count(settings.threads)));
   SVC_ASSIGN_OR_RETURN(NewCellTypes types, type_new_cells(cells, old, grid, visibility));
-  ContainerIndex index = merged_index(old, cells, manifest, grid, types);
+  SVC_ASSIGN_OR_RETURN(ContainerIndex index, merged_index(old, cells, manifest, grid, types));
 
   CodingJob job;
   job.index = &index;

@@ -11,9 +11,9 @@ Result<CellVisibility> CellVisibility::load(const DatabaseManifest& manifest,
   loaded.present_.assign(sources.size(), 0);
   SVC_RETURN_IF_ERROR(parallel_for(sources.size(), threads, [&](size_t c) -> Status {
     if (!sources[c]) return Status::Ok();
-    const CellSource& source = manifest.cells[*sources[c]];
+    SVC_ASSIGN_OR_RETURN(const CellSource source, read_cell(manifest, *sources[c]));
     for (Face face : kAllFaces) {
-      SVC_ASSIGN_OR_RETURN(FaceData data, load_face(manifest, *sources[c], face));
+      SVC_ASSIGN_OR_RETURN(FaceData data, load_face(manifest, source, face));
       if (!add_face_samples(&loaded.cubes_[c], face, source.faces[static_cast<int>(face)].camera,
                             manifest.face_width, manifest.face_height, data.depth)) {
         return Status(ErrorCode::kBadInput,

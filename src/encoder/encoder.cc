@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "codec/bframe_codec.h"
 #include "codec/intra_codec.h"
@@ -67,7 +68,7 @@ std::vector<std::pair<uint32_t, uint32_t>> pairs_to(const std::vector<std::pair<
 Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manifest,
                                                   const PlacementSettings& settings, int threads) {
   std::vector<CellIndex> cells;
-  for (const CellSource& source : manifest.cells) cells.push_back(source.index);
+  for (const ManifestCell& source : manifest.cells) cells.push_back(source.index);
   if (settings.layout == Layout::kRegular && !settings.visibility_references) {
     return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing);
   }
@@ -106,11 +107,27 @@ int qindex_for_quality(int quality) {
 Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings) {
   SVC_RETURN_IF_ERROR(validate_settings(settings));
   EncodePlan plan;
-  SVC_ASSIGN_OR_RETURN(plan.manifest, load_manifest(db_dir, ManifestOptions{settings.allow_outside_paths}));
+  // The cameras go straight into the index as the manifest streams past: the manifest
+  // keeps no copy of them.
+  std::vector<CellRecord>& records = plan.index.cells;
+  const CellVisitor keep_camera = [&](const CellSource& source, size_t, size_t cells_listed) {
+    records.reserve(cells_listed);
+    CellRecord& cell = records.emplace_back();
+    cell.index = source.index;
+    cell.position = source.position;
+    for (int f = 0; f < kFaceCount; ++f) cell.cameras[f] = source.faces[f].camera;
+    return Status::Ok();
+  };
+  SVC_ASSIGN_OR_RETURN(plan.manifest,
+                       load_manifest(db_dir, ManifestOptions{settings.allow_outside_paths}, keep_camera));
   DatabaseManifest& manifest = plan.manifest;
   if (manifest.cells.empty()) {
     return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
   }
+  // The same order as the manifest's cells, (y, z, x); indices are unique.
+  std::sort(records.begin(), records.end(), [](const CellRecord& a, const CellRecord& b) {
+    return std::tie(a.index.y, a.index.z, a.index.x) < std::tie(b.index.y, b.index.z, b.index.x);
+  });
   const int qindex = settings.qindex >= 0 ? settings.qindex : qindex_for_quality(settings.quality);
   ContainerIndex& index = plan.index;
   index.face_width = static_cast<uint32_t>(manifest.face_width);
@@ -126,14 +143,6 @@ Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const Encode
   index.coding.quality = settings.qindex >= 0 ? 0 : static_cast<uint32_t>(settings.quality);
   index.coding.qindex = static_cast<uint32_t>(qindex);
   index.coding.motion = settings.motion;
-  index.cells.reserve(manifest.cells.size());
-  for (const CellSource& source : manifest.cells) {
-    CellRecord cell;
-    cell.index = source.index;
-    cell.position = source.position;
-    for (int f = 0; f < kFaceCount; ++f) cell.cameras[f] = source.faces[f].camera;
-    index.cells.push_back(cell);
-  }
 
   const PlacementSettings placement_settings = placement_settings_of(settings);
   index.coding.i_spacing = placement_settings.i_spacing;

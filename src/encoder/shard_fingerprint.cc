@@ -1,6 +1,8 @@
 #include "encoder/shard_fingerprint.h"
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "common/file_io.h"
 
@@ -34,10 +36,16 @@ Result<uint64_t> database_fingerprint(const std::filesystem::path& db_dir, const
   const std::filesystem::path manifest_path =
       std::filesystem::is_regular_file(db_dir, ec) ? db_dir : db_dir / "manifest.json";
   SVC_ASSIGN_OR_RETURN(auto file, ReadOnlyFile::open(manifest_path));
-  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, file->read_vector(0, file->size()));
   Fnv1a64 hash;
-  hash.add(bytes);
-  for (const CellSource& cell : manifest.cells) {
+  // In pieces: the manifest of a large database is tens of megabytes.
+  std::vector<uint8_t> piece;
+  for (uint64_t offset = 0; offset < file->size(); offset += piece.size()) {
+    piece.resize(std::min<uint64_t>(file->size() - offset, 1 << 20));
+    SVC_RETURN_IF_ERROR(file->read_at(offset, piece));
+    hash.add(piece);
+  }
+  for (size_t c = 0; c < manifest.cells.size(); ++c) {
+    SVC_ASSIGN_OR_RETURN(const CellSource cell, read_cell(manifest, c));
     for (const FaceSource& face : cell.faces) {
       for (const std::string* path : {&face.color_path, &face.depth_path}) {
         const uint64_t size = std::filesystem::file_size(resolve_database_path(manifest, *path), ec);
