@@ -3,6 +3,7 @@
 // checks (check, outside paths, damaged images) that speak with svc's voice alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -322,6 +323,17 @@ TEST_F(CliConventions, DecodeReplacesWhatItWrites) {
   const json manifest = json::parse(testing::read_file_bytes(out / "manifest.json"));
   EXPECT_EQ(manifest["cells"].size(), 1u);
   expect_no_staging_left(dir_->path(), ".decode-replaced");
+  // "-o ." names the current folder: staged beside it, not inside it.
+  const fs::path here = work("decode-here");
+  fs::create_directories(here);
+  std::ofstream(here / "notes.txt") << "mine";
+  ASSERT_EQ(run_program("svc", "decode --quiet -y " + quoted(file()) + " -o .", here).exit_code, 0);
+  EXPECT_TRUE(fs::exists(here / "cells" / "1_0_1" / "pz.png"));
+  EXPECT_EQ(testing::read_file_bytes(here / "notes.txt"), "mine");
+  std::vector<std::string> entries;
+  for (const auto& entry : fs::directory_iterator(here)) entries.push_back(entry.path().filename());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"cells", "depth-unknown.exr", "manifest.json", "notes.txt"}));
   const CliRun own_folder = svc("decode -y " + quoted(file()) + " -o " + quoted(dir_->path()));
   EXPECT_EQ(own_folder.exit_code, 2) << own_folder.output;
   EXPECT_NE(own_folder.output.find("it holds the input"), std::string::npos) << own_folder.output;

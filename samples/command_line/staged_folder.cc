@@ -27,10 +27,11 @@ StagedFolder::StagedFolder(fs::path destination, fs::path staging)
     : destination_(std::move(destination)), staging_(std::move(staging)) {}
 
 Result<std::unique_ptr<StagedFolder>> StagedFolder::create(const fs::path& destination) {
-  fs::path target = destination.lexically_normal();
+  std::error_code ec;
+  // Absolute, so that "." and "out/" have a name and a parent to stage beside.
+  fs::path target = fs::absolute(destination, ec).lexically_normal();
   if (target.filename().empty()) target = target.parent_path();  // "out/"
   const fs::path staging = beside(target, "tmp");
-  std::error_code ec;
   fs::create_directories(staging, ec);
   if (ec) return io_error("create", staging, ec);
   return std::unique_ptr<StagedFolder>(new StagedFolder(target, staging));
