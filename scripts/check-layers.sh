@@ -8,7 +8,8 @@
 #                   encoder.h, metrics.h (libsvc)
 #   4 baselines     src/baseline (libsvc_baseline)
 #   5 samples       samples/ (samples/embed and samples/walkthrough: the decoder API and
-#                   their own folder only)
+#                   their own folder only; samples/command_line, the conventions every
+#                   tool shares, uses the decoder API alone and counts as part of it)
 #   6 bench         bench/
 #   7 tools         tools/
 #   8 tests         tests/
@@ -25,7 +26,7 @@ layer_names=("decoder API" codec decoder "full library" baselines samples bench 
 layer_of() {
   case $1 in
     include/svc/encoder.h | include/svc/metrics.h) echo 3 ;;
-    include/*) echo 0 ;;
+    include/* | samples/command_line/*) echo 0 ;;
     codec/*) echo 1 ;;
     src/common/* | src/container/* | src/reader/*) echo 2 ;;
     src/baseline/*) echo 4 ;;

@@ -273,6 +273,28 @@ TEST_F(ManifestTest, PathsOutsideTheDatabaseNeedPermission) {
   EXPECT_TRUE(load_manifest(dir_.path()).ok());
 }
 
+// A symbolic link inside the folder that resolves outside it (to a file, or a folder on
+// the way) leaves the folder as "../x.png" does; a link that stays inside is fine.
+TEST_F(ManifestTest, LinksLeadingOutsideTheDatabaseNeedPermission) {
+  const testing::TempDir elsewhere("svc-database-linked");
+  write_rgb_png(elsewhere.path() / "secret.png", kWidth, kHeight);
+  fs::create_symlink(elsewhere.path() / "secret.png", dir_.path() / "cells" / "linked.png");
+  fs::create_directory_symlink(elsewhere.path(), dir_.path() / "linked-folder");
+  fs::create_symlink(dir_.path() / "cells" / "color.png", dir_.path() / "cells" / "inside.png");
+  for (const std::string& outside : {std::string("cells/linked.png"), std::string("linked-folder/secret.png")}) {
+    json manifest = valid_manifest();
+    manifest["cells"][1]["faces"]["ny"]["color"] = outside;
+    write_manifest(manifest);
+    expect_load_error(ErrorCode::kBadInput, {"manifest.json", "cell (1,0,0)", "face ny", "color file", outside,
+                                             "outside the database folder", "--allow-outside-paths"});
+    EXPECT_TRUE(load_manifest(dir_.path(), ManifestOptions{.allow_outside_paths = true}).ok()) << outside;
+  }
+  json manifest = valid_manifest();
+  manifest["cells"][1]["faces"]["ny"]["color"] = "cells/inside.png";
+  write_manifest(manifest);
+  EXPECT_TRUE(load_manifest(dir_.path()).ok());
+}
+
 TEST_F(ManifestTest, RejectsInvalidJsonWithPosition) {
   write_manifest_text("{\n  \"format\": \"svc-input\",\n  \"version\": 1,\n  \"grid\": [1, 2,\n}");
   expect_load_error(ErrorCode::kBadInput, {"manifest.json", "not valid JSON", "line 5"});

@@ -91,6 +91,7 @@ TEST(SceneGenerate, SameOptionsGiveSameBytesWhateverTheThreadCount) {
                 ++progress_calls;
                 last_done = done;
                 last_total = total;
+                return true;
               }).ok());
   EXPECT_EQ(progress_calls, 4);
   EXPECT_EQ(last_done, 4);

@@ -3,6 +3,7 @@
 // checks (check, outside paths, damaged images) that speak with svc's voice alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -55,6 +56,12 @@ class CliConventions : public ::testing::Test {
     const fs::path copy = work(name);
     fs::copy(db(), copy, fs::copy_options::recursive);
     return copy;
+  }
+  // No ".NAME.tmp-PID" or ".NAME.old-PID" beside an output.
+  static void expect_no_staging_left(const fs::path& folder, const std::string& prefix) {
+    for (const auto& entry : fs::directory_iterator(folder)) {
+      EXPECT_NE(entry.path().filename().string().rfind(prefix + ".", 0), 0u) << entry.path() << " left behind";
+    }
   }
   static json parse_json(const CliRun& run) {
     const json parsed = json::parse(run.output, nullptr, false);
@@ -273,6 +280,128 @@ TEST_F(CliConventions, InspectDrawsALegendAtAReadableScale) {
   }
 }
 
+// svc-scene writes into a staging folder: -y replaces what it writes whole (no old
+// image survives beside the new ones; the user's other files stay), and --json reports
+// what was written.
+TEST_F(CliConventions, SceneReplacesWhatItWritesAndReportsJson) {
+  const fs::path out = work("scene-json");
+  fs::create_directories(out / "cells" / "9_9_9");
+  std::ofstream(out / "cells" / "9_9_9" / "px.png") << "old";
+  std::ofstream(out / "notes.txt") << "mine";
+  const CliRun refused = run_program("svc-scene", quoted(out) + " --grid 2,1,1 --face-size 16", dir_->path());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("svc-scene: will not write"), std::string::npos) << refused.output;
+  const CliRun run = run_program("svc-scene", quoted(out) + " -y --json --grid 2,1,1 --face-size 16", dir_->path());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const json result = parse_json(run);
+  EXPECT_EQ(result["command"], "svc-scene");
+  EXPECT_EQ(result["output"], out.string());
+  EXPECT_EQ(result["cells"], 2);
+  EXPECT_EQ(result["faces"], 12);
+  EXPECT_EQ(result["grid"]["dims"], json::array({2, 1, 1}));
+  EXPECT_FALSE(fs::exists(out / "cells" / "9_9_9")) << "old content mixed into the new database";
+  EXPECT_TRUE(fs::exists(out / "cells" / "1_0_0" / "nz.exr"));
+  EXPECT_EQ(testing::read_file_bytes(out / "notes.txt"), "mine");
+  const json manifest = json::parse(testing::read_file_bytes(out / "manifest.json"));
+  EXPECT_EQ(manifest["cells"].size(), 2u);
+  expect_no_staging_left(dir_->path(), ".scene-json");
+}
+
+// decode -y replaces what it writes whole: a decode of one cell over a full one leaves
+// one cell, not a mix; the folder holding the .svc file being read is refused even with -y.
+TEST_F(CliConventions, DecodeReplacesWhatItWrites) {
+  const fs::path out = work("decode-replaced");
+  ASSERT_EQ(svc("decode --quiet " + quoted(file()) + " -o " + quoted(out)).exit_code, 0);
+  const CliRun refused = svc("decode --quiet --cell 1,0,1 " + quoted(file()) + " -o " + quoted(out));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("-y to replace it"), std::string::npos) << refused.output;
+  const CliRun replaced = svc("decode --quiet -y --cell 1,0,1 " + quoted(file()) + " -o " + quoted(out));
+  ASSERT_EQ(replaced.exit_code, 0) << replaced.output;
+  std::vector<std::string> cells;
+  for (const auto& entry : fs::directory_iterator(out / "cells")) cells.push_back(entry.path().filename());
+  EXPECT_EQ(cells, std::vector<std::string>{"1_0_1"});
+  const json manifest = json::parse(testing::read_file_bytes(out / "manifest.json"));
+  EXPECT_EQ(manifest["cells"].size(), 1u);
+  expect_no_staging_left(dir_->path(), ".decode-replaced");
+  // "-o ." names the current folder: staged beside it, not inside it.
+  const fs::path here = work("decode-here");
+  fs::create_directories(here);
+  std::ofstream(here / "notes.txt") << "mine";
+  ASSERT_EQ(run_program("svc", "decode --quiet -y " + quoted(file()) + " -o .", here).exit_code, 0);
+  EXPECT_TRUE(fs::exists(here / "cells" / "1_0_1" / "pz.png"));
+  EXPECT_EQ(testing::read_file_bytes(here / "notes.txt"), "mine");
+  std::vector<std::string> entries;
+  for (const auto& entry : fs::directory_iterator(here)) entries.push_back(entry.path().filename());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"cells", "depth-unknown.exr", "manifest.json", "notes.txt"}));
+  const CliRun own_folder = svc("decode -y " + quoted(file()) + " -o " + quoted(dir_->path()));
+  EXPECT_EQ(own_folder.exit_code, 2) << own_folder.output;
+  EXPECT_NE(own_folder.output.find("it holds the input"), std::string::npos) << own_folder.output;
+  EXPECT_TRUE(fs::exists(file()));
+}
+
+// svc-walkthrough follows the same conventions: "svc-walkthrough: " on every message,
+// exit 2 for a usage error, 3 for a damaged file.
+TEST_F(CliConventions, WalkthroughExitCodesAndMessages) {
+  const CliRun usage = run_program("svc-walkthrough", "--bogus " + quoted(file()), dir_->path());
+  EXPECT_EQ(usage.exit_code, 2) << usage.output;
+  EXPECT_EQ(usage.output.rfind("svc-walkthrough: ", 0), 0u) << usage.output;
+  const fs::path damaged = work("damaged-walk.svc");
+  std::string bytes = testing::read_file_bytes(file());
+  bytes.resize(bytes.size() / 2);
+  std::ofstream(damaged, std::ios::binary) << bytes;
+  const CliRun corrupt = run_program("svc-walkthrough", quoted(damaged), dir_->path());
+  EXPECT_EQ(corrupt.exit_code, 3) << corrupt.output;
+  EXPECT_EQ(corrupt.output.rfind("svc-walkthrough: ", 0), 0u) << corrupt.output;
+  const CliRun ok =
+      run_program("svc-walkthrough", "--json --steps 3 --no-prefetch " + quoted(file()), dir_->path());
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  const json result = parse_json(ok);
+  EXPECT_EQ(result["command"], "svc-walkthrough");
+  EXPECT_EQ(result["input"], file().string());
+  EXPECT_EQ(result["runs"][0]["steps"], 3);
+  EXPECT_NE(run_program("svc-walkthrough", "--help", dir_->path()).output.find("3 damaged .svc file"),
+            std::string::npos);
+}
+
+// demo --json uses encode's names for what it encoded and adds what it decoded; with
+// --keep the figures describe the files kept.
+TEST_F(CliConventions, DemoReportsJsonInEncodesNames) {
+  const fs::path kept = work("demo-kept");
+  const CliRun run = svc("demo --json --grid 2,1,2 --face-size 32 --threads 2 --keep " + quoted(kept));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const json result = parse_json(run);
+  EXPECT_EQ(result["command"], "demo");
+  EXPECT_EQ(result["cells"], 4);
+  EXPECT_EQ(result["faces"], 24);
+  EXPECT_EQ(result["output"], (kept / "scene.svc").string());
+  EXPECT_EQ(result["file_bytes"].get<uint64_t>(), fs::file_size(kept / "scene.svc"));
+  const CliRun info = svc("info --json " + quoted(kept / "scene.svc"));
+  const json i = parse_json(info);
+  for (const char* type : {"intra", "predicted"}) EXPECT_EQ(result["face_types"][type], i["face_types"][type]);
+  EXPECT_EQ(result["quality"]["faces"].get<uint64_t>(), 6 * result["decoded_cells"].size());
+  EXPECT_GT(result["quality"]["psnr_y"].get<double>(), 20.0);
+  expect_no_staging_left(dir_->path(), ".demo-kept");
+}
+
+// bench --json prints the command, input and output as the other commands name them and
+// the results.json it wrote; --quiet prints nothing.
+TEST_F(CliConventions, BenchReportsJson) {
+  if (svc("bench --help").exit_code != 0) GTEST_SKIP() << "svc built without the benchmark";
+  const fs::path out = work("bench-json");
+  const std::string args = "bench " + quoted(db()) + " --codecs jpeg --quick --no-experiments --threads 2 --out ";
+  const CliRun run = svc(args + quoted(out) + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const json result = parse_json(run);
+  EXPECT_EQ(result["command"], "bench");
+  EXPECT_EQ(result["input"], db().string());
+  EXPECT_EQ(result["output"], out.string());
+  EXPECT_EQ(result["results"], json::parse(testing::read_file_bytes(out / "results.json")));
+  EXPECT_EQ(result["results"]["database"]["faces"], 54);
+  EXPECT_EQ(svc(args + quoted(work("bench-quiet")) + " --quiet").output, "");
+  EXPECT_TRUE(fs::exists(work("bench-quiet") / "results.json"));
+}
+
 // --- Interrupts -------------------------------------------------------------------
 
 struct Spawned {
@@ -280,13 +409,13 @@ struct Spawned {
   fs::path log;
 };
 
-// Starts build/bin/svc ARGS with stdout and stderr into `log`.
-Spawned spawn_svc(const std::vector<std::string>& args, const fs::path& log) {
+// Starts build/bin/PROGRAM ARGS with stdout and stderr into `log`.
+Spawned spawn_program(const std::string& name, const std::vector<std::string>& args, const fs::path& log) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  const std::string program = (fs::path(SVC_BINARY_DIR) / "bin" / "svc").string();
+  const std::string program = (fs::path(SVC_BINARY_DIR) / "bin" / name).string();
   std::vector<char*> argv{const_cast<char*>(program.c_str())};
   for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
   argv.push_back(nullptr);
@@ -294,6 +423,10 @@ Spawned spawn_svc(const std::vector<std::string>& args, const fs::path& log) {
   if (posix_spawn(&spawned.pid, program.c_str(), &actions, nullptr, argv.data(), environ) != 0) spawned.pid = -1;
   posix_spawn_file_actions_destroy(&actions);
   return spawned;
+}
+
+Spawned spawn_svc(const std::vector<std::string>& args, const fs::path& log) {
+  return spawn_program("svc", args, log);
 }
 
 // Waits until the log shows `text` (the work has started), then sends `signal`; returns
@@ -393,6 +526,40 @@ TEST_F(CliInterrupts, BenchLeavesNothing) {
   ASSERT_GT(run.pid, 0);
   EXPECT_EQ(interrupt_when(run, "quality search", SIGINT), 130) << testing::read_file_bytes(run.log);
   EXPECT_FALSE(fs::exists(out)) << testing::read_file_bytes(run.log);
+}
+
+// An interrupted svc-scene leaves no half-written database, and no staging folder.
+TEST_F(CliInterrupts, SceneLeavesNothing) {
+  const std::vector<std::pair<int, int>> signals = {{SIGINT, 130}, {SIGTERM, 143}};
+  for (const auto& [signal, code] : signals) {
+    const fs::path out = work("stopped-scene");
+    const Spawned run =
+        spawn_program("svc-scene",
+                      {out.string(), "--grid", "8,1,8", "--face-size", "96", "--threads", "1", "--progress"},
+                      work("scene.log"));
+    ASSERT_GT(run.pid, 0);
+    EXPECT_EQ(interrupt_when(run, "generating [", signal), code) << testing::read_file_bytes(run.log);
+    const std::string log = testing::read_file_bytes(run.log);
+    EXPECT_NE(log.find("\r\033[Ksvc-scene: stopped by SIG"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(out));
+    expect_nothing_left(dir_->path(), "stopped-scene");
+  }
+}
+
+// An interrupted decode -y into an existing database leaves that database as it was.
+TEST_F(CliInterrupts, DecodeOverAnExistingFolderKeepsItOnInterrupt) {
+  ASSERT_EQ(svc("encode --quiet -y " + quoted(big_db()) + " -o " + quoted(work("big-y.svc"))).exit_code, 0);
+  const fs::path out = work("kept-decode");
+  ASSERT_EQ(svc("decode --quiet " + quoted(file()) + " -o " + quoted(out)).exit_code, 0);
+  const std::string manifest = testing::read_file_bytes(out / "manifest.json");
+  const Spawned run =
+      spawn_svc({"decode", "-y", "--progress", "--threads", "1", work("big-y.svc").string(), "-o", out.string()},
+                work("decode-y.log"));
+  ASSERT_GT(run.pid, 0);
+  EXPECT_EQ(interrupt_when(run, "decoding [", SIGTERM), 143) << testing::read_file_bytes(run.log);
+  EXPECT_EQ(testing::read_file_bytes(out / "manifest.json"), manifest);
+  EXPECT_EQ(std::distance(fs::directory_iterator(out / "cells"), fs::directory_iterator()), 9);
+  expect_nothing_left(dir_->path(), ".kept-decode");
 }
 
 }  // namespace

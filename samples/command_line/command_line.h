@@ -21,9 +21,8 @@ inline std::string exit_codes_help(bool corrupt) {
   std::string text =
       "Exit status: 0 success; 1 the work failed (unreadable or invalid input, I/O error); "
       "2 usage error (bad command line or setting)";
-  if (corrupt)
-    text += "; 3 damaged .svc file; 130 or 143 stopped by SIGINT (Ctrl-C) or SIGTERM, nothing left behind";
-  return text + ".";
+  if (corrupt) text += "; 3 damaged .svc file";
+  return text + "; 130 or 143 stopped by SIGINT (Ctrl-C) or SIGTERM, nothing left behind.";
 }
 
 // Parses the command line. Returns the status to exit with when the program should stop

@@ -68,12 +68,12 @@ Status check_output(const fs::path& output, OutputKind kind, bool overwrite, con
   if (kind == OutputKind::kFile && folder) return refused(output, "it is a folder");
   if (kind == OutputKind::kFolder && !folder) return refused(output, "it is a file, not a folder");
   if (overwrite || (folder && is_empty_folder(output))) return Status::Ok();
-  return refused(output, folder ? "the folder is not empty (-y to write into it anyway)"
-                                : "the file exists (-y to overwrite it)");
+  return refused(output,
+                 folder ? "the folder is not empty (-y to replace it)" : "the file exists (-y to overwrite it)");
 }
 
 void add_overwrite_flag(CLI::App* command, bool* overwrite) {
-  command->add_flag("-y,--overwrite", *overwrite, "Overwrite an existing output (never the input)");
+  command->add_flag("-y,--overwrite", *overwrite, "Replace an existing output file or folder (never the input)");
 }
 
 }  // namespace svc::command_line

@@ -2,7 +2,10 @@
 //
 //   svc-scene OUT_DIR [--kind hall|house] [--grid X,Y,Z] [--spacing S | SX,SY,SZ]
 //             [--origin X,Y,Z] [--face-size N] [--seed N] [--textures DIR] [--sparse]
-//             [--threads N] [--quiet] [--progress | --no-progress] [-y]
+//             [--threads N] [--json] [--quiet] [--progress | --no-progress] [-y]
+//
+// The database is written into ".OUT_DIR.tmp-PID" beside OUT_DIR and moved into place
+// when complete: a failed or interrupted (SIGINT, SIGTERM) run leaves nothing behind.
 
 #include <algorithm>
 #include <chrono>
@@ -13,10 +16,14 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "command_line/command_line.h"
+#include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
 #include "command_line/progress.h"
+#include "command_line/report.h"
+#include "command_line/staged_folder.h"
 #include "scene/scene.h"
 
 namespace {
@@ -36,6 +43,44 @@ bool parse_list(const std::string& text, std::vector<T>* out) {
     out->push_back(value);
   }
   return !out->empty();
+}
+
+// Writes the scene into a staging folder beside `out_dir` and moves it into place.
+svc::Status write_scene(const svc::samples::SceneOptions& options, const std::string& out_dir,
+                        const svc::command_line::Verbosity& verbosity, int* cells_written) {
+  SVC_ASSIGN_OR_RETURN(auto staged, svc::command_line::StagedFolder::create(out_dir));
+  svc::command_line::ProgressBar bar("generating", verbosity.show_progress());
+  const svc::Status status = svc::samples::generate_scene(options, staged->path(), [&](int done, int total) {
+    *cells_written = done;
+    bar.update(done, total);
+    return !svc::command_line::interrupted();
+  });
+  bar.finish();
+  SVC_RETURN_IF_ERROR(status);
+  return staged->commit();
+}
+
+void print_result(const svc::samples::SceneOptions& options, const std::string& out_dir, int cells, double seconds,
+                  const svc::command_line::Verbosity& verbosity) {
+  if (verbosity.json) {
+    const nlohmann::ordered_json result = {{"command", "svc-scene"},
+                                           {"output", out_dir},
+                                           {"kind", svc::samples::scene_kind_name(options.kind)},
+                                           {"photographic", !options.textures.empty()},
+                                           {"grid",
+                                            {{"dims", options.grid},
+                                             {"origin", svc::samples::scene_grid_origin(options)},
+                                             {"spacing", options.spacing}}},
+                                           {"face_size", {options.face_size, options.face_size}},
+                                           {"cells", cells},
+                                           {"faces", cells * svc::kFaceCount},
+                                           {"seconds", seconds}};
+    std::printf("%s\n", result.dump(2).c_str());
+  } else if (verbosity.show_summary()) {
+    std::printf("svc-scene: wrote %s%s scene, %d cells (%d faces of %dx%d) to %s in %.1f s\n",
+                options.textures.empty() ? "" : "photographic ", svc::samples::scene_kind_name(options.kind), cells,
+                cells * svc::kFaceCount, options.face_size, options.face_size, out_dir.c_str(), seconds);
+  }
 }
 
 }  // namespace
@@ -67,7 +112,7 @@ int main(int argc, char** argv) {
                  "concrete, wood, metal, tile, wall, ceil, grass, sky); "
                  "scripts/fetch-textures.sh extracts a set");
   app.add_flag("--sparse", options.sparse, "Leave out cells whose centre is inside geometry");
-  svc::command_line::add_verbosity_options(&app, &verbosity, false);
+  svc::command_line::add_verbosity_options(&app, &verbosity);
   bool overwrite = false;
   svc::command_line::add_overwrite_flag(&app, &overwrite);
   app.get_option("OUT_DIR")->check(svc::command_line::not_standard_output());
@@ -112,24 +157,12 @@ int main(int argc, char** argv) {
   options.spacing = steps.size() == 1 ? std::array<double, 3>{steps[0], steps[0], steps[0]}
                                       : std::array<double, 3>{steps[0], steps[1], steps[2]};
 
+  svc::command_line::stop_on_interrupt();
   int cells_written = 0;
   const auto start = std::chrono::steady_clock::now();
-  svc::command_line::ProgressBar bar("generating", verbosity.show_progress());
-  const svc::Status status = svc::samples::generate_scene(options, out_dir, [&](int done, int total) {
-    cells_written = done;
-    bar.update(done, total);
-  });
-  bar.finish();
-  if (!status.ok()) {
-    std::fprintf(stderr, "svc-scene: %s\n", status.to_string().c_str());
-    return status.code() == svc::ErrorCode::kInvalidArgument ? svc::command_line::kExitUsage
-                                                             : svc::command_line::kExitFailure;
-  }
+  const svc::Status status = write_scene(options, out_dir, verbosity, &cells_written);
+  if (!status.ok()) return svc::command_line::report_failure("svc-scene", status);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (verbosity.show_summary()) {
-    std::printf("svc-scene: wrote %s%s scene, %d cells (%d faces of %dx%d) to %s in %.1f s\n",
-                options.textures.empty() ? "" : "photographic ", svc::samples::scene_kind_name(options.kind),
-                cells_written, cells_written * 6, options.face_size, options.face_size, out_dir.c_str(), seconds);
-  }
+  print_result(options, out_dir, cells_written, seconds, verbosity);
   return 0;
 }

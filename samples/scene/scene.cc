@@ -253,7 +253,9 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
     cell_json["faces"] = std::move(faces);
     cells_json.push_back(std::move(cell_json));
     ++done;
-    if (progress) progress(done, total);
+    if (progress && !progress(done, total)) {
+      return Status(ErrorCode::kCancelled, "scene generation cancelled after " + std::to_string(done) + " cells");
+    }
   }
 
   nlohmann::ordered_json manifest;

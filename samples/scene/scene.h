@@ -67,14 +67,16 @@ inline constexpr double kSceneFovYDegrees = 90.0;
 inline constexpr double kSceneNear = 0.05;
 inline constexpr double kSceneFar = 100.0;
 
-// Called after each cell is written: (cells done, cells total).
-using SceneProgress = std::function<void(int, int)>;
+// Called after each cell is written: (cells done, cells total); returning false stops
+// the work (generate_scene then returns kCancelled).
+using SceneProgress = std::function<bool(int, int)>;
 
 // Writes manifest.json, PNG colour and OpenEXR depth (eye_z, channel "Z") for every
 // cell into `out_dir` (created if missing). Deterministic: the same options give the
 // same bytes, whatever `threads` is. Files: cells/X_Y_Z/{px,nx,py,ny,pz,nz}.{png,exr};
-// the manifest is written last, so a failed run leaves no manifest. Errors name the file
-// that could not be written. The progress callback runs on the calling thread.
+// the manifest is written last, so a failed run leaves no manifest (what it did write
+// stays: write into a staging folder to leave nothing). Errors name the file that could
+// not be written. The progress callback runs on the calling thread.
 Status generate_scene(const SceneOptions& options, const std::filesystem::path& out_dir,
                       const SceneProgress& progress = {});
 

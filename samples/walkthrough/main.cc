@@ -11,6 +11,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "command_line/command_line.h"
+#include "command_line/report.h"
 #include "walkthrough/replay.h"
 
 namespace {
@@ -122,24 +124,19 @@ int main(int argc, char** argv) {
   app.add_option("--coefficient-cache-mb", coefficient_mb, "semi-decoded I-face cache budget")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  CLI11_PARSE(app, argc, argv);
+  app.footer(svc::command_line::exit_codes_help(true));
+  if (auto exit_code = svc::command_line::parse(app, argc, argv, "svc-walkthrough")) return *exit_code;
   settings.face_cache_bytes = static_cast<uint64_t>(face_mb * 1048576.0);
   settings.coefficient_cache_bytes = static_cast<uint64_t>(coefficient_mb * 1048576.0);
 
   auto reader = svc::Reader::open(input, settings);
-  if (!reader.ok()) {
-    std::fprintf(stderr, "svc-walkthrough: %s\n", reader.status().to_string().c_str());
-    return 1;
-  }
+  if (!reader.ok()) return svc::command_line::report_failure("svc-walkthrough", reader.status());
   std::vector<svc::walkthrough::Position> path;
   if (path_file.empty()) {
     path = svc::walkthrough::builtin_path(**reader);
   } else {
     auto loaded = svc::walkthrough::read_path_file(path_file);
-    if (!loaded.ok()) {
-      std::fprintf(stderr, "svc-walkthrough: %s\n", loaded.status().to_string().c_str());
-      return 1;
-    }
+    if (!loaded.ok()) return svc::command_line::report_failure("svc-walkthrough", loaded.status());
     path = std::move(loaded).value();
   }
   const svc::FileInfo info = (*reader)->info();
@@ -155,23 +152,21 @@ int main(int argc, char** argv) {
     options.realtime = realtime;
     options.reader = settings;
     auto result = svc::walkthrough::replay(input, path, options);
-    if (!result.ok()) {
-      std::fprintf(stderr, "svc-walkthrough: %s\n", result.status().to_string().c_str());
-      return 1;
-    }
+    if (!result.ok()) return svc::command_line::report_failure("svc-walkthrough", result.status());
     if (result->steps == 0) {
       std::fprintf(stderr,
                    "svc-walkthrough: the path never enters a cell of %s (grid origin %g,%g,%g, spacing "
                    "%g,%g,%g)\n",
                    input.c_str(), info.grid_origin[0], info.grid_origin[1], info.grid_origin[2],
                    info.grid_spacing[0], info.grid_spacing[1], info.grid_spacing[2]);
-      return 1;
+      return svc::command_line::kExitFailure;
     }
     runs.push_back(std::move(result).value());
   }
 
   if (json) {
-    nlohmann::json out = {{"file", input},
+    nlohmann::json out = {{"command", "svc-walkthrough"},
+                          {"input", input},
                           {"face_size", {info.face_width, info.face_height}},
                           {"grid", info.grid_dims},
                           {"path", path_file.empty() ? "built-in" : path_file},

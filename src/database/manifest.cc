@@ -277,19 +277,29 @@ double aspect_of(const DatabaseManifest& manifest) {
   return static_cast<double>(manifest.face_width) / manifest.face_height;
 }
 
-// Whether a manifest path stays inside the database folder once "." and ".." are
-// resolved (an absolute path may name a file inside it). Symbolic links inside the folder
-// are followed as they are.
-bool stays_inside_database(const DatabaseManifest& manifest, const std::string& path) {
-  std::error_code ec;
-  const fs::path root = fs::absolute(manifest.root, ec).lexically_normal();
-  const fs::path file = fs::absolute(resolve_database_path(manifest, path), ec).lexically_normal();
+// Whether `file` is `folder` or lies under it, comparing whole path elements.
+bool lies_within(const fs::path& file, const fs::path& folder) {
   auto f = file.begin();
-  for (auto r = root.begin(); r != root.end(); ++r, ++f) {
+  for (auto r = folder.begin(); r != folder.end(); ++r, ++f) {
     if (r->empty()) continue;  // a trailing separator
     if (f == file.end() || *f != *r) return false;
   }
   return f != file.end();
+}
+
+// Whether a manifest path stays inside the database folder, both as written ("." and
+// ".." resolved) and once symbolic links are followed: a link in the folder to a file
+// or folder elsewhere leaves it as surely as "../x.png" does.
+bool stays_inside_database(const DatabaseManifest& manifest, const std::string& path) {
+  std::error_code ec;
+  const fs::path file = resolve_database_path(manifest, path);
+  if (!lies_within(fs::absolute(file, ec).lexically_normal(), fs::absolute(manifest.root, ec).lexically_normal())) {
+    return false;
+  }
+  const fs::path real_root = fs::weakly_canonical(manifest.root, ec);
+  if (ec) return false;
+  const fs::path real_file = fs::weakly_canonical(file, ec);
+  return !ec && lies_within(real_file, real_root);
 }
 
 // Refuses a path that leaves the database folder unless the caller allows it: a manifest

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -14,6 +15,7 @@
 #include "command_line/command_line.h"
 #include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
+#include "command_line/progress.h"
 #include "svc_bench.h"
 
 namespace svc::cli {
@@ -61,6 +63,23 @@ class InterruptWatcher {
   std::thread thread_;
 };
 
+// --json: the command, its input and output as the other commands name them, and the
+// results.json just written.
+int print_bench_json(const bench::BenchOptions& options, const bench::BenchResults& results) {
+  std::ifstream file(options.out_dir / "results.json");
+  const json written = json::parse(file, nullptr, false);
+  if (written.is_discarded()) {
+    return report_error(
+        Status(ErrorCode::kIoError, "cannot read back " + (options.out_dir / "results.json").string()));
+  }
+  print_json({{"command", "bench"},
+              {"input", options.db_dir.string()},
+              {"output", options.out_dir.string()},
+              {"seconds", results.total_seconds},
+              {"results", written}});
+  return 0;
+}
+
 }  // namespace
 
 struct BenchSubcommand::Options {
@@ -70,6 +89,7 @@ struct BenchSubcommand::Options {
   bool no_experiments = false;
   bool overwrite = false;
   std::vector<std::string> presets;  // CODEC=PRESET
+  command_line::Verbosity verbosity;
 };
 
 BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Options>()) {
@@ -99,6 +119,7 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
                        "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "
                        "libaom cpu-used where SVT-AV1 is missing), avif=6 (libaom cpu-used), jxl=7 (effort)");
   add_overwrite_flag(command_, &options_->overwrite);
+  command_line::add_verbosity_options(command_, &options_->verbosity);
   command_->add_flag("--no-experiments", options_->no_experiments,
                      "Skip the dissertation experiments (Table 7.5, Figure 7.16, Table 7.4)");
   command_->add_flag("--ablation", options_->bench.ablation,
@@ -133,10 +154,15 @@ int BenchSubcommand::run() const {
     }
     options.anchor_presets[entry.substr(0, eq)] = entry.substr(eq + 1);
   }
-  options.progress = [](const std::string& line) {
-    std::fprintf(stderr, "%s\n", line.c_str());
-    std::fflush(stderr);
-  };
+  // The benchmark reports its steps as lines on stderr, not a bar: shown unless
+  // --quiet, --no-progress or --json (there only with --progress).
+  const command_line::Verbosity& verbosity = options_->verbosity;
+  if (!verbosity.quiet && !verbosity.no_progress && (!verbosity.json || verbosity.progress)) {
+    options.progress = [](const std::string& line) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+      std::fflush(stderr);
+    };
+  }
   baseline::quiet_ffmpeg_logging();
   // SVT-AV1 prints its configuration to the terminal unless told otherwise (errors only).
   setenv("SVT_LOG", "1", 0);
@@ -152,6 +178,8 @@ int BenchSubcommand::run() const {
   }
   Status written = bench::write_all(*results, options.out_dir);
   if (!written.ok()) return report_error(written);
+  if (verbosity.json) return print_bench_json(options, *results);
+  if (!verbosity.show_summary()) return 0;
   std::printf("%s\n", bench::summary_table_markdown(*results).c_str());
   for (const bench::PartTiming& t : results->timings) std::printf("  %-16s %7.1f s\n", t.part.c_str(), t.seconds);
   std::printf("  %-16s %7.1f s\n", "total", results->total_seconds);

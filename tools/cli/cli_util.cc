@@ -7,21 +7,11 @@
 
 #include "command_line/command_line.h"
 #include "command_line/interrupt.h"
+#include "command_line/report.h"
 
 namespace svc::cli {
 
-int report_error(const Status& status) {
-  if (command_line::interrupted()) {
-    std::fprintf(stderr, "svc: stopped by %s; nothing was written\n", command_line::interrupting_signal_name());
-    return command_line::interrupted_exit_code();
-  }
-  std::fprintf(stderr, "svc: %s\n", status.to_string().c_str());
-  switch (status.code()) {
-    case ErrorCode::kInvalidArgument: return command_line::kExitUsage;
-    case ErrorCode::kCorruptData: return command_line::kExitCorrupt;
-    default: return command_line::kExitFailure;
-  }
-}
+int report_error(const Status& status) { return command_line::report_failure("svc", status); }
 
 bool keep_going() { return !command_line::interrupted(); }
 

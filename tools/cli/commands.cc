@@ -11,6 +11,7 @@
 #include "command_line/command_line.h"
 #include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
+#include "command_line/staged_folder.h"
 #include "common/parallel.h"
 #include "database/database.h"
 #include "scene/scene.h"
@@ -252,94 +253,154 @@ int verify_command(const VerifyOptions& options) {
   return 0;
 }
 
+namespace {
+
+// What svc demo measures on a few random cells of the file it encoded.
+struct DemoSample {
+  QualityReport quality;
+  double open_seconds = 0;
+  double decode_seconds = 0;
+  json cells = json::array();
+};
+
+Result<DemoSample> decode_random_cells(const std::filesystem::path& db, const std::filesystem::path& file,
+                                       bool print) {
+  DemoSample sample;
+  auto t0 = std::chrono::steady_clock::now();
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file));
+  sample.open_seconds = seconds_since(t0);
+  SVC_ASSIGN_OR_RETURN(DatabaseManifest manifest, load_manifest(db));
+  std::mt19937 rng(12345);
+  const auto& cells = reader->cells();
+  const int count = std::min<int>(5, static_cast<int>(cells.size()));
+  if (print) std::printf("  decoding %d random cells:\n", count);
+  for (int k = 0; k < count; ++k) {
+    const CellEntry& cell = cells[rng() % cells.size()];
+    const auto start = std::chrono::steady_clock::now();
+    SVC_RETURN_IF_ERROR(reader->decode_cube(cell.index).status());
+    const double seconds = seconds_since(start);
+    sample.decode_seconds += seconds;
+    SVC_ASSIGN_OR_RETURN(QualityReport measured, measure_cell(*reader, manifest, *find_cell(manifest, cell.index)));
+    sample.quality.add(measured);
+    const bool intra = cell.faces[0].type == FaceType::kIntra;
+    sample.cells.push_back({{"cell", {cell.index.x, cell.index.y, cell.index.z}},
+                            {"type", intra ? "intra" : "predicted"},
+                            {"decode_seconds", seconds},
+                            {"psnr_y", measured.psnr_y()}});
+    if (print) {
+      std::printf("    %s %s-cube: 6 faces in %.2f ms, PSNR-Y %.2f dB\n", cell_label(cell.index).c_str(),
+                  intra ? "I" : "B", seconds * 1e3, measured.psnr_y());
+    }
+  }
+  return sample;
+}
+
+void print_demo_sample(const DemoSample& sample, const EncodeSummary& summary) {
+  const QualityReport& q = sample.quality;
+  std::printf("  open       %.2f ms\n", sample.open_seconds * 1e3);
+  std::printf("  decode     %.2f ms per face on average (%llu faces)\n",
+              q.faces ? sample.decode_seconds * 1e3 / q.faces : 0.0, static_cast<unsigned long long>(q.faces));
+  std::printf("  quality    PSNR-RGB %.2f dB, PSNR-Y %.2f dB, SSIM %.4f over the decoded faces\n", q.psnr_rgb(),
+              q.psnr_y(), q.ssim());
+  std::printf("  result     %s for %s raw: %.1f:1\n", human_bytes(summary.file_bytes).c_str(),
+              human_bytes(summary.raw_bytes).c_str(),
+              summary.file_bytes ? static_cast<double>(summary.raw_bytes) / summary.file_bytes : 0.0);
+}
+
+// Where the demo writes: the --keep folder, staged beside it and moved there when
+// complete, or a temporary folder that is always removed.
+struct DemoFolder {
+  std::unique_ptr<command_line::StagedFolder> kept;
+  std::filesystem::path temporary;
+  ~DemoFolder() {
+    std::error_code ec;
+    if (!temporary.empty()) std::filesystem::remove_all(temporary, ec);
+  }
+  std::filesystem::path path() const { return kept ? kept->path() : temporary; }
+};
+
+Status open_demo_folder(const DemoOptions& options, DemoFolder* folder) {
+  if (!options.keep_dir.empty()) {
+    SVC_RETURN_IF_ERROR(check_output(options.keep_dir, OutputKind::kFolder, options.overwrite, {}));
+    SVC_ASSIGN_OR_RETURN(folder->kept, command_line::StagedFolder::create(options.keep_dir));
+    return Status::Ok();
+  }
+  const auto path = std::filesystem::temp_directory_path() / ("svc-demo-" + std::to_string(std::random_device{}()));
+  std::error_code ec;
+  std::filesystem::create_directories(path, ec);
+  if (ec) return Status(ErrorCode::kIoError, "cannot create " + path.string() + ": " + ec.message());
+  folder->temporary = path;
+  return Status::Ok();
+}
+
+}  // namespace
+
 int demo_command(const DemoOptions& options) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::path work = options.keep_dir;
-  const bool temporary = work.empty();
-  if (!temporary) {
-    const Status writable = check_output(work, OutputKind::kFolder, options.overwrite, {});
-    if (!writable.ok()) return report_error(writable);
-  }
-  if (temporary) {
-    work = fs::temp_directory_path() / ("svc-demo-" + std::to_string(std::random_device{}()));
-  }
-  fs::create_directories(work, ec);
-  if (ec) return report_error(Status(ErrorCode::kIoError, "cannot create " + work.string() + ": " + ec.message()));
-  struct Cleanup {
-    fs::path path;
-    bool active;
-    ~Cleanup() {
-      std::error_code e;
-      if (active) fs::remove_all(path, e);
-    }
-  } cleanup{work, temporary};
+  const Verbosity& verbosity = options.verbosity;
+  DemoFolder folder;
+  if (Status status = open_demo_folder(options, &folder); !status.ok()) return report_error(status);
+  const fs::path shown = options.keep_dir.empty() ? folder.path() : options.keep_dir;
 
   samples::SceneOptions scene;
   scene.kind = options.kind;
+  scene.grid = options.grid;
+  scene.face_size = options.face_size;
   // Rendering in parallel gives the same bytes; use every core.
   scene.threads = std::min(resolve_thread_count(0), 256);
-  const fs::path db = work / "scene";
-  const fs::path out = work / "scene.svc";
-  std::printf("svc demo: %s scene, %d x %d x %d cells of %dx%d faces, in %s\n",
-              samples::scene_kind_name(scene.kind), scene.grid[0], scene.grid[1], scene.grid[2], scene.face_size,
-              scene.face_size, work.string().c_str());
-
-  const bool progress = Verbosity{}.show_progress();
+  const fs::path db = folder.path() / "scene";
+  const fs::path out = folder.path() / "scene.svc";
+  if (verbosity.show_summary()) {
+    std::printf("svc demo: %s scene, %d x %d x %d cells of %dx%d faces, in %s\n",
+                samples::scene_kind_name(scene.kind), scene.grid[0], scene.grid[1], scene.grid[2], scene.face_size,
+                scene.face_size, shown.string().c_str());
+  }
   auto t0 = std::chrono::steady_clock::now();
   {
-    ProgressBar bar("generating", progress);
-    Status status = samples::generate_scene(scene, db, [&](int done, int total) { bar.update(done, total); });
+    ProgressBar bar("generating", verbosity.show_progress());
+    Status status = samples::generate_scene(scene, db, [&](int done, int total) {
+      bar.update(done, total);
+      return keep_going();
+    });
     if (!status.ok()) return report_error(status);
   }
-  std::printf("  generated  %d faces in %.2f s\n", scene.grid[0] * scene.grid[1] * scene.grid[2] * kFaceCount,
-              seconds_since(t0));
+  const double generate_seconds = seconds_since(t0);
+  if (verbosity.show_summary()) {
+    std::printf("  generated  %d faces in %.2f s\n", scene.grid[0] * scene.grid[1] * scene.grid[2] * kFaceCount,
+                generate_seconds);
+  }
 
-  ProgressBar bar("encoding", progress);
+  ProgressBar bar("encoding", verbosity.show_progress());
   auto summary = encode_database(db, out, options.settings, [&](uint64_t done, uint64_t total) {
     bar.update(done, total);
     return keep_going();
   });
   bar.finish();
   if (!summary.ok()) return report_error(summary.status());
-  print_summary(*summary, out);
+  if (verbosity.show_summary()) print_summary(*summary, shown / "scene.svc");
 
-  t0 = std::chrono::steady_clock::now();
-  auto reader = Reader::open(out);
-  if (!reader.ok()) return report_error(reader.status());
-  const double open_seconds = seconds_since(t0);
-  auto manifest = load_manifest(db);
-  if (!manifest.ok()) return report_error(manifest.status());
-
-  // Decode a few random cells and compare with the source images.
-  std::mt19937 rng(12345);
-  const auto& cells = (*reader)->cells();
-  QualityReport total;
-  double decode_seconds = 0;
-  const int sample_cells = std::min<int>(5, static_cast<int>(cells.size()));
-  std::printf("  decoding %d random cells:\n", sample_cells);
-  for (int k = 0; k < sample_cells; ++k) {
-    const CellEntry& cell = cells[rng() % cells.size()];
-    auto start = std::chrono::steady_clock::now();
-    auto cube = (*reader)->decode_cube(cell.index);
-    const double seconds = seconds_since(start);
-    if (!cube.ok()) return report_error(cube.status());
-    decode_seconds += seconds;
-    auto measured = measure_cell(**reader, *manifest, *find_cell(*manifest, cell.index));
-    if (!measured.ok()) return report_error(measured.status());
-    total.add(*measured);
-    std::printf("    %s %s-cube: 6 faces in %.2f ms, PSNR-Y %.2f dB\n", cell_label(cell.index).c_str(),
-                cell.faces[0].type == FaceType::kIntra ? "I" : "B", seconds * 1e3, measured->psnr_y());
+  auto sample = decode_random_cells(db, out, verbosity.show_summary());
+  if (!sample.ok()) return report_error(sample.status());
+  if (folder.kept) {
+    if (Status status = folder.kept->commit(); !status.ok()) return report_error(status);
   }
-  std::printf("  open       %.2f ms\n", open_seconds * 1e3);
-  std::printf("  decode     %.2f ms per face on average (%llu faces)\n",
-              total.faces ? decode_seconds * 1e3 / total.faces : 0.0, static_cast<unsigned long long>(total.faces));
-  std::printf("  quality    PSNR-RGB %.2f dB, PSNR-Y %.2f dB, SSIM %.4f over the decoded faces\n", total.psnr_rgb(),
-              total.psnr_y(), total.ssim());
-  std::printf("  result     %s for %s raw: %.1f:1\n", human_bytes(summary->file_bytes).c_str(),
-              human_bytes(summary->raw_bytes).c_str(),
-              summary->file_bytes ? static_cast<double>(summary->raw_bytes) / summary->file_bytes : 0.0);
-  if (!temporary) std::printf("  kept       %s and %s\n", db.string().c_str(), out.string().c_str());
+  if (verbosity.json) {
+    json result = summary_json(*summary, shown / "scene", shown / "scene.svc");
+    result["command"] = "demo";
+    if (!folder.kept) result["input"] = result["output"] = nullptr;  // removed on exit
+    result["kind"] = samples::scene_kind_name(scene.kind);
+    result["generate_seconds"] = generate_seconds;
+    result["open_seconds"] = sample->open_seconds;
+    result["decoded_cells"] = sample->cells;
+    result["quality"] = quality_json(sample->quality);
+    print_json(result);
+  } else if (verbosity.show_summary()) {
+    print_demo_sample(*sample, *summary);
+    if (folder.kept) {
+      std::printf("  kept       %s and %s\n", (shown / "scene").string().c_str(),
+                  (shown / "scene.svc").string().c_str());
+    }
+  }
   return 0;
 }
 

@@ -77,8 +77,11 @@ struct AddOptions {
 
 struct DemoOptions {
   samples::SceneKind kind = samples::SceneKind::kHall;
+  std::array<int, 3> grid = samples::SceneOptions{}.grid;
+  int face_size = samples::SceneOptions{}.face_size;
   std::filesystem::path keep_dir;  // empty: a temporary folder, removed at the end
   EncoderSettings settings;
+  command_line::Verbosity verbosity;
   bool overwrite = false;  // -y: replace an existing output (never the input)
 };
 

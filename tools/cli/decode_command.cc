@@ -9,9 +9,9 @@
 
 #include "cli/cli_util.h"
 #include "cli/commands.h"
-#include "cli/staged_folder.h"
 #include "command_line/command_line.h"
 #include "command_line/output_paths.h"
+#include "command_line/staged_folder.h"
 #include "common/parallel.h"
 #include "svc/reader.h"
 
@@ -172,7 +172,7 @@ int decode_command(const DecodeOptions& options) {
     std::fprintf(stderr, "svc: decoding %zu faces of %s on %d threads\n", cells->size() * faces.size(),
                  options.input.string().c_str(), resolve_thread_count(options.threads));
   }
-  auto staged = StagedFolder::create(options.output);
+  auto staged = command_line::StagedFolder::create(options.output);
   if (!staged.ok()) return report_error(staged.status());
   DecodeResult result;
   Status status = write_database(**reader, options, *cells, faces, (*staged)->path(), &result);

@@ -195,9 +195,15 @@ int main(int argc, char** argv) {
   EncoderOptionText demo_text;
   auto* demo_cmd = app.add_subcommand("demo", "Generate the sample scene, encode it, decode random cells, report");
   demo_cmd->add_option("--kind", demo_kind, "Scene kind: hall or house")->capture_default_str();
+  std::string demo_grid = "9,1,9";
+  demo_cmd->add_option("--grid", demo_grid, "Scene cells X,Y,Z (or N for all axes)")->capture_default_str();
+  demo_cmd->add_option("--face-size", demo.face_size, "Scene face size in pixels")
+      ->check(integer_in(16, 1024))
+      ->capture_default_str();
   demo_cmd->add_option("--keep", demo.keep_dir, "Keep the scene and .svc file in this folder")
       ->check(not_standard_output());
   add_encoder_options(demo_cmd, &demo.settings, &demo_text);
+  add_verbosity_options(demo_cmd, &demo.verbosity);
   add_overwrite_flag(demo_cmd, &demo.overwrite);
 
 #ifdef SVC_WITH_BENCH
@@ -250,6 +256,12 @@ int main(int argc, char** argv) {
       return kExitUsage;
     }
     if (!apply_encoder_options(&demo.settings, demo_text)) return kExitUsage;
+    std::array<int32_t, 3> grid;
+    if (!parse_triple(demo_grid, &grid)) {
+      std::fprintf(stderr, "svc: --grid takes X,Y,Z or N with positive integers, not '%s'\n", demo_grid.c_str());
+      return kExitUsage;
+    }
+    demo.grid = {grid[0], grid[1], grid[2]};
     return demo_command(demo);
   }
 #ifdef SVC_WITH_BENCH

@@ -1,5 +1,6 @@
 // An output folder written beside its destination and moved into place only when
-// complete, so that a failed or interrupted command leaves nothing behind.
+// complete, so that a failed or interrupted command leaves nothing behind. Not
+// thread-safe; one owner.
 #pragma once
 
 #include <filesystem>
@@ -7,7 +8,7 @@
 
 #include "svc/status.h"
 
-namespace svc::cli {
+namespace svc::command_line {
 
 class StagedFolder {
  public:
@@ -22,15 +23,19 @@ class StagedFolder {
   const std::filesystem::path& path() const { return staging_; }
 
   // Moves what was written to the destination: renamed into place when the destination
-  // is missing or an empty folder, else file by file over what is there (the caller has
-  // checked that the destination may be written, see check_output).
+  // is missing or an empty folder; otherwise each entry written (manifest.json, cells/)
+  // replaces the same-named entry there whole, so old and new images never mix, and
+  // entries the command does not write stay (the caller has checked that the destination
+  // may be replaced, see check_output). On failure the destination is as it was.
+  // Errors: kIoError naming the path.
   Status commit();
 
  private:
   StagedFolder(std::filesystem::path destination, std::filesystem::path staging);
+  Status replace_entries();
   std::filesystem::path destination_;
   std::filesystem::path staging_;
   bool committed_ = false;
 };
 
-}  // namespace svc::cli
+}  // namespace svc::command_line
