@@ -53,10 +53,11 @@ TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
                         {BlockKind::kNonIntra, 0, kNoCodedBlockFlag},
                         {BlockKind::kIntra, 1, 0}};
   for (const Case& c : cases) {
-    for (int quant_scale : {2, 6, 16, 40}) {
-      const Quantizer quantizer = make_quantizer(c.kind, quant_scale);
+    for (int qindex : {64, 115, 160, 202}) {  // quantiser scales about 2, 6, 16 and 40
+      const Quantizer quantizer = make_quantizer(c.kind, qindex);
       const BlockContextSet contexts = trained_contexts(rng, quantizer, c.first_scan);
-      const float lambda = 0.25f * static_cast<float>(quant_scale * quant_scale);
+      const double scale = quantizer_scale_q8(qindex) / 256.0;
+      const float lambda = static_cast<float>(0.25 * scale * scale);
       double plain_total = 0, rdoq_total = 0;
       for (int n = 0; n < 300; ++n) {
         float coefficients[64];
@@ -73,12 +74,12 @@ TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
         const double rdoq_cost = quantization_rd_cost(quantizer, coefficients, optimized, contexts, c.first_scan,
                                                       c.coded_block_context, lambda);
         ASSERT_LE(rdoq_cost, plain_cost * (1 + 1e-6) + 1e-3)
-            << "quant_scale " << quant_scale << " first_scan " << c.first_scan << " block " << n;
+            << "qindex " << qindex << " first_scan " << c.first_scan << " block " << n;
         plain_total += plain_cost;
         rdoq_total += rdoq_cost;
       }
       // The search itself (not just the fallback to plain levels) must find savings.
-      EXPECT_LT(rdoq_total, plain_total * 0.98) << "quant_scale " << quant_scale << " first_scan " << c.first_scan;
+      EXPECT_LT(rdoq_total, plain_total * 0.98) << "qindex " << qindex << " first_scan " << c.first_scan;
     }
   }
 }
@@ -153,21 +154,23 @@ double squared_error(const ImageYCbCr420& a, const ImageYCbCr420& b) {
 // without RDOQ, and RDOQ lowers the frame's squared error + lambda * bits.
 TEST(CodecRdoq, IntraFramesDecodeExactlyAndCostLess) {
   const ImageYCbCr420 source = textured_frame(128, 96);
-  for (int quant_scale : {3, 10, 24}) {
+  for (int qindex : {83, 138, 179}) {  // quantiser scales about 3, 10 and 24
+    const double scale = quantizer_scale_q8(qindex) / 256.0;
     double cost[2];
     for (bool rdoq : {false, true}) {
       CodingParams params;
-      params.quant_scale = quant_scale;
+      params.qindex = qindex;
       params.rdoq = rdoq;
+      params.deblocking = params.cdef = false;  // the levels alone
       ImageYCbCr420 reconstruction, decoded;
       const std::vector<uint8_t> bytes = encode_intra_frame(source, params, &reconstruction);
       ASSERT_TRUE(decode_intra_frame(bytes, source.width, source.height, &decoded).ok());
-      ASSERT_EQ(decoded.y, reconstruction.y) << quant_scale;
-      ASSERT_EQ(decoded.cb, reconstruction.cb) << quant_scale;
-      ASSERT_EQ(decoded.cr, reconstruction.cr) << quant_scale;
-      cost[rdoq] = squared_error(source, reconstruction) + 0.1 * quant_scale * quant_scale * 8.0 * bytes.size();
+      ASSERT_EQ(decoded.y, reconstruction.y) << qindex;
+      ASSERT_EQ(decoded.cb, reconstruction.cb) << qindex;
+      ASSERT_EQ(decoded.cr, reconstruction.cr) << qindex;
+      cost[rdoq] = squared_error(source, reconstruction) + 0.1 * scale * scale * 8.0 * bytes.size();
     }
-    EXPECT_LT(cost[1], cost[0]) << "quant_scale " << quant_scale;
+    EXPECT_LT(cost[1], cost[0]) << "qindex " << qindex;
   }
 }
 
