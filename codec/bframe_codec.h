@@ -16,6 +16,7 @@
 // outside its inputs, whatever the bytes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -45,6 +46,15 @@ enum class MacroblockMode : uint8_t {
   kBackward = 2,       // predicted from reference 1
   kBidirectional = 3,  // rounded mean of both predictions
   kSkipped = 4,        // predicted mode and vectors inherited, no residual
+};
+
+// How an inter macroblock is split for prediction: each partition has its own mode
+// (forward, backward or bidirectional) and vectors; the residual stays in 8x8 blocks.
+enum class Partition : uint8_t {
+  k16x16 = 0,
+  k16x8 = 1,  // two 16x8 halves, top then bottom
+  k8x16 = 2,  // two 8x16 halves, left then right
+  k8x8 = 3,   // four 8x8 quarters in raster order
 };
 
 // The quant_scale this library suggests for B-frames next to I-frames coded at
@@ -84,6 +94,10 @@ struct BFrameParams {
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
   int inter_evaluations = 2;
+  // Splits inter macroblocks into 16x8, 8x16 or 8x8 partitions, each with its own
+  // direction and vectors, where that lowers the rate-distortion cost; off, every inter
+  // macroblock is one 16x16 partition (for ablation).
+  bool partitions = true;
 };
 
 struct BFrameStats {
@@ -95,13 +109,16 @@ struct BFrameStats {
   int mb_skipped = 0;
   // Inter and skipped macroblocks among the above predicted by warping.
   int mb_warp = 0;
+  // Inter macroblocks split into partitions (16x8, 8x16 or 8x8).
+  int mb_partitioned = 0;
   // Inter and skipped macroblocks whose luma prediction reads reference samples outside
   // the face (the cube-map border when the references are padded).
   int mb_leaving_face = 0;
   // Warp nodes transmitted, over both references.
   int64_t warp_nodes_coded = 0;
-  // Distinct in-range candidate vectors tried (at most max_candidates per list), summed
-  // over macroblocks and references.
+  // Distinct in-range candidate vectors tried for whole macroblocks (at most
+  // max_candidates per list), summed over macroblocks and references; partitions'
+  // searches are not counted.
   int64_t candidates_evaluated = 0;
   // Every luma SAD computed for vector choice (candidates, predictors, refinement).
   int64_t sad_evaluations = 0;
@@ -132,6 +149,24 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     const FaceCandidates& candidates1, const WarpField* warp0,
                                     const WarpField* warp1, const BFrameParams& params,
                                     ImageYCbCr420* reconstruction, BFrameStats* stats);
+
+// What the caller knows about the motion towards one reference; every pointer may be null
+// and is read only during the call.
+struct ReferenceHints {
+  // One candidate list per macroblock (ceil(w/16) x ceil(h/16), row-major).
+  const FaceCandidates* macroblocks = nullptr;
+  // One list per 8x8 luma block (2 ceil(w/16) x 2 ceil(h/16), row-major), the candidates
+  // of the partitions; ignored when of another size. Without them partitions search the
+  // macroblock's list.
+  const FaceCandidates* blocks = nullptr;
+  // The warp node field, as in the overload above.
+  const WarpField* warp = nullptr;
+};
+
+// The same with per-reference hints (reference 1's ignored when ref1 is null).
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const std::array<ReferenceHints, 2>& hints,
+                                    const BFrameParams& params, ImageYCbCr420* reconstruction, BFrameStats* stats);
 
 struct BFrameHeader {
   int quant_scale = 0;

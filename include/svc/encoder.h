@@ -39,6 +39,9 @@ struct CodingTools {
   // leave the reference face find what lies past its edge (docs/codec.md 10.6). Off: the
   // bare reference faces, and a B-face depends on its reference faces only.
   bool cube_references = true;
+  // B-faces: inter macroblocks split into 16x8, 8x16 or 8x8 partitions, each with its own
+  // direction and vectors from its own pixels' depth (docs/codec.md 10.4). Off: 16x16 only.
+  bool partitions = true;
 
   bool operator==(const CodingTools&) const = default;
 };

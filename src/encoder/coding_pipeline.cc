@@ -41,6 +41,7 @@ class Pipeline {
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
     b_params_.quarter_pel = job.tools.quarter_pel;
+    b_params_.partitions = job.tools.partitions;
   }
 
   Status run() {

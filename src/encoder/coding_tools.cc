@@ -21,6 +21,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"quarter-pel", &CodingTools::quarter_pel},
     CodingToolEntry{"visibility-references", &CodingTools::visibility_references},
     CodingToolEntry{"cube-references", &CodingTools::cube_references},
+    CodingToolEntry{"partitions", &CodingTools::partitions},
 };
 
 }  // namespace
