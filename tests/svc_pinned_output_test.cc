@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "90b2f276a755f249353fb70a53bd2ab79d0b5cf21cbe1533d7473beb2dda5ed8",
-     "820a805640eef04fd8fee488b5d378ed4854269742af4d27cc5c892f87137ac5"},
+     "2cca5a2eafc87adb40fd1c379df3db8b519a392a0501cdbade51248058748b9e",
+     "8c7fd1497ef867ea373c86ec76caa4a8dd4ffd45acc6c82a3c8bb46ca2ce4ecf"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "698b299d70e9cdf44c8a564a341097f59ef2e7c129082d2b9351962215bc5037",
-     "634d1e8fbcf634c93175ef9e1f56f3c9c11cae541254c13c11ff57138292744d"},
+     "770f17637ff0fa0548797670ec6fac5c4f478a7bf0bb00a93efda7b29ccf9a91",
+     "c3b90b9a66eeab6b0a8548a88194f51fc85d033ed2f8a94666ed06373e8e7b4f"},
 };
 
 std::string file_sha256(const fs::path& path) {
