@@ -183,9 +183,12 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 // Decodes a B-frame of width x height. ref1 must be null exactly when the frame was coded
 // with one reference; references must be width x height with consistent planes, or
 // padded by the border the header names (parse_b_frame_header; kInvalidArgument
-// otherwise). `modes` (optional) receives the per-macroblock modes,
-// row-major. On error `out` and `modes` are left in an unspecified but valid state.
+// otherwise). `modes` (optional) receives the per-macroblock modes (a partitioned
+// macroblock reports its last partition's), `partitions` (optional) the partitions
+// (16x16 for intra and skipped macroblocks), both row-major. On error `out`, `modes` and
+// `partitions` are left in an unspecified but valid state.
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
-                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr);
+                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr,
+                      std::vector<Partition>* partitions = nullptr);
 
 }  // namespace svc::codec

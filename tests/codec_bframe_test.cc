@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -437,10 +438,15 @@ TEST(BFramePartitions, SplitMotionIsCodedWithHalvesAndDecodedExactly) {
   for (const auto* bytes : {&split, &whole}) {
     ImageYCbCr420 decoded;
     std::vector<MacroblockMode> modes;
-    const Status status = decode_b_frame(*bytes, w, h, reference, nullptr, &decoded, &modes);
+    std::vector<Partition> partitions;
+    const Status status = decode_b_frame(*bytes, w, h, reference, nullptr, &decoded, &modes, &partitions);
     ASSERT_TRUE(status.ok()) << status.to_string();
     expect_same_image(decoded, bytes == &split ? split_reconstruction : whole_reconstruction);
     EXPECT_EQ(modes, (bytes == &split ? split_stats : whole_stats).modes);
+    ASSERT_EQ(partitions.size(), modes.size());
+    EXPECT_EQ(std::count_if(partitions.begin(), partitions.end(),
+                            [](Partition p) { return p != Partition::k16x16; }),
+              (bytes == &split ? split_stats : whole_stats).mb_partitioned);
   }
 }
 
