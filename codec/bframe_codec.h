@@ -16,6 +16,7 @@
 // outside its inputs, whatever the bytes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -46,6 +47,15 @@ enum class MacroblockMode : uint8_t {
   kBackward = 2,       // predicted from reference 1
   kBidirectional = 3,  // rounded mean of both predictions
   kSkipped = 4,        // predicted mode and vectors inherited, no residual
+};
+
+// How an inter macroblock is split for prediction: each partition has its own mode
+// (forward, backward or bidirectional) and vectors; the residual stays in 8x8 blocks.
+enum class Partition : uint8_t {
+  k16x16 = 0,
+  k16x8 = 1,  // two 16x8 halves, top then bottom
+  k8x16 = 2,  // two 8x16 halves, left then right
+  k8x8 = 3,   // four 8x8 quarters in raster order
 };
 
 // The qindex this library suggests for B-frames next to I-frames coded at
@@ -100,6 +110,10 @@ struct BFrameParams {
   // regular filter loses to smoother ones on noisy references seen at other scales
   // (docs/codec.md, 10.5). Triples the encoder's B-frame time.
   bool switchable_filter = true;
+  // Splits inter macroblocks into 16x8, 8x16 or 8x8 partitions, each with its own
+  // direction and vectors, where that lowers the rate-distortion cost; off, every inter
+  // macroblock is one 16x16 partition (for ablation).
+  bool partitions = true;
 };
 
 struct BFrameStats {
@@ -111,13 +125,16 @@ struct BFrameStats {
   int mb_skipped = 0;
   // Inter and skipped macroblocks among the above predicted by warping.
   int mb_warp = 0;
+  // Inter macroblocks split into partitions (16x8, 8x16 or 8x8).
+  int mb_partitioned = 0;
   // Inter and skipped macroblocks whose luma prediction reads reference samples outside
   // the face (the cube-map border when the references are padded).
   int mb_leaving_face = 0;
   // Warp nodes transmitted, over both references.
   int64_t warp_nodes_coded = 0;
-  // Distinct in-range candidate vectors tried (at most max_candidates per list), summed
-  // over macroblocks and references.
+  // Distinct in-range candidate vectors tried for whole macroblocks (at most
+  // max_candidates per list), summed over macroblocks and references; partitions'
+  // searches are not counted.
   int64_t candidates_evaluated = 0;
   // Every luma SAD computed for vector choice (candidates, predictors, refinement).
   int64_t sad_evaluations = 0;
@@ -149,6 +166,24 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     const WarpField* warp1, const BFrameParams& params,
                                     ImageYCbCr420* reconstruction, BFrameStats* stats);
 
+// What the caller knows about the motion towards one reference; every pointer may be null
+// and is read only during the call.
+struct ReferenceHints {
+  // One candidate list per macroblock (ceil(w/16) x ceil(h/16), row-major).
+  const FaceCandidates* macroblocks = nullptr;
+  // One list per 8x8 luma block (2 ceil(w/16) x 2 ceil(h/16), row-major), the candidates
+  // of the partitions; ignored when of another size. Without them partitions search the
+  // macroblock's list.
+  const FaceCandidates* blocks = nullptr;
+  // The warp node field, as in the overload above.
+  const WarpField* warp = nullptr;
+};
+
+// The same with per-reference hints (reference 1's ignored when ref1 is null).
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const std::array<ReferenceHints, 2>& hints,
+                                    const BFrameParams& params, ImageYCbCr420* reconstruction, BFrameStats* stats);
+
 struct BFrameHeader {
   int qindex = 0;
   // Cube-map border of the references in units of 16 luma samples a side (0: the
@@ -166,9 +201,12 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 // Decodes a B-frame of width x height. ref1 must be null exactly when the frame was coded
 // with one reference; references must be width x height with consistent planes, or
 // padded by the border the header names (parse_b_frame_header; kInvalidArgument
-// otherwise). `modes` (optional) receives the per-macroblock modes,
-// row-major. On error `out` and `modes` are left in an unspecified but valid state.
+// otherwise). `modes` (optional) receives the per-macroblock modes (a partitioned
+// macroblock reports its last partition's), `partitions` (optional) the partitions
+// (16x16 for intra and skipped macroblocks), both row-major. On error `out`, `modes` and
+// `partitions` are left in an unspecified but valid state.
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
-                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr);
+                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr,
+                      std::vector<Partition>* partitions = nullptr);
 
 }  // namespace svc::codec

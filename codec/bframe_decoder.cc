@@ -108,27 +108,20 @@ class MacroblockReader {
   }
 
   Status read_inter() {
-    MacroblockMode mode = MacroblockMode::kForward;
-    if (s_.reference_count == 2) {
-      if (decoder_.decode(c_.bidirectional[bidirectional_context(s_, mx_, my_)])) {
-        mode = MacroblockMode::kBidirectional;
-      } else if (decoder_.decode(c_.backward[backward_context(s_, mx_, my_)])) {
-        mode = MacroblockMode::kBackward;
-      }
-    }
+    const Partition partition = decode_partition(decoder_, s_, mx_, my_);
+    if (partition != Partition::k16x16) return read_partitioned(partition);
+    const MacroblockMode mode = decode_direction(decoder_, s_, mx_, my_);
     info_.mode = mode;
     info_.inter_mode = mode;
     info_.inter_warp = warp_allowed(s_, mode) && decoder_.decode(c_.warp[warp_context(s_, mx_, my_)]) != 0;
     if (info_.inter_warp && !read_warp_nodes(mode)) return fail("invalid warp node");
-    if (!info_.inter_warp) SVC_RETURN_IF_ERROR(read_vectors(mode));
-    uint8_t local_coded[6] = {};
-    for (int b = 0; b < 6; ++b) {
-      const int plane = block_plane(b);
-      const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
-      local_coded[b] = static_cast<uint8_t>(
-          decoder_.decode(plane == 0 ? c_.cbp_luma[context] : c_.cbp_chroma[plane - 1][context]));
-      coded_mask_ |= static_cast<uint8_t>(local_coded[b] << b);
+    if (!info_.inter_warp) {
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (uses_reference(mode, r)) SVC_RETURN_IF_ERROR(read_vector(r, predictors_[r], &info_.vectors[r]));
+      }
     }
+    uint8_t local_coded[6] = {};
+    read_coded_flags(local_coded);
     if (info_.inter_warp) {
       build_warp_prediction(s_, mx_, my_, mode, &prediction_);
     } else {
@@ -137,25 +130,55 @@ class MacroblockReader {
     return read_residual(local_coded);
   }
 
-  // The vector differences of the references `mode` uses.
-  Status read_vectors(MacroblockMode mode) {
-    const int contexts[2] = {mvd_context(s_, mx_, my_, 0), mvd_context(s_, mx_, my_, 1)};
-    for (int r = 0; r < s_.reference_count; ++r) {
-      if (!uses_reference(mode, r)) continue;
-      int dx = 0, dy = 0;
-      if (!decode_mvd_component(decoder_, c_, 0, contexts[0], &dx) ||
-          !decode_mvd_component(decoder_, c_, 1, contexts[1], &dy)) {
-        return fail("invalid motion vector difference");
+  // Each partition's direction and vector differences, then the macroblock's residual.
+  Status read_partitioned(Partition partition) {
+    PartitionMotion motion;
+    motion.partition = partition;
+    const int count = partition_count(partition);
+    for (int k = 0; k < count; ++k) {
+      motion.modes[k] = decode_direction(decoder_, s_, mx_, my_);
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (!uses_reference(motion.modes[k], r)) continue;
+        SVC_RETURN_IF_ERROR(
+            read_vector(r, partition_predictor(motion, k, r, predictors_[r]), &motion.vectors[k][r]));
+        info_.vectors[r] = motion.vectors[k][r];
       }
-      const int vx = predictors_[r].x + dx, vy = predictors_[r].y + dy;
-      if (std::abs(vx) > s_.vector_limit || std::abs(vy) > s_.vector_limit) {
-        return fail("motion vector (" + std::to_string(vx) + ", " + std::to_string(vy) +
-                    ") quarter-pels beyond the limit " + std::to_string(s_.vector_limit));
-      }
-      info_.vectors[r] = MotionVector{static_cast<int16_t>(vx), static_cast<int16_t>(vy)};
-      info_.mvd_magnitude[0] += std::abs(dx);
-      info_.mvd_magnitude[1] += std::abs(dy);
     }
+    info_.partition = partition;
+    info_.mode = motion.modes[count - 1];
+    info_.inter_mode = info_.mode;
+    info_.inter_warp = false;
+    uint8_t local_coded[6] = {};
+    read_coded_flags(local_coded);
+    build_partition_prediction(s_, mx_, my_, motion, &prediction_);
+    return read_residual(local_coded);
+  }
+
+  void read_coded_flags(uint8_t* local_coded) {
+    for (int b = 0; b < 6; ++b) {
+      const int plane = block_plane(b);
+      const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
+      local_coded[b] = static_cast<uint8_t>(
+          decoder_.decode(plane == 0 ? c_.cbp_luma[context] : c_.cbp_chroma[plane - 1][context]));
+      coded_mask_ |= static_cast<uint8_t>(local_coded[b] << b);
+    }
+  }
+
+  // One vector difference towards reference r (x, then y), added to `predictor`.
+  Status read_vector(int r, MotionVector predictor, MotionVector* vector) {
+    int dx = 0, dy = 0;
+    if (!decode_mvd_component(decoder_, c_, 0, mvd_context(s_, mx_, my_, 0), &dx) ||
+        !decode_mvd_component(decoder_, c_, 1, mvd_context(s_, mx_, my_, 1), &dy)) {
+      return fail("invalid motion vector difference");
+    }
+    const int vx = predictor.x + dx, vy = predictor.y + dy;
+    if (std::abs(vx) > s_.vector_limit || std::abs(vy) > s_.vector_limit) {
+      return fail("motion vector (" + std::to_string(vx) + ", " + std::to_string(vy) + ") towards reference " +
+                  std::to_string(r) + " quarter-pels beyond the limit " + std::to_string(s_.vector_limit));
+    }
+    *vector = MotionVector{static_cast<int16_t>(vx), static_cast<int16_t>(vy)};
+    info_.mvd_magnitude[0] += std::abs(dx);
+    info_.mvd_magnitude[1] += std::abs(dy);
     return Status::Ok();
   }
 
@@ -235,7 +258,8 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
 }
 
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
-                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes) {
+                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes,
+                      std::vector<Partition>* partitions) {
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
     return Status(ErrorCode::kInvalidArgument, "B-frame: size " + std::to_string(width) + "x" +
                                                    std::to_string(height) + " outside 1.." +
@@ -264,6 +288,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
     modes->clear();
     modes->reserve(s.macroblocks.size());
   }
+  if (partitions != nullptr) partitions->clear();
   RangeDecoder decoder(bytes.subspan(kBFrameHeaderBytes));
   MacroblockReader reader(s, decoder);
   for (int my = 0; my < s.mbs_y; ++my) {
@@ -271,6 +296,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
       MacroblockMode mode = MacroblockMode::kIntra;
       SVC_RETURN_IF_ERROR(reader.read(mx, my, &mode));
       if (modes != nullptr) modes->push_back(mode);
+      if (partitions != nullptr) partitions->push_back(s.mb(mx, my).partition);
     }
     // A complete payload is never read past its end; stopping at the first row that does
     // bounds the work garbage can cause.

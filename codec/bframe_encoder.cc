@@ -8,6 +8,7 @@
 #include <bit>
 #include <cmath>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "codec/bframe_loop_filter.h"
@@ -28,6 +29,8 @@ struct MacroblockChoice {
   std::array<std::array<int16_t, 64>, 6> levels{};
   std::array<int, 6> dc_levels{};  // intra only
   uint8_t coded_mask = 0;          // inter: coded block pattern; intra: blocks with AC levels
+  // Inter only: the partitions, with their modes and vectors when split.
+  PartitionMotion motion;
   MacroblockPrediction reconstruction;
   double cost = 0;
 };
@@ -111,6 +114,73 @@ uint8_t apply_cdef_choice(RangeEncoder& encoder, FrameState& s, const PaddedSour
   return kLoopFilterCdef;
 }
 
+constexpr PartitionRect kWholeMacroblock{};
+
+// Candidates of one macroblock and its 8x8 blocks towards one reference.
+struct MacroblockHints {
+  const CandidateList* macroblock = nullptr;
+  std::array<const CandidateList*, 4> blocks{};
+};
+
+MacroblockHints macroblock_hints_at(const ReferenceHints& hints, const FrameState& s, int mx, int my) {
+  MacroblockHints out;
+  const size_t index = static_cast<size_t>(my) * s.mbs_x + mx;
+  if (hints.macroblocks != nullptr && index < hints.macroblocks->size())
+    out.macroblock = &(*hints.macroblocks)[index];
+  if (hints.blocks == nullptr || hints.blocks->size() != 4 * static_cast<size_t>(s.mbs_x) * s.mbs_y) return out;
+  for (int b = 0; b < 4; ++b) {
+    const size_t block = static_cast<size_t>(2 * my + (b >> 1)) * (2 * s.mbs_x) + 2 * mx + (b & 1);
+    out.blocks[b] = &(*hints.blocks)[block];
+  }
+  return out;
+}
+
+int sad_rect(const uint8_t* source, int source_stride, const uint8_t* prediction, const PartitionRect& rect) {
+  int sum = 0;
+  for (int y = rect.y; y < rect.y + rect.height; ++y) {
+    for (int x = rect.x; x < rect.x + rect.width; ++x) {
+      sum += std::abs(static_cast<int>(source[y * source_stride + x]) - static_cast<int>(prediction[16 * y + x]));
+    }
+  }
+  return sum;
+}
+
+// The candidates of a partition: the lists of the 8x8 blocks it covers, interleaved by
+// rank without duplicates, so each block's best vectors come first.
+CandidateList partition_candidates(const MacroblockHints& hints, const PartitionRect& rect) {
+  std::array<const CandidateList*, 4> lists{};
+  int count = 0;
+  for (int b = 0; b < 4; ++b) {
+    const int x = 8 * (b & 1), y = 8 * (b >> 1);
+    if (x < rect.x || y < rect.y || x >= rect.x + rect.width || y >= rect.y + rect.height) continue;
+    if (hints.blocks[b] != nullptr) lists[count++] = hints.blocks[b];
+  }
+  if (count == 0) return hints.macroblock != nullptr ? *hints.macroblock : CandidateList{};
+  CandidateList merged;
+  for (size_t rank = 0;; ++rank) {
+    bool any = false;
+    for (int l = 0; l < count; ++l) {
+      if (rank >= lists[l]->size()) continue;
+      any = true;
+      const MotionVector v = (*lists[l])[rank];
+      if (std::find(merged.begin(), merged.end(), v) == merged.end()) merged.push_back(v);
+    }
+    if (!any) return merged;
+  }
+}
+
+// Whether the depth-derived motion differs across the macroblock's 8x8 blocks (their most
+// frequent vectors differ), or, without block lists, the macroblock has several vectors.
+bool motion_varies(const MacroblockHints& hints) {
+  const CandidateList* first = nullptr;
+  for (const CandidateList* list : hints.blocks) {
+    if (list == nullptr || list->empty()) continue;
+    if (first != nullptr && list->front() != first->front()) return true;
+    first = list;
+  }
+  return first == nullptr && hints.macroblock != nullptr && hints.macroblock->size() > 1;
+}
+
 class BFrameEncoder {
  public:
   BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params)
@@ -120,14 +190,14 @@ class BFrameEncoder {
         quarter_pel_(params.quarter_pel),
         full_evaluations_(std::max(1, params.inter_evaluations)),
         max_candidates_(std::max(1, params.max_candidates)),
-        rdoq_(params.rdoq) {
+        rdoq_(params.rdoq),
+        partitions_(params.partitions) {
     const double scale = quantizer_scale_q8(s_.inter_quantizer.qindex) / 256.0;
     lambda_ = std::max(0.0, params.lambda_factor) * scale * scale;
     lambda_sad_ = std::sqrt(lambda_);
   }
 
-  MacroblockChoice choose(int mx, int my, const CandidateList* candidates0, const CandidateList* candidates1,
-                          BFrameStats* stats) {
+  MacroblockChoice choose(int mx, int my, const std::array<MacroblockHints, 2>& hints, BFrameStats* stats) {
     mx_ = mx;
     my_ = my;
     warp_cache_ = {};
@@ -138,8 +208,11 @@ class BFrameEncoder {
     const MacroblockMode skip_mode = predicted_mode(s_, mx, my);
 
     std::array<MotionVector, 2> best = predictors;
-    const CandidateList* lists[2] = {candidates0, candidates1};
-    for (int r = 0; r < s_.reference_count; ++r) best[r] = search_reference(r, lists[r], stats);
+    for (int r = 0; r < s_.reference_count; ++r) {
+      std::span<const MotionVector> list;
+      if (hints[r].macroblock != nullptr) list = *hints[r].macroblock;
+      best[r] = search_reference(r, kWholeMacroblock, predictors[r], list, stats);
+    }
 
     MacroblockChoice winner, option;
     evaluate_skip(skip_mode, predicted_warp(s_, mx, my), &winner);
@@ -192,7 +265,7 @@ class BFrameEncoder {
                      (uses_reference(mode, 1) && !(screen_warp & 2u)))) {
           continue;
         }
-        float bits = mode_bits(s_, mx, my, mode);
+        float bits = mode_bits(s_, mx, my, mode) + partition_bits(s_, mx, my, Partition::k16x16);
         if (warp_allowed(s_, mode)) bits += bit_cost(s_.contexts.warp[warp_context(s_, mx, my)], warp);
         uint8_t prediction[256];
         if (mode == MacroblockMode::kBidirectional) {
@@ -216,6 +289,15 @@ class BFrameEncoder {
     for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k)
       consider(screened[k].mode, screened[k].warp);
     consider(MacroblockMode::kIntra, false);
+    // Split partitions are tried only where one translation may not serve the whole
+    // macroblock: the depth-derived motion varies across it, or intra won.
+    if (partitions_ && (winner.mode == MacroblockMode::kIntra || motion_varies(hints[0]) ||
+                        (s_.reference_count == 2 && motion_varies(hints[1])))) {
+      for (const Partition partition : {Partition::k16x8, Partition::k8x16, Partition::k8x8}) {
+        evaluate_partitioned(partition, hints, best, stats, &option);
+        if (option.cost < winner.cost) std::swap(winner, option);
+      }
+    }
     return winner;
   }
 
@@ -249,26 +331,17 @@ class BFrameEncoder {
       commit_macroblock(s_, mx, my, info, choice.reconstruction, choice.dc_levels.data(), choice.coded_mask);
       return;
     }
-    if (s_.reference_count == 2) {
-      encoder.encode(c.bidirectional[bidirectional_context(s_, mx, my)],
-                     choice.mode == MacroblockMode::kBidirectional);
-      if (choice.mode != MacroblockMode::kBidirectional) {
-        encoder.encode(c.backward[backward_context(s_, mx, my)], choice.mode == MacroblockMode::kBackward);
-      }
-    }
-    if (warp_allowed(s_, choice.mode)) encoder.encode(c.warp[warp_context(s_, mx, my)], choice.warp);
-    if (choice.warp) {
-      write_warp_nodes(encoder, choice.mode, &info);
+    encode_partition(encoder, s_, mx, my, choice.motion.partition);
+    if (choice.motion.partition != Partition::k16x16) {
+      write_partition_vectors(encoder, choice.motion, &info);
+      info.partition = choice.motion.partition;
     } else {
-      const int contexts[2] = {mvd_context(s_, mx, my, 0), mvd_context(s_, mx, my, 1)};
-      for (int r = 0; r < s_.reference_count; ++r) {
-        if (!uses_reference(choice.mode, r)) continue;
-        const int dx = choice.vectors[r].x - predictors_[r].x, dy = choice.vectors[r].y - predictors_[r].y;
-        encode_mvd_component(encoder, c, 0, contexts[0], dx);
-        encode_mvd_component(encoder, c, 1, contexts[1], dy);
-        info.mvd_magnitude[0] += std::abs(dx);
-        info.mvd_magnitude[1] += std::abs(dy);
-        info.vectors[r] = choice.vectors[r];
+      encode_direction(encoder, s_, mx, my, choice.mode);
+      if (warp_allowed(s_, choice.mode)) encoder.encode(c.warp[warp_context(s_, mx, my)], choice.warp);
+      if (choice.warp) {
+        write_warp_nodes(encoder, choice.mode, &info);
+      } else {
+        write_vectors(encoder, choice, &info);
       }
     }
     info.inter_mode = choice.mode;
@@ -289,6 +362,38 @@ class BFrameEncoder {
   }
 
  private:
+  void write_vectors(RangeEncoder& encoder, const MacroblockChoice& choice, MacroblockInfo* info) {
+    const int contexts[2] = {mvd_context(s_, mx_, my_, 0), mvd_context(s_, mx_, my_, 1)};
+    for (int r = 0; r < s_.reference_count; ++r) {
+      if (!uses_reference(choice.mode, r)) continue;
+      const int dx = choice.vectors[r].x - predictors_[r].x, dy = choice.vectors[r].y - predictors_[r].y;
+      encode_mvd_component(encoder, s_.contexts, 0, contexts[0], dx);
+      encode_mvd_component(encoder, s_.contexts, 1, contexts[1], dy);
+      info->mvd_magnitude[0] += std::abs(dx);
+      info->mvd_magnitude[1] += std::abs(dy);
+      info->vectors[r] = choice.vectors[r];
+    }
+  }
+
+  // Each partition's direction and vector differences; the last vector per reference is
+  // the one the macroblock leaves for its neighbours' predictors.
+  void write_partition_vectors(RangeEncoder& encoder, const PartitionMotion& motion, MacroblockInfo* info) {
+    const int contexts[2] = {mvd_context(s_, mx_, my_, 0), mvd_context(s_, mx_, my_, 1)};
+    for (int k = 0; k < partition_count(motion.partition); ++k) {
+      encode_direction(encoder, s_, mx_, my_, motion.modes[k]);
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (!uses_reference(motion.modes[k], r)) continue;
+        const MotionVector predictor = partition_predictor(motion, k, r, predictors_[r]);
+        const int dx = motion.vectors[k][r].x - predictor.x, dy = motion.vectors[k][r].y - predictor.y;
+        encode_mvd_component(encoder, s_.contexts, 0, contexts[0], dx);
+        encode_mvd_component(encoder, s_.contexts, 1, contexts[1], dy);
+        info->mvd_magnitude[0] += std::abs(dx);
+        info->mvd_magnitude[1] += std::abs(dy);
+        info->vectors[r] = motion.vectors[k][r];
+      }
+    }
+  }
+
   // Warped predictions of the current macroblock, made once per reference and reused by
   // screening, skip and inter evaluation (the corner nodes do not change within it).
   struct WarpCache {
@@ -364,8 +469,32 @@ class BFrameEncoder {
   }
 
   float vector_bits(int reference, MotionVector vector) const {
-    return mvd_component_bits(s_.contexts, 0, mvd_context(s_, mx_, my_, 0), vector.x - predictors_[reference].x) +
-           mvd_component_bits(s_.contexts, 1, mvd_context(s_, mx_, my_, 1), vector.y - predictors_[reference].y);
+    return vector_bits(vector, predictors_[reference]);
+  }
+
+  float vector_bits(MotionVector vector, MotionVector predictor) const {
+    return mvd_component_bits(s_.contexts, 0, mvd_context(s_, mx_, my_, 0), vector.x - predictor.x) +
+           mvd_component_bits(s_.contexts, 1, mvd_context(s_, mx_, my_, 1), vector.y - predictor.y);
+  }
+
+  // Luma SAD of the prediction of `rect` from `reference` with vector v.
+  int rect_sad(int reference, const PartitionRect& rect, MotionVector v) const {
+    const uint8_t* source =
+        source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
+    const ImageYCbCr420& ref = *s_.references[reference];
+    if (rect.width == 16 && rect.height == 16) {
+      return sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source, source_.strides[0],
+                                 s_.filter);
+    }
+    int16_t intermediate[256];
+    uint8_t prediction[256];
+    predict_block(ref.y.data(), ref.width, ref.height, PlaneKind::kLuma, 16 * reference_mb(s_, mx_) + rect.x,
+                  16 * reference_mb(s_, my_) + rect.y, rect.width, rect.height, v.x, v.y,
+                  intermediate + 16 * rect.y + rect.x, 16, s_.filter);
+    for (int y = rect.y; y < rect.y + rect.height; ++y) {
+      round_prediction(intermediate + 16 * y + rect.x, rect.width, prediction + 16 * y + rect.x);
+    }
+    return sad_rect(source, source_.strides[0], prediction, rect);
   }
 
   // Within the range and, without quarter-pel vectors, on a half-pel position (odd
@@ -379,23 +508,20 @@ class BFrameEncoder {
     return MotionVector{component(v.x), component(v.y)};
   }
 
-  // Best vector towards one reference by SAD + lambda * vector bits over the supplied
-  // candidates and the predictor (the zero vector too when no candidate is given).
-  MotionVector search_reference(int reference, const CandidateList* list, BFrameStats* stats) {
-    const uint8_t* source =
-        source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
-    const ImageYCbCr420& ref = *s_.references[reference];
+  // Best vector for `rect` towards one reference by SAD + lambda * vector bits over the
+  // supplied candidates and the predictor (the zero vector too when no candidate is given).
+  MotionVector search_reference(int reference, const PartitionRect& rect, MotionVector predictor,
+                                std::span<const MotionVector> list, BFrameStats* stats) {
     tried_.clear();
-    MotionVector best = predictors_[reference];
+    MotionVector best = predictor;
     double best_cost = 1e300;
     auto try_vector = [&](MotionVector v) {
       v = clamp_vector(v);
       if (std::find(tried_.begin(), tried_.end(), v) != tried_.end()) return false;
       tried_.push_back(v);
-      const double rate = lambda_sad_ * vector_bits(reference, v);
+      const double rate = lambda_sad_ * vector_bits(v, predictor);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
-      const int sad = sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source,
-                                          source_.strides[0], s_.filter);
+      const int sad = rect_sad(reference, rect, v);
       if (stats != nullptr) ++stats->sad_evaluations;
       const double cost = sad + rate;
       if (cost < best_cost) {
@@ -405,14 +531,12 @@ class BFrameEncoder {
       return true;
     };
     int supplied = 0;
-    if (list != nullptr) {
-      // Lists are ranked (most pixels first): the tail rarely wins and costs a SAD each.
-      const size_t count = std::min(list->size(), static_cast<size_t>(max_candidates_));
-      for (size_t k = 0; k < count; ++k) supplied += try_vector((*list)[k]);
-    }
-    if (stats != nullptr) stats->candidates_evaluated += supplied;
+    // Lists are ranked (most pixels first): the tail rarely wins and costs a SAD each.
+    const size_t count = std::min(list.size(), static_cast<size_t>(max_candidates_));
+    for (size_t k = 0; k < count; ++k) supplied += try_vector(list[k]);
+    if (stats != nullptr && rect.width == 16 && rect.height == 16) stats->candidates_evaluated += supplied;
     if (supplied == 0) try_vector(MotionVector{});
-    try_vector(predictors_[reference]);
+    try_vector(predictor);
     if (refine_) {
       // The half-pel ring around the best, then the quarter-pel ring around the new best.
       for (int step = 2; step >= (quarter_pel_ ? 1 : 2); --step) {
@@ -452,7 +576,8 @@ class BFrameEncoder {
     out->mode = mode;
     out->warp = warp;
     out->vectors = predictors_;
-    float bits = mode_bits(s_, mx_, my_, mode);
+    out->motion = PartitionMotion{};
+    float bits = mode_bits(s_, mx_, my_, mode) + partition_bits(s_, mx_, my_, Partition::k16x16);
     if (warp_allowed(s_, mode)) bits += bit_cost(c.warp[warp_context(s_, mx_, my_)], warp);
     MacroblockPrediction prediction;
     if (warp) {
@@ -466,6 +591,13 @@ class BFrameEncoder {
       }
       build_prediction(s_, mx_, my_, mode, out->vectors, &prediction);
     }
+    code_residual(prediction, bits, out);
+  }
+
+  // Each 8x8 block's residual, kept where it lowers the cost; sets the levels, coded
+  // mask, reconstruction and cost (with `bits` of side information).
+  void code_residual(const MacroblockPrediction& prediction, float bits, MacroblockChoice* out) {
+    const SyntaxContexts& c = s_.contexts;
     int64_t distortion = 0;
     uint8_t local_coded[6] = {};
     out->coded_mask = 0;
@@ -512,6 +644,76 @@ class BFrameEncoder {
       out->coded_mask |= static_cast<uint8_t>(coded << b);
     }
     out->cost = static_cast<double>(distortion) + lambda_ * bits;
+  }
+
+  // A split macroblock: per partition in coding order, the best vector per reference
+  // from the partition's own candidates (and the 16x16 choice), then the direction by
+  // SAD + side bits; the whole then by rate-distortion cost.
+  void evaluate_partitioned(Partition partition, const std::array<MacroblockHints, 2>& hints,
+                            const std::array<MotionVector, 2>& macroblock_best, BFrameStats* stats,
+                            MacroblockChoice* out) {
+    PartitionMotion& motion = out->motion;
+    motion = PartitionMotion{};
+    motion.partition = partition;
+    out->warp = false;
+    out->vectors = predictors_;
+    float bits = bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 0) +
+                 bit_cost(s_.contexts.intra[intra_context(s_, mx_, my_)], 0) +
+                 partition_bits(s_, mx_, my_, partition);
+    const uint8_t* source =
+        source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
+    for (int k = 0; k < partition_count(partition); ++k) {
+      const PartitionRect rect = partition_rect(partition, k);
+      std::array<MotionVector, 2> vectors{}, part_predictors{};
+      std::array<MacroblockIntermediate, 2> luma;
+      for (int r = 0; r < s_.reference_count; ++r) {
+        part_predictors[r] = partition_predictor(motion, k, r, predictors_[r]);
+        CandidateList list = partition_candidates(hints[r], rect);
+        if (std::find(list.begin(), list.end(), macroblock_best[r]) == list.end())
+          list.push_back(macroblock_best[r]);
+        vectors[r] = search_reference(r, rect, part_predictors[r], list, stats);
+        const ImageYCbCr420& ref = *s_.references[r];
+        predict_block(ref.y.data(), ref.width, ref.height, PlaneKind::kLuma, 16 * reference_mb(s_, mx_) + rect.x,
+                      16 * reference_mb(s_, my_) + rect.y, rect.width, rect.height, vectors[r].x, vectors[r].y,
+                      luma[r].y.data() + 16 * rect.y + rect.x, 16, s_.filter);
+      }
+      double best_cost = 1e300;
+      float best_bits = 0;
+      for (const MacroblockMode mode :
+           {MacroblockMode::kForward, MacroblockMode::kBackward, MacroblockMode::kBidirectional}) {
+        if (s_.reference_count == 1 && mode != MacroblockMode::kForward) continue;
+        float mode_side_bits = direction_bits(s_, mx_, my_, mode);
+        for (int r = 0; r < s_.reference_count; ++r) {
+          if (uses_reference(mode, r)) mode_side_bits += vector_bits(vectors[r], part_predictors[r]);
+        }
+        uint8_t prediction[256];
+        for (int y = rect.y; y < rect.y + rect.height; ++y) {
+          const int offset = 16 * y + rect.x;
+          if (mode == MacroblockMode::kBidirectional) {
+            average_prediction(luma[0].y.data() + offset, luma[1].y.data() + offset, rect.width,
+                               prediction + offset);
+          } else {
+            round_prediction(luma[mode == MacroblockMode::kBackward ? 1 : 0].y.data() + offset, rect.width,
+                             prediction + offset);
+          }
+        }
+        const double cost = sad_rect(source, source_.strides[0], prediction, rect) + lambda_sad_ * mode_side_bits;
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_bits = mode_side_bits;
+          motion.modes[k] = mode;
+        }
+      }
+      bits += best_bits;
+      motion.vectors[k] = vectors;
+      for (int r = 0; r < s_.reference_count; ++r) {
+        if (uses_reference(motion.modes[k], r)) out->vectors[r] = vectors[r];
+      }
+    }
+    out->mode = motion.modes[partition_count(partition) - 1];
+    MacroblockPrediction prediction;
+    build_partition_prediction(s_, mx_, my_, motion, &prediction);
+    code_residual(prediction, bits, out);
   }
 
   void evaluate_intra(MacroblockChoice* out) {
@@ -562,6 +764,7 @@ class BFrameEncoder {
   const int full_evaluations_;
   const int max_candidates_;
   const bool rdoq_;
+  const bool partitions_;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
@@ -588,6 +791,10 @@ namespace {
 void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
   stats->modes.push_back(choice.mode);
   if (choice.mode != MacroblockMode::kIntra && choice.warp) ++stats->mb_warp;
+  if (choice.mode != MacroblockMode::kIntra && choice.mode != MacroblockMode::kSkipped &&
+      choice.motion.partition != Partition::k16x16) {
+    ++stats->mb_partitioned;
+  }
   switch (choice.mode) {
     case MacroblockMode::kIntra: ++stats->mb_intra; break;
     case MacroblockMode::kForward: ++stats->mb_forward; break;
@@ -608,8 +815,7 @@ struct CodedMacroblocks {
 
 // Codes every macroblock with filter bank `filter` (arguments already validated).
 CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr420& ref0, const ImageYCbCr420* ref1,
-                                  const FaceCandidates& candidates0, const FaceCandidates& candidates1,
-                                  const WarpField* warp0, const WarpField* warp1, const BFrameParams& params,
+                                  const std::array<ReferenceHints, 2>& hints, const BFrameParams& params,
                                   InterpolationFilter filter, bool with_stats) {
   const int width = source.width, height = source.height;
   const int border_units = reference_border_units(ref0.width - width);
@@ -618,7 +824,7 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
   FrameState& state = coded.state;
   init_state(state, width, height, qindex, &ref0, ref1, border_units);
   state.filter = filter;
-  const WarpField* fields[2] = {warp0, ref1 != nullptr ? warp1 : nullptr};
+  const WarpField* fields[2] = {hints[0].warp, ref1 != nullptr ? hints[1].warp : nullptr};
   for (int r = 0; r < state.reference_count; ++r) {
     const WarpField* field = fields[r];
     if (!params.warp || field == nullptr || field->nodes_x != state.nodes_x || field->nodes_y != state.nodes_y ||
@@ -647,10 +853,11 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
   BFrameEncoder coder(state, coded.padded, params);
   for (int my = 0; my < state.mbs_y; ++my) {
     for (int mx = 0; mx < state.mbs_x; ++mx) {
-      const size_t index = static_cast<size_t>(my) * state.mbs_x + mx;
-      const CandidateList* list0 = index < candidates0.size() ? &candidates0[index] : nullptr;
-      const CandidateList* list1 = ref1 != nullptr && index < candidates1.size() ? &candidates1[index] : nullptr;
-      const MacroblockChoice choice = coder.choose(mx, my, list0, list1, stats);
+      const std::array<MacroblockHints, 2> macroblock_hints = {macroblock_hints_at(hints[0], state, mx, my),
+                                                               ref1 != nullptr
+                                                                   ? macroblock_hints_at(hints[1], state, mx, my)
+                                                                   : MacroblockHints{}};
+      const MacroblockChoice choice = coder.choose(mx, my, macroblock_hints, stats);
       if (stats != nullptr && choice.mode != MacroblockMode::kIntra) {
         const MacroblockMode prediction = choice.mode == MacroblockMode::kSkipped ? predicted_mode(state, mx, my)
                                                                                   : choice.mode;
@@ -689,6 +896,14 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     const FaceCandidates& candidates1, const WarpField* warp0,
                                     const WarpField* warp1, const BFrameParams& params,
                                     ImageYCbCr420* reconstruction, BFrameStats* stats) {
+  const std::array<ReferenceHints, 2> hints = {ReferenceHints{&candidates0, nullptr, warp0},
+                                               ReferenceHints{&candidates1, nullptr, warp1}};
+  return encode_b_frame(source, ref0, ref1, hints, params, reconstruction, stats);
+}
+
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const std::array<ReferenceHints, 2>& hints,
+                                    const BFrameParams& params, ImageYCbCr420* reconstruction, BFrameStats* stats) {
   const int width = source.width, height = source.height;
   const int border_units = reference_border_units(ref0.width - width);
   const int padded_width = ref0.width, padded_height = height + (ref0.width - width);
@@ -698,8 +913,7 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
     return {};
   }
   auto code = [&](InterpolationFilter filter) {
-    return code_macroblocks(source, ref0, ref1, candidates0, candidates1, warp0, warp1, params, filter,
-                            stats != nullptr);
+    return code_macroblocks(source, ref0, ref1, hints, params, filter, stats != nullptr);
   };
   CodedMacroblocks best = code(InterpolationFilter::kRegular);
   if (params.switchable_filter) {

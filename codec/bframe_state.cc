@@ -131,6 +131,17 @@ int warp_context(const FrameState& s, int mx, int my) {
   });
 }
 
+int partition_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.partition != Partition::k16x16; });
+}
+
+MotionVector partition_predictor(const PartitionMotion& motion, int k, int r, MotionVector macroblock_predictor) {
+  for (const int neighbour : {partition_left(motion.partition, k), partition_above(motion.partition, k)}) {
+    if (neighbour >= 0 && uses_reference(motion.modes[neighbour], r)) return motion.vectors[neighbour][r];
+  }
+  return macroblock_predictor;
+}
+
 WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int my) {
   WarpCorners corners;
   for (int k = 0; k < 4; ++k) corners[k] = s.nodes[reference][s.node_index(corner_i(mx, k), corner_j(my, k))];
@@ -188,6 +199,49 @@ void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode m
                             macroblock_corners(s, 1, mx, my), &second, s.filter);
   }
   finish_prediction(first, mode == MacroblockMode::kBidirectional ? &second : nullptr, out);
+}
+
+void predict_partition(const FrameState& s, int mx, int my, const PartitionRect& rect, int reference,
+                       MotionVector vector, MacroblockIntermediate* out) {
+  const ImageYCbCr420& ref = *s.references[reference];
+  const int x = 16 * reference_mb(s, mx) + rect.x, y = 16 * reference_mb(s, my) + rect.y;
+  predict_block(ref.y.data(), ref.width, ref.height, PlaneKind::kLuma, x, y, rect.width, rect.height, vector.x,
+                vector.y, out->y.data() + rect.y * 16 + rect.x, 16, s.filter);
+  const int cw = (ref.width + 1) / 2, ch = (ref.height + 1) / 2;
+  const size_t chroma_offset = static_cast<size_t>(rect.y / 2) * 8 + rect.x / 2;
+  predict_block(ref.cb.data(), cw, ch, PlaneKind::kChroma, x / 2, y / 2, rect.width / 2, rect.height / 2, vector.x,
+                vector.y, out->cb.data() + chroma_offset, 8, s.filter);
+  predict_block(ref.cr.data(), cw, ch, PlaneKind::kChroma, x / 2, y / 2, rect.width / 2, rect.height / 2, vector.x,
+                vector.y, out->cr.data() + chroma_offset, 8, s.filter);
+}
+
+void build_partition_prediction(const FrameState& s, int mx, int my, const PartitionMotion& motion,
+                                MacroblockPrediction* out) {
+  MacroblockIntermediate first, second;
+  for (int k = 0; k < partition_count(motion.partition); ++k) {
+    const PartitionRect rect = partition_rect(motion.partition, k);
+    const MacroblockMode mode = motion.modes[k];
+    const int first_reference = mode == MacroblockMode::kBackward ? 1 : 0;
+    predict_partition(s, mx, my, rect, first_reference, motion.vectors[k][first_reference], &first);
+    const bool both = mode == MacroblockMode::kBidirectional;
+    if (both) predict_partition(s, mx, my, rect, 1, motion.vectors[k][1], &second);
+    // Rounded (or averaged) row by row within the rectangle, per plane.
+    auto finish = [&](const int16_t* a, const int16_t* b, uint8_t* dst, int stride, int x, int y, int w, int h) {
+      for (int row = y; row < y + h; ++row) {
+        const size_t offset = static_cast<size_t>(row) * stride + x;
+        if (both) {
+          average_prediction(a + offset, b + offset, w, dst + offset);
+        } else {
+          round_prediction(a + offset, w, dst + offset);
+        }
+      }
+    };
+    finish(first.y.data(), second.y.data(), out->y.data(), 16, rect.x, rect.y, rect.width, rect.height);
+    finish(first.cb.data(), second.cb.data(), out->cb.data(), 8, rect.x / 2, rect.y / 2, rect.width / 2,
+           rect.height / 2);
+    finish(first.cr.data(), second.cr.data(), out->cr.data(), 8, rect.x / 2, rect.y / 2, rect.width / 2,
+           rect.height / 2);
+  }
 }
 
 bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode mode, bool warp,

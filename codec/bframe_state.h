@@ -32,6 +32,10 @@ struct SyntaxContexts {
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> mvd_zero{};  // [component][ctx]
   std::array<std::array<AdaptiveBit, 4>, 2> mvd_magnitude{};              // [component][bin]
   std::array<AdaptiveBit, kNeighbourContexts> warp{};
+  // Partition of an inter macroblock (docs/codec.md, section 10.4).
+  std::array<AdaptiveBit, kNeighbourContexts> partition_split{};
+  AdaptiveBit partition_quad{};
+  AdaptiveBit partition_vertical{};
   // Node differences: [component][predictor kind: 0 planar, 1 other].
   std::array<std::array<AdaptiveBit, 2>, 2> node_zero{};
   std::array<std::array<std::array<AdaptiveBit, kNodeMagnitudeContexts>, 2>, 2> node_magnitude{};
@@ -50,8 +54,46 @@ struct MacroblockInfo {
   // Per reference: the vector used, or the predictor where the reference is unused, so
   // predictors propagate through intra and single-reference macroblocks.
   std::array<MotionVector, 2> vectors{};
-  // Sum over references of |mvd.x| and |mvd.y| (0 when no vector was coded).
+  // Sum over references (and partitions) of |mvd.x| and |mvd.y| (0 when no vector was
+  // coded).
   std::array<int, 2> mvd_magnitude{};
+  // Inter macroblocks only; 16x16 for every other mode.
+  Partition partition = Partition::k16x16;
+};
+
+// ---- Partitions of an inter macroblock: rectangles in luma samples of the macroblock,
+// in coding order (raster). Chroma uses the same rectangle halved. ----
+struct PartitionRect {
+  int x = 0, y = 0, width = 16, height = 16;
+};
+
+inline int partition_count(Partition p) { return p == Partition::k16x16 ? 1 : (p == Partition::k8x8 ? 4 : 2); }
+
+inline PartitionRect partition_rect(Partition p, int k) {
+  switch (p) {
+    case Partition::k16x8: return {0, 8 * k, 16, 8};
+    case Partition::k8x16: return {8 * k, 0, 8, 16};
+    case Partition::k8x8: return {8 * (k & 1), 8 * (k >> 1), 8, 8};
+    default: return {};
+  }
+}
+
+// The partition of the same macroblock left of (above) partition k, or -1.
+inline int partition_left(Partition p, int k) {
+  return (p == Partition::k8x16 && k == 1) || (p == Partition::k8x8 && (k & 1)) ? k - 1 : -1;
+}
+
+inline int partition_above(Partition p, int k) {
+  return (p == Partition::k16x8 && k == 1) || (p == Partition::k8x8 && k >= 2) ? k - (p == Partition::k8x8 ? 2 : 1)
+                                                                               : -1;
+}
+
+// The prediction of every partition of an inter macroblock: its mode (forward, backward
+// or bidirectional) and its vectors (those of references it does not use are unused).
+struct PartitionMotion {
+  Partition partition = Partition::k16x16;
+  std::array<MacroblockMode, 4> modes{};
+  std::array<std::array<MotionVector, 2>, 4> vectors{};
 };
 
 struct FrameState {
@@ -181,6 +223,14 @@ int backward_context(const FrameState& s, int mx, int my);
 
 int warp_context(const FrameState& s, int mx, int my);
 
+// Left and top macroblocks that are inter (not skipped) with a partition other than 16x16.
+int partition_context(const FrameState& s, int mx, int my);
+
+// The vector predictor of partition k towards reference r, given the motion of the
+// partitions before it: the left partition's vector when it exists and uses r, else the
+// upper one's under the same condition, else the macroblock's predictor.
+MotionVector partition_predictor(const PartitionMotion& motion, int k, int r, MotionVector macroblock_predictor);
+
 // Bit mask of the references a prediction mode reads.
 inline int reference_mask(MacroblockMode mode) {
   return mode == MacroblockMode::kBidirectional ? 3 : (mode == MacroblockMode::kBackward ? 2 : 1);
@@ -212,6 +262,15 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out);
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out);
+
+// The translational prediction of every partition of `motion` (docs/codec.md, 10.1).
+void build_partition_prediction(const FrameState& s, int mx, int my, const PartitionMotion& motion,
+                                MacroblockPrediction* out);
+
+// Partition k's prediction from one reference: luma and both chroma planes, as
+// intermediates written into the partition's rectangle of `out`.
+void predict_partition(const FrameState& s, int mx, int my, const PartitionRect& rect, int reference,
+                       MotionVector vector, MacroblockIntermediate* out);
 
 // Whether the luma prediction of macroblock (mx, my) with this mode reads a reference
 // sample outside the face (in the cube border or, without one, the edge extension).

@@ -47,10 +47,58 @@ float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode) {
   const SyntaxContexts& c = s.contexts;
   float bits = bit_cost(c.skip[skip_context(s, mx, my)], 0);
   bits += bit_cost(c.intra[intra_context(s, mx, my)], mode == MacroblockMode::kIntra);
-  if (mode == MacroblockMode::kIntra || s.reference_count == 1) return bits;
-  bits += bit_cost(c.bidirectional[bidirectional_context(s, mx, my)], mode == MacroblockMode::kBidirectional);
+  if (mode == MacroblockMode::kIntra) return bits;
+  return bits + direction_bits(s, mx, my, mode);
+}
+
+float direction_bits(const FrameState& s, int mx, int my, MacroblockMode mode) {
+  if (s.reference_count == 1) return 0;
+  const SyntaxContexts& c = s.contexts;
+  const float bits =
+      bit_cost(c.bidirectional[bidirectional_context(s, mx, my)], mode == MacroblockMode::kBidirectional);
   if (mode == MacroblockMode::kBidirectional) return bits;
   return bits + bit_cost(c.backward[backward_context(s, mx, my)], mode == MacroblockMode::kBackward);
+}
+
+float partition_bits(const FrameState& s, int mx, int my, Partition partition) {
+  const SyntaxContexts& c = s.contexts;
+  const float split = bit_cost(c.partition_split[partition_context(s, mx, my)], partition != Partition::k16x16);
+  if (partition == Partition::k16x16) return split;
+  const float quad = bit_cost(c.partition_quad, partition == Partition::k8x8);
+  if (partition == Partition::k8x8) return split + quad;
+  return split + quad + bit_cost(c.partition_vertical, partition == Partition::k8x16);
+}
+
+void encode_partition(RangeEncoder& encoder, FrameState& s, int mx, int my, Partition partition) {
+  SyntaxContexts& c = s.contexts;
+  encoder.encode(c.partition_split[partition_context(s, mx, my)], partition != Partition::k16x16);
+  if (partition == Partition::k16x16) return;
+  encoder.encode(c.partition_quad, partition == Partition::k8x8);
+  if (partition != Partition::k8x8) encoder.encode(c.partition_vertical, partition == Partition::k8x16);
+}
+
+Partition decode_partition(RangeDecoder& decoder, FrameState& s, int mx, int my) {
+  SyntaxContexts& c = s.contexts;
+  if (!decoder.decode(c.partition_split[partition_context(s, mx, my)])) return Partition::k16x16;
+  if (decoder.decode(c.partition_quad)) return Partition::k8x8;
+  return decoder.decode(c.partition_vertical) ? Partition::k8x16 : Partition::k16x8;
+}
+
+void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, MacroblockMode mode) {
+  if (s.reference_count == 1) return;
+  SyntaxContexts& c = s.contexts;
+  encoder.encode(c.bidirectional[bidirectional_context(s, mx, my)], mode == MacroblockMode::kBidirectional);
+  if (mode != MacroblockMode::kBidirectional) {
+    encoder.encode(c.backward[backward_context(s, mx, my)], mode == MacroblockMode::kBackward);
+  }
+}
+
+MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, int my) {
+  if (s.reference_count == 1) return MacroblockMode::kForward;
+  SyntaxContexts& c = s.contexts;
+  if (decoder.decode(c.bidirectional[bidirectional_context(s, mx, my)])) return MacroblockMode::kBidirectional;
+  return decoder.decode(c.backward[backward_context(s, mx, my)]) ? MacroblockMode::kBackward
+                                                                 : MacroblockMode::kForward;
 }
 
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value) {

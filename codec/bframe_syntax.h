@@ -27,6 +27,21 @@ float mvd_component_bits(const SyntaxContexts& c, int component, int context, in
 
 float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode);
 
+// Bits of the direction of an inter prediction (bidirectional, then backward flag; none
+// with one reference), shared by a macroblock and each of its partitions.
+float direction_bits(const FrameState& s, int mx, int my, MacroblockMode mode);
+
+float partition_bits(const FrameState& s, int mx, int my, Partition partition);
+
+// The partition element: split flag, then quad flag, then (two halves) vertical flag.
+void encode_partition(RangeEncoder& encoder, FrameState& s, int mx, int my, Partition partition);
+
+Partition decode_partition(RangeDecoder& decoder, FrameState& s, int mx, int my);
+
+void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, MacroblockMode mode);
+
+MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, int my);
+
 // ---- Syntax writers (mirrored by the readers below). ----
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value);
 

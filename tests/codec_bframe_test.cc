@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -446,6 +448,134 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   EXPECT_LT(bytes.size() * 3, intra.size()) << bytes.size() << " vs intra " << intra.size();
   EXPECT_EQ(stats.candidates_evaluated, stats.macroblocks);
   EXPECT_GT(psnr(source.y, reconstruction.y), 38.0);
+}
+
+// Columns of 8 luma pixels alternate between two motions, so every macroblock holds two
+// 8x16 halves moving differently: source(x, y) = a(x, y) where (x / 8) is even, else b.
+ImageYCbCr420 column_mix(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  ImageYCbCr420 mixed = a;
+  const int cw = (a.width + 1) / 2;
+  for (size_t i = 0; i < a.y.size(); ++i) {
+    if ((static_cast<int>(i % static_cast<size_t>(a.width)) / 8) % 2 != 0) mixed.y[i] = b.y[i];
+  }
+  for (size_t i = 0; i < a.cb.size(); ++i) {
+    if ((static_cast<int>(i % static_cast<size_t>(cw)) / 4) % 2 != 0) {
+      mixed.cb[i] = b.cb[i];
+      mixed.cr[i] = b.cr[i];
+    }
+  }
+  return mixed;
+}
+
+// Per 8x8 block, the vector of its column's motion (what depth would give).
+FaceCandidates column_block_candidates(int width, int height, MotionVector even, MotionVector odd) {
+  const int blocks_x = 2 * ((width + 15) / 16), blocks_y = 2 * ((height + 15) / 16);
+  FaceCandidates lists(static_cast<size_t>(blocks_x) * blocks_y);
+  for (size_t i = 0; i < lists.size(); ++i) lists[i] = {(i % static_cast<size_t>(blocks_x)) % 2 == 0 ? even : odd};
+  return lists;
+}
+
+TEST(BFramePartitions, SplitMotionIsCodedWithHalvesAndDecodedExactly) {
+  const int w = 96, h = 64, q = 128;
+  const MotionVector even{12, 8}, odd{-8, 4};
+  const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q);
+  const ImageYCbCr420 source = column_mix(textured_crop(w, h, 43, 42), textured_crop(w, h, 38, 41));
+  const FaceCandidates macroblock_lists = uniform_candidates(w, h, {even, odd});
+  const FaceCandidates block_lists = column_block_candidates(w, h, even, odd);
+  const std::array<ReferenceHints, 2> hints = {ReferenceHints{&macroblock_lists, &block_lists, nullptr},
+                                               ReferenceHints{}};
+  BFrameParams params;
+  params.qindex = suggested_b_qindex(q);
+  ImageYCbCr420 split_reconstruction, whole_reconstruction;
+  BFrameStats split_stats, whole_stats;
+  const std::vector<uint8_t> split =
+      encode_b_frame(source, reference, nullptr, hints, params, &split_reconstruction, &split_stats);
+  params.partitions = false;
+  const std::vector<uint8_t> whole =
+      encode_b_frame(source, reference, nullptr, hints, params, &whole_reconstruction, &whole_stats);
+  EXPECT_EQ(whole_stats.mb_partitioned, 0);
+  EXPECT_GE(split_stats.mb_partitioned, split_stats.macroblocks * 3 / 4);
+  // Two exact predictions beat one vector and a residual (or intra) for each half.
+  EXPECT_LT(split.size() * 2, whole.size()) << split.size() << " vs " << whole.size();
+  EXPECT_GT(psnr(source.y, split_reconstruction.y), psnr(source.y, whole_reconstruction.y) - 0.5);
+  EXPECT_GT(psnr(source.y, split_reconstruction.y), 40.0);
+
+  for (const auto* bytes : {&split, &whole}) {
+    ImageYCbCr420 decoded;
+    std::vector<MacroblockMode> modes;
+    std::vector<Partition> partitions;
+    const Status status = decode_b_frame(*bytes, w, h, reference, nullptr, &decoded, &modes, &partitions);
+    ASSERT_TRUE(status.ok()) << status.to_string();
+    expect_same_image(decoded, bytes == &split ? split_reconstruction : whole_reconstruction);
+    EXPECT_EQ(modes, (bytes == &split ? split_stats : whole_stats).modes);
+    ASSERT_EQ(partitions.size(), modes.size());
+    EXPECT_EQ(std::count_if(partitions.begin(), partitions.end(),
+                            [](Partition p) { return p != Partition::k16x16; }),
+              (bytes == &split ? split_stats : whole_stats).mb_partitioned);
+  }
+}
+
+TEST(BFramePartitions, PartitionsChooseTheirOwnReferenceAndDecodeExactly) {
+  // Odd columns are seen only by reference 1, even ones only by reference 0, at odd
+  // sizes (partial macroblocks at the right and bottom edges).
+  const int sizes[][2] = {{77, 45}, {24, 40}, {120, 17}};
+  for (const auto& size : sizes) {
+    const int w = size[0], h = size[1];
+    const ImageYCbCr420 ref0 = decoded_intra(textured_crop(w, h, 40, 40), 115);
+    const ImageYCbCr420 ref1 = decoded_intra(textured_crop(w, h, 60, 70, 99), 115);
+    const ImageYCbCr420 source = column_mix(textured_crop(w, h, 43, 42), textured_crop(w, h, 61, 69, 99));
+    const MotionVector to0{12, 8}, to1{4, -4};
+    const FaceCandidates lists0 = uniform_candidates(w, h, {to0}), lists1 = uniform_candidates(w, h, {to1});
+    const FaceCandidates blocks0 = column_block_candidates(w, h, to0, MotionVector{-40, 20});
+    const FaceCandidates blocks1 = column_block_candidates(w, h, MotionVector{32, 0}, to1);
+    const std::array<ReferenceHints, 2> hints = {ReferenceHints{&lists0, &blocks0, nullptr},
+                                                 ReferenceHints{&lists1, &blocks1, nullptr}};
+    BFrameParams params;
+    params.qindex = 138;  // quantiser scale 10
+    ImageYCbCr420 reconstruction;
+    BFrameStats stats;
+    const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, &ref1, hints, params, &reconstruction, &stats);
+    ASSERT_FALSE(bytes.empty());
+    if (w >= 16) EXPECT_GE(stats.mb_partitioned, stats.macroblocks / 2) << w << "x" << h;
+    EXPECT_GT(psnr(source.y, reconstruction.y), 36.0) << w << "x" << h;
+    ImageYCbCr420 decoded;
+    std::vector<MacroblockMode> modes;
+    const Status status = decode_b_frame(bytes, w, h, ref0, &ref1, &decoded, &modes);
+    ASSERT_TRUE(status.ok()) << status.to_string();
+    expect_same_image(decoded, reconstruction);
+    EXPECT_EQ(modes, stats.modes);
+  }
+}
+
+TEST(BFramePartitions, DamagedPartitionedPayloadsAreRejectedOrDecoded) {
+  const int w = 48, h = 32;
+  const ImageYCbCr420 reference = textured_crop(w, h, 40, 40);
+  const ImageYCbCr420 source = column_mix(textured_crop(w, h, 43, 42), textured_crop(w, h, 38, 41));
+  const FaceCandidates lists = uniform_candidates(w, h, {MotionVector{12, 8}, MotionVector{-8, 4}});
+  const FaceCandidates blocks = column_block_candidates(w, h, MotionVector{12, 8}, MotionVector{-8, 4});
+  BFrameParams params;
+  params.qindex = 115;  // quantiser scale 6
+  BFrameStats stats;
+  const std::vector<uint8_t> valid = encode_b_frame(source, reference, nullptr,
+                                                    {ReferenceHints{&lists, &blocks, nullptr}, ReferenceHints{}},
+                                                    params, nullptr, &stats);
+  ASSERT_GT(stats.mb_partitioned, 0);
+  ImageYCbCr420 out;
+  for (size_t length = 0; length < valid.size(); ++length) {
+    const std::vector<uint8_t> cut(valid.begin(), valid.begin() + static_cast<ptrdiff_t>(length));
+    EXPECT_FALSE(decode_b_frame(cut, w, h, reference, nullptr, &out).ok()) << length;
+  }
+  // Every bit of the macroblock data flipped in turn: an error, or an image of the size.
+  for (size_t bit = 8 * kBFrameHeaderBytes; bit < 8 * valid.size(); ++bit) {
+    std::vector<uint8_t> bytes = valid;
+    bytes[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+    const Status status = decode_b_frame(bytes, w, h, reference, nullptr, &out);
+    if (status.ok()) {
+      EXPECT_EQ(out.y.size(), static_cast<size_t>(w * h)) << bit;
+    } else {
+      EXPECT_EQ(status.code(), ErrorCode::kCorruptData) << bit;
+    }
+  }
 }
 
 TEST(BFrame, SuggestedQIndex) {

@@ -414,16 +414,17 @@ TEST(SpatialReprojection, CandidateCountIsCappedAndRangeBounded) {
   EXPECT_EQ(candidates[0], (codec::CandidateList{{64, 0}}));
 }
 
-// Plain counting with a map: the oracle for macroblock_candidates.
-codec::FaceCandidates plain_candidates(const FlowField& flow) {
-  const int mbs_x = (flow.width + 15) / 16, mbs_y = (flow.height + 15) / 16;
+// Plain counting with a map: the oracle for macroblock_candidates (size 16) and
+// block_candidates (size 8; the grid padded to whole macroblocks).
+codec::FaceCandidates plain_candidates(const FlowField& flow, int size = 16) {
+  const int mbs_x = (flow.width + 15) / 16 * (16 / size), mbs_y = (flow.height + 15) / 16 * (16 / size);
   const int limit = 4 * std::max(flow.width, flow.height);
   codec::FaceCandidates out;
   for (int mby = 0; mby < mbs_y; ++mby) {
     for (int mbx = 0; mbx < mbs_x; ++mbx) {
       std::map<std::pair<int, int>, int> counts;  // (y, x) -> pixels
-      for (int j = mby * 16; j < std::min(flow.height, mby * 16 + 16); ++j) {
-        for (int i = mbx * 16; i < std::min(flow.width, mbx * 16 + 16); ++i) {
+      for (int j = mby * size; j < std::min(flow.height, mby * size + size); ++j) {
+        for (int i = mbx * size; i < std::min(flow.width, mbx * size + size); ++i) {
           const size_t k = at(flow.width, i, j);
           if (!flow.valid[k]) continue;
           const codec::MotionVector v = quantize_flow(flow.dx[k], flow.dy[k]);
@@ -459,7 +460,29 @@ TEST(SpatialReprojection, CandidatesMatchPlainCounting) {
       flow.valid[k] = rng() % 10 != 0;
     }
     EXPECT_EQ(macroblock_candidates(flow), plain_candidates(flow)) << "round " << round;
+    EXPECT_EQ(block_candidates(flow), plain_candidates(flow, 8)) << "round " << round;
   }
+}
+
+TEST(SpatialReprojection, BlockCandidatesFollowEachBlocksOwnPixels) {
+  // Left 8 columns move by (1, 0) px, the rest by (-2, 0.5): the macroblock list holds
+  // both, each 8x8 block only its own.
+  FlowField flow = constant_flow(24, 16, -2.0f, 0.5f);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 8; ++x) {
+      flow.dx[at(24, x, y)] = 1.0f;
+      flow.dy[at(24, x, y)] = 0.0f;
+    }
+  }
+  const codec::FaceCandidates blocks = block_candidates(flow);
+  ASSERT_EQ(blocks.size(), 4u * 2u);  // 2 macroblocks padded: 4 x 2 blocks
+  const codec::CandidateList left{{4, 0}}, right{{-8, 2}};
+  EXPECT_EQ(blocks[0], left);
+  EXPECT_EQ(blocks[4], left);
+  EXPECT_EQ(blocks[1], right);
+  EXPECT_EQ(blocks[2], right);
+  EXPECT_TRUE(blocks[3].empty());  // past the face
+  EXPECT_EQ(macroblock_candidates(flow)[0].size(), 2u);
 }
 
 // The vectorised rounding against the plain one on the values where rounding is delicate:
@@ -486,6 +509,7 @@ TEST(SpatialReprojection, CandidatesMatchPlainCountingOnEdgeValues) {
       flow.valid[k] = rng() % 8 != 0;
     }
     EXPECT_EQ(macroblock_candidates(flow), plain_candidates(flow)) << "round " << round;
+    EXPECT_EQ(block_candidates(flow), plain_candidates(flow, 8)) << "round " << round;
   }
 }
 

@@ -378,6 +378,14 @@ TEST_F(ReaderAccess, InspectFaceGivesDecodedPixelsAndMacroblockModes) {
     EXPECT_EQ(inspected->type, cell.faces[static_cast<int>(face)].type);
     ASSERT_EQ(inspected->macroblocks_x * inspected->macroblocks_y, 9);  // 48x48 faces
     ASSERT_EQ(inspected->modes.size(), 9u);
+    ASSERT_EQ(inspected->partitions.size(), 9u);
+    // Only inter macroblocks of a B-face are split.
+    for (size_t m = 0; m < 9; ++m) {
+      if (inspected->partitions[m] == MacroblockPartition::k16x16) continue;
+      EXPECT_EQ(inspected->type, FaceType::kPredicted);
+      EXPECT_NE(inspected->modes[m], MacroblockCoding::kIntra);
+      EXPECT_NE(inspected->modes[m], MacroblockCoding::kSkipped);
+    }
     const auto intra = std::count(inspected->modes.begin(), inspected->modes.end(), MacroblockCoding::kIntra);
     if (inspected->type == FaceType::kIntra) {
       EXPECT_EQ(intra, 9);

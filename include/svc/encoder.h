@@ -51,6 +51,9 @@ struct CodingTools {
   // (weighing each level, one less and zero, and where the block ends) rather than by
   // rounding with a dead zone. Encoder only.
   bool rdoq = true;
+  // B-faces: inter macroblocks split into 16x8, 8x16 or 8x8 partitions, each with its own
+  // direction and vectors from its own pixels' depth (docs/codec.md 10.4). Off: 16x16 only.
+  bool partitions = true;
 
   bool operator==(const CodingTools&) const = default;
 };

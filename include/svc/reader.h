@@ -92,12 +92,23 @@ enum class MacroblockCoding : uint8_t {
   kSkipped = 4,        // predicted as its neighbours, no residual
 };
 
+// How an inter macroblock of a B-face is split for prediction (each part its own mode
+// and vectors); 16x16 for every other macroblock.
+enum class MacroblockPartition : uint8_t {
+  k16x16 = 0,
+  k16x8 = 1,  // top and bottom halves
+  k8x16 = 2,  // left and right halves
+  k8x8 = 3,   // four quarters
+};
+
 // A face with the coding of each macroblock.
 struct InspectedFace {
   FaceType type = FaceType::kIntra;
   ImageRGB8 image;
   int macroblocks_x = 0, macroblocks_y = 0;
   std::vector<MacroblockCoding> modes;  // row-major; all kIntra for an I-face
+  // Row-major, as modes; a partitioned macroblock's mode is its last partition's.
+  std::vector<MacroblockPartition> partitions;
 };
 
 struct CellEntry {

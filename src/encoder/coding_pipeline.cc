@@ -46,6 +46,7 @@ class Pipeline {
     intra_params_.deblocking = b_params_.deblocking = job.tools.deblocking;
     intra_params_.cdef = b_params_.cdef = job.tools.cdef;
     b_params_.switchable_filter = job.tools.switchable_filter;
+    b_params_.partitions = job.tools.partitions;
   }
 
   Status run() {

@@ -25,6 +25,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"cdef", &CodingTools::cdef},
     CodingToolEntry{"switchable-filter", &CodingTools::switchable_filter},
     CodingToolEntry{"rdoq", &CodingTools::rdoq},
+    CodingToolEntry{"partitions", &CodingTools::partitions},
 };
 
 }  // namespace

@@ -12,7 +12,7 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
     return Status(ErrorCode::kInternal, what + ": a B-face needs one or two references");
   }
   const ImageYCbCr420 ycc = codec::rgb_to_ycbcr420(data.color.pixels.data(), data.color.width, data.color.height);
-  std::array<codec::FaceCandidates, 2> candidates;
+  std::array<codec::FaceCandidates, 2> candidates, block_lists;
   // Depth also gives each reference a warp node field (per-pixel flow, sent compactly).
   std::array<codec::WarpField, 2> warps;
   CodedPredictedFace coded;
@@ -21,6 +21,7 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
     if (motion_from_depth) {
       compute_flow(camera, *references[r].camera, data.color.width, data.color.height, data.depth, &flow);
       candidates[r] = macroblock_candidates(flow);
+      if (params.partitions) block_lists[r] = block_candidates(flow);
       warps[r] = warp_nodes(flow);
     } else {
       candidates[r] = codec::log_search_candidates(ycc, *references[r].image);
@@ -28,8 +29,11 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
     coded.candidates += candidate_stats(candidates[r]);
   }
   const ImageYCbCr420* second = references.size() > 1 ? references[1].image : nullptr;
-  coded.payload = codec::encode_b_frame(ycc, *references[0].image, second, candidates[0], candidates[1], &warps[0],
-                                        &warps[1], params, nullptr, &coded.stats);
+  const std::array<codec::ReferenceHints, 2> hints = {codec::ReferenceHints{&candidates[0], &block_lists[0],
+                                                                            &warps[0]},
+                                                      codec::ReferenceHints{&candidates[1], &block_lists[1],
+                                                                            &warps[1]}};
+  coded.payload = codec::encode_b_frame(ycc, *references[0].image, second, hints, params, nullptr, &coded.stats);
   if (coded.payload.empty()) return Status(ErrorCode::kInternal, what + ": B-frame coding failed");
   return coded;
 }

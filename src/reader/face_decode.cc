@@ -70,9 +70,11 @@ Result<FacePointer> padded_reference(const ReadOnlyFile& file, const ContainerIn
 }  // namespace
 
 Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
-                                        CodedFaceSource& source, std::vector<codec::MacroblockMode>* modes) {
+                                        CodedFaceSource& source, std::vector<codec::MacroblockMode>* modes,
+                                        std::vector<codec::Partition>* partitions) {
   const FrameRecord& record = index.frames[frame];
   if (modes) modes->clear();
+  if (partitions) partitions->clear();
   if (record.type == FaceType::kIntra) return source.intra_face(frame);
   SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, source.payload(frame));
   codec::BFrameHeader header;
@@ -98,7 +100,7 @@ Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const Containe
   auto image = std::make_shared<ImageYCbCr420>();
   const Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
                                               static_cast<int>(index.face_height), *refs[0], refs[1].get(),
-                                              image.get(), modes);
+                                              image.get(), modes, partitions);
   if (!status.ok()) return frame_error(status, file, index, frame);
   return FacePointer(std::move(image));
 }

@@ -182,9 +182,10 @@ struct Reader::Impl {
         frame, origin, [&] { return decode_through_caches(frame, origin); }, outcome);
   }
 
-  Result<ImagePointer> decode_uncached(uint32_t frame, std::vector<codec::MacroblockMode>* modes = nullptr) {
+  Result<ImagePointer> decode_uncached(uint32_t frame, std::vector<codec::MacroblockMode>* modes = nullptr,
+                                       std::vector<codec::Partition>* partitions = nullptr) {
     UncachedSource source(*this);
-    return decode_indexed_face(*file, index, frame, source, modes);
+    return decode_indexed_face(*file, index, frame, source, modes, partitions);
   }
 
   // --- Prefetch --------------------------------------------------------------------------
@@ -374,7 +375,8 @@ Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
   if (impl_->closed.load()) return cancelled();
   SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->frame_of(cell, face));
   std::vector<codec::MacroblockMode> modes;
-  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->decode_uncached(frame, &modes));
+  std::vector<codec::Partition> partitions;
+  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->decode_uncached(frame, &modes, &partitions));
   InspectedFace out;
   out.type = impl_->index.frames[frame].type;
   out.image = to_rgb(*ycc);
@@ -383,6 +385,10 @@ Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
   out.modes.assign(static_cast<size_t>(out.macroblocks_x) * out.macroblocks_y, MacroblockCoding::kIntra);
   for (size_t i = 0; i < modes.size() && i < out.modes.size(); ++i) {
     out.modes[i] = static_cast<MacroblockCoding>(modes[i]);
+  }
+  out.partitions.assign(out.modes.size(), MacroblockPartition::k16x16);
+  for (size_t i = 0; i < partitions.size() && i < out.partitions.size(); ++i) {
+    out.partitions[i] = static_cast<MacroblockPartition>(partitions[i]);
   }
   return out;
 }

@@ -383,6 +383,55 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
   return result;
 }
 
+codec::FaceCandidates block_candidates(const FlowField& flow) {
+  constexpr int kBlock = codec::kMacroblockSize / 2;
+  const int blocks_x = 2 * ((flow.width + codec::kMacroblockSize - 1) / codec::kMacroblockSize);
+  const int blocks_y = 2 * ((flow.height + codec::kMacroblockSize - 1) / codec::kMacroblockSize);
+  codec::FaceCandidates result(static_cast<size_t>(std::max(blocks_x, 0)) *
+                               static_cast<size_t>(std::max(blocks_y, 0)));
+  const size_t n = static_cast<size_t>(std::max(flow.width, 0)) * static_cast<size_t>(std::max(flow.height, 0));
+  if (n == 0 || flow.dx.size() != n || flow.dy.size() != n || flow.valid.size() != n) return result;
+  const int limit = std::min(codec::kVectorUnitsPerPixel * std::max(flow.width, flow.height), 32767);
+  constexpr int32_t kNoKey = std::numeric_limits<int32_t>::min();
+  const FlowKernels& flow_kernels = get_flow_kernels();
+  std::array<int32_t, kBlock * kBlock> keys;
+  std::array<int32_t, kBlock> row_keys;
+  std::array<std::pair<int, int32_t>, kBlock * kBlock> counted;  // (-count, key): the order wanted
+  for (int by = 0; by < blocks_y; ++by) {
+    for (int bx = 0; bx < blocks_x; ++bx) {
+      const int x_begin = bx * kBlock, x_end = std::min(flow.width, x_begin + kBlock);
+      const int y_begin = by * kBlock, y_end = std::min(flow.height, y_begin + kBlock);
+      size_t key_count = 0;
+      for (int y = y_begin; y < y_end && x_begin < x_end; ++y) {
+        const size_t at = static_cast<size_t>(y) * static_cast<size_t>(flow.width) + static_cast<size_t>(x_begin);
+        const size_t length = static_cast<size_t>(x_end - x_begin);
+        flow_kernels.quarter_pel_keys(flow.dx.data() + at, flow.dy.data() + at, flow.valid.data() + at, length,
+                                      limit, kNoKey, row_keys.data());
+        for (size_t i = 0; i < length; ++i) {
+          if (row_keys[i] != kNoKey) keys[key_count++] = row_keys[i];
+        }
+      }
+      std::sort(keys.begin(), keys.begin() + static_cast<ptrdiff_t>(key_count));
+      size_t distinct = 0;
+      for (size_t i = 0; i < key_count;) {
+        size_t end = i + 1;
+        while (end < key_count && keys[end] == keys[i]) ++end;
+        counted[distinct++] = {-static_cast<int>(end - i), keys[i]};
+        i = end;
+      }
+      std::sort(counted.begin(), counted.begin() + static_cast<ptrdiff_t>(distinct));
+      codec::CandidateList& list = result[static_cast<size_t>(by) * static_cast<size_t>(blocks_x) + bx];
+      const size_t kept = std::min(distinct, static_cast<size_t>(kMaxCandidatesPerMacroblock));
+      for (size_t d = 0; d < kept; ++d) {
+        const int32_t key = counted[d].second;
+        const auto x = static_cast<int16_t>(static_cast<uint16_t>(key & 0xffff));
+        list.push_back(codec::MotionVector{x, static_cast<int16_t>((key - x) >> 16)});
+      }
+    }
+  }
+  return result;
+}
+
 codec::WarpField warp_nodes(const FlowField& flow) {
   constexpr int kMb = codec::kMacroblockSize;
   codec::WarpField field;

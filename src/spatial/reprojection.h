@@ -84,6 +84,10 @@ codec::MotionVector quantize_flow(double dx, double dy);
 // contributes nothing either. At most kMaxCandidatesPerMacroblock vectors per list.
 codec::FaceCandidates macroblock_candidates(const FlowField& flow);
 
+// The same for each 8x8 block (the candidates of macroblock partitions): 2 ceil(w/16) x
+// 2 ceil(h/16) lists in row-major block order, same ranking, rules and limit.
+codec::FaceCandidates block_candidates(const FlowField& flow);
+
 // The warp node field of a face (codec/motion.h, WarpField): per macroblock corner, the
 // flow at the corner point (16 i - 0.5, 16 j - 0.5) in 1/8 pel, rounded to nearest. Where
 // the 2x2 pixels around the corner agree within half a pixel the node is their mean (the

@@ -112,9 +112,15 @@ ImageRGB8 draw_sheet(const InspectedFace& inspected, int scale) {
     for (int x = 0; x < w; ++x) {
       const int fx = x / scale, fy = y / scale;
       const uint8_t* src = &face.pixels[(static_cast<size_t>(fy) * face.width + fx) * 3];
-      const auto colour =
-          mode_colour(inspected.modes[static_cast<size_t>(fy / 16) * inspected.macroblocks_x + fx / 16]);
-      const bool edge = (x % (16 * scale)) < std::max(1, scale / 2) || (y % (16 * scale)) < std::max(1, scale / 2);
+      const size_t mb = static_cast<size_t>(fy / 16) * inspected.macroblocks_x + fx / 16;
+      const auto colour = mode_colour(inspected.modes[mb]);
+      // Partition edges are drawn at 8 like macroblock edges at 16.
+      const MacroblockPartition partition = mb < inspected.partitions.size() ? inspected.partitions[mb]
+                                                                             : MacroblockPartition::k16x16;
+      const int cell_x = partition == MacroblockPartition::k8x16 || partition == MacroblockPartition::k8x8 ? 8 : 16;
+      const int cell_y = partition == MacroblockPartition::k16x8 || partition == MacroblockPartition::k8x8 ? 8 : 16;
+      const bool edge = (x % (cell_x * scale)) < std::max(1, scale / 2) ||
+                        (y % (cell_y * scale)) < std::max(1, scale / 2);
       std::array<uint8_t, 3> tinted;
       for (int c = 0; c < 3; ++c)
         tinted[c] = edge ? colour[c] : static_cast<uint8_t>((src[c] * 2 + colour[c] * 3) / 5);
