@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "f8cbb6b45ae0314ee518fe2544fbd6dc27606814323b4d6f55089b6fbda02749",
-     "8bfca124910605f98de0d1cf9b0cb59d3a42c0191d8d0d2a2e785d6b8be38598"},
+     "00662a4f5cc8db0004ba48949ed63268b45a2e36b77465eb57de58ea1cec530c",
+     "ef9215f72b34370e4c144eca845c922056189fdace263ffbf655235b77f5c19b"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "b5ae335a60eb8068cf5867b1ef29d66781bb5f8925c776c17e36d21b49118427",
-     "8443d273c7616d263cbe1732103436af66be6502fbd18967a02f86fbdfb1d31e"},
+     "edc40ac37ace1423dfd094bcadd76a40eec1c575df05705780c2b593e26dcc80",
+     "310c0c3352880fb31c4cea48b5a0d2bb8a4fe20acfe3213a7a5909c39196a48e"},
 };
 
 std::string file_sha256(const fs::path& path) {
