@@ -311,7 +311,7 @@ class BlockSearch {
 
   const Quantizer& quantizer_;
   int modes_;
-  bool rd_search_;   // else the SATD's best mode, its levels as quantized
+  bool rd_search_;  // else the SATD's best mode, its levels as quantized
   bool rdoq_;
   int satd_lambda_;  // SATD units per bit, tuned on the photographic scenes
   float lambda_;     // SSE per bit, tuned on the photographic scenes

@@ -86,7 +86,7 @@ TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
 
 TEST(CodecRdoq, ZeroLambdaKeepsTheNearestLevels) {
   std::mt19937 rng(32);
-  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 8);
+  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantiser scale 8
   Quantizer nearest = quantizer;
   nearest.rounding_dc = nearest.rounding_ac = 0.5f;
   const BlockContextSet contexts;
@@ -108,7 +108,7 @@ TEST(CodecRdoq, ZeroLambdaKeepsTheNearestLevels) {
 
 TEST(CodecRdoq, LargeLambdaEmptiesWeakBlocks) {
   std::mt19937 rng(33);
-  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 8);
+  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantiser scale 8
   const BlockContextSet contexts;
   float coefficients[64] = {};
   coefficients[kZigZag[40]] = 10.0f;  // rounds to level 1, far down the scan
