@@ -203,10 +203,11 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 // padded by the border the header names (parse_b_frame_header; kInvalidArgument
 // otherwise). `modes` (optional) receives the per-macroblock modes (a partitioned
 // macroblock reports its last partition's), `partitions` (optional) the partitions
-// (16x16 for intra and skipped macroblocks), both row-major. On error `out`, `modes` and
-// `partitions` are left in an unspecified but valid state.
+// (16x16 for intra and skipped macroblocks), `warped` (optional) 1 for each coded inter
+// macroblock predicted by warping (10.1), else 0, all row-major. On error `out`, `modes`,
+// `partitions` and `warped` are left in an unspecified but valid state.
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
                       const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr,
-                      std::vector<Partition>* partitions = nullptr);
+                      std::vector<Partition>* partitions = nullptr, std::vector<uint8_t>* warped = nullptr);
 
 }  // namespace svc::codec

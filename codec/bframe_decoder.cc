@@ -259,7 +259,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
 
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
                       const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes,
-                      std::vector<Partition>* partitions) {
+                      std::vector<Partition>* partitions, std::vector<uint8_t>* warped) {
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
     return Status(ErrorCode::kInvalidArgument, "B-frame: size " + std::to_string(width) + "x" +
                                                    std::to_string(height) + " outside 1.." +
@@ -289,6 +289,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
     modes->reserve(s.macroblocks.size());
   }
   if (partitions != nullptr) partitions->clear();
+  if (warped != nullptr) warped->clear();
   RangeDecoder decoder(bytes.subspan(kBFrameHeaderBytes));
   MacroblockReader reader(s, decoder);
   for (int my = 0; my < s.mbs_y; ++my) {
@@ -297,6 +298,10 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
       SVC_RETURN_IF_ERROR(reader.read(mx, my, &mode));
       if (modes != nullptr) modes->push_back(mode);
       if (partitions != nullptr) partitions->push_back(s.mb(mx, my).partition);
+      if (warped != nullptr) {
+        const bool coded_inter = mode != MacroblockMode::kIntra && mode != MacroblockMode::kSkipped;
+        warped->push_back(coded_inter && s.mb(mx, my).inter_warp ? 1 : 0);
+      }
     }
     // A complete payload is never read past its end; stopping at the first row that does
     // bounds the work garbage can cause.

@@ -310,8 +310,21 @@ TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
   };
   EXPECT_GT(psnr_y(warped_reconstruction), psnr_y(plain_reconstruction) - 0.3);
   ImageYCbCr420 decoded;
-  ASSERT_TRUE(decode_b_frame(warped, w, h, reference, nullptr, &decoded).ok());
+  std::vector<MacroblockMode> modes;
+  std::vector<uint8_t> warped_map;
+  ASSERT_TRUE(decode_b_frame(warped, w, h, reference, nullptr, &decoded, &modes, nullptr, &warped_map).ok());
   EXPECT_EQ(decoded.y, warped_reconstruction.y);
+  // The decoder reports the warped macroblocks the encoder chose (skipped ones aside).
+  ASSERT_EQ(warped_map.size(), modes.size());
+  const auto reported = std::count(warped_map.begin(), warped_map.end(), 1);
+  EXPECT_LE(reported, warped_stats.mb_warp);
+  EXPECT_GE(reported, warped_stats.mb_warp - warped_stats.mb_skipped);
+  EXPECT_GT(reported, 0);
+  for (size_t m = 0; m < modes.size(); ++m) {
+    if (warped_map[m]) EXPECT_TRUE(modes[m] != MacroblockMode::kIntra && modes[m] != MacroblockMode::kSkipped);
+  }
+  ASSERT_TRUE(decode_b_frame(plain, w, h, reference, nullptr, &decoded, nullptr, nullptr, &warped_map).ok());
+  EXPECT_EQ(std::count(warped_map.begin(), warped_map.end(), 1), 0);  // translations only
 }
 
 TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {

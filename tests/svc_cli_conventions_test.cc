@@ -258,7 +258,8 @@ TEST_F(CliConventions, BenchNamesTheValidCodecsAndLeavesNothingOnFailure) {
   EXPECT_FALSE(fs::exists(work("bench-foo")));
 }
 
-// The legend names every macroblock mode in its own colour; the sheet is readable.
+// The legend names every macroblock mode, and warped prediction, in its own colour; the
+// sheet is readable.
 TEST_F(CliConventions, InspectDrawsALegendAtAReadableScale) {
   const fs::path png = work("legend.png");
   ASSERT_EQ(svc("inspect -y " + quoted(file()) + " --cell 1,0,0 --face px -o " + quoted(png)).exit_code, 0);
@@ -269,8 +270,8 @@ TEST_F(CliConventions, InspectDrawsALegendAtAReadableScale) {
   std::vector<uint8_t> pixels(static_cast<size_t>(spec.width) * spec.height * 3);
   ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
   // Each mode's pure colour fills its legend swatch.
-  const std::vector<std::array<uint8_t, 3>> colours = {
-      {220, 40, 40}, {40, 190, 60}, {240, 200, 30}, {170, 60, 220}, {40, 110, 240}};
+  const std::vector<std::array<uint8_t, 3>> colours = {{220, 40, 40},  {40, 190, 60},  {240, 200, 30},
+                                                       {170, 60, 220}, {40, 110, 240}, {30, 200, 200}};
   for (const auto& colour : colours) {
     size_t count = 0;
     for (size_t p = 0; p < pixels.size(); p += 3) {

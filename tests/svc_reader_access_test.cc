@@ -379,6 +379,13 @@ TEST_F(ReaderAccess, InspectFaceGivesDecodedPixelsAndMacroblockModes) {
     ASSERT_EQ(inspected->macroblocks_x * inspected->macroblocks_y, 9);  // 48x48 faces
     ASSERT_EQ(inspected->modes.size(), 9u);
     ASSERT_EQ(inspected->partitions.size(), 9u);
+    ASSERT_EQ(inspected->warped.size(), 9u);
+    for (size_t m = 0; m < 9; ++m) {
+      if (!inspected->warped[m]) continue;  // warped: a coded inter macroblock of a B-face
+      EXPECT_EQ(inspected->type, FaceType::kPredicted);
+      EXPECT_NE(inspected->modes[m], MacroblockCoding::kIntra);
+      EXPECT_NE(inspected->modes[m], MacroblockCoding::kSkipped);
+    }
     // Only inter macroblocks of a B-face are split.
     for (size_t m = 0; m < 9; ++m) {
       if (inspected->partitions[m] == MacroblockPartition::k16x16) continue;

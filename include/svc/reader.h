@@ -109,6 +109,9 @@ struct InspectedFace {
   std::vector<MacroblockCoding> modes;  // row-major; all kIntra for an I-face
   // Row-major, as modes; a partitioned macroblock's mode is its last partition's.
   std::vector<MacroblockPartition> partitions;
+  // Row-major, as modes: 1 where a forward, backward or bidirectional macroblock is
+  // predicted through its corner vectors' warp (docs/codec.md 10.1), else 0.
+  std::vector<uint8_t> warped;
 };
 
 struct CellEntry {

@@ -71,10 +71,11 @@ Result<FacePointer> padded_reference(const ReadOnlyFile& file, const ContainerIn
 
 Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
                                         CodedFaceSource& source, std::vector<codec::MacroblockMode>* modes,
-                                        std::vector<codec::Partition>* partitions) {
+                                        std::vector<codec::Partition>* partitions, std::vector<uint8_t>* warped) {
   const FrameRecord& record = index.frames[frame];
   if (modes) modes->clear();
   if (partitions) partitions->clear();
+  if (warped) warped->clear();
   if (record.type == FaceType::kIntra) return source.intra_face(frame);
   SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, source.payload(frame));
   codec::BFrameHeader header;
@@ -100,7 +101,7 @@ Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const Containe
   auto image = std::make_shared<ImageYCbCr420>();
   const Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
                                               static_cast<int>(index.face_height), *refs[0], refs[1].get(),
-                                              image.get(), modes, partitions);
+                                              image.get(), modes, partitions, warped);
   if (!status.ok()) return frame_error(status, file, index, frame);
   return FacePointer(std::move(image));
 }

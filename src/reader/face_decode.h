@@ -49,12 +49,14 @@ class FileCodedFaceSource : public CodedFaceSource {
 
 // Decodes frame `frame` of `index`: an I-face through source.intra_face, a B-face from
 // its payload and its reference I-faces. `modes` (optional) receives a B-face's
-// macroblock modes and `partitions` their partitions (left empty for an I-face). Errors name the file, face and
-// chunk offset, and for a failed reference, the face that needed it.
+// macroblock modes, `partitions` their partitions and `warped` which are warped (each
+// left empty for an I-face). Errors name the file, face and chunk offset, and for a
+// failed reference, the face that needed it.
 Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
                                         CodedFaceSource& source,
                                         std::vector<codec::MacroblockMode>* modes = nullptr,
-                                        std::vector<codec::Partition>* partitions = nullptr);
+                                        std::vector<codec::Partition>* partitions = nullptr,
+                                        std::vector<uint8_t>* warped = nullptr);
 
 // The same, reading straight from the file.
 Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,

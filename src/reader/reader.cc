@@ -1,5 +1,6 @@
 #include "svc/reader.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <condition_variable>
@@ -183,9 +184,10 @@ struct Reader::Impl {
   }
 
   Result<ImagePointer> decode_uncached(uint32_t frame, std::vector<codec::MacroblockMode>* modes = nullptr,
-                                       std::vector<codec::Partition>* partitions = nullptr) {
+                                       std::vector<codec::Partition>* partitions = nullptr,
+                                       std::vector<uint8_t>* warped = nullptr) {
     UncachedSource source(*this);
-    return decode_indexed_face(*file, index, frame, source, modes, partitions);
+    return decode_indexed_face(*file, index, frame, source, modes, partitions, warped);
   }
 
   // --- Prefetch --------------------------------------------------------------------------
@@ -376,7 +378,8 @@ Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
   SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->frame_of(cell, face));
   std::vector<codec::MacroblockMode> modes;
   std::vector<codec::Partition> partitions;
-  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->decode_uncached(frame, &modes, &partitions));
+  std::vector<uint8_t> warped;
+  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->decode_uncached(frame, &modes, &partitions, &warped));
   InspectedFace out;
   out.type = impl_->index.frames[frame].type;
   out.image = to_rgb(*ycc);
@@ -390,6 +393,8 @@ Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
   for (size_t i = 0; i < partitions.size() && i < out.partitions.size(); ++i) {
     out.partitions[i] = static_cast<MacroblockPartition>(partitions[i]);
   }
+  out.warped.assign(out.modes.size(), 0);
+  std::copy_n(warped.begin(), std::min(warped.size(), out.warped.size()), out.warped.begin());
   return out;
 }
 

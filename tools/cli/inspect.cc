@@ -44,6 +44,9 @@ std::array<uint8_t, 3> mode_colour(MacroblockCoding mode) {
   return {128, 128, 128};
 }
 
+// Warped macroblocks (any direction) take a colour of their own.
+constexpr std::array<uint8_t, 3> kWarpedColour = {30, 200, 200};  // cyan
+
 // 3x5 glyphs of the letters the legend uses, one row per 3 bits (top row first).
 uint16_t glyph(char c) {
   switch (c) {
@@ -107,13 +110,14 @@ ImageRGB8 draw_sheet(const InspectedFace& inspected, int scale) {
   const ImageRGB8& face = inspected.image;
   const int w = face.width * scale, h = face.height * scale, gap = 8;
   const int unit = std::max(2, h / 160), line = 8 * unit;
-  Sheet sheet(2 * w + gap, h + gap + line * static_cast<int>(std::size(kModes)));
+  Sheet sheet(2 * w + gap, h + gap + line * static_cast<int>(std::size(kModes) + 1));
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const int fx = x / scale, fy = y / scale;
       const uint8_t* src = &face.pixels[(static_cast<size_t>(fy) * face.width + fx) * 3];
       const size_t mb = static_cast<size_t>(fy / 16) * inspected.macroblocks_x + fx / 16;
-      const auto colour = mode_colour(inspected.modes[mb]);
+      const bool warped = mb < inspected.warped.size() && inspected.warped[mb] != 0;
+      const auto colour = warped ? kWarpedColour : mode_colour(inspected.modes[mb]);
       // Partition edges are drawn at 8 like macroblock edges at 16.
       const MacroblockPartition partition = mb < inspected.partitions.size() ? inspected.partitions[mb]
                                                                              : MacroblockPartition::k16x16;
@@ -134,6 +138,8 @@ ImageRGB8 draw_sheet(const InspectedFace& inspected, int scale) {
     sheet.text(8 * unit, y + unit / 2, mode_name(mode), unit);
     y += line;
   }
+  sheet.fill(0, y, 6 * unit, 6 * unit, kWarpedColour);
+  sheet.text(8 * unit, y + unit / 2, "warped", unit);
   return sheet.image();
 }
 
@@ -152,9 +158,11 @@ int inspect_command(const InspectOptions& options) {
   if (!status.ok()) return report_error(status);
   std::map<MacroblockCoding, uint64_t> counts;
   for (MacroblockCoding m : inspected->modes) counts[m] += 1;
+  const auto warped = static_cast<uint64_t>(std::count(inspected->warped.begin(), inspected->warped.end(), 1));
   if (options.verbosity.json) {
     json modes = json::object();
     for (MacroblockCoding mode : kModes) modes[mode_name(mode)] = counts[mode];
+    modes["warped"] = warped;  // also counted under their direction
     print_json({{"command", "inspect"},
                 {"input", options.input.string()},
                 {"output", options.output.string()},
@@ -170,9 +178,10 @@ int inspect_command(const InspectOptions& options) {
               inspected->type == FaceType::kIntra ? "I" : "B", inspected->modes.size());
   for (const auto& [mode, count] : counts)
     std::printf(" %s %llu", mode_name(mode), static_cast<unsigned long long>(count));
+  std::printf(" (warped %llu of them)", static_cast<unsigned long long>(warped));
   std::printf(
       "\nwrote %s at %dx (left: decoded face; right: intra red, forward green, backward yellow, "
-      "bidirectional purple, skipped blue; legend below)\n",
+      "bidirectional purple, skipped blue, warped cyan; legend below)\n",
       options.output.string().c_str(), scale);
   return 0;
 }
