@@ -75,15 +75,26 @@ uint64_t high_water_bytes(pid_t pid) {
   return 0;
 }
 
-// Runs `svc encode db -o out --threads 2`; returns its peak resident bytes, or 0 when it
-// failed. The child's own high-water mark is sampled every 20 ms while it runs
-// (ru_maxrss would start from the peak of this process, which the child inherits until
-// exec).
+// Runs `svc encode db -o out --threads 2` without the two slowest coding tools (the
+// filter bank's three passes and the partition search change the time a face takes, not
+// how many faces are held); returns its peak resident bytes, or 0 when it failed. The child's own high-water mark
+// is sampled every 20 ms while it runs (ru_maxrss would start from the peak of this process, which the child
+// inherits until exec).
 uint64_t encode_peak_bytes(const fs::path& db, const fs::path& out) {
   const std::string svc = std::string(SVC_BINARY_DIR) + "/bin/svc";
-  std::vector<std::string> args = {svc,  "encode",     db.string(),
-                                   "-o", out.string(), "--threads",
-                                   "2",  "--quiet",    "--allow-outside-paths"};
+  std::vector<std::string> args = {svc,
+                                   "encode",
+                                   db.string(),
+                                   "-o",
+                                   out.string(),
+                                   "--threads",
+                                   "2",
+                                   "--quiet",
+                                   "--allow-outside-paths",
+                                   "--disable-tool",
+                                   "switchable-filter",
+                                   "--disable-tool",
+                                   "partitions"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
