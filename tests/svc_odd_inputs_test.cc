@@ -31,6 +31,19 @@ fs::path make_scene(const fs::path& dir, std::array<int, 3> grid, bool sparse = 
   return db;
 }
 
+// The source colour image of one face of a manifest cell entry.
+ImageRGB8 read_source_face(const fs::path& db, const nlohmann::json& cell, Face face) {
+  auto in =
+      OIIO::ImageInput::open((db / cell.at("faces").at(face_name(face)).at("color").get<std::string>()).string());
+  ImageRGB8 image;
+  if (!in) return image;
+  image.width = in->spec().width;
+  image.height = in->spec().height;
+  image.pixels.resize(size_t(image.width) * image.height * 3);
+  in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, image.pixels.data());
+  return image;
+}
+
 // Encodes with the default spatial layout and checks every face decodes close to its
 // source; returns the reader.
 std::unique_ptr<Reader> encode_and_check(const fs::path& db, const fs::path& out, double min_psnr_y = 30.0) {
@@ -45,13 +58,7 @@ std::unique_ptr<Reader> encode_and_check(const fs::path& db, const fs::path& out
   for (const auto& cell : manifest.at("cells")) {
     const auto idx = cell.at("index").get<std::array<int, 3>>();
     for (Face face : kAllFaces) {
-      const fs::path source = db / cell.at("faces").at(face_name(face)).at("color").get<std::string>();
-      auto in = OIIO::ImageInput::open(source.string());
-      ImageRGB8 original;
-      original.width = in->spec().width;
-      original.height = in->spec().height;
-      original.pixels.resize(size_t(original.width) * original.height * 3);
-      in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, original.pixels.data());
+      const ImageRGB8 original = read_source_face(db, cell, face);
       auto decoded = (*reader)->decode_face(CellIndex{idx[0], idx[1], idx[2]}, face);
       EXPECT_TRUE(decoded.ok()) << decoded.status().to_string();
       if (decoded.ok()) EXPECT_GE(luma_squared_error(original, *decoded)->psnr(), min_psnr_y);
@@ -203,13 +210,7 @@ TEST(OddInputs, EveryQualityGivesADistinctSmallerFile) {
     for (const auto& cell : manifest.at("cells")) {
       const auto idx = cell.at("index").get<std::array<int, 3>>();
       for (Face face : kAllFaces) {
-        auto in = OIIO::ImageInput::open(
-            (db / cell.at("faces").at(face_name(face)).at("color").get<std::string>()).string());
-        ImageRGB8 original;
-        original.width = in->spec().width;
-        original.height = in->spec().height;
-        original.pixels.resize(size_t(original.width) * original.height * 3);
-        in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, original.pixels.data());
+        const ImageRGB8 original = read_source_face(db, cell, face);
         auto decoded = (*reader)->decode_face(CellIndex{idx[0], idx[1], idx[2]}, face);
         ASSERT_TRUE(decoded.ok());
         total.add(*luma_squared_error(original, *decoded));
