@@ -8,6 +8,7 @@
 #include <bit>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -15,6 +16,7 @@
 #include "codec/bframe_state.h"
 #include "codec/bframe_syntax.h"
 #include "codec/rdoq.h"
+#include "codec/search_planes.h"
 
 namespace svc::codec {
 namespace {
@@ -69,6 +71,12 @@ int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_st
   return sum;
 }
 
+// Samples of edge extension of the motion search's planes; vectors reaching further are
+// priced exactly.
+constexpr int kSearchMargin = 32;
+// A filter bank other than the regular one is coded in full only when the regular
+// bank's motion, predicted through it, comes this much closer to the source.
+constexpr double kFilterScreenMargin = 0.01;
 // The share of a new warp node's bits charged to the macroblock that sends it.
 constexpr float kNewNodeShare = 0.5f;
 // Squared error of the visible part of the frame state's planes against the source.
@@ -181,15 +189,52 @@ bool motion_varies(const MacroblockHints& hints) {
   return first == nullptr && hints.macroblock != nullptr && hints.macroblock->size() > 1;
 }
 
+// The vectors a search has priced: a small open-addressed set emptied in O(1) by moving
+// to the next generation.
+class VectorSet {
+ public:
+  void clear() {
+    if (++generation_ == 0) {  // wrapped: forget every stamp
+      stamps_.fill(0);
+      generation_ = 1;
+    }
+  }
+  // Adds v; false when it was already there.
+  bool insert(MotionVector v) {
+    const uint32_t key = (static_cast<uint32_t>(static_cast<uint16_t>(v.x)) << 16) | static_cast<uint16_t>(v.y);
+    for (uint32_t slot = (key * 2654435761u) >> 24;; slot = (slot + 1) % kSlots) {
+      if (stamps_[slot] != generation_) {
+        stamps_[slot] = generation_;
+        keys_[slot] = key;
+        return true;
+      }
+      if (keys_[slot] == key) return false;
+    }
+  }
+
+ private:
+  // More than a search ever prices (candidates, predictor, zero, two rings of 8).
+  static constexpr uint32_t kSlots = 256;
+  std::array<uint32_t, kSlots> keys_{};
+  std::array<uint32_t, kSlots> stamps_{};
+  uint32_t generation_ = 1;
+};
+
+// Candidates priced per list at most, whatever BFrameParams::max_candidates says (the
+// VectorSet's room).
+constexpr int kMaxCandidates = 128;
+
 class BFrameEncoder {
  public:
-  BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params)
+  BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params,
+                const std::array<const SearchPlanes*, 2>& search)
       : s_(state),
         source_(source),
+        search_(search),
         refine_(params.sub_pel_refinement),
         quarter_pel_(params.quarter_pel),
         full_evaluations_(std::max(1, params.inter_evaluations)),
-        max_candidates_(std::max(1, params.max_candidates)),
+        max_candidates_(std::clamp(params.max_candidates, 1, kMaxCandidates)),
         rdoq_(params.rdoq),
         partitions_(params.partitions) {
     const double scale = quantizer_scale_q8(s_.inter_quantizer.qindex) / 256.0;
@@ -200,6 +245,8 @@ class BFrameEncoder {
   MacroblockChoice choose(int mx, int my, const std::array<MacroblockHints, 2>& hints, BFrameStats* stats) {
     mx_ = mx;
     my_ = my;
+    for (int component = 0; component < 2; ++component)
+      mvd_costs_[component] = MvdCostTable(s_.contexts, component, mvd_context(s_, mx, my, component));
     warp_cache_ = {};
     compute_visible();
     std::array<MotionVector, 2> predictors{};
@@ -473,14 +520,20 @@ class BFrameEncoder {
   }
 
   float vector_bits(MotionVector vector, MotionVector predictor) const {
-    return mvd_component_bits(s_.contexts, 0, mvd_context(s_, mx_, my_, 0), vector.x - predictor.x) +
-           mvd_component_bits(s_.contexts, 1, mvd_context(s_, mx_, my_, 1), vector.y - predictor.y);
+    return mvd_costs_[0].bits(vector.x - predictor.x) + mvd_costs_[1].bits(vector.y - predictor.y);
   }
 
-  // Luma SAD of the prediction of `rect` from `reference` with vector v.
+  // Luma SAD of the prediction of `rect` from `reference` with vector v: on the search
+  // planes (quarter positions approximated) where they reach, else exact.
   int rect_sad(int reference, const PartitionRect& rect, MotionVector v) const {
     const uint8_t* source =
         source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
+    if (search_[reference] != nullptr) {
+      const int sad = search_[reference]->sad(source + rect.y * source_.strides[0] + rect.x, source_.strides[0],
+                                              16 * reference_mb(s_, mx_) + rect.x,
+                                              16 * reference_mb(s_, my_) + rect.y, rect.width, rect.height, v);
+      if (sad >= 0) return sad;
+    }
     const ImageYCbCr420& ref = *s_.references[reference];
     if (rect.width == 16 && rect.height == 16) {
       return sad_macroblock_luma(ref, reference_mb(s_, mx_), reference_mb(s_, my_), v, source, source_.strides[0],
@@ -517,8 +570,7 @@ class BFrameEncoder {
     double best_cost = 1e300;
     auto try_vector = [&](MotionVector v) {
       v = clamp_vector(v);
-      if (std::find(tried_.begin(), tried_.end(), v) != tried_.end()) return false;
-      tried_.push_back(v);
+      if (!tried_.insert(v)) return false;
       const double rate = lambda_sad_ * vector_bits(v, predictor);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
       const int sad = rect_sad(reference, rect, v);
@@ -757,6 +809,7 @@ class BFrameEncoder {
 
   FrameState& s_;
   const PaddedSource& source_;
+  const std::array<const SearchPlanes*, 2> search_;  // per reference; null: exact SADs
   double lambda_ = 0, lambda_sad_ = 0;
   // From BFrameParams, whose fields hold the defaults.
   const bool refine_;
@@ -768,7 +821,8 @@ class BFrameEncoder {
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
-  std::vector<MotionVector> tried_;
+  VectorSet tried_;
+  std::array<MvdCostTable, 2> mvd_costs_;  // per component, for the current macroblock
   std::array<WarpCache, 2> warp_cache_;
 };
 
@@ -804,6 +858,15 @@ void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
   }
 }
 
+// What an inter or skipped macroblock's prediction was built from, so it can be built
+// again with another filter bank.
+struct PredictionRecord {
+  MacroblockMode mode = MacroblockMode::kIntra;  // the prediction's mode; kIntra: none
+  bool warp = false;
+  std::array<MotionVector, 2> vectors{};
+  PartitionMotion motion;
+};
+
 // A frame whose macroblocks are coded with one filter bank, before its loop filters.
 struct CodedMacroblocks {
   FrameState state;
@@ -811,12 +874,55 @@ struct CodedMacroblocks {
   std::unique_ptr<std::vector<uint8_t>> bytes;  // the range encoder appends here
   std::unique_ptr<RangeEncoder> encoder;
   BFrameStats stats;
+  std::vector<PredictionRecord> predictions;  // per macroblock, raster order
 };
+
+PredictionRecord prediction_record(const FrameState& s, int mx, int my, const MacroblockChoice& choice) {
+  if (choice.mode == MacroblockMode::kIntra) return {};
+  const bool skipped = choice.mode == MacroblockMode::kSkipped;
+  return {skipped ? predicted_mode(s, mx, my) : choice.mode, choice.warp, choice.vectors, choice.motion};
+}
+
+// Squared error against the source of every inter and skipped macroblock's prediction
+// (before residuals) built again with filter bank `filter`.
+int64_t prediction_error(CodedMacroblocks& coded, InterpolationFilter filter) {
+  FrameState& s = coded.state;
+  const InterpolationFilter coded_filter = s.filter;
+  s.filter = filter;
+  int64_t sum = 0;
+  MacroblockPrediction prediction;
+  for (int my = 0; my < s.mbs_y; ++my) {
+    for (int mx = 0; mx < s.mbs_x; ++mx) {
+      const PredictionRecord& record = coded.predictions[static_cast<size_t>(my) * s.mbs_x + mx];
+      if (record.mode == MacroblockMode::kIntra) continue;
+      if (record.warp) {
+        build_warp_prediction(s, mx, my, record.mode, &prediction);
+      } else if (record.motion.partition != Partition::k16x16) {
+        build_partition_prediction(s, mx, my, record.motion, &prediction);
+      } else {
+        build_prediction(s, mx, my, record.mode, record.vectors, &prediction);
+      }
+      for (int p = 0; p < 3; ++p) {
+        const int size = p == 0 ? 16 : 8, stride = p == 0 ? 16 : 8;
+        const int visible_w = p == 0 ? s.width : s.chroma_width, visible_h = p == 0 ? s.height : s.chroma_height;
+        const int w = std::min(size, visible_w - size * mx), h = std::min(size, visible_h - size * my);
+        const uint8_t* predicted = p == 0 ? prediction.y.data()
+                                          : (p == 1 ? prediction.cb.data() : prediction.cr.data());
+        const uint8_t* source =
+            coded.padded.planes[p].data() + static_cast<size_t>(size * my) * coded.padded.strides[p] + size * mx;
+        sum += squared_error(predicted, stride, source, coded.padded.strides[p], w, h);
+      }
+    }
+  }
+  s.filter = coded_filter;
+  return sum;
+}
 
 // Codes every macroblock with filter bank `filter` (arguments already validated).
 CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr420& ref0, const ImageYCbCr420* ref1,
                                   const std::array<ReferenceHints, 2>& hints, const BFrameParams& params,
-                                  InterpolationFilter filter, bool with_stats) {
+                                  const std::array<const SearchPlanes*, 2>& search, InterpolationFilter filter,
+                                  bool with_stats) {
   const int width = source.width, height = source.height;
   const int border_units = reference_border_units(ref0.width - width);
   const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
@@ -850,7 +956,7 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
                            static_cast<uint8_t>(filter), static_cast<uint8_t>(state.reference_count),
                            static_cast<uint8_t>(state.warp_mask)});
   coded.encoder = std::make_unique<RangeEncoder>(coded.bytes.get());
-  BFrameEncoder coder(state, coded.padded, params);
+  BFrameEncoder coder(state, coded.padded, params, search);
   for (int my = 0; my < state.mbs_y; ++my) {
     for (int mx = 0; mx < state.mbs_x; ++mx) {
       const std::array<MacroblockHints, 2> macroblock_hints = {macroblock_hints_at(hints[0], state, mx, my),
@@ -858,6 +964,7 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
                                                                    ? macroblock_hints_at(hints[1], state, mx, my)
                                                                    : MacroblockHints{}};
       const MacroblockChoice choice = coder.choose(mx, my, macroblock_hints, stats);
+      coded.predictions.push_back(prediction_record(state, mx, my, choice));
       if (stats != nullptr && choice.mode != MacroblockMode::kIntra) {
         const MacroblockMode prediction = choice.mode == MacroblockMode::kSkipped ? predicted_mode(state, mx, my)
                                                                                   : choice.mode;
@@ -912,27 +1019,39 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       (ref1 != nullptr && !consistent_image(*ref1, padded_width, padded_height))) {
     return {};
   }
+  const SearchPlanes search0(ref0, kSearchMargin);
+  const std::optional<SearchPlanes> search1 =
+      ref1 != nullptr ? std::optional<SearchPlanes>(std::in_place, *ref1, kSearchMargin) : std::nullopt;
+  const std::array<const SearchPlanes*, 2> search = {&search0, search1 ? &*search1 : nullptr};
   auto code = [&](InterpolationFilter filter) {
-    return code_macroblocks(source, ref0, ref1, hints, params, filter, stats != nullptr);
+    return code_macroblocks(source, ref0, ref1, hints, params, search, filter, stats != nullptr);
   };
   CodedMacroblocks best = code(InterpolationFilter::kRegular);
   if (params.switchable_filter) {
-    // The bank is chosen on the unfiltered frames (squared error plus bits), so the loop
-    // filters' search runs once, on the winner.
-    const double scale = quantizer_scale_q8(std::clamp(params.qindex, kMinQIndex, kMaxQIndex)) / 256.0;
-    const double lambda = params.lambda_factor * scale * scale;
-    auto cost = [&](const CodedMacroblocks& coded) {
-      return static_cast<double>(frame_error(coded.state, coded.padded)) +
-             lambda * 8.0 * static_cast<double>(coded.bytes->size());
-    };
-    double best_cost = cost(best);
+    // Screen: the regular bank's motion predicted again through each other bank. Only the
+    // bank whose predictions come clearly closer to the source is coded in full, and it
+    // is kept when the whole frame (squared error plus bits, before the loop filters)
+    // costs less; so the loop filters' search runs once, on the winner.
+    const int64_t regular_error = prediction_error(best, InterpolationFilter::kRegular);
+    int64_t screened_error = regular_error;
+    InterpolationFilter candidate = InterpolationFilter::kRegular;
     for (int f = 1; f < kInterpolationFilterCount; ++f) {
-      CodedMacroblocks trial = code(static_cast<InterpolationFilter>(f));
-      const double trial_cost = cost(trial);
-      if (trial_cost < best_cost) {  // ties keep the earlier bank
-        best_cost = trial_cost;
-        best = std::move(trial);
+      const int64_t error = prediction_error(best, static_cast<InterpolationFilter>(f));
+      if (error < screened_error) {  // ties keep the earlier bank
+        screened_error = error;
+        candidate = static_cast<InterpolationFilter>(f);
       }
+    }
+    if (candidate != InterpolationFilter::kRegular &&
+        static_cast<double>(screened_error) < (1.0 - kFilterScreenMargin) * static_cast<double>(regular_error)) {
+      const double scale = quantizer_scale_q8(std::clamp(params.qindex, kMinQIndex, kMaxQIndex)) / 256.0;
+      const double lambda = params.lambda_factor * scale * scale;
+      auto cost = [&](const CodedMacroblocks& coded) {
+        return static_cast<double>(frame_error(coded.state, coded.padded)) +
+               lambda * 8.0 * static_cast<double>(coded.bytes->size());
+      };
+      CodedMacroblocks trial = code(candidate);
+      if (cost(trial) < cost(best)) best = std::move(trial);
     }
   }
   return finish_frame(best, params, reconstruction, stats);

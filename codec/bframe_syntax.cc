@@ -43,6 +43,17 @@ float mvd_component_bits(const SyntaxContexts& c, int component, int context, in
   return bits + 1;  // sign
 }
 
+MvdCostTable::MvdCostTable(const SyntaxContexts& c, int component, int context) {
+  bits_[0] = bit_cost(c.mvd_zero[component][context], 0);
+  float prefix = bit_cost(c.mvd_zero[component][context], 1);
+  for (int k = 1; k <= kMvdPrefixBins; ++k) {
+    // Magnitude k: the bins "> 1" .. "> k - 1" set, "> k" clear, then the sign.
+    bits_[static_cast<size_t>(k)] = prefix + bit_cost(c.mvd_magnitude[component][std::min(k - 1, 3)], 0) + 1;
+    prefix += bit_cost(c.mvd_magnitude[component][std::min(k - 1, 3)], 1);
+  }
+  bits_[kMvdPrefixBins + 1] = prefix;
+}
+
 float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode) {
   const SyntaxContexts& c = s.contexts;
   float bits = bit_cost(c.skip[skip_context(s, mx, my)], 0);

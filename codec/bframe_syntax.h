@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstdlib>
 
 #include "codec/bframe_state.h"
 
@@ -24,6 +25,25 @@ inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (st
 float dc_difference_bits(const BlockContextSet& c, int previous_category, int difference);
 
 float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value);
+
+// mvd_component_bits of one component and context as a table over the magnitude, equal
+// to it value for value: for the motion search's many queries within one macroblock,
+// where the contexts do not change.
+class MvdCostTable {
+ public:
+  MvdCostTable() = default;
+  MvdCostTable(const SyntaxContexts& c, int component, int context);
+  float bits(int value) const {
+    const int magnitude = std::abs(value);
+    if (magnitude <= kMvdPrefixBins) return bits_[static_cast<size_t>(magnitude)];
+    return bits_[kMvdPrefixBins + 1] + exp_golomb_bits(static_cast<uint32_t>(magnitude - kMvdPrefixBins - 1)) + 1;
+  }
+
+ private:
+  // [m]: the whole cost of magnitude m <= kMvdPrefixBins; [kMvdPrefixBins + 1]: that of
+  // the zero flag and the prefix of a larger one.
+  std::array<float, kMvdPrefixBins + 2> bits_{};
+};
 
 float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode);
 

@@ -73,6 +73,11 @@ struct DspTable {
   void (*average_intermediate)(const int16_t* a, const int16_t* b, int count, uint8_t* out);
   // SAD of a 16x16 block against 256 packed samples.
   int (*sad_16x16)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
+  // SAD of a width x height block (width 8 or 16, height 1 to 16) against the rounded-up
+  // average (a + b + 1) >> 1 of two reference blocks sharing one stride (b may equal a)
+  // (encoder only: motion search on half-pel planes).
+  int (*sad_average)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* a, const uint8_t* b,
+                     ptrdiff_t reference_stride, int width, int height);
   // Intra prediction of an 8x8 block (64 samples, row-major) in mode 0..34 (planar, DC,
   // angles; docs/codec.md 3.1) from its edge: edge[15 - i] is the left neighbour of row
   // i (i = 0..15, rows 8..15 below the block), edge[16] the top-left corner, edge[17 + i]

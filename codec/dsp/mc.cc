@@ -1,5 +1,5 @@
 // Plain motion-compensation kernels: the separable 8-tap interpolation to 14-bit
-// intermediates, their rounding to samples (single and bidirectional) and the SAD
+// intermediates, their rounding to samples (single and bidirectional) and the SADs
 // (docs/codec.md, section 10.1, defines the arithmetic).
 #include <algorithm>
 #include <cstdlib>
@@ -52,9 +52,22 @@ int sad_16x16_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* p
   return sum;
 }
 
+int sad_average_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* a, const uint8_t* b,
+                  ptrdiff_t reference_stride, int width, int height) {
+  int sum = 0;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = source + y * source_stride;
+    const uint8_t* first = a + y * reference_stride;
+    const uint8_t* second = b + y * reference_stride;
+    for (int x = 0; x < width; ++x) sum += std::abs(row[x] - ((first[x] + second[x] + 1) >> 1));
+  }
+  return sum;
+}
+
 }  // namespace
 
 void init_mc_c(DspTable* table) {
+  table->sad_average = sad_average_c;
   table->interpolate_8tap = interpolate_8tap_c;
   table->put_intermediate = put_intermediate_c;
   table->average_intermediate = average_intermediate_c;

@@ -143,6 +143,27 @@ std::string check_sad(const Tables& reference, const Tables& variant, Random& ra
   return {};
 }
 
+std::string check_sad_average(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    const int width = random.uniform(0, 1) ? 16 : 8, height = random.uniform(1, 16);
+    const ptrdiff_t source_stride = width + random.uniform(0, 70), reference_stride = width + random.uniform(0, 70);
+    Buffer source(static_cast<size_t>(source_stride) * 16), planes(static_cast<size_t>(reference_stride) * 32);
+    random.fill_with_extremes(source.at(0), static_cast<size_t>(source_stride) * 16);
+    random.fill_with_extremes(planes.at(0), static_cast<size_t>(reference_stride) * 32);
+    const uint8_t* a = planes.at(static_cast<size_t>(random.uniform(0, 15)));
+    // b: the same block (a whole-sample or half-sample position) or one further on.
+    const uint8_t* b = n % 3 == 0 ? a
+                                  : planes.at(static_cast<size_t>(reference_stride) * 16 + random.uniform(0, 15));
+    const int expected = reference.sad_average(source.at(0), source_stride, a, b, reference_stride, width, height);
+    const int actual = variant.sad_average(source.at(0), source_stride, a, b, reference_stride, width, height);
+    if (expected != actual) {
+      return "SAD of average: reference " + std::to_string(expected) + ", variant " + std::to_string(actual) +
+             " (" + std::to_string(width) + "x" + std::to_string(height) + ")";
+    }
+  }
+  return {};
+}
+
 struct BenchPlane {
   std::vector<uint8_t> samples = std::vector<uint8_t>(96 * 96);
   BenchPlane() {
@@ -188,6 +209,16 @@ void bench_sad(const Tables& table, int iterations) {
   bench_sink = sum;
 }
 
+void bench_sad_average(const Tables& table, int iterations) {
+  const BenchPlane plane;
+  int sum = 0;
+  for (int n = 0; n < iterations; ++n) {
+    const uint8_t* a = plane.samples.data() + (n & 7);
+    sum += table.sad_average(plane.samples.data() + 4096, 96, a, a + 97, 96, 16, 16);
+  }
+  bench_sink = sum;
+}
+
 }  // namespace
 
 std::vector<Kernel> motion_kernels() {
@@ -198,6 +229,8 @@ std::vector<Kernel> motion_kernels() {
       {"average_intermediate", [](const Tables& t) { return entry_of(t.average_intermediate); }, check_average,
        bench_average},
       {"sad_16x16", [](const Tables& t) { return entry_of(t.sad_16x16); }, check_sad, bench_sad},
+      {"sad_average", [](const Tables& t) { return entry_of(t.sad_average); }, check_sad_average,
+       bench_sad_average},
   };
 }
 
