@@ -34,6 +34,7 @@ struct MacroblockChoice {
   // Inter only: the partitions, with their modes and vectors when split.
   PartitionMotion motion;
   MacroblockPrediction reconstruction;
+  float side_bits = 0;  // inter: every bit but the residual's
   double cost = 0;
 };
 
@@ -153,9 +154,9 @@ int sad_rect(const uint8_t* source, int source_stride, const uint8_t* prediction
   return sum;
 }
 
-// The candidates of a partition: the lists of the 8x8 blocks it covers, interleaved by
-// rank without duplicates, so each block's best vectors come first.
-CandidateList partition_candidates(const MacroblockHints& hints, const PartitionRect& rect) {
+// The first `limit` candidates of a partition: the lists of the 8x8 blocks it covers,
+// interleaved by rank without duplicates, so each block's best vectors come first.
+CandidateList partition_candidates(const MacroblockHints& hints, const PartitionRect& rect, size_t limit) {
   std::array<const CandidateList*, 4> lists{};
   int count = 0;
   for (int b = 0; b < 4; ++b) {
@@ -163,7 +164,11 @@ CandidateList partition_candidates(const MacroblockHints& hints, const Partition
     if (x < rect.x || y < rect.y || x >= rect.x + rect.width || y >= rect.y + rect.height) continue;
     if (hints.blocks[b] != nullptr) lists[count++] = hints.blocks[b];
   }
-  if (count == 0) return hints.macroblock != nullptr ? *hints.macroblock : CandidateList{};
+  if (count == 0) {
+    if (hints.macroblock == nullptr) return {};
+    const CandidateList& list = *hints.macroblock;
+    return CandidateList(list.begin(), list.begin() + static_cast<ptrdiff_t>(std::min(limit, list.size())));
+  }
   CandidateList merged;
   for (size_t rank = 0;; ++rank) {
     bool any = false;
@@ -172,6 +177,7 @@ CandidateList partition_candidates(const MacroblockHints& hints, const Partition
       any = true;
       const MotionVector v = (*lists[l])[rank];
       if (std::find(merged.begin(), merged.end(), v) == merged.end()) merged.push_back(v);
+      if (merged.size() >= limit) return merged;
     }
     if (!any) return merged;
   }
@@ -345,6 +351,7 @@ class BFrameEncoder {
         if (option.cost < winner.cost) std::swap(winner, option);
       }
     }
+    if (rdoq_) requantize(&winner);
     return winner;
   }
 
@@ -605,6 +612,27 @@ class BFrameEncoder {
     return best;
   }
 
+  // The chosen option's residual quantized again with RDOQ: its levels, coded mask,
+  // reconstruction and cost change; its prediction and side information do not.
+  void requantize(MacroblockChoice* choice) {
+    if (choice->mode == MacroblockMode::kSkipped) return;
+    quantize_rd_ = true;
+    if (choice->mode == MacroblockMode::kIntra) {
+      evaluate_intra(choice);
+    } else {
+      MacroblockPrediction prediction;
+      if (choice->warp) {
+        build_cached_warp_prediction(choice->mode, &prediction);
+      } else if (choice->motion.partition != Partition::k16x16) {
+        build_partition_prediction(s_, mx_, my_, choice->motion, &prediction);
+      } else {
+        build_prediction(s_, mx_, my_, choice->mode, choice->vectors, &prediction);
+      }
+      code_residual(prediction, choice->side_bits, choice);
+    }
+    quantize_rd_ = false;
+  }
+
   void evaluate_skip(MacroblockMode mode, bool warp, MacroblockChoice* out) {
     out->mode = MacroblockMode::kSkipped;
     out->warp = warp;
@@ -650,6 +678,7 @@ class BFrameEncoder {
   // mask, reconstruction and cost (with `bits` of side information).
   void code_residual(const MacroblockPrediction& prediction, float bits, MacroblockChoice* out) {
     const SyntaxContexts& c = s_.contexts;
+    out->side_bits = bits;
     int64_t distortion = 0;
     uint8_t local_coded[6] = {};
     out->coded_mask = 0;
@@ -667,7 +696,7 @@ class BFrameEncoder {
           residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
       }
       int16_t* levels = out->levels[b].data();
-      const int nonzero = transform_quantize_block_rd(s_.inter_quantizer, residual, rdoq_,
+      const int nonzero = transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_,
                                                       plane == 0 ? c.inter_luma : c.inter_chroma, 0,
                                                       kNoCodedBlockFlag, static_cast<float>(lambda_), levels);
       const int64_t uncoded_error = block_error(b, pred);
@@ -720,7 +749,8 @@ class BFrameEncoder {
       std::array<MacroblockIntermediate, 2> luma;
       for (int r = 0; r < s_.reference_count; ++r) {
         part_predictors[r] = partition_predictor(motion, k, r, predictors_[r]);
-        CandidateList list = partition_candidates(hints[r], rect);
+        // The 16x16 choice is tried too, within the max_candidates a search prices.
+        CandidateList list = partition_candidates(hints[r], rect, static_cast<size_t>(max_candidates_ - 1));
         if (std::find(list.begin(), list.end(), macroblock_best[r]) == list.end())
           list.push_back(macroblock_best[r]);
         vectors[r] = search_reference(r, rect, part_predictors[r], list, stats);
@@ -788,7 +818,7 @@ class BFrameEncoder {
       }
       int16_t* levels = out->levels[b].data();
       const int coded_context_b = coded_context(s_, local_coded, plane, mx_, my_, bx, by);
-      transform_quantize_block_rd(s_.intra_quantizer, samples, rdoq_, set, 1, coded_context_b,
+      transform_quantize_block_rd(s_.intra_quantizer, samples, quantize_rd_, set, 1, coded_context_b,
                                   static_cast<float>(lambda_), levels);
       out->dc_levels[b] = levels[0];
       const int difference = levels[0] - predict_dc(s_, out->dc_levels.data(), plane, mx_, my_, bx, by);
@@ -817,6 +847,9 @@ class BFrameEncoder {
   const int full_evaluations_;
   const int max_candidates_;
   const bool rdoq_;
+  // Whether the residuals being priced use RDOQ: only the winner's, re-quantized once the
+  // mode decision (made with plain quantization) is over.
+  bool quantize_rd_ = false;
   const bool partitions_;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};

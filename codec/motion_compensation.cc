@@ -119,12 +119,23 @@ void predict_block(const uint8_t* plane, int plane_width, int plane_height, Plan
   }
   const int bits = fraction_bits(kind), mask = (1 << bits) - 1;
   const int full_x = (x0 << bits) + vector_x, full_y = (y0 << bits) + vector_y;
+  const int left = (full_x >> bits) - kTapsBefore, top = (full_y >> bits) - kTapsBefore;
+  const int8_t* h_taps = interpolation_taps(kind, full_x & mask, filter).data();
+  const int8_t* v_taps = interpolation_taps(kind, full_y & mask, filter).data();
+  // Wholly inside the plane, the taps read it in place: no edge to extend. Kernels read
+  // widths of whole 8-sample groups and one sample past the taps' reach (dsp.h), which
+  // must lie in the same row.
+  if (left >= 0 && top >= 0 && left + block_width + kTapExtent < plane_width &&
+      top + block_height + kTapExtent <= plane_height && block_width % 8 == 0) {
+    dsp::get_dsp().interpolate_8tap(plane + static_cast<ptrdiff_t>(top) * plane_width + left, plane_width,
+                                    block_width, block_height, h_taps, v_taps, out, out_stride);
+    return;
+  }
   uint8_t window[(kMaxPredictionBlock + kTapExtent) * kWindowStride];
-  fetch_window(plane, plane_width, plane_height, (full_x >> bits) - kTapsBefore, (full_y >> bits) - kTapsBefore,
-               block_width + kTapExtent, block_height + kTapExtent, window);
-  dsp::get_dsp().interpolate_8tap(window, kWindowStride, block_width, block_height,
-                                  interpolation_taps(kind, full_x & mask, filter).data(),
-                                  interpolation_taps(kind, full_y & mask, filter).data(), out, out_stride);
+  fetch_window(plane, plane_width, plane_height, left, top, block_width + kTapExtent, block_height + kTapExtent,
+               window);
+  dsp::get_dsp().interpolate_8tap(window, kWindowStride, block_width, block_height, h_taps, v_taps, out,
+                                  out_stride);
 }
 
 void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0,

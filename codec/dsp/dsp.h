@@ -64,7 +64,8 @@ struct DspTable {
   // (width + 7) x (height + 7) samples; h_taps and v_taps hold 8 coefficients each
   // (summing to 64). out = ((sum_j v[j] sum_i h[i] window[y + j][x + i]) >> 6) - 8192,
   // the intermediate sample of 14 bits less the offset that makes it fit int16. Widths
-  // 4 to 64 in steps of 4, heights 1 to 64.
+  // 4 to 64 in steps of 4, heights 1 to 64. Rows may be read up to 8 samples past the
+  // taps' reach (width + 7): by 1 sample when the width is a multiple of 8.
   void (*interpolate_8tap)(const uint8_t* window, ptrdiff_t window_stride, int width, int height,
                            const int8_t* h_taps, const int8_t* v_taps, int16_t* out, ptrdiff_t out_stride);
   // Single prediction from intermediates: clip((in + 8192 + 32) >> 6, 0, 255).
