@@ -7,6 +7,7 @@
 
 #include "codec/log_search.h"
 #include "codec/motion_compensation.h"
+#include "codec/search_planes.h"
 
 namespace svc::codec {
 namespace {
@@ -344,6 +345,68 @@ TEST(LogSearch, StaysInsideTheWindow) {
     EXPECT_LE(std::abs(list[0].x), 130);
     EXPECT_LE(std::abs(list[0].y), 130);
   }
+}
+
+}  // namespace
+}  // namespace svc::codec
+
+namespace svc::codec {
+namespace {
+
+// The rounded prediction of a block (regular filter) as samples.
+std::vector<uint8_t> rounded_prediction(const ImageYCbCr420& reference, int x, int y, int width, int height, int vx,
+                                        int vy) {
+  std::vector<int16_t> intermediate(static_cast<size_t>(width) * height);
+  predict_block(reference.y.data(), reference.width, reference.height, PlaneKind::kLuma, x, y, width, height, vx,
+                vy, intermediate.data(), width);
+  std::vector<uint8_t> samples(intermediate.size());
+  round_prediction(intermediate.data(), static_cast<int>(intermediate.size()), samples.data());
+  return samples;
+}
+
+// Whole and half-pel positions are priced exactly; a quarter position against the
+// rounded-up average of its two nearest half-pel neighbours (across, down or diagonal);
+// blocks beyond the margin are refused.
+TEST(SearchPlanes, SadsAreExactAtHalfPelAndAveragedBetween) {
+  const ImageYCbCr420 reference = textured_crop(48, 40, 5, 9, 3);
+  const ImageYCbCr420 source = textured_crop(48, 40, 7, 6, 3);
+  constexpr int kMargin = 12;
+  const SearchPlanes planes(reference, kMargin);
+  std::mt19937 rng(5);
+  int refused = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int width = trial % 2 ? 16 : 8, height = trial % 3 ? 16 : 8;
+    const int x = static_cast<int>(rng() % static_cast<unsigned>(48 - width + 1));
+    const int y = static_cast<int>(rng() % static_cast<unsigned>(40 - height + 1));
+    const MotionVector v{static_cast<int16_t>(static_cast<int>(rng() % 161) - 80),
+                         static_cast<int16_t>(static_cast<int>(rng() % 161) - 80)};
+    const uint8_t* src = source.y.data() + static_cast<size_t>(y) * 48 + x;
+    const int sad = planes.sad(src, 48, x, y, width, height, v);
+    // Half-pel neighbours: an odd component splits into the positions on either side.
+    const int ax = v.x - (v.x & 1), bx = v.x + (v.x & 1), ay = v.y - (v.y & 1), by = v.y + (v.y & 1);
+    // The planes hold each phase for whole-sample positions -kMargin .. size + kMargin - 1.
+    const int reach_left = (4 * x + ax) >> 2, reach_top = (4 * y + ay) >> 2;
+    const int reach_right = ((4 * x + bx) >> 2) + width, reach_bottom = ((4 * y + by) >> 2) + height;
+    if (reach_left < -kMargin || reach_top < -kMargin || reach_right > 48 + kMargin ||
+        reach_bottom > 40 + kMargin) {
+      EXPECT_EQ(sad, -1) << "vector (" << v.x << ", " << v.y << ") at (" << x << ", " << y << ")";
+      ++refused;
+      continue;
+    }
+    const std::vector<uint8_t> a = rounded_prediction(reference, x, y, width, height, ax, ay);
+    const std::vector<uint8_t> b = rounded_prediction(reference, x, y, width, height, bx, by);
+    int expected = 0;
+    for (int j = 0; j < height; ++j) {
+      for (int i = 0; i < width; ++i) {
+        const size_t k = static_cast<size_t>(j) * width + i;
+        expected += std::abs(src[static_cast<size_t>(j) * 48 + i] - ((a[k] + b[k] + 1) >> 1));
+      }
+    }
+    ASSERT_EQ(sad, expected) << width << "x" << height << " at (" << x << ", " << y << ") vector (" << v.x << ", "
+                             << v.y << ")";
+  }
+  EXPECT_GT(refused, 100);
+  EXPECT_LT(refused, 2900);
 }
 
 }  // namespace
