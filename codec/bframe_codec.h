@@ -105,10 +105,11 @@ struct BFrameParams {
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
   int inter_evaluations = 2;
-  // Codes the frame with each interpolation filter bank (regular, smooth, bilinear) and
-  // keeps the one of least SSD + lambda * bits; off, the regular bank only. The sharp
-  // regular filter loses to smoother ones on noisy references seen at other scales
-  // (docs/codec.md, 10.5). Triples the encoder's B-frame time.
+  // Offers the smooth and bilinear interpolation filter banks besides the regular one:
+  // the frame is coded with the regular bank, and again with the bank whose predictions
+  // of the same motion come clearly closer to the source, keeping the one of least
+  // SSD + lambda * bits; off, the regular bank only. The sharp regular filter loses to
+  // smoother ones on noisy references seen at other scales (docs/codec.md, 10.5).
   bool switchable_filter = true;
   // Splits inter macroblocks into 16x8, 8x16 or 8x8 partitions, each with its own
   // direction and vectors, where that lowers the rate-distortion cost; off, every inter
