@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "00662a4f5cc8db0004ba48949ed63268b45a2e36b77465eb57de58ea1cec530c",
-     "ef9215f72b34370e4c144eca845c922056189fdace263ffbf655235b77f5c19b"},
+     "89ac91df30d5d93b6949a07368896acc7080307eed842eb9fa7c1077073d1c59",
+     "18f5f0f08fbf3dc65415b4110c9f631d644f8262da868e4218f99f9dff9bb406"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "edc40ac37ace1423dfd094bcadd76a40eec1c575df05705780c2b593e26dcc80",
-     "310c0c3352880fb31c4cea48b5a0d2bb8a4fe20acfe3213a7a5909c39196a48e"},
+     "a0b54029675d1348c070aac55295fe5b2e5a3ed4954d7f4e99353f4d3f2ca1bd",
+     "8a6816e031912a99e12b79a554a727343b8dc5093bb806add98d2f7d34b50fe6"},
 };
 
 std::string file_sha256(const fs::path& path) {
