@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "89ac91df30d5d93b6949a07368896acc7080307eed842eb9fa7c1077073d1c59",
-     "18f5f0f08fbf3dc65415b4110c9f631d644f8262da868e4218f99f9dff9bb406"},
+     "e5d5660a4e9b03f70e6280d5a70d5056f8f3f48da3922badda515e1d165e4188",
+     "9195f84f94e5d0c9d097ef54e882825e3402f82a5811b59c87b908499da7d3a0"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "a0b54029675d1348c070aac55295fe5b2e5a3ed4954d7f4e99353f4d3f2ca1bd",
-     "8a6816e031912a99e12b79a554a727343b8dc5093bb806add98d2f7d34b50fe6"},
+     "7150399167b5a8e696d079ab70dbd605e8b45719c7e53de80722039592dad0fb",
+     "fbc4a95cc82b35e7b248949bc5626bfee3812243b771b88f10fab18055442707"},
 };
 
 std::string file_sha256(const fs::path& path) {
