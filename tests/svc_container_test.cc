@@ -27,9 +27,11 @@ ContainerIndex sample_index() {
     CellRecord record;
     record.index = c;
     record.position = {c.x * 0.5, 1.5, c.z * 0.25};
-    record.cameras[2].world_to_camera[12] = 3.25;
-    record.cameras[4].frustum.far_plane = 77;
+    CellCameras cameras;
+    cameras[2].world_to_camera[12] = 3.25;
+    cameras[4].frustum.far_plane = 77;
     index.cells.push_back(record);
+    index.cameras.push_back(cameras);
   }
   for (uint32_t f = 0; f < index.cells.size() * kFaceCount; ++f) {
     FrameRecord frame;
@@ -63,8 +65,8 @@ TEST(ContainerIndex, RoundTripsEveryField) {
   EXPECT_EQ(parsed->coding.i_spacing, index.coding.i_spacing);
   ASSERT_EQ(parsed->cells.size(), 3u);
   EXPECT_EQ(parsed->cells[2].index, (CellIndex{1, 0, 1}));
-  EXPECT_EQ(parsed->cells[1].cameras[2].world_to_camera[12], 3.25);
-  EXPECT_EQ(parsed->cells[1].cameras[4].frustum.far_plane, 77);
+  EXPECT_EQ(parsed->cameras[1][2].world_to_camera[12], 3.25);
+  EXPECT_EQ(parsed->cameras[1][4].frustum.far_plane, 77);
   ASSERT_EQ(parsed->frames.size(), 18u);
   EXPECT_EQ(parsed->frames[7].type, FaceType::kPredicted);
   EXPECT_EQ(parsed->frames[7].references, FrameReferences{1});
@@ -168,7 +170,7 @@ void expect_same_index(const ContainerIndex& a, const ContainerIndex& b) {
       EXPECT_EQ(bits(a.cells[i].position[axis]), bits(b.cells[i].position[axis])) << "cell " << i;
     }
     for (int f = 0; f < kFaceCount; ++f) {
-      expect_same_camera(a.cells[i].cameras[f], b.cells[i].cameras[f],
+      expect_same_camera(a.cameras[i][f], b.cameras[i][f],
                          "cell " + std::to_string(i) + " face " + std::to_string(f));
     }
   }
@@ -229,8 +231,10 @@ ContainerIndex rig_index() {
       CellRecord cell;
       cell.index = {x, 0, z};
       cell.position = {-0.75 + 0.5 * x, 1.6, -1.25 + 0.5 * z};
-      for (int f = 0; f < kFaceCount; ++f) cell.cameras[f] = cube_face_camera(cell.position, f, kCubeFrustum);
+      CellCameras cameras;
+      for (int f = 0; f < kFaceCount; ++f) cameras[f] = cube_face_camera(cell.position, f, kCubeFrustum);
       index.cells.push_back(cell);
+      index.cameras.push_back(cameras);
     }
   }
   uint64_t offset = kPreludeSize;
@@ -279,16 +283,16 @@ TEST(ContainerIndexV2, CamerasNoRigEntryReproducesAreStoredExplicitly) {
   const size_t rig_only_size = serialize_index(index).size();
   // A yawed rig: rotation entries that are not 0 or +-1.
   const double c = std::cos(0.5), s = std::sin(0.5);
-  Camera& yawed = index.cells[1].cameras[0];
+  Camera& yawed = index.cameras[1][0];
   const double p[3] = {index.cells[1].position[0], index.cells[1].position[1], index.cells[1].position[2]};
   yawed.world_to_camera = {c, 0, -s, 0, 0, 1, 0, 0, s, 0, c, 0, -(c * p[0] + s * p[2]), -p[1], s * p[0] - c * p[2],
                            1};
   // A translation that is not -R * centre.
-  index.cells[2].cameras[3].world_to_camera[13] += 0.125;
+  index.cameras[2][3].world_to_camera[13] += 0.125;
   // A frustum that differs from the rig's: a signed permutation still, so a new entry.
-  index.cells[4].cameras[5].frustum.far_plane = 500;
+  index.cameras[4][5].frustum.far_plane = 500;
   // Bottom row not 0 0 0 1.
-  index.cells[5].cameras[2].world_to_camera[3] = 0.25;
+  index.cameras[5][2].world_to_camera[3] = 0.25;
 
   const std::vector<uint8_t> bytes = serialize_index(index);
   EXPECT_EQ(bytes[kRigCountAt], 7);
@@ -305,14 +309,15 @@ TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
   const size_t rig_only_size = serialize_index(index).size();
   // A centre on the x = 0 and z = 0 planes: every face has two zero translations.
   CellRecord& cell = index.cells[0];
+  CellCameras& cameras = index.cameras[0];
   cell.position = {0, 1.6, 0};
   auto set_zero_translations = [&](double zero) {
     int set = 0;
     for (int f = 0; f < kFaceCount; ++f) {
-      cell.cameras[f] = cube_face_camera(cell.position, f, kCubeFrustum);
+      cameras[f] = cube_face_camera(cell.position, f, kCubeFrustum);
       for (int i = 12; i < 15; ++i) {
-        if (cell.cameras[f].world_to_camera[i] == 0) {
-          cell.cameras[f].world_to_camera[i] = zero;
+        if (cameras[f].world_to_camera[i] == 0) {
+          cameras[f].world_to_camera[i] = zero;
           ++set;
         }
       }
@@ -335,7 +340,7 @@ TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
   parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   expect_same_index(*parsed, index);
-  EXPECT_TRUE(std::signbit(parsed->cells[0].cameras[0].world_to_camera[14]));
+  EXPECT_TRUE(std::signbit(parsed->cameras[0][0].world_to_camera[14]));
 }
 
 // Cube references: one bit of the type byte; the dependencies it adds are the four
@@ -437,8 +442,8 @@ TEST(ContainerIndexV2, VersionOneCorpusFilesOpenAndRewriteLosslessly) {
 
 TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
   ContainerIndex index = rig_index();
-  index.cells[3].cameras[1].world_to_camera[12] += 1;  // one explicit camera too
-  index.frames[9].chunk_offset = kPreludeSize;         // a negative offset delta
+  index.cameras[3][1].world_to_camera[12] += 1;  // one explicit camera too
+  index.frames[9].chunk_offset = kPreludeSize;   // a negative offset delta
   const std::vector<uint8_t> bytes = serialize_index(index);
   ASSERT_TRUE(parse_index(bytes, 0, kFileSize, ReaderLimits{}).ok());
   for (size_t n = 0; n < bytes.size(); ++n) {

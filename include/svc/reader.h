@@ -32,6 +32,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "svc/limits.h"
@@ -72,15 +73,38 @@ struct ReaderSettings {
 // Fills settings with the defaults documented on each field.
 ReaderSettings default_reader_settings();
 
+// The faces one face needs decoded, as (cell ordinal, face), held inline: an index of
+// any size costs no allocation per face. A copy owns its own entries.
+class FaceDependencies {
+ public:
+  using value_type = std::pair<uint32_t, Face>;
+  // Two references and the four adjacent faces of each reference cube.
+  static constexpr size_t kCapacity = 10;
+
+  // More than kCapacity is a caller's error; the extra entry is dropped.
+  void push_back(const value_type& dependency) {
+    if (size_ < kCapacity) items_[size_++] = dependency;
+  }
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  const value_type& operator[](size_t i) const { return items_[i]; }
+  const value_type* begin() const { return items_.data(); }
+  const value_type* end() const { return items_.data() + size_; }
+
+ private:
+  std::array<value_type, kCapacity> items_{};
+  uint8_t size_ = 0;
+};
+
 struct FaceEntry {
   FaceType type = FaceType::kIntra;
   uint64_t offset = 0;       // file offset of the face's chunk
   uint64_t coded_bytes = 0;  // coded payload size
-  // Faces this one needs decoded, as (cell ordinal, face); empty for an I-face. First the
-  // one or two faces it is predicted from (forward, backward), then, for a B-face with
-  // cube references, the four faces adjacent to its face in each of those cubes, whose
-  // content pads the references (docs/codec.md 10.6).
-  std::vector<std::pair<uint32_t, Face>> references;
+  // Faces this one needs decoded; empty for an I-face. First the one or two faces it is
+  // predicted from (forward, backward), then, for a B-face with cube references, the four
+  // faces adjacent to its face in each of those cubes, whose content pads the references
+  // (docs/codec.md 10.6).
+  FaceDependencies references;
 };
 
 // How one 16x16 macroblock of a B-face was coded (svc inspect draws them).

@@ -10,6 +10,7 @@
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <span>
 #include <vector>
@@ -45,8 +46,10 @@ struct CodingRecord {
 struct CellRecord {
   CellIndex index;
   std::array<double, 3> position{0, 0, 0};
-  std::array<Camera, kFaceCount> cameras;
 };
+
+// A cell's six face cameras, indexed by Face.
+using CellCameras = std::array<Camera, kFaceCount>;
 
 // A frame's references: none for an I-face, one or two for a B-face (docs/format.md).
 // Held inline, so that an index of any size makes no allocation per frame.
@@ -115,7 +118,11 @@ struct ContainerIndex {
   DepthMode depth_mode = DepthMode::kEyeZ;
   UpAxis up_axis = UpAxis::kY;
   CodingRecord coding;
-  std::vector<CellRecord> cells;       // sorted by (y, z, x), unique
+  std::vector<CellRecord> cells;  // sorted by (y, z, x), unique
+  // One per cell, as cells. Apart so that an index being built may leave it empty (an
+  // encode reads cameras from its manifest, serialize_index through a CameraReader) and
+  // a reader may move it out.
+  std::vector<CellCameras> cameras;
   std::vector<FrameRecord> frames;     // six per cell, cell-major, face order px..nz
   std::array<FaceTypeStats, 2> stats;  // indexed by FaceType, kept for `svc info`
 };
@@ -125,6 +132,12 @@ struct ContainerIndex {
 // parse_index returns exactly `index` (every double bit for bit). `index` must be one
 // that parse_index accepts (at most two references per frame).
 std::vector<uint8_t> serialize_index(const ContainerIndex& index);
+// The same for an index whose `cameras` are not held (an encode's: they stay in its
+// manifest): the cameras of cell c come from read_cameras(c), called twice a cell, in
+// order; its first error is returned. The bytes are those serialize_index gives with
+// those cameras in `cameras`.
+using CameraReader = std::function<Result<CellCameras>(size_t cell)>;
+Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras);
 // Reads index versions 1 and 2. Validates every field against `limits` before it sizes
 // anything; `file_size` bounds chunk offsets. Errors name the field and its file offset
 // (`payload_offset` is the index payload's offset in the file).

@@ -166,6 +166,25 @@ std::optional<RigEntry> rig_entry_for(const Camera& camera, const std::array<dou
   return entry;
 }
 
+// The entry of `rig` that reproduces `camera` at `centre` bit for bit, as its position
+// in the table, or kExplicitCameraMarker when none does.
+uint8_t rig_source(const Camera& camera, const std::array<double, 3>& centre, const std::vector<RigEntry>& rig) {
+  const std::optional<RigEntry> entry = rig_entry_for(camera, centre);
+  if (!entry) return kExplicitCameraMarker;
+  const auto found = std::find_if(rig.begin(), rig.end(), [&](const RigEntry& e) { return same_bits(e, *entry); });
+  return found == rig.end() ? kExplicitCameraMarker : static_cast<uint8_t>(found - rig.begin());
+}
+
+// Adds the entry that reproduces `camera` when the table has none yet and has room:
+// first-use order makes the table a function of the cells alone.
+void add_rig_entry(const Camera& camera, const std::array<double, 3>& centre, std::vector<RigEntry>& rig) {
+  const std::optional<RigEntry> entry = rig_entry_for(camera, centre);
+  if (!entry || rig.size() >= kMaxRigEntries) return;
+  if (std::none_of(rig.begin(), rig.end(), [&](const RigEntry& e) { return same_bits(e, *entry); })) {
+    rig.push_back(*entry);
+  }
+}
+
 // --- Version 2: varints ------------------------------------------------------------
 
 void write_varint(ByteWriter& w, uint64_t v) {
@@ -292,7 +311,7 @@ Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
     if (!std::isfinite(v)) return corrupt_at(cell_label(c) + " has a non-finite position", record_at);
   }
   for (int f = 0; f < kFaceCount; ++f) {
-    if (!camera_is_valid(cell.cameras[f])) {
+    if (!camera_is_valid(index.cameras[i][f])) {
       return corrupt_at(face_label(c, static_cast<Face>(f)) + " has an invalid camera", record_at);
     }
   }
@@ -313,25 +332,27 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
     return corrupt_at("cell count " + std::to_string(cell_count) + " does not fit in the index", cells_at);
   }
   index.cells.resize(cell_count);
+  index.cameras.resize(cell_count);
   for (uint64_t i = 0; i < cell_count; ++i) {
     const uint64_t record_at = r.file_offset();
     CellRecord& cell = index.cells[i];
+    CellCameras& cameras = index.cameras[i];
     cell.index.x = r.i32();
     cell.index.y = r.i32();
     cell.index.z = r.i32();
     for (double& v : cell.position) v = r.f64();
     if (version == kIndexVersion1) {
-      for (Camera& camera : cell.cameras) camera = read_camera(r);
+      for (Camera& camera : cameras) camera = read_camera(r);
     } else {
       for (int f = 0; f < kFaceCount; ++f) {
         const uint64_t source_at = r.file_offset();
         const uint8_t source = r.u8();
         if (!r.ok()) break;
         if (source == kExplicitCameraMarker) {
-          cell.cameras[f] = read_camera(r);
+          cameras[f] = read_camera(r);
         } else if (source < rig.size()) {
           // A non-finite centre makes a non-finite camera; check_cell names the centre first.
-          cell.cameras[f] = camera_from_rig(rig[source], cell.position);
+          cameras[f] = camera_from_rig(rig[source], cell.position);
         } else {
           return corrupt_at(face_label(cell.index, static_cast<Face>(f)) + " names camera rig entry " +
                                 std::to_string(source) + " of " + std::to_string(rig.size()),
@@ -453,6 +474,11 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
 }  // namespace
 
 std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
+  // Reading from the index's own cells cannot fail.
+  return serialize_index(index, [&](size_t c) -> Result<CellCameras> { return index.cameras[c]; }).value();
+}
+
+Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras) {
   ByteWriter w;
   w.u32(kIndexVersion2);
   w.u32(index.face_width);
@@ -469,25 +495,12 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
   for (int32_t s : index.coding.i_spacing) w.i32(s);
 
   // Rig entries in first-use order; a face whose camera no entry reproduces bit for bit
-  // (or once the table is full) is stored explicitly.
+  // (or once the table is full) is stored explicitly. The cells are read twice, first
+  // for the table, then for the records, so that none of them needs to be held.
   std::vector<RigEntry> rig;
-  std::vector<std::array<uint8_t, kFaceCount>> sources(index.cells.size());
-  for (size_t i = 0; i < index.cells.size(); ++i) {
-    const CellRecord& cell = index.cells[i];
-    for (int f = 0; f < kFaceCount; ++f) {
-      uint8_t& source = sources[i][f];
-      source = kExplicitCameraMarker;
-      const std::optional<RigEntry> entry = rig_entry_for(cell.cameras[f], cell.position);
-      if (!entry) continue;
-      const auto found =
-          std::find_if(rig.begin(), rig.end(), [&](const RigEntry& e) { return same_bits(e, *entry); });
-      if (found != rig.end()) {
-        source = static_cast<uint8_t>(found - rig.begin());
-      } else if (rig.size() < kMaxRigEntries) {
-        source = static_cast<uint8_t>(rig.size());
-        rig.push_back(*entry);
-      }
-    }
+  for (size_t c = 0; c < index.cells.size(); ++c) {
+    SVC_ASSIGN_OR_RETURN(const CellCameras cameras, read_cameras(c));
+    for (const Camera& camera : cameras) add_rig_entry(camera, index.cells[c].position, rig);
   }
   w.u8(static_cast<uint8_t>(rig.size()));
   for (const RigEntry& entry : rig) {
@@ -496,15 +509,17 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
   }
 
   w.u32(static_cast<uint32_t>(index.cells.size()));
-  for (size_t i = 0; i < index.cells.size(); ++i) {
-    const CellRecord& cell = index.cells[i];
+  for (size_t c = 0; c < index.cells.size(); ++c) {
+    const CellRecord& cell = index.cells[c];
+    SVC_ASSIGN_OR_RETURN(const CellCameras cameras, read_cameras(c));
     w.i32(cell.index.x);
     w.i32(cell.index.y);
     w.i32(cell.index.z);
     for (double v : cell.position) w.f64(v);
-    for (int f = 0; f < kFaceCount; ++f) {
-      w.u8(sources[i][f]);
-      if (sources[i][f] == kExplicitCameraMarker) write_camera(w, cell.cameras[f]);
+    for (const Camera& camera : cameras) {
+      const uint8_t source = rig_source(camera, cell.position, rig);
+      w.u8(source);
+      if (source == kExplicitCameraMarker) write_camera(w, camera);
     }
   }
 

@@ -17,9 +17,9 @@ Result<uint64_t> ContainerWriter::append_frame(std::span<const uint8_t> payload)
   return offset;
 }
 
-Status ContainerWriter::finish(const ContainerIndex& index) {
+Status ContainerWriter::finish(std::span<const uint8_t> index_payload) {
   const uint64_t index_offset = out_->position();
-  const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, serialize_index(index));
+  const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, index_payload);
   SVC_RETURN_IF_ERROR(out_->write(chunk));
   SVC_RETURN_IF_ERROR(out_->write_at(kFileHeaderSize, make_commit_slot(1, index_offset, chunk.size())));
   return out_->commit();

@@ -19,7 +19,9 @@ class ContainerWriter {
   // The file as written so far, for reading chunks back (read_frame_payload).
   Result<std::unique_ptr<ReadOnlyFile>> open_written() const { return ReadOnlyFile::open(out_->temp_path()); }
   // Writes the index, commits slot 0 and renames the file into place.
-  Status finish(const ContainerIndex& index);
+  Status finish(const ContainerIndex& index) { return finish(serialize_index(index)); }
+  // The same with the index already serialized (serialize_index).
+  Status finish(std::span<const uint8_t> index_payload);
 
  private:
   explicit ContainerWriter(std::unique_ptr<AtomicOutputFile> out) : out_(std::move(out)) {}

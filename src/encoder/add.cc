@@ -208,11 +208,13 @@ Result<ContainerIndex> merged_index(const ContainerIndex& old, const std::vector
   index.coding = old.coding;
   index.stats = old.stats;
   index.cells.resize(cells.size());
+  index.cameras.resize(cells.size());
   index.frames.resize(cells.size() * kFaceCount);
   for (size_t c = 0; c < cells.size(); ++c) {
     CellRecord& record = index.cells[c];
     if (cells[c].old_cell >= 0) {
       record = old.cells[static_cast<size_t>(cells[c].old_cell)];
+      index.cameras[c] = old.cameras[static_cast<size_t>(cells[c].old_cell)];
       for (int f = 0; f < kFaceCount; ++f) {
         FrameRecord frame = old.frames[static_cast<size_t>(cells[c].old_cell) * kFaceCount + f];
         frame.cell = static_cast<uint32_t>(c);
@@ -227,7 +229,7 @@ Result<ContainerIndex> merged_index(const ContainerIndex& old, const std::vector
     record.index = source.index;
     record.position = source.position;
     for (int f = 0; f < kFaceCount; ++f) {
-      record.cameras[f] = source.faces[f].camera;
+      index.cameras[c][f] = source.faces[f].camera;
       FrameRecord& frame = index.frames[c * kFaceCount + f];
       frame.cell = static_cast<uint32_t>(c);
       frame.face = static_cast<Face>(f);
@@ -295,6 +297,9 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
   job.load = [&](uint32_t frame) {
     const size_t source = static_cast<size_t>(cells[frame / kFaceCount].source);
     return load_face(manifest, source, static_cast<Face>(frame % kFaceCount));
+  };
+  job.camera = [&](uint32_t frame) -> Result<Camera> {
+    return index.cameras[frame / kFaceCount][frame % kFaceCount];
   };
   job.append = [&](std::span<const uint8_t> payload) { return updater->append_frame(payload); };
   // Old references are read from the file too: decoding gives the encoder's reconstruction.

@@ -1,5 +1,6 @@
 #include "encoder/coding_pipeline.h"
 
+#include <cstdlib>
 #include <string>
 
 #include "codec/bframe_codec.h"
@@ -29,8 +30,8 @@ class Pipeline {
   explicit Pipeline(CodingJob& job)
       : job_(job),
         index_(*job.index),
-        references_(kReferenceCacheBytes, &image_bytes),
-        padded_(kReferenceCacheBytes, &image_bytes) {
+        references_(reference_cache_bytes(), &image_bytes),
+        padded_(reference_cache_bytes(), &image_bytes) {
     for (uint32_t frame : job.frames) {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
@@ -111,18 +112,21 @@ class Pipeline {
 
   Result<CodedPredictedFace> code_predicted(uint32_t frame) {
     const FrameRecord& record = index_.frames[frame];
-    const int f = static_cast<int>(record.face);
     SVC_ASSIGN_OR_RETURN(FaceData data, job_.load(frame));
+    SVC_ASSIGN_OR_RETURN(const Camera camera, job_.camera(frame));
     std::vector<FacePointer> held;  // keeps the references alive while the cache may evict them
+    std::array<Camera, FrameReferences::kCapacity> ref_cameras;
     std::vector<FaceReference> refs;
-    for (uint32_t ref : record.references) {
+    for (size_t r = 0; r < record.references.size(); ++r) {
+      const uint32_t ref = record.references[r];
       SVC_ASSIGN_OR_RETURN(FacePointer image,
                            record.cube_references ? padded_reference(record, ref) : reference(ref));
+      SVC_ASSIGN_OR_RETURN(ref_cameras[r], job_.camera(ref));
       held.push_back(image);
-      refs.push_back({image.get(), &index_.cells[index_.frames[ref].cell].cameras[f]});
+      refs.push_back({image.get(), &ref_cameras[r]});
     }
-    return code_predicted_face(data, index_.cells[record.cell].cameras[f], refs,
-                               index_.coding.motion == MotionSearch::kDepth, b_params_, frame_name(frame));
+    return code_predicted_face(data, camera, refs, index_.coding.motion == MotionSearch::kDepth, b_params_,
+                               frame_name(frame));
   }
 
   Status store_predicted(uint32_t frame, const CodedPredictedFace& coded) {
@@ -172,6 +176,15 @@ class Pipeline {
 };
 
 }  // namespace
+
+uint64_t reference_cache_bytes() {
+  const char* text = std::getenv("SVC_REFERENCE_CACHE_BYTES");
+  if (text == nullptr) return kReferenceCacheBytes;
+  char* end = nullptr;
+  const unsigned long long bytes = std::strtoull(text, &end, 10);
+  if (end == text || *end != '\0' || bytes == 0 || bytes > kReferenceCacheBytes) return kReferenceCacheBytes;
+  return bytes;
+}
 
 bool uses_cube_references(const ContainerIndex& index, const CodingTools& tools) {
   return tools.cube_references &&

@@ -20,6 +20,12 @@ namespace svc {
 // the faces in flight (4 per thread) and the index. docs/format.md, "Memory".
 inline constexpr uint64_t kReferenceCacheBytes = 64ull << 20;
 
+// The budget each of a coding run's two reference caches gets: kReferenceCacheBytes, or
+// the environment's SVC_REFERENCE_CACHE_BYTES when that is a whole number of bytes from
+// 1 to kReferenceCacheBytes (a smaller budget makes a small database reach it, as the
+// memory test does). The coded bytes do not depend on it.
+uint64_t reference_cache_bytes();
+
 struct CodingJob {
   // The index being built. Each frame to code has its cell, face, kind and references
   // set; coding fills in its chunk offset and size and adds to stats[kind].
@@ -30,6 +36,9 @@ struct CodingJob {
   // The source colour and depth of a frame to code (or of a reference I-face that is in
   // no file, see below).
   std::function<Result<FaceData>(uint32_t frame)> load;
+  // The camera of a frame's face, for B-faces and their references: an encode's index
+  // holds no cameras (they are read from the manifest again), `svc add`'s does.
+  std::function<Result<Camera>(uint32_t frame)> camera;
   // Appends a FACE chunk to the file; returns its offset.
   std::function<Result<uint64_t>(std::span<const uint8_t> payload)> append;
   // Tools the coder may use (encode's settings; all of them for `svc add`).

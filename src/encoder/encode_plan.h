@@ -20,8 +20,10 @@ namespace svc {
 
 struct EncodePlan {
   DatabaseManifest manifest;
-  // Grid, cameras, coding record, and every frame's cell, face, type and references;
-  // chunk offsets and statistics are filled in by coding.
+  // Grid, cells, coding record, and every frame's cell, face, type and references; chunk
+  // offsets and statistics are filled in by coding. No cameras: they are read from the
+  // manifest when needed (cell_cameras), so that an encode does not hold 176 bytes of
+  // camera a face.
   ContainerIndex index;
   // B macroblocks coded so far whose prediction reads past their reference face.
   uint64_t predicted_mb_leaving_face = 0;
@@ -29,6 +31,10 @@ struct EncodePlan {
 
 // Checks `settings`, reads the manifest of `db_dir` and plans every frame.
 Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings);
+
+// The face cameras of manifest.cells[cell], read again from the manifest. Errors: those
+// of read_cell.
+Result<CellCameras> cell_cameras(const DatabaseManifest& manifest, size_t cell);
 
 // Where coded faces go: FACE chunks appended to a file being written.
 struct FaceSink {

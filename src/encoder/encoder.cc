@@ -7,6 +7,10 @@
 #include <string>
 #include <tuple>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include "codec/bframe_codec.h"
 #include "codec/intra_codec.h"
 #include "common/parallel.h"
@@ -93,57 +97,8 @@ Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manife
   return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing, &table);
 }
 
-}  // namespace
-
-EncoderSettings default_encoder_settings() { return EncoderSettings{}; }
-
-int qindex_for_quality(int quality) {
-  // The index is logarithmic in the step, so an even spread gives every quality step the
-  // same relative change of step size. Integer rounding half up, the same on every machine.
-  const int steps_from_best = 100 - std::clamp(quality, 1, 100);
-  return (steps_from_best * codec::kMaxQIndex * 2 + 99) / (2 * 99);
-}
-
-Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings) {
-  SVC_RETURN_IF_ERROR(validate_settings(settings));
-  EncodePlan plan;
-  // The cameras go straight into the index as the manifest streams past: the manifest
-  // keeps no copy of them.
-  std::vector<CellRecord>& records = plan.index.cells;
-  const CellVisitor keep_camera = [&](const CellSource& source, size_t, size_t cells_listed) {
-    records.reserve(cells_listed);
-    CellRecord& cell = records.emplace_back();
-    cell.index = source.index;
-    cell.position = source.position;
-    for (int f = 0; f < kFaceCount; ++f) cell.cameras[f] = source.faces[f].camera;
-    return Status::Ok();
-  };
-  SVC_ASSIGN_OR_RETURN(plan.manifest,
-                       load_manifest(db_dir, ManifestOptions{settings.allow_outside_paths}, keep_camera));
-  DatabaseManifest& manifest = plan.manifest;
-  if (manifest.cells.empty()) {
-    return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
-  }
-  // The same order as the manifest's cells, (y, z, x); indices are unique.
-  std::sort(records.begin(), records.end(), [](const CellRecord& a, const CellRecord& b) {
-    return std::tie(a.index.y, a.index.z, a.index.x) < std::tie(b.index.y, b.index.z, b.index.x);
-  });
-  const int qindex = settings.qindex >= 0 ? settings.qindex : qindex_for_quality(settings.quality);
-  ContainerIndex& index = plan.index;
-  index.face_width = static_cast<uint32_t>(manifest.face_width);
-  index.face_height = static_cast<uint32_t>(manifest.face_height);
-  index.grid = manifest.grid;
-  // A manifest may leave the spacing of a one-cell axis at 0; distances along it never
-  // matter, and the container wants every spacing positive.
-  for (int axis = 0; axis < 3; ++axis) {
-    if (!(manifest.grid.spacing[axis] > 0)) manifest.grid.spacing[axis] = index.grid.spacing[axis] = 1.0;
-  }
-  index.depth_mode = manifest.depth_mode;
-  index.up_axis = manifest.up_axis;
-  index.coding.quality = settings.qindex >= 0 ? 0 : static_cast<uint32_t>(settings.quality);
-  index.coding.qindex = static_cast<uint32_t>(qindex);
-  index.coding.motion = settings.motion;
-
+// Every frame's type and references, from the placement of the database's cubes.
+Status plan_frames(const DatabaseManifest& manifest, const EncoderSettings& settings, ContainerIndex& index) {
   const PlacementSettings placement_settings = placement_settings_of(settings);
   index.coding.i_spacing = placement_settings.i_spacing;
   SVC_ASSIGN_OR_RETURN(std::vector<CellPlacement> placement,
@@ -160,6 +115,59 @@ Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const Encode
       record.cube_references = record.type == FaceType::kPredicted && uses_cube_references(index, settings.tools);
     }
   }
+  return Status::Ok();
+}
+
+// Placement's sampled depth and pair tables (some hundred bytes a cell) are freed by
+// now, but the allocator keeps the pages; coding allocates on other threads' heaps and
+// would not reuse them. Handing them back keeps them out of the coding's peak.
+void return_freed_memory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
+
+}  // namespace
+
+EncoderSettings default_encoder_settings() { return EncoderSettings{}; }
+
+int qindex_for_quality(int quality) {
+  // The index is logarithmic in the step, so an even spread gives every quality step the
+  // same relative change of step size. Integer rounding half up, the same on every machine.
+  const int steps_from_best = 100 - std::clamp(quality, 1, 100);
+  return (steps_from_best * codec::kMaxQIndex * 2 + 99) / (2 * 99);
+}
+
+Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const EncoderSettings& settings) {
+  SVC_RETURN_IF_ERROR(validate_settings(settings));
+  EncodePlan plan;
+  SVC_ASSIGN_OR_RETURN(plan.manifest, load_manifest(db_dir, ManifestOptions{settings.allow_outside_paths}));
+  DatabaseManifest& manifest = plan.manifest;
+  if (manifest.cells.empty()) {
+    return Status(ErrorCode::kBadInput, (manifest.root / "manifest.json").string() + " lists no cells");
+  }
+  // The index holds no cameras: they stay in the manifest, read again when a face is
+  // coded and when the index is written (cell_cameras).
+  ContainerIndex& index = plan.index;
+  index.cells.reserve(manifest.cells.size());
+  for (const ManifestCell& cell : manifest.cells) index.cells.push_back({cell.index, cell.position});
+  const int qindex = settings.qindex >= 0 ? settings.qindex : qindex_for_quality(settings.quality);
+  index.face_width = static_cast<uint32_t>(manifest.face_width);
+  index.face_height = static_cast<uint32_t>(manifest.face_height);
+  index.grid = manifest.grid;
+  // A manifest may leave the spacing of a one-cell axis at 0; distances along it never
+  // matter, and the container wants every spacing positive.
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(manifest.grid.spacing[axis] > 0)) manifest.grid.spacing[axis] = index.grid.spacing[axis] = 1.0;
+  }
+  index.depth_mode = manifest.depth_mode;
+  index.up_axis = manifest.up_axis;
+  index.coding.quality = settings.qindex >= 0 ? 0 : static_cast<uint32_t>(settings.quality);
+  index.coding.qindex = static_cast<uint32_t>(qindex);
+  index.coding.motion = settings.motion;
+
+  SVC_RETURN_IF_ERROR(plan_frames(manifest, settings, index));
+  return_freed_memory();
   return plan;
 }
 
@@ -171,6 +179,10 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   job.load = [&](uint32_t frame) {
     return load_face(plan.manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
   };
+  job.camera = [&](uint32_t frame) -> Result<Camera> {
+    SVC_ASSIGN_OR_RETURN(const CellCameras cameras, cell_cameras(plan.manifest, frame / kFaceCount));
+    return cameras[frame % kFaceCount];
+  };
   job.tools = settings.tools;
   job.append = sink.append;
   job.open_written = sink.open_written;
@@ -179,6 +191,13 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   SVC_RETURN_IF_ERROR(code_faces(job));
   plan.predicted_mb_leaving_face += job.predicted_mb_leaving_face;
   return Status::Ok();
+}
+
+Result<CellCameras> cell_cameras(const DatabaseManifest& manifest, size_t cell) {
+  SVC_ASSIGN_OR_RETURN(const CellSource source, read_cell(manifest, cell));
+  CellCameras cameras;
+  for (int f = 0; f < kFaceCount; ++f) cameras[f] = source.faces[f].camera;
+  return cameras;
 }
 
 EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
@@ -204,7 +223,9 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
   sink.append = [&](std::span<const uint8_t> payload) { return writer->append_frame(payload); };
   sink.open_written = [&] { return writer->open_written(); };
   SVC_RETURN_IF_ERROR(code_planned_frames(plan, std::move(frames), sink, settings, progress));
-  SVC_RETURN_IF_ERROR(writer->finish(plan.index));
+  SVC_ASSIGN_OR_RETURN(const std::vector<uint8_t> index_payload,
+                       serialize_index(plan.index, [&](size_t cell) { return cell_cameras(plan.manifest, cell); }));
+  SVC_RETURN_IF_ERROR(writer->finish(index_payload));
 
   EncodeSummary summary = summarize_encode(plan, plan.index.frames.size());
   std::error_code ec;

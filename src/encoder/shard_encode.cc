@@ -46,6 +46,12 @@ Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const st
     descriptor.faces.push_back({frame, record.chunk_offset, record.payload_size});
   }
   descriptor.plan = std::move(plan.index);
+  // A part carries the whole plan, cameras included, for the merge.
+  descriptor.plan.cameras.reserve(plan.manifest.cells.size());
+  for (size_t cell = 0; cell < plan.manifest.cells.size(); ++cell) {
+    SVC_ASSIGN_OR_RETURN(const CellCameras cameras, cell_cameras(plan.manifest, cell));
+    descriptor.plan.cameras.push_back(cameras);
+  }
   SVC_RETURN_IF_ERROR(writer->finish(descriptor));
   plan.index = std::move(descriptor.plan);
 

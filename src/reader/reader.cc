@@ -7,7 +7,7 @@
 #include <deque>
 #include <mutex>
 #include <thread>
-#include <unordered_map>
+#include <tuple>
 
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -38,9 +38,9 @@ static_assert(static_cast<int>(MacroblockCoding::kSkipped) == static_cast<int>(c
 using CoefficientPointer = std::shared_ptr<const codec::CoefficientFrame>;
 using ImagePointer = std::shared_ptr<const ImageYCbCr420>;
 
-uint64_t cell_key(const CellIndex& c) {
-  return (static_cast<uint64_t>(static_cast<uint32_t>(c.y)) << 42) ^
-         (static_cast<uint64_t>(static_cast<uint32_t>(c.z)) << 21) ^ static_cast<uint32_t>(c.x);
+// The index's cell order, which parse_index checks.
+bool cell_before(const CellIndex& a, const CellIndex& b) {
+  return std::tie(a.y, a.z, a.x) < std::tie(b.y, b.z, b.x);
 }
 
 uint64_t coefficient_bytes(const codec::CoefficientFrame& frame) { return frame.memory_bytes(); }
@@ -77,7 +77,6 @@ struct Reader::Impl {
   ContainerIndex index;
   FileInfo info;
   std::vector<CellEntry> cells;
-  std::unordered_map<uint64_t, size_t> cell_by_key;
   std::array<bool, 2> slot_damaged{false, false};
   reader_internal::GridGeometry grid;
 
@@ -111,12 +110,21 @@ struct Reader::Impl {
     return read_frame_payload(*file, record, frame_name(frame));
   }
 
+  // Ordinal of the cell at `index`: a binary search of the sorted cells, no table to hold.
+  std::optional<size_t> cell_ordinal(const CellIndex& index) const {
+    const auto it =
+        std::lower_bound(cells.begin(), cells.end(), index,
+                         [](const CellEntry& entry, const CellIndex& c) { return cell_before(entry.index, c); });
+    if (it == cells.end() || cell_before(index, it->index)) return std::nullopt;
+    return static_cast<size_t>(it - cells.begin());
+  }
+
   Result<uint32_t> frame_of(const CellIndex& cell, Face face) const {
-    const auto it = cell_by_key.find(cell_key(cell));
-    if (it == cell_by_key.end() || static_cast<unsigned>(face) >= kFaceCount) {
+    const std::optional<size_t> ordinal = cell_ordinal(cell);
+    if (!ordinal || static_cast<unsigned>(face) >= kFaceCount) {
       return Status(ErrorCode::kNotFound, file->path().string() + " has no " + face_label(cell, face));
     }
-    return static_cast<uint32_t>(it->second * kFaceCount + static_cast<unsigned>(face));
+    return static_cast<uint32_t>(*ordinal * kFaceCount + static_cast<unsigned>(face));
   }
 
   // --- The cached path -------------------------------------------------------------
@@ -227,13 +235,9 @@ struct Reader::Impl {
     if (settings.prefetch_threads <= 0 || settings.face_cache_bytes == 0) return Status::Ok();
     const uint64_t fit = settings.face_cache_bytes / 2 / std::max<uint64_t>(cube_bytes(), 1);
     const size_t max_cells = static_cast<size_t>(std::clamp<uint64_t>(fit, 1, 1u << 20));
-    std::vector<size_t> order = reader_internal::prefetch_order(grid, viewer_cell, position, velocity,
-                                                                settings.prefetch_radius, max_cells,
-                                                                [&](const CellIndex& c) -> std::optional<size_t> {
-                                                                  const auto it = cell_by_key.find(cell_key(c));
-                                                                  if (it == cell_by_key.end()) return std::nullopt;
-                                                                  return it->second;
-                                                                });
+    std::vector<size_t> order =
+        reader_internal::prefetch_order(grid, viewer_cell, position, velocity, settings.prefetch_radius, max_cells,
+                                        [&](const CellIndex& c) { return cell_ordinal(c); });
     std::lock_guard<std::mutex> lock(prefetch_mutex);
     if (stopping) return cancelled();
     if (order == scheduled_cells) return Status::Ok();
@@ -314,12 +318,11 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
   info.face_type_stats = index.stats;
 
   impl->cells.resize(index.cells.size());
-  impl->cell_by_key.reserve(index.cells.size());
   for (size_t c = 0; c < index.cells.size(); ++c) {
     CellEntry& entry = impl->cells[c];
     entry.index = index.cells[c].index;
     entry.position = index.cells[c].position;
-    entry.cameras = index.cells[c].cameras;
+    entry.cameras = index.cameras[c];
     for (int f = 0; f < kFaceCount; ++f) {
       const FrameRecord& frame = index.frames[c * kFaceCount + f];
       FaceEntry& face = entry.faces[f];
@@ -327,22 +330,19 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
       face.offset = frame.chunk_offset;
       face.coded_bytes = frame.payload_size;
       for (uint32_t ref : frame_dependencies(frame)) {
-        face.references.emplace_back(index.frames[ref].cell, index.frames[ref].face);
+        face.references.push_back({index.frames[ref].cell, index.frames[ref].face});
       }
     }
-    impl->cell_by_key.emplace(cell_key(entry.index), c);
   }
+  // The entries hold the cameras now; decoding never needs them.
+  impl->index.cameras = {};
   return std::unique_ptr<Reader>(new Reader(std::move(impl)));
 }
 
 const FileInfo& Reader::info() const { return impl_->info; }
 const std::vector<CellEntry>& Reader::cells() const { return impl_->cells; }
 
-std::optional<size_t> Reader::find_cell(const CellIndex& index) const {
-  const auto it = impl_->cell_by_key.find(cell_key(index));
-  if (it == impl_->cell_by_key.end()) return std::nullopt;
-  return it->second;
-}
+std::optional<size_t> Reader::find_cell(const CellIndex& index) const { return impl_->cell_ordinal(index); }
 
 std::optional<size_t> Reader::find_cell_at(const std::array<double, 3>& p) const {
   const GridSpec& grid = impl_->index.grid;

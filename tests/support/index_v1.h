@@ -26,12 +26,13 @@ inline std::vector<uint8_t> serialize_index_v1(const ContainerIndex& index) {
   w.u32(index.coding.qindex);
   for (int32_t s : index.coding.i_spacing) w.i32(s);
   w.u32(static_cast<uint32_t>(index.cells.size()));
-  for (const CellRecord& cell : index.cells) {
+  for (size_t c = 0; c < index.cells.size(); ++c) {
+    const CellRecord& cell = index.cells[c];
     w.i32(cell.index.x);
     w.i32(cell.index.y);
     w.i32(cell.index.z);
     for (double v : cell.position) w.f64(v);
-    for (const Camera& camera : cell.cameras) {
+    for (const Camera& camera : index.cameras[c]) {
       for (double v : camera.world_to_camera) w.f64(v);
       const Frustum& f = camera.frustum;
       for (double v : {f.left, f.right, f.bottom, f.top, f.near_plane, f.far_plane}) w.f64(v);
