@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "00662a4f5cc8db0004ba48949ed63268b45a2e36b77465eb57de58ea1cec530c",
-     "ef9215f72b34370e4c144eca845c922056189fdace263ffbf655235b77f5c19b"},
+     "7cc1db67f915f8878617bb49003b9252af015e84f4b65fa83d39cb68c8d0c40e",
+     "febe3bb37be236b4085e05c36fd1f167dff83f89b7aef6b2e320bd9c5d9eb7ec"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "edc40ac37ace1423dfd094bcadd76a40eec1c575df05705780c2b593e26dcc80",
-     "310c0c3352880fb31c4cea48b5a0d2bb8a4fe20acfe3213a7a5909c39196a48e"},
+     "3b3a498ade533e704317a79586642ec63d8a0b1b54bd215bb65a79a4ab1ce42e",
+     "ba1bc444348a5a2e5ec1414748f2c531ccda25edfe1eb4109afd758d0b2619cd"},
 };
 
 std::string file_sha256(const fs::path& path) {
