@@ -18,7 +18,26 @@ const std::array<uint8_t, 64> kZigZag = {
 
 namespace {
 
+// The zig-zag of an N x N block: anti-diagonals in increasing order, odd ones from the
+// top right down, even ones from the bottom left up (MPEG-2's order for N = 8).
+template <int N>
+constexpr std::array<uint8_t, N * N> zig_zag() {
+  std::array<uint8_t, N * N> scan{};
+  int i = 0;
+  for (int d = 0; d <= 2 * (N - 1); ++d) {
+    for (int k = 0; k <= d; ++k) {
+      const int row = d % 2 ? k : d - k, column = d - row;
+      if (row < N && column < N) scan[static_cast<size_t>(i++)] = static_cast<uint8_t>(N * row + column);
+    }
+  }
+  return scan;
+}
+constexpr std::array<uint8_t, 16> kZigZag4x4 = zig_zag<4>();
+constexpr std::array<uint8_t, 256> kZigZag16x16 = zig_zag<16>();
+
 constexpr ScanOrder kScan8x8{8, 64, kZigZag.data()};
+constexpr ScanOrder kScan4x4{4, 16, kZigZag4x4.data()};
+constexpr ScanOrder kScan16x16{16, 256, kZigZag16x16.data()};
 
 // eob in [1, 256]: 0 for 1, 1 for 2, then c for 2^(c-1) < eob <= 2^c.
 int end_of_block_class(int eob) { return eob <= 2 ? eob - 1 : std::bit_width(static_cast<unsigned>(eob - 1)); }
@@ -144,7 +163,9 @@ inline int dc_context_row(int previous_category) {
 
 }  // namespace
 
-const ScanOrder& scan_order(TransformSize) { return kScan8x8; }
+const ScanOrder& scan_order(TransformSize size) {
+  return size == TransformSize::k4x4 ? kScan4x4 : size == TransformSize::k16x16 ? kScan16x16 : kScan8x8;
+}
 
 int position_class(int position, int width) {
   const int diagonal = position / width + position % width;

@@ -3,8 +3,8 @@
 // reverse scan order each coefficient's significance, greater-than-1/2 flags, adaptive
 // level-range bins and an Exp-Golomb-k remainder, with contexts from the already coded
 // neighbours to the right and below and from the position. A category-coded DC difference
-// serves blocks whose DC is predicted. Block sizes are a parameter (scan and eob tables
-// per size; 8x8 is the one in use). Each block class (intra luma, intra chroma,
+// serves blocks whose DC is predicted. Block sizes (4x4, 8x8, 16x16) are a parameter:
+// scan and end-of-block contexts per size. Each block class (intra luma, intra chroma,
 // non-intra luma, ...) owns a BlockContextSet; encoder and decoder must feed the same
 // sequence of calls with the same context sets to stay in step. Exact syntax in
 // docs/codec.md section 5.
@@ -19,18 +19,15 @@
 #include <cstdint>
 
 #include "codec/range_coder.h"
+#include "codec/transform_size.h"
 
 namespace svc::codec {
 
 // MPEG-2 default zig-zag: kZigZag[scan index] = natural (row-major) position.
 extern const std::array<uint8_t, 64> kZigZag;
 
-enum class TransformSize : uint8_t { k8x8 = 0 };
-inline constexpr int kTransformSizes = 1;
-inline constexpr int kMaxTransformWidth = 16;  // the largest size the tables are laid out for
-
-// A size's scan: every position comes after its left and upper neighbours (a diagonal
-// order), so the reverse scan codes right and lower neighbours first.
+// A size's scan: every position comes after its left and upper neighbours (the zig-zag
+// over anti-diagonals), so the reverse scan codes right and lower neighbours first.
 struct ScanOrder {
   int width;            // coefficients per row and column
   int count;            // width * width

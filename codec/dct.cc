@@ -1,11 +1,14 @@
-// Forward and inverse 8x8 DCT. The integer inverse is the contract of the bitstream:
+// Forward and inverse DCTs (8x8 here, 4x4 and 16x16 through the kernel table). The
+// integer inverses are the contract of the bitstream:
 // docs/codec.md defines it step by step and any change breaks decoding of existing files.
 #include "codec/dct.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 
+#include "codec/dsp/dct_4_16_basis.h"
 #include "codec/dsp/dsp.h"
 #include "codec/dsp/idct_basis.h"
 
@@ -90,6 +93,72 @@ void inverse_dct_8x8_reference(const double* coefficients, double* samples) {
         }
       }
       samples[8 * y + x] = sum;
+    }
+  }
+}
+
+void forward_transform(TransformSize size, const float* samples, float* coefficients) {
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  switch (size) {
+    case TransformSize::k4x4: dsp.forward_dct_4x4(samples, coefficients); break;
+    case TransformSize::k16x16: dsp.forward_dct_16x16(samples, coefficients); break;
+    default: dsp.forward_dct_8x8(samples, coefficients);
+  }
+}
+
+void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples) {
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  switch (size) {
+    case TransformSize::k4x4: dsp.inverse_dct_4x4(coefficients, samples); break;
+    case TransformSize::k16x16: dsp.inverse_dct_16x16(coefficients, samples); break;
+    default: dsp.inverse_dct_8x8(coefficients, samples);
+  }
+}
+
+void inverse_transform_integer_reference(TransformSize size, const int16_t* coefficients, int16_t* samples) {
+  if (size == TransformSize::k8x8) {
+    inverse_dct_8x8_integer_reference(coefficients, samples);
+    return;
+  }
+  const bool small = size == TransformSize::k4x4;
+  const int n = transform_width(size);
+  const int row_shift = small ? dsp::kIdct4RowShift : dsp::kIdct16RowShift;
+  const int column_shift = small ? dsp::kIdct4ColumnShift : dsp::kIdct16ColumnShift;
+  auto matrix = [&](int k, int x) { return small ? dsp::kDct4Matrix.m[k][x] : dsp::kDct16Matrix.m[k][x]; };
+  int tmp[kMaxTransformArea];
+  for (int v = 0; v < n; ++v) {
+    for (int x = 0; x < n; ++x) {
+      int sum = 1 << (row_shift - 1);
+      for (int u = 0; u < n; ++u) sum += matrix(u, x) * coefficients[n * v + u];
+      tmp[n * v + x] = sum >> row_shift;
+    }
+  }
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      int sum = 1 << (column_shift - 1);
+      for (int v = 0; v < n; ++v) sum += matrix(v, y) * tmp[n * v + x];
+      samples[n * y + x] = static_cast<int16_t>(std::clamp(sum >> column_shift, -32768, 32767));
+    }
+  }
+}
+
+void inverse_transform_reference(TransformSize size, const double* coefficients, double* samples) {
+  if (size == TransformSize::k8x8) {
+    inverse_dct_8x8_reference(coefficients, samples);
+    return;
+  }
+  const int n = transform_width(size);
+  const double scale = size == TransformSize::k16x16 ? 2.0 : 1.0;
+  auto basis = [n](int k, int x) {
+    return dsp::hevc_dct_entry(n, k, x) / (64.0 * std::sqrt(static_cast<double>(n)));
+  };
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      double sum = 0;
+      for (int v = 0; v < n; ++v) {
+        for (int u = 0; u < n; ++u) sum += basis(v, y) * basis(u, x) * coefficients[n * v + u];
+      }
+      samples[n * y + x] = scale * sum;
     }
   }
 }

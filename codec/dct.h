@@ -8,6 +8,8 @@
 
 #include <cstdint>
 
+#include "codec/transform_size.h"
+
 namespace svc::codec {
 
 inline constexpr int kBlockSize = 8;
@@ -31,5 +33,18 @@ void inverse_dct_8x8(const int16_t* coefficients, int16_t* samples);
 void inverse_dct_8x8_integer_reference(const int16_t* coefficients, int16_t* samples);
 // Exact inverse DCT in double precision.
 void inverse_dct_8x8_reference(const double* coefficients, double* samples);
+
+// Any transform size (blocks of transform_area(size) values, row-major). 4x4 and 16x16
+// use HEVC's integer DCT matrices (codec/dsp/dct_4_16_basis.h, docs/codec.md section 7)
+// scaled to near-orthonormal: the forward transform is their transpose in float, at
+// half scale for 16x16 (so that coefficients of 8-bit residuals fit [kMinCoefficient,
+// kMaxCoefficient]); the inverses undo exactly that scale.
+void forward_transform(TransformSize size, const float* samples, float* coefficients);
+void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples);
+// The integer inverse as a plain matrix product: bit-identical to inverse_transform.
+void inverse_transform_integer_reference(TransformSize size, const int16_t* coefficients, int16_t* samples);
+// The inverse in double precision (for 4x4 and 16x16, the integer matrices without
+// rounding), of the same scale as inverse_transform.
+void inverse_transform_reference(TransformSize size, const double* coefficients, double* samples);
 
 }  // namespace svc::codec

@@ -30,6 +30,9 @@ struct CodingParams {
   // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h)
   // rather than by rounding with a dead zone.
   bool rdoq = true;
+  // Encoder restriction: when false, every luma macroblock is coded as four 8x8 blocks
+  // (no 16x16 or 4x4 transform blocks; the partition flags are still coded).
+  bool transform_sizes = true;
 };
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
@@ -40,43 +43,48 @@ inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFil
 
 // Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 4;
+inline constexpr uint8_t kIntraSyntaxVersion = 5;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 
-// The prediction modes and quantized DCT levels of an intra frame in a compact sparse
-// form: the state after entropy decoding ("semi-decoded"), cached by the runtime.
-// Dequantization (quant.h, dequantize_level), prediction and the inverse DCT are
-// deferred to reconstruct_intra_frame, which keeps entries at 16 bits. Immutable once
-// built, so it may be shared between threads.
+// The partitions, prediction modes and quantized DCT levels of an intra frame in a
+// compact sparse form: the state after entropy decoding ("semi-decoded"), cached by the
+// runtime. Dequantization (quant.h, dequantize_level), prediction and the inverse
+// transforms are deferred to reconstruct_intra_frame, which keeps entries at 16 bits.
+// Immutable once built, so it may be shared between threads.
 struct CoefficientFrame {
   int width = 0;
   int height = 0;
   int qindex = 0;
   uint8_t loop_filters = 0;  // kLoopFilter* bits of the header
   CdefParams cdef;           // when loop_filters has kLoopFilterCdef
-  // Per 8x8 block, in coding order (all luma blocks of the macroblock-padded plane in
-  // raster order, then Cb, then Cr): the number of non-zero levels, 0..64.
-  std::vector<uint8_t> block_counts;
-  // Per 8x8 block in the same order: its intra prediction mode, 0..kIntraModes - 1
+  // Per luma macroblock in raster order: bit 0 set when it splits into four 8x8 blocks
+  // (else it is one 16x16 block), bit 1 + i when 8x8 block i (Z order) splits into four
+  // 4x4 blocks (docs/codec.md 3).
+  std::vector<uint8_t> luma_partitions;
+  // Per transform block, in coding order (the luma blocks of every macroblock in turn,
+  // then the 8x8 blocks of Cb, then of Cr, each in raster order): the number of non-zero
+  // levels, 0..256.
+  std::vector<uint16_t> block_counts;
+  // Per block in the same order: its intra prediction mode, 0..kIntraModes - 1
   // (codec/intra_prediction.h; a Cr block repeats its Cb block's mode).
   std::vector<uint8_t> block_modes;
   // The non-zero levels of each block in turn, in scan order. One 16-bit entry per level:
-  // natural (row-major) position in the low 6 bits, the level as a 10-bit two's
-  // complement number in the upper 10 bits. The level value -512 is an escape: the real
-  // level follows as one int16 entry (|level| > 511 is rare: fine quantizers only).
+  // natural (row-major) position in the low 8 bits, the level as an 8-bit two's
+  // complement number in the upper 8 bits. The level value -128 is an escape: the real
+  // level follows as one int16 entry.
   std::vector<uint16_t> entries;
 
   // Heap and object bytes held.
   size_t memory_bytes() const;
 
-  static constexpr int kEscapeLevel = -512;
+  static constexpr int kEscapeLevel = -128;
   void append(int position, int level) {
     if (level > kEscapeLevel && level < -kEscapeLevel) {
       entries.push_back(
-          static_cast<uint16_t>((static_cast<unsigned>(level) & 0x3FFu) << 6 | static_cast<unsigned>(position)));
+          static_cast<uint16_t>((static_cast<unsigned>(level) & 0xFFu) << 8 | static_cast<unsigned>(position)));
     } else {
-      entries.push_back(static_cast<uint16_t>(0x200u << 6 | static_cast<unsigned>(position)));
+      entries.push_back(static_cast<uint16_t>(0x80u << 8 | static_cast<unsigned>(position)));
       entries.push_back(static_cast<uint16_t>(static_cast<int16_t>(level)));
     }
   }
@@ -85,9 +93,9 @@ struct CoefficientFrame {
   bool read(size_t* index, int* position, int* level) const {
     if (*index >= entries.size()) return false;
     const unsigned entry = entries[(*index)++];
-    *position = static_cast<int>(entry & 63u);
-    const int code = static_cast<int>(entry >> 6);
-    *level = code >= 512 ? code - 1024 : code;
+    *position = static_cast<int>(entry & 255u);
+    const int code = static_cast<int>(entry >> 8);
+    *level = code >= 128 ? code - 256 : code;
     if (*level == kEscapeLevel) {
       if (*index >= entries.size()) return false;
       *level = static_cast<int16_t>(entries[(*index)++]);
@@ -96,10 +104,12 @@ struct CoefficientFrame {
   }
 };
 
-// 8x8 block layout of a frame of the given size (macroblock-padded planes).
+// 8x8 block grid of a frame of the given size (macroblock-padded planes): chroma blocks
+// are 8x8; luma macroblocks hold 2 x 2 of these units, coded as their partitions say.
 struct BlockLayout {
   int luma_blocks_x = 0, luma_blocks_y = 0;      // padded luma width / 8, height / 8
   int chroma_blocks_x = 0, chroma_blocks_y = 0;  // half of the above
+  // The blocks of a frame of 8x8 luma blocks only (a capacity hint).
   int block_count() const { return luma_blocks_x * luma_blocks_y + 2 * chroma_blocks_x * chroma_blocks_y; }
 };
 BlockLayout block_layout(int width, int height);
@@ -117,7 +127,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
 // offset or block). Never reads outside `bytes`.
 Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out);
 
-// Prediction plus inverse DCT of parsed coefficients into pixels, then the in-loop
+// Prediction plus inverse transforms of parsed coefficients into pixels, then the in-loop
 // filters the frame header asks for (bit-exact). `out` is resized; a frame not built by
 // parse_intra_frame or encode_intra_frame gives some pixels of the right size, never a
 // crash.

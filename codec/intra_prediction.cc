@@ -6,37 +6,41 @@
 namespace svc::codec {
 namespace {
 
-constexpr int kCorner = 16;
 constexpr int kRemainderBits = 5;
 
 }  // namespace
 
-void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int bx, int by, int blocks_x, uint8_t* edge) {
-  const bool has_left = bx > 0, has_above = by > 0;
-  if (!has_left && !has_above) {
-    std::memset(edge, 128, dsp::kIntraEdgeSamples);
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int size,
+                      const EdgeAvailability& available, uint8_t* edge) {
+  const int corner = 2 * size, samples = 4 * size + 1;
+  if (!available.left && !available.above) {
+    std::memset(edge, 128, static_cast<size_t>(samples));
     return;
   }
-  const uint8_t* origin = plane + static_cast<ptrdiff_t>(by) * 8 * stride + bx * 8;
-  if (has_left) {
-    for (int i = 0; i < 8; ++i) edge[kCorner - 1 - i] = origin[i * stride - 1];
-    std::memset(edge, edge[kCorner - 8], 8);  // below-left is never decoded yet
+  const uint8_t* origin = plane + static_cast<ptrdiff_t>(y0) * stride + x0;
+  if (available.left) {
+    const int rows = available.below_left ? 2 * size : size;
+    for (int i = 0; i < rows; ++i) edge[corner - 1 - i] = origin[i * stride - 1];
+    if (!available.below_left) std::memset(edge, edge[size], static_cast<size_t>(size));
   }
-  if (has_above) {
-    std::memcpy(edge + kCorner + 1, origin - stride, 8);
-    if (bx + 1 < blocks_x) {
-      std::memcpy(edge + kCorner + 9, origin - stride + 8, 8);
-    } else {
-      std::memset(edge + kCorner + 9, edge[kCorner + 8], 8);
-    }
+  if (available.above) {
+    const int columns = available.above_right ? 2 * size : size;
+    std::memcpy(edge + corner + 1, origin - stride, static_cast<size_t>(columns));
+    if (!available.above_right)
+      std::memset(edge + corner + 1 + size, edge[corner + size], static_cast<size_t>(size));
   }
-  if (has_left && has_above) {
-    edge[kCorner] = origin[-stride - 1];
-  } else if (has_left) {
-    std::memset(edge + kCorner, edge[kCorner - 1], 17);
+  if (available.left && available.above) {
+    edge[corner] = origin[-stride - 1];
+  } else if (available.left) {
+    std::memset(edge + corner, edge[corner - 1], static_cast<size_t>(2 * size + 1));
   } else {
-    std::memset(edge, edge[kCorner + 1], 17);
+    std::memset(edge, edge[corner + 1], static_cast<size_t>(2 * size + 1));
   }
+}
+
+IntraPredictor intra_predictor(int size) {
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  return size == 4 ? dsp.intra_predict_4x4 : size == 16 ? dsp.intra_predict_16x16 : dsp.intra_predict_8x8;
 }
 
 std::array<int, kMostProbableModes> most_probable_modes(int left_mode, int above_mode) {

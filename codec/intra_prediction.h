@@ -1,7 +1,7 @@
-// Spatial intra prediction of 8x8 blocks from reconstructed neighbours: the reference
-// edge of a block, the most probable modes derived from its left and above neighbours,
-// and the coding of a block's mode. The predictors themselves are kernels
-// (dsp::DspTable::intra_predict_8x8). Exact definitions in docs/codec.md 3.1-3.2.
+// Spatial intra prediction of 4x4, 8x8 and 16x16 blocks from reconstructed neighbours:
+// the reference edge of a block, the most probable modes derived from its left and above
+// neighbours, and the coding of a block's mode. The predictors themselves are kernels
+// (dsp::DspTable::intra_predict_*). Exact definitions in docs/codec.md 3.1-3.2.
 //
 // Threading: pure functions; IntraModeContexts is plain mutable data owned by one coder.
 // Errors: decode_intra_mode never fails (every bit pattern is a valid mode).
@@ -23,11 +23,22 @@ inline constexpr int kHorizontalMode = 10;
 inline constexpr int kVerticalMode = 26;
 inline constexpr int kMostProbableModes = 3;
 
-// Fills edge[dsp::kIntraEdgeSamples] for the 8x8 block (bx, by) of a plane of
-// blocks_x blocks per row whose earlier blocks (raster order) are reconstructed in
-// `plane` (stride samples per row). Missing neighbours are substituted as docs/codec.md
-// 3.1 defines.
-void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int bx, int by, int blocks_x, uint8_t* edge);
+// Which neighbours of a block are reconstructed: the N samples left and above, the N
+// below-left and the N above-right (docs/codec.md 3.1 derives them from coding order).
+struct EdgeAvailability {
+  bool left = false, above = false, below_left = false, above_right = false;
+};
+
+// Fills edge[4 size + 1] (the corner at 2 size) for the size x size block (size 4, 8 or
+// 16) at sample (x0, y0) of `plane` (stride samples per row), reading only the
+// neighbours `available` names. Missing neighbours are substituted as docs/codec.md 3.1
+// defines.
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int size,
+                      const EdgeAvailability& available, uint8_t* edge);
+
+// The intra prediction kernel of a block size (4, 8 or 16).
+using IntraPredictor = void (*)(const uint8_t* edge, int mode, uint8_t* out);
+IntraPredictor intra_predictor(int size);
 
 // The three most probable modes for a block whose left and above neighbours use
 // left_mode and above_mode (kDcMode where a neighbour is missing); all different.

@@ -50,6 +50,20 @@ int quant_step(BlockKind kind, int qindex, int position) {
   return (static_cast<int>(matrix[position & 63]) * scale + 8) >> 4;
 }
 
+int residual_step(TransformSize size, int qindex) {
+  const int step = quant_step(BlockKind::kNonIntra, qindex, 0);
+  return size == TransformSize::k16x16 ? std::max((step + 1) >> 1, 128) : step;
+}
+
+Quantizer make_residual_quantizer(TransformSize size, int qindex) {
+  Quantizer q = make_quantizer(BlockKind::kNonIntra, qindex);
+  q.size = size;
+  const int step = residual_step(size, q.qindex);
+  q.scale.fill(step);
+  q.inverse_step.fill(static_cast<float>(1 << kStepBits) / static_cast<float>(step));
+  return q;
+}
+
 Quantizer make_quantizer(BlockKind kind, int qindex) {
   Quantizer q;
   q.kind = kind;
@@ -67,9 +81,27 @@ Quantizer make_quantizer(BlockKind kind, int qindex) {
   return q;
 }
 
+// The 8x8 kernels serve every size: 16x16 blocks as four runs of 64 values, 4x4 blocks
+// padded to 64.
 int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
-  return dsp::get_dsp().quantize_8x8(coefficients, quantizer.inverse_step.data(), quantizer.rounding_dc,
-                                     quantizer.rounding_ac, levels);
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  const int area = transform_area(quantizer.size);
+  if (area == 16) {
+    float padded[64] = {};
+    int16_t padded_levels[64];
+    std::copy_n(coefficients, 16, padded);
+    const int count = dsp.quantize_8x8(padded, quantizer.inverse_step.data(), quantizer.rounding_dc,
+                                       quantizer.rounding_ac, padded_levels);
+    std::copy_n(padded_levels, 16, levels);
+    return count;
+  }
+  int count = 0;
+  for (int i = 0; i < area; i += 64) {
+    count += dsp.quantize_8x8(coefficients + i, quantizer.inverse_step.data() + i,
+                              i == 0 ? quantizer.rounding_dc : quantizer.rounding_ac, quantizer.rounding_ac,
+                              levels + i);
+  }
+  return count;
 }
 
 int dequantize_level(const Quantizer& quantizer, int index, int level) {
@@ -79,20 +111,30 @@ int dequantize_level(const Quantizer& quantizer, int index, int level) {
 }
 
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {
-  dsp::get_dsp().dequantize_8x8(levels, quantizer.scale.data(), coefficients);
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  const int area = transform_area(quantizer.size);
+  if (area == 16) {
+    int16_t padded[64] = {}, padded_coefficients[64];
+    std::copy_n(levels, 16, padded);
+    dsp.dequantize_8x8(padded, quantizer.scale.data(), padded_coefficients);
+    std::copy_n(padded_coefficients, 16, coefficients);
+    return;
+  }
+  for (int i = 0; i < area; i += 64) dsp.dequantize_8x8(levels + i, quantizer.scale.data() + i, coefficients + i);
 }
 
 int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels) {
-  float input[64], coefficients[64];
-  for (int i = 0; i < 64; ++i) input[i] = samples[i];
-  forward_dct_8x8(input, coefficients);
+  const int area = transform_area(quantizer.size);
+  float input[kMaxTransformArea], coefficients[kMaxTransformArea];
+  for (int i = 0; i < area; ++i) input[i] = samples[i];
+  forward_transform(quantizer.size, input, coefficients);
   return quantize_block(quantizer, coefficients, levels);
 }
 
 void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels, int16_t* samples) {
-  int16_t coefficients[64];
+  int16_t coefficients[kMaxTransformArea];
   dequantize_block(quantizer, levels, coefficients);
-  inverse_dct_8x8(coefficients, samples);
+  inverse_transform(quantizer.size, coefficients, samples);
 }
 
 }  // namespace svc::codec

@@ -9,6 +9,8 @@
 #include <array>
 #include <cstdint>
 
+#include "codec/transform_size.h"
+
 namespace svc::codec {
 
 enum class BlockKind : uint8_t {
@@ -42,24 +44,33 @@ int quantizer_scale_q8(int qindex);
 // derives its steps from this function. Part of the bitstream contract.
 int quant_step(BlockKind kind, int qindex, int position);
 
+// The flat residual step of a transform size, in 1/256 coefficient units:
+// quant_step(kNonIntra, qindex, 0) for 4x4 and 8x8 (orthonormal coefficients);
+// max((step + 1) >> 1, 128) for 16x16, whose coefficients are half the orthonormal
+// ones. Part of the bitstream contract.
+int residual_step(TransformSize size, int qindex);
+
 struct Quantizer {
   BlockKind kind = BlockKind::kIntra;
   int qindex = 0;
+  TransformSize size = TransformSize::k8x8;  // blocks of transform_area(size) values
   // coefficient = sign(level) * ((|level| * scale[i] + 128) >> 8), i in natural order;
-  // scale[i] = quant_step(kind, qindex, i).
-  std::array<int32_t, 64> scale{};
+  // scale[i] = quant_step(kind, qindex, i) for 8x8 blocks, residual_step otherwise.
+  std::array<int32_t, kMaxTransformArea> scale{};
   // Encoder only: 256 / scale[i] and the rounding offsets (fractions of a step added
   // before truncation; 0.5 is plain rounding, smaller values widen the dead zone).
-  std::array<float, 64> inverse_step{};
+  std::array<float, kMaxTransformArea> inverse_step{};
   float rounding_dc = 0.5f;
   float rounding_ac = 0.5f;
 };
 
-// qindex is clamped to [kMinQIndex, kMaxQIndex].
+// qindex is clamped to [kMinQIndex, kMaxQIndex]. make_quantizer serves 8x8 blocks;
+// make_residual_quantizer the flat (non-intra) residual blocks of any size.
 Quantizer make_quantizer(BlockKind kind, int qindex);
+Quantizer make_residual_quantizer(TransformSize size, int qindex);
 
-// Quantizes DCT coefficients (natural order) to levels in [-kMaxLevel, kMaxLevel].
-// Returns the number of non-zero levels.
+// Quantizes DCT coefficients (natural order, quantizer.size) to levels in
+// [-kMaxLevel, kMaxLevel]. Returns the number of non-zero levels.
 int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
 
 // Exact integer dequantization of one level at natural position `index`, saturated to

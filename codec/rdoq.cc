@@ -121,35 +121,36 @@ int count_nonzero(const int16_t* levels, int count) {
 double quantization_rd_cost(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
                             const BlockContextSet& contexts, int first_scan, int coded_block_context,
                             float lambda) {
-  const ScanOrder& order = scan_order(TransformSize::k8x8);
+  const ScanOrder& order = scan_order(quantizer.size);
   double error = 0;
   for (int i = first_scan; i < order.count; ++i) {
     error += squared_error(quantizer, coefficients, order.scan[i], levels[order.scan[i]]);
   }
-  return error + lambda * block_levels_bits(contexts, levels, first_scan, coded_block_context);
+  return error + lambda * block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size);
 }
 
 int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, const BlockContextSet& contexts,
                         int first_scan, int coded_block_context, float lambda, int16_t* levels) {
-  const TransformSize size = TransformSize::k8x8;
+  const TransformSize size = quantizer.size;
   const ScanOrder& order = scan_order(size);
-  int16_t plain[kBlockArea], rounded[kBlockArea];
+  const int area = order.count;
+  int16_t plain[kMaxCoefficients], rounded[kMaxCoefficients];
   quantize_block(quantizer, coefficients, plain);
   Quantizer nearest = quantizer;
   nearest.rounding_dc = nearest.rounding_ac = 0.5f;
   quantize_block(nearest, coefficients, rounded);
-  std::copy_n(plain, kBlockArea, levels);
+  std::copy_n(plain, area, levels);
   int last_scan = -1;
   for (int i = order.count - 1; i >= first_scan && last_scan < 0; --i) {
     if (rounded[order.scan[i]] != 0) last_scan = i;
   }
-  if (last_scan < 0) return count_nonzero(levels, kBlockArea);
+  if (last_scan < 0) return count_nonzero(levels, area);
 
   RdoqSearch search(quantizer, coefficients, contexts, lambda);
   search.decide(order, rounded, first_scan, last_scan);
   const int chosen_last = search.choose_last(first_scan, last_scan, coded_block_context, size);
-  int16_t optimized[kBlockArea];
-  std::copy_n(plain, kBlockArea, optimized);
+  int16_t optimized[kMaxCoefficients];
+  std::copy_n(plain, area, optimized);
   for (int i = first_scan; i < order.count; ++i) {
     const int level = i < chosen_last    ? search.decision(i).level
                       : i == chosen_last ? search.decision(i).last_level
@@ -160,18 +161,19 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   // plain quantization where it is cheaper by the exact measure.
   if (quantization_rd_cost(quantizer, coefficients, optimized, contexts, first_scan, coded_block_context, lambda) <
       quantization_rd_cost(quantizer, coefficients, plain, contexts, first_scan, coded_block_context, lambda)) {
-    std::copy_n(optimized, kBlockArea, levels);
+    std::copy_n(optimized, area, levels);
   }
-  return count_nonzero(levels, kBlockArea);
+  return count_nonzero(levels, area);
 }
 
 int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
                                 const BlockContextSet& contexts, int first_scan, int coded_block_context,
                                 float lambda, int16_t* levels) {
   if (!rdoq) return transform_quantize_block(quantizer, samples, levels);
-  float input[kBlockArea], coefficients[kBlockArea];
-  for (int i = 0; i < kBlockArea; ++i) input[i] = samples[i];
-  forward_dct_8x8(input, coefficients);
+  const int area = transform_area(quantizer.size);
+  float input[kMaxCoefficients], coefficients[kMaxCoefficients];
+  for (int i = 0; i < area; ++i) input[i] = samples[i];
+  forward_transform(quantizer.size, input, coefficients);
   return rdoq_quantize_block(quantizer, coefficients, contexts, first_scan, coded_block_context, lambda, levels);
 }
 

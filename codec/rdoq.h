@@ -15,7 +15,8 @@
 
 namespace svc::codec {
 
-// The levels of `coefficients` (a forward DCT, natural order) that minimize
+// The levels of `coefficients` (a forward transform of quantizer.size, natural order)
+// that minimize
 // sum (coefficient - dequantized level)^2 + lambda * block_levels_bits(...), as far as the
 // search sees, and never cost more by that measure than quantize_block's. Positions
 // before `first_scan` take quantize_block's levels. `lambda` is in squared error per bit.
@@ -28,7 +29,7 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
 double quantization_rd_cost(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
                             const BlockContextSet& contexts, int first_scan, int coded_block_context, float lambda);
 
-// Forward DCT of `samples` (as transform_quantize_block) followed by either
+// Forward transform of `samples` (as transform_quantize_block) followed by either
 // rdoq_quantize_block (rdoq true) or quantize_block.
 int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
                                 const BlockContextSet& contexts, int first_scan, int coded_block_context,

@@ -73,20 +73,66 @@ TEST(IntraPrediction, EdgeSubstitutesMissingNeighbours) {
       plane[static_cast<size_t>(y) * stride + x] = static_cast<uint8_t>(100 + (y / 8) * 3 + x / 8);
   }
   std::array<uint8_t, kEdge> edge{};
-  build_intra_edge(plane.data(), stride, 0, 0, blocks_x, edge.data());
+  EdgeAvailability none, left, above, both;
+  left.left = above.above = both.left = both.above = true;
+  build_intra_edge(plane.data(), stride, 0, 0, 8, none, edge.data());
   EXPECT_TRUE(std::all_of(edge.begin(), edge.end(), [](uint8_t v) { return v == 128; }));
 
-  build_intra_edge(plane.data(), stride, 1, 0, blocks_x, edge.data());  // left only
+  build_intra_edge(plane.data(), stride, 8, 0, 8, left, edge.data());  // left only
   EXPECT_TRUE(std::all_of(edge.begin(), edge.end(), [](uint8_t v) { return v == 100; }));
 
-  build_intra_edge(plane.data(), stride, 0, 1, blocks_x, edge.data());  // above and above-right
+  EdgeAvailability above_and_right = above;
+  above_and_right.above_right = true;
+  build_intra_edge(plane.data(), stride, 0, 8, 8, above_and_right, edge.data());
   for (int i = 0; i < 17; ++i) EXPECT_EQ(edge[i], 100) << i;
   for (int i = 0; i < 8; ++i) EXPECT_EQ(edge[25 + i], 101) << i;
 
-  build_intra_edge(plane.data(), stride, 2, 1, blocks_x, edge.data());  // no above-right
+  build_intra_edge(plane.data(), stride, 16, 8, 8, both, edge.data());  // no above-right, no below-left
   EXPECT_EQ(edge[16], 101);                                             // corner
   for (int i = 0; i < 16; ++i) EXPECT_EQ(edge[17 + i], 102) << i;
   for (int i = 0; i < 16; ++i) EXPECT_EQ(edge[15 - i], 104) << i;
+
+  // A 4x4 block at (4, 4) with every neighbour: 17 samples, the corner at 8; below-left
+  // rows come from block (0, 1), above-right columns from block (1, 0).
+  EdgeAvailability all = both;
+  all.below_left = all.above_right = true;
+  std::array<uint8_t, 17> small{};
+  build_intra_edge(plane.data(), stride, 4, 4, 4, all, small.data());
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(small[7 - i], 100) << i;
+    EXPECT_EQ(small[3 - i], 103) << i;
+    EXPECT_EQ(small[9 + i], 100) << i;
+    EXPECT_EQ(small[13 + i], 101) << i;
+  }
+  all.below_left = all.above_right = false;  // substitutes repeat the last left and above sample
+  build_intra_edge(plane.data(), stride, 4, 4, 4, all, small.data());
+  EXPECT_TRUE(std::all_of(small.begin(), small.end(), [](uint8_t v) { return v == 100; }));
+}
+
+// The prediction of every size follows the same formulas: a 4x4 and a 16x16 block from
+// an edge whose left holds `left` and whose above row counts up.
+TEST(IntraPrediction, OtherBlockSizesPredictByTheSameRules) {
+  for (int size : {4, 16}) {
+    std::vector<uint8_t> edge(static_cast<size_t>(4 * size + 1));
+    const int corner = 2 * size;
+    for (int i = 0; i < 2 * size; ++i) {
+      edge[static_cast<size_t>(corner - 1 - i)] = 60;
+      edge[static_cast<size_t>(corner + 1 + i)] = static_cast<uint8_t>(20 + 5 * i);
+    }
+    edge[static_cast<size_t>(corner)] = 60;
+    std::vector<uint8_t> out(static_cast<size_t>(size * size));
+    const IntraPredictor predict = intra_predictor(size);
+    predict(edge.data(), kVerticalMode, out.data());
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) EXPECT_EQ(out[static_cast<size_t>(size * y + x)], 20 + 5 * x) << size;
+    }
+    predict(edge.data(), kHorizontalMode, out.data());
+    EXPECT_TRUE(std::all_of(out.begin(), out.end(), [](uint8_t v) { return v == 60; })) << size;
+    predict(edge.data(), kDcMode, out.data());
+    int sum = size;  // (sum of N above + N left + N) / 2N
+    for (int i = 0; i < size; ++i) sum += 60 + 20 + 5 * i;
+    EXPECT_EQ(out[0], sum / (2 * size)) << size;
+  }
 }
 
 TEST(IntraPrediction, EveryModeRoundTripsThroughModeCoding) {
@@ -110,6 +156,34 @@ TEST(IntraPrediction, EveryModeRoundTripsThroughModeCoding) {
   }
 }
 
+struct LumaBlock {
+  int x;         // luma sample column
+  size_t index;  // in CoefficientFrame::block_modes
+};
+
+// The luma blocks of a parsed frame as its partitions place them (docs/codec.md 3).
+std::vector<LumaBlock> luma_blocks(const CoefficientFrame& frame) {
+  const int macroblocks_x = (frame.width + 15) / 16;
+  std::vector<LumaBlock> blocks;
+  for (size_t mb = 0; mb < frame.luma_partitions.size(); ++mb) {
+    const int x0 = 16 * static_cast<int>(mb % static_cast<size_t>(macroblocks_x));
+    const uint8_t partition = frame.luma_partitions[mb];
+    if ((partition & 1) == 0) {
+      blocks.push_back({x0, blocks.size()});
+      continue;
+    }
+    for (int i = 0; i < 4; ++i) {
+      const int x = x0 + 8 * (i & 1);
+      if (partition & (2 << i)) {
+        for (int j = 0; j < 4; ++j) blocks.push_back({x + 4 * (j & 1), blocks.size()});
+      } else {
+        blocks.push_back({x, blocks.size()});
+      }
+    }
+  }
+  return blocks;
+}
+
 // Rows of constant value: every luma block with a left neighbour is predicted exactly by
 // the horizontal mode, which the encoder finds; without directional modes it cannot.
 TEST(IntraPrediction, EncoderChoosesHorizontalModeForHorizontalStripes) {
@@ -131,8 +205,8 @@ TEST(IntraPrediction, EncoderChoosesHorizontalModeForHorizontalStripes) {
     reconstruct_intra_frame(parsed, &decoded);
     EXPECT_TRUE(decoded.y == reconstruction.y);
     int horizontal = 0, others = 0;
-    for (int by = 0; by < 8; ++by) {
-      for (int bx = 1; bx < 8; ++bx) (parsed.block_modes[8 * by + bx] == kHorizontalMode ? horizontal : others)++;
+    for (const LumaBlock& block : luma_blocks(parsed)) {
+      if (block.x > 0) (parsed.block_modes[block.index] == kHorizontalMode ? horizontal : others)++;
     }
     if (directional) {
       EXPECT_EQ(others, 0);
@@ -164,19 +238,20 @@ TEST(IntraPrediction, EveryEncoderRestrictionDecodesToTheEncodersReconstruction)
   for (int qindex : {83, 189}) {  // quantiser scales about 3 and 30
     const double scale = quantizer_scale_q8(qindex) / 256.0;
     double cost[2] = {};
-    for (int restriction = 0; restriction < 4; ++restriction) {
+    for (int restriction = 0; restriction < 8; ++restriction) {
       CodingParams params;
       params.qindex = qindex;
       params.deblocking = params.cdef = false;  // the block search alone
       params.directional_intra = (restriction & 1) == 0;
       params.rd_intra_search = (restriction & 2) == 0;
+      params.transform_sizes = (restriction & 4) == 0;
       ImageYCbCr420 reconstruction, decoded;
       const auto bytes = encode_intra_frame(image, params, &reconstruction);
       ASSERT_TRUE(decode_intra_frame(bytes, image.width, image.height, &decoded).ok());
       EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
                   decoded.cr == reconstruction.cr)
           << "restriction " << restriction << ", qindex " << qindex;
-      if (params.directional_intra) {
+      if (params.directional_intra && !params.transform_sizes) {  // the mode search alone
         double squared_error = 0;
         for (size_t i = 0; i < image.y.size(); ++i) squared_error += std::pow(image.y[i] - decoded.y[i], 2.0);
         cost[params.rd_intra_search ? 0 : 1] = squared_error + 0.1 * scale * scale * 8.0 * bytes.size();

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -139,21 +140,28 @@ TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   ASSERT_TRUE(parse_intra_frame(bytes, 64, 48, &coefficients).ok());
   EXPECT_EQ(coefficients.width, 64);
   EXPECT_EQ(coefficients.qindex, 106);
-  EXPECT_EQ(coefficients.block_counts.size(), static_cast<size_t>(block_layout(64, 48).block_count()));
+  // One partition per macroblock; blocks as the partitions count them (a 16x16 block
+  // is one, an 8x8 split into 4x4 four) plus the 8x8 chroma blocks.
+  ASSERT_EQ(coefficients.luma_partitions.size(), 12u);
+  size_t blocks = 2 * 12;
+  for (uint8_t partition : coefficients.luma_partitions) {
+    blocks += (partition & 1) == 0 ? 1 : 4 + 3 * static_cast<size_t>(std::popcount(unsigned{partition} >> 1));
+  }
+  EXPECT_EQ(coefficients.block_counts.size(), blocks);
   reconstruct_intra_frame(coefficients, &from_coefficients);
   expect_same_image(from_coefficients, reconstruction);
 }
 
 TEST(CodecFrame, CoefficientEntriesRoundTripIncludingEscapes) {
   CoefficientFrame frame;
-  const int levels[] = {1, -1, 511, -511, 512, -512, 4095, -4095, 77};
-  for (int i = 0; i < 9; ++i) frame.append(i * 7, levels[i]);
-  EXPECT_EQ(frame.entries.size(), 9u + 4u);  // four escapes
+  const int levels[] = {1, -1, 127, -127, 128, -128, 4095, -4095, 77};
+  for (int i = 0; i < 9; ++i) frame.append(i * 31, levels[i]);  // positions up to 248 (16x16 blocks)
+  EXPECT_EQ(frame.entries.size(), 9u + 4u);                     // four escapes
   size_t index = 0;
   for (int i = 0; i < 9; ++i) {
     int position = -1, level = 0;
     ASSERT_TRUE(frame.read(&index, &position, &level));
-    EXPECT_EQ(position, i * 7);
+    EXPECT_EQ(position, i * 31);
     EXPECT_EQ(level, levels[i]);
   }
   int position, level;

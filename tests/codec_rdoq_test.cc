@@ -162,6 +162,7 @@ TEST(CodecRdoq, IntraFramesDecodeExactlyAndCostLess) {
       params.qindex = qindex;
       params.rdoq = rdoq;
       params.deblocking = params.cdef = false;  // the levels alone
+      params.transform_sizes = false;           // of one size
       ImageYCbCr420 reconstruction, decoded;
       const std::vector<uint8_t> bytes = encode_intra_frame(source, params, &reconstruction);
       ASSERT_TRUE(decode_intra_frame(bytes, source.width, source.height, &decoded).ok());

@@ -105,7 +105,9 @@ uint64_t encode_peak_bytes(const fs::path& db, const fs::path& out) {
                                    "--disable-tool",
                                    "switchable-filter",
                                    "--disable-tool",
-                                   "partitions"};
+                                   "partitions",
+                                   "--disable-tool",
+                                   "transform-sizes"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

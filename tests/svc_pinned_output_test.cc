@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "e5d5660a4e9b03f70e6280d5a70d5056f8f3f48da3922badda515e1d165e4188",
-     "9195f84f94e5d0c9d097ef54e882825e3402f82a5811b59c87b908499da7d3a0"},
+     "2556d53ef0ac13b3edcfd32f7a6cbe7644a0632047188ea952efe549ce30508a",
+     "6b84d01119b49667945e3a0438a7d064ce5bd14a5ab95d132a6a771332501266"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "7150399167b5a8e696d079ab70dbd605e8b45719c7e53de80722039592dad0fb",
-     "fbc4a95cc82b35e7b248949bc5626bfee3812243b771b88f10fab18055442707"},
+     "65ffe3e3601b266bc53345eba2e70d1a10f97048aa8faf390b13cdbedd2c2e60",
+     "6d17ecae7608d148e2e9d74a7601d83649cd1852ebf4cfbde86bb4661739608e"},
 };
 
 std::string file_sha256(const fs::path& path) {

@@ -35,6 +35,7 @@ unsigned active_cpu_flags() {
 DspTable make_dsp_table(unsigned cpu_flags) {
   DspTable table{};
   init_transform_c(&table);
+  init_transform_4_16_c(&table);
   init_quant_c(&table);
   init_color_c(&table);
   init_mc_c(&table);
@@ -50,6 +51,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   if ((cpu_flags & (kCpuSse2 | kCpuSse41)) == (kCpuSse2 | kCpuSse41)) {
     init_color_sse41(&table);
     init_intra_sse41(&table);
+    init_transform_4_16_sse41(&table);
     init_mc_sse41(&table);
     init_deblock_sse41(&table);
     init_cdef_sse41(&table);

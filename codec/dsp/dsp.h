@@ -25,8 +25,11 @@ unsigned detected_cpu_flags();
 // (a number, e.g. 0 for the plain references only, 0x1 for SSE2); read once.
 unsigned active_cpu_flags();
 
-// Samples of an intra prediction edge: 16 left (bottom to top), the corner, 16 above.
+// Samples of an 8x8 block's intra prediction edge: 16 left (bottom to top), the corner,
+// 16 above. An N x N block's edge has 4N + 1 samples, the corner at 2N; the largest
+// (16x16) has kMaxIntraEdgeSamples.
 inline constexpr int kIntraEdgeSamples = 33;
+inline constexpr int kMaxIntraEdgeSamples = 65;
 
 // The CDEF filter of one block (docs/codec.md, section 11.2).
 struct CdefTaps {
@@ -43,6 +46,13 @@ struct DspTable {
   // 64 values, row-major.
   void (*forward_dct_8x8)(const float* samples, float* coefficients);
   void (*inverse_dct_8x8)(const int16_t* coefficients, int16_t* samples);
+  // 4x4 and 16x16 (docs/codec.md 7): float forward transforms (encoder only; 4x4
+  // orthonormal, 16x16 half the orthonormal scale) and the bit-exact integer inverses
+  // with HEVC's matrices; coefficients in [-2048, 2047], blocks row-major.
+  void (*forward_dct_4x4)(const float* samples, float* coefficients);
+  void (*forward_dct_16x16)(const float* samples, float* coefficients);
+  void (*inverse_dct_4x4)(const int16_t* coefficients, int16_t* samples);
+  void (*inverse_dct_16x16)(const int16_t* coefficients, int16_t* samples);
 
   // Quantizes 64 coefficients: level = trunc(|c| inverse_step[i] + rounding) capped at
   // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.
@@ -84,9 +94,15 @@ struct DspTable {
   // i (i = 0..15, rows 8..15 below the block), edge[16] the top-left corner, edge[17 + i]
   // the sample above column i.
   void (*intra_predict_8x8)(const uint8_t* edge, int mode, uint8_t* out);
-  // Sum of absolute 8x8 Hadamard coefficients (unnormalised) of source - prediction
+  // The same for 4x4 and 16x16 blocks (N x N samples out): edge[2N - 1 - i] is the left
+  // neighbour of row i (i = 0..2N-1), edge[2N] the corner, edge[2N + 1 + i] the sample
+  // above column i.
+  void (*intra_predict_4x4)(const uint8_t* edge, int mode, uint8_t* out);
+  void (*intra_predict_16x16)(const uint8_t* edge, int mode, uint8_t* out);
+  // Sum of absolute 8x8 (4x4) Hadamard coefficients (unnormalised) of source - prediction
   // (encoder only: mode pre-selection).
   int (*satd_8x8)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
+  int (*satd_4x4)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 
   // Deblocking of one 4-sample segment of an edge (docs/codec.md, section 11): `pixels`
   // is q0 of the first line, p_i lies at pixels - (i + 1) across, q_i at pixels + i across,

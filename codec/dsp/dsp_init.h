@@ -7,6 +7,7 @@
 namespace svc::codec::dsp {
 
 void init_transform_c(DspTable* table);
+void init_transform_4_16_c(DspTable* table);
 void init_quant_c(DspTable* table);
 void init_color_c(DspTable* table);
 void init_mc_c(DspTable* table);
@@ -25,7 +26,9 @@ void put_intermediate_c(const int16_t* in, int count, uint8_t* out);
 void average_intermediate_c(const int16_t* a, const int16_t* b, int count, uint8_t* out);
 void rgb_to_luma_row_c(const uint8_t* rgb, int width, uint8_t* y);
 void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
+void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out);
+void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out);
 // The reference row of an angular mode (2..34), smoothed where the mode asks:
 // main[kIntraAngularReferenceOffset + k], k = -8..17, is sample k of the projected edge.
 inline constexpr int kIntraAngularReferenceOffset = 8;
@@ -34,6 +37,10 @@ struct IntraAngularReference {
   uint8_t main[kIntraAngularReferenceOffset + 18];
 };
 void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngularReference* out);
+// The same for an N x N block (N = 4, 8 or 16): main[N + k], k = -N..2N+1, is sample k of
+// the projected edge (main holds 3N + 2 samples). Returns the angle.
+int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, uint8_t* main);
+int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
@@ -44,6 +51,7 @@ void init_mc_sse41(DspTable* table);
 void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
 void init_intra_sse41(DspTable* table);
+void init_transform_4_16_sse41(DspTable* table);
 void init_deblock_sse41(DspTable* table);
 void init_cdef_sse41(DspTable* table);
 #endif

@@ -1,15 +1,12 @@
-// Plain intra prediction kernels: the 35 modes of an 8x8 block from its reference edge
-// (planar, DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is the definition)
-// and the encoder's 8x8 Hadamard SATD.
+// Plain intra prediction kernels: the 35 modes of a 4x4, 8x8 or 16x16 block from its
+// reference edge (planar, DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is
+// the definition) and the encoder's 4x4 and 8x8 Hadamard SATD.
 #include <cstdlib>
 
 #include "codec/dsp/dsp_init.h"
 
 namespace svc::codec::dsp {
 namespace {
-
-constexpr int kSize = 8;
-constexpr int kCorner = 16;  // edge[kCorner] is the top-left sample
 
 // Displacement of the projected reference per row (vertical modes) or column
 // (horizontal modes), in 1/32 sample, for modes 2..34.
@@ -31,83 +28,107 @@ int inverse_angle(int angle) {
 
 bool edge_is_smoothed(int mode) { return mode == 0 || mode == 2 || mode == 18 || mode == 34; }
 
+constexpr int log2_of(int n) { return n == 4 ? 2 : n == 8 ? 3 : 4; }
+
+// The edge of an N x N block: 4N + 1 samples, the corner at 2N.
+template <int N>
 void smooth_edge(const uint8_t* edge, uint8_t* out) {
+  constexpr int kSamples = 4 * N + 1;
   out[0] = edge[0];
-  out[kIntraEdgeSamples - 1] = edge[kIntraEdgeSamples - 1];
-  for (int i = 1; i < kIntraEdgeSamples - 1; ++i)
+  out[kSamples - 1] = edge[kSamples - 1];
+  for (int i = 1; i < kSamples - 1; ++i)
     out[i] = static_cast<uint8_t>((edge[i - 1] + 2 * edge[i] + edge[i + 1] + 2) >> 2);
 }
 
+template <int N>
 void predict_planar(const uint8_t* edge, uint8_t* out) {
-  const uint8_t* above = edge + kCorner + 1;  // above[x], x = 0..15
-  const int above_right = above[kSize], below_left = edge[kCorner - 1 - kSize];
-  for (int y = 0; y < kSize; ++y) {
+  constexpr int kCorner = 2 * N;
+  const uint8_t* above = edge + kCorner + 1;  // above[x], x = 0..2N-1
+  const int above_right = above[N], below_left = edge[kCorner - 1 - N];
+  for (int y = 0; y < N; ++y) {
     const int left = edge[kCorner - 1 - y];
-    for (int x = 0; x < kSize; ++x) {
-      const int sum = (kSize - 1 - x) * left + (x + 1) * above_right + (kSize - 1 - y) * above[x] +
-                      (y + 1) * below_left + kSize;
-      out[kSize * y + x] = static_cast<uint8_t>(sum >> 4);
+    for (int x = 0; x < N; ++x) {
+      const int sum =
+          (N - 1 - x) * left + (x + 1) * above_right + (N - 1 - y) * above[x] + (y + 1) * below_left + N;
+      out[N * y + x] = static_cast<uint8_t>(sum >> (log2_of(N) + 1));
     }
   }
 }
 
+template <int N>
 void predict_dc(const uint8_t* edge, uint8_t* out) {
-  int sum = kSize;
-  for (int i = 0; i < kSize; ++i) sum += edge[kCorner + 1 + i] + edge[kCorner - 1 - i];
-  const auto dc = static_cast<uint8_t>(sum >> 4);
-  for (int i = 0; i < kSize * kSize; ++i) out[i] = dc;
+  constexpr int kCorner = 2 * N;
+  int sum = N;
+  for (int i = 0; i < N; ++i) sum += edge[kCorner + 1 + i] + edge[kCorner - 1 - i];
+  const auto dc = static_cast<uint8_t>(sum >> (log2_of(N) + 1));
+  for (int i = 0; i < N * N; ++i) out[i] = dc;
 }
 
-}  // namespace
-
-void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngularReference* out) {
-  uint8_t smoothed[kIntraEdgeSamples];
+// The reference row of an angular mode: main[N + k], k = -N..2N+1, is sample k of the
+// projected edge. Returns the angle.
+template <int N>
+int prepare_angular_reference(const uint8_t* edge, int mode, uint8_t* main) {
+  constexpr int kCorner = 2 * N;
+  uint8_t smoothed[4 * N + 1];
   if (edge_is_smoothed(mode)) {
-    smooth_edge(edge, smoothed);
+    smooth_edge<N>(edge, smoothed);
     edge = smoothed;
   }
   const bool vertical = mode >= 18;
   const int angle = kAngle[mode - 2];
-  uint8_t side[2 * kSize + 1];
-  uint8_t* ref = out->main + kIntraAngularReferenceOffset;  // ref[-kSize .. 2 kSize + 1]
-  for (int k = 0; k <= 2 * kSize; ++k) {
+  uint8_t side[2 * N + 1];
+  uint8_t* ref = main + N;  // ref[-N .. 2N + 1]
+  for (int k = 0; k <= 2 * N; ++k) {
     const int a = edge[kCorner + k], l = edge[kCorner - k];
     ref[k] = static_cast<uint8_t>(vertical ? a : l);
     side[k] = static_cast<uint8_t>(vertical ? l : a);
   }
-  ref[2 * kSize + 1] = 0;  // read, with weight 0, by the steepest angle
-  for (int k = -kSize; k < 0; ++k) ref[k] = 0;
+  ref[2 * N + 1] = 0;  // read, with weight 0, by the steepest angle
+  for (int k = -N; k < 0; ++k) ref[k] = 0;
   if (angle < 0) {
-    const int last = (kSize * angle) >> 5;
+    const int last = (N * angle) >> 5;
     for (int k = last; k < 0; ++k) ref[k] = side[(k * inverse_angle(angle) + 128) >> 8];
   }
-  out->angle = angle;
+  return angle;
 }
-
-namespace {
 
 // Angular modes: the reference along the main direction (above for vertical modes 18..34,
 // left for horizontal ones), projected by the angle; transposed for horizontal modes.
+template <int N>
 void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
-  IntraAngularReference reference;
-  prepare_intra_angular_reference(edge, mode, &reference);
-  const uint8_t* ref = reference.main + kIntraAngularReferenceOffset;
+  uint8_t main[3 * N + 2];
+  const int angle = prepare_angular_reference<N>(edge, mode, main);
+  const uint8_t* ref = main + N;
   const bool vertical = mode >= 18;
-  for (int y = 0; y < kSize; ++y) {
-    const int position = (y + 1) * reference.angle;
+  for (int y = 0; y < N; ++y) {
+    const int position = (y + 1) * angle;
     const int whole = position >> 5, fraction = position & 31;
-    for (int x = 0; x < kSize; ++x) {
+    for (int x = 0; x < N; ++x) {
       const int a = ref[x + whole + 1], b = ref[x + whole + 2];
       const int value = ((32 - fraction) * a + fraction * b + 16) >> 5;
-      out[vertical ? kSize * y + x : kSize * x + y] = static_cast<uint8_t>(value);
+      out[vertical ? N * y + x : N * x + y] = static_cast<uint8_t>(value);
     }
   }
 }
 
-// 1-D 8-point Hadamard butterflies in place.
-void hadamard_8(int* v, int stride) {
-  for (int span = 1; span < 8; span *= 2) {
-    for (int i = 0; i < 8; i += 2 * span) {
+template <int N>
+void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
+  if (mode == 0) {
+    uint8_t smoothed[4 * N + 1];
+    smooth_edge<N>(edge, smoothed);
+    predict_planar<N>(smoothed, out);
+  } else if (mode == 1) {
+    predict_dc<N>(edge, out);
+  } else {
+    predict_angular<N>(edge, mode, out);
+  }
+}
+
+// 1-D N-point Hadamard butterflies in place.
+template <int N>
+void hadamard(int* v, int stride) {
+  for (int span = 1; span < N; span *= 2) {
+    for (int i = 0; i < N; i += 2 * span) {
       for (int j = i; j < i + span; ++j) {
         const int a = v[j * stride], b = v[(j + span) * stride];
         v[j * stride] = a + b;
@@ -117,34 +138,46 @@ void hadamard_8(int* v, int stride) {
   }
 }
 
-}  // namespace
-
-void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out) {
-  if (mode == 0) {
-    uint8_t smoothed[kIntraEdgeSamples];
-    smooth_edge(edge, smoothed);
-    predict_planar(smoothed, out);
-  } else if (mode == 1) {
-    predict_dc(edge, out);
-  } else {
-    predict_angular(edge, mode, out);
+template <int N>
+int satd(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  int d[N * N];
+  for (int y = 0; y < N; ++y) {
+    for (int x = 0; x < N; ++x) d[N * y + x] = source[y * source_stride + x] - prediction[N * y + x];
   }
-}
-
-int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  int d[64];
-  for (int y = 0; y < 8; ++y) {
-    for (int x = 0; x < 8; ++x) d[8 * y + x] = source[y * source_stride + x] - prediction[8 * y + x];
-  }
-  for (int y = 0; y < 8; ++y) hadamard_8(d + 8 * y, 1);
-  for (int x = 0; x < 8; ++x) hadamard_8(d + x, 8);
+  for (int y = 0; y < N; ++y) hadamard<N>(d + N * y, 1);
+  for (int x = 0; x < N; ++x) hadamard<N>(d + x, N);
   int sum = 0;
-  for (int i = 0; i < 64; ++i) sum += std::abs(d[i]);
+  for (int i = 0; i < N * N; ++i) sum += std::abs(d[i]);
   return sum;
 }
 
+}  // namespace
+
+void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngularReference* out) {
+  out->angle = prepare_angular_reference<8>(edge, mode, out->main);
+}
+
+int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, uint8_t* main) {
+  if (size == 4) return prepare_angular_reference<4>(edge, mode, main);
+  if (size == 16) return prepare_angular_reference<16>(edge, mode, main);
+  return prepare_angular_reference<8>(edge, mode, main);
+}
+
+void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<4>(edge, mode, out); }
+void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<8>(edge, mode, out); }
+void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<16>(edge, mode, out); }
+int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  return satd<4>(source, source_stride, prediction);
+}
+int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  return satd<8>(source, source_stride, prediction);
+}
+
 void init_intra_c(DspTable* table) {
+  table->intra_predict_4x4 = intra_predict_4x4_c;
   table->intra_predict_8x8 = intra_predict_8x8_c;
+  table->intra_predict_16x16 = intra_predict_16x16_c;
+  table->satd_4x4 = satd_4x4_c;
   table->satd_8x8 = satd_8x8_c;
 }
 

@@ -54,6 +54,9 @@ struct CodingTools {
   // B-faces: inter macroblocks split into 16x8, 8x16 or 8x8 partitions, each with its own
   // direction and vectors from its own pixels' depth (docs/codec.md 10.4). Off: 16x16 only.
   bool partitions = true;
+  // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
+  // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
+  bool transform_sizes = true;
 
   bool operator==(const CodingTools&) const = default;
 };

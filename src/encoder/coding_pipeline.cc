@@ -39,6 +39,7 @@ class Pipeline {
     intra_params_.directional_intra = job.tools.intra_directional;
     intra_params_.rd_intra_search = job.tools.intra_rd_search;
     intra_params_.rdoq = job.tools.rdoq;
+    intra_params_.transform_sizes = job.tools.transform_sizes;
     b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;

@@ -26,6 +26,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"switchable-filter", &CodingTools::switchable_filter},
     CodingToolEntry{"rdoq", &CodingTools::rdoq},
     CodingToolEntry{"partitions", &CodingTools::partitions},
+    CodingToolEntry{"transform-sizes", &CodingTools::transform_sizes},
 };
 
 }  // namespace

@@ -50,6 +50,73 @@ std::string check_satd(const Tables& reference, const Tables& variant, Random& r
   return {};
 }
 
+// 4x4 and 16x16 blocks from edges of 4N + 1 samples built the same ways.
+template <int N>
+std::string check_intra_predict_n(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  constexpr int kSamples = 4 * N + 1;
+  auto predict = [](const Tables& t) { return N == 4 ? t.intra_predict_4x4 : t.intra_predict_16x16; };
+  for (int n = 0; n < iterations; ++n) {
+    uint8_t edge[kSamples], expected[N * N], actual[N * N];
+    const int pattern = random.uniform(0, 2);
+    if (pattern == 0) {
+      random.fill_with_extremes(edge, kSamples);
+    } else if (pattern == 1) {
+      const uint8_t left = random.byte(), above = random.byte();
+      for (int i = 0; i < kSamples; ++i) edge[i] = i < 2 * N ? left : above;
+    } else {
+      random.fill(edge, kSamples);
+    }
+    for (int mode = 0; mode < 35; ++mode) {
+      predict(reference)(edge, mode, expected);
+      predict(variant)(edge, mode, actual);
+      if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) {
+        return "mode " + std::to_string(mode) + ": " + diff;
+      }
+    }
+  }
+  return {};
+}
+
+std::string check_satd_4x4(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  Buffer source(4 * 40), prediction(16);
+  for (int n = 0; n < iterations; ++n) {
+    const int stride = random.uniform(4, 40), offset = random.uniform(0, 7);
+    uint8_t* s = source.at(offset);
+    random.fill_with_extremes(s, static_cast<size_t>(3 * stride + 4));
+    random.fill_with_extremes(prediction.at(0), 16);
+    const int expected = reference.satd_4x4(s, stride, prediction.at(0));
+    const int actual = variant.satd_4x4(s, stride, prediction.at(0));
+    if (expected != actual) {
+      return "stride " + std::to_string(stride) + ": reference " + std::to_string(expected) + ", variant " +
+             std::to_string(actual);
+    }
+  }
+  return {};
+}
+
+template <int N>
+void bench_intra_predict_n(const Tables& table, int iterations) {
+  const auto predict = N == 4 ? table.intra_predict_4x4 : table.intra_predict_16x16;
+  uint8_t edge[4 * N + 1], out[N * N];
+  for (int i = 0; i < 4 * N + 1; ++i) edge[i] = static_cast<uint8_t>(i * 7);
+  for (int n = 0; n < iterations; ++n) predict(edge, n % 35, out);
+  bench_sink = out[0];
+}
+
+void bench_satd_4x4(const Tables& table, int iterations) {
+  uint8_t source[16], prediction[16];
+  for (int i = 0; i < 16; ++i) {
+    source[i] = static_cast<uint8_t>(i * 37);
+    prediction[i] = static_cast<uint8_t>(i * 11);
+  }
+  int sum = 0;
+  for (int n = 0; n < iterations; ++n) {
+    source[n & 15] ^= 1;
+    sum += table.satd_4x4(source, 4, prediction);
+  }
+  bench_sink = sum;
+}
+
 void bench_intra_predict(const Tables& table, int iterations) {
   uint8_t edge[codec::dsp::kIntraEdgeSamples], out[64];
   for (int i = 0; i < codec::dsp::kIntraEdgeSamples; ++i) edge[i] = static_cast<uint8_t>(i * 7);
@@ -78,6 +145,11 @@ std::vector<Kernel> intra_kernels() {
       {"intra_predict_8x8", [](const Tables& t) { return entry_of(t.intra_predict_8x8); }, check_intra_predict,
        bench_intra_predict},
       {"satd_8x8", [](const Tables& t) { return entry_of(t.satd_8x8); }, check_satd, bench_satd},
+      {"intra_predict_4x4", [](const Tables& t) { return entry_of(t.intra_predict_4x4); }, check_intra_predict_n<4>,
+       bench_intra_predict_n<4>},
+      {"intra_predict_16x16", [](const Tables& t) { return entry_of(t.intra_predict_16x16); },
+       check_intra_predict_n<16>, bench_intra_predict_n<16>},
+      {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd_4x4, bench_satd_4x4},
   };
 }
 

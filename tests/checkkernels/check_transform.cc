@@ -181,6 +181,69 @@ void bench_dequantize(const Tables& table, int iterations) {
   bench_sink = coefficients[0];
 }
 
+// 4x4 and 16x16: the same input patterns over N x N blocks.
+template <int N>
+std::string check_forward_dct_n(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  auto forward = [](const Tables& t) { return N == 4 ? t.forward_dct_4x4 : t.forward_dct_16x16; };
+  for (int n = 0; n < iterations; ++n) {
+    float samples[N * N], expected[N * N], actual[N * N];
+    const int range = random.uniform(0, 1) ? 128 : 255, pattern = random.uniform(0, 4);
+    for (int i = 0; i < N * N; ++i) {
+      samples[i] = pattern == 0   ? static_cast<float>(range)
+                   : pattern == 1 ? static_cast<float>(((i + i / N) & 1) ? range : -range)
+                                  : static_cast<float>(random.uniform(-range, range));
+    }
+    forward(reference)(samples, expected);
+    forward(variant)(samples, actual);
+    if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) return diff;
+  }
+  return {};
+}
+
+template <int N>
+std::string check_inverse_dct_n(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  auto inverse = [](const Tables& t) { return N == 4 ? t.inverse_dct_4x4 : t.inverse_dct_16x16; };
+  for (int n = 0; n < iterations; ++n) {
+    int16_t coefficients[N * N] = {}, expected[N * N], actual[N * N];
+    const int pattern = random.uniform(0, 4);
+    for (int i = 0; i < N * N; ++i) {
+      const auto value = static_cast<int16_t>(random.uniform(codec::kMinCoefficient, codec::kMaxCoefficient));
+      if (pattern == 0 || (pattern == 1 && random.uniform(0, 7) == 0)) coefficients[i] = value;
+      if (pattern == 2) coefficients[i] = ((i * 7 + i / N) & 1) ? 2047 : -2048;  // saturates the output
+      if (pattern == 3) coefficients[i] = random.uniform(0, 1) ? 2047 : -2048;
+    }
+    if (pattern == 4) coefficients[0] = static_cast<int16_t>(random.uniform(-2048, 2047));
+    inverse(reference)(coefficients, expected);
+    inverse(variant)(coefficients, actual);
+    if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) return diff;
+  }
+  return {};
+}
+
+template <int N>
+void bench_forward_dct_n(const Tables& table, int iterations) {
+  const auto forward = N == 4 ? table.forward_dct_4x4 : table.forward_dct_16x16;
+  float samples[N * N], coefficients[N * N];
+  for (int i = 0; i < N * N; ++i) samples[i] = static_cast<float>((i * 37) % 255 - 128);
+  for (int n = 0; n < iterations; ++n) {
+    samples[n % (N * N)] += 1.0f;
+    forward(samples, coefficients);
+  }
+  bench_sink = static_cast<int>(coefficients[0]);
+}
+
+template <int N>
+void bench_inverse_dct_n(const Tables& table, int iterations) {
+  const auto inverse = N == 4 ? table.inverse_dct_4x4 : table.inverse_dct_16x16;
+  int16_t coefficients[N * N], samples[N * N];
+  for (int i = 0; i < N * N; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
+  for (int n = 0; n < iterations; ++n) {
+    coefficients[n & 15] ^= 1;
+    inverse(coefficients, samples);
+  }
+  bench_sink = samples[0];
+}
+
 }  // namespace
 
 std::vector<Kernel> transform_kernels() {
@@ -192,6 +255,14 @@ std::vector<Kernel> transform_kernels() {
       {"quantize_8x8", [](const Tables& t) { return entry_of(t.quantize_8x8); }, check_quantize, bench_quantize},
       {"dequantize_8x8", [](const Tables& t) { return entry_of(t.dequantize_8x8); }, check_dequantize,
        bench_dequantize},
+      {"forward_dct_4x4", [](const Tables& t) { return entry_of(t.forward_dct_4x4); }, check_forward_dct_n<4>,
+       bench_forward_dct_n<4>},
+      {"forward_dct_16x16", [](const Tables& t) { return entry_of(t.forward_dct_16x16); }, check_forward_dct_n<16>,
+       bench_forward_dct_n<16>},
+      {"inverse_dct_4x4", [](const Tables& t) { return entry_of(t.inverse_dct_4x4); }, check_inverse_dct_n<4>,
+       bench_inverse_dct_n<4>},
+      {"inverse_dct_16x16", [](const Tables& t) { return entry_of(t.inverse_dct_16x16); }, check_inverse_dct_n<16>,
+       bench_inverse_dct_n<16>},
   };
 }
 

@@ -1,7 +1,8 @@
 // SSE4.1 intra kernels. The Hadamard SATD keeps every value in 16 bits (residuals of
 // at most 255 grow by 8 per 1-D pass: |value| <= 16320), so it equals the plain sum.
 // Angular prediction interpolates a whole row at once with the plain kernel's integer
-// formula; planar and the edge preparation run the plain code.
+// formula; planar and the edge preparation run the plain code. The 4x4 SATD transforms
+// two rows per register.
 #include <smmintrin.h>
 
 #include <cstring>
@@ -91,10 +92,88 @@ void intra_predict_8x8_sse41(const uint8_t* edge, int mode, uint8_t* out) {
   }
 }
 
+// 4x4 Hadamard on two rows per register. The SATD sums the magnitudes of all sixteen
+// coefficients, so the butterflies may produce them in any order.
+inline void hadamard_pairs(__m128i* a, __m128i* b) {
+  const __m128i sum = _mm_add_epi16(*a, *b), difference = _mm_sub_epi16(*a, *b);
+  const __m128i low = _mm_unpacklo_epi64(sum, difference), high = _mm_unpackhi_epi64(sum, difference);
+  *a = _mm_add_epi16(low, high);
+  *b = _mm_sub_epi16(low, high);
+}
+
+int satd_4x4_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  auto row_pair = [&](int y) {
+    int s0, s1, p0, p1;
+    std::memcpy(&s0, source + y * source_stride, 4);
+    std::memcpy(&s1, source + (y + 1) * source_stride, 4);
+    std::memcpy(&p0, prediction + 4 * y, 4);
+    std::memcpy(&p1, prediction + 4 * y + 4, 4);
+    const __m128i s = _mm_cvtepu8_epi16(_mm_unpacklo_epi32(_mm_cvtsi32_si128(s0), _mm_cvtsi32_si128(s1)));
+    const __m128i p = _mm_cvtepu8_epi16(_mm_unpacklo_epi32(_mm_cvtsi32_si128(p0), _mm_cvtsi32_si128(p1)));
+    return _mm_sub_epi16(s, p);
+  };
+  __m128i a = row_pair(0), b = row_pair(2);  // rows 0 | 1 and 2 | 3
+  hadamard_pairs(&a, &b);                    // four transformed rows, two per register
+  const __m128i x = _mm_unpacklo_epi16(a, _mm_srli_si128(a, 8)), y = _mm_unpacklo_epi16(b, _mm_srli_si128(b, 8));
+  __m128i c = _mm_unpacklo_epi32(x, y), d = _mm_unpackhi_epi32(x, y);  // columns 0 | 1 and 2 | 3
+  hadamard_pairs(&c, &d);
+  const __m128i ones = _mm_set1_epi16(1);
+  __m128i sum = _mm_add_epi32(_mm_madd_epi16(_mm_abs_epi16(c), ones), _mm_madd_epi16(_mm_abs_epi16(d), ones));
+  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(1, 0, 3, 2)));
+  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(2, 3, 0, 1)));
+  return _mm_cvtsi128_si32(sum);
+}
+
+// Angular prediction of a 4x4 or 16x16 block, eight samples of a row at a time (a 4x4
+// row computes eight and keeps four); horizontal modes are transposed on the way out.
+template <int N>
+void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
+  uint8_t main[3 * N + 2 + 16];  // room for the eight-sample loads past the last sample
+  std::memset(main + 3 * N + 2, 0, 16);
+  const int angle = prepare_intra_angular_reference_n(edge, mode, N, main);
+  const uint8_t* ref = main + N;
+  alignas(16) uint8_t rows[N * N + 16];
+  for (int y = 0; y < N; ++y) {
+    const int position = (y + 1) * angle;
+    for (int x = 0; x < N; x += 8) {
+      const __m128i row = interpolate_row(ref + x + (position >> 5) + 1, position & 31);
+      uint8_t packed[16];
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(packed), _mm_packus_epi16(row, row));
+      std::memcpy(rows + N * y + x, packed, N < 8 ? N : 8);
+    }
+  }
+  if (mode >= 18) {
+    std::memcpy(out, rows, N * N);
+    return;
+  }
+  for (int y = 0; y < N; ++y) {
+    for (int x = 0; x < N; ++x) out[N * x + y] = rows[N * y + x];
+  }
+}
+
+void intra_predict_4x4_sse41(const uint8_t* edge, int mode, uint8_t* out) {
+  if (mode < 2) {
+    intra_predict_4x4_c(edge, mode, out);
+    return;
+  }
+  predict_angular<4>(edge, mode, out);
+}
+
+void intra_predict_16x16_sse41(const uint8_t* edge, int mode, uint8_t* out) {
+  if (mode < 2) {
+    intra_predict_16x16_c(edge, mode, out);
+    return;
+  }
+  predict_angular<16>(edge, mode, out);
+}
+
 }  // namespace
 
 void init_intra_sse41(DspTable* table) {
+  table->intra_predict_4x4 = intra_predict_4x4_sse41;
   table->intra_predict_8x8 = intra_predict_8x8_sse41;
+  table->intra_predict_16x16 = intra_predict_16x16_sse41;
+  table->satd_4x4 = satd_4x4_sse41;
   table->satd_8x8 = satd_8x8_sse41;
 }
 

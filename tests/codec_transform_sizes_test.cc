@@ -1,0 +1,187 @@
+// Transform sizes 4x4 and 16x16: the integer inverses against their definitions and the
+// exact transform, their scans and level coding, and intra frames that choose them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "codec/block_coder.h"
+#include "codec/dct.h"
+#include "codec/intra_codec.h"
+#include "codec/quant.h"
+#include "codec/range_coder.h"
+
+namespace svc::codec {
+namespace {
+
+constexpr TransformSize kNewSizes[] = {TransformSize::k4x4, TransformSize::k16x16};
+
+std::vector<int16_t> random_coefficients(std::mt19937& rng, int area) {
+  std::vector<int16_t> coefficients(static_cast<size_t>(area), 0);
+  const int pattern = static_cast<int>(rng() % 3);
+  for (int i = 0; i < area; ++i) {
+    if (pattern == 0 || (pattern == 1 && rng() % 8 == 0)) {
+      coefficients[static_cast<size_t>(i)] = static_cast<int16_t>(static_cast<int>(rng() % 4096) - 2048);
+    }
+  }
+  if (pattern == 2) coefficients[0] = static_cast<int16_t>(rng() % 2 ? kMaxCoefficient : kMinCoefficient);
+  return coefficients;
+}
+
+TEST(TransformSizes, IntegerInversesMatchTheirMatrixProductsBitExactly) {
+  std::mt19937 rng(11);
+  for (TransformSize size : kNewSizes) {
+    const int area = transform_area(size);
+    for (int n = 0; n < 500; ++n) {
+      const auto coefficients = random_coefficients(rng, area);
+      std::vector<int16_t> fast(static_cast<size_t>(area)), reference(static_cast<size_t>(area));
+      inverse_transform(size, coefficients.data(), fast.data());
+      inverse_transform_integer_reference(size, coefficients.data(), reference.data());
+      ASSERT_EQ(fast, reference) << "size " << transform_width(size) << ", block " << n;
+    }
+  }
+}
+
+// Residual-like blocks through the float forward transform, rounded to integers: the
+// integer inverse stays within one of the exact inverse and of the samples.
+TEST(TransformSizes, IntegerInversesStayWithinOneOfTheExactInverse) {
+  std::mt19937 rng(12);
+  for (TransformSize size : kNewSizes) {
+    const int area = transform_area(size);
+    int peak = 0;
+    double squared = 0;
+    for (int n = 0; n < 2000; ++n) {
+      std::vector<float> samples(static_cast<size_t>(area)), coefficients(static_cast<size_t>(area));
+      const int range = n % 2 ? 255 : 20;
+      for (float& s : samples) s = static_cast<float>(static_cast<int>(rng() % (2 * range + 1)) - range);
+      forward_transform(size, samples.data(), coefficients.data());
+      std::vector<int16_t> rounded(static_cast<size_t>(area)), out(static_cast<size_t>(area));
+      std::vector<double> exact_in(static_cast<size_t>(area)), exact(static_cast<size_t>(area));
+      for (int i = 0; i < area; ++i) {
+        const double c =
+            std::clamp(std::round(static_cast<double>(coefficients[static_cast<size_t>(i)])), -2048.0, 2047.0);
+        rounded[static_cast<size_t>(i)] = static_cast<int16_t>(c);
+        exact_in[static_cast<size_t>(i)] = c;
+      }
+      inverse_transform(size, rounded.data(), out.data());
+      inverse_transform_reference(size, exact_in.data(), exact.data());
+      for (int i = 0; i < area; ++i) {
+        const double error = out[static_cast<size_t>(i)] - exact[static_cast<size_t>(i)];
+        peak = std::max(peak, static_cast<int>(std::ceil(std::fabs(error) - 0.5)));
+        squared += error * error;
+      }
+    }
+    EXPECT_LE(peak, 1) << "size " << transform_width(size);
+    EXPECT_LT(squared / (2000.0 * area), 0.25) << "size " << transform_width(size);
+  }
+}
+
+TEST(TransformSizes, DcKeepsTheScaleOfEachSize) {
+  // A flat block of 10: 4x4 DC = 4 x 10 (orthonormal), 16x16 DC = 8 x 10 (half of 16 x 10).
+  for (TransformSize size : kNewSizes) {
+    const int area = transform_area(size);
+    std::vector<float> samples(static_cast<size_t>(area), 10.0f), coefficients(static_cast<size_t>(area));
+    forward_transform(size, samples.data(), coefficients.data());
+    EXPECT_NEAR(coefficients[0], size == TransformSize::k4x4 ? 40.0 : 80.0, 1e-3);
+    std::vector<int16_t> dc(static_cast<size_t>(area), 0), out(static_cast<size_t>(area));
+    dc[0] = static_cast<int16_t>(std::lround(coefficients[0]));
+    inverse_transform(size, dc.data(), out.data());
+    EXPECT_TRUE(std::all_of(out.begin(), out.end(), [](int16_t v) { return v == 10; }));
+  }
+  EXPECT_EQ(residual_step(TransformSize::k4x4, 100), residual_step(TransformSize::k8x8, 100));
+  EXPECT_EQ(residual_step(TransformSize::k16x16, 100), (residual_step(TransformSize::k8x8, 100) + 1) / 2);
+  EXPECT_EQ(residual_step(TransformSize::k16x16, 0), 128);  // never finer than 128 / 256
+}
+
+TEST(TransformSizes, ScansVisitEveryPositionByAntiDiagonal) {
+  for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16}) {
+    const ScanOrder& order = scan_order(size);
+    ASSERT_EQ(order.width, transform_width(size));
+    ASSERT_EQ(order.count, transform_area(size));
+    std::set<int> seen;
+    int previous_diagonal = 0;
+    for (int i = 0; i < order.count; ++i) {
+      const int position = order.scan[i], diagonal = position / order.width + position % order.width;
+      EXPECT_GE(diagonal, previous_diagonal);
+      previous_diagonal = diagonal;
+      seen.insert(position);
+    }
+    EXPECT_EQ(static_cast<int>(seen.size()), order.count);
+  }
+}
+
+TEST(TransformSizes, LevelsOfEverySizeRoundTripThroughTheBlockCoder) {
+  std::mt19937 rng(13);
+  std::vector<uint8_t> bytes;
+  RangeEncoder encoder(&bytes);
+  BlockContextSet encoding;
+  std::vector<std::pair<TransformSize, std::vector<int16_t>>> blocks;
+  for (int n = 0; n < 300; ++n) {
+    const TransformSize size = static_cast<TransformSize>(n % kTransformSizes);
+    std::vector<int16_t> levels(static_cast<size_t>(transform_area(size)), 0);
+    for (auto& level : levels) {
+      if (rng() % 5 == 0) level = static_cast<int16_t>(static_cast<int>(rng() % 41) - 20);
+    }
+    if (n % 7 == 0) levels.back() = kMaxLevel;  // the last scan position of 4x4 and 16x16 too
+    encode_block_levels(encoder, encoding, levels.data(), 0, n % 3, size);
+    blocks.emplace_back(size, levels);
+  }
+  encoder.finish();
+  RangeDecoder decoder(bytes);
+  BlockContextSet decoding;
+  for (size_t n = 0; n < blocks.size(); ++n) {
+    const auto& [size, levels] = blocks[n];
+    BlockLevel out[kMaxTransformArea];
+    int count = 0;
+    ASSERT_TRUE(decode_block_levels(decoder, decoding, 0, static_cast<int>(n % 3), out, &count, size));
+    std::vector<int16_t> decoded(levels.size(), 0);
+    for (int i = 0; i < count; ++i) decoded[out[i].position] = out[i].level;
+    ASSERT_EQ(decoded, levels) << "block " << n;
+  }
+}
+
+// Left half smooth (a gentle gradient), right half fine detail: the encoder codes the
+// smooth macroblocks as 16x16 and splits some detailed 8x8 blocks into 4x4; the decoder
+// follows. Without the tool every macroblock is four 8x8 blocks.
+TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
+  ImageYCbCr420 image;
+  image.width = 96;
+  image.height = 64;
+  std::mt19937 rng(14);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const double detail = x < 48 ? 0.0 : 50 * std::sin(1.7 * x) * std::cos(1.3 * y) + (rng() % 41);
+      image.y.push_back(static_cast<uint8_t>(std::clamp(60 + x + 0.5 * y + detail, 0.0, 255.0)));
+    }
+  }
+  image.cb.assign(48 * 32, 120);
+  image.cr.assign(48 * 32, 140);
+  for (bool sizes : {true, false}) {
+    CodingParams params;
+    params.qindex = 60;
+    params.transform_sizes = sizes;
+    ImageYCbCr420 reconstruction, decoded;
+    const auto bytes = encode_intra_frame(image, params, &reconstruction);
+    CoefficientFrame parsed;
+    ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, &parsed).ok());
+    reconstruct_intra_frame(parsed, &decoded);
+    EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
+                decoded.cr == reconstruction.cr);
+    const auto whole = std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), 0);
+    const auto with_4x4 = std::count_if(parsed.luma_partitions.begin(), parsed.luma_partitions.end(),
+                                        [](uint8_t p) { return (p & 0x1E) != 0; });
+    if (sizes) {
+      EXPECT_GT(whole, 0);
+      EXPECT_GT(with_4x4, 0);
+    } else {
+      EXPECT_TRUE(std::all_of(parsed.luma_partitions.begin(), parsed.luma_partitions.end(),
+                              [](uint8_t p) { return p == 1; }));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace svc::codec
