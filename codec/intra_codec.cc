@@ -14,6 +14,7 @@
 
 #include "codec/bframe_syntax.h"
 #include "codec/block_coder.h"
+#include "codec/cfl.h"
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
 #include "codec/intra_prediction.h"
@@ -40,6 +41,7 @@ struct PlaneContexts {
   BlockContextSet residual;
   std::array<AdaptiveBit, 3> split_16x16{};  // luma only, by split_context
   std::array<AdaptiveBit, 3> split_8x8{};
+  CflContexts cfl;  // chroma only
 };
 
 // Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
@@ -85,7 +87,12 @@ class PlaneState {
       : units_x_(width / 4), units_y_(height / 4), units_(static_cast<size_t>(units_x_) * units_y_) {}
 
   std::array<int, kMostProbableModes> candidates(int x0, int y0) const {
-    return most_probable_modes(x0 > 0 ? at(x0 - 4, y0).mode : kDcMode, y0 > 0 ? at(x0, y0 - 4).mode : kDcMode);
+    return most_probable_modes(x0 > 0 ? regular_mode(at(x0 - 4, y0).mode) : kDcMode,
+                               y0 > 0 ? regular_mode(at(x0, y0 - 4).mode) : kDcMode);
+  }
+  // Left and above neighbours coded with CfL (chroma).
+  int cfl_context(int x0, int y0) const {
+    return (x0 > 0 && at(x0 - 4, y0).mode == kCflMode) + (y0 > 0 && at(x0, y0 - 4).mode == kCflMode);
   }
   int coded_block_context(int x0, int y0) const {
     return (x0 > 0 ? at(x0 - 4, y0).coded : 0) + (y0 > 0 ? at(x0, y0 - 4).coded : 0);
@@ -102,7 +109,6 @@ class PlaneState {
     a.above_right = a.above && (x0 + size) / 4 < units_x_ && at(x0 + size, y0 - 4).width != 0;
     return a;
   }
-  int mode_at(int x0, int y0) const { return at(x0, y0).mode; }
   void mark(int x0, int y0, int size, int mode, bool coded) {
     fill(x0, y0, size, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(size)});
   }
@@ -115,6 +121,8 @@ class PlaneState {
     bool coded = false;
     uint8_t width = 0;
   };
+  // A CfL block counts as DC for the most probable modes (its prediction's base).
+  static int regular_mode(int mode) { return mode == kCflMode ? kDcMode : mode; }
   const Unit& at(int x, int y) const { return units_[static_cast<size_t>(y / 4) * units_x_ + x / 4]; }
   void fill(int x0, int y0, int size, const Unit& unit) {
     for (int y = y0 / 4; y < (y0 + size) / 4; ++y) {
@@ -260,8 +268,9 @@ class BlockReconstructor {
   explicit BlockReconstructor(const CoefficientFrame& coefficients)
       : coefficients_(coefficients), quantizers_(residual_quantizers(coefficients.qindex)) {}
 
-  // The next block: size x size at (x0, y0) of `recon` (stride samples per row).
-  void next(PlaneState& state, uint8_t* recon, int stride, int x0, int y0, int size) {
+  // The next block: size x size at (x0, y0) of `recon` (stride samples per row); `luma`,
+  // for a chroma block, is the reconstructed luma plane (stride 2 * stride).
+  void next(PlaneState& state, uint8_t* recon, int stride, int x0, int y0, int size, const uint8_t* luma) {
     const int area = size * size;
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
@@ -273,10 +282,18 @@ class BlockReconstructor {
       positions_[decoded++] = position;
       block_[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
     }
-    const int mode = coefficients_.block_modes[block_number_] % kIntraModes;
+    const int mode_byte = coefficients_.block_modes[block_number_];
     uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
     build_intra_edge(recon, stride, x0, y0, size, state.availability(x0, y0, size), edge);
-    intra_predictor(size)(edge, mode, prediction);
+    int mode = mode_byte % kIntraModes;
+    if (luma != nullptr && size == 8 && is_cfl_mode_byte(mode_byte)) {
+      mode = kCflMode;
+      int16_t ac[64];
+      cfl_luma_ac(luma, 2 * stride, x0, y0, ac);
+      predict_cfl(ac, dc_prediction_8x8(edge), cfl_alpha_of_mode_byte(mode_byte), prediction);
+    } else {
+      intra_predictor(size)(edge, mode, prediction);
+    }
     reconstruct_block(prediction, decoded > 0 ? block_ : nullptr, size,
                       recon + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
     for (int i = 0; i < decoded; ++i) block_[positions_[i]] = 0;
@@ -304,7 +321,8 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLa
     for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
       const uint8_t partition = coefficients.luma_partitions[static_cast<size_t>(mby) * (luma.blocks_x / 2) + mbx];
       for_each_luma_block(partition, [&](int x, int y, int size) {
-        reconstructor.next(luma_state, frame->planes[0].data(), luma.stride(), 16 * mbx + x, 16 * mby + y, size);
+        reconstructor.next(luma_state, frame->planes[0].data(), luma.stride(), 16 * mbx + x, 16 * mby + y, size,
+                           nullptr);
       });
     }
   }
@@ -313,7 +331,8 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLa
     PlaneState state(plane.stride(), plane.padded_height());
     for (int by = 0; by < plane.blocks_y; ++by) {
       for (int bx = 0; bx < plane.blocks_x; ++bx) {
-        reconstructor.next(state, frame->planes[p].data(), plane.stride(), 8 * bx, 8 * by, 8);
+        reconstructor.next(state, frame->planes[p].data(), plane.stride(), 8 * bx, 8 * by, 8,
+                           frame->planes[0].data());
       }
     }
   }
@@ -321,10 +340,13 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLa
 
 // Encoder only: a block's mode, prediction and residual levels.
 struct BlockChoice {
-  int mode = kDcMode;
+  int mode = kDcMode;  // kCflMode for chroma from luma
+  int cfl_alpha = 0;
   bool coded = false;
   uint8_t prediction[kMaxTransformArea];
   int16_t levels[kMaxTransformArea];
+
+  ChromaMode chroma_mode() const { return {mode, mode == kCflMode ? cfl_alpha : 0}; }
 };
 
 // Encoder only: a set of modes to rank (all allowed ones when not given).
@@ -390,18 +412,22 @@ class BlockSearch {
 
   // Chooses the mode and levels of a size x size block and returns its cost.
   // `candidates` null: the mode is fixed (a Cr block takes its Cb block's). `ranked`: the
-  // modes to rank, else every allowed one.
+  // modes to rank, else every allowed one. `prefix_bits`: bits coded before the mode (a
+  // Cb block's CfL flag).
   float choose(const uint8_t* source, int stride, const uint8_t* edge, int size, const PlaneContexts& contexts,
                const std::array<int, kMostProbableModes>* candidates, int cbf_context, const ModeSet* ranked,
-               BlockChoice* best) const {
+               BlockChoice* best, float prefix_bits = 0) const {
     std::array<int, kSearchedModes> searched{best->mode, -1, -1};
     if (candidates != nullptr) searched = preselect(source, stride, edge, size, *candidates, ranked);
     float best_cost = std::numeric_limits<float>::max();
     for (int mode : searched) {
       if (mode < 0) continue;
       trial_.mode = mode;
-      const float mode_bits = candidates != nullptr ? intra_mode_cost(contexts.modes, *candidates, mode) : 0;
-      const float cost = evaluate(source, stride, edge, size, contexts.residual, cbf_context, mode_bits, &trial_);
+      trial_.cfl_alpha = 0;
+      const float mode_bits =
+          prefix_bits + (candidates != nullptr ? intra_mode_cost(contexts.modes, *candidates, mode) : 0);
+      intra_predictor(size)(edge, mode, trial_.prediction);
+      const float cost = evaluate(source, stride, size, contexts.residual, cbf_context, mode_bits, &trial_);
       if (cost < best_cost) {
         best_cost = cost;
         copy_choice(trial_, size, best);
@@ -410,8 +436,32 @@ class BlockSearch {
     return best_cost;
   }
 
+  // CfL for an 8x8 chroma block with luma AC `ac`: the least-squares alpha and its two
+  // neighbours (never 0 for Cb), by rate-distortion cost. Returns the cost.
+  float choose_cfl(const uint8_t* source, int stride, const uint8_t* edge, const int16_t* ac,
+                   const PlaneContexts& contexts, ChromaPlane plane, int cb_alpha, int cbf_context,
+                   BlockChoice* best, float prefix_bits = 0) const {
+    const int dc = dc_prediction_8x8(edge);
+    const int fit = cfl_least_squares_alpha(ac, source, stride, dc);
+    float best_cost = std::numeric_limits<float>::max();
+    for (int alpha = fit - 1; alpha <= fit + 1; ++alpha) {
+      if (alpha < -kCflMaxAlpha || alpha > kCflMaxAlpha || (plane == ChromaPlane::kCb && alpha == 0)) continue;
+      trial_.mode = kCflMode;
+      trial_.cfl_alpha = alpha;
+      predict_cfl(ac, dc, alpha, trial_.prediction);
+      const float bits = prefix_bits + cfl_alpha_bits(contexts.cfl, plane, cb_alpha, alpha);
+      const float cost = evaluate(source, stride, 8, contexts.residual, cbf_context, bits, &trial_);
+      if (cost < best_cost) {
+        best_cost = cost;
+        copy_choice(trial_, 8, best);
+      }
+    }
+    return best_cost;
+  }
+
   static void copy_choice(const BlockChoice& from, int size, BlockChoice* to) {
     to->mode = from.mode;
+    to->cfl_alpha = from.cfl_alpha;
     to->coded = from.coded;
     std::copy_n(from.prediction, size * size, to->prediction);
     std::copy_n(from.levels, size * size, to->levels);
@@ -444,11 +494,11 @@ class BlockSearch {
     return searched;
   }
 
-  float evaluate(const uint8_t* source, int stride, const uint8_t* edge, int size, const BlockContextSet& contexts,
-                 int cbf_context, float mode_bits, BlockChoice* trial) const {
+  // The levels and cost of trial->prediction.
+  float evaluate(const uint8_t* source, int stride, int size, const BlockContextSet& contexts, int cbf_context,
+                 float mode_bits, BlockChoice* trial) const {
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int area = size * size;
-    intra_predictor(size)(edge, trial->mode, trial->prediction);
     int16_t residual[kMaxTransformArea], coefficients[kMaxTransformArea];
     for (int y = 0; y < size; ++y) {
       for (int x = 0; x < size; ++x)
@@ -510,10 +560,42 @@ class PlaneSearch {
     const float cost = search_.choose(source_ + offset, stride_, edge, size, contexts_,
                                       fixed_mode ? nullptr : &candidates, state.coded_block_context(x0, y0), ranked,
                                       choice);
-    int16_t coefficients[kMaxTransformArea];
-    if (choice->coded) dequantize_block(quantizer_for(quantizers_, size), choice->levels, coefficients);
-    reconstruct_block(choice->prediction, choice->coded ? coefficients : nullptr, size, recon_ + offset, stride_);
-    state.mark(x0, y0, size, choice->mode, choice->coded);
+    finish_block(state, x0, y0, size, *choice);
+    return cost;
+  }
+
+  // An 8x8 chroma block. Cb: the best regular mode, or CfL when offered and cheaper
+  // (from `luma`, the reconstructed luma plane). Cr: the mode of `cb`, its Cb block, with
+  // an alpha of its own under CfL.
+  float code_chroma_block(PlaneState& state, int x0, int y0, ChromaPlane plane, const ChromaMode& cb,
+                          const uint8_t* luma, BlockChoice* choice) const {
+    uint8_t edge[dsp::kMaxIntraEdgeSamples];
+    build_intra_edge(recon_, stride_, x0, y0, 8, state.availability(x0, y0, 8), edge);
+    const uint8_t* source = source_ + static_cast<size_t>(y0) * stride_ + x0;
+    const int cbf_context = state.coded_block_context(x0, y0);
+    int16_t ac[64];
+    if (luma != nullptr) cfl_luma_ac(luma, 2 * stride_, x0, y0, ac);
+    float cost = 0;
+    if (plane == ChromaPlane::kCr && cb.cfl()) {
+      cost = search_.choose_cfl(source, stride_, edge, ac, contexts_, plane, cb.alpha, cbf_context, choice);
+    } else if (plane == ChromaPlane::kCr) {
+      choice->mode = cb.mode;
+      cost = search_.choose(source, stride_, edge, 8, contexts_, nullptr, cbf_context, nullptr, choice);
+    } else {
+      const int cfl_context = state.cfl_context(x0, y0);
+      const auto candidates = state.candidates(x0, y0);
+      cost = search_.choose(source, stride_, edge, 8, contexts_, &candidates, cbf_context, nullptr, choice,
+                            cfl_flag_bits(contexts_.cfl, cfl_context, false));
+      if (luma != nullptr) {
+        const float cfl_cost = search_.choose_cfl(source, stride_, edge, ac, contexts_, plane, 0, cbf_context,
+                                                  &cfl_trial_, cfl_flag_bits(contexts_.cfl, cfl_context, true));
+        if (cfl_cost < cost) {
+          cost = cfl_cost;
+          BlockSearch::copy_choice(cfl_trial_, 8, choice);
+        }
+      }
+    }
+    finish_block(state, x0, y0, 8, *choice);
     return cost;
   }
 
@@ -530,12 +612,22 @@ class PlaneSearch {
   const PlaneContexts& contexts() const { return contexts_; }
 
  private:
+  // Writes the chosen block's reconstruction into the plane and marks it.
+  void finish_block(PlaneState& state, int x0, int y0, int size, const BlockChoice& choice) const {
+    const size_t offset = static_cast<size_t>(y0) * stride_ + x0;
+    int16_t coefficients[kMaxTransformArea];
+    if (choice.coded) dequantize_block(quantizer_for(quantizers_, size), choice.levels, coefficients);
+    reconstruct_block(choice.prediction, choice.coded ? coefficients : nullptr, size, recon_ + offset, stride_);
+    state.mark(x0, y0, size, choice.mode, choice.coded);
+  }
+
   const BlockSearch& search_;
   const SizedQuantizers& quantizers_;
   const PlaneContexts& contexts_;
   const uint8_t* source_;
   uint8_t* recon_;
   int stride_;
+  mutable BlockChoice cfl_trial_;
 };
 
 // Encoder only: the partition of a luma macroblock by rate-distortion cost. Four 8x8
@@ -633,13 +725,28 @@ class MacroblockSearch {
   std::array<BlockChoice, 4> quarters_;
 };
 
-// Writes a block's mode (unless the mode is another plane's) and levels, and marks it.
-void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                 const BlockChoice& choice, bool fixed_mode) {
-  if (!fixed_mode) encode_intra_mode(encoder, contexts.modes, state.candidates(x0, y0), choice.mode);
+// Writes a block's levels and marks it.
+void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
+                  const BlockChoice& choice) {
   encode_block_levels(encoder, contexts.residual, choice.levels, 0, state.coded_block_context(x0, y0),
                       size_of_width(size));
   state.mark(x0, y0, size, choice.mode, choice.coded);
+}
+
+// Writes a luma block's mode and levels, and marks it.
+void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
+                 const BlockChoice& choice) {
+  encode_intra_mode(encoder, contexts.modes, state.candidates(x0, y0), choice.mode);
+  write_levels(encoder, contexts, state, x0, y0, size, choice);
+}
+
+// Writes an 8x8 chroma block's mode (codec/cfl.h; `cb` is a Cr block's Cb block) and
+// levels, and marks it.
+void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
+                        ChromaPlane plane, const ChromaMode& cb, const BlockChoice& choice) {
+  encode_chroma_mode(encoder, contexts.cfl, contexts.modes, state.cfl_context(x0, y0), state.candidates(x0, y0),
+                     plane, cb, choice.chroma_mode());
+  write_levels(encoder, contexts, state, x0, y0, 8, choice);
 }
 
 void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
@@ -652,16 +759,14 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
     if (size != 16 && x % 8 == 0 && y % 8 == 0) {
       encoder.encode(contexts.split_8x8[static_cast<size_t>(state.split_context(x0 + x, y0 + y, 8))], size == 4);
     }
-    write_block(encoder, contexts, state, x0 + x, y0 + y, size, choice.blocks[static_cast<size_t>(n++)], false);
+    write_block(encoder, contexts, state, x0 + x, y0 + y, size, choice.blocks[static_cast<size_t>(n++)]);
   });
 }
 
-// Reads what write_block wrote into `frame`; `fixed_mode` < 0 when the mode is coded.
-// Returns false on invalid levels.
-bool read_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                int fixed_mode, CoefficientFrame* frame) {
-  const int mode = fixed_mode >= 0 ? fixed_mode
-                                   : decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
+// Reads what write_levels wrote into `frame`, with the block's mode (`mode_byte` as
+// CoefficientFrame::block_modes holds it). Returns false on invalid levels.
+bool read_levels(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
+                 int mode, uint8_t mode_byte, CoefficientFrame* frame) {
   BlockLevel levels[kMaxTransformArea];
   int count = 0;
   if (!decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), levels, &count,
@@ -671,8 +776,25 @@ bool read_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& stat
   state.mark(x0, y0, size, mode, count > 0);
   for (int i = 0; i < count; ++i) frame->append(levels[i].position, levels[i].level);
   frame->block_counts.push_back(static_cast<uint16_t>(count));
-  frame->block_modes.push_back(static_cast<uint8_t>(mode));
+  frame->block_modes.push_back(mode_byte);
   return true;
+}
+
+// Reads what write_block wrote; returns false on invalid levels.
+bool read_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
+                CoefficientFrame* frame) {
+  const int mode = decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
+  return read_levels(decoder, contexts, state, x0, y0, size, mode, static_cast<uint8_t>(mode), frame);
+}
+
+// Reads what write_chroma_block wrote; a Cb block's mode goes to `cb`, which a Cr block
+// reads. Returns false on invalid levels.
+bool read_chroma_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
+                       ChromaPlane plane, ChromaMode* cb, CoefficientFrame* frame) {
+  const ChromaMode mode = decode_chroma_mode(decoder, contexts.cfl, contexts.modes, state.cfl_context(x0, y0),
+                                             state.candidates(x0, y0), plane, *cb);
+  if (plane == ChromaPlane::kCb) *cb = mode;
+  return read_levels(decoder, contexts, state, x0, y0, 8, mode.mode, mode.mode_byte(), frame);
 }
 
 // Reads what write_macroblock wrote; returns false on invalid levels.
@@ -682,18 +804,18 @@ bool read_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState&
   uint8_t partition = 0;
   bool valid = true;
   if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))])) {
-    valid = read_block(decoder, contexts, state, x0, y0, 16, -1, frame);
+    valid = read_block(decoder, contexts, state, x0, y0, 16, frame);
   } else {
     partition = kSplit16x16;
     for (int i = 0; i < 4 && valid; ++i) {
       const int x = x0 + 8 * (i & 1), y = y0 + 8 * (i >> 1);
       if (!decoder.decode(contexts.split_8x8[static_cast<size_t>(state.split_context(x, y, 8))])) {
-        valid = read_block(decoder, contexts, state, x, y, 8, -1, frame);
+        valid = read_block(decoder, contexts, state, x, y, 8, frame);
         continue;
       }
       partition |= split_8x8_bit(i);
       for (int j = 0; j < 4 && valid; ++j) {
-        valid = read_block(decoder, contexts, state, x + 4 * (j & 1), y + 4 * (j >> 1), 4, -1, frame);
+        valid = read_block(decoder, contexts, state, x + 4 * (j & 1), y + 4 * (j >> 1), 4, frame);
       }
     }
   }
@@ -769,19 +891,22 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
     }
   }
   const PlaneGeometry& chroma = planes[1];
-  PlaneState cb_state(chroma.stride(), chroma.padded_height());
+  // The Cb blocks' modes, which the Cr blocks follow.
+  std::vector<ChromaMode> cb_modes(static_cast<size_t>(chroma.blocks_x) * chroma.blocks_y);
+  const uint8_t* cfl_luma = params.cfl ? frame.planes[0].data() : nullptr;
   for (int p = 1; p < 3; ++p) {
+    const ChromaPlane plane = p == 1 ? ChromaPlane::kCb : ChromaPlane::kCr;
     const std::vector<uint8_t> padded_source = pad_plane(planes[p]);
     const PlaneSearch plane_search(search, quantizers, chroma_contexts, padded_source.data(),
                                    frame.planes[p].data(), chroma.stride());
-    PlaneState cr_state(chroma.stride(), chroma.padded_height());
-    PlaneState& state = p == 1 ? cb_state : cr_state;
+    PlaneState state(chroma.stride(), chroma.padded_height());
     auto choice = std::make_unique<BlockChoice>();
-    for (int y0 = 0; y0 < chroma.padded_height(); y0 += 8) {
-      for (int x0 = 0; x0 < chroma.stride(); x0 += 8) {
-        if (p == 2) choice->mode = cb_state.mode_at(x0, y0);
-        plane_search.code_block(state, x0, y0, 8, nullptr, p == 2, choice.get());
-        write_block(encoder, chroma_contexts, state, x0, y0, 8, *choice, p == 2);
+    for (int by = 0; by < chroma.blocks_y; ++by) {
+      for (int bx = 0; bx < chroma.blocks_x; ++bx) {
+        ChromaMode& cb = cb_modes[static_cast<size_t>(by) * chroma.blocks_x + bx];
+        plane_search.code_chroma_block(state, 8 * bx, 8 * by, plane, cb, cfl_luma, choice.get());
+        write_chroma_block(encoder, chroma_contexts, state, 8 * bx, 8 * by, plane, cb, *choice);
+        if (plane == ChromaPlane::kCb) cb = choice->chroma_mode();
       }
     }
   }
@@ -856,14 +981,16 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
     if (decoder.overrun() > 0) return truncated(0, 2 * mby);
   }
   const PlaneGeometry& chroma = planes[1];
-  PlaneState cb_state(chroma.stride(), chroma.padded_height());
+  std::vector<ChromaMode> cb_modes(static_cast<size_t>(chroma.blocks_x) * chroma.blocks_y);
   for (int p = 1; p < 3; ++p) {
-    PlaneState cr_state(chroma.stride(), chroma.padded_height());
-    PlaneState& state = p == 1 ? cb_state : cr_state;
+    const ChromaPlane plane = p == 1 ? ChromaPlane::kCb : ChromaPlane::kCr;
+    PlaneState state(chroma.stride(), chroma.padded_height());
     for (int by = 0; by < chroma.blocks_y; ++by) {
       for (int bx = 0; bx < chroma.blocks_x; ++bx) {
-        const int fixed_mode = p == 2 ? cb_state.mode_at(8 * bx, 8 * by) : -1;
-        if (!read_block(decoder, chroma_contexts, state, 8 * bx, 8 * by, 8, fixed_mode, &result)) return invalid();
+        ChromaMode& cb = cb_modes[static_cast<size_t>(by) * chroma.blocks_x + bx];
+        if (!read_chroma_block(decoder, chroma_contexts, state, 8 * bx, 8 * by, plane, &cb, &result)) {
+          return invalid();
+        }
       }
       if (decoder.overrun() > 0) return truncated(p, by);
     }

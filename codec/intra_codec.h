@@ -33,6 +33,9 @@ struct CodingParams {
   // Encoder restriction: when false, every luma macroblock is coded as four 8x8 blocks
   // (no 16x16 or 4x4 transform blocks; the partition flags are still coded).
   bool transform_sizes = true;
+  // Encoder restriction: when false, no chroma block uses CfL (chroma from luma,
+  // codec/cfl.h; the CfL flags are still coded).
+  bool cfl = true;
 };
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
@@ -43,7 +46,7 @@ inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFil
 
 // Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 5;
+inline constexpr uint8_t kIntraSyntaxVersion = 6;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 
@@ -67,7 +70,9 @@ struct CoefficientFrame {
   // levels, 0..256.
   std::vector<uint16_t> block_counts;
   // Per block in the same order: its intra prediction mode, 0..kIntraModes - 1
-  // (codec/intra_prediction.h; a Cr block repeats its Cb block's mode).
+  // (codec/intra_prediction.h; a Cr block repeats its Cb block's mode), or for a chroma
+  // block using CfL its alpha as cfl_mode_byte(alpha) (codec/cfl.h: 35..67; a Cr block
+  // holds its own alpha).
   std::vector<uint8_t> block_modes;
   // The non-zero levels of each block in turn, in scan order. One 16-bit entry per level:
   // natural (row-major) position in the low 8 bits, the level as an 8-bit two's

@@ -42,6 +42,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   init_intra_c(&table);
   init_deblock_c(&table);
   init_cdef_c(&table);
+  init_cfl_c(&table);
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);
@@ -55,6 +56,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_mc_sse41(&table);
     init_deblock_sse41(&table);
     init_cdef_sse41(&table);
+    init_cfl_sse41(&table);
   }
 #endif
   return table;

@@ -99,6 +99,12 @@ struct DspTable {
   // above column i.
   void (*intra_predict_4x4)(const uint8_t* edge, int mode, uint8_t* out);
   void (*intra_predict_16x16)(const uint8_t* edge, int mode, uint8_t* out);
+  // Chroma from luma (docs/codec.md 3.3): the 8x8 chroma block's luma, `luma` pointing at
+  // its 16x16 co-located samples, as 2x2 sums minus their rounded mean over the block
+  // (64 values in -1020..1020, row-major); and the prediction
+  // clip(dc + ((alpha * ac + 16) >> 5), 0, 255) for dc in 0..255, alpha in -16..16.
+  void (*cfl_luma_ac_8x8)(const uint8_t* luma, ptrdiff_t stride, int16_t* ac);
+  void (*cfl_predict_8x8)(const int16_t* ac, int dc, int alpha, uint8_t* out);
   // Sum of absolute 8x8 (4x4) Hadamard coefficients (unnormalised) of source - prediction
   // (encoder only: mode pre-selection).
   int (*satd_8x8)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);

@@ -14,6 +14,7 @@ void init_mc_c(DspTable* table);
 void init_intra_c(DspTable* table);
 void init_deblock_c(DspTable* table);
 void init_cdef_c(DspTable* table);
+void init_cfl_c(DspTable* table);
 
 // Interpolation: the largest block side and the offset of stored intermediates.
 inline constexpr int kMaxInterpolationBlock = 64;
@@ -54,6 +55,7 @@ void init_intra_sse41(DspTable* table);
 void init_transform_4_16_sse41(DspTable* table);
 void init_deblock_sse41(DspTable* table);
 void init_cdef_sse41(DspTable* table);
+void init_cfl_sse41(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp

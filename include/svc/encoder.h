@@ -57,6 +57,9 @@ struct CodingTools {
   // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
   // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
   bool transform_sizes = true;
+  // I-faces: chroma blocks may be predicted from the co-located reconstructed luma (CfL,
+  // docs/codec.md 3.3), by rate-distortion cost against the regular modes. Off: never.
+  bool cfl = true;
 
   bool operator==(const CodingTools&) const = default;
 };

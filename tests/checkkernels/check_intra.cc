@@ -1,4 +1,4 @@
-// Intra prediction and SATD kernels against their references.
+// Intra prediction, chroma-from-luma and SATD kernels against their references.
 #include "checkkernels/harness.h"
 
 namespace svc::checkkernels {
@@ -138,6 +138,72 @@ void bench_satd(const Tables& table, int iterations) {
   bench_sink = sum;
 }
 
+// Luma as the codec holds it: any stride from 16, random or extreme samples, sometimes
+// flat (every AC value 0).
+std::string check_cfl_luma_ac(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  Buffer luma(16 * 48);
+  for (int n = 0; n < iterations; ++n) {
+    const int stride = random.uniform(16, 48), offset = random.uniform(0, 15);
+    uint8_t* l = luma.at(offset);
+    if (random.uniform(0, 7) == 0) {
+      std::memset(l, random.byte(), static_cast<size_t>(15 * stride + 16));
+    } else {
+      random.fill_with_extremes(l, static_cast<size_t>(15 * stride + 16));
+    }
+    int16_t expected[64], actual[64];
+    reference.cfl_luma_ac_8x8(l, stride, expected);
+    variant.cfl_luma_ac_8x8(l, stride, actual);
+    if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) {
+      return "stride " + std::to_string(stride) + ": " + diff;
+    }
+  }
+  return {};
+}
+
+// AC from the reference kernel on random or extreme luma, or at the contract's limits;
+// every alpha and DC values including 0 and 255 (saturation).
+std::string check_cfl_predict(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    int16_t ac[64];
+    if (random.uniform(0, 3) == 0) {
+      for (int16_t& v : ac) v = static_cast<int16_t>(random.uniform(0, 1) ? random.uniform(-1020, 1020) : 1020);
+    } else {
+      uint8_t luma[256];
+      random.fill_with_extremes(luma, sizeof luma);
+      reference.cfl_luma_ac_8x8(luma, 16, ac);
+    }
+    const int dc = random.uniform(0, 3) == 0 ? 255 * random.uniform(0, 1) : random.byte();
+    for (int alpha = -16; alpha <= 16; ++alpha) {
+      uint8_t expected[64], actual[64];
+      reference.cfl_predict_8x8(ac, dc, alpha, expected);
+      variant.cfl_predict_8x8(ac, dc, alpha, actual);
+      if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) {
+        return "dc " + std::to_string(dc) + ", alpha " + std::to_string(alpha) + ": " + diff;
+      }
+    }
+  }
+  return {};
+}
+
+void bench_cfl_luma_ac(const Tables& table, int iterations) {
+  uint8_t luma[256];
+  for (int i = 0; i < 256; ++i) luma[i] = static_cast<uint8_t>(i * 37);
+  int16_t ac[64];
+  for (int n = 0; n < iterations; ++n) {
+    luma[n & 255] ^= 1;
+    table.cfl_luma_ac_8x8(luma, 16, ac);
+  }
+  bench_sink = ac[0];
+}
+
+void bench_cfl_predict(const Tables& table, int iterations) {
+  int16_t ac[64];
+  for (int i = 0; i < 64; ++i) ac[i] = static_cast<int16_t>(i * 29 - 900);
+  uint8_t out[64];
+  for (int n = 0; n < iterations; ++n) table.cfl_predict_8x8(ac, n & 255, n % 33 - 16, out);
+  bench_sink = out[0];
+}
+
 }  // namespace
 
 std::vector<Kernel> intra_kernels() {
@@ -150,6 +216,10 @@ std::vector<Kernel> intra_kernels() {
       {"intra_predict_16x16", [](const Tables& t) { return entry_of(t.intra_predict_16x16); },
        check_intra_predict_n<16>, bench_intra_predict_n<16>},
       {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd_4x4, bench_satd_4x4},
+      {"cfl_luma_ac_8x8", [](const Tables& t) { return entry_of(t.cfl_luma_ac_8x8); }, check_cfl_luma_ac,
+       bench_cfl_luma_ac},
+      {"cfl_predict_8x8", [](const Tables& t) { return entry_of(t.cfl_predict_8x8); }, check_cfl_predict,
+       bench_cfl_predict},
   };
 }
 
