@@ -564,39 +564,46 @@ class PlaneSearch {
     return cost;
   }
 
-  // An 8x8 chroma block. Cb: the best regular mode, or CfL when offered and cheaper
-  // (from `luma`, the reconstructed luma plane). Cr: the mode of `cb`, its Cb block, with
-  // an alpha of its own under CfL.
-  float code_chroma_block(PlaneState& state, int x0, int y0, ChromaPlane plane, const ChromaMode& cb,
-                          const uint8_t* luma, BlockChoice* choice) const {
+  // An 8x8 chroma block in a regular mode, not yet reconstructed: a Cb block's best
+  // (`cb` null), or a Cr block in its Cb block's mode.
+  float choose_chroma_regular(const PlaneState& state, int x0, int y0, const ChromaMode* cb,
+                              BlockChoice* choice) const {
     uint8_t edge[dsp::kMaxIntraEdgeSamples];
     build_intra_edge(recon_, stride_, x0, y0, 8, state.availability(x0, y0, 8), edge);
     const uint8_t* source = source_ + static_cast<size_t>(y0) * stride_ + x0;
     const int cbf_context = state.coded_block_context(x0, y0);
-    int16_t ac[64];
-    if (luma != nullptr) cfl_luma_ac(luma, 2 * stride_, x0, y0, ac);
-    float cost = 0;
-    if (plane == ChromaPlane::kCr && cb.cfl()) {
-      cost = search_.choose_cfl(source, stride_, edge, ac, contexts_, plane, cb.alpha, cbf_context, choice);
-    } else if (plane == ChromaPlane::kCr) {
-      choice->mode = cb.mode;
-      cost = search_.choose(source, stride_, edge, 8, contexts_, nullptr, cbf_context, nullptr, choice);
-    } else {
-      const int cfl_context = state.cfl_context(x0, y0);
-      const auto candidates = state.candidates(x0, y0);
-      cost = search_.choose(source, stride_, edge, 8, contexts_, &candidates, cbf_context, nullptr, choice,
-                            cfl_flag_bits(contexts_.cfl, cfl_context, false));
-      if (luma != nullptr) {
-        const float cfl_cost = search_.choose_cfl(source, stride_, edge, ac, contexts_, plane, 0, cbf_context,
-                                                  &cfl_trial_, cfl_flag_bits(contexts_.cfl, cfl_context, true));
-        if (cfl_cost < cost) {
-          cost = cfl_cost;
-          BlockSearch::copy_choice(cfl_trial_, 8, choice);
-        }
-      }
+    if (cb != nullptr) {
+      choice->mode = cb->mode;
+      return search_.choose(source, stride_, edge, 8, contexts_, nullptr, cbf_context, nullptr, choice);
     }
-    finish_block(state, x0, y0, 8, *choice);
-    return cost;
+    const auto candidates = state.candidates(x0, y0);
+    return search_.choose(source, stride_, edge, 8, contexts_, &candidates, cbf_context, nullptr, choice,
+                          cfl_flag_bits(contexts_.cfl, state.cfl_context(x0, y0), false));
+  }
+
+  // An 8x8 chroma block in CfL with luma AC `ac`, not yet reconstructed: a Cb block
+  // (`cb` null) or a Cr block whose Cb block uses CfL.
+  float choose_chroma_cfl(const PlaneState& state, int x0, int y0, const int16_t* ac, const ChromaMode* cb,
+                          BlockChoice* choice) const {
+    uint8_t edge[dsp::kMaxIntraEdgeSamples];
+    build_intra_edge(recon_, stride_, x0, y0, 8, state.availability(x0, y0, 8), edge);
+    const uint8_t* source = source_ + static_cast<size_t>(y0) * stride_ + x0;
+    const int cbf_context = state.coded_block_context(x0, y0);
+    if (cb != nullptr) {
+      return search_.choose_cfl(source, stride_, edge, ac, contexts_, ChromaPlane::kCr, cb->alpha, cbf_context,
+                                choice);
+    }
+    return search_.choose_cfl(source, stride_, edge, ac, contexts_, ChromaPlane::kCb, 0, cbf_context, choice,
+                              cfl_flag_bits(contexts_.cfl, state.cfl_context(x0, y0), true));
+  }
+
+  // Writes the chosen block's reconstruction into the plane and marks it.
+  void finish_block(PlaneState& state, int x0, int y0, int size, const BlockChoice& choice) const {
+    const size_t offset = static_cast<size_t>(y0) * stride_ + x0;
+    int16_t coefficients[kMaxTransformArea];
+    if (choice.coded) dequantize_block(quantizer_for(quantizers_, size), choice.levels, coefficients);
+    reconstruct_block(choice.prediction, choice.coded ? coefficients : nullptr, size, recon_ + offset, stride_);
+    state.mark(x0, y0, size, choice.mode, choice.coded);
   }
 
   float split_bit_cost(const AdaptiveBit& bit, int value) const {
@@ -612,22 +619,12 @@ class PlaneSearch {
   const PlaneContexts& contexts() const { return contexts_; }
 
  private:
-  // Writes the chosen block's reconstruction into the plane and marks it.
-  void finish_block(PlaneState& state, int x0, int y0, int size, const BlockChoice& choice) const {
-    const size_t offset = static_cast<size_t>(y0) * stride_ + x0;
-    int16_t coefficients[kMaxTransformArea];
-    if (choice.coded) dequantize_block(quantizer_for(quantizers_, size), choice.levels, coefficients);
-    reconstruct_block(choice.prediction, choice.coded ? coefficients : nullptr, size, recon_ + offset, stride_);
-    state.mark(x0, y0, size, choice.mode, choice.coded);
-  }
-
   const BlockSearch& search_;
   const SizedQuantizers& quantizers_;
   const PlaneContexts& contexts_;
   const uint8_t* source_;
   uint8_t* recon_;
   int stride_;
-  mutable BlockChoice cfl_trial_;
 };
 
 // Encoder only: the partition of a luma macroblock by rate-distortion cost. Four 8x8
@@ -823,6 +820,82 @@ bool read_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState&
   return valid;
 }
 
+// Encoder only: the chroma blocks of both planes, position by position. A Cb block's
+// mode is chosen with its Cr block's cost under it: the best regular mode with Cr in
+// that mode, against CfL (when `cfl`) with each plane's own alpha. Cb blocks are written
+// as chosen, the Cr blocks after the last Cb block, as the syntax orders them.
+class ChromaSearch {
+ public:
+  ChromaSearch(const BlockSearch& search, const SizedQuantizers& quantizers, const PlaneContexts& contexts,
+               const std::array<PlaneGeometry, 3>& planes, bool cfl, PaddedFrame* frame)
+      : geometry_(planes[1]),
+        cb_source_(pad_plane(planes[1])),
+        cr_source_(pad_plane(planes[2])),
+        cb_(search, quantizers, contexts, cb_source_.data(), frame->planes[1].data(), geometry_.stride()),
+        cr_(search, quantizers, contexts, cr_source_.data(), frame->planes[2].data(), geometry_.stride()),
+        luma_(cfl ? frame->planes[0].data() : nullptr),
+        cb_state_(geometry_.stride(), geometry_.padded_height()),
+        cr_state_(geometry_.stride(), geometry_.padded_height()) {}
+
+  // Chooses and reconstructs the Cb and Cr blocks at (x0, y0).
+  void choose(int x0, int y0, BlockChoice* cb, BlockChoice* cr) {
+    float regular = cb_.choose_chroma_regular(cb_state_, x0, y0, nullptr, cb);
+    const ChromaMode cb_regular = cb->chroma_mode();
+    regular += cr_.choose_chroma_regular(cr_state_, x0, y0, &cb_regular, cr);
+    if (luma_ != nullptr) try_cfl(x0, y0, regular, cb, cr);
+    cb_.finish_block(cb_state_, x0, y0, 8, *cb);
+    cr_.finish_block(cr_state_, x0, y0, 8, *cr);
+  }
+
+  PlaneState& cb_state() { return cb_state_; }
+  PlaneState& cr_state() { return cr_state_; }
+
+ private:
+  // Replaces the pair by CfL's when cheaper than `regular`, their cost.
+  void try_cfl(int x0, int y0, float regular, BlockChoice* cb, BlockChoice* cr) {
+    int16_t ac[64];
+    cfl_luma_ac(luma_, 2 * geometry_.stride(), x0, y0, ac);
+    const float cb_cost = cb_.choose_chroma_cfl(cb_state_, x0, y0, ac, nullptr, &cb_trial_);
+    if (cb_cost >= regular) return;  // Cr's cost only adds
+    const ChromaMode cb_mode = cb_trial_.chroma_mode();
+    const float cost = cb_cost + cr_.choose_chroma_cfl(cr_state_, x0, y0, ac, &cb_mode, &cr_trial_);
+    if (cost >= regular) return;
+    BlockSearch::copy_choice(cb_trial_, 8, cb);
+    BlockSearch::copy_choice(cr_trial_, 8, cr);
+  }
+
+  const PlaneGeometry& geometry_;
+  std::vector<uint8_t> cb_source_, cr_source_;
+  PlaneSearch cb_, cr_;
+  const uint8_t* luma_;
+  PlaneState cb_state_, cr_state_;
+  BlockChoice cb_trial_, cr_trial_;
+};
+
+void code_chroma(RangeEncoder& encoder, PlaneContexts& contexts, const BlockSearch& search,
+                 const SizedQuantizers& quantizers, const std::array<PlaneGeometry, 3>& planes, bool cfl,
+                 PaddedFrame* frame) {
+  const PlaneGeometry& chroma = planes[1];
+  auto chroma_search = std::make_unique<ChromaSearch>(search, quantizers, contexts, planes, cfl, frame);
+  const size_t count = static_cast<size_t>(chroma.blocks_x) * chroma.blocks_y;
+  std::vector<BlockChoice> cr_choices(count);
+  std::vector<ChromaMode> cb_modes(count);
+  auto cb = std::make_unique<BlockChoice>();
+  for (size_t i = 0; i < count; ++i) {
+    const int x0 = 8 * static_cast<int>(i % static_cast<size_t>(chroma.blocks_x));
+    const int y0 = 8 * static_cast<int>(i / static_cast<size_t>(chroma.blocks_x));
+    chroma_search->choose(x0, y0, cb.get(), &cr_choices[i]);
+    write_chroma_block(encoder, contexts, chroma_search->cb_state(), x0, y0, ChromaPlane::kCb, {}, *cb);
+    cb_modes[i] = cb->chroma_mode();
+  }
+  for (size_t i = 0; i < count; ++i) {
+    const int x0 = 8 * static_cast<int>(i % static_cast<size_t>(chroma.blocks_x));
+    const int y0 = 8 * static_cast<int>(i / static_cast<size_t>(chroma.blocks_x));
+    write_chroma_block(encoder, contexts, chroma_search->cr_state(), x0, y0, ChromaPlane::kCr, cb_modes[i],
+                       cr_choices[i]);
+  }
+}
+
 // The number of blocks a frame of this layout and these partitions holds.
 size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t>& partitions) {
   size_t count = 2 * static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y;
@@ -890,26 +963,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       }
     }
   }
-  const PlaneGeometry& chroma = planes[1];
-  // The Cb blocks' modes, which the Cr blocks follow.
-  std::vector<ChromaMode> cb_modes(static_cast<size_t>(chroma.blocks_x) * chroma.blocks_y);
-  const uint8_t* cfl_luma = params.cfl ? frame.planes[0].data() : nullptr;
-  for (int p = 1; p < 3; ++p) {
-    const ChromaPlane plane = p == 1 ? ChromaPlane::kCb : ChromaPlane::kCr;
-    const std::vector<uint8_t> padded_source = pad_plane(planes[p]);
-    const PlaneSearch plane_search(search, quantizers, chroma_contexts, padded_source.data(),
-                                   frame.planes[p].data(), chroma.stride());
-    PlaneState state(chroma.stride(), chroma.padded_height());
-    auto choice = std::make_unique<BlockChoice>();
-    for (int by = 0; by < chroma.blocks_y; ++by) {
-      for (int bx = 0; bx < chroma.blocks_x; ++bx) {
-        ChromaMode& cb = cb_modes[static_cast<size_t>(by) * chroma.blocks_x + bx];
-        plane_search.code_chroma_block(state, 8 * bx, 8 * by, plane, cb, cfl_luma, choice.get());
-        write_chroma_block(encoder, chroma_contexts, state, 8 * bx, 8 * by, plane, cb, *choice);
-        if (plane == ChromaPlane::kCb) cb = choice->chroma_mode();
-      }
-    }
-  }
+  code_chroma(encoder, chroma_contexts, search, quantizers, planes, params.cfl, &frame);
   // The filters change no block symbol: decide them on the finished reconstruction.
   if (params.deblocking) {
     PaddedFrame filtered = frame;
