@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "2556d53ef0ac13b3edcfd32f7a6cbe7644a0632047188ea952efe549ce30508a",
-     "6b84d01119b49667945e3a0438a7d064ce5bd14a5ab95d132a6a771332501266"},
+     "c60923897af74c271cbe64a71593933e74659adcc066e4da773c884f4dca48e4",
+     "e6440e2d1b0bab99d0399cecf60994d1e60b275dfd9586d5674de71797616d12"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "65ffe3e3601b266bc53345eba2e70d1a10f97048aa8faf390b13cdbedd2c2e60",
-     "6d17ecae7608d148e2e9d74a7601d83649cd1852ebf4cfbde86bb4661739608e"},
+     "eb802bde768a97f446ee57d584383680c7b017ce2dee304772e0687fc7aad776",
+     "2ce140ab5e0903bc7452b2d6932f412e3e4400abd9e7322cc0085f9790da5514"},
 };
 
 std::string file_sha256(const fs::path& path) {
