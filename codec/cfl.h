@@ -40,9 +40,9 @@ struct ChromaMode {
 };
 
 struct CflContexts {
-  std::array<AdaptiveBit, 3> flag{};                                    // by cfl_context
-  AdaptiveBit cr_nonzero;                                               // Cr's alpha is not 0
-  std::array<AdaptiveBit, 3> sign{};                                    // Cb; Cr after Cb > 0; Cr after Cb < 0
+  std::array<AdaptiveBit, 3> flag{};                                     // by cfl_context
+  AdaptiveBit cr_nonzero;                                                // Cr's alpha is not 0
+  std::array<AdaptiveBit, 3> sign{};                                     // Cb; Cr after Cb > 0; Cr after Cb < 0
   std::array<std::array<AdaptiveBit, kCflMaxAlpha - 1>, 2> magnitude{};  // per plane, by bin
 };
 

@@ -81,7 +81,8 @@ TEST(Cfl, ChromaModesRoundTrip) {
     const int context = static_cast<int>(i % 3);
     const ChromaMode cb =
         decode_chroma_mode(decoder, read_cfl, read_modes, context, candidates, ChromaPlane::kCb, {});
-    const ChromaMode cr = decode_chroma_mode(decoder, read_cfl, read_modes, context, candidates, ChromaPlane::kCr, cb);
+    const ChromaMode cr =
+        decode_chroma_mode(decoder, read_cfl, read_modes, context, candidates, ChromaPlane::kCr, cb);
     ASSERT_EQ(cb.mode, blocks[i].first.mode) << i;
     ASSERT_EQ(cb.alpha, blocks[i].first.alpha) << i;
     ASSERT_EQ(cr.mode, blocks[i].second.mode) << i;
@@ -128,11 +129,12 @@ TEST(Cfl, EncoderUsesCflForChromaThatFollowsLuma) {
     CoefficientFrame parsed;
     ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, &parsed).ok());
     reconstruct_intra_frame(parsed, &decoded);
-    EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb && decoded.cr == reconstruction.cr);
+    EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
+                decoded.cr == reconstruction.cr);
     const size_t chroma_blocks = 2 * 6 * 4, first = parsed.block_modes.size() - chroma_blocks;
-    const auto cfl_blocks =
-        std::count_if(parsed.block_modes.begin() + static_cast<ptrdiff_t>(first), parsed.block_modes.end(),
-                      [](uint8_t mode) { return is_cfl_mode_byte(mode); });
+    const auto cfl_blocks = std::count_if(parsed.block_modes.begin() + static_cast<ptrdiff_t>(first),
+                                          parsed.block_modes.end(),
+                                          [](uint8_t mode) { return is_cfl_mode_byte(mode); });
     if (cfl) {
       EXPECT_GE(cfl_blocks, static_cast<ptrdiff_t>(chroma_blocks / 2));
     } else {
