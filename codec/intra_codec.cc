@@ -128,10 +128,10 @@ class PlaneState {
 
 // The residual quantizers of every transform size at one index, indexed by TransformSize.
 using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
-SizedQuantizers residual_quantizers(int qindex) {
+SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix) {
   SizedQuantizers q;
   for (int s = 0; s < kTransformSizes; ++s)
-    q[static_cast<size_t>(s)] = make_residual_quantizer(static_cast<TransformSize>(s), qindex);
+    q[static_cast<size_t>(s)] = make_residual_quantizer(static_cast<TransformSize>(s), qindex, matrix);
   return q;
 }
 const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size) {
@@ -258,7 +258,8 @@ int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
 class BlockReconstructor {
  public:
   explicit BlockReconstructor(const CoefficientFrame& coefficients)
-      : coefficients_(coefficients), quantizers_(residual_quantizers(coefficients.qindex)) {}
+      : coefficients_(coefficients),
+        quantizers_(residual_quantizers(coefficients.qindex, coefficients.residual_matrix)) {}
 
   // The next block: size x size at (x0, y0) of `recon` (stride samples per row).
   void next(PlaneState& state, uint8_t* recon, int stride, int x0, int y0, int size) {
@@ -736,7 +737,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
     return {};
   }
   const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
-  SizedQuantizers quantizers = residual_quantizers(qindex);
+  SizedQuantizers quantizers = residual_quantizers(qindex, params.residual_matrix);
   // A narrower dead zone than inter residuals use (0.2), tuned on the photographic scenes.
   for (Quantizer& q : quantizers) q.rounding_dc = q.rounding_ac = 0.25f;
   const BlockSearch search(quantizers, params);
@@ -747,7 +748,9 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   planes[2].pixels = source.cr.data();
 
   std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kIntra), kIntraSyntaxVersion,
-                                static_cast<uint8_t>(qindex), 0};
+                                static_cast<uint8_t>(qindex),
+                                params.residual_matrix == ResidualMatrix::kWeighted ? kIntraWeightedMatrix
+                                                                                    : uint8_t{0}};
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
   RangeEncoder encoder(&bytes);
   PlaneContexts luma_contexts, chroma_contexts;
@@ -818,8 +821,8 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
                                                " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
   }
   const int qindex = bytes[2];  // every byte value is a valid index
-  if ((bytes[3] & ~kLoopFilterKnownBits) != 0) {
-    return corrupt("byte 3: unknown loop filter flags " + std::to_string(bytes[3]));
+  if ((bytes[3] & ~(kLoopFilterKnownBits | kIntraWeightedMatrix)) != 0) {
+    return corrupt("byte 3: unknown flags " + std::to_string(bytes[3]));
   }
 
   const BlockLayout layout = block_layout(width, height);
@@ -831,7 +834,8 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   result.width = width;
   result.height = height;
   result.qindex = qindex;
-  result.loop_filters = bytes[3];
+  result.loop_filters = bytes[3] & kLoopFilterKnownBits;
+  result.residual_matrix = (bytes[3] & kIntraWeightedMatrix) ? ResidualMatrix::kWeighted : ResidualMatrix::kFlat;
   result.block_counts.reserve(static_cast<size_t>(layout.block_count()));
   result.block_modes.reserve(static_cast<size_t>(layout.block_count()));
   result.luma_partitions.reserve(static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y);

@@ -33,6 +33,8 @@ struct CodingParams {
   // Encoder restriction: when false, every luma macroblock is coded as four 8x8 blocks
   // (no 16x16 or 4x4 transform blocks; the partition flags are still coded).
   bool transform_sizes = true;
+  // The residual quantization matrix (quant.h), signalled in the header (byte 3 bit 2).
+  ResidualMatrix residual_matrix = ResidualMatrix::kFlat;
 };
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
@@ -40,6 +42,8 @@ struct CodingParams {
 inline constexpr uint8_t kLoopFilterDeblocking = 1;
 inline constexpr uint8_t kLoopFilterCdef = 2;
 inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
+// Byte 3 bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
+inline constexpr uint8_t kIntraWeightedMatrix = 4;
 
 // Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
@@ -56,8 +60,9 @@ struct CoefficientFrame {
   int width = 0;
   int height = 0;
   int qindex = 0;
-  uint8_t loop_filters = 0;  // kLoopFilter* bits of the header
-  CdefParams cdef;           // when loop_filters has kLoopFilterCdef
+  uint8_t loop_filters = 0;                                // kLoopFilter* bits of the header
+  ResidualMatrix residual_matrix = ResidualMatrix::kFlat;  // header bit kIntraWeightedMatrix
+  CdefParams cdef;                                         // when loop_filters has kLoopFilterCdef
   // Per luma macroblock in raster order: bit 0 set when it splits into four 8x8 blocks
   // (else it is one 16x16 block), bit 1 + i when 8x8 block i (Z order) splits into four
   // 4x4 blocks (docs/codec.md 3).

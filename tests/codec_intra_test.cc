@@ -186,7 +186,8 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   EXPECT_TRUE(with(2, 255).ok());                                               // and the coarsest
   EXPECT_TRUE(with(3, 0).ok());                           // loop filters off: other pixels, still valid
   EXPECT_EQ(with(3, 2).code(), ErrorCode::kCorruptData);  // CDEF without its syntax: reads past the end
-  EXPECT_EQ(with(3, 4).code(), ErrorCode::kCorruptData);  // an unknown loop filter
+  EXPECT_TRUE(with(3, 1 | kIntraWeightedMatrix).ok());    // weighted matrices: other pixels, still valid
+  EXPECT_EQ(with(3, 8).code(), ErrorCode::kCorruptData);  // an unknown flag
   EXPECT_EQ(with(3, 0x80).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame(good, 32, kMaxFrameDimension + 1, &out).code(), ErrorCode::kInvalidArgument);
@@ -253,6 +254,31 @@ TEST(CodecFrame, GarbageAndBitFlipsNeverCrash) {
   }
   EXPECT_GT(rejected, 0);
   EXPECT_EQ(decoded_ok + rejected, 1500);
+}
+
+TEST(CodecFrame, WeightedMatricesAreSignalledAndDecodeExactly) {
+  const ImageYCbCr420 source = synthetic_image(64, 48);
+  CodingParams flat{100}, weighted{100};
+  weighted.residual_matrix = ResidualMatrix::kWeighted;
+  ImageYCbCr420 flat_reconstruction, weighted_reconstruction, decoded;
+  const std::vector<uint8_t> flat_bytes = encode_intra_frame(source, flat, &flat_reconstruction);
+  const std::vector<uint8_t> weighted_bytes = encode_intra_frame(source, weighted, &weighted_reconstruction);
+  EXPECT_EQ(flat_bytes[3] & kIntraWeightedMatrix, 0);
+  EXPECT_EQ(weighted_bytes[3] & kIntraWeightedMatrix, kIntraWeightedMatrix);
+  // Coarser high frequencies: fewer bytes and other pixels at the same index.
+  EXPECT_LT(weighted_bytes.size(), flat_bytes.size());
+  EXPECT_FALSE(weighted_reconstruction.y == flat_reconstruction.y);
+  ASSERT_TRUE(decode_intra_frame(weighted_bytes, 64, 48, &decoded).ok());
+  expect_same_image(decoded, weighted_reconstruction);
+  CoefficientFrame coefficients;
+  ASSERT_TRUE(parse_intra_frame(weighted_bytes, 64, 48, &coefficients).ok());
+  EXPECT_EQ(coefficients.residual_matrix, ResidualMatrix::kWeighted);
+  // The same levels read with the flat matrix give other pixels: the flag matters.
+  std::vector<uint8_t> relabelled = weighted_bytes;
+  relabelled[3] &= static_cast<uint8_t>(~kIntraWeightedMatrix);
+  ImageYCbCr420 misread;
+  ASSERT_TRUE(decode_intra_frame(relabelled, 64, 48, &misread).ok());
+  EXPECT_FALSE(misread.y == decoded.y);
 }
 
 }  // namespace

@@ -57,6 +57,11 @@ struct CodingTools {
   // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
   // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
   bool transform_sizes = true;
+  // I-faces: residuals quantized with a frequency-weighted matrix (coarser high
+  // frequencies, docs/codec.md 6) instead of one flat step per transform size. Off by
+  // default, since flat measures better in PSNR; `svc encode --quant-matrix weighted`.
+  // Not one of the --disable-tool names.
+  bool weighted_quant_matrix = false;
 
   bool operator==(const CodingTools&) const = default;
 };

@@ -40,6 +40,8 @@ class Pipeline {
     intra_params_.rd_intra_search = job.tools.intra_rd_search;
     intra_params_.rdoq = job.tools.rdoq;
     intra_params_.transform_sizes = job.tools.transform_sizes;
+    intra_params_.residual_matrix = job.tools.weighted_quant_matrix ? codec::ResidualMatrix::kWeighted
+                                                                    : codec::ResidualMatrix::kFlat;
     b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
