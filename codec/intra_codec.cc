@@ -17,6 +17,7 @@
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
 #include "codec/intra_prediction.h"
+#include "codec/level_stream.h"
 #include "codec/loop_filter.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
@@ -266,13 +267,10 @@ class BlockReconstructor {
     const int area = size * size;
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
-    int decoded = 0;
-    for (int i = 0; i < count; ++i) {
-      int position, level;
-      if (!coefficients_.read(&entry_, &position, &level)) break;
-      if (position >= area) continue;  // only in frames not built by this codec
-      positions_[decoded++] = position;
-      block_[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
+    int values[kMaxTransformArea];
+    const int decoded = coefficients_.read_levels(&offset_, count, size_of_width(size), positions_, values);
+    for (int i = 0; i < decoded; ++i) {
+      block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values[i]));
     }
     const int mode = coefficients_.block_modes[block_number_] % kIntraModes;
     uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
@@ -288,7 +286,7 @@ class BlockReconstructor {
  private:
   const CoefficientFrame& coefficients_;
   SizedQuantizers quantizers_;
-  size_t block_number_ = 0, entry_ = 0;
+  size_t block_number_ = 0, offset_ = 0;
   int16_t block_[kMaxTransformArea] = {};
   int positions_[kMaxTransformArea];
 };
@@ -670,7 +668,7 @@ bool read_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& stat
     return false;
   }
   state.mark(x0, y0, size, mode, count > 0);
-  for (int i = 0; i < count; ++i) frame->append(levels[i].position, levels[i].level);
+  frame->append_levels(levels, count, size_of_width(size));
   frame->block_counts.push_back(static_cast<uint16_t>(count));
   frame->block_modes.push_back(static_cast<uint8_t>(mode));
   return true;
@@ -702,6 +700,19 @@ bool read_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState&
   return valid;
 }
 
+// Natural position -> scan index, per transform size.
+const std::array<uint8_t, kMaxTransformArea>& inverse_scan(TransformSize size) {
+  static const auto tables = [] {
+    std::array<std::array<uint8_t, kMaxTransformArea>, kTransformSizes> t{};
+    for (int s = 0; s < kTransformSizes; ++s) {
+      const ScanOrder& order = scan_order(static_cast<TransformSize>(s));
+      for (int i = 0; i < order.count; ++i) t[static_cast<size_t>(s)][order.scan[i]] = static_cast<uint8_t>(i);
+    }
+    return t;
+  }();
+  return tables[static_cast<size_t>(size)];
+}
+
 // The number of blocks a frame of this layout and these partitions holds.
 size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t>& partitions) {
   size_t count = 2 * static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y;
@@ -713,7 +724,35 @@ size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t
 
 size_t CoefficientFrame::memory_bytes() const {
   return sizeof(*this) + luma_partitions.capacity() + block_counts.capacity() * sizeof(uint16_t) +
-         block_modes.capacity() + entries.capacity() * sizeof(uint16_t) + cdef.memory_bytes();
+         block_modes.capacity() + levels.capacity() + cdef.memory_bytes();
+}
+
+void CoefficientFrame::append_levels(const BlockLevel* block_levels, int count, TransformSize size) {
+  const std::array<uint8_t, kMaxTransformArea>& scan_of = inverse_scan(size);
+  LevelStreamWriter writer(&levels);
+  int previous = -1;
+  for (int i = 0; i < count; ++i) {
+    const int scan = scan_of[block_levels[i].position];
+    writer.level(previous, scan, block_levels[i].level);
+    previous = scan;
+  }
+}
+
+int CoefficientFrame::read_levels(size_t* offset, int count, TransformSize size, int* positions,
+                                  int* values) const {
+  if (*offset >= levels.size()) return 0;
+  const ScanOrder& order = scan_order(size);
+  LevelStreamReader reader(levels.data() + *offset, levels.size() - *offset);
+  int read = 0, previous = -1;
+  while (read < count) {
+    int scan, value;
+    if (!reader.level(previous, &scan, &value) || scan >= order.count) break;
+    positions[read] = order.scan[scan];
+    values[read++] = value;
+    previous = scan;
+  }
+  *offset += reader.bytes_read();
+  return read;
 }
 
 BlockLayout block_layout(int width, int height) {
@@ -839,8 +878,8 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   result.block_counts.reserve(static_cast<size_t>(layout.block_count()));
   result.block_modes.reserve(static_cast<size_t>(layout.block_count()));
   result.luma_partitions.reserve(static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y);
-  // A frame rarely holds more than a few coefficients per block; grow beyond that.
-  result.entries.reserve(std::min<size_t>(bytes.size() * 2, static_cast<size_t>(layout.block_count()) * 64));
+  // The packed levels take about as many bytes as the payload that codes them.
+  result.levels.reserve(bytes.size() * 5 / 4);
 
   // A complete payload is never read past its end; stopping at the first row that does
   // bounds the work garbage can cause.
@@ -884,7 +923,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   if (used != bytes.size()) {
     return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
   }
-  result.entries.shrink_to_fit();
+  result.levels.shrink_to_fit();
   *out = std::move(result);
   return Status::Ok();
 }

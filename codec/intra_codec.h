@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/block_coder.h"
 #include "codec/cdef.h"
 #include "codec/quant.h"
 #include "svc/status.h"
@@ -54,7 +55,7 @@ inline constexpr int kMaxFrameDimension = 16384;
 // The partitions, prediction modes and quantized DCT levels of an intra frame in a
 // compact sparse form: the state after entropy decoding ("semi-decoded"), cached by the
 // runtime. Dequantization (quant.h, dequantize_level), prediction and the inverse
-// transforms are deferred to reconstruct_intra_frame, which keeps entries at 16 bits.
+// transforms are deferred to reconstruct_intra_frame.
 // Immutable once built, so it may be shared between threads.
 struct CoefficientFrame {
   int width = 0;
@@ -74,39 +75,20 @@ struct CoefficientFrame {
   // Per block in the same order: its intra prediction mode, 0..kIntraModes - 1
   // (codec/intra_prediction.h; a Cr block repeats its Cb block's mode).
   std::vector<uint8_t> block_modes;
-  // The non-zero levels of each block in turn, in scan order. One 16-bit entry per level:
-  // natural (row-major) position in the low 8 bits, the level as an 8-bit two's
-  // complement number in the upper 8 bits. The level value -128 is an escape: the real
-  // level follows as one int16 entry.
-  std::vector<uint16_t> entries;
+  // The non-zero levels of each block in turn, each block's as a whole-byte stream of
+  // Exp-Golomb codes (codec/level_stream.h, docs/codec.md 8).
+  std::vector<uint8_t> levels;
 
   // Heap and object bytes held.
   size_t memory_bytes() const;
 
-  static constexpr int kEscapeLevel = -128;
-  void append(int position, int level) {
-    if (level > kEscapeLevel && level < -kEscapeLevel) {
-      entries.push_back(
-          static_cast<uint16_t>((static_cast<unsigned>(level) & 0xFFu) << 8 | static_cast<unsigned>(position)));
-    } else {
-      entries.push_back(static_cast<uint16_t>(0x80u << 8 | static_cast<unsigned>(position)));
-      entries.push_back(static_cast<uint16_t>(static_cast<int16_t>(level)));
-    }
-  }
-  // Reads the level at entries[*index] and advances *index past it (and its escape).
-  // Returns false when the entries end early (only for frames not built by this codec).
-  bool read(size_t* index, int* position, int* level) const {
-    if (*index >= entries.size()) return false;
-    const unsigned entry = entries[(*index)++];
-    *position = static_cast<int>(entry & 255u);
-    const int code = static_cast<int>(entry >> 8);
-    *level = code >= 128 ? code - 256 : code;
-    if (*level == kEscapeLevel) {
-      if (*index >= entries.size()) return false;
-      *level = static_cast<int16_t>(entries[(*index)++]);
-    }
-    return true;
-  }
+  // Appends a block's non-zero levels (natural positions, in increasing scan order of
+  // `size`; |level| 1..4095).
+  void append_levels(const BlockLevel* block_levels, int count, TransformSize size);
+  // Reads the `count` levels of a block of `size` stored at byte *offset into positions
+  // (natural) and values, and moves *offset past them. Returns how many it read: fewer
+  // than `count` only for frames not built by this codec (never reads outside `levels`).
+  int read_levels(size_t* offset, int count, TransformSize size, int* positions, int* values) const;
 };
 
 // 8x8 block grid of a frame of the given size (macroblock-padded planes): chroma blocks

@@ -152,20 +152,62 @@ TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   expect_same_image(from_coefficients, reconstruction);
 }
 
-TEST(CodecFrame, CoefficientEntriesRoundTripIncludingEscapes) {
-  CoefficientFrame frame;
-  const int levels[] = {1, -1, 127, -127, 128, -128, 4095, -4095, 77};
-  for (int i = 0; i < 9; ++i) frame.append(i * 31, levels[i]);  // positions up to 248 (16x16 blocks)
-  EXPECT_EQ(frame.entries.size(), 9u + 4u);                     // four escapes
-  size_t index = 0;
-  for (int i = 0; i < 9; ++i) {
-    int position = -1, level = 0;
-    ASSERT_TRUE(frame.read(&index, &position, &level));
-    EXPECT_EQ(position, i * 31);
-    EXPECT_EQ(level, levels[i]);
+TEST(CodecFrame, PackedLevelsRoundTripAtEveryRunAndMagnitude) {
+  std::mt19937 rng(5);
+  for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16}) {
+    const ScanOrder& order = scan_order(size);
+    for (int trial = 0; trial < 200; ++trial) {
+      // Random non-zero levels at increasing scan indices, with the extremes: a level at
+      // the last scan index only (the longest run) and magnitudes 1 and 4095.
+      std::vector<BlockLevel> block;
+      for (int scan = 0; scan < order.count; ++scan) {
+        const bool last_only = trial == 0;
+        if (last_only ? scan != order.count - 1 : rng() % 3 != 0) continue;
+        const int magnitude = trial == 1 ? 4095 : rng() % 4 == 0 ? 1 + static_cast<int>(rng() % 4095) : 1;
+        block.push_back({order.scan[scan], static_cast<int16_t>(rng() % 2 ? -magnitude : magnitude)});
+      }
+      CoefficientFrame frame;
+      frame.append_levels(block.data(), static_cast<int>(block.size()), size);
+      frame.append_levels(block.data(), 1, size);  // a second block follows on the next byte
+      size_t offset = 0;
+      int positions[kMaxTransformArea], values[kMaxTransformArea];
+      ASSERT_EQ(frame.read_levels(&offset, static_cast<int>(block.size()), size, positions, values),
+                static_cast<int>(block.size()));
+      for (size_t i = 0; i < block.size(); ++i) {
+        EXPECT_EQ(positions[i], block[i].position);
+        EXPECT_EQ(values[i], block[i].level);
+      }
+      ASSERT_EQ(frame.read_levels(&offset, 1, size, positions, values), 1);
+      EXPECT_EQ(positions[0], block[0].position);
+      EXPECT_EQ(offset, frame.levels.size());
+      // Past the end nothing more is read, whatever count is asked for.
+      EXPECT_EQ(frame.read_levels(&offset, 5, size, positions, values), 0);
+    }
   }
-  int position, level;
-  EXPECT_FALSE(frame.read(&index, &position, &level));
+  // The commonest level, a 1 right after the previous one, takes 3 bits.
+  CoefficientFrame ones;
+  std::vector<BlockLevel> dense;
+  for (int scan = 0; scan < 64; ++scan) dense.push_back({scan_order(TransformSize::k8x8).scan[scan], 1});
+  ones.append_levels(dense.data(), 64, TransformSize::k8x8);
+  EXPECT_EQ(ones.levels.size(), 24u);
+}
+
+TEST(CodecFrame, DamagedPackedLevelsReadShortNeverOutside) {
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 2000; ++trial) {
+    CoefficientFrame frame;
+    frame.levels.resize(rng() % 12);
+    for (uint8_t& b : frame.levels) b = static_cast<uint8_t>(rng() % 4 == 0 ? 0 : rng());
+    size_t offset = 0;
+    int positions[kMaxTransformArea], values[kMaxTransformArea];
+    const int read = frame.read_levels(&offset, 256, TransformSize::k16x16, positions, values);
+    ASSERT_LE(read, 256);
+    for (int i = 0; i < read; ++i) {
+      ASSERT_LT(positions[i], 256);
+      ASSERT_GE(std::abs(values[i]), 1);
+      ASSERT_LE(std::abs(values[i]), 4095);
+    }
+  }
 }
 
 TEST(CodecFrame, RejectsBadHeadersAndSizes) {
