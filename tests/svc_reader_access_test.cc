@@ -301,7 +301,7 @@ TEST_F(ReaderAccess, SemiDecodedIFacesAreChargedWhatTheyHold) {
   ASSERT_TRUE(reader.ok());
   auto file_reader = ReadOnlyFile::open(file());
   ASSERT_TRUE(file_reader.ok());
-  uint64_t i_faces = 0, expected_bytes = 0, levels = 0;
+  uint64_t i_faces = 0, expected_bytes = 0, levels = 0, level_bytes = 0;
   for (const CellEntry& cell : (*reader)->cells()) {
     for (Face face : kAllFaces) {
       const FaceEntry& entry = cell.faces[static_cast<int>(face)];
@@ -313,21 +313,23 @@ TEST_F(ReaderAccess, SemiDecodedIFacesAreChargedWhatTheyHold) {
       ASSERT_TRUE(payload.ok());
       codec::CoefficientFrame parsed;
       ASSERT_TRUE(codec::parse_intra_frame(*payload, 48, 48, &parsed).ok());
-      parsed.entries.shrink_to_fit();
+      parsed.levels.shrink_to_fit();
       parsed.block_counts.shrink_to_fit();
       expected_bytes += parsed.memory_bytes() + 96;
-      levels += parsed.entries.size();
+      for (uint16_t count : parsed.block_counts) levels += count;
+      level_bytes += parsed.levels.size();
     }
   }
   const ReaderStats stats = (*reader)->stats();
   ASSERT_EQ(stats.coefficient_cache.entries, i_faces);
   EXPECT_EQ(stats.coefficient_cache.bytes_held, expected_bytes);
-  // Two bytes a non-zero level plus a fixed ~300 bytes a face (modes, counts, CDEF
-  // parameters): on these tiny, busy 48x48 faces about half of RGB; svc-bench-access
-  // reports the 256x256 sample scenes.
+  // Packed levels (a few bits each) plus three bytes a block (mode, count) and the CDEF
+  // parameters: on these tiny, busy 48x48 faces well under half of RGB; svc-bench-access
+  // reports the 256x256 scenes.
   const double per_face = static_cast<double>(stats.coefficient_cache.bytes_held) / i_faces;
   EXPECT_LT(per_face / (48.0 * 48.0 * 3.0), 0.6) << per_face << " bytes per I-face";
   EXPECT_LT(static_cast<double>(levels) / i_faces, 48.0 * 48.0 * 1.5 / 2) << "not sparse";
+  EXPECT_LT(level_bytes, levels) << "levels not packed below a byte each";
 }
 
 TEST_F(ReaderAccess, DamagedReferenceFailsItsBFacesOnlyAndIsNotCached) {
