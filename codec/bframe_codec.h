@@ -29,7 +29,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 5;
+inline constexpr uint8_t kBFrameSyntaxVersion = 6;
 // Frame type, syntax version, qindex, reference border units, loop filter flags,
 // interpolation filter, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 8;
@@ -114,6 +114,13 @@ struct BFrameParams {
   // direction and vectors, where that lowers the rate-distortion cost; off, every inter
   // macroblock is one 16x16 partition (for ablation).
   bool partitions = true;
+  // Intra macroblocks are coded as in intra frames (docs/codec.md 10.4), searched with
+  // the intra frame's tools: every prediction mode (off: planar and DC only, for
+  // ablation), the rate-distortion mode search and the 16x16 / 8x8 / 4x4 transform
+  // sizes (off: four 8x8 blocks).
+  bool intra_prediction = true;
+  bool intra_rd_search = true;
+  bool intra_transform_sizes = true;
 };
 
 struct BFrameStats {

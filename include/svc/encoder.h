@@ -57,6 +57,11 @@ struct CodingTools {
   // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
   // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
   bool transform_sizes = true;
+  // B-faces: intra macroblocks predicted in every mode of the intra frame's prediction
+  // (docs/codec.md 10.4). Off: planar and DC only. (Their transform sizes, mode search
+  // and directional modes also follow transform-sizes, intra-rd-search and
+  // intra-directional.)
+  bool b_intra_prediction = true;
 
   bool operator==(const CodingTools&) const = default;
 };
