@@ -848,24 +848,16 @@ class BFrameEncoder {
     IntraChoice& choice = *out->intra;
     const uint8_t* source[3] = {source_.planes[0].data(), source_.planes[1].data(), source_.planes[2].data()};
     uint8_t* recon[3] = {s_.planes[0].data(), s_.planes[1].data(), s_.planes[2].data()};
-    double cost = lambda_ * mode_bits(s_, mx_, my_, MacroblockMode::kIntra);
-    if (quantize_rd_) {
-      // The winner: its partition and modes kept, its levels chosen again with RDOQ.
-      cost += intra_rd_search_->recode_luma(c.intra_luma, s_.intra_planes[0], source[0], recon[0], s_.strides[0],
-                                            mx_, my_, &choice.luma);
-    } else {
-      cost += intra_search_->choose_luma(c.intra_luma, s_.intra_planes[0], source[0], recon[0], s_.strides[0], mx_,
-                                         my_, &choice.luma);
-    }
+    // The winner is searched again with RDOQ in every trial, as intra frames search.
     intra::MacroblockEncoder& search = quantize_rd_ ? *intra_rd_search_ : *intra_search_;
-    for (int p = 1; p < 3; ++p) {
-      intra::BlockChoice& block = p == 1 ? choice.cb : choice.cr;
-      // Cr always takes Cb's mode; with RDOQ Cb keeps the mode it has.
-      const bool fixed_mode = p == 2 || quantize_rd_;
-      if (p == 2) block.mode = choice.cb.mode;
-      cost += search.choose_chroma(c.intra_chroma, s_.intra_planes[p], source[p], recon[p], s_.strides[p], 8 * mx_,
-                                   8 * my_, fixed_mode, &block);
-    }
+    double cost = lambda_ * mode_bits(s_, mx_, my_, MacroblockMode::kIntra);
+    cost += search.choose_luma(c.intra_luma, s_.intra_planes[0], source[0], recon[0], s_.strides[0], mx_, my_,
+                               &choice.luma);
+    cost += search.choose_chroma(c.intra_chroma, s_.intra_planes[1], source[1], recon[1], s_.strides[1], 8 * mx_,
+                                 8 * my_, false, &choice.cb);
+    choice.cr.mode = choice.cb.mode;
+    cost += search.choose_chroma(c.intra_chroma, s_.intra_planes[2], source[2], recon[2], s_.strides[2], 8 * mx_,
+                                 8 * my_, true, &choice.cr);
     out->coded_mask = intra_coded_mask(choice);
     copy_macroblock_out(s_, mx_, my_, &out->reconstruction);
     out->cost = cost;

@@ -709,22 +709,6 @@ float MacroblockEncoder::choose_luma(const PlaneContexts& contexts, PlaneState& 
   return impl_->macroblocks.choose(plane, state, mbx, mby, out);
 }
 
-float MacroblockEncoder::recode_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source,
-                                     uint8_t* recon, int stride, int mbx, int mby, MacroblockChoice* choice) {
-  const PlaneSearch plane(impl_->search, impl_->quantizers, contexts, source, recon, stride);
-  const int x0 = 16 * mbx, y0 = 16 * mby;
-  state.clear(x0, y0, 16);
-  float cost = 0;
-  int n = 0;
-  for_each_luma_block(choice->partition, [&](int x, int y, int size) {
-    BlockChoice& block = choice->blocks[static_cast<size_t>(n++)];
-    ModeSet mode;
-    mode.add(block.mode);
-    cost += plane.code_block(state, x0 + x, y0 + y, size, &mode, false, &block);
-  });
-  return cost;
-}
-
 float MacroblockEncoder::choose_chroma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source,
                                        uint8_t* recon, int stride, int x0, int y0, bool fixed_mode,
                                        BlockChoice* out) {

@@ -188,10 +188,6 @@ class MacroblockEncoder {
 
   float choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
                     int stride, int mbx, int mby, MacroblockChoice* out);
-  // The blocks of `choice` coded again in their partition and modes (their levels chosen
-  // anew, e.g. with RDOQ); returns their cost without the split flags.
-  float recode_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
-                    int stride, int mbx, int mby, MacroblockChoice* choice);
   // An 8x8 chroma block at (x0, y0); with `fixed_mode` it keeps out->mode (Cr takes Cb's).
   float choose_chroma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
                       int stride, int x0, int y0, bool fixed_mode, BlockChoice* out);
