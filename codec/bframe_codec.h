@@ -1,4 +1,5 @@
-// B-frame coding of one face: each 16x16 macroblock is intra-coded, predicted from one of
+// B-frame coding of one face: each 16x16 macroblock is intra-coded (as in intra frames,
+// from its reconstructed neighbours), predicted from one of
 // up to two reference faces (forward = reference 0, backward = reference 1) or from the
 // average of both, or skipped (predicted with the neighbours' vectors, no residual).
 // Each prediction is either a translation (one vector per macroblock and reference) or a

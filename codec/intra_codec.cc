@@ -4,7 +4,9 @@
 // neighbours in a signalled mode (codec/intra_prediction.h) and its residual coded as
 // quantized DCT levels by block_coder; then the in-loop filters the header selects
 // (deblocking, CDEF) over the whole frame. The decoder's reconstruction (reconstruct_block, apply_loop_filters) is
-// also the encoder's, so the two agree bit for bit by construction.
+// also the encoder's, so the two agree bit for bit by construction. The coding of one
+// luma macroblock or chroma block (syntax, reconstruction, search) is also what B-frame
+// intra macroblocks use (codec/intra_macroblock.h).
 #include "codec/intra_codec.h"
 
 #include <algorithm>
