@@ -43,7 +43,8 @@ class IntraBlockDecoder final : public intra::BlockReader {
       std::fill_n(coefficients_, size * size, int16_t{0});
       for (int i = 0; i < count; ++i) {
         const BlockLevel& level = block_.levels[i];
-        coefficients_[level.position] = static_cast<int16_t>(dequantize_level(quantizer, level.position, level.level));
+        coefficients_[level.position] =
+            static_cast<int16_t>(dequantize_level(quantizer, level.position, level.level));
       }
       mark_coded(x0, y0, size);
     }
@@ -64,7 +65,8 @@ class IntraBlockDecoder final : public intra::BlockReader {
     }
     for (int b = 0; b < 4; ++b) {
       const int bx = 16 * mx_ + 8 * (b & 1), by = 16 * my_ + 8 * (b >> 1);
-      if (x0 < bx + 8 && bx < x0 + size && y0 < by + 8 && by < y0 + size) coded_mask_ |= static_cast<uint8_t>(1 << b);
+      if (x0 < bx + 8 && bx < x0 + size && y0 < by + 8 && by < y0 + size)
+        coded_mask_ |= static_cast<uint8_t>(1 << b);
     }
   }
 

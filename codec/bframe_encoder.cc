@@ -47,8 +47,8 @@ uint8_t intra_coded_mask(const IntraChoice& choice) {
 // One evaluated macroblock option.
 struct MacroblockChoice {
   MacroblockMode mode = MacroblockMode::kIntra;
-  bool warp = false;                      // inter or skip: predicted by warping
-  std::array<MotionVector, 2> vectors{};  // used vectors; predictors for unused references
+  bool warp = false;                                // inter or skip: predicted by warping
+  std::array<MotionVector, 2> vectors{};            // used vectors; predictors for unused references
   std::array<std::array<int16_t, 64>, 6> levels{};  // inter only
   // Intra only: the blocks as the intra frame's search chose them.
   std::unique_ptr<IntraChoice> intra;
@@ -281,10 +281,10 @@ class BFrameEncoder {
     lambda_sad_ = std::sqrt(lambda_);
     CodingParams tools = intra_tools(params);
     tools.rdoq = false;  // as every option is priced; the winner is searched again with RDOQ
-    intra_search_ = std::make_unique<intra::MacroblockEncoder>(tools, s_.inter_quantizer.qindex,
-                                                                static_cast<float>(lambda_));
+    intra_search_ =
+        std::make_unique<intra::MacroblockEncoder>(tools, s_.inter_quantizer.qindex, static_cast<float>(lambda_));
     intra_rd_search_ = std::make_unique<intra::MacroblockEncoder>(intra_tools(params), s_.inter_quantizer.qindex,
-                                                                   static_cast<float>(lambda_));
+                                                                  static_cast<float>(lambda_));
   }
 
   MacroblockChoice choose(int mx, int my, const std::array<MacroblockHints, 2>& hints, BFrameStats* stats) {

@@ -350,8 +350,9 @@ class BlockSearch {
     int count = 0;
     auto score = [&](int mode) {
       predict(edge, mode, prediction);
-      costs[static_cast<size_t>(count++)] = {
-          block_satd(source, stride, prediction, size) + satd_lambda_ * intra_mode_bits(candidates, mode), mode};
+      costs[static_cast<size_t>(count++)] = {block_satd(source, stride, prediction, size) +
+                                                 satd_lambda_ * intra_mode_bits(candidates, mode),
+                                             mode};
     };
     if (ranked != nullptr) {
       for (int i = 0; i < ranked->count; ++i) score(ranked->modes[static_cast<size_t>(i)]);
@@ -548,7 +549,7 @@ class MacroblockSearch {
     float quarters_cost = plane_->split_bit_cost(split_bits, 1);
     for (int j = 0; j < 4 && quarters_cost < whole_cost; ++j) {
       quarters_cost += plane_->code_block(state, x0 + 4 * (j & 1), y0 + 4 * (j >> 1), 4, nullptr, false,
-                                         &quarters_[static_cast<size_t>(j)]);
+                                          &quarters_[static_cast<size_t>(j)]);
     }
     if (quarters_cost < whole_cost) {
       split_.partition |= split_8x8_bit(i);
@@ -626,8 +627,8 @@ bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const Pla
                              &out->count, size_of_width(size));
 }
 
-bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx,
-                          int mby, BlockReader& reader, uint8_t* partition) {
+bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
+                          BlockReader& reader, uint8_t* partition) {
   const int x0 = 16 * mbx, y0 = 16 * mby;
   *partition = 0;
   if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))])) {
@@ -693,7 +694,9 @@ SizedQuantizers encoder_quantizers(int qindex) {
 
 struct MacroblockEncoder::Impl {
   Impl(const CodingParams& params, int qindex, float lambda)
-      : quantizers(encoder_quantizers(qindex)), search(quantizers, params, lambda), macroblocks(params.transform_sizes) {}
+      : quantizers(encoder_quantizers(qindex)),
+        search(quantizers, params, lambda),
+        macroblocks(params.transform_sizes) {}
 
   SizedQuantizers quantizers;
   BlockSearch search;

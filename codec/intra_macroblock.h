@@ -137,8 +137,8 @@ class BlockReader {
 
 // Reads the split flags of luma macroblock (mbx, mby) and hands each block to `reader` in
 // coding order; `partition` receives the partition byte. False when the reader fails.
-bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx,
-                          int mby, BlockReader& reader, uint8_t* partition);
+bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
+                          BlockReader& reader, uint8_t* partition);
 
 // Predicts the size x size block at (x0, y0) of `plane` (stride samples a row) in `mode`
 // from its reconstructed neighbours, adds the inverse transform of `coefficients`

@@ -235,9 +235,9 @@ TEST(BFrame, IntraMacroblocksPredictFromInterNeighboursAndDecodeExactly) {
     params.intra_prediction = all_modes;
     ImageYCbCr420 reconstruction;
     BFrameStats stats;
-    const std::vector<uint8_t> bytes =
-        encode_b_frame(source, reference, nullptr, uniform_candidates(w, h, {MotionVector{16, 0}}), {}, params,
-                       &reconstruction, &stats);
+    const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr,
+                                                      uniform_candidates(w, h, {MotionVector{16, 0}}), {}, params,
+                                                      &reconstruction, &stats);
     EXPECT_GE(stats.mb_intra, 6) << "of " << stats.macroblocks;
     EXPECT_GE(stats.mb_forward + stats.mb_skipped, 6) << "of " << stats.macroblocks;
     ImageYCbCr420 decoded;
