@@ -1,7 +1,7 @@
 // B-frame coding of one face: each 16x16 macroblock is intra-coded (as in intra frames,
-// from its reconstructed neighbours), predicted from one of
-// up to two reference faces (forward = reference 0, backward = reference 1) or from the
-// average of both, or skipped (predicted with the neighbours' vectors, no residual).
+// from its reconstructed neighbours), predicted from one of up to two reference faces
+// (forward = reference 0, backward = reference 1) or from the average of both, or
+// skipped (predicted with the neighbours' vectors, no residual).
 // Each prediction is either a translation (one vector per macroblock and reference) or a
 // warp (a vector per pixel, interpolated from node vectors at the macroblock corners:
 // warp_prediction.h). Motion is not searched here: the caller supplies candidate vectors

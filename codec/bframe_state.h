@@ -1,9 +1,9 @@
 // B-frame coding internals shared by the encoder (bframe_encoder.cc) and the decoder
 // (bframe_decoder.cc): the frame state (reconstructed padded planes, per-block coded
 // flags, the intra neighbour state, per-macroblock vectors and modes), the predictors
-// derived from it and
-// the reconstruction routines, so the encoder's reconstruction is the decoder's output by
-// construction. Not part of the codec's interface (codec/bframe_codec.h).
+// derived from it and the reconstruction routines, so the encoder's reconstruction is
+// the decoder's output by construction. Not part of the codec's interface
+// (codec/bframe_codec.h).
 #pragma once
 
 #include <algorithm>
