@@ -4,7 +4,9 @@
 // neighbours in a signalled mode (codec/intra_prediction.h) and its residual coded as
 // quantized DCT levels by block_coder; then the in-loop filters the header selects
 // (deblocking, CDEF) over the whole frame. The decoder's reconstruction (reconstruct_block, apply_loop_filters) is
-// also the encoder's, so the two agree bit for bit by construction.
+// also the encoder's, so the two agree bit for bit by construction. The coding of one
+// luma macroblock or chroma block (syntax, reconstruction, search) is also what B-frame
+// intra macroblocks use (codec/intra_macroblock.h).
 #include "codec/intra_codec.h"
 
 #include <algorithm>
@@ -16,6 +18,7 @@
 #include "codec/block_coder.h"
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
+#include "codec/intra_macroblock.h"
 #include "codec/intra_prediction.h"
 #include "codec/level_stream.h"
 #include "codec/loop_filter.h"
@@ -26,6 +29,31 @@
 namespace svc::codec {
 namespace {
 
+TransformSize size_of_width(int width) {
+  return width == 4 ? TransformSize::k4x4 : width == 16 ? TransformSize::k16x16 : TransformSize::k8x8;
+}
+
+}  // namespace
+
+namespace intra {
+
+SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix) {
+  SizedQuantizers q;
+  for (int s = 0; s < kTransformSizes; ++s)
+    q[static_cast<size_t>(s)] = make_residual_quantizer(static_cast<TransformSize>(s), qindex, matrix);
+  return q;
+}
+
+const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size) {
+  return quantizers[static_cast<size_t>(size_of_width(size))];
+}
+
+}  // namespace intra
+
+namespace {
+
+using namespace intra;
+
 struct PlaneGeometry {
   int width, height;       // visible samples
   int blocks_x, blocks_y;  // padded size in 8x8 blocks
@@ -35,112 +63,17 @@ struct PlaneGeometry {
   size_t padded_size() const { return static_cast<size_t>(stride()) * blocks_y * 8; }
 };
 
-// Entropy-coding state of one plane class (luma, chroma).
-struct PlaneContexts {
-  IntraModeContexts modes;
-  BlockContextSet residual;
-  std::array<AdaptiveBit, 3> split_16x16{};  // luma only, by split_context
-  std::array<AdaptiveBit, 3> split_8x8{};
-};
-
-// Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
-// region splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four
-// 4x4 blocks.
-constexpr uint8_t kSplit16x16 = 1;
-constexpr uint8_t split_8x8_bit(int i) { return static_cast<uint8_t>(2 << i); }
-
-// Calls visit(x, y, size) for the transform blocks of a macroblock partition in coding
-// order (x, y relative to the macroblock).
-template <class Visit>
-void for_each_luma_block(uint8_t partition, Visit&& visit) {
-  if ((partition & kSplit16x16) == 0) {
-    visit(0, 0, 16);
-    return;
-  }
-  for (int i = 0; i < 4; ++i) {
-    const int x = 8 * (i & 1), y = 8 * (i >> 1);
-    if ((partition & split_8x8_bit(i)) == 0) {
-      visit(x, y, 8);
-      continue;
-    }
-    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), 4);
-  }
-}
-
 int luma_block_count(uint8_t partition) {
   int count = 0;
   for_each_luma_block(partition, [&](int, int, int) { ++count; });
   return count;
 }
 
-TransformSize size_of_width(int width) {
-  return width == 4 ? TransformSize::k4x4 : width == 16 ? TransformSize::k16x16 : TransformSize::k8x8;
-}
-
-// Per 4x4 unit of the plane being coded: the mode, coded flag and transform width of the
-// block covering it (width 0: not reconstructed yet). Source of the neighbour
-// derivations of docs/codec.md 3 and 3.1.
-class PlaneState {
- public:
-  PlaneState(int width, int height)
-      : units_x_(width / 4), units_y_(height / 4), units_(static_cast<size_t>(units_x_) * units_y_) {}
-
-  std::array<int, kMostProbableModes> candidates(int x0, int y0) const {
-    return most_probable_modes(x0 > 0 ? at(x0 - 4, y0).mode : kDcMode, y0 > 0 ? at(x0, y0 - 4).mode : kDcMode);
-  }
-  int coded_block_context(int x0, int y0) const {
-    return (x0 > 0 ? at(x0 - 4, y0).coded : 0) + (y0 > 0 ? at(x0, y0 - 4).coded : 0);
-  }
-  // Left and above neighbours coded with transforms narrower than `width`.
-  int split_context(int x0, int y0, int width) const {
-    return (x0 > 0 && at(x0 - 4, y0).width < width) + (y0 > 0 && at(x0, y0 - 4).width < width);
-  }
-  EdgeAvailability availability(int x0, int y0, int size) const {
-    EdgeAvailability a;
-    a.left = x0 > 0;
-    a.above = y0 > 0;
-    a.below_left = a.left && (y0 + size) / 4 < units_y_ && at(x0 - 4, y0 + size).width != 0;
-    a.above_right = a.above && (x0 + size) / 4 < units_x_ && at(x0 + size, y0 - 4).width != 0;
-    return a;
-  }
-  int mode_at(int x0, int y0) const { return at(x0, y0).mode; }
-  void mark(int x0, int y0, int size, int mode, bool coded) {
-    fill(x0, y0, size, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(size)});
-  }
-  // Forgets a region, as before it was reconstructed (encoder: trying another partition).
-  void clear(int x0, int y0, int size) { fill(x0, y0, size, Unit{}); }
-
- private:
-  struct Unit {
-    uint8_t mode = kDcMode;
-    bool coded = false;
-    uint8_t width = 0;
-  };
-  const Unit& at(int x, int y) const { return units_[static_cast<size_t>(y / 4) * units_x_ + x / 4]; }
-  void fill(int x0, int y0, int size, const Unit& unit) {
-    for (int y = y0 / 4; y < (y0 + size) / 4; ++y) {
-      std::fill_n(units_.begin() + static_cast<ptrdiff_t>(static_cast<size_t>(y) * units_x_ + x0 / 4), size / 4,
-                  unit);
-    }
-  }
-  int units_x_, units_y_;
-  std::vector<Unit> units_;
-};
-
-// The residual quantizers of every transform size at one index, indexed by TransformSize.
-using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
-SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix) {
-  SizedQuantizers q;
-  for (int s = 0; s < kTransformSizes; ++s)
-    q[static_cast<size_t>(s)] = make_residual_quantizer(static_cast<TransformSize>(s), qindex, matrix);
-  return q;
-}
-const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size) {
-  return quantizers[static_cast<size_t>(size_of_width(size))];
-}
-
 // The quantiser scale of an index as the MPEG-2 quantiser_scale it replaces.
 double scale_of(int qindex) { return quantizer_scale_q8(qindex) / 256.0; }
+
+// SSE per bit of an intra frame's decisions, tuned on the photographic scenes.
+float intra_frame_lambda(int qindex) { return static_cast<float>(0.1 * scale_of(qindex) * scale_of(qindex)); }
 
 // out = clip(prediction + inverse transform of `coefficients`), or the prediction alone
 // when there are none.
@@ -273,13 +206,8 @@ class BlockReconstructor {
       block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values[i]));
     }
     const int mode = coefficients_.block_modes[block_number_] % kIntraModes;
-    uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
-    build_intra_edge(recon, stride, x0, y0, size, state.availability(x0, y0, size), edge);
-    intra_predictor(size)(edge, mode, prediction);
-    reconstruct_block(prediction, decoded > 0 ? block_ : nullptr, size,
-                      recon + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
+    reconstruct_block_in_plane(state, recon, stride, x0, y0, size, mode, decoded > 0 ? block_ : nullptr);
     for (int i = 0; i < decoded; ++i) block_[positions_[i]] = 0;
-    state.mark(x0, y0, size, mode, decoded > 0);
     ++block_number_;
   }
 
@@ -317,14 +245,6 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLa
     }
   }
 }
-
-// Encoder only: a block's mode, prediction and residual levels.
-struct BlockChoice {
-  int mode = kDcMode;
-  bool coded = false;
-  uint8_t prediction[kMaxTransformArea];
-  int16_t levels[kMaxTransformArea];
-};
 
 // Encoder only: a set of modes to rank (all allowed ones when not given).
 struct ModeSet {
@@ -377,13 +297,14 @@ int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, int
 // (its levels dropped when the prediction alone costs less).
 class BlockSearch {
  public:
-  BlockSearch(const SizedQuantizers& quantizers, const CodingParams& params)
+  BlockSearch(const SizedQuantizers& quantizers, const CodingParams& params, float lambda)
       : quantizers_(quantizers),
         modes_(params.directional_intra ? kIntraModes : 2),
         rd_search_(params.rd_intra_search),
+        coarse_(params.coarse_mode_search),
         rdoq_(params.rdoq),
         satd_lambda_(std::max(1, static_cast<int>(4 * scale_of(quantizers[0].qindex) + 0.5))),
-        lambda_(static_cast<float>(0.1 * scale_of(quantizers[0].qindex) * scale_of(quantizers[0].qindex))) {}
+        lambda_(lambda) {}
 
   float lambda() const { return lambda_; }
 
@@ -425,13 +346,19 @@ class BlockSearch {
     const IntraPredictor predict = intra_predictor(size);
     std::array<std::pair<int, int>, kIntraModes> costs;
     uint8_t prediction[kMaxTransformArea];
-    const int count = ranked != nullptr ? ranked->count : modes_;
-    for (int i = 0; i < count; ++i) {
-      const int mode = ranked != nullptr ? ranked->modes[static_cast<size_t>(i)] : i;
+    int count = 0;
+    auto score = [&](int mode) {
       predict(edge, mode, prediction);
-      costs[static_cast<size_t>(i)] = {block_satd(source, stride, prediction, size) +
-                                           satd_lambda_ * intra_mode_bits(candidates, mode),
-                                       mode};
+      costs[static_cast<size_t>(count++)] = {block_satd(source, stride, prediction, size) +
+                                                 satd_lambda_ * intra_mode_bits(candidates, mode),
+                                             mode};
+    };
+    if (ranked != nullptr) {
+      for (int i = 0; i < ranked->count; ++i) score(ranked->modes[static_cast<size_t>(i)]);
+    } else if (coarse_ && modes_ == kIntraModes) {
+      score_coarse(candidates, score, costs, count);
+    } else {
+      for (int mode = 0; mode < modes_; ++mode) score(mode);
     }
     // 4x4 blocks are many and each matters little: the best by SATD alone (a second mode
     // gained 0.02 dB PSNR-Y for 20 % more time: `svc encode --intra-only -q 40 --psnr` of
@@ -441,6 +368,31 @@ class BlockSearch {
     std::array<int, kSearchedModes> searched{-1, -1, -1};
     for (int i = 0; i < kept; ++i) searched[static_cast<size_t>(i)] = costs[static_cast<size_t>(i)].second;
     return searched;
+  }
+
+  // Scores planar, DC, the most probable modes and every fourth angular mode, then the
+  // two angular neighbours on each side of the best angular one.
+  template <class Score>
+  static void score_coarse(const std::array<int, kMostProbableModes>& candidates, Score& score,
+                           const std::array<std::pair<int, int>, kIntraModes>& costs, const int& count) {
+    ModeSet scored;
+    auto once = [&](int mode) {
+      const int before = scored.count;
+      scored.add(mode);
+      if (scored.count != before) score(mode);
+    };
+    once(kPlanarMode);
+    once(kDcMode);
+    for (int mode : candidates) once(mode);
+    for (int mode = 2; mode < kIntraModes; mode += 4) once(mode);
+    std::pair<int, int> best{std::numeric_limits<int>::max(), -1};
+    for (int i = 0; i < count; ++i) {
+      if (costs[static_cast<size_t>(i)].second >= 2) best = std::min(best, costs[static_cast<size_t>(i)]);
+    }
+    for (int offset : {-2, -1, 1, 2}) {
+      const int mode = best.second + offset;
+      if (best.second >= 2 && mode >= 2 && mode < kIntraModes) once(mode);
+    }
   }
 
   float evaluate(const uint8_t* source, int stride, const uint8_t* edge, int size, const BlockContextSet& contexts,
@@ -475,16 +427,11 @@ class BlockSearch {
   const SizedQuantizers& quantizers_;
   int modes_;
   bool rd_search_;  // else the SATD's best mode, its levels as quantized
+  bool coarse_;     // angular modes ranked coarse to fine
   bool rdoq_;
   int satd_lambda_;  // SATD units per bit, tuned on the photographic scenes
   float lambda_;     // SSE per bit, tuned on the photographic scenes
   mutable BlockChoice trial_;
-};
-
-// Encoder only: the blocks of one luma macroblock as chosen, in coding order.
-struct MacroblockChoice {
-  uint8_t partition = kSplit16x16;
-  std::array<BlockChoice, 16> blocks;
 };
 
 // Encoder only: codes one block of the plane during the search: chooses it, writes its
@@ -543,22 +490,24 @@ class PlaneSearch {
 // 16x16 block whose modes are ranked among the 8x8 blocks' and the most probable ones.
 class MacroblockSearch {
  public:
-  MacroblockSearch(const PlaneSearch& plane, bool transform_sizes) : plane_(plane), sizes_(transform_sizes) {}
+  explicit MacroblockSearch(bool transform_sizes) : sizes_(transform_sizes) {}
 
-  void choose(PlaneState& state, int mbx, int mby, MacroblockChoice* out) {
+  // Chooses the blocks of macroblock (mbx, mby) of `plane`; returns their cost.
+  float choose(const PlaneSearch& plane, PlaneState& state, int mbx, int mby, MacroblockChoice* out) {
+    plane_ = &plane;
     const int x0 = 16 * mbx, y0 = 16 * mby;
-    const PlaneContexts& contexts = plane_.contexts();
+    const PlaneContexts& contexts = plane_->contexts();
     const int split_context = state.split_context(x0, y0, 16);
     state.clear(x0, y0, 16);
     split_.partition = kSplit16x16;
-    float split_cost = plane_.split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
+    float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
     for (int i = 0; i < 4; ++i) split_cost += choose_8x8(state, x0, y0, i);
     if (!sizes_ || split_.partition != kSplit16x16 || all_coded()) {
       *out = split_;
-      return;
+      return split_cost;
     }
     uint8_t saved[kMaxTransformArea];
-    plane_.save(x0, y0, 16, saved);
+    plane_->save(x0, y0, 16, saved);
     ModeSet ranked;
     for (int i = 0; i < 4; ++i) ranked.add(split_.blocks[static_cast<size_t>(i)].mode);
     for (int mode : state.candidates(x0, y0)) ranked.add(mode);
@@ -566,18 +515,19 @@ class MacroblockSearch {
     ranked.add(kDcMode);
     state.clear(x0, y0, 16);
     BlockChoice& whole = out->blocks[0];
-    const float whole_cost = plane_.split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0) +
-                             plane_.code_block(state, x0, y0, 16, &ranked, false, &whole);
+    const float whole_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0) +
+                             plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
     if (whole_cost < split_cost) {
       out->partition = 0;
-      return;
+      return whole_cost;
     }
-    plane_.restore(x0, y0, 16, saved);
+    plane_->restore(x0, y0, 16, saved);
     for_each_luma_block(split_.partition, [&, n = 0](int x, int y, int size) mutable {
       const BlockChoice& b = split_.blocks[static_cast<size_t>(n++)];
       state.mark(x0 + x, y0 + y, size, b.mode, b.coded);
     });
     *out = split_;
+    return split_cost;
   }
 
  private:
@@ -585,27 +535,27 @@ class MacroblockSearch {
   // split_.blocks from index 0 on and returns the cost.
   float choose_8x8(PlaneState& state, int mb_x0, int mb_y0, int i) {
     const int x0 = mb_x0 + 8 * (i & 1), y0 = mb_y0 + 8 * (i >> 1);
-    const auto& split_bits = plane_.contexts().split_8x8[static_cast<size_t>(state.split_context(x0, y0, 8))];
+    const auto& split_bits = plane_->contexts().split_8x8[static_cast<size_t>(state.split_context(x0, y0, 8))];
     const int first = block_index(i);
     BlockChoice& whole = split_.blocks[static_cast<size_t>(first)];
     const float whole_cost =
-        plane_.split_bit_cost(split_bits, 0) + plane_.code_block(state, x0, y0, 8, nullptr, false, &whole);
+        plane_->split_bit_cost(split_bits, 0) + plane_->code_block(state, x0, y0, 8, nullptr, false, &whole);
     if (!sizes_ || !whole.coded) return whole_cost;
     uint8_t saved[64];
-    plane_.save(x0, y0, 8, saved);
+    plane_->save(x0, y0, 8, saved);
     BlockChoice kept = whole;
     state.clear(x0, y0, 8);
-    float quarters_cost = plane_.split_bit_cost(split_bits, 1);
+    float quarters_cost = plane_->split_bit_cost(split_bits, 1);
     for (int j = 0; j < 4 && quarters_cost < whole_cost; ++j) {
-      quarters_cost += plane_.code_block(state, x0 + 4 * (j & 1), y0 + 4 * (j >> 1), 4, nullptr, false,
-                                         &quarters_[static_cast<size_t>(j)]);
+      quarters_cost += plane_->code_block(state, x0 + 4 * (j & 1), y0 + 4 * (j >> 1), 4, nullptr, false,
+                                          &quarters_[static_cast<size_t>(j)]);
     }
     if (quarters_cost < whole_cost) {
       split_.partition |= split_8x8_bit(i);
       for (int j = 0; j < 4; ++j) split_.blocks[static_cast<size_t>(first + j)] = quarters_[static_cast<size_t>(j)];
       return quarters_cost;
     }
-    plane_.restore(x0, y0, 8, saved);
+    plane_->restore(x0, y0, 8, saved);
     state.mark(x0, y0, 8, kept.mode, kept.coded);
     whole = kept;
     return whole_cost;
@@ -626,13 +576,87 @@ class MacroblockSearch {
     return index;
   }
 
-  const PlaneSearch& plane_;
+  const PlaneSearch* plane_ = nullptr;
   bool sizes_;
   MacroblockChoice split_;
   std::array<BlockChoice, 4> quarters_;
 };
 
-// Writes a block's mode (unless the mode is another plane's) and levels, and marks it.
+// Parse stage of an intra frame: reads each block's syntax into `frame` and marks it.
+class FrameBlockReader final : public BlockReader {
+ public:
+  FrameBlockReader(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, CoefficientFrame* frame)
+      : decoder_(decoder), contexts_(contexts), state_(state), frame_(frame) {}
+
+  int fixed_mode = -1;  // >= 0: the mode is another plane's (Cr takes Cb's)
+
+  bool read(int x0, int y0, int size) override {
+    if (!read_block_syntax(decoder_, contexts_, state_, x0, y0, size, fixed_mode, &block_)) return false;
+    state_.mark(x0, y0, size, block_.mode, block_.count > 0);
+    frame_->append_levels(block_.levels, block_.count, size_of_width(size));
+    frame_->block_counts.push_back(static_cast<uint16_t>(block_.count));
+    frame_->block_modes.push_back(static_cast<uint8_t>(block_.mode));
+    return true;
+  }
+
+ private:
+  RangeDecoder& decoder_;
+  PlaneContexts& contexts_;
+  PlaneState& state_;
+  CoefficientFrame* frame_;
+  BlockSyntax block_;
+};
+
+// The number of blocks a frame of this layout and these partitions holds.
+size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t>& partitions) {
+  size_t count = 2 * static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y;
+  for (uint8_t partition : partitions) count += static_cast<size_t>(luma_block_count(partition));
+  return count;
+}
+
+}  // namespace
+
+namespace intra {
+
+bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
+                       int size, int fixed_mode, BlockSyntax* out) {
+  out->mode = fixed_mode >= 0 ? fixed_mode : decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
+  out->count = 0;
+  return decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), out->levels,
+                             &out->count, size_of_width(size));
+}
+
+bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
+                          BlockReader& reader, uint8_t* partition) {
+  const int x0 = 16 * mbx, y0 = 16 * mby;
+  *partition = 0;
+  if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))])) {
+    return reader.read(x0, y0, 16);
+  }
+  *partition = kSplit16x16;
+  for (int i = 0; i < 4; ++i) {
+    const int x = x0 + 8 * (i & 1), y = y0 + 8 * (i >> 1);
+    if (!decoder.decode(contexts.split_8x8[static_cast<size_t>(state.split_context(x, y, 8))])) {
+      if (!reader.read(x, y, 8)) return false;
+      continue;
+    }
+    *partition |= split_8x8_bit(i);
+    for (int j = 0; j < 4; ++j) {
+      if (!reader.read(x + 4 * (j & 1), y + 4 * (j >> 1), 4)) return false;
+    }
+  }
+  return true;
+}
+
+void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
+                                const int16_t* coefficients) {
+  uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
+  build_intra_edge(plane, stride, x0, y0, size, state.availability(x0, y0, size), edge);
+  intra_predictor(size)(edge, mode, prediction);
+  reconstruct_block(prediction, coefficients, size, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
+  state.mark(x0, y0, size, mode, coefficients != nullptr);
+}
+
 void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
                  const BlockChoice& choice, bool fixed_mode) {
   if (!fixed_mode) encode_intra_mode(encoder, contexts.modes, state.candidates(x0, y0), choice.mode);
@@ -655,50 +679,55 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
   });
 }
 
-// Reads what write_block wrote into `frame`; `fixed_mode` < 0 when the mode is coded.
-// Returns false on invalid levels.
-bool read_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                int fixed_mode, CoefficientFrame* frame) {
-  const int mode = fixed_mode >= 0 ? fixed_mode
-                                   : decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
-  BlockLevel levels[kMaxTransformArea];
-  int count = 0;
-  if (!decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), levels, &count,
-                           size_of_width(size))) {
-    return false;
-  }
-  state.mark(x0, y0, size, mode, count > 0);
-  frame->append_levels(levels, count, size_of_width(size));
-  frame->block_counts.push_back(static_cast<uint16_t>(count));
-  frame->block_modes.push_back(static_cast<uint8_t>(mode));
-  return true;
+namespace {
+
+// The residual quantizers with the encoder's dead zone for intra residuals: narrower
+// than inter residuals' (0.2), tuned on the photographic scenes.
+SizedQuantizers encoder_quantizers(int qindex, ResidualMatrix matrix) {
+  SizedQuantizers quantizers = residual_quantizers(qindex, matrix);
+  for (Quantizer& q : quantizers) q.rounding_dc = q.rounding_ac = 0.25f;
+  return quantizers;
 }
 
-// Reads what write_macroblock wrote; returns false on invalid levels.
-bool read_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
-                     CoefficientFrame* frame) {
-  const int x0 = 16 * mbx, y0 = 16 * mby;
-  uint8_t partition = 0;
-  bool valid = true;
-  if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))])) {
-    valid = read_block(decoder, contexts, state, x0, y0, 16, -1, frame);
-  } else {
-    partition = kSplit16x16;
-    for (int i = 0; i < 4 && valid; ++i) {
-      const int x = x0 + 8 * (i & 1), y = y0 + 8 * (i >> 1);
-      if (!decoder.decode(contexts.split_8x8[static_cast<size_t>(state.split_context(x, y, 8))])) {
-        valid = read_block(decoder, contexts, state, x, y, 8, -1, frame);
-        continue;
-      }
-      partition |= split_8x8_bit(i);
-      for (int j = 0; j < 4 && valid; ++j) {
-        valid = read_block(decoder, contexts, state, x + 4 * (j & 1), y + 4 * (j >> 1), 4, -1, frame);
-      }
-    }
-  }
-  frame->luma_partitions.push_back(partition);
-  return valid;
+}  // namespace
+
+struct MacroblockEncoder::Impl {
+  Impl(const CodingParams& params, int qindex, float lambda)
+      : quantizers(encoder_quantizers(qindex, params.residual_matrix)),
+        search(quantizers, params, lambda),
+        macroblocks(params.transform_sizes) {}
+
+  SizedQuantizers quantizers;
+  BlockSearch search;
+  MacroblockSearch macroblocks;
+};
+
+MacroblockEncoder::MacroblockEncoder(const CodingParams& params, int qindex, float lambda)
+    : impl_(std::make_unique<Impl>(params, std::clamp(qindex, kMinQIndex, kMaxQIndex), lambda)) {}
+
+MacroblockEncoder::~MacroblockEncoder() = default;
+
+float MacroblockEncoder::choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source,
+                                     uint8_t* recon, int stride, int mbx, int mby, MacroblockChoice* out) {
+  const PlaneSearch plane(impl_->search, impl_->quantizers, contexts, source, recon, stride);
+  return impl_->macroblocks.choose(plane, state, mbx, mby, out);
 }
+
+float MacroblockEncoder::choose_chroma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source,
+                                       uint8_t* recon, int stride, int x0, int y0, bool fixed_mode,
+                                       BlockChoice* out) {
+  const PlaneSearch plane(impl_->search, impl_->quantizers, contexts, source, recon, stride);
+  return plane.code_block(state, x0, y0, 8, nullptr, fixed_mode, out);
+}
+
+}  // namespace intra
+
+size_t CoefficientFrame::memory_bytes() const {
+  return sizeof(*this) + luma_partitions.capacity() + block_counts.capacity() * sizeof(uint16_t) +
+         block_modes.capacity() + levels.capacity() + cdef.memory_bytes();
+}
+
+namespace {
 
 // Natural position -> scan index, per transform size.
 const std::array<uint8_t, kMaxTransformArea>& inverse_scan(TransformSize size) {
@@ -713,19 +742,7 @@ const std::array<uint8_t, kMaxTransformArea>& inverse_scan(TransformSize size) {
   return tables[static_cast<size_t>(size)];
 }
 
-// The number of blocks a frame of this layout and these partitions holds.
-size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t>& partitions) {
-  size_t count = 2 * static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y;
-  for (uint8_t partition : partitions) count += static_cast<size_t>(luma_block_count(partition));
-  return count;
-}
-
 }  // namespace
-
-size_t CoefficientFrame::memory_bytes() const {
-  return sizeof(*this) + luma_partitions.capacity() + block_counts.capacity() * sizeof(uint16_t) +
-         block_modes.capacity() + levels.capacity() + cdef.memory_bytes();
-}
 
 void CoefficientFrame::append_levels(const BlockLevel* block_levels, int count, TransformSize size) {
   const std::array<uint8_t, kMaxTransformArea>& scan_of = inverse_scan(size);
@@ -776,10 +793,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
     return {};
   }
   const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
-  SizedQuantizers quantizers = residual_quantizers(qindex, params.residual_matrix);
-  // A narrower dead zone than inter residuals use (0.2), tuned on the photographic scenes.
-  for (Quantizer& q : quantizers) q.rounding_dc = q.rounding_ac = 0.25f;
-  const BlockSearch search(quantizers, params);
+  MacroblockEncoder search(params, qindex, intra_frame_lambda(qindex));
   const BlockLayout layout = block_layout(width, height);
   auto planes = planes_of(layout, width, height);
   planes[0].pixels = source.y.data();
@@ -798,14 +812,12 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   {
     const PlaneGeometry& luma = planes[0];
     const std::vector<uint8_t> padded_source = pad_plane(luma);
-    const PlaneSearch plane_search(search, quantizers, luma_contexts, padded_source.data(), frame.planes[0].data(),
-                                   luma.stride());
-    auto macroblock_search = std::make_unique<MacroblockSearch>(plane_search, params.transform_sizes);
     auto choice = std::make_unique<MacroblockChoice>();
     PlaneState state(luma.stride(), luma.padded_height());
     for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
       for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
-        macroblock_search->choose(state, mbx, mby, choice.get());
+        search.choose_luma(luma_contexts, state, padded_source.data(), frame.planes[0].data(), luma.stride(), mbx,
+                           mby, choice.get());
         write_macroblock(encoder, luma_contexts, state, mbx, mby, *choice);
       }
     }
@@ -814,15 +826,14 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   PlaneState cb_state(chroma.stride(), chroma.padded_height());
   for (int p = 1; p < 3; ++p) {
     const std::vector<uint8_t> padded_source = pad_plane(planes[p]);
-    const PlaneSearch plane_search(search, quantizers, chroma_contexts, padded_source.data(),
-                                   frame.planes[p].data(), chroma.stride());
     PlaneState cr_state(chroma.stride(), chroma.padded_height());
     PlaneState& state = p == 1 ? cb_state : cr_state;
     auto choice = std::make_unique<BlockChoice>();
     for (int y0 = 0; y0 < chroma.padded_height(); y0 += 8) {
       for (int x0 = 0; x0 < chroma.stride(); x0 += 8) {
         if (p == 2) choice->mode = cb_state.mode_at(x0, y0);
-        plane_search.code_block(state, x0, y0, 8, nullptr, p == 2, choice.get());
+        search.choose_chroma(chroma_contexts, state, padded_source.data(), frame.planes[p].data(), chroma.stride(),
+                             x0, y0, p == 2, choice.get());
         write_block(encoder, chroma_contexts, state, x0, y0, 8, *choice, p == 2);
       }
     }
@@ -892,9 +903,14 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   };
   const PlaneGeometry& luma = planes[0];
   PlaneState luma_state(luma.stride(), luma.padded_height());
+  auto luma_reader = std::make_unique<FrameBlockReader>(decoder, luma_contexts, luma_state, &result);
   for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
     for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
-      if (!read_macroblock(decoder, luma_contexts, luma_state, mbx, mby, &result)) return invalid();
+      uint8_t partition = 0;
+      if (!read_luma_macroblock(decoder, luma_contexts, luma_state, mbx, mby, *luma_reader, &partition)) {
+        return invalid();
+      }
+      result.luma_partitions.push_back(partition);
     }
     if (decoder.overrun() > 0) return truncated(0, 2 * mby);
   }
@@ -903,10 +919,11 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   for (int p = 1; p < 3; ++p) {
     PlaneState cr_state(chroma.stride(), chroma.padded_height());
     PlaneState& state = p == 1 ? cb_state : cr_state;
+    auto reader = std::make_unique<FrameBlockReader>(decoder, chroma_contexts, state, &result);
     for (int by = 0; by < chroma.blocks_y; ++by) {
       for (int bx = 0; bx < chroma.blocks_x; ++bx) {
-        const int fixed_mode = p == 2 ? cb_state.mode_at(8 * bx, 8 * by) : -1;
-        if (!read_block(decoder, chroma_contexts, state, 8 * bx, 8 * by, 8, fixed_mode, &result)) return invalid();
+        reader->fixed_mode = p == 2 ? cb_state.mode_at(8 * bx, 8 * by) : -1;
+        if (!reader->read(8 * bx, 8 * by, 8)) return invalid();
       }
       if (decoder.overrun() > 0) return truncated(p, by);
     }

@@ -22,6 +22,11 @@ struct CodingParams {
   // term) and its levels as quantized, without the rate-distortion comparison of a
   // few modes and of dropping the levels.
   bool rd_intra_search = true;
+  // Encoder choice: with every mode allowed, rank by SATD only planar, DC, the most
+  // probable modes, every fourth angular mode and the two on each side of the best of
+  // those (at most 18 modes instead of 35): for B-frame intra macroblocks, where the
+  // search runs on every macroblock (docs/codec.md 10.5).
+  bool coarse_mode_search = false;
   // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
   // the squared error against the source (the flag costs nothing else).
   bool deblocking = true;

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "2556d53ef0ac13b3edcfd32f7a6cbe7644a0632047188ea952efe549ce30508a",
-     "6b84d01119b49667945e3a0438a7d064ce5bd14a5ab95d132a6a771332501266"},
+     "4f5f186b9406a9e379c127a8a7197ee3c40971d4a24263b1c341ed3054a05c5e",
+     "f02781057e4a15fdf3436dd46c7a710e613774b35698d2bdb7861306df12a965"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "65ffe3e3601b266bc53345eba2e70d1a10f97048aa8faf390b13cdbedd2c2e60",
-     "6d17ecae7608d148e2e9d74a7601d83649cd1852ebf4cfbde86bb4661739608e"},
+     "2851d23f1ccea006750e63b57361728471fef7380575b353b7a863dab7f3e350",
+     "8e1a490135f0e5d92cfd735e9a580544595487fefefd469f2321f84cb7815145"},
 };
 
 std::string file_sha256(const fs::path& path) {

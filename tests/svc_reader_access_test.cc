@@ -362,8 +362,9 @@ TEST_F(ReaderAccess, DamagedReferenceFailsItsBFacesOnlyAndIsNotCached) {
 }
 
 // inspect_face decodes the same pixels as decode_face, and its macroblock map is what
-// the B-face's coding says: all intra for an I-face, inter or skipped for most of a
-// B-face of this smooth scene.
+// the face's coding says: all intra for an I-face; in B-faces, inter or skipped
+// macroblocks somewhere (intra macroblocks predict from their neighbours as I-faces do,
+// so a small B-face of this smooth scene may be all intra).
 TEST_F(ReaderAccess, InspectFaceGivesDecodedPixelsAndMacroblockModes) {
   auto reader = Reader::open(file());
   ASSERT_TRUE(reader.ok()) << reader.status().to_string();
@@ -396,12 +397,18 @@ TEST_F(ReaderAccess, InspectFaceGivesDecodedPixelsAndMacroblockModes) {
       EXPECT_NE(inspected->modes[m], MacroblockCoding::kSkipped);
     }
     const auto intra = std::count(inspected->modes.begin(), inspected->modes.end(), MacroblockCoding::kIntra);
-    if (inspected->type == FaceType::kIntra) {
-      EXPECT_EQ(intra, 9);
-    } else {
-      EXPECT_LT(intra, 9);
+    if (inspected->type == FaceType::kIntra) EXPECT_EQ(intra, 9);
+  }
+  bool some_inter = false;
+  for (const CellEntry& cell : (*reader)->cells()) {
+    for (int f = 0; f < kFaceCount && !some_inter; ++f) {
+      if (cell.faces[f].type != FaceType::kPredicted) continue;
+      auto inspected = (*reader)->inspect_face(cell.index, static_cast<Face>(f));
+      ASSERT_TRUE(inspected.ok()) << inspected.status().to_string();
+      some_inter = std::count(inspected->modes.begin(), inspected->modes.end(), MacroblockCoding::kIntra) < 9;
     }
   }
+  EXPECT_TRUE(some_inter);
   auto missing = (*reader)->inspect_face(CellIndex{99, 0, 0}, Face::kPX);
   EXPECT_EQ(missing.status().code(), ErrorCode::kNotFound);
 }

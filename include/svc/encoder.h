@@ -62,6 +62,11 @@ struct CodingTools {
   // default, since flat measures better in PSNR; `svc encode --quant-matrix weighted`.
   // Not one of the --disable-tool names.
   bool weighted_quant_matrix = false;
+  // B-faces: intra macroblocks predicted in every mode of the intra frame's prediction
+  // (docs/codec.md 10.4). Off: planar and DC only. (Their transform sizes, mode search
+  // and directional modes also follow transform-sizes, intra-rd-search and
+  // intra-directional.)
+  bool b_intra_prediction = true;
 
   bool operator==(const CodingTools&) const = default;
 };

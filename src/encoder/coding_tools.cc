@@ -27,6 +27,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"rdoq", &CodingTools::rdoq},
     CodingToolEntry{"partitions", &CodingTools::partitions},
     CodingToolEntry{"transform-sizes", &CodingTools::transform_sizes},
+    CodingToolEntry{"b-intra-prediction", &CodingTools::b_intra_prediction},
 };
 
 }  // namespace
