@@ -3,7 +3,7 @@
 // decoder from the GOP's I-frame for every request), on a generated sample scene.
 //
 //   build/bin/svc-bench-access [--kind hall|house] [--grid 9,1,9] [--face-size 256]
-//                              [--samples 12] [--quality 75] [--speed 1]
+//                              [--samples 12] [--quality 75] [--speed 1] [--textures DIR]
 //
 // Prints: cold and warm time to obtain one face and one cube (svc and baseline, with the
 // frames each decodes), semi-decoded bytes per I-face against RGB, and the walkthrough's
@@ -144,7 +144,8 @@ void row(const char* label, double svc_value, double base_value, const char* uni
 
 int run(const samples::SceneOptions& options, int sample_count, int quality, double speed) {
   baseline::quiet_ffmpeg_logging();
-  std::printf("svc-bench-access: %s scene, grid %dx%dx%d, faces %dx%d\n", samples::scene_kind_name(options.kind),
+  std::printf("svc-bench-access: %s%s scene, grid %dx%dx%d, faces %dx%d\n",
+              options.textures.empty() ? "" : "photographic ", samples::scene_kind_name(options.kind),
               options.grid[0], options.grid[1], options.grid[2], options.face_size, options.face_size);
   auto scene = bench::SceneFaces::generate(options);
   if (!scene.ok()) {
@@ -258,14 +259,18 @@ int main(int argc, char** argv) {
   std::vector<int> grid{9, 1, 9};
   int face_size = 256, samples = 12, quality = 75;
   double speed = 1.0;
+  std::string textures;
   app.add_option("--kind", kind, "hall or house")->capture_default_str();
   app.add_option("--grid", grid, "cells along x,y,z")->delimiter(',')->expected(3)->capture_default_str();
   app.add_option("--face-size", face_size, "face width and height")->capture_default_str();
   app.add_option("--samples", samples, "cells sampled for the access timings")->capture_default_str();
   app.add_option("--quality", quality, "svc encoder quality")->capture_default_str();
   app.add_option("--speed", speed, "walkthrough speed, cells per second")->capture_default_str();
+  app.add_option("--textures", textures,
+                 "photographic scene: the image folder svc-scene --textures takes (scripts/fetch-textures.sh)");
   CLI11_PARSE(app, argc, argv);
   samples::SceneOptions options;
+  options.textures = textures;
   if (!samples::parse_scene_kind(kind, &options.kind)) {
     std::fprintf(stderr, "unknown scene kind %s\n", kind.c_str());
     return 2;

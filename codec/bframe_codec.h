@@ -1,6 +1,7 @@
-// B-frame coding of one face: each 16x16 macroblock is intra-coded, predicted from one of
-// up to two reference faces (forward = reference 0, backward = reference 1) or from the
-// average of both, or skipped (predicted with the neighbours' vectors, no residual).
+// B-frame coding of one face: each 16x16 macroblock is intra-coded (as in intra frames,
+// from its reconstructed neighbours), predicted from one of up to two reference faces
+// (forward = reference 0, backward = reference 1) or from the average of both, or
+// skipped (predicted with the neighbours' vectors, no residual).
 // Each prediction is either a translation (one vector per macroblock and reference) or a
 // warp (a vector per pixel, interpolated from node vectors at the macroblock corners:
 // warp_prediction.h). Motion is not searched here: the caller supplies candidate vectors
@@ -29,7 +30,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 5;
+inline constexpr uint8_t kBFrameSyntaxVersion = 7;
 // Frame type, syntax version, qindex, reference border units, loop filter flags,
 // interpolation filter, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 8;
@@ -114,6 +115,15 @@ struct BFrameParams {
   // direction and vectors, where that lowers the rate-distortion cost; off, every inter
   // macroblock is one 16x16 partition (for ablation).
   bool partitions = true;
+  // Intra macroblocks are coded as in intra frames (docs/codec.md 10.4), searched with
+  // the intra frame's tools: every prediction mode (off: planar and DC only, for
+  // ablation), the rate-distortion mode search and the 16x16 / 8x8 / 4x4 transform
+  // sizes (off: four 8x8 blocks).
+  bool intra_prediction = true;
+  bool intra_rd_search = true;
+  bool intra_transform_sizes = true;
+  // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
+  bool intra_cfl = true;
 };
 
 struct BFrameStats {

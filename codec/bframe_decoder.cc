@@ -24,6 +24,76 @@ std::string macroblock_name(int mx, int my) {
   return "macroblock (" + std::to_string(mx) + ", " + std::to_string(my) + ")";
 }
 
+// Reads the blocks of one plane of an intra macroblock and reconstructs each in place in
+// the frame's plane, so the next block predicts from it.
+class IntraBlockDecoder final : public intra::BlockReader {
+ public:
+  IntraBlockDecoder(FrameState& s, RangeDecoder& decoder, int plane, int mx, int my)
+      : s_(s), decoder_(decoder), plane_(plane), mx_(mx), my_(my) {}
+
+  bool read(int x0, int y0, int size) override {
+    intra::PlaneState& state = s_.intra_planes[static_cast<size_t>(plane_)];
+    if (!intra::read_block_syntax(decoder_, s_.contexts.intra_luma, state, x0, y0, size, &block_)) return false;
+    intra::reconstruct_block_in_plane(state, s_.planes[0].data(), s_.strides[0], x0, y0, size, block_.mode,
+                                      dequantize(x0, y0, size));
+    return true;
+  }
+
+  // The 8x8 chroma block at (x0, y0) of this plane; a Cb block's mode goes to `cb`, which
+  // the Cr block reads. CfL predicts from the macroblock's reconstructed luma.
+  bool read_chroma(int x0, int y0, ChromaMode* cb) {
+    intra::PlaneState& state = s_.intra_planes[static_cast<size_t>(plane_)];
+    const ChromaPlane plane = plane_ == 1 ? ChromaPlane::kCb : ChromaPlane::kCr;
+    if (!intra::read_chroma_block_syntax(decoder_, s_.contexts.intra_chroma, state, x0, y0, plane, cb, &block_)) {
+      return false;
+    }
+    intra::reconstruct_chroma_block_in_plane(state, s_.planes[static_cast<size_t>(plane_)].data(),
+                                             s_.strides[plane_], x0, y0, {block_.mode, block_.cfl_alpha},
+                                             s_.planes[0].data(), s_.strides[0], dequantize(x0, y0, 8));
+    return true;
+  }
+
+  // The macroblock's coded flags (bit b for block b of 10.2) from the blocks read.
+  uint8_t coded_mask() const { return coded_mask_; }
+
+ private:
+  // The dequantized levels of the block read (null when it has none), marked coded.
+  const int16_t* dequantize(int x0, int y0, int size) {
+    const int count = block_.count;
+    if (count > 0) {
+      const Quantizer& quantizer = intra::quantizer_for(s_.intra_quantizers, size);
+      std::fill_n(coefficients_, size * size, int16_t{0});
+      for (int i = 0; i < count; ++i) {
+        const BlockLevel& level = block_.levels[i];
+        coefficients_[level.position] =
+            static_cast<int16_t>(dequantize_level(quantizer, level.position, level.level));
+      }
+      mark_coded(x0, y0, size);
+    }
+    return count > 0 ? coefficients_ : nullptr;
+  }
+
+  // Sets the coded flag of every 8x8 block (chroma: the block) the transform block covers.
+  void mark_coded(int x0, int y0, int size) {
+    if (plane_ != 0) {
+      coded_mask_ |= static_cast<uint8_t>(1 << (3 + plane_));
+      return;
+    }
+    for (int b = 0; b < 4; ++b) {
+      const int bx = 16 * mx_ + 8 * (b & 1), by = 16 * my_ + 8 * (b >> 1);
+      if (x0 < bx + 8 && bx < x0 + size && y0 < by + 8 && by < y0 + size)
+        coded_mask_ |= static_cast<uint8_t>(1 << b);
+    }
+  }
+
+  FrameState& s_;
+  RangeDecoder& decoder_;
+  int plane_, mx_, my_;
+  uint8_t coded_mask_ = 0;
+  intra::BlockSyntax block_;
+  int16_t coefficients_[kMaxTransformArea];
+};
+
 // Reads macroblocks in coding order and reconstructs each into the frame state.
 class MacroblockReader {
  public:
@@ -41,16 +111,14 @@ class MacroblockReader {
     info_.inter_warp = predicted_warp(s_, mx, my);
     info_.vectors = predictors_;
     coded_mask_ = 0;
-    const int* intra_dc = nullptr;
     if (decoder_.decode(c_.skip[skip_context(s_, mx, my)])) {
       SVC_RETURN_IF_ERROR(read_skipped(skip_mode));
     } else if (decoder_.decode(c_.intra[intra_context(s_, mx, my)])) {
       SVC_RETURN_IF_ERROR(read_intra());
-      intra_dc = dc_levels_.data();
     } else {
       SVC_RETURN_IF_ERROR(read_inter());
     }
-    commit_macroblock(s_, mx, my, info_, reconstruction_, intra_dc, coded_mask_);
+    commit_macroblock(s_, mx, my, info_, reconstruction_, coded_mask_);
     *mode = info_.mode;
     return Status::Ok();
   }
@@ -80,30 +148,21 @@ class MacroblockReader {
     return Status::Ok();
   }
 
+  // The intra frame's syntax: the luma macroblock, then the Cb and the Cr block, each
+  // reconstructed in the frame's planes as it is read (docs/codec.md 10.4).
   Status read_intra() {
     info_.mode = MacroblockMode::kIntra;
-    dc_levels_ = {};
-    uint8_t local_coded[6] = {};
-    for (int b = 0; b < 6; ++b) {
-      const int plane = block_plane(b), bx = block_x(b, mx_), by = block_y(b, my_);
-      BlockContextSet& set = plane == 0 ? c_.intra_luma : c_.intra_chroma;
-      int difference = 0;
-      if (!decode_dc_difference(decoder_, set, &difference)) return fail("invalid DC difference");
-      const int dc = predict_dc(s_, dc_levels_.data(), plane, mx_, my_, bx, by) + difference;
-      if (dc < -kMaxLevel || dc > kMaxLevel) return fail("DC level " + std::to_string(dc) + " out of range");
-      dc_levels_[b] = dc;
-      int count = 0;
-      if (!decode_block_levels(decoder_, set, 1, coded_context(s_, local_coded, plane, mx_, my_, bx, by), decoded_,
-                               &count)) {
-        return fail("invalid intra levels");
-      }
-      std::fill(std::begin(levels_), std::end(levels_), int16_t{0});
-      levels_[0] = static_cast<int16_t>(dc);
-      for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
-      local_coded[b] = count > 0;
-      coded_mask_ |= static_cast<uint8_t>((count > 0) << b);
-      reconstruct_intra_block(s_.intra_quantizer, levels_, block_samples(reconstruction_, b), block_stride(b));
+    IntraBlockDecoder luma(s_, decoder_, 0, mx_, my_);
+    uint8_t partition = 0;
+    if (!intra::read_luma_macroblock(decoder_, c_.intra_luma, s_.intra_planes[0], mx_, my_, luma, &partition)) {
+      return fail("invalid intra levels");
     }
+    IntraBlockDecoder cb(s_, decoder_, 1, mx_, my_), cr(s_, decoder_, 2, mx_, my_);
+    ChromaMode cb_mode;
+    if (!cb.read_chroma(8 * mx_, 8 * my_, &cb_mode)) return fail("invalid intra levels");
+    if (!cr.read_chroma(8 * mx_, 8 * my_, &cb_mode)) return fail("invalid intra levels");
+    coded_mask_ = static_cast<uint8_t>(luma.coded_mask() | cb.coded_mask() | cr.coded_mask());
+    copy_macroblock_out(s_, mx_, my_, &reconstruction_);
     return Status::Ok();
   }
 
@@ -210,7 +269,6 @@ class MacroblockReader {
   int mx_ = 0, my_ = 0;
   MacroblockInfo info_;
   std::array<MotionVector, 2> predictors_{};
-  std::array<int, 6> dc_levels_{};
   uint8_t coded_mask_ = 0;
   MacroblockPrediction prediction_, reconstruction_;
   int16_t levels_[64];

@@ -23,14 +23,36 @@ namespace {
 
 using namespace bframe;
 
+// An intra macroblock's blocks: its luma macroblock, its Cb and its Cr block.
+struct IntraChoice {
+  intra::MacroblockChoice luma;
+  intra::BlockChoice cb, cr;
+};
+
+// The coded flags (bit b for block b of docs/codec.md 10.2) of an intra macroblock: an
+// 8x8 luma block is coded when a transform block covering it has levels.
+uint8_t intra_coded_mask(const IntraChoice& choice) {
+  uint8_t mask = static_cast<uint8_t>((choice.cb.coded ? 16 : 0) | (choice.cr.coded ? 32 : 0));
+  int n = 0;
+  intra::for_each_luma_block(choice.luma.partition, [&](int x, int y, int size) {
+    if (!choice.luma.blocks[static_cast<size_t>(n++)].coded) return;
+    for (int b = 0; b < 4; ++b) {
+      const int bx = 8 * (b & 1), by = 8 * (b >> 1);
+      if (x < bx + 8 && bx < x + size && y < by + 8 && by < y + size) mask |= static_cast<uint8_t>(1 << b);
+    }
+  });
+  return mask;
+}
+
 // One evaluated macroblock option.
 struct MacroblockChoice {
   MacroblockMode mode = MacroblockMode::kIntra;
-  bool warp = false;                      // inter or skip: predicted by warping
-  std::array<MotionVector, 2> vectors{};  // used vectors; predictors for unused references
-  std::array<std::array<int16_t, 64>, 6> levels{};
-  std::array<int, 6> dc_levels{};  // intra only
-  uint8_t coded_mask = 0;          // inter: coded block pattern; intra: blocks with AC levels
+  bool warp = false;                                // inter or skip: predicted by warping
+  std::array<MotionVector, 2> vectors{};            // used vectors; predictors for unused references
+  std::array<std::array<int16_t, 64>, 6> levels{};  // inter only
+  // Intra only: the blocks as the intra frame's search chose them.
+  std::unique_ptr<IntraChoice> intra;
+  uint8_t coded_mask = 0;  // inter: coded block pattern; intra: 8x8 blocks with levels
   // Inter only: the partitions, with their modes and vectors when split.
   PartitionMotion motion;
   MacroblockPrediction reconstruction;
@@ -230,6 +252,18 @@ class VectorSet {
 // VectorSet's room).
 constexpr int kMaxCandidates = 128;
 
+// The intra frame's tools an intra macroblock uses (docs/codec.md 10.5).
+CodingParams intra_tools(const BFrameParams& params) {
+  CodingParams tools;
+  tools.directional_intra = params.intra_prediction;
+  tools.rd_intra_search = params.intra_rd_search;
+  tools.transform_sizes = params.intra_transform_sizes;
+  tools.cfl = params.intra_cfl;
+  tools.rdoq = params.rdoq;
+  tools.coarse_mode_search = true;
+  return tools;
+}
+
 class BFrameEncoder {
  public:
   BFrameEncoder(FrameState& state, const PaddedSource& source, const BFrameParams& params,
@@ -246,6 +280,12 @@ class BFrameEncoder {
     const double scale = quantizer_scale_q8(s_.inter_quantizer.qindex) / 256.0;
     lambda_ = std::max(0.0, params.lambda_factor) * scale * scale;
     lambda_sad_ = std::sqrt(lambda_);
+    CodingParams tools = intra_tools(params);
+    tools.rdoq = false;  // as every option is priced; the winner is searched again with RDOQ
+    intra_search_ =
+        std::make_unique<intra::MacroblockEncoder>(tools, s_.inter_quantizer.qindex, static_cast<float>(lambda_));
+    intra_rd_search_ = std::make_unique<intra::MacroblockEncoder>(intra_tools(params), s_.inter_quantizer.qindex,
+                                                                  static_cast<float>(lambda_));
   }
 
   MacroblockChoice choose(int mx, int my, const std::array<MacroblockHints, 2>& hints, BFrameStats* stats) {
@@ -341,7 +381,9 @@ class BFrameEncoder {
                      [](const Screened& a, const Screened& b) { return a.cost < b.cost; });
     for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k)
       consider(screened[k].mode, screened[k].warp);
-    consider(MacroblockMode::kIntra, false);
+    // Where skipping wins over the inter options, intra rarely wins (28 of 7,012 such
+    // macroblocks at `svc encode -q 60` of the hall's 18-cell subset): not tried.
+    if (winner.mode != MacroblockMode::kSkipped) consider(MacroblockMode::kIntra, false);
     // Split partitions are tried only where one translation may not serve the whole
     // macroblock: the depth-derived motion varies across it, or intra won.
     if (partitions_ && (winner.mode == MacroblockMode::kIntra || motion_varies(hints[0]) ||
@@ -367,22 +409,19 @@ class BFrameEncoder {
     encoder.encode(c.skip[skip_context(s_, mx, my)], choice.mode == MacroblockMode::kSkipped);
     if (choice.mode == MacroblockMode::kSkipped) {
       if (info.inter_warp) write_warp_nodes(encoder, info.inter_mode, &info);
-      commit_macroblock(s_, mx, my, info, choice.reconstruction, nullptr, 0);
+      commit_macroblock(s_, mx, my, info, choice.reconstruction, 0);
       return;
     }
     encoder.encode(c.intra[intra_context(s_, mx, my)], choice.mode == MacroblockMode::kIntra);
     if (choice.mode == MacroblockMode::kIntra) {
-      uint8_t local_coded[6] = {};
-      for (int b = 0; b < 6; ++b) {
-        const int plane = block_plane(b), bx = block_x(b, mx), by = block_y(b, my);
-        BlockContextSet& set = plane == 0 ? c.intra_luma : c.intra_chroma;
-        const int dc = choice.dc_levels[b];
-        encode_dc_difference(encoder, set, dc - predict_dc(s_, choice.dc_levels.data(), plane, mx, my, bx, by));
-        encode_block_levels(encoder, set, choice.levels[b].data(), 1,
-                            coded_context(s_, local_coded, plane, mx, my, bx, by));
-        local_coded[b] = static_cast<uint8_t>((choice.coded_mask >> b) & 1);
-      }
-      commit_macroblock(s_, mx, my, info, choice.reconstruction, choice.dc_levels.data(), choice.coded_mask);
+      // The planes and the intra neighbour state hold this choice since its evaluation.
+      const IntraChoice& blocks = *choice.intra;
+      intra::write_macroblock(encoder, c.intra_luma, s_.intra_planes[0], mx, my, blocks.luma);
+      intra::write_chroma_block(encoder, c.intra_chroma, s_.intra_planes[1], 8 * mx, 8 * my, ChromaPlane::kCb, {},
+                                blocks.cb);
+      intra::write_chroma_block(encoder, c.intra_chroma, s_.intra_planes[2], 8 * mx, 8 * my, ChromaPlane::kCr,
+                                blocks.cb.chroma_mode(), blocks.cr);
+      commit_macroblock(s_, mx, my, info, choice.reconstruction, choice.coded_mask);
       return;
     }
     encode_partition(encoder, s_, mx, my, choice.motion.partition);
@@ -412,7 +451,7 @@ class BFrameEncoder {
       encode_block_levels(encoder, block_plane(b) == 0 ? c.inter_luma : c.inter_chroma, choice.levels[b].data(), 0,
                           kNoCodedBlockFlag);
     }
-    commit_macroblock(s_, mx, my, info, choice.reconstruction, nullptr, choice.coded_mask);
+    commit_macroblock(s_, mx, my, info, choice.reconstruction, choice.coded_mask);
   }
 
  private:
@@ -798,43 +837,32 @@ class BFrameEncoder {
     code_residual(prediction, bits, out);
   }
 
+  // The intra frame's search (docs/codec.md 3.2) over the macroblock's luma, then its Cb
+  // and Cr block, predicting from the reconstructed neighbours; the choice is
+  // reconstructed in place in the frame's planes (the only option that writes there
+  // before the commit) and marked in the intra neighbour state.
   void evaluate_intra(MacroblockChoice* out) {
     const SyntaxContexts& c = s_.contexts;
     out->mode = MacroblockMode::kIntra;
+    out->warp = false;
     out->vectors = predictors_;
-    out->coded_mask = 0;
-    float bits = mode_bits(s_, mx_, my_, MacroblockMode::kIntra);
-    int64_t distortion = 0;
-    uint8_t local_coded[6] = {};
-    int previous_category[2] = {c.intra_luma.previous_dc_category, c.intra_chroma.previous_dc_category};
-    for (int b = 0; b < 6; ++b) {
-      const int plane = block_plane(b), bx = block_x(b, mx_), by = block_y(b, my_);
-      const BlockContextSet& set = plane == 0 ? c.intra_luma : c.intra_chroma;
-      const uint8_t* src = source_block(b);
-      const int source_stride = source_.strides[plane];
-      int16_t samples[64];
-      for (int y = 0; y < 8; ++y) {
-        for (int x = 0; x < 8; ++x) samples[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - 128);
-      }
-      int16_t* levels = out->levels[b].data();
-      const int coded_context_b = coded_context(s_, local_coded, plane, mx_, my_, bx, by);
-      transform_quantize_block_rd(s_.intra_quantizer, samples, quantize_rd_, set, 1, coded_context_b,
-                                  static_cast<float>(lambda_), levels);
-      out->dc_levels[b] = levels[0];
-      const int difference = levels[0] - predict_dc(s_, out->dc_levels.data(), plane, mx_, my_, bx, by);
-      int& previous = previous_category[plane == 0 ? 0 : 1];
-      bits += dc_difference_bits(set, previous, difference);
-      previous = difference == 0 ? 0 : std::bit_width(static_cast<unsigned>(std::abs(difference)));
-      bits += block_levels_bits(set, levels, 1, coded_context_b);
-      bool any_ac = false;
-      for (int i = 1; i < 64 && !any_ac; ++i) any_ac = levels[i] != 0;
-      local_coded[b] = any_ac;
-      out->coded_mask |= static_cast<uint8_t>(any_ac << b);
-      uint8_t* recon = block_samples(out->reconstruction, b);
-      reconstruct_intra_block(s_.intra_quantizer, levels, recon, block_stride(b));
-      distortion += block_error(b, recon);
-    }
-    out->cost = static_cast<double>(distortion) + lambda_ * bits;
+    out->motion = PartitionMotion{};
+    if (!out->intra) out->intra = std::make_unique<IntraChoice>();
+    IntraChoice& choice = *out->intra;
+    const uint8_t* source[3] = {source_.planes[0].data(), source_.planes[1].data(), source_.planes[2].data()};
+    uint8_t* recon[3] = {s_.planes[0].data(), s_.planes[1].data(), s_.planes[2].data()};
+    // The winner is searched again with RDOQ in every trial, as intra frames search.
+    intra::MacroblockEncoder& search = quantize_rd_ ? *intra_rd_search_ : *intra_search_;
+    double cost = lambda_ * mode_bits(s_, mx_, my_, MacroblockMode::kIntra);
+    cost += search.choose_luma(c.intra_luma, s_.intra_planes[0], source[0], recon[0], s_.strides[0], mx_, my_,
+                               &choice.luma);
+    // Chroma may use CfL from the luma just reconstructed in place.
+    cost += search.choose_chroma(c.intra_chroma, s_.intra_planes[1], s_.intra_planes[2], source[1], source[2],
+                                 recon[1], recon[2], s_.strides[1], recon[0], s_.strides[0], 8 * mx_, 8 * my_,
+                                 &choice.cb, &choice.cr);
+    out->coded_mask = intra_coded_mask(choice);
+    copy_macroblock_out(s_, mx_, my_, &out->reconstruction);
+    out->cost = cost;
   }
 
   FrameState& s_;
@@ -857,6 +885,9 @@ class BFrameEncoder {
   VectorSet tried_;
   std::array<MvdCostTable, 2> mvd_costs_;  // per component, for the current macroblock
   std::array<WarpCache, 2> warp_cache_;
+  // The intra frame's macroblock search at the frame's qindex and lambda: plain
+  // quantization, and RDOQ for the winner.
+  std::unique_ptr<intra::MacroblockEncoder> intra_search_, intra_rd_search_;
 };
 
 }  // namespace

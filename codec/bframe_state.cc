@@ -31,9 +31,8 @@ void init_state(FrameState& s, int width, int height, int qindex, const ImageYCb
   s.chroma_height = (height + 1) / 2;
   s.references = {ref0, ref1};
   s.reference_count = ref1 != nullptr ? 2 : 1;
-  s.intra_quantizer = make_quantizer(BlockKind::kIntra, qindex);
   s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, qindex);
-  s.dc_scale = s.intra_quantizer.scale[0];
+  s.intra_quantizers = intra::residual_quantizers(qindex);
   s.vector_limit = max_vector_component(width, height);
   s.node_limit = max_warp_node_component(width, height);
   s.nodes_x = s.mbs_x + 1;
@@ -48,40 +47,16 @@ void init_state(FrameState& s, int width, int height, int qindex, const ImageYCb
   s.planes[1].assign(luma_size / 4, 0);
   s.planes[2].assign(luma_size / 4, 0);
   const size_t mb_count = static_cast<size_t>(s.mbs_x) * s.mbs_y;
-  s.dc[0].assign(4 * mb_count, 0);
   s.coded[0].assign(4 * mb_count, 0);
-  for (int p = 1; p < 3; ++p) {
-    s.dc[p].assign(mb_count, 0);
-    s.coded[p].assign(mb_count, 0);
-  }
+  for (int p = 1; p < 3; ++p) s.coded[p].assign(mb_count, 0);
+  s.intra_planes.clear();
+  for (int p = 0; p < 3; ++p) s.intra_planes.emplace_back(s.strides[p], p == 0 ? 16 * s.mbs_y : 8 * s.mbs_y);
   s.macroblocks.assign(mb_count, MacroblockInfo{});
-}
-
-int predict_dc(const FrameState& s, const int* local, int plane, int mx, int my, int bx, int by) {
-  if (bx == 0 && by == 0) return 0;
-  auto value = [&](int x, int y) { return block_value(s, s.dc[plane], local, plane, mx, my, x, y); };
-  if (by == 0) return value(bx - 1, by);
-  if (bx == 0) return value(bx, by - 1);
-  const int left = value(bx - 1, by), top = value(bx, by - 1), top_left = value(bx - 1, by - 1);
-  if (top_left >= std::max(left, top)) return std::min(left, top);
-  if (top_left <= std::min(left, top)) return std::max(left, top);
-  return left + top - top_left;
 }
 
 int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, int my, int bx, int by) {
   return (bx > 0 ? block_value(s, s.coded[plane], local, plane, mx, my, bx - 1, by) : 0) +
          (by > 0 ? block_value(s, s.coded[plane], local, plane, mx, my, bx, by - 1) : 0);
-}
-
-int derived_dc_level(const uint8_t* samples, int stride, int dc_scale) {
-  int sum = 0;
-  for (int y = 0; y < 8; ++y) {
-    for (int x = 0; x < 8; ++x) sum += samples[y * stride + x];
-  }
-  // (sum - 8192) / 8 is the DC coefficient; the level is that over dc_scale / 256.
-  const int numerator = 32 * (sum - 64 * 128), denominator = dc_scale;
-  return numerator >= 0 ? (numerator + denominator / 2) / denominator
-                        : -((-numerator + denominator / 2) / denominator);
 }
 
 MotionVector predict_vector(const FrameState& s, int mx, int my, int reference) {
@@ -286,17 +261,20 @@ void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* level
   }
 }
 
-void reconstruct_intra_block(const Quantizer& quantizer, const int16_t* levels, uint8_t* out, int out_stride) {
-  int16_t samples[64];
-  dequantize_inverse_transform_block(quantizer, levels, samples);
+void copy_macroblock_out(const FrameState& s, int mx, int my, MacroblockPrediction* out) {
+  for (int y = 0; y < 16; ++y) {
+    std::copy_n(s.planes[0].data() + static_cast<size_t>(16 * my + y) * s.strides[0] + 16 * mx, 16,
+                out->y.data() + 16 * y);
+  }
   for (int y = 0; y < 8; ++y) {
-    for (int x = 0; x < 8; ++x)
-      out[y * out_stride + x] = static_cast<uint8_t>(std::clamp(samples[8 * y + x] + 128, 0, 255));
+    const size_t offset = static_cast<size_t>(8 * my + y) * s.strides[1] + 8 * mx;
+    std::copy_n(s.planes[1].data() + offset, 8, out->cb.data() + 8 * y);
+    std::copy_n(s.planes[2].data() + offset, 8, out->cr.data() + 8 * y);
   }
 }
 
 void commit_macroblock(FrameState& s, int mx, int my, const MacroblockInfo& info,
-                       const MacroblockPrediction& reconstruction, const int* intra_dc, uint8_t coded_mask) {
+                       const MacroblockPrediction& reconstruction, uint8_t coded_mask) {
   for (int y = 0; y < 16; ++y) {
     std::copy_n(reconstruction.y.data() + 16 * y, 16,
                 s.planes[0].data() + static_cast<size_t>(16 * my + y) * s.strides[0] + 16 * mx);
@@ -310,9 +288,11 @@ void commit_macroblock(FrameState& s, int mx, int my, const MacroblockInfo& info
     const int plane = block_plane(b);
     const size_t index = static_cast<size_t>(block_y(b, my)) * s.grid_width(plane) + block_x(b, mx);
     s.coded[plane][index] = static_cast<uint8_t>((coded_mask >> b) & 1);
-    s.dc[plane][index] = intra_dc != nullptr
-                             ? intra_dc[b]
-                             : derived_dc_level(block_samples(reconstruction, b), block_stride(b), s.dc_scale);
+  }
+  if (info.mode != MacroblockMode::kIntra) {
+    s.intra_planes[0].mark(16 * mx, 16 * my, 16, kDcMode, false);
+    s.intra_planes[1].mark(8 * mx, 8 * my, 8, kDcMode, false);
+    s.intra_planes[2].mark(8 * mx, 8 * my, 8, kDcMode, false);
   }
   s.macroblocks[static_cast<size_t>(my) * s.mbs_x + mx] = info;
 }

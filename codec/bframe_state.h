@@ -1,8 +1,9 @@
 // B-frame coding internals shared by the encoder (bframe_encoder.cc) and the decoder
-// (bframe_decoder.cc): the frame state (reconstructed padded planes, per-block DC levels
-// and coded flags, per-macroblock vectors and modes), the predictors derived from it and
-// the reconstruction routines, so the encoder's reconstruction is the decoder's output by
-// construction. Not part of the codec's interface (codec/bframe_codec.h).
+// (bframe_decoder.cc): the frame state (reconstructed padded planes, per-block coded
+// flags, the intra neighbour state, per-macroblock vectors and modes), the predictors
+// derived from it and the reconstruction routines, so the encoder's reconstruction is
+// the decoder's output by construction. Not part of the codec's interface
+// (codec/bframe_codec.h).
 #pragma once
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 
 #include "codec/bframe_codec.h"
 #include "codec/block_coder.h"
+#include "codec/intra_macroblock.h"
 #include "codec/motion_compensation.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
@@ -41,7 +43,9 @@ struct SyntaxContexts {
   std::array<std::array<std::array<AdaptiveBit, kNodeMagnitudeContexts>, 2>, 2> node_magnitude{};
   std::array<AdaptiveBit, kNeighbourContexts> cbp_luma{};
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> cbp_chroma{};  // [Cb/Cr][ctx]
-  BlockContextSet intra_luma, intra_chroma, inter_luma, inter_chroma;
+  // Intra macroblocks: the intra frame's luma and chroma contexts (docs/codec.md 3).
+  intra::PlaneContexts intra_luma, intra_chroma;
+  BlockContextSet inter_luma, inter_chroma;
 };
 
 struct MacroblockInfo {
@@ -106,8 +110,9 @@ struct FrameState {
   // macroblock (mx, my) of the face is macroblock (mx + border_mbs, my + border_mbs) of
   // its reference planes. 0 without padding.
   int border_mbs = 0;
-  Quantizer intra_quantizer, inter_quantizer;
-  int dc_scale = 2048;  // quant_step of the intra DC, 1/256 coefficient units
+  Quantizer inter_quantizer;
+  // Intra macroblocks: the intra frame's residual steps at the frame's qindex.
+  intra::SizedQuantizers intra_quantizers{};
   int vector_limit = 0;
   int node_limit = 0;
   // References with a warp node field (bit r for reference r).
@@ -123,10 +128,12 @@ struct FrameState {
   // Reconstructed planes padded to whole macroblocks; strides 16 mbs_x and 8 mbs_x.
   std::array<std::vector<uint8_t>, 3> planes;
   std::array<int, 3> strides{};
-  // Per 8x8 block of each plane (grids 2 mbs_x x 2 mbs_y and mbs_x x mbs_y): the DC level
-  // intra prediction uses, and whether the block had coded levels (intra: AC levels).
-  std::array<std::vector<int>, 3> dc;
+  // Per 8x8 block of each plane (grids 2 mbs_x x 2 mbs_y and mbs_x x mbs_y): whether the
+  // block had coded levels (intra: some transform block covering it has a level).
   std::array<std::vector<uint8_t>, 3> coded;
+  // Intra prediction's neighbour state of each plane (Y, Cb, Cr; docs/codec.md 10.4):
+  // intra blocks as in intra frames, inter and skipped macroblocks as DC, uncoded blocks.
+  std::vector<intra::PlaneState> intra_planes;
   std::vector<MacroblockInfo> macroblocks;
   SyntaxContexts contexts;
 
@@ -178,16 +185,9 @@ T block_value(const FrameState& s, const std::vector<T>& values, const T* local,
   return values[static_cast<size_t>(by) * s.grid_width(plane) + bx];
 }
 
-// Intra DC prediction as in intra frames (docs/codec.md section 3) over all blocks; inter
-// blocks contribute the DC level their reconstruction would have had.
-int predict_dc(const FrameState& s, const int* local, int plane, int mx, int my, int bx, int by);
-
+// ctx_cbf of block (bx, by) of `plane` (docs/codec.md 10.2): the coded flags of its left
+// and top neighbours, those of macroblock (mx, my) read from `local` (by block number).
 int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, int my, int bx, int by);
-
-// DC level an intra block with these reconstructed samples would have: the block mean
-// minus 128, times 8 (the DCT's DC gain), divided by the DC step dc_scale / 256, rounded
-// half away from 0.
-int derived_dc_level(const uint8_t* samples, int stride, int dc_scale);
 
 inline int median3(int a, int b, int c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
 
@@ -280,11 +280,13 @@ bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode 
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
                                 int prediction_stride, uint8_t* out, int out_stride);
 
-void reconstruct_intra_block(const Quantizer& quantizer, const int16_t* levels, uint8_t* out, int out_stride);
+// Copies macroblock (mx, my) of the reconstructed planes into `out`.
+void copy_macroblock_out(const FrameState& s, int mx, int my, MacroblockPrediction* out);
 
-// Stores a finished macroblock: pixels, per-block DC levels and coded flags, and info.
+// Stores a finished macroblock: pixels, per-block coded flags and info; an inter or
+// skipped one also enters the intra neighbour state (an intra one is there already).
 void commit_macroblock(FrameState& s, int mx, int my, const MacroblockInfo& info,
-                       const MacroblockPrediction& reconstruction, const int* intra_dc, uint8_t coded_mask);
+                       const MacroblockPrediction& reconstruction, uint8_t coded_mask);
 
 // Whether `image` is width x height with 4:2:0 planes of matching size.
 bool consistent_image(const ImageYCbCr420& image, int width, int height);

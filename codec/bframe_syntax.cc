@@ -20,16 +20,6 @@ const std::array<float, 4097>& cost_table() {
   return table;
 }
 
-float dc_difference_bits(const BlockContextSet& c, int previous_category, int difference) {
-  const unsigned magnitude = static_cast<unsigned>(std::abs(difference));
-  const int category = magnitude == 0 ? 0 : std::bit_width(magnitude);
-  const int row = previous_category == 0 ? 0 : (previous_category <= 2 ? 1 : 2);
-  float bits = 0;
-  for (int i = 0; i < category; ++i) bits += bit_cost(c.dc_category[row][i], 1);
-  if (category < kMaxDcCategory) bits += bit_cost(c.dc_category[row][category], 0);
-  return bits + static_cast<float>(category);  // sign and the bits below the leading one
-}
-
 float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value) {
   float bits = bit_cost(c.mvd_zero[component][context], value != 0);
   if (value == 0) return bits;

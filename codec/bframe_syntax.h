@@ -22,8 +22,6 @@ inline float bit_cost(const AdaptiveBit& model, int bit) {
 
 inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1); }
 
-float dc_difference_bits(const BlockContextSet& c, int previous_category, int difference);
-
 float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value);
 
 // mvd_component_bits of one component and context as a table over the magnitude, equal

@@ -4,7 +4,9 @@
 // neighbours in a signalled mode (codec/intra_prediction.h) and its residual coded as
 // quantized DCT levels by block_coder; then the in-loop filters the header selects
 // (deblocking, CDEF) over the whole frame. The decoder's reconstruction (reconstruct_block, apply_loop_filters) is
-// also the encoder's, so the two agree bit for bit by construction.
+// also the encoder's, so the two agree bit for bit by construction. The coding of one
+// luma macroblock or chroma block (syntax, reconstruction, search) is also what B-frame
+// intra macroblocks use (codec/intra_macroblock.h).
 #include "codec/intra_codec.h"
 
 #include <algorithm>
@@ -17,7 +19,9 @@
 #include "codec/cfl.h"
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
+#include "codec/intra_macroblock.h"
 #include "codec/intra_prediction.h"
+#include "codec/level_stream.h"
 #include "codec/loop_filter.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
@@ -25,6 +29,31 @@
 
 namespace svc::codec {
 namespace {
+
+TransformSize size_of_width(int width) {
+  return width == 4 ? TransformSize::k4x4 : width == 16 ? TransformSize::k16x16 : TransformSize::k8x8;
+}
+
+}  // namespace
+
+namespace intra {
+
+SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix) {
+  SizedQuantizers q;
+  for (int s = 0; s < kTransformSizes; ++s)
+    q[static_cast<size_t>(s)] = make_residual_quantizer(static_cast<TransformSize>(s), qindex, matrix);
+  return q;
+}
+
+const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size) {
+  return quantizers[static_cast<size_t>(size_of_width(size))];
+}
+
+}  // namespace intra
+
+namespace {
+
+using namespace intra;
 
 struct PlaneGeometry {
   int width, height;       // visible samples
@@ -35,119 +64,17 @@ struct PlaneGeometry {
   size_t padded_size() const { return static_cast<size_t>(stride()) * blocks_y * 8; }
 };
 
-// Entropy-coding state of one plane class (luma, chroma).
-struct PlaneContexts {
-  IntraModeContexts modes;
-  BlockContextSet residual;
-  std::array<AdaptiveBit, 3> split_16x16{};  // luma only, by split_context
-  std::array<AdaptiveBit, 3> split_8x8{};
-  CflContexts cfl;  // chroma only
-};
-
-// Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
-// region splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four
-// 4x4 blocks.
-constexpr uint8_t kSplit16x16 = 1;
-constexpr uint8_t split_8x8_bit(int i) { return static_cast<uint8_t>(2 << i); }
-
-// Calls visit(x, y, size) for the transform blocks of a macroblock partition in coding
-// order (x, y relative to the macroblock).
-template <class Visit>
-void for_each_luma_block(uint8_t partition, Visit&& visit) {
-  if ((partition & kSplit16x16) == 0) {
-    visit(0, 0, 16);
-    return;
-  }
-  for (int i = 0; i < 4; ++i) {
-    const int x = 8 * (i & 1), y = 8 * (i >> 1);
-    if ((partition & split_8x8_bit(i)) == 0) {
-      visit(x, y, 8);
-      continue;
-    }
-    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), 4);
-  }
-}
-
 int luma_block_count(uint8_t partition) {
   int count = 0;
   for_each_luma_block(partition, [&](int, int, int) { ++count; });
   return count;
 }
 
-TransformSize size_of_width(int width) {
-  return width == 4 ? TransformSize::k4x4 : width == 16 ? TransformSize::k16x16 : TransformSize::k8x8;
-}
-
-// Per 4x4 unit of the plane being coded: the mode, coded flag and transform width of the
-// block covering it (width 0: not reconstructed yet). Source of the neighbour
-// derivations of docs/codec.md 3 and 3.1.
-class PlaneState {
- public:
-  PlaneState(int width, int height)
-      : units_x_(width / 4), units_y_(height / 4), units_(static_cast<size_t>(units_x_) * units_y_) {}
-
-  std::array<int, kMostProbableModes> candidates(int x0, int y0) const {
-    return most_probable_modes(x0 > 0 ? regular_mode(at(x0 - 4, y0).mode) : kDcMode,
-                               y0 > 0 ? regular_mode(at(x0, y0 - 4).mode) : kDcMode);
-  }
-  // Left and above neighbours coded with CfL (chroma).
-  int cfl_context(int x0, int y0) const {
-    return (x0 > 0 && at(x0 - 4, y0).mode == kCflMode) + (y0 > 0 && at(x0, y0 - 4).mode == kCflMode);
-  }
-  int coded_block_context(int x0, int y0) const {
-    return (x0 > 0 ? at(x0 - 4, y0).coded : 0) + (y0 > 0 ? at(x0, y0 - 4).coded : 0);
-  }
-  // Left and above neighbours coded with transforms narrower than `width`.
-  int split_context(int x0, int y0, int width) const {
-    return (x0 > 0 && at(x0 - 4, y0).width < width) + (y0 > 0 && at(x0, y0 - 4).width < width);
-  }
-  EdgeAvailability availability(int x0, int y0, int size) const {
-    EdgeAvailability a;
-    a.left = x0 > 0;
-    a.above = y0 > 0;
-    a.below_left = a.left && (y0 + size) / 4 < units_y_ && at(x0 - 4, y0 + size).width != 0;
-    a.above_right = a.above && (x0 + size) / 4 < units_x_ && at(x0 + size, y0 - 4).width != 0;
-    return a;
-  }
-  void mark(int x0, int y0, int size, int mode, bool coded) {
-    fill(x0, y0, size, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(size)});
-  }
-  // Forgets a region, as before it was reconstructed (encoder: trying another partition).
-  void clear(int x0, int y0, int size) { fill(x0, y0, size, Unit{}); }
-
- private:
-  struct Unit {
-    uint8_t mode = kDcMode;
-    bool coded = false;
-    uint8_t width = 0;
-  };
-  // A CfL block counts as DC for the most probable modes (its prediction's base).
-  static int regular_mode(int mode) { return mode == kCflMode ? kDcMode : mode; }
-  const Unit& at(int x, int y) const { return units_[static_cast<size_t>(y / 4) * units_x_ + x / 4]; }
-  void fill(int x0, int y0, int size, const Unit& unit) {
-    for (int y = y0 / 4; y < (y0 + size) / 4; ++y) {
-      std::fill_n(units_.begin() + static_cast<ptrdiff_t>(static_cast<size_t>(y) * units_x_ + x0 / 4), size / 4,
-                  unit);
-    }
-  }
-  int units_x_, units_y_;
-  std::vector<Unit> units_;
-};
-
-// The residual quantizers of every transform size at one index, indexed by TransformSize.
-using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
-SizedQuantizers residual_quantizers(int qindex) {
-  SizedQuantizers q;
-  for (int s = 0; s < kTransformSizes; ++s)
-    q[static_cast<size_t>(s)] = make_residual_quantizer(static_cast<TransformSize>(s), qindex);
-  return q;
-}
-const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size) {
-  return quantizers[static_cast<size_t>(size_of_width(size))];
-}
-
 // The quantiser scale of an index as the MPEG-2 quantiser_scale it replaces.
 double scale_of(int qindex) { return quantizer_scale_q8(qindex) / 256.0; }
+
+// SSE per bit of an intra frame's decisions, tuned on the photographic scenes.
+float intra_frame_lambda(int qindex) { return static_cast<float>(0.1 * scale_of(qindex) * scale_of(qindex)); }
 
 // out = clip(prediction + inverse transform of `coefficients`), or the prediction alone
 // when there are none.
@@ -266,7 +193,8 @@ int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
 class BlockReconstructor {
  public:
   explicit BlockReconstructor(const CoefficientFrame& coefficients)
-      : coefficients_(coefficients), quantizers_(residual_quantizers(coefficients.qindex)) {}
+      : coefficients_(coefficients),
+        quantizers_(residual_quantizers(coefficients.qindex, coefficients.residual_matrix)) {}
 
   // The next block: size x size at (x0, y0) of `recon` (stride samples per row); `luma`,
   // for a chroma block, is the reconstructed luma plane (stride 2 * stride).
@@ -274,37 +202,27 @@ class BlockReconstructor {
     const int area = size * size;
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
-    int decoded = 0;
-    for (int i = 0; i < count; ++i) {
-      int position, level;
-      if (!coefficients_.read(&entry_, &position, &level)) break;
-      if (position >= area) continue;  // only in frames not built by this codec
-      positions_[decoded++] = position;
-      block_[position] = static_cast<int16_t>(dequantize_level(quantizer, position, level));
+    int values[kMaxTransformArea];
+    const int decoded = coefficients_.read_levels(&offset_, count, size_of_width(size), positions_, values);
+    for (int i = 0; i < decoded; ++i) {
+      block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values[i]));
     }
     const int mode_byte = coefficients_.block_modes[block_number_];
-    uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
-    build_intra_edge(recon, stride, x0, y0, size, state.availability(x0, y0, size), edge);
-    int mode = mode_byte % kIntraModes;
+    const int16_t* residual = decoded > 0 ? block_ : nullptr;
     if (luma != nullptr && size == 8 && is_cfl_mode_byte(mode_byte)) {
-      mode = kCflMode;
-      int16_t ac[64];
-      cfl_luma_ac(luma, 2 * stride, x0, y0, ac);
-      predict_cfl(ac, dc_prediction_8x8(edge), cfl_alpha_of_mode_byte(mode_byte), prediction);
+      reconstruct_chroma_block_in_plane(state, recon, stride, x0, y0, {kCflMode, cfl_alpha_of_mode_byte(mode_byte)},
+                                        luma, 2 * stride, residual);
     } else {
-      intra_predictor(size)(edge, mode, prediction);
+      reconstruct_block_in_plane(state, recon, stride, x0, y0, size, mode_byte % kIntraModes, residual);
     }
-    reconstruct_block(prediction, decoded > 0 ? block_ : nullptr, size,
-                      recon + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
     for (int i = 0; i < decoded; ++i) block_[positions_[i]] = 0;
-    state.mark(x0, y0, size, mode, decoded > 0);
     ++block_number_;
   }
 
  private:
   const CoefficientFrame& coefficients_;
   SizedQuantizers quantizers_;
-  size_t block_number_ = 0, entry_ = 0;
+  size_t block_number_ = 0, offset_ = 0;
   int16_t block_[kMaxTransformArea] = {};
   int positions_[kMaxTransformArea];
 };
@@ -337,17 +255,6 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLa
     }
   }
 }
-
-// Encoder only: a block's mode, prediction and residual levels.
-struct BlockChoice {
-  int mode = kDcMode;  // kCflMode for chroma from luma
-  int cfl_alpha = 0;
-  bool coded = false;
-  uint8_t prediction[kMaxTransformArea];
-  int16_t levels[kMaxTransformArea];
-
-  ChromaMode chroma_mode() const { return {mode, mode == kCflMode ? cfl_alpha : 0}; }
-};
 
 // Encoder only: a set of modes to rank (all allowed ones when not given).
 struct ModeSet {
@@ -400,13 +307,14 @@ int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, int
 // (its levels dropped when the prediction alone costs less).
 class BlockSearch {
  public:
-  BlockSearch(const SizedQuantizers& quantizers, const CodingParams& params)
+  BlockSearch(const SizedQuantizers& quantizers, const CodingParams& params, float lambda)
       : quantizers_(quantizers),
         modes_(params.directional_intra ? kIntraModes : 2),
         rd_search_(params.rd_intra_search),
+        coarse_(params.coarse_mode_search),
         rdoq_(params.rdoq),
         satd_lambda_(std::max(1, static_cast<int>(4 * scale_of(quantizers[0].qindex) + 0.5))),
-        lambda_(static_cast<float>(0.1 * scale_of(quantizers[0].qindex) * scale_of(quantizers[0].qindex))) {}
+        lambda_(lambda) {}
 
   float lambda() const { return lambda_; }
 
@@ -476,13 +384,19 @@ class BlockSearch {
     const IntraPredictor predict = intra_predictor(size);
     std::array<std::pair<int, int>, kIntraModes> costs;
     uint8_t prediction[kMaxTransformArea];
-    const int count = ranked != nullptr ? ranked->count : modes_;
-    for (int i = 0; i < count; ++i) {
-      const int mode = ranked != nullptr ? ranked->modes[static_cast<size_t>(i)] : i;
+    int count = 0;
+    auto score = [&](int mode) {
       predict(edge, mode, prediction);
-      costs[static_cast<size_t>(i)] = {block_satd(source, stride, prediction, size) +
-                                           satd_lambda_ * intra_mode_bits(candidates, mode),
-                                       mode};
+      costs[static_cast<size_t>(count++)] = {block_satd(source, stride, prediction, size) +
+                                                 satd_lambda_ * intra_mode_bits(candidates, mode),
+                                             mode};
+    };
+    if (ranked != nullptr) {
+      for (int i = 0; i < ranked->count; ++i) score(ranked->modes[static_cast<size_t>(i)]);
+    } else if (coarse_ && modes_ == kIntraModes) {
+      score_coarse(candidates, score, costs, count);
+    } else {
+      for (int mode = 0; mode < modes_; ++mode) score(mode);
     }
     // 4x4 blocks are many and each matters little: the best by SATD alone (a second mode
     // gained 0.02 dB PSNR-Y for 20 % more time: `svc encode --intra-only -q 40 --psnr` of
@@ -492,6 +406,31 @@ class BlockSearch {
     std::array<int, kSearchedModes> searched{-1, -1, -1};
     for (int i = 0; i < kept; ++i) searched[static_cast<size_t>(i)] = costs[static_cast<size_t>(i)].second;
     return searched;
+  }
+
+  // Scores planar, DC, the most probable modes and every fourth angular mode, then the
+  // two angular neighbours on each side of the best angular one.
+  template <class Score>
+  static void score_coarse(const std::array<int, kMostProbableModes>& candidates, Score& score,
+                           const std::array<std::pair<int, int>, kIntraModes>& costs, const int& count) {
+    ModeSet scored;
+    auto once = [&](int mode) {
+      const int before = scored.count;
+      scored.add(mode);
+      if (scored.count != before) score(mode);
+    };
+    once(kPlanarMode);
+    once(kDcMode);
+    for (int mode : candidates) once(mode);
+    for (int mode = 2; mode < kIntraModes; mode += 4) once(mode);
+    std::pair<int, int> best{std::numeric_limits<int>::max(), -1};
+    for (int i = 0; i < count; ++i) {
+      if (costs[static_cast<size_t>(i)].second >= 2) best = std::min(best, costs[static_cast<size_t>(i)]);
+    }
+    for (int offset : {-2, -1, 1, 2}) {
+      const int mode = best.second + offset;
+      if (best.second >= 2 && mode >= 2 && mode < kIntraModes) once(mode);
+    }
   }
 
   // The levels and cost of trial->prediction.
@@ -526,16 +465,11 @@ class BlockSearch {
   const SizedQuantizers& quantizers_;
   int modes_;
   bool rd_search_;  // else the SATD's best mode, its levels as quantized
+  bool coarse_;     // angular modes ranked coarse to fine
   bool rdoq_;
   int satd_lambda_;  // SATD units per bit, tuned on the photographic scenes
   float lambda_;     // SSE per bit, tuned on the photographic scenes
   mutable BlockChoice trial_;
-};
-
-// Encoder only: the blocks of one luma macroblock as chosen, in coding order.
-struct MacroblockChoice {
-  uint8_t partition = kSplit16x16;
-  std::array<BlockChoice, 16> blocks;
 };
 
 // Encoder only: codes one block of the plane during the search: chooses it, writes its
@@ -633,22 +567,24 @@ class PlaneSearch {
 // 16x16 block whose modes are ranked among the 8x8 blocks' and the most probable ones.
 class MacroblockSearch {
  public:
-  MacroblockSearch(const PlaneSearch& plane, bool transform_sizes) : plane_(plane), sizes_(transform_sizes) {}
+  explicit MacroblockSearch(bool transform_sizes) : sizes_(transform_sizes) {}
 
-  void choose(PlaneState& state, int mbx, int mby, MacroblockChoice* out) {
+  // Chooses the blocks of macroblock (mbx, mby) of `plane`; returns their cost.
+  float choose(const PlaneSearch& plane, PlaneState& state, int mbx, int mby, MacroblockChoice* out) {
+    plane_ = &plane;
     const int x0 = 16 * mbx, y0 = 16 * mby;
-    const PlaneContexts& contexts = plane_.contexts();
+    const PlaneContexts& contexts = plane_->contexts();
     const int split_context = state.split_context(x0, y0, 16);
     state.clear(x0, y0, 16);
     split_.partition = kSplit16x16;
-    float split_cost = plane_.split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
+    float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
     for (int i = 0; i < 4; ++i) split_cost += choose_8x8(state, x0, y0, i);
     if (!sizes_ || split_.partition != kSplit16x16 || all_coded()) {
       *out = split_;
-      return;
+      return split_cost;
     }
     uint8_t saved[kMaxTransformArea];
-    plane_.save(x0, y0, 16, saved);
+    plane_->save(x0, y0, 16, saved);
     ModeSet ranked;
     for (int i = 0; i < 4; ++i) ranked.add(split_.blocks[static_cast<size_t>(i)].mode);
     for (int mode : state.candidates(x0, y0)) ranked.add(mode);
@@ -656,18 +592,19 @@ class MacroblockSearch {
     ranked.add(kDcMode);
     state.clear(x0, y0, 16);
     BlockChoice& whole = out->blocks[0];
-    const float whole_cost = plane_.split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0) +
-                             plane_.code_block(state, x0, y0, 16, &ranked, false, &whole);
+    const float whole_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0) +
+                             plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
     if (whole_cost < split_cost) {
       out->partition = 0;
-      return;
+      return whole_cost;
     }
-    plane_.restore(x0, y0, 16, saved);
+    plane_->restore(x0, y0, 16, saved);
     for_each_luma_block(split_.partition, [&, n = 0](int x, int y, int size) mutable {
       const BlockChoice& b = split_.blocks[static_cast<size_t>(n++)];
       state.mark(x0 + x, y0 + y, size, b.mode, b.coded);
     });
     *out = split_;
+    return split_cost;
   }
 
  private:
@@ -675,27 +612,27 @@ class MacroblockSearch {
   // split_.blocks from index 0 on and returns the cost.
   float choose_8x8(PlaneState& state, int mb_x0, int mb_y0, int i) {
     const int x0 = mb_x0 + 8 * (i & 1), y0 = mb_y0 + 8 * (i >> 1);
-    const auto& split_bits = plane_.contexts().split_8x8[static_cast<size_t>(state.split_context(x0, y0, 8))];
+    const auto& split_bits = plane_->contexts().split_8x8[static_cast<size_t>(state.split_context(x0, y0, 8))];
     const int first = block_index(i);
     BlockChoice& whole = split_.blocks[static_cast<size_t>(first)];
     const float whole_cost =
-        plane_.split_bit_cost(split_bits, 0) + plane_.code_block(state, x0, y0, 8, nullptr, false, &whole);
+        plane_->split_bit_cost(split_bits, 0) + plane_->code_block(state, x0, y0, 8, nullptr, false, &whole);
     if (!sizes_ || !whole.coded) return whole_cost;
     uint8_t saved[64];
-    plane_.save(x0, y0, 8, saved);
+    plane_->save(x0, y0, 8, saved);
     BlockChoice kept = whole;
     state.clear(x0, y0, 8);
-    float quarters_cost = plane_.split_bit_cost(split_bits, 1);
+    float quarters_cost = plane_->split_bit_cost(split_bits, 1);
     for (int j = 0; j < 4 && quarters_cost < whole_cost; ++j) {
-      quarters_cost += plane_.code_block(state, x0 + 4 * (j & 1), y0 + 4 * (j >> 1), 4, nullptr, false,
-                                         &quarters_[static_cast<size_t>(j)]);
+      quarters_cost += plane_->code_block(state, x0 + 4 * (j & 1), y0 + 4 * (j >> 1), 4, nullptr, false,
+                                          &quarters_[static_cast<size_t>(j)]);
     }
     if (quarters_cost < whole_cost) {
       split_.partition |= split_8x8_bit(i);
       for (int j = 0; j < 4; ++j) split_.blocks[static_cast<size_t>(first + j)] = quarters_[static_cast<size_t>(j)];
       return quarters_cost;
     }
-    plane_.restore(x0, y0, 8, saved);
+    plane_->restore(x0, y0, 8, saved);
     state.mark(x0, y0, 8, kept.mode, kept.coded);
     whole = kept;
     return whole_cost;
@@ -716,11 +653,127 @@ class MacroblockSearch {
     return index;
   }
 
-  const PlaneSearch& plane_;
+  const PlaneSearch* plane_ = nullptr;
   bool sizes_;
   MacroblockChoice split_;
   std::array<BlockChoice, 4> quarters_;
 };
+
+// Parse stage of an intra frame: reads each block's syntax into `frame` and marks it.
+class FrameBlockReader final : public BlockReader {
+ public:
+  FrameBlockReader(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, CoefficientFrame* frame)
+      : decoder_(decoder), contexts_(contexts), state_(state), frame_(frame) {}
+
+  bool read(int x0, int y0, int size) override {
+    if (!read_block_syntax(decoder_, contexts_, state_, x0, y0, size, &block_)) return false;
+    append(x0, y0, size, static_cast<uint8_t>(block_.mode));
+    return true;
+  }
+
+  // An 8x8 chroma block; a Cb block's mode goes to `cb`, which the Cr block reads.
+  bool read_chroma(int x0, int y0, ChromaPlane plane, ChromaMode* cb) {
+    if (!read_chroma_block_syntax(decoder_, contexts_, state_, x0, y0, plane, cb, &block_)) return false;
+    append(x0, y0, 8, ChromaMode{block_.mode, block_.cfl_alpha}.mode_byte());
+    return true;
+  }
+
+ private:
+  // Marks the block read and appends it to the frame with its mode byte.
+  void append(int x0, int y0, int size, uint8_t mode_byte) {
+    state_.mark(x0, y0, size, block_.mode, block_.count > 0);
+    frame_->append_levels(block_.levels, block_.count, size_of_width(size));
+    frame_->block_counts.push_back(static_cast<uint16_t>(block_.count));
+    frame_->block_modes.push_back(mode_byte);
+  }
+
+  RangeDecoder& decoder_;
+  PlaneContexts& contexts_;
+  PlaneState& state_;
+  CoefficientFrame* frame_;
+  BlockSyntax block_;
+};
+
+// The number of blocks a frame of this layout and these partitions holds.
+size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t>& partitions) {
+  size_t count = 2 * static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y;
+  for (uint8_t partition : partitions) count += static_cast<size_t>(luma_block_count(partition));
+  return count;
+}
+
+}  // namespace
+
+namespace intra {
+
+bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
+                       int size, BlockSyntax* out) {
+  out->mode = decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
+  out->cfl_alpha = 0;
+  out->count = 0;
+  return decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), out->levels,
+                             &out->count, size_of_width(size));
+}
+
+bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0,
+                              int y0, ChromaPlane plane, ChromaMode* cb, BlockSyntax* out) {
+  const ChromaMode mode = decode_chroma_mode(decoder, contexts.cfl, contexts.modes, state.cfl_context(x0, y0),
+                                             state.candidates(x0, y0), plane, *cb);
+  if (plane == ChromaPlane::kCb) *cb = mode;
+  out->mode = mode.mode;
+  out->cfl_alpha = mode.alpha;
+  out->count = 0;
+  return decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), out->levels,
+                             &out->count, TransformSize::k8x8);
+}
+
+bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
+                          BlockReader& reader, uint8_t* partition) {
+  const int x0 = 16 * mbx, y0 = 16 * mby;
+  *partition = 0;
+  if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))])) {
+    return reader.read(x0, y0, 16);
+  }
+  *partition = kSplit16x16;
+  for (int i = 0; i < 4; ++i) {
+    const int x = x0 + 8 * (i & 1), y = y0 + 8 * (i >> 1);
+    if (!decoder.decode(contexts.split_8x8[static_cast<size_t>(state.split_context(x, y, 8))])) {
+      if (!reader.read(x, y, 8)) return false;
+      continue;
+    }
+    *partition |= split_8x8_bit(i);
+    for (int j = 0; j < 4; ++j) {
+      if (!reader.read(x + 4 * (j & 1), y + 4 * (j >> 1), 4)) return false;
+    }
+  }
+  return true;
+}
+
+void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
+                                const int16_t* coefficients) {
+  uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
+  build_intra_edge(plane, stride, x0, y0, size, state.availability(x0, y0, size), edge);
+  intra_predictor(size)(edge, mode, prediction);
+  reconstruct_block(prediction, coefficients, size, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
+  state.mark(x0, y0, size, mode, coefficients != nullptr);
+}
+
+void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0,
+                                       const ChromaMode& mode, const uint8_t* luma, int luma_stride,
+                                       const int16_t* coefficients) {
+  if (!mode.cfl()) {
+    reconstruct_block_in_plane(state, plane, stride, x0, y0, 8, mode.mode, coefficients);
+    return;
+  }
+  uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
+  build_intra_edge(plane, stride, x0, y0, 8, state.availability(x0, y0, 8), edge);
+  int16_t ac[64];
+  cfl_luma_ac(luma, luma_stride, x0, y0, ac);
+  predict_cfl(ac, dc_prediction_8x8(edge), mode.alpha, prediction);
+  reconstruct_block(prediction, coefficients, 8, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
+  state.mark(x0, y0, 8, kCflMode, coefficients != nullptr);
+}
+
+namespace {
 
 // Writes a block's levels and marks it.
 void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
@@ -730,15 +783,14 @@ void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& st
   state.mark(x0, y0, size, choice.mode, choice.coded);
 }
 
-// Writes a luma block's mode and levels, and marks it.
+}  // namespace
+
 void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
                  const BlockChoice& choice) {
   encode_intra_mode(encoder, contexts.modes, state.candidates(x0, y0), choice.mode);
   write_levels(encoder, contexts, state, x0, y0, size, choice);
 }
 
-// Writes an 8x8 chroma block's mode (codec/cfl.h; `cb` is a Cr block's Cb block) and
-// levels, and marks it.
 void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
                         ChromaPlane plane, const ChromaMode& cb, const BlockChoice& choice) {
   encode_chroma_mode(encoder, contexts.cfl, contexts.modes, state.cfl_context(x0, y0), state.candidates(x0, y0),
@@ -760,154 +812,124 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
   });
 }
 
-// Reads what write_levels wrote into `frame`, with the block's mode (`mode_byte` as
-// CoefficientFrame::block_modes holds it). Returns false on invalid levels.
-bool read_levels(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                 int mode, uint8_t mode_byte, CoefficientFrame* frame) {
-  BlockLevel levels[kMaxTransformArea];
-  int count = 0;
-  if (!decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), levels, &count,
-                           size_of_width(size))) {
-    return false;
-  }
-  state.mark(x0, y0, size, mode, count > 0);
-  for (int i = 0; i < count; ++i) frame->append(levels[i].position, levels[i].level);
-  frame->block_counts.push_back(static_cast<uint16_t>(count));
-  frame->block_modes.push_back(mode_byte);
-  return true;
-}
+namespace {
 
-// Reads what write_block wrote; returns false on invalid levels.
-bool read_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                CoefficientFrame* frame) {
-  const int mode = decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
-  return read_levels(decoder, contexts, state, x0, y0, size, mode, static_cast<uint8_t>(mode), frame);
-}
-
-// Reads what write_chroma_block wrote; a Cb block's mode goes to `cb`, which a Cr block
-// reads. Returns false on invalid levels.
-bool read_chroma_block(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
-                       ChromaPlane plane, ChromaMode* cb, CoefficientFrame* frame) {
-  const ChromaMode mode = decode_chroma_mode(decoder, contexts.cfl, contexts.modes, state.cfl_context(x0, y0),
-                                             state.candidates(x0, y0), plane, *cb);
-  if (plane == ChromaPlane::kCb) *cb = mode;
-  return read_levels(decoder, contexts, state, x0, y0, 8, mode.mode, mode.mode_byte(), frame);
-}
-
-// Reads what write_macroblock wrote; returns false on invalid levels.
-bool read_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
-                     CoefficientFrame* frame) {
-  const int x0 = 16 * mbx, y0 = 16 * mby;
-  uint8_t partition = 0;
-  bool valid = true;
-  if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))])) {
-    valid = read_block(decoder, contexts, state, x0, y0, 16, frame);
-  } else {
-    partition = kSplit16x16;
-    for (int i = 0; i < 4 && valid; ++i) {
-      const int x = x0 + 8 * (i & 1), y = y0 + 8 * (i >> 1);
-      if (!decoder.decode(contexts.split_8x8[static_cast<size_t>(state.split_context(x, y, 8))])) {
-        valid = read_block(decoder, contexts, state, x, y, 8, frame);
-        continue;
-      }
-      partition |= split_8x8_bit(i);
-      for (int j = 0; j < 4 && valid; ++j) {
-        valid = read_block(decoder, contexts, state, x + 4 * (j & 1), y + 4 * (j >> 1), 4, frame);
-      }
-    }
-  }
-  frame->luma_partitions.push_back(partition);
-  return valid;
-}
-
-// Encoder only: the chroma blocks of both planes, position by position. A Cb block's
-// mode is chosen with its Cr block's cost under it: the best regular mode with Cr in
-// that mode, against CfL (when `cfl`) with each plane's own alpha. Cb blocks are written
-// as chosen, the Cr blocks after the last Cb block, as the syntax orders them.
-class ChromaSearch {
- public:
-  ChromaSearch(const BlockSearch& search, const SizedQuantizers& quantizers, const PlaneContexts& contexts,
-               const std::array<PlaneGeometry, 3>& planes, bool cfl, PaddedFrame* frame)
-      : geometry_(planes[1]),
-        cb_source_(pad_plane(planes[1])),
-        cr_source_(pad_plane(planes[2])),
-        cb_(search, quantizers, contexts, cb_source_.data(), frame->planes[1].data(), geometry_.stride()),
-        cr_(search, quantizers, contexts, cr_source_.data(), frame->planes[2].data(), geometry_.stride()),
-        luma_(cfl ? frame->planes[0].data() : nullptr),
-        cb_state_(geometry_.stride(), geometry_.padded_height()),
-        cr_state_(geometry_.stride(), geometry_.padded_height()) {}
-
-  // Chooses and reconstructs the Cb and Cr blocks at (x0, y0).
-  void choose(int x0, int y0, BlockChoice* cb, BlockChoice* cr) {
-    float regular = cb_.choose_chroma_regular(cb_state_, x0, y0, nullptr, cb);
-    const ChromaMode cb_regular = cb->chroma_mode();
-    regular += cr_.choose_chroma_regular(cr_state_, x0, y0, &cb_regular, cr);
-    if (luma_ != nullptr) try_cfl(x0, y0, regular, cb, cr);
-    cb_.finish_block(cb_state_, x0, y0, 8, *cb);
-    cr_.finish_block(cr_state_, x0, y0, 8, *cr);
-  }
-
-  PlaneState& cb_state() { return cb_state_; }
-  PlaneState& cr_state() { return cr_state_; }
-
- private:
-  // Replaces the pair by CfL's when cheaper than `regular`, their cost.
-  void try_cfl(int x0, int y0, float regular, BlockChoice* cb, BlockChoice* cr) {
-    int16_t ac[64];
-    cfl_luma_ac(luma_, 2 * geometry_.stride(), x0, y0, ac);
-    const float cb_cost = cb_.choose_chroma_cfl(cb_state_, x0, y0, ac, nullptr, &cb_trial_);
-    if (cb_cost >= regular) return;  // Cr's cost only adds
-    const ChromaMode cb_mode = cb_trial_.chroma_mode();
-    const float cost = cb_cost + cr_.choose_chroma_cfl(cr_state_, x0, y0, ac, &cb_mode, &cr_trial_);
-    if (cost >= regular) return;
-    BlockSearch::copy_choice(cb_trial_, 8, cb);
-    BlockSearch::copy_choice(cr_trial_, 8, cr);
-  }
-
-  const PlaneGeometry& geometry_;
-  std::vector<uint8_t> cb_source_, cr_source_;
-  PlaneSearch cb_, cr_;
-  const uint8_t* luma_;
-  PlaneState cb_state_, cr_state_;
-  BlockChoice cb_trial_, cr_trial_;
-};
-
-void code_chroma(RangeEncoder& encoder, PlaneContexts& contexts, const BlockSearch& search,
-                 const SizedQuantizers& quantizers, const std::array<PlaneGeometry, 3>& planes, bool cfl,
-                 PaddedFrame* frame) {
-  const PlaneGeometry& chroma = planes[1];
-  auto chroma_search = std::make_unique<ChromaSearch>(search, quantizers, contexts, planes, cfl, frame);
-  const size_t count = static_cast<size_t>(chroma.blocks_x) * chroma.blocks_y;
-  std::vector<BlockChoice> cr_choices(count);
-  std::vector<ChromaMode> cb_modes(count);
-  auto cb = std::make_unique<BlockChoice>();
-  for (size_t i = 0; i < count; ++i) {
-    const int x0 = 8 * static_cast<int>(i % static_cast<size_t>(chroma.blocks_x));
-    const int y0 = 8 * static_cast<int>(i / static_cast<size_t>(chroma.blocks_x));
-    chroma_search->choose(x0, y0, cb.get(), &cr_choices[i]);
-    write_chroma_block(encoder, contexts, chroma_search->cb_state(), x0, y0, ChromaPlane::kCb, {}, *cb);
-    cb_modes[i] = cb->chroma_mode();
-  }
-  for (size_t i = 0; i < count; ++i) {
-    const int x0 = 8 * static_cast<int>(i % static_cast<size_t>(chroma.blocks_x));
-    const int y0 = 8 * static_cast<int>(i / static_cast<size_t>(chroma.blocks_x));
-    write_chroma_block(encoder, contexts, chroma_search->cr_state(), x0, y0, ChromaPlane::kCr, cb_modes[i],
-                       cr_choices[i]);
-  }
-}
-
-// The number of blocks a frame of this layout and these partitions holds.
-size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t>& partitions) {
-  size_t count = 2 * static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y;
-  for (uint8_t partition : partitions) count += static_cast<size_t>(luma_block_count(partition));
-  return count;
+// The residual quantizers with the encoder's dead zone for intra residuals: narrower
+// than inter residuals' (0.2), tuned on the photographic scenes.
+SizedQuantizers encoder_quantizers(int qindex, ResidualMatrix matrix) {
+  SizedQuantizers quantizers = residual_quantizers(qindex, matrix);
+  for (Quantizer& q : quantizers) q.rounding_dc = q.rounding_ac = 0.25f;
+  return quantizers;
 }
 
 }  // namespace
 
+struct MacroblockEncoder::Impl {
+  Impl(const CodingParams& params, int qindex, float lambda)
+      : quantizers(encoder_quantizers(qindex, params.residual_matrix)),
+        search(quantizers, params, lambda),
+        macroblocks(params.transform_sizes),
+        cfl(params.cfl) {}
+
+  SizedQuantizers quantizers;
+  BlockSearch search;
+  MacroblockSearch macroblocks;
+  bool cfl;
+  BlockChoice cb_trial, cr_trial;
+};
+
+MacroblockEncoder::MacroblockEncoder(const CodingParams& params, int qindex, float lambda)
+    : impl_(std::make_unique<Impl>(params, std::clamp(qindex, kMinQIndex, kMaxQIndex), lambda)) {}
+
+MacroblockEncoder::~MacroblockEncoder() = default;
+
+float MacroblockEncoder::choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source,
+                                     uint8_t* recon, int stride, int mbx, int mby, MacroblockChoice* out) {
+  const PlaneSearch plane(impl_->search, impl_->quantizers, contexts, source, recon, stride);
+  return impl_->macroblocks.choose(plane, state, mbx, mby, out);
+}
+
+float MacroblockEncoder::choose_chroma(const PlaneContexts& contexts, PlaneState& cb_state, PlaneState& cr_state,
+                                       const uint8_t* cb_source, const uint8_t* cr_source, uint8_t* cb_recon,
+                                       uint8_t* cr_recon, int stride, const uint8_t* luma, int luma_stride, int x0,
+                                       int y0, BlockChoice* cb, BlockChoice* cr) {
+  const PlaneSearch cb_plane(impl_->search, impl_->quantizers, contexts, cb_source, cb_recon, stride);
+  const PlaneSearch cr_plane(impl_->search, impl_->quantizers, contexts, cr_source, cr_recon, stride);
+  float cost = cb_plane.choose_chroma_regular(cb_state, x0, y0, nullptr, cb);
+  const ChromaMode cb_regular = cb->chroma_mode();
+  cost += cr_plane.choose_chroma_regular(cr_state, x0, y0, &cb_regular, cr);
+  if (impl_->cfl && luma != nullptr) {
+    // CfL replaces the pair when cheaper; Cr's cost only adds to Cb's.
+    int16_t ac[64];
+    cfl_luma_ac(luma, luma_stride, x0, y0, ac);
+    BlockChoice& cb_trial = impl_->cb_trial;
+    BlockChoice& cr_trial = impl_->cr_trial;
+    const float cb_cost = cb_plane.choose_chroma_cfl(cb_state, x0, y0, ac, nullptr, &cb_trial);
+    if (cb_cost < cost) {
+      const ChromaMode cb_mode = cb_trial.chroma_mode();
+      const float cfl_cost = cb_cost + cr_plane.choose_chroma_cfl(cr_state, x0, y0, ac, &cb_mode, &cr_trial);
+      if (cfl_cost < cost) {
+        BlockSearch::copy_choice(cb_trial, 8, cb);
+        BlockSearch::copy_choice(cr_trial, 8, cr);
+        cost = cfl_cost;
+      }
+    }
+  }
+  cb_plane.finish_block(cb_state, x0, y0, 8, *cb);
+  cr_plane.finish_block(cr_state, x0, y0, 8, *cr);
+  return cost;
+}
+
+}  // namespace intra
+
 size_t CoefficientFrame::memory_bytes() const {
   return sizeof(*this) + luma_partitions.capacity() + block_counts.capacity() * sizeof(uint16_t) +
-         block_modes.capacity() + entries.capacity() * sizeof(uint16_t) + cdef.memory_bytes();
+         block_modes.capacity() + levels.capacity() + cdef.memory_bytes();
+}
+
+namespace {
+
+// Natural position -> scan index, per transform size.
+const std::array<uint8_t, kMaxTransformArea>& inverse_scan(TransformSize size) {
+  static const auto tables = [] {
+    std::array<std::array<uint8_t, kMaxTransformArea>, kTransformSizes> t{};
+    for (int s = 0; s < kTransformSizes; ++s) {
+      const ScanOrder& order = scan_order(static_cast<TransformSize>(s));
+      for (int i = 0; i < order.count; ++i) t[static_cast<size_t>(s)][order.scan[i]] = static_cast<uint8_t>(i);
+    }
+    return t;
+  }();
+  return tables[static_cast<size_t>(size)];
+}
+
+}  // namespace
+
+void CoefficientFrame::append_levels(const BlockLevel* block_levels, int count, TransformSize size) {
+  const std::array<uint8_t, kMaxTransformArea>& scan_of = inverse_scan(size);
+  LevelStreamWriter writer(&levels);
+  int previous = -1;
+  for (int i = 0; i < count; ++i) {
+    const int scan = scan_of[block_levels[i].position];
+    writer.level(previous, scan, block_levels[i].level);
+    previous = scan;
+  }
+}
+
+int CoefficientFrame::read_levels(size_t* offset, int count, TransformSize size, int* positions,
+                                  int* values) const {
+  if (*offset >= levels.size()) return 0;
+  const ScanOrder& order = scan_order(size);
+  LevelStreamReader reader(levels.data() + *offset, levels.size() - *offset);
+  int read = 0, previous = -1;
+  while (read < count) {
+    int scan, value;
+    if (!reader.level(previous, &scan, &value) || scan >= order.count) break;
+    positions[read] = order.scan[scan];
+    values[read++] = value;
+    previous = scan;
+  }
+  *offset += reader.bytes_read();
+  return read;
 }
 
 BlockLayout block_layout(int width, int height) {
@@ -931,10 +953,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
     return {};
   }
   const int qindex = std::clamp(params.qindex, kMinQIndex, kMaxQIndex);
-  SizedQuantizers quantizers = residual_quantizers(qindex);
-  // A narrower dead zone than inter residuals use (0.2), tuned on the photographic scenes.
-  for (Quantizer& q : quantizers) q.rounding_dc = q.rounding_ac = 0.25f;
-  const BlockSearch search(quantizers, params);
+  MacroblockEncoder search(params, qindex, intra_frame_lambda(qindex));
   const BlockLayout layout = block_layout(width, height);
   auto planes = planes_of(layout, width, height);
   planes[0].pixels = source.y.data();
@@ -942,7 +961,9 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   planes[2].pixels = source.cr.data();
 
   std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kIntra), kIntraSyntaxVersion,
-                                static_cast<uint8_t>(qindex), 0};
+                                static_cast<uint8_t>(qindex),
+                                params.residual_matrix == ResidualMatrix::kWeighted ? kIntraWeightedMatrix
+                                                                                    : uint8_t{0}};
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
   RangeEncoder encoder(&bytes);
   PlaneContexts luma_contexts, chroma_contexts;
@@ -951,19 +972,42 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   {
     const PlaneGeometry& luma = planes[0];
     const std::vector<uint8_t> padded_source = pad_plane(luma);
-    const PlaneSearch plane_search(search, quantizers, luma_contexts, padded_source.data(), frame.planes[0].data(),
-                                   luma.stride());
-    auto macroblock_search = std::make_unique<MacroblockSearch>(plane_search, params.transform_sizes);
     auto choice = std::make_unique<MacroblockChoice>();
     PlaneState state(luma.stride(), luma.padded_height());
     for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
       for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
-        macroblock_search->choose(state, mbx, mby, choice.get());
+        search.choose_luma(luma_contexts, state, padded_source.data(), frame.planes[0].data(), luma.stride(), mbx,
+                           mby, choice.get());
         write_macroblock(encoder, luma_contexts, state, mbx, mby, *choice);
       }
     }
   }
-  code_chroma(encoder, chroma_contexts, search, quantizers, planes, params.cfl, &frame);
+  {
+    // Both chroma blocks of a position are chosen together (a Cb block's mode with its Cr
+    // block's cost under it); Cb blocks are written as chosen, the Cr blocks after the
+    // last Cb block, as the syntax orders them.
+    const PlaneGeometry& chroma = planes[1];
+    const std::vector<uint8_t> cb_source = pad_plane(planes[1]), cr_source = pad_plane(planes[2]);
+    PlaneState cb_state(chroma.stride(), chroma.padded_height()), cr_state(chroma.stride(), chroma.padded_height());
+    const size_t count = static_cast<size_t>(chroma.blocks_x) * chroma.blocks_y;
+    std::vector<BlockChoice> cr_choices(count);
+    std::vector<ChromaMode> cb_modes(count);
+    auto cb = std::make_unique<BlockChoice>();
+    for (size_t i = 0; i < count; ++i) {
+      const int x0 = 8 * static_cast<int>(i % static_cast<size_t>(chroma.blocks_x));
+      const int y0 = 8 * static_cast<int>(i / static_cast<size_t>(chroma.blocks_x));
+      search.choose_chroma(chroma_contexts, cb_state, cr_state, cb_source.data(), cr_source.data(),
+                           frame.planes[1].data(), frame.planes[2].data(), chroma.stride(), frame.planes[0].data(),
+                           planes[0].stride(), x0, y0, cb.get(), &cr_choices[i]);
+      write_chroma_block(encoder, chroma_contexts, cb_state, x0, y0, ChromaPlane::kCb, {}, *cb);
+      cb_modes[i] = cb->chroma_mode();
+    }
+    for (size_t i = 0; i < count; ++i) {
+      const int x0 = 8 * static_cast<int>(i % static_cast<size_t>(chroma.blocks_x));
+      const int y0 = 8 * static_cast<int>(i / static_cast<size_t>(chroma.blocks_x));
+      write_chroma_block(encoder, chroma_contexts, cr_state, x0, y0, ChromaPlane::kCr, cb_modes[i], cr_choices[i]);
+    }
+  }
   // The filters change no block symbol: decide them on the finished reconstruction.
   if (params.deblocking) {
     PaddedFrame filtered = frame;
@@ -997,8 +1041,8 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
                                                " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
   }
   const int qindex = bytes[2];  // every byte value is a valid index
-  if ((bytes[3] & ~kLoopFilterKnownBits) != 0) {
-    return corrupt("byte 3: unknown loop filter flags " + std::to_string(bytes[3]));
+  if ((bytes[3] & ~(kLoopFilterKnownBits | kIntraWeightedMatrix)) != 0) {
+    return corrupt("byte 3: unknown flags " + std::to_string(bytes[3]));
   }
 
   const BlockLayout layout = block_layout(width, height);
@@ -1010,12 +1054,13 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   result.width = width;
   result.height = height;
   result.qindex = qindex;
-  result.loop_filters = bytes[3];
+  result.loop_filters = bytes[3] & kLoopFilterKnownBits;
+  result.residual_matrix = (bytes[3] & kIntraWeightedMatrix) ? ResidualMatrix::kWeighted : ResidualMatrix::kFlat;
   result.block_counts.reserve(static_cast<size_t>(layout.block_count()));
   result.block_modes.reserve(static_cast<size_t>(layout.block_count()));
   result.luma_partitions.reserve(static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y);
-  // A frame rarely holds more than a few coefficients per block; grow beyond that.
-  result.entries.reserve(std::min<size_t>(bytes.size() * 2, static_cast<size_t>(layout.block_count()) * 64));
+  // The packed levels take about as many bytes as the payload that codes them.
+  result.levels.reserve(bytes.size() * 5 / 4);
 
   // A complete payload is never read past its end; stopping at the first row that does
   // bounds the work garbage can cause.
@@ -1028,9 +1073,14 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   };
   const PlaneGeometry& luma = planes[0];
   PlaneState luma_state(luma.stride(), luma.padded_height());
+  auto luma_reader = std::make_unique<FrameBlockReader>(decoder, luma_contexts, luma_state, &result);
   for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
     for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
-      if (!read_macroblock(decoder, luma_contexts, luma_state, mbx, mby, &result)) return invalid();
+      uint8_t partition = 0;
+      if (!read_luma_macroblock(decoder, luma_contexts, luma_state, mbx, mby, *luma_reader, &partition)) {
+        return invalid();
+      }
+      result.luma_partitions.push_back(partition);
     }
     if (decoder.overrun() > 0) return truncated(0, 2 * mby);
   }
@@ -1039,12 +1089,11 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   for (int p = 1; p < 3; ++p) {
     const ChromaPlane plane = p == 1 ? ChromaPlane::kCb : ChromaPlane::kCr;
     PlaneState state(chroma.stride(), chroma.padded_height());
+    auto reader = std::make_unique<FrameBlockReader>(decoder, chroma_contexts, state, &result);
     for (int by = 0; by < chroma.blocks_y; ++by) {
       for (int bx = 0; bx < chroma.blocks_x; ++bx) {
         ChromaMode& cb = cb_modes[static_cast<size_t>(by) * chroma.blocks_x + bx];
-        if (!read_chroma_block(decoder, chroma_contexts, state, 8 * bx, 8 * by, plane, &cb, &result)) {
-          return invalid();
-        }
+        if (!reader->read_chroma(8 * bx, 8 * by, plane, &cb)) return invalid();
       }
       if (decoder.overrun() > 0) return truncated(p, by);
     }
@@ -1061,7 +1110,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   if (used != bytes.size()) {
     return corrupt(std::to_string(bytes.size() - used) + " trailing bytes after offset " + std::to_string(used));
   }
-  result.entries.shrink_to_fit();
+  result.levels.shrink_to_fit();
   *out = std::move(result);
   return Status::Ok();
 }

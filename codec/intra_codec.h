@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/block_coder.h"
 #include "codec/cdef.h"
 #include "codec/quant.h"
 #include "svc/status.h"
@@ -21,6 +22,11 @@ struct CodingParams {
   // term) and its levels as quantized, without the rate-distortion comparison of a
   // few modes and of dropping the levels.
   bool rd_intra_search = true;
+  // Encoder choice: with every mode allowed, rank by SATD only planar, DC, the most
+  // probable modes, every fourth angular mode and the two on each side of the best of
+  // those (at most 18 modes instead of 35): for B-frame intra macroblocks, where the
+  // search runs on every macroblock (docs/codec.md 10.5).
+  bool coarse_mode_search = false;
   // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
   // the squared error against the source (the flag costs nothing else).
   bool deblocking = true;
@@ -36,6 +42,8 @@ struct CodingParams {
   // Encoder restriction: when false, no chroma block uses CfL (chroma from luma,
   // codec/cfl.h; the CfL flags are still coded).
   bool cfl = true;
+  // The residual quantization matrix (quant.h), signalled in the header (byte 3 bit 2).
+  ResidualMatrix residual_matrix = ResidualMatrix::kFlat;
 };
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
@@ -43,6 +51,8 @@ struct CodingParams {
 inline constexpr uint8_t kLoopFilterDeblocking = 1;
 inline constexpr uint8_t kLoopFilterCdef = 2;
 inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
+// Byte 3 bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
+inline constexpr uint8_t kIntraWeightedMatrix = 4;
 
 // Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
@@ -53,14 +63,15 @@ inline constexpr int kMaxFrameDimension = 16384;
 // The partitions, prediction modes and quantized DCT levels of an intra frame in a
 // compact sparse form: the state after entropy decoding ("semi-decoded"), cached by the
 // runtime. Dequantization (quant.h, dequantize_level), prediction and the inverse
-// transforms are deferred to reconstruct_intra_frame, which keeps entries at 16 bits.
+// transforms are deferred to reconstruct_intra_frame.
 // Immutable once built, so it may be shared between threads.
 struct CoefficientFrame {
   int width = 0;
   int height = 0;
   int qindex = 0;
-  uint8_t loop_filters = 0;  // kLoopFilter* bits of the header
-  CdefParams cdef;           // when loop_filters has kLoopFilterCdef
+  uint8_t loop_filters = 0;                                // kLoopFilter* bits of the header
+  ResidualMatrix residual_matrix = ResidualMatrix::kFlat;  // header bit kIntraWeightedMatrix
+  CdefParams cdef;                                         // when loop_filters has kLoopFilterCdef
   // Per luma macroblock in raster order: bit 0 set when it splits into four 8x8 blocks
   // (else it is one 16x16 block), bit 1 + i when 8x8 block i (Z order) splits into four
   // 4x4 blocks (docs/codec.md 3).
@@ -74,39 +85,20 @@ struct CoefficientFrame {
   // block using CfL its alpha as cfl_mode_byte(alpha) (codec/cfl.h: 35..67; a Cr block
   // holds its own alpha).
   std::vector<uint8_t> block_modes;
-  // The non-zero levels of each block in turn, in scan order. One 16-bit entry per level:
-  // natural (row-major) position in the low 8 bits, the level as an 8-bit two's
-  // complement number in the upper 8 bits. The level value -128 is an escape: the real
-  // level follows as one int16 entry.
-  std::vector<uint16_t> entries;
+  // The non-zero levels of each block in turn, each block's as a whole-byte stream of
+  // Exp-Golomb codes (codec/level_stream.h, docs/codec.md 8).
+  std::vector<uint8_t> levels;
 
   // Heap and object bytes held.
   size_t memory_bytes() const;
 
-  static constexpr int kEscapeLevel = -128;
-  void append(int position, int level) {
-    if (level > kEscapeLevel && level < -kEscapeLevel) {
-      entries.push_back(
-          static_cast<uint16_t>((static_cast<unsigned>(level) & 0xFFu) << 8 | static_cast<unsigned>(position)));
-    } else {
-      entries.push_back(static_cast<uint16_t>(0x80u << 8 | static_cast<unsigned>(position)));
-      entries.push_back(static_cast<uint16_t>(static_cast<int16_t>(level)));
-    }
-  }
-  // Reads the level at entries[*index] and advances *index past it (and its escape).
-  // Returns false when the entries end early (only for frames not built by this codec).
-  bool read(size_t* index, int* position, int* level) const {
-    if (*index >= entries.size()) return false;
-    const unsigned entry = entries[(*index)++];
-    *position = static_cast<int>(entry & 255u);
-    const int code = static_cast<int>(entry >> 8);
-    *level = code >= 128 ? code - 256 : code;
-    if (*level == kEscapeLevel) {
-      if (*index >= entries.size()) return false;
-      *level = static_cast<int16_t>(entries[(*index)++]);
-    }
-    return true;
-  }
+  // Appends a block's non-zero levels (natural positions, in increasing scan order of
+  // `size`; |level| 1..4095).
+  void append_levels(const BlockLevel* block_levels, int count, TransformSize size);
+  // Reads the `count` levels of a block of `size` stored at byte *offset into positions
+  // (natural) and values, and moves *offset past them. Returns how many it read: fewer
+  // than `count` only for frames not built by this codec (never reads outside `levels`).
+  int read_levels(size_t* offset, int count, TransformSize size, int* positions, int* values) const;
 };
 
 // 8x8 block grid of a frame of the given size (macroblock-padded planes): chroma blocks

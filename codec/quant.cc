@@ -55,12 +55,29 @@ int residual_step(TransformSize size, int qindex) {
   return size == TransformSize::k16x16 ? std::max((step + 1) >> 1, 128) : step;
 }
 
-Quantizer make_residual_quantizer(TransformSize size, int qindex) {
+int residual_weight(TransformSize size, int position) {
+  const int width = transform_width(size);
+  const int row = position / width, column = position % width;
+  int r = row, c = column;  // the 8x8 entry standing for the same frequency
+  if (size == TransformSize::k16x16) r = row / 2, c = column / 2;
+  if (size == TransformSize::k4x4) r = 2 * row, c = 2 * column;
+  return r == 0 && c == 0 ? 16 : kDefaultIntraMatrix[static_cast<size_t>(8 * r + c)];
+}
+
+int residual_step(TransformSize size, int qindex, ResidualMatrix matrix, int position) {
+  const int step = residual_step(size, qindex);
+  if (matrix == ResidualMatrix::kFlat) return step;
+  return std::max((step * residual_weight(size, position) + 8) >> 4, 128);
+}
+
+Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix matrix) {
   Quantizer q = make_quantizer(BlockKind::kNonIntra, qindex);
   q.size = size;
-  const int step = residual_step(size, q.qindex);
-  q.scale.fill(step);
-  q.inverse_step.fill(static_cast<float>(1 << kStepBits) / static_cast<float>(step));
+  for (int i = 0; i < transform_area(size); ++i) {
+    q.scale[static_cast<size_t>(i)] = residual_step(size, q.qindex, matrix, i);
+    q.inverse_step[static_cast<size_t>(i)] =
+        static_cast<float>(1 << kStepBits) / static_cast<float>(q.scale[static_cast<size_t>(i)]);
+  }
   return q;
 }
 

@@ -50,6 +50,20 @@ int quant_step(BlockKind kind, int qindex, int position);
 // ones. Part of the bitstream contract.
 int residual_step(TransformSize size, int qindex);
 
+// Quantization matrices of intra-frame residual blocks (docs/codec.md 6, "Weighted
+// matrices"): flat (one step per size, the default: it measures better in PSNR) or
+// weighted by frequency, coarser towards the high frequencies the eye sees least.
+enum class ResidualMatrix : uint8_t { kFlat = 0, kWeighted = 1 };
+
+// The weight, in 1/16, of natural position `position` of a residual block of `size`
+// under kWeighted: MPEG-2's intra matrix with its DC entry 16, sampled at the
+// frequency the position stands for (16x16: entry (r/2, c/2); 4x4: entry (2r, 2c)).
+int residual_weight(TransformSize size, int position);
+
+// The step at `position` of a residual block: residual_step under kFlat, else
+// max((residual_step * residual_weight + 8) >> 4, 128). Part of the bitstream contract.
+int residual_step(TransformSize size, int qindex, ResidualMatrix matrix, int position);
+
 struct Quantizer {
   BlockKind kind = BlockKind::kIntra;
   int qindex = 0;
@@ -65,9 +79,9 @@ struct Quantizer {
 };
 
 // qindex is clamped to [kMinQIndex, kMaxQIndex]. make_quantizer serves 8x8 blocks;
-// make_residual_quantizer the flat (non-intra) residual blocks of any size.
+// make_residual_quantizer the residual blocks of any size (flat unless `matrix` says).
 Quantizer make_quantizer(BlockKind kind, int qindex);
-Quantizer make_residual_quantizer(TransformSize size, int qindex);
+Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
 
 // Quantizes DCT coefficients (natural order, quantizer.size) to levels in
 // [-kMaxLevel, kMaxLevel]. Returns the number of non-zero levels.

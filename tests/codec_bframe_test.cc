@@ -209,14 +209,44 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
                      {}, params, &reconstruction, &stats);
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   EXPECT_GE(stats.mb_intra, 20) << "of " << stats.macroblocks;
-  // I-frames code spatial-prediction residuals with the flat matrix, finer at equal
-  // qindex than the intra matrix of B-frame intra macroblocks, and their
-  // rate-distortion quantization starts from nearest rounding: hence 2 dB.
+  // Intra macroblocks are coded as an I-frame codes its blocks, at the same qindex but
+  // with the B-frame's lambda and the intra flag's bits on top.
   EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 2.0);
   EXPECT_LT(bytes.size(), intra.size() * 6 / 5) << bytes.size() << " vs intra " << intra.size();
   ImageYCbCr420 decoded;
   ASSERT_TRUE(decode_b_frame(bytes, w, h, unrelated, nullptr, &decoded).ok());
   expect_same_image(decoded, reconstruction);
+}
+
+// Intra macroblocks beside inter ones predict from their reconstructed samples (docs/codec.md
+// 10.4): a face whose right part no reference holds mixes both, and decodes exactly with
+// every mode and with planar and DC only (the b-intra-prediction ablation).
+TEST(BFrame, IntraMacroblocksPredictFromInterNeighboursAndDecodeExactly) {
+  const int w = 96, h = 80, q = 120;
+  const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q - 40);
+  ImageYCbCr420 source = textured_crop(w, h, 44, 40);
+  const ImageYCbCr420 other = textured_crop(w, h, 0, 0, 555);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 40; x < w; ++x) source.y[static_cast<size_t>(y) * w + x] = other.y[static_cast<size_t>(y) * w + x];
+  }
+  for (bool all_modes : {true, false}) {
+    BFrameParams params;
+    params.qindex = q;
+    params.intra_prediction = all_modes;
+    ImageYCbCr420 reconstruction;
+    BFrameStats stats;
+    const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr,
+                                                      uniform_candidates(w, h, {MotionVector{16, 0}}), {}, params,
+                                                      &reconstruction, &stats);
+    EXPECT_GE(stats.mb_intra, 6) << "of " << stats.macroblocks;
+    EXPECT_GE(stats.mb_forward + stats.mb_skipped, 6) << "of " << stats.macroblocks;
+    ImageYCbCr420 decoded;
+    std::vector<MacroblockMode> modes;
+    ASSERT_TRUE(decode_b_frame(bytes, w, h, reference, nullptr, &decoded, &modes).ok());
+    expect_same_image(decoded, reconstruction);
+    EXPECT_EQ(modes, stats.modes);
+    EXPECT_GT(psnr(source.y, decoded.y), 30.0);
+  }
 }
 
 TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {

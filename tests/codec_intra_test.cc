@@ -152,20 +152,62 @@ TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   expect_same_image(from_coefficients, reconstruction);
 }
 
-TEST(CodecFrame, CoefficientEntriesRoundTripIncludingEscapes) {
-  CoefficientFrame frame;
-  const int levels[] = {1, -1, 127, -127, 128, -128, 4095, -4095, 77};
-  for (int i = 0; i < 9; ++i) frame.append(i * 31, levels[i]);  // positions up to 248 (16x16 blocks)
-  EXPECT_EQ(frame.entries.size(), 9u + 4u);                     // four escapes
-  size_t index = 0;
-  for (int i = 0; i < 9; ++i) {
-    int position = -1, level = 0;
-    ASSERT_TRUE(frame.read(&index, &position, &level));
-    EXPECT_EQ(position, i * 31);
-    EXPECT_EQ(level, levels[i]);
+TEST(CodecFrame, PackedLevelsRoundTripAtEveryRunAndMagnitude) {
+  std::mt19937 rng(5);
+  for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16}) {
+    const ScanOrder& order = scan_order(size);
+    for (int trial = 0; trial < 200; ++trial) {
+      // Random non-zero levels at increasing scan indices, with the extremes: a level at
+      // the last scan index only (the longest run) and magnitudes 1 and 4095.
+      std::vector<BlockLevel> block;
+      for (int scan = 0; scan < order.count; ++scan) {
+        const bool last_only = trial == 0;
+        if (last_only ? scan != order.count - 1 : rng() % 3 != 0) continue;
+        const int magnitude = trial == 1 ? 4095 : rng() % 4 == 0 ? 1 + static_cast<int>(rng() % 4095) : 1;
+        block.push_back({order.scan[scan], static_cast<int16_t>(rng() % 2 ? -magnitude : magnitude)});
+      }
+      CoefficientFrame frame;
+      frame.append_levels(block.data(), static_cast<int>(block.size()), size);
+      frame.append_levels(block.data(), 1, size);  // a second block follows on the next byte
+      size_t offset = 0;
+      int positions[kMaxTransformArea], values[kMaxTransformArea];
+      ASSERT_EQ(frame.read_levels(&offset, static_cast<int>(block.size()), size, positions, values),
+                static_cast<int>(block.size()));
+      for (size_t i = 0; i < block.size(); ++i) {
+        EXPECT_EQ(positions[i], block[i].position);
+        EXPECT_EQ(values[i], block[i].level);
+      }
+      ASSERT_EQ(frame.read_levels(&offset, 1, size, positions, values), 1);
+      EXPECT_EQ(positions[0], block[0].position);
+      EXPECT_EQ(offset, frame.levels.size());
+      // Past the end nothing more is read, whatever count is asked for.
+      EXPECT_EQ(frame.read_levels(&offset, 5, size, positions, values), 0);
+    }
   }
-  int position, level;
-  EXPECT_FALSE(frame.read(&index, &position, &level));
+  // The commonest level, a 1 right after the previous one, takes 3 bits.
+  CoefficientFrame ones;
+  std::vector<BlockLevel> dense;
+  for (int scan = 0; scan < 64; ++scan) dense.push_back({scan_order(TransformSize::k8x8).scan[scan], 1});
+  ones.append_levels(dense.data(), 64, TransformSize::k8x8);
+  EXPECT_EQ(ones.levels.size(), 24u);
+}
+
+TEST(CodecFrame, DamagedPackedLevelsReadShortNeverOutside) {
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 2000; ++trial) {
+    CoefficientFrame frame;
+    frame.levels.resize(rng() % 12);
+    for (uint8_t& b : frame.levels) b = static_cast<uint8_t>(rng() % 4 == 0 ? 0 : rng());
+    size_t offset = 0;
+    int positions[kMaxTransformArea], values[kMaxTransformArea];
+    const int read = frame.read_levels(&offset, 256, TransformSize::k16x16, positions, values);
+    ASSERT_LE(read, 256);
+    for (int i = 0; i < read; ++i) {
+      ASSERT_LT(positions[i], 256);
+      ASSERT_GE(std::abs(values[i]), 1);
+      ASSERT_LE(std::abs(values[i]), 4095);
+    }
+  }
 }
 
 TEST(CodecFrame, RejectsBadHeadersAndSizes) {
@@ -186,7 +228,8 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   EXPECT_TRUE(with(2, 255).ok());                                               // and the coarsest
   EXPECT_TRUE(with(3, 0).ok());                           // loop filters off: other pixels, still valid
   EXPECT_EQ(with(3, 2).code(), ErrorCode::kCorruptData);  // CDEF without its syntax: reads past the end
-  EXPECT_EQ(with(3, 4).code(), ErrorCode::kCorruptData);  // an unknown loop filter
+  EXPECT_TRUE(with(3, 1 | kIntraWeightedMatrix).ok());    // weighted matrices: other pixels, still valid
+  EXPECT_EQ(with(3, 8).code(), ErrorCode::kCorruptData);  // an unknown flag
   EXPECT_EQ(with(3, 0x80).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame(good, 32, kMaxFrameDimension + 1, &out).code(), ErrorCode::kInvalidArgument);
@@ -253,6 +296,31 @@ TEST(CodecFrame, GarbageAndBitFlipsNeverCrash) {
   }
   EXPECT_GT(rejected, 0);
   EXPECT_EQ(decoded_ok + rejected, 1500);
+}
+
+TEST(CodecFrame, WeightedMatricesAreSignalledAndDecodeExactly) {
+  const ImageYCbCr420 source = synthetic_image(64, 48);
+  CodingParams flat{100}, weighted{100};
+  weighted.residual_matrix = ResidualMatrix::kWeighted;
+  ImageYCbCr420 flat_reconstruction, weighted_reconstruction, decoded;
+  const std::vector<uint8_t> flat_bytes = encode_intra_frame(source, flat, &flat_reconstruction);
+  const std::vector<uint8_t> weighted_bytes = encode_intra_frame(source, weighted, &weighted_reconstruction);
+  EXPECT_EQ(flat_bytes[3] & kIntraWeightedMatrix, 0);
+  EXPECT_EQ(weighted_bytes[3] & kIntraWeightedMatrix, kIntraWeightedMatrix);
+  // Coarser high frequencies: fewer bytes and other pixels at the same index.
+  EXPECT_LT(weighted_bytes.size(), flat_bytes.size());
+  EXPECT_FALSE(weighted_reconstruction.y == flat_reconstruction.y);
+  ASSERT_TRUE(decode_intra_frame(weighted_bytes, 64, 48, &decoded).ok());
+  expect_same_image(decoded, weighted_reconstruction);
+  CoefficientFrame coefficients;
+  ASSERT_TRUE(parse_intra_frame(weighted_bytes, 64, 48, &coefficients).ok());
+  EXPECT_EQ(coefficients.residual_matrix, ResidualMatrix::kWeighted);
+  // The same levels read with the flat matrix give other pixels: the flag matters.
+  std::vector<uint8_t> relabelled = weighted_bytes;
+  relabelled[3] &= static_cast<uint8_t>(~kIntraWeightedMatrix);
+  ImageYCbCr420 misread;
+  ASSERT_TRUE(decode_intra_frame(relabelled, 64, 48, &misread).ok());
+  EXPECT_FALSE(misread.y == decoded.y);
 }
 
 }  // namespace

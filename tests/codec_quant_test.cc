@@ -131,5 +131,30 @@ TEST(CodecQuant, BlockTransformRoundTripAtMpeg2sFinestScaleIsNearLossless) {
   }
 }
 
+TEST(CodecQuant, WeightedResidualStepsFollowTheDocumentedMatrix) {
+  for (int qindex : {0, 64, 129, 255}) {
+    for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16}) {
+      const int width = transform_width(size);
+      const int flat = residual_step(size, qindex);
+      const Quantizer weighted = make_residual_quantizer(size, qindex, ResidualMatrix::kWeighted);
+      const Quantizer plain = make_residual_quantizer(size, qindex);
+      for (int i = 0; i < transform_area(size); ++i) {
+        EXPECT_EQ(plain.scale[static_cast<size_t>(i)], flat);
+        const int r = i / width, c = i % width;
+        const int r8 = width == 16 ? r / 2 : width == 4 ? 2 * r : r;
+        const int c8 = width == 16 ? c / 2 : width == 4 ? 2 * c : c;
+        const int w = r8 == 0 && c8 == 0 ? 16 : kDefaultIntraMatrix[static_cast<size_t>(8 * r8 + c8)];
+        EXPECT_EQ(residual_weight(size, i), w);
+        EXPECT_EQ(weighted.scale[static_cast<size_t>(i)], std::max((flat * w + 8) >> 4, 128));
+      }
+    }
+  }
+  // The DC keeps the flat step; the highest 8x8 frequency is 83/16 times coarser.
+  EXPECT_EQ(residual_step(TransformSize::k8x8, 100, ResidualMatrix::kWeighted, 0),
+            residual_step(TransformSize::k8x8, 100));
+  EXPECT_GT(residual_step(TransformSize::k8x8, 100, ResidualMatrix::kWeighted, 63),
+            5 * residual_step(TransformSize::k8x8, 100));
+}
+
 }  // namespace
 }  // namespace svc::codec

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "c60923897af74c271cbe64a71593933e74659adcc066e4da773c884f4dca48e4",
-     "e6440e2d1b0bab99d0399cecf60994d1e60b275dfd9586d5674de71797616d12"},
+     "9928e3c45e258dc7787e58f41007e1215c91a14344f6659d808d663ab2547406",
+     "eabfd88a615e33b9fbc817d8b65e1583e7174ec928045cd1a34b1c046a3737c7"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "eb802bde768a97f446ee57d584383680c7b017ce2dee304772e0687fc7aad776",
-     "2ce140ab5e0903bc7452b2d6932f412e3e4400abd9e7322cc0085f9790da5514"},
+     "2e436845bf46f11afbc517f291f6bb5ad0f53ea6bf688b734fc257a54d4e2382",
+     "61e3eff20f368953905221b7fcbfd3a6b494fa0b6c66d15e7e60d5bd84a93fe5"},
 };
 
 std::string file_sha256(const fs::path& path) {

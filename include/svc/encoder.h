@@ -57,9 +57,20 @@ struct CodingTools {
   // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
   // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
   bool transform_sizes = true;
-  // I-faces: chroma blocks may be predicted from the co-located reconstructed luma (CfL,
-  // docs/codec.md 3.3), by rate-distortion cost against the regular modes. Off: never.
+  // I-faces and B-face intra macroblocks: chroma blocks may be predicted from the
+  // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 10.4), by rate-distortion
+  // cost against the regular modes. Off: never.
   bool cfl = true;
+  // I-faces: residuals quantized with a frequency-weighted matrix (coarser high
+  // frequencies, docs/codec.md 6) instead of one flat step per transform size. Off by
+  // default, since flat measures better in PSNR; `svc encode --quant-matrix weighted`.
+  // Not one of the --disable-tool names.
+  bool weighted_quant_matrix = false;
+  // B-faces: intra macroblocks predicted in every mode of the intra frame's prediction
+  // (docs/codec.md 10.4). Off: planar and DC only. (Their transform sizes, mode search
+  // and directional modes also follow transform-sizes, intra-rd-search and
+  // intra-directional.)
+  bool b_intra_prediction = true;
 
   bool operator==(const CodingTools&) const = default;
 };

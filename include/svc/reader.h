@@ -3,9 +3,10 @@
 // The reader opens a file without reading it whole: open() reads the header and the
 // index; each face is read with positioned reads of its own chunk and those of its
 // references. Two caches sit between the file and the caller (docs/runtime.md):
-//   - semi-decoded I-faces: the entropy-decoded, quantized DCT levels in a compact
-//     sparse form (about a tenth of the RGB size). A B-face whose reference I-faces are
-//     cached skips their entropy decoding and only runs their inverse DCT.
+//   - semi-decoded I-faces: the entropy-decoded modes and quantized levels in a compact
+//     packed form (about a sixth of the RGB size on photographic content at the
+//     default quality). A B-face whose reference I-faces are cached skips their entropy
+//     decoding and only runs their prediction and inverse transforms.
 //   - decoded faces (YCbCr 4:2:0): a request for a cached face copies it out.
 // Both are least-recently-used and bounded by byte budgets that are never exceeded.
 // After set_viewer(), worker threads decode the viewer's neighbourhood in the
@@ -54,7 +55,8 @@ struct ReaderSettings {
   // Caps on what the file may make the reader allocate (see svc/limits.h).
   ReaderLimits limits;
   // Byte budget of the semi-decoded I-face cache. 0 disables it. Default 64 MiB: about
-  // 6,000 I-faces of 256x256 or 1,500 of 512x512 at the default quality.
+  // 2,000 photographic I-faces of 256x256 or 500 of 512x512 at the default quality
+  // (34 KB each at 256x256, docs/codec.md 8).
   uint64_t coefficient_cache_bytes = 64ull << 20;
   // Byte budget of the decoded-face cache (1.5 bytes a pixel plus a little per face).
   // 0 disables it, and prefetch with it (prefetched faces would have nowhere to go).

@@ -41,6 +41,8 @@ class Pipeline {
     intra_params_.rdoq = job.tools.rdoq;
     intra_params_.transform_sizes = job.tools.transform_sizes;
     intra_params_.cfl = job.tools.cfl;
+    intra_params_.residual_matrix = job.tools.weighted_quant_matrix ? codec::ResidualMatrix::kWeighted
+                                                                    : codec::ResidualMatrix::kFlat;
     b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
@@ -50,6 +52,10 @@ class Pipeline {
     intra_params_.cdef = b_params_.cdef = job.tools.cdef;
     b_params_.switchable_filter = job.tools.switchable_filter;
     b_params_.partitions = job.tools.partitions;
+    b_params_.intra_prediction = job.tools.b_intra_prediction && job.tools.intra_directional;
+    b_params_.intra_rd_search = job.tools.intra_rd_search;
+    b_params_.intra_transform_sizes = job.tools.transform_sizes;
+    b_params_.intra_cfl = job.tools.cfl;
   }
 
   Status run() {

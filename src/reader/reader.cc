@@ -138,7 +138,7 @@ struct Reader::Impl {
                                                static_cast<int>(index.face_height), parsed.get());
       if (!status.ok()) return frame_error(status, frame);
       // Parsing grows the vectors by doubling; the cache is charged for what is held.
-      parsed->entries.shrink_to_fit();
+      parsed->levels.shrink_to_fit();
       parsed->block_counts.shrink_to_fit();
       intra_parsed.fetch_add(1, std::memory_order_relaxed);
       return CoefficientPointer(std::move(parsed));

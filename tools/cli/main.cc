@@ -26,6 +26,7 @@ struct EncoderOptionText {
   std::string i_spacing = "3,1,3";
   std::string motion = "depth";
   std::string layout = "visibility";
+  std::string quant_matrix = "flat";
   std::vector<std::string> disabled_tools;
 };
 
@@ -59,6 +60,11 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   cmd->add_option("--motion", text->motion, "Motion source: depth (reprojection) or log (logarithmic search)")
       ->check(CLI::IsMember({"depth", "log"}))
       ->capture_default_str();
+  cmd->add_option("--quant-matrix", text->quant_matrix,
+                  "I-face residual quantization: flat (one step per transform size; best PSNR) or weighted "
+                  "(coarser high frequencies)")
+      ->check(CLI::IsMember({"flat", "weighted"}))
+      ->capture_default_str();
   std::string tools;
   for (const std::string& name : coding_tool_names()) tools += (tools.empty() ? "" : ", ") + name;
   cmd->add_option("--disable-tool", text->disabled_tools,
@@ -84,6 +90,7 @@ bool apply_encoder_options(EncoderSettings* settings, const EncoderOptionText& t
   }
   settings->motion = text.motion == "log" ? MotionSearch::kLogarithmic : MotionSearch::kDepth;
   settings->layout = text.layout == "regular" ? CubeLayout::kRegular : CubeLayout::kVisibility;
+  settings->tools.weighted_quant_matrix = text.quant_matrix == "weighted";
   for (const std::string& name : text.disabled_tools) {
     if (Status status = disable_coding_tool(&settings->tools, name); !status.ok()) {
       std::fprintf(stderr, "svc: --disable-tool: %s\n", status.message().c_str());

@@ -1,0 +1,232 @@
+// The intra frame's block coding of one macroblock, shared by intra frames
+// (intra_codec.cc) and the intra macroblocks of B-frames (bframe_*.cc): the neighbour
+// state and contexts, the syntax of one luma macroblock (split flags, per block its mode
+// and levels) and of one chroma block, the prediction and reconstruction of a block from
+// its reconstructed neighbours, and the encoder's rate-distortion search
+// (docs/codec.md 3, 3.1, 3.2 and 10.4). Implemented in intra_codec.cc. Not part of the
+// codec's interface.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "codec/block_coder.h"
+#include "codec/cfl.h"
+#include "codec/intra_codec.h"
+#include "codec/intra_prediction.h"
+#include "codec/quant.h"
+#include "codec/range_coder.h"
+#include "codec/transform_size.h"
+
+namespace svc::codec::intra {
+
+// Entropy-coding state of one plane class (luma, chroma).
+struct PlaneContexts {
+  IntraModeContexts modes;
+  BlockContextSet residual;
+  std::array<AdaptiveBit, 3> split_16x16{};  // luma only, by split_context
+  std::array<AdaptiveBit, 3> split_8x8{};
+  CflContexts cfl;  // chroma only
+};
+
+// Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
+// region splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four
+// 4x4 blocks.
+inline constexpr uint8_t kSplit16x16 = 1;
+constexpr uint8_t split_8x8_bit(int i) { return static_cast<uint8_t>(2 << i); }
+
+// Calls visit(x, y, size) for the transform blocks of a macroblock partition in coding
+// order (x, y relative to the macroblock).
+template <class Visit>
+void for_each_luma_block(uint8_t partition, Visit&& visit) {
+  if ((partition & kSplit16x16) == 0) {
+    visit(0, 0, 16);
+    return;
+  }
+  for (int i = 0; i < 4; ++i) {
+    const int x = 8 * (i & 1), y = 8 * (i >> 1);
+    if ((partition & split_8x8_bit(i)) == 0) {
+      visit(x, y, 8);
+      continue;
+    }
+    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), 4);
+  }
+}
+
+// Per 4x4 unit of the plane being coded: the mode, coded flag and transform width of the
+// block covering it (width 0: not reconstructed yet). Source of the neighbour
+// derivations of docs/codec.md 3 and 3.1.
+class PlaneState {
+ public:
+  PlaneState(int width, int height)
+      : units_x_(width / 4), units_y_(height / 4), units_(static_cast<size_t>(units_x_) * units_y_) {}
+
+  std::array<int, kMostProbableModes> candidates(int x0, int y0) const {
+    return most_probable_modes(x0 > 0 ? regular_mode(at(x0 - 4, y0).mode) : kDcMode,
+                               y0 > 0 ? regular_mode(at(x0, y0 - 4).mode) : kDcMode);
+  }
+  // Left and above neighbours coded with CfL (chroma).
+  int cfl_context(int x0, int y0) const {
+    return (x0 > 0 && at(x0 - 4, y0).mode == kCflMode) + (y0 > 0 && at(x0, y0 - 4).mode == kCflMode);
+  }
+  int coded_block_context(int x0, int y0) const {
+    return (x0 > 0 ? at(x0 - 4, y0).coded : 0) + (y0 > 0 ? at(x0, y0 - 4).coded : 0);
+  }
+  // Left and above neighbours coded with transforms narrower than `width`.
+  int split_context(int x0, int y0, int width) const {
+    return (x0 > 0 && at(x0 - 4, y0).width < width) + (y0 > 0 && at(x0, y0 - 4).width < width);
+  }
+  EdgeAvailability availability(int x0, int y0, int size) const {
+    EdgeAvailability a;
+    a.left = x0 > 0;
+    a.above = y0 > 0;
+    a.below_left = a.left && (y0 + size) / 4 < units_y_ && at(x0 - 4, y0 + size).width != 0;
+    a.above_right = a.above && (x0 + size) / 4 < units_x_ && at(x0 + size, y0 - 4).width != 0;
+    return a;
+  }
+  void mark(int x0, int y0, int size, int mode, bool coded) {
+    fill(x0, y0, size, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(size)});
+  }
+  // Forgets a region, as before it was reconstructed (encoder: trying another partition).
+  void clear(int x0, int y0, int size) { fill(x0, y0, size, Unit{}); }
+
+ private:
+  struct Unit {
+    uint8_t mode = kDcMode;
+    bool coded = false;
+    uint8_t width = 0;
+  };
+  // A CfL block counts as DC for the most probable modes (its prediction's base).
+  static int regular_mode(int mode) { return mode == kCflMode ? kDcMode : mode; }
+  const Unit& at(int x, int y) const { return units_[static_cast<size_t>(y / 4) * units_x_ + x / 4]; }
+  void fill(int x0, int y0, int size, const Unit& unit) {
+    for (int y = y0 / 4; y < (y0 + size) / 4; ++y) {
+      std::fill_n(units_.begin() + static_cast<ptrdiff_t>(static_cast<size_t>(y) * units_x_ + x0 / 4), size / 4,
+                  unit);
+    }
+  }
+  int units_x_, units_y_;
+  std::vector<Unit> units_;
+};
+
+// The residual quantizers of every transform size at one index, indexed by TransformSize.
+using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
+// The residual quantizers of one index (B-frame intra macroblocks: flat).
+SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
+const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size);
+
+// ---- Decoding ----
+
+// A block's syntax as read: its mode (chroma: kCflMode with `cfl_alpha`) and its
+// non-zero levels in scan order.
+struct BlockSyntax {
+  int mode = kDcMode;
+  int cfl_alpha = 0;
+  int count = 0;
+  BlockLevel levels[kMaxTransformArea];
+};
+
+// Reads a luma block's mode and levels at (x0, y0) of a plane whose neighbours `state`
+// describes; the caller marks the block. Returns false on invalid levels.
+bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
+                       int size, BlockSyntax* out);
+// Reads an 8x8 chroma block's mode (codec/cfl.h: the CfL flag and alpha, or the regular
+// mode) and levels; a Cb block's mode goes to `cb`, which the Cr block at the same place
+// reads. The caller marks the block. Returns false on invalid levels.
+bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0,
+                              int y0, ChromaPlane plane, ChromaMode* cb, BlockSyntax* out);
+
+// Receives each block of a luma macroblock as its syntax comes up; must read the block
+// and mark it in the plane state before returning (the next split flag's context looks
+// at it). Returns false on invalid syntax.
+class BlockReader {
+ public:
+  virtual bool read(int x0, int y0, int size) = 0;
+
+ protected:
+  ~BlockReader() = default;
+};
+
+// Reads the split flags of luma macroblock (mbx, mby) and hands each block to `reader` in
+// coding order; `partition` receives the partition byte. False when the reader fails.
+bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
+                          BlockReader& reader, uint8_t* partition);
+
+// Predicts the size x size block at (x0, y0) of `plane` (stride samples a row) in `mode`
+// from its reconstructed neighbours, adds the inverse transform of `coefficients`
+// (dequantized, natural order; null when the block has no levels), writes the clipped
+// result into the plane and marks the block in `state`.
+void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
+                                const int16_t* coefficients);
+// The same for an 8x8 chroma block in `mode`; CfL predicts from `luma`, the plane's
+// reconstructed luma (luma_stride samples a row, luma sample (2 x0, 2 y0) co-located).
+void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0,
+                                       const ChromaMode& mode, const uint8_t* luma, int luma_stride,
+                                       const int16_t* coefficients);
+
+// ---- Encoding ----
+
+// Encoder only: a block's mode, prediction and residual levels.
+struct BlockChoice {
+  int mode = kDcMode;  // kCflMode for chroma from luma
+  int cfl_alpha = 0;
+  bool coded = false;
+  uint8_t prediction[kMaxTransformArea];
+  int16_t levels[kMaxTransformArea];
+
+  ChromaMode chroma_mode() const { return {mode, mode == kCflMode ? cfl_alpha : 0}; }
+};
+
+// Encoder only: the blocks of one luma macroblock as chosen, in coding order.
+struct MacroblockChoice {
+  uint8_t partition = kSplit16x16;
+  std::array<BlockChoice, 16> blocks;
+};
+
+// Writes a luma block's mode and levels, and marks it.
+void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
+                 const BlockChoice& choice);
+// Writes an 8x8 chroma block's mode (codec/cfl.h; `cb` is a Cr block's Cb block's mode)
+// and levels, and marks it.
+void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
+                        ChromaPlane plane, const ChromaMode& cb, const BlockChoice& choice);
+
+// Writes luma macroblock (mbx, mby): split flags and blocks.
+void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
+                      const MacroblockChoice& choice);
+
+// Encoder only: the intra frame's rate-distortion search (docs/codec.md 3.2) for the
+// blocks of one macroblock at one qindex. Each call chooses, reconstructs the choice
+// into `recon` (a padded plane whose reconstructed neighbours it predicts from; `source`
+// the padded source plane, same stride), marks it in `state` and returns its cost,
+// SSE + lambda * bits. Contexts are read, not updated (write_* does that).
+class MacroblockEncoder {
+ public:
+  // `params` supplies the tools (modes, RD search, RDOQ, transform sizes); `lambda` the
+  // squared error per bit of every decision.
+  MacroblockEncoder(const CodingParams& params, int qindex, float lambda);
+  ~MacroblockEncoder();
+  MacroblockEncoder(const MacroblockEncoder&) = delete;
+  MacroblockEncoder& operator=(const MacroblockEncoder&) = delete;
+
+  float choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
+                    int stride, int mbx, int mby, MacroblockChoice* out);
+  // The Cb and the Cr block at (x0, y0) of the chroma planes (`cb_*`, `cr_*`, each with
+  // its own neighbour state; same stride). A Cb block's mode is chosen with its Cr
+  // block's cost under it: the best regular mode with Cr in that mode, against CfL (when
+  // `luma`, the reconstructed luma, luma_stride samples a row, is given and the params
+  // allow it) with each plane's own alpha. Returns the pair's cost.
+  float choose_chroma(const PlaneContexts& contexts, PlaneState& cb_state, PlaneState& cr_state,
+                      const uint8_t* cb_source, const uint8_t* cr_source, uint8_t* cb_recon, uint8_t* cr_recon,
+                      int stride, const uint8_t* luma, int luma_stride, int x0, int y0, BlockChoice* cb,
+                      BlockChoice* cr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace svc::codec::intra
