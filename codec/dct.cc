@@ -11,6 +11,7 @@
 #include "codec/dsp/dct_4_16_basis.h"
 #include "codec/dsp/dsp.h"
 #include "codec/dsp/idct_basis.h"
+#include "codec/dsp/transform_type_basis.h"
 
 namespace svc::codec {
 namespace {
@@ -159,6 +160,71 @@ void inverse_transform_reference(TransformSize size, const double* coefficients,
         for (int u = 0; u < n; ++u) sum += basis(v, y) * basis(u, x) * coefficients[n * v + u];
       }
       samples[n * y + x] = scale * sum;
+    }
+  }
+}
+
+void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients) {
+  if (type == TransformType::kDctDct) {
+    forward_transform(size, samples, coefficients);
+    return;
+  }
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  const int t = static_cast<int>(type);
+  switch (size) {
+    case TransformSize::k4x4: dsp.forward_typed_4x4(t, samples, coefficients); break;
+    case TransformSize::k16x16: dsp.forward_typed_16x16(t, samples, coefficients); break;
+    default: dsp.forward_typed_8x8(t, samples, coefficients);
+  }
+}
+
+void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples) {
+  if (type == TransformType::kDctDct) {
+    inverse_transform(size, coefficients, samples);
+    return;
+  }
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  const int t = static_cast<int>(type);
+  switch (size) {
+    case TransformSize::k4x4: dsp.inverse_typed_4x4(t, coefficients, samples); break;
+    case TransformSize::k16x16: dsp.inverse_typed_16x16(t, coefficients, samples); break;
+    default: dsp.inverse_typed_8x8(t, coefficients, samples);
+  }
+}
+
+namespace {
+
+// Entry (k, n) of a direction's integer matrix at `points` = 4, 8 or 16.
+int type_matrix_entry(int points, bool dst, int k, int n) {
+  if (points == 4) return dsp::type_matrix<4>(dst).m[k][n];
+  if (points == 8) return dsp::type_matrix<8>(dst).m[k][n];
+  return dsp::type_matrix<16>(dst).m[k][n];
+}
+
+}  // namespace
+
+void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,
+                                         int16_t* samples) {
+  if (type == TransformType::kDctDct) {
+    inverse_transform_integer_reference(size, coefficients, samples);
+    return;
+  }
+  const int n = transform_width(size);
+  const bool rows_dst = horizontal_dst(type), columns_dst = vertical_dst(type);
+  const int row_shift = dsp::type_row_shift(rows_dst), column_shift = dsp::type_column_shift(n, columns_dst);
+  int tmp[kMaxTransformArea];
+  for (int v = 0; v < n; ++v) {
+    for (int x = 0; x < n; ++x) {
+      int sum = 1 << (row_shift - 1);
+      for (int u = 0; u < n; ++u) sum += type_matrix_entry(n, rows_dst, u, x) * coefficients[n * v + u];
+      tmp[n * v + x] = sum >> row_shift;
+    }
+  }
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      int sum = 1 << (column_shift - 1);
+      for (int v = 0; v < n; ++v) sum += type_matrix_entry(n, columns_dst, v, y) * tmp[n * v + x];
+      samples[n * y + x] = static_cast<int16_t>(std::clamp(sum >> column_shift, -32768, 32767));
     }
   }
 }

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "codec/transform_size.h"
+#include "codec/transform_type.h"
 
 namespace svc::codec {
 
@@ -46,5 +47,14 @@ void inverse_transform_integer_reference(TransformSize size, const int16_t* coef
 // The inverse in double precision (for 4x4 and 16x16, the integer matrices without
 // rounding), of the same scale as inverse_transform.
 void inverse_transform_reference(TransformSize size, const double* coefficients, double* samples);
+
+// The intra transform types (codec/transform_type.h, docs/codec.md 7.2): DCT_DCT is the
+// transforms above; the others take per direction HEVC's integer DCT of the size or an
+// integer DST-VII at the same scale, so quantization treats every type alike.
+void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients);
+void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples);
+// The integer inverse as a plain matrix product: bit-identical to inverse_transform.
+void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,
+                                         int16_t* samples);
 
 }  // namespace svc::codec

@@ -140,11 +140,12 @@ void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t
   for (int i = 0; i < area; i += 64) dsp.dequantize_8x8(levels + i, quantizer.scale.data() + i, coefficients + i);
 }
 
-int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels) {
+int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels,
+                             TransformType type) {
   const int area = transform_area(quantizer.size);
   float input[kMaxTransformArea], coefficients[kMaxTransformArea];
   for (int i = 0; i < area; ++i) input[i] = samples[i];
-  forward_transform(quantizer.size, input, coefficients);
+  forward_transform(quantizer.size, type, input, coefficients);
   return quantize_block(quantizer, coefficients, levels);
 }
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "codec/transform_size.h"
+#include "codec/transform_type.h"
 
 namespace svc::codec {
 
@@ -92,9 +93,10 @@ int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_
 int dequantize_level(const Quantizer& quantizer, int index, int level);
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients);
 
-// Forward DCT + quantization of one block of samples (intra: pixel - 128; non-intra:
-// residual). Returns the number of non-zero levels.
-int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels);
+// Forward transform (the DCT, or an intra transform type) + quantization of one block
+// of samples (intra: pixel - 128; non-intra: residual). Returns the number of non-zero levels.
+int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels,
+                             TransformType type = TransformType::kDctDct);
 
 // Dequantization + integer inverse DCT: what the decoder reconstructs, before the caller
 // adds 128 (intra) or the prediction (non-intra) and clips to [0, 255].

@@ -168,12 +168,12 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
 
 int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
                                 const BlockContextSet& contexts, int first_scan, int coded_block_context,
-                                float lambda, int16_t* levels) {
-  if (!rdoq) return transform_quantize_block(quantizer, samples, levels);
+                                float lambda, int16_t* levels, TransformType type) {
+  if (!rdoq) return transform_quantize_block(quantizer, samples, levels, type);
   const int area = transform_area(quantizer.size);
   float input[kMaxCoefficients], coefficients[kMaxCoefficients];
   for (int i = 0; i < area; ++i) input[i] = samples[i];
-  forward_transform(quantizer.size, input, coefficients);
+  forward_transform(quantizer.size, type, input, coefficients);
   return rdoq_quantize_block(quantizer, coefficients, contexts, first_scan, coded_block_context, lambda, levels);
 }
 

@@ -12,6 +12,7 @@
 
 #include "codec/block_coder.h"
 #include "codec/quant.h"
+#include "codec/transform_type.h"
 
 namespace svc::codec {
 
@@ -29,10 +30,10 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
 double quantization_rd_cost(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
                             const BlockContextSet& contexts, int first_scan, int coded_block_context, float lambda);
 
-// Forward transform of `samples` (as transform_quantize_block) followed by either
-// rdoq_quantize_block (rdoq true) or quantize_block.
+// Forward transform of `samples` (as transform_quantize_block, of type `type`) followed
+// by either rdoq_quantize_block (rdoq true) or quantize_block.
 int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
                                 const BlockContextSet& contexts, int first_scan, int coded_block_context,
-                                float lambda, int16_t* levels);
+                                float lambda, int16_t* levels, TransformType type = TransformType::kDctDct);
 
 }  // namespace svc::codec

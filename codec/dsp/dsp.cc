@@ -36,6 +36,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   DspTable table{};
   init_transform_c(&table);
   init_transform_4_16_c(&table);
+  init_transform_types_c(&table);
   init_quant_c(&table);
   init_color_c(&table);
   init_mc_c(&table);
@@ -53,6 +54,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_color_sse41(&table);
     init_intra_sse41(&table);
     init_transform_4_16_sse41(&table);
+    init_transform_types_sse41(&table);
     init_mc_sse41(&table);
     init_deblock_sse41(&table);
     init_cdef_sse41(&table);

@@ -53,6 +53,17 @@ struct DspTable {
   void (*forward_dct_16x16)(const float* samples, float* coefficients);
   void (*inverse_dct_4x4)(const int16_t* coefficients, int16_t* samples);
   void (*inverse_dct_16x16)(const int16_t* coefficients, int16_t* samples);
+  // The intra transform types with a DST-VII in at least one direction (docs/codec.md
+  // 7.2), `type` 1..3 (bit 0: rows use the DST, bit 1: columns; the other direction
+  // takes HEVC's integer DCT of the size, at 8x8 too): float forward transforms (encoder
+  // only; the scale of the size's DCT) and the bit-exact integer inverses, coefficients
+  // in [-2048, 2047], blocks row-major.
+  void (*forward_typed_4x4)(int type, const float* samples, float* coefficients);
+  void (*forward_typed_8x8)(int type, const float* samples, float* coefficients);
+  void (*forward_typed_16x16)(int type, const float* samples, float* coefficients);
+  void (*inverse_typed_4x4)(int type, const int16_t* coefficients, int16_t* samples);
+  void (*inverse_typed_8x8)(int type, const int16_t* coefficients, int16_t* samples);
+  void (*inverse_typed_16x16)(int type, const int16_t* coefficients, int16_t* samples);
 
   // Quantizes 64 coefficients: level = trunc(|c| inverse_step[i] + rounding) capped at
   // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.

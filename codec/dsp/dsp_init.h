@@ -8,6 +8,7 @@ namespace svc::codec::dsp {
 
 void init_transform_c(DspTable* table);
 void init_transform_4_16_c(DspTable* table);
+void init_transform_types_c(DspTable* table);
 void init_quant_c(DspTable* table);
 void init_color_c(DspTable* table);
 void init_mc_c(DspTable* table);
@@ -53,6 +54,7 @@ void init_color_sse2(DspTable* table);
 void init_color_sse41(DspTable* table);
 void init_intra_sse41(DspTable* table);
 void init_transform_4_16_sse41(DspTable* table);
+void init_transform_types_sse41(DspTable* table);
 void init_deblock_sse41(DspTable* table);
 void init_cdef_sse41(DspTable* table);
 void init_cfl_sse41(DspTable* table);

@@ -1,5 +1,6 @@
-// DCT and quantization kernels against their references.
+// DCT, transform type and quantization kernels against their references.
 #include <cmath>
+#include <string>
 
 #include "checkkernels/harness.h"
 #include "codec/dct.h"
@@ -244,6 +245,81 @@ void bench_inverse_dct_n(const Tables& table, int iterations) {
   bench_sink = samples[0];
 }
 
+// The intra transform types 1..3 (DST-VII in one or both directions), over the same
+// input patterns as the DCTs of their size, each type in turn.
+template <int N>
+auto forward_typed_of(const Tables& t) {
+  return N == 4 ? t.forward_typed_4x4 : N == 8 ? t.forward_typed_8x8 : t.forward_typed_16x16;
+}
+template <int N>
+auto inverse_typed_of(const Tables& t) {
+  return N == 4 ? t.inverse_typed_4x4 : N == 8 ? t.inverse_typed_8x8 : t.inverse_typed_16x16;
+}
+
+template <int N>
+std::string check_forward_typed(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    float samples[N * N], expected[N * N], actual[N * N];
+    const int range = random.uniform(0, 1) ? 128 : 255, pattern = random.uniform(0, 4);
+    for (int i = 0; i < N * N; ++i) {
+      samples[i] = pattern == 0   ? static_cast<float>(range)
+                   : pattern == 1 ? static_cast<float>(((i + i / N) & 1) ? range : -range)
+                                  : static_cast<float>(random.uniform(-range, range));
+    }
+    const int type = 1 + n % 3;
+    forward_typed_of<N>(reference)(type, samples, expected);
+    forward_typed_of<N>(variant)(type, samples, actual);
+    if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) {
+      return "type " + std::to_string(type) + ": " + diff;
+    }
+  }
+  return {};
+}
+
+template <int N>
+std::string check_inverse_typed(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  for (int n = 0; n < iterations; ++n) {
+    int16_t coefficients[N * N] = {}, expected[N * N], actual[N * N];
+    const int pattern = random.uniform(0, 4);
+    for (int i = 0; i < N * N; ++i) {
+      const auto value = static_cast<int16_t>(random.uniform(codec::kMinCoefficient, codec::kMaxCoefficient));
+      if (pattern == 0 || (pattern == 1 && random.uniform(0, 7) == 0)) coefficients[i] = value;
+      if (pattern == 2) coefficients[i] = ((i * 7 + i / N) & 1) ? 2047 : -2048;  // saturates the output
+      if (pattern == 3) coefficients[i] = random.uniform(0, 1) ? 2047 : -2048;
+    }
+    if (pattern == 4) coefficients[0] = static_cast<int16_t>(random.uniform(-2048, 2047));
+    const int type = 1 + n % 3;
+    inverse_typed_of<N>(reference)(type, coefficients, expected);
+    inverse_typed_of<N>(variant)(type, coefficients, actual);
+    if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) {
+      return "type " + std::to_string(type) + ": " + diff;
+    }
+  }
+  return {};
+}
+
+template <int N>
+void bench_forward_typed(const Tables& table, int iterations) {
+  float samples[N * N], coefficients[N * N];
+  for (int i = 0; i < N * N; ++i) samples[i] = static_cast<float>((i * 37) % 255 - 128);
+  for (int n = 0; n < iterations; ++n) {
+    samples[n % (N * N)] += 1.0f;
+    forward_typed_of<N>(table)(1 + n % 3, samples, coefficients);
+  }
+  bench_sink = static_cast<int>(coefficients[0]);
+}
+
+template <int N>
+void bench_inverse_typed(const Tables& table, int iterations) {
+  int16_t coefficients[N * N], samples[N * N];
+  for (int i = 0; i < N * N; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
+  for (int n = 0; n < iterations; ++n) {
+    coefficients[n & 15] ^= 1;
+    inverse_typed_of<N>(table)(1 + n % 3, coefficients, samples);
+  }
+  bench_sink = samples[0];
+}
+
 }  // namespace
 
 std::vector<Kernel> transform_kernels() {
@@ -263,6 +339,18 @@ std::vector<Kernel> transform_kernels() {
        bench_inverse_dct_n<4>},
       {"inverse_dct_16x16", [](const Tables& t) { return entry_of(t.inverse_dct_16x16); }, check_inverse_dct_n<16>,
        bench_inverse_dct_n<16>},
+      {"forward_typed_4x4", [](const Tables& t) { return entry_of(t.forward_typed_4x4); }, check_forward_typed<4>,
+       bench_forward_typed<4>},
+      {"inverse_typed_4x4", [](const Tables& t) { return entry_of(t.inverse_typed_4x4); }, check_inverse_typed<4>,
+       bench_inverse_typed<4>},
+      {"forward_typed_8x8", [](const Tables& t) { return entry_of(t.forward_typed_8x8); }, check_forward_typed<8>,
+       bench_forward_typed<8>},
+      {"inverse_typed_8x8", [](const Tables& t) { return entry_of(t.inverse_typed_8x8); }, check_inverse_typed<8>,
+       bench_inverse_typed<8>},
+      {"forward_typed_16x16", [](const Tables& t) { return entry_of(t.forward_typed_16x16); },
+       check_forward_typed<16>, bench_forward_typed<16>},
+      {"inverse_typed_16x16", [](const Tables& t) { return entry_of(t.inverse_typed_16x16); },
+       check_inverse_typed<16>, bench_inverse_typed<16>},
   };
 }
 
