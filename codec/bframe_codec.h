@@ -30,7 +30,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 7;
+inline constexpr uint8_t kBFrameSyntaxVersion = 8;
 // Frame type, syntax version, qindex, reference border units, loop filter flags,
 // interpolation filter, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 8;
@@ -124,6 +124,9 @@ struct BFrameParams {
   bool intra_transform_sizes = true;
   // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
   bool intra_cfl = true;
+  // Intra blocks with levels code their transform type (docs/codec.md 5.4; header byte 4
+  // bit 3); off, every intra block is DCT_DCT and no type is coded.
+  bool intra_transform_types = true;
 };
 
 struct BFrameStats {
@@ -199,9 +202,10 @@ struct BFrameHeader {
   // Cube-map border of the references in units of 16 luma samples a side (0: the
   // references are the bare faces; codec/cube_padding.h builds padded ones).
   int border_units = 0;
-  int loop_filters = 0;     // kLoopFilter* bits (intra_codec.h)
-  int reference_count = 0;  // 1 or 2
-  int warp_mask = 0;        // bit r: reference r may be warped
+  int loop_filters = 0;          // kLoopFilter* bits (intra_codec.h)
+  bool transform_types = false;  // byte 4 kTransformTypesFlag: intra blocks code their type
+  int reference_count = 0;       // 1 or 2
+  int warp_mask = 0;             // bit r: reference r may be warped
   InterpolationFilter filter = InterpolationFilter::kRegular;
 };
 

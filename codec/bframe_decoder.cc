@@ -35,7 +35,7 @@ class IntraBlockDecoder final : public intra::BlockReader {
     intra::PlaneState& state = s_.intra_planes[static_cast<size_t>(plane_)];
     if (!intra::read_block_syntax(decoder_, s_.contexts.intra_luma, state, x0, y0, size, &block_)) return false;
     intra::reconstruct_block_in_plane(state, s_.planes[0].data(), s_.strides[0], x0, y0, size, block_.mode,
-                                      dequantize(x0, y0, size));
+                                      dequantize(x0, y0, size), block_.transform_type);
     return true;
   }
 
@@ -49,7 +49,8 @@ class IntraBlockDecoder final : public intra::BlockReader {
     }
     intra::reconstruct_chroma_block_in_plane(state, s_.planes[static_cast<size_t>(plane_)].data(),
                                              s_.strides[plane_], x0, y0, {block_.mode, block_.cfl_alpha},
-                                             s_.planes[0].data(), s_.strides[0], dequantize(x0, y0, 8));
+                                             s_.planes[0].data(), s_.strides[0], dequantize(x0, y0, 8),
+                                             block_.transform_type);
     return true;
   }
 
@@ -293,8 +294,8 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return corrupt("byte 3: reference border of " + std::to_string(bytes[3]) + " units outside 0.." +
                    std::to_string(kMaxCubeBorderUnits));
   }
-  if ((bytes[4] & ~kLoopFilterKnownBits) != 0) {
-    return corrupt("byte 4: unknown loop filter flags " + std::to_string(bytes[4]));
+  if ((bytes[4] & ~(kLoopFilterKnownBits | kTransformTypesFlag)) != 0) {
+    return corrupt("byte 4: unknown flags " + std::to_string(bytes[4]));
   }
   if (bytes[5] >= kInterpolationFilterCount) {
     return corrupt("byte 5: interpolation filter " + std::to_string(bytes[5]) + " is not 0, 1 or 2");
@@ -308,7 +309,8 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   }
   out->qindex = bytes[2];  // every byte value is a valid index
   out->border_units = bytes[3];
-  out->loop_filters = bytes[4];
+  out->loop_filters = bytes[4] & kLoopFilterKnownBits;
+  out->transform_types = (bytes[4] & kTransformTypesFlag) != 0;
   out->filter = static_cast<InterpolationFilter>(bytes[5]);
   out->reference_count = bytes[6];
   out->warp_mask = bytes[7];
@@ -342,6 +344,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   init_state(s, width, height, header.qindex, &ref0, ref1, header.border_units);
   s.warp_mask = header.warp_mask;
   s.filter = header.filter;
+  s.contexts.intra_luma.types.enabled = s.contexts.intra_chroma.types.enabled = header.transform_types;
   if (modes != nullptr) {
     modes->clear();
     modes->reserve(s.macroblocks.size());

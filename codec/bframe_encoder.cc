@@ -994,6 +994,8 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
   FrameState& state = coded.state;
   init_state(state, width, height, qindex, &ref0, ref1, border_units);
   state.filter = filter;
+  state.contexts.intra_luma.types.enabled = state.contexts.intra_chroma.types.enabled =
+      params.intra_transform_types;
   const WarpField* fields[2] = {hints[0].warp, ref1 != nullptr ? hints[1].warp : nullptr};
   for (int r = 0; r < state.reference_count; ++r) {
     const WarpField* field = fields[r];
@@ -1049,7 +1051,8 @@ std::vector<uint8_t> finish_frame(CodedMacroblocks& coded, const BFrameParams& p
   loop_filters |= apply_cdef_choice(*coded.encoder, state, coded.padded, params);
   coded.encoder->finish();
   std::vector<uint8_t> bytes = std::move(*coded.bytes);
-  bytes[4] = loop_filters;  // header byte 4, known only now
+  // Header byte 4: the loop filters, known only now, and the transform types flag.
+  bytes[4] = static_cast<uint8_t>(loop_filters | (params.intra_transform_types ? kTransformTypesFlag : 0));
   if (stats != nullptr) {
     *stats = std::move(coded.stats);
     for (int r = 0; r < state.reference_count; ++r) {

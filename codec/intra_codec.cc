@@ -76,11 +76,12 @@ double scale_of(int qindex) { return quantizer_scale_q8(qindex) / 256.0; }
 // SSE per bit of an intra frame's decisions, tuned on the photographic scenes.
 float intra_frame_lambda(int qindex) { return static_cast<float>(0.1 * scale_of(qindex) * scale_of(qindex)); }
 
-// out = clip(prediction + inverse transform of `coefficients`), or the prediction alone
-// when there are none.
-void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, int size, uint8_t* out, int stride) {
+// out = clip(prediction + inverse transform of type `type` of `coefficients`), or the
+// prediction alone when there are none.
+void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type, int size,
+                       uint8_t* out, int stride) {
   int16_t residual[kMaxTransformArea];
-  if (coefficients != nullptr) inverse_transform(size_of_width(size), coefficients, residual);
+  if (coefficients != nullptr) inverse_transform(size_of_width(size), type, coefficients, residual);
   for (int y = 0; y < size; ++y) {
     for (int x = 0; x < size; ++x) {
       const int value = prediction[size * y + x] + (coefficients != nullptr ? residual[size * y + x] : 0);
@@ -203,7 +204,8 @@ class BlockReconstructor {
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
     int values[kMaxTransformArea];
-    const int decoded = coefficients_.read_levels(&offset_, count, size_of_width(size), positions_, values);
+    TransformType type = TransformType::kDctDct;
+    const int decoded = coefficients_.read_levels(&offset_, count, size_of_width(size), positions_, values, &type);
     for (int i = 0; i < decoded; ++i) {
       block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values[i]));
     }
@@ -211,9 +213,9 @@ class BlockReconstructor {
     const int16_t* residual = decoded > 0 ? block_ : nullptr;
     if (luma != nullptr && size == 8 && is_cfl_mode_byte(mode_byte)) {
       reconstruct_chroma_block_in_plane(state, recon, stride, x0, y0, {kCflMode, cfl_alpha_of_mode_byte(mode_byte)},
-                                        luma, 2 * stride, residual);
+                                        luma, 2 * stride, residual, type);
     } else {
-      reconstruct_block_in_plane(state, recon, stride, x0, y0, size, mode_byte % kIntraModes, residual);
+      reconstruct_block_in_plane(state, recon, stride, x0, y0, size, mode_byte % kIntraModes, residual, type);
     }
     for (int i = 0; i < decoded; ++i) block_[positions_[i]] = 0;
     ++block_number_;
@@ -327,7 +329,7 @@ class BlockSearch {
                BlockChoice* best, float prefix_bits = 0) const {
     std::array<int, kSearchedModes> searched{best->mode, -1, -1};
     if (candidates != nullptr) searched = preselect(source, stride, edge, size, *candidates, ranked);
-    float best_cost = std::numeric_limits<float>::max();
+    float best_cost = std::numeric_limits<float>::max(), best_bits = 0;
     for (int mode : searched) {
       if (mode < 0) continue;
       trial_.mode = mode;
@@ -335,13 +337,15 @@ class BlockSearch {
       const float mode_bits =
           prefix_bits + (candidates != nullptr ? intra_mode_cost(contexts.modes, *candidates, mode) : 0);
       intra_predictor(size)(edge, mode, trial_.prediction);
-      const float cost = evaluate(source, stride, size, contexts.residual, cbf_context, mode_bits, &trial_);
+      const float cost =
+          evaluate(source, stride, size, contexts, cbf_context, mode_bits, TransformType::kDctDct, &trial_);
       if (cost < best_cost) {
         best_cost = cost;
+        best_bits = mode_bits;
         copy_choice(trial_, size, best);
       }
     }
-    return best_cost;
+    return choose_transform_type(source, stride, size, contexts, cbf_context, best_bits, best, best_cost);
   }
 
   // CfL for an 8x8 chroma block with luma AC `ac`: the least-squares alpha and its two
@@ -351,26 +355,28 @@ class BlockSearch {
                    BlockChoice* best, float prefix_bits = 0) const {
     const int dc = dc_prediction_8x8(edge);
     const int fit = cfl_least_squares_alpha(ac, source, stride, dc);
-    float best_cost = std::numeric_limits<float>::max();
+    float best_cost = std::numeric_limits<float>::max(), best_bits = 0;
     for (int alpha = fit - 1; alpha <= fit + 1; ++alpha) {
       if (alpha < -kCflMaxAlpha || alpha > kCflMaxAlpha || (plane == ChromaPlane::kCb && alpha == 0)) continue;
       trial_.mode = kCflMode;
       trial_.cfl_alpha = alpha;
       predict_cfl(ac, dc, alpha, trial_.prediction);
       const float bits = prefix_bits + cfl_alpha_bits(contexts.cfl, plane, cb_alpha, alpha);
-      const float cost = evaluate(source, stride, 8, contexts.residual, cbf_context, bits, &trial_);
+      const float cost = evaluate(source, stride, 8, contexts, cbf_context, bits, TransformType::kDctDct, &trial_);
       if (cost < best_cost) {
         best_cost = cost;
+        best_bits = bits;
         copy_choice(trial_, 8, best);
       }
     }
-    return best_cost;
+    return choose_transform_type(source, stride, 8, contexts, cbf_context, best_bits, best, best_cost);
   }
 
   static void copy_choice(const BlockChoice& from, int size, BlockChoice* to) {
     to->mode = from.mode;
     to->cfl_alpha = from.cfl_alpha;
     to->coded = from.coded;
+    to->transform_type = from.transform_type;
     std::copy_n(from.prediction, size * size, to->prediction);
     std::copy_n(from.levels, size * size, to->levels);
   }
@@ -433,9 +439,29 @@ class BlockSearch {
     }
   }
 
-  // The levels and cost of trial->prediction.
-  float evaluate(const uint8_t* source, int stride, int size, const BlockContextSet& contexts, int cbf_context,
-                 float mode_bits, BlockChoice* trial) const {
+  // The best block's levels under each other transform type (where the contexts enable
+  // types and the block has levels; the mode stays), by the same cost. Returns the cost.
+  float choose_transform_type(const uint8_t* source, int stride, int size, const PlaneContexts& contexts,
+                              int cbf_context, float mode_bits, BlockChoice* best, float best_cost) const {
+    if (!contexts.types.enabled || !best->coded) return best_cost;
+    trial_.mode = best->mode;
+    trial_.cfl_alpha = best->cfl_alpha;
+    std::copy_n(best->prediction, size * size, trial_.prediction);
+    for (int t = 1; t < kTransformTypes; ++t) {
+      const float cost =
+          evaluate(source, stride, size, contexts, cbf_context, mode_bits, static_cast<TransformType>(t), &trial_);
+      if (cost < best_cost && trial_.coded) {
+        best_cost = cost;
+        copy_choice(trial_, size, best);
+      }
+    }
+    return best_cost;
+  }
+
+  // The levels and cost of trial->prediction with transform type `type`.
+  float evaluate(const uint8_t* source, int stride, int size, const PlaneContexts& plane_contexts, int cbf_context,
+                 float mode_bits, TransformType type, BlockChoice* trial) const {
+    const BlockContextSet& contexts = plane_contexts.residual;
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int area = size * size;
     int16_t residual[kMaxTransformArea], coefficients[kMaxTransformArea];
@@ -444,7 +470,8 @@ class BlockSearch {
         residual[size * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[size * y + x]);
     }
     trial->coded = transform_quantize_block_rd(quantizer, residual, rdoq_, contexts, 0, cbf_context, lambda_,
-                                               trial->levels) > 0;
+                                               trial->levels, type) > 0;
+    trial->transform_type = trial->coded ? type : TransformType::kDctDct;
     const int16_t zero[kMaxTransformArea] = {};
     const float uncoded_cost =
         static_cast<float>(block_sse(source, stride, trial->prediction, size)) +
@@ -452,12 +479,14 @@ class BlockSearch {
     if (!trial->coded) return uncoded_cost;
     uint8_t reconstructed[kMaxTransformArea];
     dequantize_block(quantizer, trial->levels, coefficients);
-    reconstruct_block(trial->prediction, coefficients, size, reconstructed, size);
+    reconstruct_block(trial->prediction, coefficients, type, size, reconstructed, size);
     const float coded_cost =
         static_cast<float>(block_sse(source, stride, reconstructed, size)) +
-        lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context, quantizer.size));
+        lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context, quantizer.size) +
+                   transform_type_bits(plane_contexts.types, quantizer.size, trial->mode, type));
     if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;
     trial->coded = false;
+    trial->transform_type = TransformType::kDctDct;
     std::fill_n(trial->levels, area, int16_t{0});
     return uncoded_cost;
   }
@@ -536,7 +565,8 @@ class PlaneSearch {
     const size_t offset = static_cast<size_t>(y0) * stride_ + x0;
     int16_t coefficients[kMaxTransformArea];
     if (choice.coded) dequantize_block(quantizer_for(quantizers_, size), choice.levels, coefficients);
-    reconstruct_block(choice.prediction, choice.coded ? coefficients : nullptr, size, recon_ + offset, stride_);
+    reconstruct_block(choice.prediction, choice.coded ? coefficients : nullptr, choice.transform_type, size,
+                      recon_ + offset, stride_);
     state.mark(x0, y0, size, choice.mode, choice.coded);
   }
 
@@ -682,7 +712,7 @@ class FrameBlockReader final : public BlockReader {
   // Marks the block read and appends it to the frame with its mode byte.
   void append(int x0, int y0, int size, uint8_t mode_byte) {
     state_.mark(x0, y0, size, block_.mode, block_.count > 0);
-    frame_->append_levels(block_.levels, block_.count, size_of_width(size));
+    frame_->append_levels(block_.levels, block_.count, size_of_width(size), block_.transform_type);
     frame_->block_counts.push_back(static_cast<uint16_t>(block_.count));
     frame_->block_modes.push_back(mode_byte);
   }
@@ -705,13 +735,28 @@ size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t
 
 namespace intra {
 
+namespace {
+
+// A block's levels, then its transform type when it has levels (out->mode set).
+bool read_levels_and_type(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
+                          TransformSize size, BlockSyntax* out) {
+  out->count = 0;
+  out->transform_type = TransformType::kDctDct;
+  if (!decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), out->levels,
+                           &out->count, size)) {
+    return false;
+  }
+  if (out->count > 0) out->transform_type = decode_transform_type(decoder, contexts.types, size, out->mode);
+  return true;
+}
+
+}  // namespace
+
 bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
                        int size, BlockSyntax* out) {
   out->mode = decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
   out->cfl_alpha = 0;
-  out->count = 0;
-  return decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), out->levels,
-                             &out->count, size_of_width(size));
+  return read_levels_and_type(decoder, contexts, state, x0, y0, size_of_width(size), out);
 }
 
 bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0,
@@ -721,9 +766,7 @@ bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, co
   if (plane == ChromaPlane::kCb) *cb = mode;
   out->mode = mode.mode;
   out->cfl_alpha = mode.alpha;
-  out->count = 0;
-  return decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), out->levels,
-                             &out->count, TransformSize::k8x8);
+  return read_levels_and_type(decoder, contexts, state, x0, y0, TransformSize::k8x8, out);
 }
 
 bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
@@ -749,19 +792,19 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
 }
 
 void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
-                                const int16_t* coefficients) {
+                                const int16_t* coefficients, TransformType type) {
   uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
   build_intra_edge(plane, stride, x0, y0, size, state.availability(x0, y0, size), edge);
   intra_predictor(size)(edge, mode, prediction);
-  reconstruct_block(prediction, coefficients, size, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
+  reconstruct_block(prediction, coefficients, type, size, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
   state.mark(x0, y0, size, mode, coefficients != nullptr);
 }
 
 void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0,
                                        const ChromaMode& mode, const uint8_t* luma, int luma_stride,
-                                       const int16_t* coefficients) {
+                                       const int16_t* coefficients, TransformType type) {
   if (!mode.cfl()) {
-    reconstruct_block_in_plane(state, plane, stride, x0, y0, 8, mode.mode, coefficients);
+    reconstruct_block_in_plane(state, plane, stride, x0, y0, 8, mode.mode, coefficients, type);
     return;
   }
   uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
@@ -769,17 +812,20 @@ void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int st
   int16_t ac[64];
   cfl_luma_ac(luma, luma_stride, x0, y0, ac);
   predict_cfl(ac, dc_prediction_8x8(edge), mode.alpha, prediction);
-  reconstruct_block(prediction, coefficients, 8, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
+  reconstruct_block(prediction, coefficients, type, 8, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
   state.mark(x0, y0, 8, kCflMode, coefficients != nullptr);
 }
 
 namespace {
 
-// Writes a block's levels and marks it.
+// Writes a block's levels and, when it has levels, its transform type, and marks it.
 void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
                   const BlockChoice& choice) {
   encode_block_levels(encoder, contexts.residual, choice.levels, 0, state.coded_block_context(x0, y0),
                       size_of_width(size));
+  const bool has_levels = std::any_of(choice.levels, choice.levels + size * size, [](int16_t l) { return l != 0; });
+  if (has_levels)
+    encode_transform_type(encoder, contexts.types, size_of_width(size), choice.mode, choice.transform_type);
   state.mark(x0, y0, size, choice.mode, choice.coded);
 }
 
@@ -904,9 +950,12 @@ const std::array<uint8_t, kMaxTransformArea>& inverse_scan(TransformSize size) {
 
 }  // namespace
 
-void CoefficientFrame::append_levels(const BlockLevel* block_levels, int count, TransformSize size) {
+void CoefficientFrame::append_levels(const BlockLevel* block_levels, int count, TransformSize size,
+                                     TransformType type) {
+  if (count <= 0) return;
   const std::array<uint8_t, kMaxTransformArea>& scan_of = inverse_scan(size);
   LevelStreamWriter writer(&levels);
+  writer.transform_type(static_cast<int>(type));
   int previous = -1;
   for (int i = 0; i < count; ++i) {
     const int scan = scan_of[block_levels[i].position];
@@ -915,11 +964,13 @@ void CoefficientFrame::append_levels(const BlockLevel* block_levels, int count, 
   }
 }
 
-int CoefficientFrame::read_levels(size_t* offset, int count, TransformSize size, int* positions,
-                                  int* values) const {
-  if (*offset >= levels.size()) return 0;
+int CoefficientFrame::read_levels(size_t* offset, int count, TransformSize size, int* positions, int* values,
+                                  TransformType* type) const {
+  *type = TransformType::kDctDct;
+  if (count <= 0 || *offset >= levels.size()) return 0;
   const ScanOrder& order = scan_order(size);
   LevelStreamReader reader(levels.data() + *offset, levels.size() - *offset);
+  *type = static_cast<TransformType>(reader.transform_type());
   int read = 0, previous = -1;
   while (read < count) {
     int scan, value;
@@ -965,8 +1016,10 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
                                 params.residual_matrix == ResidualMatrix::kWeighted ? kIntraWeightedMatrix
                                                                                     : uint8_t{0}};
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
+  if (params.transform_types) bytes[3] |= kTransformTypesFlag;
   RangeEncoder encoder(&bytes);
   PlaneContexts luma_contexts, chroma_contexts;
+  luma_contexts.types.enabled = chroma_contexts.types.enabled = params.transform_types;
   PaddedFrame frame = padded_frame(layout);
 
   {
@@ -1041,7 +1094,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
                                                " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
   }
   const int qindex = bytes[2];  // every byte value is a valid index
-  if ((bytes[3] & ~(kLoopFilterKnownBits | kIntraWeightedMatrix)) != 0) {
+  if ((bytes[3] & ~(kLoopFilterKnownBits | kIntraWeightedMatrix | kTransformTypesFlag)) != 0) {
     return corrupt("byte 3: unknown flags " + std::to_string(bytes[3]));
   }
 
@@ -1049,6 +1102,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   const auto planes = planes_of(layout, width, height);
   RangeDecoder decoder(bytes.subspan(kFrameHeaderBytes));
   PlaneContexts luma_contexts, chroma_contexts;
+  luma_contexts.types.enabled = chroma_contexts.types.enabled = (bytes[3] & kTransformTypesFlag) != 0;
 
   CoefficientFrame result;
   result.width = width;

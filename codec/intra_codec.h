@@ -9,6 +9,7 @@
 #include "codec/block_coder.h"
 #include "codec/cdef.h"
 #include "codec/quant.h"
+#include "codec/transform_type.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
@@ -42,6 +43,10 @@ struct CodingParams {
   // Encoder restriction: when false, no chroma block uses CfL (chroma from luma,
   // codec/cfl.h; the CfL flags are still coded).
   bool cfl = true;
+  // Offers the intra transform types (DST-VII per direction, docs/codec.md 7.2),
+  // signalled in the header (kTransformTypesFlag): the encoder picks each coded block's
+  // type by rate-distortion cost. When false, every block is DCT_DCT and no type is coded.
+  bool transform_types = true;
   // The residual quantization matrix (quant.h), signalled in the header (byte 3 bit 2).
   ResidualMatrix residual_matrix = ResidualMatrix::kFlat;
 };
@@ -53,10 +58,13 @@ inline constexpr uint8_t kLoopFilterCdef = 2;
 inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
 // Byte 3 bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
 inline constexpr uint8_t kIntraWeightedMatrix = 4;
+// Intra frame byte 3 bit 3, B-frame byte 4 bit 3: intra blocks with levels code their
+// transform type (docs/codec.md 5.4); without it every block is DCT_DCT.
+inline constexpr uint8_t kTransformTypesFlag = 8;
 
 // Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 6;
+inline constexpr uint8_t kIntraSyntaxVersion = 7;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 
@@ -85,20 +93,23 @@ struct CoefficientFrame {
   // block using CfL its alpha as cfl_mode_byte(alpha) (codec/cfl.h: 35..67; a Cr block
   // holds its own alpha).
   std::vector<uint8_t> block_modes;
-  // The non-zero levels of each block in turn, each block's as a whole-byte stream of
-  // Exp-Golomb codes (codec/level_stream.h, docs/codec.md 8).
+  // The transform type and non-zero levels of each block with levels in turn, each
+  // block's as a whole-byte stream (codec/level_stream.h, docs/codec.md 8).
   std::vector<uint8_t> levels;
 
   // Heap and object bytes held.
   size_t memory_bytes() const;
 
-  // Appends a block's non-zero levels (natural positions, in increasing scan order of
-  // `size`; |level| 1..4095).
-  void append_levels(const BlockLevel* block_levels, int count, TransformSize size);
-  // Reads the `count` levels of a block of `size` stored at byte *offset into positions
-  // (natural) and values, and moves *offset past them. Returns how many it read: fewer
-  // than `count` only for frames not built by this codec (never reads outside `levels`).
-  int read_levels(size_t* offset, int count, TransformSize size, int* positions, int* values) const;
+  // Appends a block's transform type and non-zero levels (natural positions, in
+  // increasing scan order of `size`; |level| 1..4095); nothing when count is 0.
+  void append_levels(const BlockLevel* block_levels, int count, TransformSize size,
+                     TransformType type = TransformType::kDctDct);
+  // Reads the transform type into *type and the `count` levels of a block of `size`
+  // stored at byte *offset into positions (natural) and values, and moves *offset past
+  // them. Returns how many it read: fewer than `count` only for frames not built by this
+  // codec (never reads outside `levels`). *type is kDctDct when none was read.
+  int read_levels(size_t* offset, int count, TransformSize size, int* positions, int* values,
+                  TransformType* type) const;
 };
 
 // 8x8 block grid of a frame of the given size (macroblock-padded planes): chroma blocks

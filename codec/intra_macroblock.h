@@ -20,6 +20,8 @@
 #include "codec/quant.h"
 #include "codec/range_coder.h"
 #include "codec/transform_size.h"
+#include "codec/transform_type.h"
+#include "codec/transform_type_coder.h"
 
 namespace svc::codec::intra {
 
@@ -29,7 +31,8 @@ struct PlaneContexts {
   BlockContextSet residual;
   std::array<AdaptiveBit, 3> split_16x16{};  // luma only, by split_context
   std::array<AdaptiveBit, 3> split_8x8{};
-  CflContexts cfl;  // chroma only
+  CflContexts cfl;              // chroma only
+  TransformTypeContexts types;  // `enabled` from the frame header
 };
 
 // Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
@@ -120,11 +123,12 @@ const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size);
 
 // ---- Decoding ----
 
-// A block's syntax as read: its mode (chroma: kCflMode with `cfl_alpha`) and its
-// non-zero levels in scan order.
+// A block's syntax as read: its mode (chroma: kCflMode with `cfl_alpha`), its
+// non-zero levels in scan order and its transform type (DCT_DCT without levels).
 struct BlockSyntax {
   int mode = kDcMode;
   int cfl_alpha = 0;
+  TransformType transform_type = TransformType::kDctDct;
   int count = 0;
   BlockLevel levels[kMaxTransformArea];
 };
@@ -156,24 +160,25 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
                           BlockReader& reader, uint8_t* partition);
 
 // Predicts the size x size block at (x0, y0) of `plane` (stride samples a row) in `mode`
-// from its reconstructed neighbours, adds the inverse transform of `coefficients`
-// (dequantized, natural order; null when the block has no levels), writes the clipped
-// result into the plane and marks the block in `state`.
+// from its reconstructed neighbours, adds the inverse transform of type `type` of
+// `coefficients` (dequantized, natural order; null when the block has no levels),
+// writes the clipped result into the plane and marks the block in `state`.
 void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
-                                const int16_t* coefficients);
+                                const int16_t* coefficients, TransformType type);
 // The same for an 8x8 chroma block in `mode`; CfL predicts from `luma`, the plane's
 // reconstructed luma (luma_stride samples a row, luma sample (2 x0, 2 y0) co-located).
 void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0,
                                        const ChromaMode& mode, const uint8_t* luma, int luma_stride,
-                                       const int16_t* coefficients);
+                                       const int16_t* coefficients, TransformType type);
 
 // ---- Encoding ----
 
-// Encoder only: a block's mode, prediction and residual levels.
+// Encoder only: a block's mode, prediction, residual levels and transform type.
 struct BlockChoice {
   int mode = kDcMode;  // kCflMode for chroma from luma
   int cfl_alpha = 0;
   bool coded = false;
+  TransformType transform_type = TransformType::kDctDct;  // DCT_DCT when not coded
   uint8_t prediction[kMaxTransformArea];
   int16_t levels[kMaxTransformArea];
 
@@ -206,7 +211,8 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
 class MacroblockEncoder {
  public:
   // `params` supplies the tools (modes, RD search, RDOQ, transform sizes); `lambda` the
-  // squared error per bit of every decision.
+  // squared error per bit of every decision. Transform types are searched where the
+  // contexts enable them (PlaneContexts::types).
   MacroblockEncoder(const CodingParams& params, int qindex, float lambda);
   ~MacroblockEncoder();
   MacroblockEncoder(const MacroblockEncoder&) = delete;

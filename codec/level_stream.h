@@ -1,5 +1,6 @@
 // The levels of the semi-decoded form (CoefficientFrame, docs/codec.md 8) packed as
-// Exp-Golomb codes: per non-zero level, in increasing scan order within its block, the
+// Exp-Golomb codes: a block with levels starts with its transform type in two bits
+// (codec/transform_type.h), then per non-zero level, in increasing scan order within its block, the
 // run of zeros before it, its magnitude minus one and its sign. A photographic I-face's
 // levels take about 5 bits each instead of 16, which keeps a cached I-face within a
 // quarter of its RGB bytes, while reading stays a few shifts per level (no contexts, no
@@ -16,6 +17,8 @@
 
 namespace svc::codec {
 
+inline constexpr int kTransformTypeBits = 2;
+
 // Appends bits to a byte vector, most significant bit of each byte first.
 class LevelStreamWriter {
  public:
@@ -27,6 +30,8 @@ class LevelStreamWriter {
   // One level at `scan_index` (0..area-1), following the block's previous level at
   // `previous_scan` (-1 for a block's first). `level` is non-zero, |level| <= 4095.
   void level(int previous_scan, int scan_index, int level);
+  // A block's transform type, 0..3, before its first level.
+  void transform_type(int type) { bits(static_cast<uint32_t>(type), kTransformTypeBits); }
   // Writes out the bits still held (zero-padded to a byte); the destructor calls it.
   void flush();
 
@@ -53,6 +58,8 @@ class LevelStreamReader {
   // *scan_index and *level. Returns false at the end of the stream or when the code
   // is not one a writer produces (a run past 255, a magnitude above 4095).
   bool level(int previous_scan, int* scan_index, int* level);
+  // A block's transform type, 0..3, before its first level (past the end: 0, DCT_DCT).
+  int transform_type() { return static_cast<int>(bits(kTransformTypeBits)); }
 
  private:
   uint32_t bits(int count);

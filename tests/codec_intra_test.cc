@@ -167,29 +167,34 @@ TEST(CodecFrame, PackedLevelsRoundTripAtEveryRunAndMagnitude) {
         block.push_back({order.scan[scan], static_cast<int16_t>(rng() % 2 ? -magnitude : magnitude)});
       }
       CoefficientFrame frame;
-      frame.append_levels(block.data(), static_cast<int>(block.size()), size);
+      const auto type = static_cast<TransformType>(trial % kTransformTypes);
+      frame.append_levels(block.data(), static_cast<int>(block.size()), size, type);
       frame.append_levels(block.data(), 1, size);  // a second block follows on the next byte
       size_t offset = 0;
       int positions[kMaxTransformArea], values[kMaxTransformArea];
-      ASSERT_EQ(frame.read_levels(&offset, static_cast<int>(block.size()), size, positions, values),
+      TransformType read_type = TransformType::kDctDct;
+      ASSERT_EQ(frame.read_levels(&offset, static_cast<int>(block.size()), size, positions, values, &read_type),
                 static_cast<int>(block.size()));
+      EXPECT_EQ(read_type, type);
       for (size_t i = 0; i < block.size(); ++i) {
         EXPECT_EQ(positions[i], block[i].position);
         EXPECT_EQ(values[i], block[i].level);
       }
-      ASSERT_EQ(frame.read_levels(&offset, 1, size, positions, values), 1);
+      ASSERT_EQ(frame.read_levels(&offset, 1, size, positions, values, &read_type), 1);
+      EXPECT_EQ(read_type, TransformType::kDctDct);
       EXPECT_EQ(positions[0], block[0].position);
       EXPECT_EQ(offset, frame.levels.size());
       // Past the end nothing more is read, whatever count is asked for.
-      EXPECT_EQ(frame.read_levels(&offset, 5, size, positions, values), 0);
+      EXPECT_EQ(frame.read_levels(&offset, 5, size, positions, values, &read_type), 0);
     }
   }
-  // The commonest level, a 1 right after the previous one, takes 3 bits.
+  // The commonest level, a 1 right after the previous one, takes 3 bits (after the
+  // transform type's 2).
   CoefficientFrame ones;
   std::vector<BlockLevel> dense;
   for (int scan = 0; scan < 64; ++scan) dense.push_back({scan_order(TransformSize::k8x8).scan[scan], 1});
   ones.append_levels(dense.data(), 64, TransformSize::k8x8);
-  EXPECT_EQ(ones.levels.size(), 24u);
+  EXPECT_EQ(ones.levels.size(), 25u);
 }
 
 TEST(CodecFrame, DamagedPackedLevelsReadShortNeverOutside) {
@@ -200,7 +205,9 @@ TEST(CodecFrame, DamagedPackedLevelsReadShortNeverOutside) {
     for (uint8_t& b : frame.levels) b = static_cast<uint8_t>(rng() % 4 == 0 ? 0 : rng());
     size_t offset = 0;
     int positions[kMaxTransformArea], values[kMaxTransformArea];
-    const int read = frame.read_levels(&offset, 256, TransformSize::k16x16, positions, values);
+    TransformType type = TransformType::kDctDct;
+    const int read = frame.read_levels(&offset, 256, TransformSize::k16x16, positions, values, &type);
+    ASSERT_LT(static_cast<int>(type), kTransformTypes);
     ASSERT_LE(read, 256);
     for (int i = 0; i < read; ++i) {
       ASSERT_LT(positions[i], 256);
@@ -226,10 +233,10 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   EXPECT_EQ(with(1, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
   EXPECT_TRUE(with(2, 0).ok());                                                 // every qindex is valid: the finest
   EXPECT_TRUE(with(2, 255).ok());                                               // and the coarsest
-  EXPECT_TRUE(with(3, 0).ok());                           // loop filters off: other pixels, still valid
-  EXPECT_EQ(with(3, 2).code(), ErrorCode::kCorruptData);  // CDEF without its syntax: reads past the end
-  EXPECT_TRUE(with(3, 1 | kIntraWeightedMatrix).ok());    // weighted matrices: other pixels, still valid
-  EXPECT_EQ(with(3, 8).code(), ErrorCode::kCorruptData);  // an unknown flag
+  EXPECT_TRUE(with(3, kTransformTypesFlag).ok());  // loop filters off: other pixels, still valid
+  EXPECT_EQ(with(3, 2 | kTransformTypesFlag).code(), ErrorCode::kCorruptData);   // CDEF without its syntax
+  EXPECT_TRUE(with(3, 1 | kIntraWeightedMatrix | kTransformTypesFlag).ok());     // weighted: other pixels
+  EXPECT_EQ(with(3, 16 | kTransformTypesFlag).code(), ErrorCode::kCorruptData);  // an unknown flag
   EXPECT_EQ(with(3, 0x80).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame(good, 32, kMaxFrameDimension + 1, &out).code(), ErrorCode::kInvalidArgument);

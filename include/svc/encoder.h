@@ -61,6 +61,10 @@ struct CodingTools {
   // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 10.4), by rate-distortion
   // cost against the regular modes. Off: never.
   bool cfl = true;
+  // I-faces and B-face intra macroblocks: each block with levels uses the DCT or an
+  // integer DST-VII per direction (docs/codec.md 7.2), by rate-distortion cost, and
+  // codes its choice. Off: DCT only, no type coded (a header flag says so).
+  bool transform_types = true;
   // I-faces: residuals quantized with a frequency-weighted matrix (coarser high
   // frequencies, docs/codec.md 6) instead of one flat step per transform size. Off by
   // default, since flat measures better in PSNR; `svc encode --quant-matrix weighted`.

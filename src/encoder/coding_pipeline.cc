@@ -41,6 +41,7 @@ class Pipeline {
     intra_params_.rdoq = job.tools.rdoq;
     intra_params_.transform_sizes = job.tools.transform_sizes;
     intra_params_.cfl = job.tools.cfl;
+    intra_params_.transform_types = job.tools.transform_types;
     intra_params_.residual_matrix = job.tools.weighted_quant_matrix ? codec::ResidualMatrix::kWeighted
                                                                     : codec::ResidualMatrix::kFlat;
     b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
@@ -56,6 +57,7 @@ class Pipeline {
     b_params_.intra_rd_search = job.tools.intra_rd_search;
     b_params_.intra_transform_sizes = job.tools.transform_sizes;
     b_params_.intra_cfl = job.tools.cfl;
+    b_params_.intra_transform_types = job.tools.transform_types;
   }
 
   Status run() {

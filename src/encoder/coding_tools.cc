@@ -28,6 +28,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"partitions", &CodingTools::partitions},
     CodingToolEntry{"transform-sizes", &CodingTools::transform_sizes},
     CodingToolEntry{"cfl", &CodingTools::cfl},
+    CodingToolEntry{"transform-types", &CodingTools::transform_types},
     CodingToolEntry{"b-intra-prediction", &CodingTools::b_intra_prediction},
 };
 
