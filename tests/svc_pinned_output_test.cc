@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "9928e3c45e258dc7787e58f41007e1215c91a14344f6659d808d663ab2547406",
-     "eabfd88a615e33b9fbc817d8b65e1583e7174ec928045cd1a34b1c046a3737c7"},
+     "d10978b0365cb09ab0edba349e26ecd54941d2d4cc86247bb112c1098e762c30",
+     "02bbef3390acf3dc400315b68519633937c3f025b1b41ad50f9bbd81d5708fcb"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "2e436845bf46f11afbc517f291f6bb5ad0f53ea6bf688b734fc257a54d4e2382",
-     "61e3eff20f368953905221b7fcbfd3a6b494fa0b6c66d15e7e60d5bd84a93fe5"},
+     "f5b8db6eda636d9f5780a10390995e6e2654d93dc3e146b6efce983fec0b3a17",
+     "4ef9829696493759c752b3be690629ccaaa1da1bd10ea98a03580801d6be5b48"},
 };
 
 std::string file_sha256(const fs::path& path) {
