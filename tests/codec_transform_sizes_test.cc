@@ -163,6 +163,7 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
     CodingParams params;
     params.qindex = 60;
     params.transform_sizes = sizes;
+    params.transform_types = false;  // with DST types the detailed 8x8 blocks rarely split
     ImageYCbCr420 reconstruction, decoded;
     const auto bytes = encode_intra_frame(image, params, &reconstruction);
     CoefficientFrame parsed;
