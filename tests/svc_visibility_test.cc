@@ -29,6 +29,14 @@ samples::SceneOptions house_options() {
   return options;
 }
 
+// A smaller house written as a database.
+Status write_house(const fs::path& out, const std::array<int, 3>& grid, int face_size) {
+  samples::SceneOptions options = house_options();
+  options.grid = grid;
+  options.face_size = face_size;
+  return samples::generate_scene(options, out);
+}
+
 // Every cell of the house: index, room and sampled depth.
 struct House {
   std::vector<CellIndex> cells;
@@ -181,10 +189,7 @@ TEST(Visibility, LayoutKeepsTheLatticeAndNeverRaisesTheEstimatedCost) {
 
 TEST(Visibility, EncodeIsTheSameForAnyThreadCountAndStaysWithinTwoReferences) {
   testing::TempDir dir;
-  samples::SceneOptions options = house_options();
-  options.grid = {6, 1, 6};
-  options.face_size = 32;
-  ASSERT_TRUE(samples::generate_scene(options, dir.path() / "db").ok());
+  ASSERT_TRUE(write_house(dir.path() / "db", {6, 1, 6}, 32).ok());
   EncoderSettings settings;
   settings.threads = 1;
   ASSERT_TRUE(encode_database(dir.path() / "db", dir.path() / "one.svc", settings).ok());
@@ -218,10 +223,7 @@ TEST(Visibility, EncodeIsTheSameForAnyThreadCountAndStaysWithinTwoReferences) {
 
 TEST(Visibility, MeterGivesTheSameTableUnderAnyBudgetAndHoldsWithinIt) {
   testing::TempDir dir;
-  samples::SceneOptions options = house_options();
-  options.grid = {12, 1, 12};
-  options.face_size = 16;
-  ASSERT_TRUE(samples::generate_scene(options, dir.path() / "db").ok());
+  ASSERT_TRUE(write_house(dir.path() / "db", {12, 1, 12}, 16).ok());
   auto manifest = load_manifest(dir.path() / "db");
   ASSERT_TRUE(manifest.ok()) << manifest.status().to_string();
   std::vector<CellIndex> cells;
