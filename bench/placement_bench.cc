@@ -38,8 +38,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // Share of cell c's samples its references see together.
 double seen_share(const VisibilityTable& table, uint32_t c, const std::vector<uint32_t>& refs) {
   if (refs.empty() || table.samples(c) == 0) return 0;
-  const size_t seen = refs.size() == 1 ? count_seen(*table.seen(c, refs[0]))
-                                       : count_seen_by_either(*table.seen(c, refs[0]), *table.seen(c, refs[1]));
+  const size_t seen = table.seen_by_either(c, refs[0], refs.back());
   return static_cast<double>(seen) / static_cast<double>(table.samples(c));
 }
 

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <tuple>
 
 #include "spatial/placement.h"
+#include "spatial/visibility.h"
 
 namespace svc {
 namespace {
@@ -28,6 +30,11 @@ std::vector<uint64_t> bits(size_t first, size_t end) {
   return out;
 }
 
+// What candidates see of one cell, as visible_references asks it, from their bitsets.
+SeenByEither either(const std::map<uint32_t, std::vector<uint64_t>>& seen) {
+  return [&seen](uint32_t first, uint32_t second) { return count_seen_by_either(seen.at(first), seen.at(second)); };
+}
+
 std::vector<CellIndex> grid_3x3() {
   std::vector<CellIndex> cells;
   for (int z = 0; z < 3; ++z)
@@ -42,18 +49,24 @@ size_t ordinal_of(const std::vector<CellIndex>& cells, CellIndex c) {
 // A table where every cell sees all of every other, except what `hidden` lists:
 // (seer, seen) -> the samples it sees instead.
 using Key = std::tuple<int, int, int>;
-VisibilityTable table_for(const std::vector<CellIndex>& cells, const std::array<int32_t, 3>& spacing,
-                          const std::map<std::pair<Key, Key>, std::vector<uint64_t>>& hidden) {
+// Only the pairs whose reference `keep` accepts are set.
+VisibilityTable table_for(
+    const std::vector<CellIndex>& cells, const std::array<int32_t, 3>& spacing,
+    const std::map<std::pair<Key, Key>, std::vector<uint64_t>>& hidden,
+    const std::function<bool(uint32_t)>& keep = [](uint32_t) { return true; }) {
   VisibilityTable table(cells.size());
   for (uint32_t c = 0; c < cells.size(); ++c) table.set_samples(c, kSamples);
   auto pairs = reach_pairs(cells, spacing);
   EXPECT_TRUE(pairs.ok());
+  std::map<uint32_t, std::vector<std::pair<uint32_t, std::vector<uint64_t>>>> by_cell;
   for (const auto& [cell, reference] : *pairs) {
+    if (!keep(reference)) continue;
     const Key seen{cells[cell].x, cells[cell].y, cells[cell].z};
     const Key seer{cells[reference].x, cells[reference].y, cells[reference].z};
     const auto it = hidden.find({seer, seen});
-    table.set_seen(cell, reference, it == hidden.end() ? bits(0, kSamples) : it->second);
+    by_cell[cell].emplace_back(reference, it == hidden.end() ? bits(0, kSamples) : it->second);
   }
+  for (const auto& [cell, seen] : by_cell) table.set_seen(cell, seen);
   return table;
 }
 
@@ -61,16 +74,14 @@ TEST(VisibilityReferences, PairThatSeesMostWinsOverTheNearest) {
   const std::vector<ReferenceCandidate> candidates = {{{1, 0, 0}, 10}, {{2, 0, 0}, 20}, {{5, 0, 0}, 30}};
   // The nearest two see the same half; the farthest sees the other half.
   std::map<uint32_t, std::vector<uint64_t>> seen = {{10, bits(0, 64)}, {20, bits(0, 64)}, {30, bits(64, 128)}};
-  auto refs = visible_references({0, 0, 0}, candidates, {1, 1, 1},
-                                 [&](uint32_t id) -> const std::vector<uint64_t>& { return seen.at(id); });
+  auto refs = visible_references({0, 0, 0}, candidates, {1, 1, 1}, either(seen));
   EXPECT_EQ(refs, (std::vector<uint32_t>{10, 30}));  // nearest first
 }
 
 TEST(VisibilityReferences, EqualCoverageKeepsTheNearestTwo) {
   const std::vector<ReferenceCandidate> candidates = {{{4, 0, 0}, 1}, {{1, 0, 0}, 2}, {{2, 0, 0}, 3}};
   std::map<uint32_t, std::vector<uint64_t>> seen = {{1, bits(0, 128)}, {2, bits(0, 128)}, {3, bits(0, 128)}};
-  auto refs = visible_references({0, 0, 0}, candidates, {1, 1, 1},
-                                 [&](uint32_t id) -> const std::vector<uint64_t>& { return seen.at(id); });
+  auto refs = visible_references({0, 0, 0}, candidates, {1, 1, 1}, either(seen));
   EXPECT_EQ(refs, (std::vector<uint32_t>{2, 3}));
   EXPECT_EQ(refs, nearest_references({0, 0, 0}, candidates, {1, 1, 1}));
 }
@@ -78,8 +89,8 @@ TEST(VisibilityReferences, EqualCoverageKeepsTheNearestTwo) {
 TEST(VisibilityReferences, OneCandidateIsTheOnlyReference) {
   const std::vector<ReferenceCandidate> candidates = {{{4, 0, 0}, 7}};
   const std::vector<uint64_t> none = bits(0, 0);
-  auto refs = visible_references({0, 0, 0}, candidates, {1, 1, 1},
-                                 [&](uint32_t) -> const std::vector<uint64_t>& { return none; });
+  auto refs =
+      visible_references({0, 0, 0}, candidates, {1, 1, 1}, [&](uint32_t, uint32_t) { return count_seen(none); });
   EXPECT_EQ(refs, (std::vector<uint32_t>{7}));
 }
 
@@ -169,18 +180,6 @@ TEST(VisibilityPlacement, ResultDoesNotDependOnCellOrder) {
   EXPECT_EQ(added, 5u);  // the lattice's four and one that serves the column
 }
 
-// `full` reduced to the pairs whose reference `keep` accepts.
-template <typename Keep>
-VisibilityTable reduced(const std::vector<CellIndex>& cells, const VisibilityTable& full, Keep keep) {
-  VisibilityTable table(cells.size());
-  for (uint32_t c = 0; c < cells.size(); ++c) table.set_samples(c, full.samples(c));
-  const auto pairs = reach_pairs(cells, {3, 1, 3});
-  for (const auto& [cell, reference] : *pairs) {
-    if (keep(reference)) table.set_seen(cell, reference, *full.seen(cell, reference));
-  }
-  return table;
-}
-
 TEST(VisibilityPlacement, CandidatePairsAloneGiveTheSamePlacement) {
   std::vector<CellIndex> cells;
   for (int z = 0; z < 6; ++z)
@@ -193,14 +192,15 @@ TEST(VisibilityPlacement, CandidatePairsAloneGiveTheSamePlacement) {
   const PlacementSettings settings = visibility_settings();
   auto lattice = place_cubes(cells, {12, 1, 6}, PlacementSettings{}, {1, 1, 1});
   ASSERT_TRUE(lattice.ok());
-  const VisibilityTable lattice_only = reduced(cells, full, [&](uint32_t k) { return (*lattice)[k].intra; });
+  const VisibilityTable lattice_only =
+      table_for(cells, {3, 1, 3}, hidden, [&](uint32_t k) { return (*lattice)[k].intra; });
   auto candidates = layout_candidates(cells, {12, 1, 6}, settings, {1, 1, 1}, lattice_only);
   ASSERT_TRUE(candidates.ok()) << candidates.status().to_string();
   // Cells out of reach of the hidden column (x >= 6) could never pay: every cell they
   // reach is seen whole already.
   ASSERT_FALSE(candidates->empty());
   for (uint32_t k : *candidates) EXPECT_LT(cells[k].x, 6) << k;
-  const VisibilityTable partial = reduced(cells, full, [&](uint32_t k) {
+  const VisibilityTable partial = table_for(cells, {3, 1, 3}, hidden, [&](uint32_t k) {
     return (*lattice)[k].intra || std::count(candidates->begin(), candidates->end(), k) > 0;
   });
   auto from_full = place_cubes(cells, {12, 1, 6}, settings, {1, 1, 1}, &full);

@@ -8,6 +8,7 @@
 
 #include "common/parallel.h"
 #include "database/database.h"
+#include "encoder/cell_visibility.h"
 #include "samples/scene/scene.h"
 #include "spatial/placement.h"
 #include "spatial/visibility.h"
@@ -26,6 +27,14 @@ samples::SceneOptions house_options() {
   options.grid = {9, 1, 9};
   options.face_size = 64;
   return options;
+}
+
+// A smaller house written as a database.
+Status write_house(const fs::path& out, const std::array<int, 3>& grid, int face_size) {
+  samples::SceneOptions options = house_options();
+  options.grid = grid;
+  options.face_size = face_size;
+  return samples::generate_scene(options, out);
 }
 
 // Every cell of the house: index, room and sampled depth.
@@ -69,8 +78,10 @@ VisibilityTable house_table(const House& h) {
   for (uint32_t c = 0; c < h.cells.size(); ++c) table.set_samples(c, sample_count(h.cubes[c]));
   auto pairs = reach_pairs(h.cells, {3, 1, 3});
   EXPECT_TRUE(pairs.ok());
+  std::map<uint32_t, std::vector<std::pair<uint32_t, std::vector<uint64_t>>>> by_cell;
   for (const auto& [cell, reference] : *pairs)
-    table.set_seen(cell, reference, seen_by(h.cubes[cell], h.cubes[reference]));
+    by_cell[cell].emplace_back(reference, seen_by(h.cubes[cell], h.cubes[reference]));
+  for (const auto& [cell, seen] : by_cell) table.set_seen(cell, seen);
   return table;
 }
 
@@ -113,8 +124,7 @@ TEST(Visibility, CellBehindAWallGetsAReferenceThatSeesIt) {
   auto visible = place_cubes(h.cells, {9, 1, 9}, by_sight, {0.5, 1, 0.5}, &table);
   ASSERT_TRUE(nearest.ok() && visible.ok());
   auto seen_by_refs = [&](uint32_t c, const std::vector<uint32_t>& refs) {
-    return refs.size() == 1 ? count_seen(*table.seen(c, refs[0]))
-                            : count_seen_by_either(*table.seen(c, refs[0]), *table.seen(c, refs[1]));
+    return table.seen_by_either(c, refs[0], refs.back());
   };
   auto behind_walls = [&](uint32_t c, const std::vector<uint32_t>& refs) {
     return std::count_if(refs.begin(), refs.end(), [&](uint32_t r) { return h.rooms[r] != h.rooms[c]; });
@@ -151,8 +161,7 @@ double estimated_cost(const House& h, const VisibilityTable& table, const std::v
       total += 1.0;
       continue;
     }
-    const size_t seen = refs.size() == 1 ? count_seen(*table.seen(c, refs[0]))
-                                         : count_seen_by_either(*table.seen(c, refs[0]), *table.seen(c, refs[1]));
+    const size_t seen = table.seen_by_either(c, refs[0], refs.back());
     const double share = static_cast<double>(seen) / static_cast<double>(table.samples(c));
     total += costs.seen_b_face * share + costs.unseen_b_face * (1.0 - share);
   }
@@ -180,10 +189,7 @@ TEST(Visibility, LayoutKeepsTheLatticeAndNeverRaisesTheEstimatedCost) {
 
 TEST(Visibility, EncodeIsTheSameForAnyThreadCountAndStaysWithinTwoReferences) {
   testing::TempDir dir;
-  samples::SceneOptions options = house_options();
-  options.grid = {6, 1, 6};
-  options.face_size = 32;
-  ASSERT_TRUE(samples::generate_scene(options, dir.path() / "db").ok());
+  ASSERT_TRUE(write_house(dir.path() / "db", {6, 1, 6}, 32).ok());
   EncoderSettings settings;
   settings.threads = 1;
   ASSERT_TRUE(encode_database(dir.path() / "db", dir.path() / "one.svc", settings).ok());
@@ -213,6 +219,50 @@ TEST(Visibility, EncodeIsTheSameForAnyThreadCountAndStaysWithinTwoReferences) {
       ASSERT_LE(reference_cells.size(), 2u);
     }
   }
+}
+
+TEST(Visibility, MeterGivesTheSameTableUnderAnyBudgetAndHoldsWithinIt) {
+  testing::TempDir dir;
+  ASSERT_TRUE(write_house(dir.path() / "db", {12, 1, 12}, 16).ok());
+  auto manifest = load_manifest(dir.path() / "db");
+  ASSERT_TRUE(manifest.ok()) << manifest.status().to_string();
+  std::vector<CellIndex> cells;
+  std::vector<std::optional<size_t>> sources;
+  for (size_t c = 0; c < manifest->cells.size(); ++c) {
+    cells.push_back(manifest->cells[c].index);
+    sources.emplace_back(c);
+  }
+  auto lattice = place_cubes(cells, {12, 1, 12}, PlacementSettings{});
+  auto all_pairs = reach_pairs(cells, {3, 1, 3});
+  ASSERT_TRUE(lattice.ok() && all_pairs.ok());
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (const auto& pair : *all_pairs) {
+    if ((*lattice)[pair.second].intra) pairs.push_back(pair);
+  }
+  // Every cube at once, against a budget of one byte: only the batch's cubes are held.
+  VisibilityMeter roomy(*manifest, sources, 2, uint64_t{1} << 30), tight(*manifest, sources, 1, 1);
+  VisibilityTable wide = roomy.empty_table(), narrow = tight.empty_table();
+  ASSERT_TRUE(roomy.measure(pairs, &wide).ok());
+  ASSERT_TRUE(tight.measure(pairs, &narrow).ok());
+  size_t partly_seen = 0;
+  for (const auto& [cell, reference] : pairs) {
+    ASSERT_TRUE(narrow.has(cell, reference));
+    EXPECT_EQ(wide.samples(cell), 6u * 4 * 4);
+    for (const auto& [other_cell, other] : pairs) {
+      if (other_cell != cell) continue;
+      EXPECT_EQ(narrow.seen_by_either(cell, reference, other), wide.seen_by_either(cell, reference, other));
+    }
+    const size_t alone = narrow.seen_by_either(cell, reference, reference);
+    partly_seen += alone > 0 && alone < narrow.samples(cell);
+  }
+  EXPECT_GT(partly_seen, 10u) << "walls hide part of some cells";
+  EXPECT_LT(tight.peak_bytes() * 3, roomy.peak_bytes());
+
+  // A pair not measured is not held and counts nothing.
+  const auto& [cell, reference] = pairs[pairs.size() / 2];
+  ASSERT_TRUE(wide.has(cell, reference));
+  EXPECT_FALSE(wide.has(cell, cell));
+  EXPECT_EQ(wide.seen_by_either(cell, cell, reference), 0u);
 }
 
 }  // namespace

@@ -133,10 +133,11 @@ std::vector<uint32_t> new_cell_references(const UnionCell& cell, uint32_t ordina
                                           const std::vector<ReferenceCandidate>& candidates, const GridSpec& grid,
                                           const VisibilityTable& table) {
   for (const ReferenceCandidate& candidate : candidates) {
-    if (!table.seen(ordinal, candidate.id)) return nearest_references(cell.index, candidates, grid.spacing);
+    if (!table.has(ordinal, candidate.id)) return nearest_references(cell.index, candidates, grid.spacing);
   }
-  return visible_references(cell.index, candidates, grid.spacing,
-                            [&](uint32_t id) -> const std::vector<uint64_t>& { return *table.seen(ordinal, id); });
+  return visible_references(cell.index, candidates, grid.spacing, [&](uint32_t first, uint32_t second) {
+    return table.seen_by_either(ordinal, first, second);
+  });
 }
 
 // Existing cells keep their types; a new cell takes the type the placement rules give

@@ -78,21 +78,30 @@ Result<std::vector<CellPlacement>> place_database(const DatabaseManifest& manife
   }
   std::vector<std::optional<size_t>> sources(cells.size());
   for (size_t c = 0; c < cells.size(); ++c) sources[c] = c;
-  SVC_ASSIGN_OR_RETURN(CellVisibility visibility, CellVisibility::load(manifest, sources, threads));
-  VisibilityTable table = visibility.empty_table();
-  // First what the lattice's I-cubes see, then what the cells that could become I-cubes
-  // see: most cells never can, and their pairs would cost most of the time.
+  VisibilityMeter meter(manifest, std::move(sources), threads, reference_cache_bytes());
+  VisibilityTable table = meter.empty_table();
+  // First what the lattice's I-cubes see, then, for the cells in reach of a cell that
+  // could become an I-cube, what the lattice and those cells see: most cells never can,
+  // and their pairs would cost most of the time.
   SVC_ASSIGN_OR_RETURN(const auto pairs, reach_pairs(cells, settings.i_spacing));
   PlacementSettings regular;
   regular.i_spacing = settings.i_spacing;
   SVC_ASSIGN_OR_RETURN(const auto lattice, place_cubes(cells, manifest.grid.dims, regular, manifest.grid.spacing));
-  visibility.measure(pairs_to(pairs, [&](uint32_t k) { return lattice[k].intra; }), threads, &table);
+  SVC_RETURN_IF_ERROR(meter.measure(pairs_to(pairs, [&](uint32_t k) { return lattice[k].intra; }), &table));
   if (settings.layout == Layout::kVisibility) {
     SVC_ASSIGN_OR_RETURN(const auto candidates,
                          layout_candidates(cells, manifest.grid.dims, settings, manifest.grid.spacing, table));
-    std::vector<uint8_t> is_candidate(cells.size(), 0);
+    std::vector<uint8_t> is_candidate(cells.size(), 0), near_candidate(cells.size(), 0);
     for (uint32_t k : candidates) is_candidate[k] = 1;
-    visibility.measure(pairs_to(pairs, [&](uint32_t k) { return is_candidate[k] != 0; }), threads, &table);
+    for (const auto& [cell, reference] : pairs) near_candidate[cell] |= is_candidate[reference];
+    // The table keeps counts, not what each reference sees, so a cell measured again
+    // is measured with every reference it may need.
+    std::vector<std::pair<uint32_t, uint32_t>> again;
+    for (const auto& pair : pairs) {
+      if (near_candidate[pair.first] && (lattice[pair.second].intra || is_candidate[pair.second]))
+        again.push_back(pair);
+    }
+    SVC_RETURN_IF_ERROR(meter.measure(again, &table));
   }
   return place_cubes(cells, manifest.grid.dims, settings, manifest.grid.spacing, &table);
 }

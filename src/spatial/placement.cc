@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace svc {
@@ -137,10 +138,11 @@ Result<std::vector<uint32_t>> references_by_visibility(const std::vector<CellInd
                                                        const VisibilityTable& table) {
   const std::vector<ReferenceCandidate> candidates = reach.in_reach(cells[ordinal]);
   for (const ReferenceCandidate& candidate : candidates) {
-    if (!table.seen(ordinal, candidate.id)) return missing_pair(cells, ordinal, candidate.id);
+    if (!table.has(ordinal, candidate.id)) return missing_pair(cells, ordinal, candidate.id);
   }
-  return visible_references(cells[ordinal], candidates, grid_spacing,
-                            [&](uint32_t id) -> const std::vector<uint64_t>& { return *table.seen(ordinal, id); });
+  return visible_references(cells[ordinal], candidates, grid_spacing, [&](uint32_t first, uint32_t second) {
+    return table.seen_by_either(ordinal, first, second);
+  });
 }
 
 // The greedy part of the visibility layout (placement.h, place_cubes).
@@ -159,7 +161,7 @@ class CostPlacement {
     candidate_.assign(cells_.size(), 1);
     for (uint32_t c = 0; c < cells_.size(); ++c) {
       for (uint32_t k : reach_[c]) {
-        if (table_.seen(c, k)) continue;
+        if (table_.has(c, k)) continue;
         if (placement_[k].intra) return missing_pair(cells_, c, k);
         candidate_[k] = 0;
       }
@@ -226,11 +228,9 @@ class CostPlacement {
     const std::vector<uint32_t>& near = reach_[c];
     for (size_t a = 0; a < near.size(); ++a) {
       if (!placement_[near[a]].intra) continue;
-      const std::vector<uint64_t>& seen_a = *table_.seen(c, near[a]);
-      best = std::max(best, count_seen(seen_a));
+      best = std::max(best, table_.seen_by_either(c, near[a], near[a]));
       for (size_t b = a + 1; b < near.size(); ++b) {
-        if (placement_[near[b]].intra)
-          best = std::max(best, count_seen_by_either(seen_a, *table_.seen(c, near[b])));
+        if (placement_[near[b]].intra) best = std::max(best, table_.seen_by_either(c, near[a], near[b]));
       }
     }
     return best;
@@ -238,10 +238,9 @@ class CostPlacement {
 
   // best_pair_seen of `c` once `k` (in its reach) is an I-cube too.
   size_t seen_with(uint32_t c, uint32_t k) const {
-    const std::vector<uint64_t>& seen_k = *table_.seen(c, k);
-    size_t best = std::max(best_[c], count_seen(seen_k));
+    size_t best = std::max(best_[c], table_.seen_by_either(c, k, k));
     for (uint32_t j : reach_[c]) {
-      if (placement_[j].intra) best = std::max(best, count_seen_by_either(seen_k, *table_.seen(c, j)));
+      if (placement_[j].intra) best = std::max(best, table_.seen_by_either(c, k, j));
     }
     return best;
   }
@@ -381,13 +380,45 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
   return place_cubes(cells, dims, settings, {1.0, 1.0, 1.0});
 }
 
-void VisibilityTable::set_seen(uint32_t cell, uint32_t reference, std::vector<uint64_t> bits) {
-  seen_[{cell, reference}] = std::move(bits);
+void VisibilityTable::set_seen(uint32_t cell, const std::vector<std::pair<uint32_t, std::vector<uint64_t>>>& seen) {
+  std::vector<size_t> order(seen.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return seen[a].first < seen[b].first; });
+  CellSeen& entry = seen_.at(cell);
+  entry.references.clear();
+  entry.counts.clear();
+  for (size_t i = 0; i < order.size(); ++i) {
+    entry.references.push_back(seen[order[i]].first);
+    for (size_t j = i; j < order.size(); ++j) {
+      const size_t count = count_seen_by_either(seen[order[i]].second, seen[order[j]].second);
+      entry.counts.push_back(static_cast<uint32_t>(count));
+    }
+  }
+  entry.references.shrink_to_fit();
+  entry.counts.shrink_to_fit();
 }
 
-const std::vector<uint64_t>* VisibilityTable::seen(uint32_t cell, uint32_t reference) const {
-  const auto it = seen_.find({cell, reference});
-  return it == seen_.end() ? nullptr : &it->second;
+bool VisibilityTable::has(uint32_t cell, uint32_t reference) const {
+  if (cell >= seen_.size()) return false;
+  const std::vector<uint32_t>& references = seen_[cell].references;
+  return std::binary_search(references.begin(), references.end(), reference);
+}
+
+size_t VisibilityTable::seen_by_either(uint32_t cell, uint32_t first, uint32_t second) const {
+  if (cell >= seen_.size()) return 0;
+  const CellSeen& entry = seen_[cell];
+  const auto position = [&](uint32_t reference) -> std::optional<size_t> {
+    const auto it = std::lower_bound(entry.references.begin(), entry.references.end(), reference);
+    if (it == entry.references.end() || *it != reference) return std::nullopt;
+    return static_cast<size_t>(it - entry.references.begin());
+  };
+  std::optional<size_t> i = position(first), j = position(second);
+  if (!i || !j) return 0;
+  if (*i > *j) std::swap(i, j);
+  // Row i of the upper triangle starts after the rows before it: n + (n-1) + ... entries.
+  const size_t n = entry.references.size();
+  const size_t row_start = *i * n - *i * (*i - 1) / 2;
+  return entry.counts[row_start + (*j - *i)];
 }
 
 Result<std::vector<std::pair<uint32_t, uint32_t>>> reach_pairs(const std::vector<CellIndex>& cells,
@@ -443,16 +474,14 @@ std::vector<uint32_t> nearest_references(const CellIndex& cell, const std::vecto
 }
 
 std::vector<uint32_t> visible_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
-                                         const std::array<double, 3>& grid_spacing,
-                                         const std::function<const std::vector<uint64_t>&(uint32_t id)>& seen) {
+                                         const std::array<double, 3>& grid_spacing, const SeenByEither& seen) {
   const std::vector<uint32_t> ranked = distance_order(cell, candidates, grid_spacing);
   if (ranked.size() <= 1) return ranked;
   size_t best_first = 0, best_second = 1, best_seen = 0;
   bool have_best = false;
   for (size_t first = 0; first < ranked.size(); ++first) {
-    const std::vector<uint64_t>& a = seen(ranked[first]);
     for (size_t second = first + 1; second < ranked.size(); ++second) {
-      const size_t together = count_seen_by_either(a, seen(ranked[second]));
+      const size_t together = seen(ranked[first], ranked[second]);
       if (!have_best || together > best_seen) {
         best_first = first;
         best_second = second;

@@ -99,22 +99,35 @@ Result<std::vector<CellPlacement>> place_cubes(const std::vector<CellIndex>& cel
                                                const std::array<double, 3>& grid_spacing);
 
 // What reference cubes see of cells, by cell ordinal (into place_cubes' `cells`): per
-// cell its number of sample points, and per (cell, reference) pair the bitset of the
-// cell's samples the reference sees (spatial/visibility.h, seen_by). Filled by the
-// caller for the pairs reach_pairs lists.
+// cell its number of sample points and, for the references measured for it, how many
+// of its samples each sees and each two see together (spatial/visibility.h, seen_by).
+// Counts only, no bitsets: a few bytes a pair, so a table of a whole database stays
+// small whatever the face size. Filled by the caller for the pairs reach_pairs lists.
 class VisibilityTable {
  public:
-  explicit VisibilityTable(size_t cells) : samples_(cells, 0) {}
+  explicit VisibilityTable(size_t cells) : samples_(cells, 0), seen_(cells) {}
   void set_samples(uint32_t cell, size_t count) { samples_.at(cell) = count; }
-  void set_seen(uint32_t cell, uint32_t reference, std::vector<uint64_t> bits);
+  // What each reference sees of `cell`, as bitsets of the cell's samples (one length).
+  // Replaces what the table held for the cell, so a caller adding references to a cell
+  // passes all of them again.
+  void set_seen(uint32_t cell, const std::vector<std::pair<uint32_t, std::vector<uint64_t>>>& seen);
   size_t cells() const { return samples_.size(); }
   size_t samples(uint32_t cell) const { return cell < samples_.size() ? samples_[cell] : 0; }
-  // Null when the pair was not set.
-  const std::vector<uint64_t>* seen(uint32_t cell, uint32_t reference) const;
+  // Whether the table holds what `reference` sees of `cell`.
+  bool has(uint32_t cell, uint32_t reference) const;
+  // Samples of `cell` that `first` or `second` sees (the same reference twice: what it
+  // alone sees). Both must be held (has); 0 otherwise.
+  size_t seen_by_either(uint32_t cell, uint32_t first, uint32_t second) const;
 
  private:
+  // The references of a cell, sorted, and the counts of every pair (i <= j) of them,
+  // row by row of the upper triangle (i == j: what reference i sees).
+  struct CellSeen {
+    std::vector<uint32_t> references;
+    std::vector<uint32_t> counts;
+  };
   std::vector<size_t> samples_;
-  std::map<std::pair<uint32_t, uint32_t>, std::vector<uint64_t>> seen_;
+  std::vector<CellSeen> seen_;
 };
 
 // The (cell, reference) ordinal pairs place_cubes may ask a VisibilityTable for: every
@@ -188,14 +201,16 @@ class ReachIndex {
 std::vector<uint32_t> nearest_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
                                          const std::array<double, 3>& grid_spacing);
 
+// What candidates see of one cell: the samples candidate `first` or candidate `second`
+// sees (the same id twice: what it alone sees).
+using SeenByEither = std::function<size_t(uint32_t first, uint32_t second)>;
+
 // The (at most) two candidates that together see most of a cell: the pair (or, with one
-// candidate, the single one) whose union of seen samples is largest, where `seen(id)`
-// gives what candidate `id` sees of the cell. Of pairs that see as much, the first in
-// the lexicographic order of their members' ranks by the References rule (distance,
-// then (y, z, x) index) wins, so where every pair sees all it is the nearest two.
-// Nearest first.
+// candidate, the single one) that sees most of it by `seen`. Of pairs that see as much,
+// the first in the lexicographic order of their members' ranks by the References rule
+// (distance, then (y, z, x) index) wins, so where every pair sees all it is the nearest
+// two. Nearest first.
 std::vector<uint32_t> visible_references(const CellIndex& cell, const std::vector<ReferenceCandidate>& candidates,
-                                         const std::array<double, 3>& grid_spacing,
-                                         const std::function<const std::vector<uint64_t>&(uint32_t id)>& seen);
+                                         const std::array<double, 3>& grid_spacing, const SeenByEither& seen);
 
 }  // namespace svc
