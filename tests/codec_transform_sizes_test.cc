@@ -13,23 +13,14 @@
 #include "codec/intra_codec.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
+#include "support/random_coefficients.h"
 
 namespace svc::codec {
 namespace {
 
 constexpr TransformSize kNewSizes[] = {TransformSize::k4x4, TransformSize::k16x16};
 
-std::vector<int16_t> random_coefficients(std::mt19937& rng, int area) {
-  std::vector<int16_t> coefficients(static_cast<size_t>(area), 0);
-  const int pattern = static_cast<int>(rng() % 3);
-  for (int i = 0; i < area; ++i) {
-    if (pattern == 0 || (pattern == 1 && rng() % 8 == 0)) {
-      coefficients[static_cast<size_t>(i)] = static_cast<int16_t>(static_cast<int>(rng() % 4096) - 2048);
-    }
-  }
-  if (pattern == 2) coefficients[0] = static_cast<int16_t>(rng() % 2 ? kMaxCoefficient : kMinCoefficient);
-  return coefficients;
-}
+using testing::random_coefficients;
 
 TEST(TransformSizes, IntegerInversesMatchTheirMatrixProductsBitExactly) {
   std::mt19937 rng(11);

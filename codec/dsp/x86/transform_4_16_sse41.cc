@@ -9,22 +9,12 @@
 
 #include "codec/dsp/dct_4_16_basis.h"
 #include "codec/dsp/dsp_init.h"
+#include "codec/dsp/x86/transposed_basis.h"
 
 #pragma GCC target("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
-
-// The forward basis transposed, bt[x][u], so that four frequencies load at once.
-template <int N>
-struct TransposedBasis {
-  alignas(16) float bt[N][N];
-  explicit TransposedBasis(const ForwardDctFloatBasis<N>& basis) {
-    for (int k = 0; k < N; ++k) {
-      for (int n = 0; n < N; ++n) bt[n][k] = basis.b[k][n];
-    }
-  }
-};
 
 template <int N>
 void forward_dct(const ForwardDctFloatBasis<N>& basis, const TransposedBasis<N>& transposed, float scale,

@@ -8,32 +8,22 @@
 
 #include "codec/dsp/dsp_init.h"
 #include "codec/dsp/transform_type_basis.h"
+#include "codec/dsp/x86/transposed_basis.h"
 
 #pragma GCC target("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
 
-// A float basis transposed, bt[n][k], so that four frequencies load at once.
 template <int N>
-struct TransposedTypeBasis {
-  alignas(16) float bt[N][N];
-  explicit TransposedTypeBasis(const TypeFloatBasis<N>& basis) {
-    for (int k = 0; k < N; ++k) {
-      for (int n = 0; n < N; ++n) bt[n][k] = basis.b[k][n];
-    }
-  }
-};
-
-template <int N>
-const TransposedTypeBasis<N>& transposed_basis(bool dst) {
-  static const TransposedTypeBasis<N> dct(type_float_basis<N>(false)), dst_basis(type_float_basis<N>(true));
+const TransposedBasis<N>& transposed_basis(bool dst) {
+  static const TransposedBasis<N> dct(type_float_basis<N>(false)), dst_basis(type_float_basis<N>(true));
   return dst ? dst_basis : dct;
 }
 
 template <int N>
 void forward_typed(int type, const float* samples, float* coefficients) {
-  const TransposedTypeBasis<N>& rows = transposed_basis<N>((type & 1) != 0);
+  const TransposedBasis<N>& rows = transposed_basis<N>((type & 1) != 0);
   const TypeFloatBasis<N>& columns = type_float_basis<N>((type & 2) != 0);
   alignas(16) float tmp[N * N];
   for (int y = 0; y < N; ++y) {
