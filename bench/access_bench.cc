@@ -80,7 +80,7 @@ Status measure_svc(const std::filesystem::path& file, const std::vector<CellInde
     }
     {
       // Without a decoded-face cache the second request decodes the face again, but its
-      // references come from the semi-decoded cache (no entropy decoding).
+      // references come reconstructed and padded from the reference cache.
       ReaderSettings settings = no_prefetch();
       settings.face_cache_bytes = 0;
       SVC_ASSIGN_OR_RETURN(auto reader, Reader::open(file, settings));

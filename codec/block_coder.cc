@@ -35,9 +35,31 @@ constexpr std::array<uint8_t, N * N> zig_zag() {
 constexpr std::array<uint8_t, 16> kZigZag4x4 = zig_zag<4>();
 constexpr std::array<uint8_t, 256> kZigZag16x16 = zig_zag<16>();
 
-constexpr ScanOrder kScan8x8{8, 64, kZigZag.data()};
-constexpr ScanOrder kScan4x4{4, 16, kZigZag4x4.data()};
-constexpr ScanOrder kScan16x16{16, 256, kZigZag16x16.data()};
+constexpr int diagonal_class(int row, int column) {
+  const int diagonal = row + column;
+  return diagonal == 0 ? 0 : diagonal <= 2 ? 1 : diagonal <= 5 ? 2 : 3;
+}
+
+template <int N>
+constexpr std::array<PositionContext, N * N> position_contexts() {
+  std::array<PositionContext, N * N> table{};
+  for (int row = 0; row < N; ++row) {
+    for (int column = 0; column < N; ++column) {
+      PositionContext& entry = table[static_cast<size_t>(row * N + column)];
+      entry.grid = static_cast<uint16_t>(row * (N + 2) + column);
+      entry.position_class = static_cast<uint8_t>(diagonal_class(row, column));
+      entry.range_group = static_cast<uint8_t>(row + column == 0 ? 0 : (row < 2 && column < 2 ? 1 : 2));
+    }
+  }
+  return table;
+}
+constexpr std::array<PositionContext, 16> kPositions4x4 = position_contexts<4>();
+constexpr std::array<PositionContext, 64> kPositions8x8 = position_contexts<8>();
+constexpr std::array<PositionContext, 256> kPositions16x16 = position_contexts<16>();
+
+constexpr ScanOrder kScan8x8{8, 64, kZigZag.data(), kPositions8x8.data()};
+constexpr ScanOrder kScan4x4{4, 16, kZigZag4x4.data(), kPositions4x4.data()};
+constexpr ScanOrder kScan16x16{16, 256, kZigZag16x16.data(), kPositions16x16.data()};
 
 // eob in [1, 256]: 0 for 1, 1 for 2, then c for 2^(c-1) < eob <= 2^c.
 int end_of_block_class(int eob) { return eob <= 2 ? eob - 1 : std::bit_width(static_cast<unsigned>(eob - 1)); }
@@ -167,30 +189,17 @@ const ScanOrder& scan_order(TransformSize size) {
   return size == TransformSize::k4x4 ? kScan4x4 : size == TransformSize::k16x16 ? kScan16x16 : kScan8x8;
 }
 
-int position_class(int position, int width) {
-  const int diagonal = position / width + position % width;
-  return diagonal == 0 ? 0 : diagonal <= 2 ? 1 : diagonal <= 5 ? 2 : 3;
-}
-
-int NeighbourMagnitudes::significance_context(int position) const {
-  const uint16_t* a = grid_.data() + index(position);
-  const int s = stride_;
-  const int magnitude = std::min<int>(a[1], 3) + std::min<int>(a[s], 3) + std::min<int>(a[s + 1], 3) +
-                        std::min<int>(a[2], 3) + std::min<int>(a[2 * s], 3);
-  return position_class(position, width_) * kNeighbourhoods + std::min((magnitude + 1) >> 1, kNeighbourhoods - 1);
-}
+int position_class(int position, int width) { return diagonal_class(position / width, position % width); }
 
 int NeighbourMagnitudes::range_context(int position) const {
-  const uint16_t* a = grid_.data() + index(position);
+  const uint16_t* a = grid_.data() + positions_[position].grid;
   const int s = stride_;
   const int magnitude = std::min<int>(a[1], 15) + std::min<int>(a[s], 15) + std::min<int>(a[s + 1], 15);
-  const int row = position / width_, column = position % width_;
-  const int group = position == 0 ? 0 : (row < 2 && column < 2 ? 1 : 2);
-  return group * 7 + std::min((magnitude + 1) >> 1, 6);
+  return positions_[position].range_group * 7 + std::min((magnitude + 1) >> 1, 6);
 }
 
 int NeighbourMagnitudes::rice_parameter(int position) const {
-  const uint16_t* a = grid_.data() + index(position);
+  const uint16_t* a = grid_.data() + positions_[position].grid;
   const int s = stride_;
   const unsigned sum = unsigned{a[1]} + a[s] + a[s + 1] + a[2] + a[2 * s];
   return std::min(kMaxRiceParameter, static_cast<int>(std::bit_width(sum >> 6)));
@@ -260,7 +269,7 @@ bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int f
   int n = 0;
   for (int i = last_scan; i >= first_scan; --i) {
     const int position = order.scan[i];
-    int base_context = last_level_context(position, order.width);
+    int base_context = kSignificanceContexts + order.positions[position].position_class;
     if (i != last_scan) {
       base_context = neighbours.significance_context(position);
       if (!decoder.decode(contexts.significant[base_context])) continue;

@@ -15,6 +15,7 @@
 // read outside their inputs and always terminate.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 
@@ -26,12 +27,21 @@ namespace svc::codec {
 // MPEG-2 default zig-zag: kZigZag[scan index] = natural (row-major) position.
 extern const std::array<uint8_t, 64> kZigZag;
 
+// What the context templates need of one natural position, tabulated per size so the
+// per-coefficient work has no division.
+struct PositionContext {
+  uint16_t grid;           // index in NeighbourMagnitudes' bordered grid
+  uint8_t position_class;  // position_class()
+  uint8_t range_group;     // 0 for the DC, 1 for row and column < 2, 2 beyond
+};
+
 // A size's scan: every position comes after its left and upper neighbours (the zig-zag
 // over anti-diagonals), so the reverse scan codes right and lower neighbours first.
 struct ScanOrder {
-  int width;            // coefficients per row and column
-  int count;            // width * width
-  const uint8_t* scan;  // scan index -> natural position (row * width + column)
+  int width;                         // coefficients per row and column
+  int count;                         // width * width
+  const uint8_t* scan;               // scan index -> natural position (row * width + column)
+  const PositionContext* positions;  // natural position -> its contexts' inputs
 };
 const ScanOrder& scan_order(TransformSize size);
 
@@ -76,20 +86,25 @@ struct BlockLevel {
 // wide to the right and below, so the context templates need no bounds checks.
 class NeighbourMagnitudes {
  public:
-  explicit NeighbourMagnitudes(const ScanOrder& order) : width_(order.width), stride_(order.width + 2) {
-    grid_.fill(0);
+  explicit NeighbourMagnitudes(const ScanOrder& order) : positions_(order.positions), stride_(order.width + 2) {
+    std::fill_n(grid_.begin(), stride_ * stride_, uint16_t{0});
   }
-  void set(int position, int magnitude) { grid_[index(position)] = static_cast<uint16_t>(magnitude); }
+  void set(int position, int magnitude) { grid_[positions_[position].grid] = static_cast<uint16_t>(magnitude); }
   // Contexts of natural position `position` (docs/codec.md 5.2).
-  int significance_context(int position) const;
+  int significance_context(int position) const {
+    const uint16_t* a = grid_.data() + positions_[position].grid;
+    const int s = stride_;
+    const int magnitude = std::min<int>(a[1], 3) + std::min<int>(a[s], 3) + std::min<int>(a[s + 1], 3) +
+                          std::min<int>(a[2], 3) + std::min<int>(a[2 * s], 3);
+    return positions_[position].position_class * kNeighbourhoods +
+           std::min((magnitude + 1) >> 1, kNeighbourhoods - 1);
+  }
   int range_context(int position) const;
   int rice_parameter(int position) const;
 
  private:
-  size_t index(int position) const {
-    return static_cast<size_t>((position / width_) * stride_ + position % width_);
-  }
-  int width_, stride_;
+  const PositionContext* positions_;
+  int stride_;
   std::array<uint16_t, (kMaxTransformWidth + 2) * (kMaxTransformWidth + 2)> grid_;
 };
 

@@ -22,15 +22,22 @@ inline constexpr uint32_t kProbabilityOne = 1u << kProbabilityBits;
 // Probability that the next bit is 0, as the mean of a fast- and a slow-adapting
 // estimate (shifts 4 and 7), each in 1/32768 units.
 struct AdaptiveBit {
+  // From this many bits on, the shifts stay at 4 and 6 (bit_width(seen + 2) >= 6).
+  static constexpr uint8_t kSettled = 62;
+
   uint16_t fast = kProbabilityOne / 2;
   uint16_t slow = kProbabilityOne / 2;
-  uint8_t seen = 0;  // bits coded so far, saturating: young contexts adapt faster
+  uint8_t seen = 0;  // bits coded so far, saturating at kSettled: young contexts adapt faster
 
   uint32_t probability_of_zero() const { return (uint32_t{fast} + uint32_t{slow}) >> 1; }
   void update(int bit) {
-    const int warm = std::bit_width(static_cast<unsigned>(seen) + 2u);
-    const int fast_shift = std::min(warm, 4), slow_shift = std::min(warm, 6);
-    if (seen < 255) ++seen;
+    int fast_shift = 4, slow_shift = 6;
+    if (seen < kSettled) {
+      const int warm = std::bit_width(static_cast<unsigned>(seen) + 2u);
+      fast_shift = std::min(warm, 4);
+      slow_shift = std::min(warm, 6);
+      ++seen;
+    }
     if (bit) {
       fast = static_cast<uint16_t>(fast - (fast >> fast_shift));
       slow = static_cast<uint16_t>(slow - (slow >> slow_shift));

@@ -27,6 +27,7 @@ ReaderSettings uncached_settings() {
   ReaderSettings settings;
   settings.coefficient_cache_bytes = 0;
   settings.face_cache_bytes = 0;
+  settings.reference_cache_bytes = 0;
   settings.prefetch_threads = 0;
   return settings;
 }
@@ -181,7 +182,9 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   EXPECT_EQ(stats.intra_faces_parsed, refs.size());
   EXPECT_EQ(stats.predicted_faces_decoded, 2u);
   EXPECT_EQ(stats.chunks_read, refs.size() + 2);
-  EXPECT_EQ(stats.coefficient_cache.hits, refs.size());
+  // Both references come padded from the reference cache: nothing reconstructed again.
+  EXPECT_EQ(stats.reference_cache.hits, 2u);
+  EXPECT_EQ(stats.coefficient_cache.hits, 0u);
 
   // The same face again: no read, no decode, a face-cache hit; the shared image is the
   // cached one and outlives close().
@@ -198,6 +201,36 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   EXPECT_TRUE(same_image(**shared, reference(second)));
   EXPECT_EQ((*reader)->stats().face_cache.bytes_held, 0u);
   EXPECT_EQ((*reader)->stats().coefficient_cache.bytes_held, 0u);
+}
+
+// Without the reference cache, a second B-face on the same references reconstructs them
+// again, from the semi-decoded I-faces: no chunk is read or entropy-decoded twice.
+TEST_F(ReaderAccess, WithoutAReferenceCacheReferencesComeFromSemiDecodedIFaces) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  settings.reference_cache_bytes = 0;
+  auto reader = Reader::open(file(), settings);
+  ASSERT_TRUE(reader.ok());
+  const auto [first, refs] = some_b_face(**reader, 0);
+  ASSERT_NE(first, SIZE_MAX);
+  size_t second = SIZE_MAX;
+  for (size_t skip = 1; second == SIZE_MAX; ++skip) {
+    auto [candidate, candidate_refs] = some_b_face(**reader, skip);
+    ASSERT_NE(candidate, SIZE_MAX) << "no second B-face with the same references";
+    if (candidate_refs == refs) second = candidate;
+  }
+  const auto& cells = (*reader)->cells();
+  for (size_t frame : {first, second}) {
+    auto face = (*reader)->decode_face_ycbcr(cells[frame / kFaceCount].index, Face::kPX);
+    ASSERT_TRUE(face.ok()) << face.status().to_string();
+    EXPECT_TRUE(same_image(*face, reference(frame)));
+  }
+  const ReaderStats stats = (*reader)->stats();
+  EXPECT_EQ(stats.intra_faces_parsed, refs.size());
+  EXPECT_EQ(stats.chunks_read, refs.size() + 2);
+  EXPECT_EQ(stats.coefficient_cache.hits, refs.size());
+  EXPECT_EQ(stats.reference_cache.entries, 0u);
+  EXPECT_EQ(stats.reference_cache.peak_bytes, 0u);
 }
 
 // A cell's random access: its six faces decode from the faces of at most its two
@@ -292,6 +325,8 @@ TEST_F(ReaderAccess, ZeroBudgetsCacheNothing) {
   EXPECT_EQ(stats.coefficient_cache.peak_bytes, 0u);
   EXPECT_EQ(stats.face_cache.hits, 0u);
   EXPECT_EQ(stats.face_cache.misses, 12u);
+  EXPECT_EQ(stats.reference_cache.peak_bytes, 0u);
+  EXPECT_EQ(stats.reference_cache.hits, 0u);
 }
 
 TEST_F(ReaderAccess, SemiDecodedIFacesAreChargedWhatTheyHold) {

@@ -38,6 +38,7 @@ class ReaderThreads : public ::testing::Test {
     ReaderSettings uncached;
     uncached.coefficient_cache_bytes = 0;
     uncached.face_cache_bytes = 0;
+    uncached.reference_cache_bytes = 0;
     uncached.prefetch_threads = 0;
     auto reader = Reader::open(file(), uncached);
     ASSERT_TRUE(reader.ok()) << reader.status().to_string();

@@ -59,6 +59,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_deblock_sse41(&table);
     init_cdef_sse41(&table);
     init_cfl_sse41(&table);
+    init_quant_sse41(&table);
   }
 #endif
   return table;

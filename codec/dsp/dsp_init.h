@@ -58,6 +58,7 @@ void init_transform_types_sse41(DspTable* table);
 void init_deblock_sse41(DspTable* table);
 void init_cdef_sse41(DspTable* table);
 void init_cfl_sse41(DspTable* table);
+void init_quant_sse41(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp

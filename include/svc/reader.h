@@ -62,6 +62,12 @@ struct ReaderSettings {
   // 0 disables it, and prefetch with it (prefetched faces would have nowhere to go).
   // Default 32 MiB: 56 cubes of 256x256 faces, 14 of 512x512.
   uint64_t face_cache_bytes = 32ull << 20;
+  // Byte budget of the reference cache: I-faces reconstructed for the B-faces that
+  // predict from them, and padded with their cube's border as cube references are
+  // (docs/codec.md 10.6), so the cells around one I-cube reconstruct and pad it once.
+  // 0 disables it. Default 32 MiB: the references of about 8 cells of 256x256 faces
+  // (3.8 MB each: two cubes, plain and padded), 2 of 512x512.
+  uint64_t reference_cache_bytes = 32ull << 20;
   // Worker threads that decode the viewer's neighbourhood after set_viewer(); 0 turns
   // prefetch off. 0..64, default 2. Threads start on the first set_viewer() call, so a
   // reader that never calls it runs none.
@@ -184,6 +190,7 @@ struct CacheCounters {
 struct ReaderStats {
   CacheCounters coefficient_cache;  // semi-decoded I-faces
   CacheCounters face_cache;         // decoded faces
+  CacheCounters reference_cache;    // reference I-faces, plain and padded
   uint64_t bytes_read = 0;          // face chunk bytes read from the file (with framing)
   uint64_t chunks_read = 0;
   uint64_t intra_faces_parsed = 0;       // I-face entropy decodes

@@ -30,6 +30,22 @@ Result<FacePointer> FileCodedFaceSource::intra_face(uint32_t frame) {
   return FacePointer(std::move(image));
 }
 
+Result<FacePointer> CodedFaceSource::padded_intra_face(uint32_t frame, int units) {
+  const Face face = static_cast<Face>(frame % kFaceCount);
+  const uint32_t cube_first = frame - frame % kFaceCount;
+  std::array<FacePointer, kFaceCount> held;
+  codec::CubeFaces cube{};
+  SVC_ASSIGN_OR_RETURN(held[static_cast<int>(face)], intra_face(frame));
+  for (Face g : codec::adjacent_faces(face)) {
+    SVC_ASSIGN_OR_RETURN(held[static_cast<int>(g)], intra_face(cube_first + static_cast<uint32_t>(g)));
+  }
+  for (int k = 0; k < kFaceCount; ++k) cube[k] = held[k].get();
+  auto padded = std::make_shared<ImageYCbCr420>();
+  const Status status = codec::pad_cube_face(cube, face, units, padded.get());
+  if (!status.ok()) return Status(ErrorCode::kCorruptData, status.message());
+  return FacePointer(std::move(padded));
+}
+
 namespace {
 
 // A reference I-face of B-face `frame`, with context naming the face that needed it.
@@ -46,25 +62,28 @@ Result<FacePointer> reference_face(const ReadOnlyFile& file, const ContainerInde
   return image;
 }
 
-// Reference `ref` of B-face `frame` padded with `units` of cube border from the adjacent
-// faces of its cube (docs/codec.md 10.6).
+// Reference `ref` of B-face `frame` padded with `units` of cube border: the five faces it
+// is built from must be I-faces (docs/codec.md 10.6).
 Result<FacePointer> padded_reference(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
                                      uint32_t ref, int units, CodedFaceSource& source) {
   const FrameRecord& record = index.frames[frame];
-  const uint32_t cube_first = ref - ref % kFaceCount;
-  std::array<FacePointer, kFaceCount> held;
-  codec::CubeFaces cube{};
-  SVC_ASSIGN_OR_RETURN(held[static_cast<int>(record.face)], reference_face(file, index, frame, ref, source));
-  for (Face g : codec::adjacent_faces(record.face)) {
-    const int k = static_cast<int>(g);
-    SVC_ASSIGN_OR_RETURN(held[k],
-                         reference_face(file, index, frame, cube_first + static_cast<uint32_t>(k), source));
+  if (!codec::cube_padding_possible(static_cast<int>(index.face_width), static_cast<int>(index.face_height))) {
+    return frame_error(Status(ErrorCode::kCorruptData, "cube references need square faces"), file, index, frame);
   }
-  for (int k = 0; k < kFaceCount; ++k) cube[k] = held[k].get();
-  auto padded = std::make_shared<ImageYCbCr420>();
-  const Status status = codec::pad_cube_face(cube, record.face, units, padded.get());
-  if (!status.ok()) return frame_error(Status(ErrorCode::kCorruptData, status.message()), file, index, frame);
-  return FacePointer(std::move(padded));
+  const uint32_t cube_first = ref - ref % kFaceCount;
+  std::array<uint32_t, 5> needed{ref};
+  const std::array<Face, 4> adjacent = codec::adjacent_faces(record.face);
+  for (size_t k = 0; k < adjacent.size(); ++k) needed[k + 1] = cube_first + static_cast<uint32_t>(adjacent[k]);
+  for (uint32_t face : needed) {
+    if (index.frames[face].type == FaceType::kIntra) continue;
+    return frame_error(Status(ErrorCode::kCorruptData, "reference is not an I-face"), file, index, face)
+        .with_context(frame_label(index, frame) + " cannot be decoded: its reference");
+  }
+  Result<FacePointer> padded = source.padded_intra_face(ref, units);
+  if (!padded.ok()) {
+    return padded.status().with_context(frame_label(index, frame) + " cannot be decoded: its reference");
+  }
+  return padded;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include "codec/bframe_codec.h"
 #include "codec/color.h"
+#include "codec/cube_padding.h"
 #include "codec/intra_codec.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
@@ -70,7 +71,8 @@ struct Reader::Impl {
   Impl(const ReaderSettings& s)
       : settings(s),
         coefficients(s.coefficient_cache_bytes, &coefficient_bytes),
-        faces(s.face_cache_bytes, &image_bytes) {}
+        faces(s.face_cache_bytes, &image_bytes),
+        references(s.reference_cache_bytes, &image_bytes) {}
 
   std::unique_ptr<ReadOnlyFile> file;
   ReaderSettings settings;
@@ -82,6 +84,10 @@ struct Reader::Impl {
 
   reader_internal::SharedCache<codec::CoefficientFrame> coefficients;
   reader_internal::SharedCache<ImageYCbCr420> faces;
+  // Reference I-faces as B-faces use them: reconstructed, and padded with their cube's
+  // border (key: reference_key). An I-face computation never waits on another key, so a
+  // B-face computation may wait on one.
+  reader_internal::SharedCache<ImageYCbCr420> references;
 
   std::atomic<bool> closed{false};
   std::atomic<uint64_t> bytes_read{0}, chunks_read{0}, intra_parsed{0}, predicted_decoded{0};
@@ -145,22 +151,36 @@ struct Reader::Impl {
     });
   }
 
-  // Pixels of an I-face: the decoded-face cache when it holds them, else the inverse
-  // DCT of its (cached) coefficients.
-  Result<ImagePointer> intra_image(uint32_t frame, Origin origin) {
-    if (ImagePointer cached = faces.peek(frame)) return cached;
-    SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
-    auto image = std::make_shared<ImageYCbCr420>();
-    codec::reconstruct_intra_frame(*coefficients, image.get());
-    return ImagePointer(std::move(image));
+  // Key of I-face `frame` in the reference cache: padded with `units` of border, or
+  // plain (0). parse_index bounds the frames well below 2^32 / 5.
+  static uint32_t reference_key(uint32_t frame, int units) {
+    return frame * (codec::kMaxCubeBorderUnits + 1) + static_cast<uint32_t>(units);
   }
 
-  // Chunks read through the reader's counters; I-faces through the caches.
+  // Pixels of an I-face: a cache's when one holds them, else reconstructed from its
+  // (cached) coefficients and kept as a reference.
+  Result<ImagePointer> intra_image(uint32_t frame, Origin origin) {
+    if (ImagePointer cached = faces.peek(frame)) return cached;
+    return references.get(reference_key(frame, 0), origin, [&]() -> Result<ImagePointer> {
+      SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
+      auto image = std::make_shared<ImageYCbCr420>();
+      codec::reconstruct_intra_frame(*coefficients, image.get());
+      return ImagePointer(std::move(image));
+    });
+  }
+
+  // Chunks read through the reader's counters; I-faces and padded references through the
+  // caches.
   class CachedSource : public CodedFaceSource {
    public:
     CachedSource(Impl& impl, Origin origin) : impl_(impl), origin_(origin) {}
     Result<std::vector<uint8_t>> payload(uint32_t frame) override { return impl_.read_payload(frame); }
     Result<FacePointer> intra_face(uint32_t frame) override { return impl_.intra_image(frame, origin_); }
+    Result<FacePointer> padded_intra_face(uint32_t frame, int units) override {
+      if (units == 0) return intra_face(frame);
+      return impl_.references.get(reference_key(frame, units), origin_,
+                                  [&] { return CodedFaceSource::padded_intra_face(frame, units); });
+    }
 
    private:
     Impl& impl_;
@@ -272,6 +292,7 @@ struct Reader::Impl {
     for (std::thread& worker : joining) worker.join();
     coefficients.set_budget(0);
     faces.set_budget(0);
+    references.set_budget(0);
   }
 };
 
@@ -431,6 +452,7 @@ ReaderStats Reader::stats() const {
   ReaderStats s;
   s.coefficient_cache = impl_->coefficients.counters();
   s.face_cache = impl_->faces.counters();
+  s.reference_cache = impl_->references.counters();
   s.bytes_read = impl_->bytes_read.load(std::memory_order_relaxed);
   s.chunks_read = impl_->chunks_read.load(std::memory_order_relaxed);
   s.intra_faces_parsed = impl_->intra_parsed.load(std::memory_order_relaxed);
