@@ -8,6 +8,7 @@
 #include <set>
 #include <thread>
 
+#include "codec/color.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
@@ -158,6 +159,42 @@ TEST_F(ReaderThreads, ConcurrentRequestsForOneFaceDecodeItOnce) {
   EXPECT_EQ(stats.face_cache.misses, frame_count());
   EXPECT_EQ(stats.face_cache.hits + stats.face_cache.misses + stats.face_cache.in_flight_waits, 8 * frame_count());
   EXPECT_EQ(stats.face_cache.evictions, 0u);
+}
+
+// decode_cube on one, two and five threads gives the sequential decode's faces, and
+// decodes each face of the cell and each reference I-face once.
+TEST_F(ReaderThreads, CubeDecodeOnAnyThreadCountEqualsSequentialDecode) {
+  for (int threads : {1, 2, 5}) {
+    ReaderSettings settings;
+    settings.prefetch_threads = 0;
+    settings.decode_threads = threads;
+    auto opened = Reader::open(file(), settings);
+    ASSERT_TRUE(opened.ok());
+    Reader& reader = **opened;
+    const auto& cells = reader.cells();
+    size_t b_cell = 0;
+    while (cells[b_cell].faces[0].type != FaceType::kPredicted) ++b_cell;
+    auto cube = reader.decode_cube(cells[b_cell].index);
+    ASSERT_TRUE(cube.ok()) << cube.status().to_string();
+    std::set<std::pair<uint32_t, Face>> references;
+    for (int f = 0; f < kFaceCount; ++f) {
+      ImageRGB8 expected;
+      expected.width = reference(b_cell * kFaceCount + f).width;
+      expected.height = reference(b_cell * kFaceCount + f).height;
+      expected.pixels.resize(static_cast<size_t>(expected.width) * expected.height * 3);
+      codec::ycbcr420_to_rgb(reference(b_cell * kFaceCount + f), expected.pixels.data());
+      EXPECT_EQ((*cube)[f].pixels, expected.pixels) << threads << " threads, face " << f;
+      for (const auto& dependency : cells[b_cell].faces[f].references) references.insert(dependency);
+    }
+    const ReaderStats stats = reader.stats();
+    EXPECT_EQ(stats.predicted_faces_decoded, 6u) << threads << " threads";
+    EXPECT_EQ(stats.intra_faces_parsed, references.size()) << threads << " threads";
+  }
+  ReaderSettings bad;
+  bad.decode_threads = 65;
+  auto refused = Reader::open(file(), bad);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("decode_threads 65 outside 0..64"), std::string::npos);
 }
 
 TEST_F(ReaderThreads, PrefetchFillsTheNeighbourhoodAndRequestsJoinItsWork) {

@@ -68,6 +68,11 @@ struct ReaderSettings {
   // 0 disables it. Default 32 MiB: the references of about 8 cells of 256x256 faces
   // (3.8 MB each: two cubes, plain and padded), 2 of 512x512.
   uint64_t reference_cache_bytes = 32ull << 20;
+  // Threads one decode_cube() call decodes on, the caller's among them: the reference
+  // I-faces of the cell side by side, then its six faces. 0 (the default) means one per
+  // core; 1 decodes on the caller's thread alone. 0..64. The faces are the same for any
+  // count.
+  int decode_threads = 0;
   // Worker threads that decode the viewer's neighbourhood after set_viewer(); 0 turns
   // prefetch off. 0..64, default 2. Threads start on the first set_viewer() call, so a
   // reader that never calls it runs none.
@@ -230,7 +235,8 @@ class Reader {
   // and stays valid as long as the caller keeps the pointer, even after eviction or
   // close(). Errors as decode_face_ycbcr.
   Result<std::shared_ptr<const ImageYCbCr420>> acquire_face_ycbcr(const CellIndex& cell, Face face);
-  // The six faces of a cell, indexed by Face.
+  // The six faces of a cell, indexed by Face, decoded on settings.decode_threads
+  // threads. Errors as decode_face (the first face's, in face order, when several fail).
   Result<std::array<ImageRGB8, kFaceCount>> decode_cube(const CellIndex& cell);
 
   // Tells the prefetcher where the viewer is: its cell (or a world position, mapped to
@@ -257,7 +263,8 @@ class Reader {
   // Errors as decode_face.
   Result<InspectedFace> inspect_face(const CellIndex& cell, Face face);
 
-  // Checks the CRC of every chunk and decodes every face, bypassing the caches. Returns
+  // Checks the CRC of every chunk and decodes every face: each I-face on its own, each
+  // B-face from its references through the reference and semi-decoded caches. Returns
   // the first problems found, naming the damaged chunk (offset, cell, face); ok when the
   // file is intact. The problems reported, and their order, do not depend on
   // settings.threads.

@@ -218,6 +218,34 @@ struct Reader::Impl {
     return decode_indexed_face(*file, index, frame, source, modes, partitions, warped);
   }
 
+  // The six faces from frame `first` on, decoded on settings.decode_threads threads:
+  // first the reference I-faces they need, then the faces themselves, each B-face
+  // padding its references from those. The second step reports any error, so which
+  // one comes back does not depend on the threads.
+  Result<std::array<ImageRGB8, kFaceCount>> decode_cube(uint32_t first) {
+    const int threads = resolve_thread_count(settings.decode_threads);
+    if (threads > 1) {
+      std::vector<uint32_t> references;
+      for (uint32_t frame = first; frame < first + kFaceCount; ++frame) {
+        if (faces.contains(frame)) continue;
+        for (uint32_t ref : frame_dependencies(index.frames[frame])) references.push_back(ref);
+      }
+      std::sort(references.begin(), references.end());
+      references.erase(std::unique(references.begin(), references.end()), references.end());
+      (void)parallel_for(references.size(), threads, [&](size_t i) {
+        (void)intra_image(references[i], Origin::kCaller);
+        return Status::Ok();
+      });
+    }
+    std::array<ImageRGB8, kFaceCount> cube;
+    SVC_RETURN_IF_ERROR(parallel_for(kFaceCount, threads, [&](size_t f) -> Status {
+      SVC_ASSIGN_OR_RETURN(ImagePointer image, face_of(first + static_cast<uint32_t>(f), Origin::kCaller));
+      cube[f] = to_rgb(*image);
+      return Status::Ok();
+    }));
+    return cube;
+  }
+
   // --- Prefetch --------------------------------------------------------------------------
 
   uint64_t cube_bytes() const {
@@ -307,6 +335,10 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
   if (settings.prefetch_threads < 0 || settings.prefetch_threads > 64) {
     return Status(ErrorCode::kInvalidArgument, "reader settings: prefetch_threads " +
                                                    std::to_string(settings.prefetch_threads) + " outside 0..64");
+  }
+  if (settings.decode_threads < 0 || settings.decode_threads > 64) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "reader settings: decode_threads " + std::to_string(settings.decode_threads) + " outside 0..64");
   }
   if (settings.prefetch_radius < 0 || settings.prefetch_radius > 8) {
     return Status(ErrorCode::kInvalidArgument,
@@ -420,11 +452,9 @@ Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
 }
 
 Result<std::array<ImageRGB8, kFaceCount>> Reader::decode_cube(const CellIndex& cell) {
-  std::array<ImageRGB8, kFaceCount> cube;
-  for (Face face : kAllFaces) {
-    SVC_ASSIGN_OR_RETURN(cube[static_cast<int>(face)], decode_face(cell, face));
-  }
-  return cube;
+  if (impl_->closed.load()) return cancelled();
+  SVC_ASSIGN_OR_RETURN(uint32_t first, impl_->frame_of(cell, Face::kPX));
+  return impl_->decode_cube(first);
 }
 
 Status Reader::set_viewer(const CellIndex& cell, const std::array<double, 3>& velocity) {
@@ -484,7 +514,14 @@ Status Reader::verify(const VerifySettings& settings) {
   const Status run = parallel_for(frames, resolve_thread_count(settings.threads), [&](size_t frame) -> Status {
     auto payload = impl_->read_payload(static_cast<uint32_t>(frame));
     outcomes[frame] = payload.status();
-    if (outcomes[frame].ok()) outcomes[frame] = impl_->decode_uncached(static_cast<uint32_t>(frame)).status();
+    // An I-face is decoded on its own; a B-face from its references as the caches hold
+    // them, so the I-faces around it are reconstructed and padded once, not once a face.
+    const auto f = static_cast<uint32_t>(frame);
+    if (outcomes[frame].ok()) {
+      outcomes[frame] = impl_->index.frames[f].type == FaceType::kIntra
+                            ? impl_->decode_uncached(f).status()
+                            : impl_->decode_through_caches(f, Origin::kCaller).status();
+    }
     if (!settings.progress) return Status::Ok();
     std::lock_guard<std::mutex> lock(progress_mutex);
     if (settings.progress(++checked, frames)) return Status::Ok();
