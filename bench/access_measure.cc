@@ -1,5 +1,7 @@
 // Random-access cost of svc and of the libavcodec anchors (see svc_bench.h, "Cold and
 // warm random access").
+#include <algorithm>
+
 #include "bench_runner.h"
 
 namespace svc::bench {
@@ -27,6 +29,45 @@ Status Bench::svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* re
   }
   result->access_cold = summarize_access(cold_ms, frames);
   result->access_warm = summarize_access(warm_ms, frames);
+  SVC_RETURN_IF_ERROR(svc_cell_access(run, result));
+  return svc_parallel_decode(run, result);
+}
+
+Status Bench::svc_cell_access(const SvcRun& run, CodecResult* result) {
+  ReaderSettings one_thread;
+  one_thread.decode_threads = 1;
+  one_thread.prefetch_threads = 0;
+  std::vector<double> cold_ms, warm_ms;
+  std::vector<int> frames;
+  for (size_t cell : pick_cells()) {
+    const CellIndex& index = source_.manifest.cells[cell].index;
+    const auto t0 = Clock::now();
+    SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(run.file, one_thread));
+    if (!reader->find_cell(index)) continue;
+    SVC_ASSIGN_OR_RETURN(auto cold, reader->decode_cube(index));
+    cold_ms.push_back(seconds_since(t0) * 1e3);
+    const ReaderStats stats = reader->stats();
+    frames.push_back(static_cast<int>(stats.intra_faces_parsed + stats.predicted_faces_decoded));
+    const auto t1 = Clock::now();
+    SVC_ASSIGN_OR_RETURN(auto warm, reader->decode_cube(index));
+    warm_ms.push_back(seconds_since(t1) * 1e3);
+  }
+  result->cell_cold = summarize_access(cold_ms, frames);
+  result->cell_warm = summarize_access(warm_ms, frames);
+  return Status::Ok();
+}
+
+Status Bench::svc_parallel_decode(const SvcRun& run, CodecResult* result) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(run.file, settings));
+  const auto& cells = reader->cells();
+  const auto t0 = Clock::now();
+  SVC_RETURN_IF_ERROR(parallel_for(cells.size() * kFaceCount, threads_, [&](size_t frame) -> Status {
+    return reader->decode_face(cells[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]).status();
+  }));
+  const double seconds = seconds_since(t0);
+  result->decode_faces_per_second_all_threads = seconds > 0 ? cells.size() * kFaceCount / seconds : 0;
   return Status::Ok();
 }
 
@@ -62,9 +103,58 @@ Status Bench::baseline_access(const CodecPlan& plan, const baseline::EncodedData
   }
   result->access_cold = summarize_access(cold_ms, cold_frames);
   result->access_warm = summarize_access(warm_ms, warm_frames);
+  const Status cells = baseline_cell_access(encoded, paths, result);
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
+  SVC_RETURN_IF_ERROR(cells);
+  return baseline_parallel_decode(encoded, result);
+}
+
+Status Bench::baseline_cell_access(const baseline::EncodedDatabase& encoded,
+                                   const std::array<std::filesystem::path, kFaceCount>& paths,
+                                   CodecResult* result) {
+  std::vector<double> cold_ms, warm_ms;
+  std::vector<int> frames;
+  for (size_t cell : pick_cells()) {
+    const int frame = encoded.layout.frame_of(source_.manifest.cells[cell].index);
+    int decoded_frames = 0;
+    const auto t0 = Clock::now();
+    for (Face f : kAllFaces) {
+      SVC_ASSIGN_OR_RETURN(baseline::EncodedSequence sequence, baseline::read_sequence(paths[static_cast<int>(f)]));
+      SVC_ASSIGN_OR_RETURN(baseline::DecodedFrame decoded, baseline::decode_frame(sequence, frame));
+      decoded_frames += decoded.frames_decoded;
+    }
+    cold_ms.push_back(seconds_since(t0) * 1e3);
+    frames.push_back(decoded_frames);
+    const auto t1 = Clock::now();
+    for (Face f : kAllFaces) {
+      SVC_ASSIGN_OR_RETURN(baseline::DecodedFrame decoded,
+                           baseline::decode_frame(encoded.faces[static_cast<int>(f)], frame));
+    }
+    warm_ms.push_back(seconds_since(t1) * 1e3);
+  }
+  result->cell_cold = summarize_access(cold_ms, frames);
+  result->cell_warm = summarize_access(warm_ms, frames);
   return Status::Ok();
+}
+
+Status Bench::baseline_parallel_decode(const baseline::EncodedDatabase& encoded, CodecResult* result) {
+  const auto t0 = Clock::now();
+  SVC_RETURN_IF_ERROR(parallel_for(kFaceCount, threads_, [&](size_t f) -> Status {
+    return baseline::decode_all(encoded.faces[f]).status();
+  }));
+  const double seconds = seconds_since(t0);
+  const double faces = static_cast<double>(encoded.layout.cells.size() * kFaceCount);
+  result->decode_faces_per_second_all_threads = seconds > 0 ? faces / seconds : 0;
+  return Status::Ok();
+}
+
+std::vector<size_t> Bench::pick_cells() const {
+  std::vector<size_t> cells;
+  for (const Pick& p : picks_) {
+    if (std::find(cells.begin(), cells.end(), p.cell) == cells.end()) cells.push_back(p.cell);
+  }
+  return cells;
 }
 
 }  // namespace svc::bench

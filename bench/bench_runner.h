@@ -60,6 +60,15 @@ class Bench {
   // access_measure.cc
   Status svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* result);
   Status baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded, CodecResult* result);
+  // Parts of the two above: whole cells at random on one thread, and every face on all
+  // threads (svc_bench.h, CodecResult).
+  Status svc_cell_access(const SvcRun& run, CodecResult* result);
+  Status svc_parallel_decode(const SvcRun& run, CodecResult* result);
+  Status baseline_cell_access(const baseline::EncodedDatabase& encoded,
+                              const std::array<std::filesystem::path, kFaceCount>& paths, CodecResult* result);
+  Status baseline_parallel_decode(const baseline::EncodedDatabase& encoded, CodecResult* result);
+  // The distinct cells of picks_, in pick order.
+  std::vector<size_t> pick_cells() const;
 
   // experiments.cc
   const SvcRun* find_run(int quality, std::array<int32_t, 3> i_spacing, MotionSearch motion, int spacing) const;

@@ -237,12 +237,14 @@ void Bench::finish_speed(CodecResult* result) const {
   const double faces = static_cast<double>(source_.faces.size());
   result->encode_faces_per_second = ref.encode_seconds > 0 ? faces / ref.encode_seconds : 0;
   result->decode_faces_per_second = ref.decode_seconds > 0 ? faces / ref.decode_seconds : 0;
-  char line[256];
-  std::snprintf(
-      line, sizeof line,
-      "%s: encode %.1f faces/s, decode %.1f faces/s, random face cold %.2f ms (%.2f frames), warm %.2f ms",
-      result->name.c_str(), result->encode_faces_per_second, result->decode_faces_per_second,
-      result->access_cold.mean_ms, result->access_cold.mean_frames, result->access_warm.mean_ms);
+  char line[384];
+  std::snprintf(line, sizeof line,
+                "%s: encode %.1f faces/s, decode %.1f faces/s (1 thread) %.1f (%d threads), random face cold %.2f "
+                "ms (%.2f frames), warm %.2f ms, random cell cold %.2f ms (%.1f frames), warm %.2f ms",
+                result->name.c_str(), result->encode_faces_per_second, result->decode_faces_per_second,
+                result->decode_faces_per_second_all_threads, result->threads, result->access_cold.mean_ms,
+                result->access_cold.mean_frames, result->access_warm.mean_ms, result->cell_cold.mean_ms,
+                result->cell_cold.mean_frames, result->cell_warm.mean_ms);
   log(line);
 }
 

@@ -107,9 +107,16 @@ struct CodecResult {
   int reference_point = -1;          // index in points where speed and access were measured
   int threads = 1;
   double encode_faces_per_second = 0;
-  double decode_faces_per_second = 0;
+  double decode_faces_per_second = 0;  // one thread
+  // Every face decoded once at the reference point on all `threads`: svc's faces side by
+  // side through one reader, an anchor's six face streams side by side.
+  double decode_faces_per_second_all_threads = 0;
   AccessStats access_cold;
   AccessStats access_warm;
+  // A whole cell (its six faces) at random, on one thread: cold from a newly opened file,
+  // warm the same cell again. Frames: faces decoded for the cell.
+  AccessStats cell_cold;
+  AccessStats cell_warm;
   // Bjontegaard rate of svc against this codec on PSNR-Y: svc bytes / these bytes - 1 at
   // equal quality, averaged over the overlapping PSNR range (negative: svc smaller).
   std::optional<double> bd_rate_svc;

@@ -95,6 +95,13 @@ TEST_F(BenchRun, ResultsJsonHasEveryCodecWithConsistentNumbers) {
     ASSERT_LT(ref, static_cast<int>(c["points"].size()));
     EXPECT_GT(c["speed"]["encode_faces_per_second"].get<double>(), 0);
     EXPECT_GT(c["speed"]["decode_faces_per_second"].get<double>(), 0);
+    EXPECT_GT(c["speed"]["decode_faces_per_second_all_threads"].get<double>(), 0);
+    for (const char* mode : {"cold", "warm"}) {
+      const auto& a = c["random_cell_access"][mode];
+      EXPECT_GE(a["samples"].get<int>(), 1);
+      EXPECT_GE(a["mean_frames_decoded"].get<double>(), 6.0);  // a cell is six faces
+      EXPECT_GT(a["mean_ms"].get<double>(), 0);
+    }
     for (const char* mode : {"cold", "warm"}) {
       const auto& a = c["random_access"][mode];
       EXPECT_EQ(a["samples"], 12);
@@ -110,6 +117,9 @@ TEST_F(BenchRun, ResultsJsonHasEveryCodecWithConsistentNumbers) {
   // svc: a face, at most two reference faces and, with cube references, the four
   // adjacent faces of each reference cube.
   EXPECT_LE(j["codecs"][0]["random_access"]["cold"]["max_frames_decoded"].get<int>(), 11);
+  // A cell: its six faces and at most its two reference cubes.
+  EXPECT_LE(j["codecs"][0]["random_cell_access"]["cold"]["max_frames_decoded"].get<int>(), 18);
+  EXPECT_EQ(j["codecs"][3]["random_cell_access"]["cold"]["max_frames_decoded"], 6);
   // MPEG-2 row-major: an I-frame starts every row of 2 cells, so at most I, I, B.
   EXPECT_LE(j["codecs"][1]["random_access"]["cold"]["max_frames_decoded"].get<int>(), 3);
 }
