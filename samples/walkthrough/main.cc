@@ -5,6 +5,7 @@
 //   svc-walkthrough IN.svc [--path FILE] [--speed CELLS_PER_S] [--no-prefetch] [--json]
 //                          [--steps N] [--realtime] [--prefetch-threads N]
 //                          [--face-cache-mb MB] [--coefficient-cache-mb MB]
+//                          [--reference-cache-mb MB]
 #include <cstdio>
 #include <string>
 
@@ -48,6 +49,11 @@ nlohmann::json to_json(const ReplayResult& r) {
         {"bytes", s.coefficient_cache.bytes_held},
         {"budget", s.coefficient_cache.budget_bytes},
         {"evictions", s.coefficient_cache.evictions}}},
+      {"reference_cache",
+       {{"entries", s.reference_cache.entries},
+        {"bytes", s.reference_cache.bytes_held},
+        {"budget", s.reference_cache.budget_bytes},
+        {"evictions", s.reference_cache.evictions}}},
   };
 }
 
@@ -82,7 +88,7 @@ void print_table(const std::vector<ReplayResult>& runs) {
   row("faces decoded by prefetch", [](const ReplayResult& r) { return std::to_string(r.stats.prefetch_faces); });
   row("bytes read", [](const ReplayResult& r) { return mib(r.stats.bytes_read); });
   row("memory held at end", [](const ReplayResult& r) { return mib(r.memory_held); });
-  row("memory peak (both caches)", [](const ReplayResult& r) { return mib(r.memory_peak); });
+  row("memory peak (three caches)", [](const ReplayResult& r) { return mib(r.memory_peak); });
   row("simulated walk (s)", [&](const ReplayResult& r) { return fixed(r.simulated_seconds, 1); });
   row("replay wall time (s)", [&](const ReplayResult& r) { return fixed(r.wall_seconds, 2); });
 }
@@ -100,6 +106,7 @@ int main(int argc, char** argv) {
   svc::ReaderSettings settings = svc::default_reader_settings();
   double face_mb = settings.face_cache_bytes / 1048576.0;
   double coefficient_mb = settings.coefficient_cache_bytes / 1048576.0;
+  double reference_mb = settings.reference_cache_bytes / 1048576.0;
   app.add_option("input", input, "the .svc file")->required()->check(CLI::ExistingFile);
   app.add_option("--path", path_file,
                  "waypoints, one \"x y z\" world position per line, '#' starts a comment "
@@ -124,10 +131,14 @@ int main(int argc, char** argv) {
   app.add_option("--coefficient-cache-mb", coefficient_mb, "semi-decoded I-face cache budget")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--reference-cache-mb", reference_mb, "reconstructed and padded reference I-face cache budget")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   app.footer(svc::command_line::exit_codes_help(true));
   if (auto exit_code = svc::command_line::parse(app, argc, argv, "svc-walkthrough")) return *exit_code;
   settings.face_cache_bytes = static_cast<uint64_t>(face_mb * 1048576.0);
   settings.coefficient_cache_bytes = static_cast<uint64_t>(coefficient_mb * 1048576.0);
+  settings.reference_cache_bytes = static_cast<uint64_t>(reference_mb * 1048576.0);
 
   auto reader = svc::Reader::open(input, settings);
   if (!reader.ok()) return svc::command_line::report_failure("svc-walkthrough", reader.status());

@@ -201,8 +201,9 @@ Result<ReplayResult> replay(const std::filesystem::path& svc_file, const std::ve
                            (c.in_flight_waits - at_start.coefficient_cache.in_flight_waits);
   result.coefficient_hit_rate = lookups ? static_cast<double>(c.hits - at_start.coefficient_cache.hits) / lookups
                                         : -1;
-  result.memory_held = result.stats.face_cache.bytes_held + c.bytes_held;
-  result.memory_peak = result.stats.face_cache.peak_bytes + c.peak_bytes;
+  const CacheCounters& r = result.stats.reference_cache;
+  result.memory_held = result.stats.face_cache.bytes_held + c.bytes_held + r.bytes_held;
+  result.memory_peak = result.stats.face_cache.peak_bytes + c.peak_bytes + r.peak_bytes;
   return result;
 }
 

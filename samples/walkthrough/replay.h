@@ -59,8 +59,8 @@ struct ReplayResult {
   double face_hit_rate = 0;                                // of the steps' face requests
   double coefficient_hit_rate = 0;  // of semi-decoded I-face lookups made for requests; -1: none
   ReaderStats stats;                // the reader's counters at the end
-  uint64_t memory_held = 0;         // both caches at the end
-  uint64_t memory_peak = 0;         // sum of both caches' peaks
+  uint64_t memory_held = 0;         // the three caches at the end
+  uint64_t memory_peak = 0;         // sum of the three caches' peaks
 };
 
 Result<ReplayResult> replay(const std::filesystem::path& svc_file, const std::vector<Position>& path,
