@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "codec/cube_padding_map.h"
+
 namespace svc::codec {
 
 namespace {
@@ -60,12 +62,30 @@ int bilinear_sample(const uint8_t* plane, int n, int x16, int y16) {
          8;
 }
 
-// Fills one plane (n x n per face, `border` samples each side) of the padded face.
-void pad_plane(const std::array<const std::vector<uint8_t>*, kFaceCount>& planes, int face, int n, int border,
-               std::vector<uint8_t>* out) {
+}  // namespace
+
+namespace cube_padding_internal {
+
+BorderSource border_source(int face, int n, int i, int j) {
+  const FaceFrame& frame = kFrames[face];
+  // Pixel centre in units of half a sample from the face centre; the face spans +-n.
+  const long long a = 2LL * i + 1 - n, b = 2LL * j + 1 - n, c = n;
+  const long long x = a * frame.right[0] + b * frame.down[0] + c * frame.forward[0];
+  const long long y = a * frame.right[1] + b * frame.down[1] + c * frame.forward[1];
+  const long long z = a * frame.right[2] + b * frame.down[2] + c * frame.forward[2];
+  // The direction leaves through the face whose axis dominates; on a diagonal, the
+  // neighbour across the left or right edge.
+  const int g = std::llabs(a) >= std::llabs(b) ? face_looking_along(frame.right, a > 0 ? 1 : -1)
+                                               : face_looking_along(frame.down, b > 0 ? 1 : -1);
+  const FaceFrame& target = kFrames[g];
+  const long long depth = dot(target.forward, x, y, z);
+  return {g, sixteenth_position(dot(target.right, x, y, z), depth, n),
+          sixteenth_position(dot(target.down, x, y, z), depth, n)};
+}
+
+void pad_plane_reference(const FacePlanes& planes, int face, int n, int border, std::vector<uint8_t>* out) {
   const int size = n + 2 * border;
   out->assign(static_cast<size_t>(size) * size, 0);
-  const FaceFrame& frame = kFrames[face];
   for (int j = -border; j < n + border; ++j) {
     uint8_t* row = out->data() + static_cast<size_t>(j + border) * size + border;
     const bool row_inside = j >= 0 && j < n;
@@ -74,25 +94,13 @@ void pad_plane(const std::array<const std::vector<uint8_t>*, kFaceCount>& planes
         row[i] = (*planes[face])[static_cast<size_t>(j) * n + i];
         continue;
       }
-      // Pixel centre in units of half a sample from the face centre; the face spans +-n.
-      const long long a = 2LL * i + 1 - n, b = 2LL * j + 1 - n, c = n;
-      const long long x = a * frame.right[0] + b * frame.down[0] + c * frame.forward[0];
-      const long long y = a * frame.right[1] + b * frame.down[1] + c * frame.forward[1];
-      const long long z = a * frame.right[2] + b * frame.down[2] + c * frame.forward[2];
-      // The direction leaves through the face whose axis dominates; on a diagonal, the
-      // neighbour across the left or right edge.
-      const int g = std::llabs(a) >= std::llabs(b) ? face_looking_along(frame.right, a > 0 ? 1 : -1)
-                                                   : face_looking_along(frame.down, b > 0 ? 1 : -1);
-      const FaceFrame& target = kFrames[g];
-      const long long depth = dot(target.forward, x, y, z);
-      const int x16 = sixteenth_position(dot(target.right, x, y, z), depth, n);
-      const int y16 = sixteenth_position(dot(target.down, x, y, z), depth, n);
-      row[i] = static_cast<uint8_t>(bilinear_sample(planes[g]->data(), n, x16, y16));
+      const BorderSource source = border_source(face, n, i, j);
+      row[i] = static_cast<uint8_t>(bilinear_sample(planes[source.face]->data(), n, source.x16, source.y16));
     }
   }
 }
 
-}  // namespace
+}  // namespace cube_padding_internal
 
 std::array<Face, 4> adjacent_faces(Face face) {
   std::array<Face, 4> out{};
@@ -134,7 +142,7 @@ Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420*
     }
   }
   const int border = units * kCubeBorderUnitPixels;
-  std::array<const std::vector<uint8_t>*, kFaceCount> y{}, cb{}, cr{};
+  cube_padding_internal::FacePlanes y{}, cb{}, cr{};
   for (Face g : needed) {
     const int k = static_cast<int>(g);
     y[k] = &cube[k]->y;
@@ -143,9 +151,9 @@ Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420*
   }
   ImageYCbCr420 padded;
   padded.width = padded.height = n + 2 * border;
-  pad_plane(y, f, n, border, &padded.y);
-  pad_plane(cb, f, nc, border / 2, &padded.cb);
-  pad_plane(cr, f, nc, border / 2, &padded.cr);
+  cube_padding_internal::pad_plane(y, f, n, border, &padded.y);
+  cube_padding_internal::pad_plane(cb, f, nc, border / 2, &padded.cb);
+  cube_padding_internal::pad_plane(cr, f, nc, border / 2, &padded.cr);
   *out = std::move(padded);
   return Status::Ok();
 }

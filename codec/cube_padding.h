@@ -5,7 +5,8 @@
 // reference face then find the right content instead of repeated edge samples.
 // Integer arithmetic only: part of the bitstream contract (docs/codec.md, section 10.6).
 //
-// All functions are pure and thread-safe.
+// All functions are thread-safe. The border geometry of each face size is worked out
+// once and kept for later paddings (codec/cube_padding_map.h).
 #pragma once
 
 #include <array>

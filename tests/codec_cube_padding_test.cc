@@ -1,13 +1,18 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <random>
 #include <set>
+#include <thread>
 #include <utility>
 #include <vector>
 
 #include "codec/bframe_codec.h"
 #include "codec/cube_padding.h"
+#include "codec/cube_padding_map.h"
 
 namespace svc::codec {
 namespace {
@@ -197,6 +202,132 @@ TEST(CubePadding, OppositeFaceIsNotNeededAndZeroUnitsCopiesTheFace) {
   EXPECT_EQ(padded.y, faces[4].y);
   EXPECT_EQ(padded.cb, faces[4].cb);
   EXPECT_EQ(padded.cr, faces[4].cr);
+}
+
+// Uniformly random samples (extremes included) on all six faces.
+std::array<ImageYCbCr420, kFaceCount> random_faces(int n, std::mt19937& rng) {
+  std::uniform_int_distribution<int> sample(0, 255);
+  std::array<ImageYCbCr420, kFaceCount> faces;
+  for (ImageYCbCr420& face : faces) {
+    face = blank_face(n);
+    for (std::vector<uint8_t>* plane : {&face.y, &face.cb, &face.cr}) {
+      for (uint8_t& v : *plane) v = static_cast<uint8_t>(sample(rng));
+    }
+  }
+  return faces;
+}
+
+// Face `f` padded by the per-sample rule of docs/codec.md 10.6, plane by plane.
+ImageYCbCr420 reference_padding(const std::array<ImageYCbCr420, kFaceCount>& faces, int f, int units) {
+  cube_padding_internal::FacePlanes y{}, cb{}, cr{};
+  for (int g = 0; g < kFaceCount; ++g) {
+    if (g == (f ^ 1)) continue;  // the opposite face is never read
+    y[g] = &faces[g].y;
+    cb[g] = &faces[g].cb;
+    cr[g] = &faces[g].cr;
+  }
+  const int n = faces[f].width, nc = (n + 1) / 2, border = units * kCubeBorderUnitPixels;
+  ImageYCbCr420 padded;
+  padded.width = padded.height = n + 2 * border;
+  cube_padding_internal::pad_plane_reference(y, f, n, border, &padded.y);
+  cube_padding_internal::pad_plane_reference(cb, f, nc, border / 2, &padded.cb);
+  cube_padding_internal::pad_plane_reference(cr, f, nc, border / 2, &padded.cr);
+  return padded;
+}
+
+// Index of the first differing sample, -1 when equal (a short message on failure).
+long first_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  if (a.size() != b.size()) return static_cast<long>(std::min(a.size(), b.size()));
+  const auto differ = std::mismatch(a.begin(), a.end(), b.begin());
+  return differ.first == a.end() ? -1 : static_cast<long>(differ.first - a.begin());
+}
+
+// The precomputed border maps give exactly the samples of the per-sample rule: every
+// face and border, corners included, odd sizes and planes down to 2 x 2, where most taps
+// are clamped (1 x 1 planes, too small for the maps, are padded by the rule itself).
+TEST(CubePadding, MappedPaddingMatchesThePerSampleRule) {
+  std::mt19937 rng(1406);
+  for (int n : {1, 2, 3, 7, 8, 16, 33, 64}) {
+    const std::array<ImageYCbCr420, kFaceCount> faces = random_faces(n, rng);
+    for (int units = 0; units <= kMaxCubeBorderUnits; ++units) {
+      for (int f = 0; f < kFaceCount; ++f) {
+        CubeFaces cube = pointers(faces);
+        cube[f ^ 1] = nullptr;
+        ImageYCbCr420 padded;
+        ASSERT_TRUE(pad_cube_face(cube, static_cast<Face>(f), units, &padded).ok());
+        const ImageYCbCr420 expected = reference_padding(faces, f, units);
+        EXPECT_EQ(padded.width, expected.width);
+        EXPECT_EQ(padded.height, expected.height);
+        EXPECT_EQ(first_difference(padded.y, expected.y), -1) << "n " << n << " units " << units << " face " << f;
+        EXPECT_EQ(first_difference(padded.cb, expected.cb), -1) << "n " << n << " units " << units << " face " << f;
+        EXPECT_EQ(first_difference(padded.cr, expected.cr), -1) << "n " << n << " units " << units << " face " << f;
+      }
+    }
+  }
+}
+
+// Every tap reads a whole 2 x 2 block inside its plane, clamped edges included, with
+// weights that sum to the bilinear filter's 256.
+TEST(CubePadding, BorderTapsStayInsideTheirPlane) {
+  for (int n : {2, 3, 7, 8, 33}) {
+    for (int border : {8, 16, 64}) {
+      for (int f = 0; f < kFaceCount; ++f) {
+        const cube_padding_internal::BorderMap map = cube_padding_internal::build_border_map(f, n, border);
+        ASSERT_EQ(map.taps.size(), static_cast<size_t>((n + 2 * border) * (n + 2 * border) - n * n));
+        for (const cube_padding_internal::BorderTap& tap : map.taps) {
+          ASSERT_LE(static_cast<int>(tap.index % n), n - 2) << n << " " << border << " " << f;
+          ASSERT_LE(static_cast<int>(tap.index / n), n - 2) << n << " " << border << " " << f;
+          ASSERT_EQ(tap.weights[0] + tap.weights[1] + tap.weights[2] + tap.weights[3], 256);
+        }
+      }
+    }
+  }
+}
+
+// One map per geometry, shared by later paddings; many geometries drop the cache rather
+// than grow it, and a map still in use survives that.
+TEST(CubePadding, BorderMapCacheIsSharedAndBounded) {
+  using cube_padding_internal::cached_border_map;
+  const std::shared_ptr<const cube_padding_internal::BorderMap> held = cached_border_map(2, 20, 16);
+  EXPECT_EQ(cached_border_map(2, 20, 16), held);
+  EXPECT_EQ(held->taps.size(), 52u * 52u - 20u * 20u);
+  for (int n = 2; n <= 3 * static_cast<int>(cube_padding_internal::kMaxCachedBorderMaps); ++n) {
+    cached_border_map(0, n, 8);
+    EXPECT_LE(cube_padding_internal::cached_border_map_count(), cube_padding_internal::kMaxCachedBorderMaps);
+  }
+  const cube_padding_internal::BorderMap rebuilt = cube_padding_internal::build_border_map(2, 20, 16);
+  ASSERT_EQ(held->taps.size(), rebuilt.taps.size());
+  for (size_t k = 0; k < rebuilt.taps.size(); ++k) {
+    ASSERT_EQ(held->taps[k].index, rebuilt.taps[k].index) << k;
+    ASSERT_EQ(held->taps[k].weights, rebuilt.taps[k].weights) << k;
+  }
+}
+
+// Threads padding more geometries than the cache holds, so that maps are built, shared
+// and dropped under each other, still get the rule's samples.
+TEST(CubePadding, ConcurrentPaddingMatchesThePerSampleRule) {
+  std::mt19937 rng(77);
+  std::vector<std::array<ImageYCbCr420, kFaceCount>> cubes;
+  for (int n = 5; n <= 12; ++n) cubes.push_back(random_faces(n, rng));
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      for (int round = 0; round < 3; ++round) {
+        for (size_t c = 0; c < cubes.size(); ++c) {
+          const int f = static_cast<int>((c + t + round) % kFaceCount), units = 1 + (t + round) % 2;
+          ImageYCbCr420 padded;
+          const ImageYCbCr420 expected = reference_padding(cubes[c], f, units);
+          if (!pad_cube_face(pointers(cubes[c]), static_cast<Face>(f), units, &padded).ok() ||
+              padded.y != expected.y || padded.cb != expected.cb || padded.cr != expected.cr) {
+            ++mismatches;
+          }
+        }
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_EQ(mismatches.load(), 0);
 }
 
 TEST(CubePadding, RejectsWhatItCannotPad) {
