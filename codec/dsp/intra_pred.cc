@@ -1,6 +1,7 @@
 // Plain intra prediction kernels: the 35 modes of a 4x4, 8x8 or 16x16 block from its
 // reference edge (planar, DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is
 // the definition) and the encoder's 4x4 and 8x8 Hadamard SATD.
+#include <algorithm>
 #include <cstdlib>
 
 #include "codec/dsp/dsp_init.h"
@@ -87,7 +88,9 @@ int prepare_angular_reference(const uint8_t* edge, int mode, uint8_t* main) {
   for (int k = -N; k < 0; ++k) ref[k] = 0;
   if (angle < 0) {
     const int last = (N * angle) >> 5;
-    for (int k = last; k < 0; ++k) ref[k] = side[(k * inverse_angle(angle) + 128) >> 8];
+    // At the mildest angles of a 4x4 block the projection of ref[-1] falls past the
+    // side (index 16 of 9); no prediction reads ref[last], so the clamp changes no output.
+    for (int k = last; k < 0; ++k) ref[k] = side[std::min((k * inverse_angle(angle) + 128) >> 8, 2 * N)];
   }
   return angle;
 }
