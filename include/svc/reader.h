@@ -60,8 +60,9 @@ struct ReaderSettings {
   uint64_t coefficient_cache_bytes = 64ull << 20;
   // Byte budget of the decoded-face cache (1.5 bytes a pixel plus a little per face).
   // 0 disables it, and prefetch with it (prefetched faces would have nowhere to go).
-  // Default 32 MiB: 56 cubes of 256x256 faces, 14 of 512x512.
-  uint64_t face_cache_bytes = 32ull << 20;
+  // Default 64 MiB: 112 cubes of 256x256 faces, 28 of 512x512, so that prefetch (which
+  // fills at most half) holds a whole 3x3 neighbourhood of 512x512 cubes.
+  uint64_t face_cache_bytes = 64ull << 20;
   // Byte budget of the reference cache: I-faces reconstructed for the B-faces that
   // predict from them, and padded with their cube's border as cube references are
   // (docs/codec.md 10.6), so the cells around one I-cube reconstruct and pad it once.
