@@ -14,7 +14,7 @@ constexpr int kMaxPrefix = 11;
 
 }  // namespace
 
-void LevelStreamWriter::bits(uint32_t value, int count) {
+void LevelStreamWriter::bits(uint64_t value, int count) {
   held_ = (held_ << count) | value;
   held_count_ += count;
   while (held_count_ >= 8) {
@@ -23,17 +23,16 @@ void LevelStreamWriter::bits(uint32_t value, int count) {
   }
 }
 
-// Order 0: n - 1 zeros, then value + 1 in its n = bit_width(value + 1) bits.
-void LevelStreamWriter::exp_golomb(uint32_t value) {
-  const int n = std::bit_width(value + 1);
-  bits(0, n - 1);
-  bits(value + 1, n);
-}
-
+// The run and the magnitude each as Exp-Golomb order 0 (v: bit_width(v + 1) - 1 zeros,
+// then v + 1 in bit_width(v + 1) bits, that is v + 1 in 2 bit_width(v + 1) - 1 bits),
+// then the sign: 41 bits at most, written at once.
 void LevelStreamWriter::level(int previous_scan, int scan_index, int level) {
-  exp_golomb(static_cast<uint32_t>(scan_index - previous_scan - 1));
-  exp_golomb(static_cast<uint32_t>(std::abs(level) - 1));
-  bits(level < 0 ? 1u : 0u, 1);
+  const auto run_code = static_cast<uint64_t>(scan_index - previous_scan);
+  const auto magnitude_code = static_cast<uint64_t>(std::abs(level));
+  const int run_bits = 2 * std::bit_width(run_code) - 1;
+  const int magnitude_bits = 2 * std::bit_width(magnitude_code) - 1;
+  bits((((run_code << magnitude_bits) | magnitude_code) << 1) | (level < 0 ? 1u : 0u),
+       run_bits + magnitude_bits + 1);
 }
 
 void LevelStreamWriter::flush() {
@@ -48,8 +47,7 @@ void LevelStreamReader::refill() {
 }
 
 // Past the end the buffer holds zeros; buffered_ may then go negative, harmlessly.
-uint32_t LevelStreamReader::bits(int count) {
-  refill();
+uint32_t LevelStreamReader::take(int count) {
   const auto value = static_cast<uint32_t>(buffer_ >> (64 - count));
   buffer_ <<= count;
   buffered_ -= count;
@@ -57,23 +55,28 @@ uint32_t LevelStreamReader::bits(int count) {
   return value;
 }
 
-bool LevelStreamReader::exp_golomb(uint32_t* value) {
+uint32_t LevelStreamReader::bits(int count) {
   refill();
+  return take(count);
+}
+
+bool LevelStreamReader::take_exp_golomb(uint32_t* value) {
   const int zeros = std::countl_zero(buffer_);
   if (zeros > kMaxPrefix) return false;
   buffer_ <<= zeros;
   buffered_ -= zeros;
   bits_read_ += static_cast<size_t>(zeros);
-  *value = bits(zeros + 1) - 1;
+  *value = take(zeros + 1) - 1;
   return true;
 }
 
 bool LevelStreamReader::level(int previous_scan, int* scan_index, int* level) {
+  refill();  // two prefixes of at most 11 zeros and their 12-bit values, and the sign
   uint32_t run = 0, magnitude = 0;
-  if (!exp_golomb(&run) || run > kMaxRun || !exp_golomb(&magnitude) || magnitude + 1 > kMaxMagnitude) {
+  if (!take_exp_golomb(&run) || run > kMaxRun || !take_exp_golomb(&magnitude) || magnitude + 1 > kMaxMagnitude) {
     return false;
   }
-  const bool negative = bits(1) != 0;
+  const bool negative = take(1) != 0;
   *scan_index = previous_scan + 1 + static_cast<int>(run);
   *level = negative ? -static_cast<int>(magnitude + 1) : static_cast<int>(magnitude + 1);
   return true;

@@ -36,8 +36,8 @@ class LevelStreamWriter {
   void flush();
 
  private:
-  void bits(uint32_t value, int count);
-  void exp_golomb(uint32_t value);
+  // At most 57 bits at once (held_count_ stays below 8 between calls).
+  void bits(uint64_t value, int count);
 
   std::vector<uint8_t>* bytes_;
   uint64_t held_ = 0;  // pending bits, right-aligned
@@ -63,8 +63,11 @@ class LevelStreamReader {
 
  private:
   uint32_t bits(int count);
-  bool exp_golomb(uint32_t* value);
+  // Fills the buffer to at least 57 bits, or to the stream's end (zeros follow it).
   void refill();
+  // From the buffer alone: the caller has refilled for them (a level takes at most 47).
+  uint32_t take(int count);
+  bool take_exp_golomb(uint32_t* value);
 
   const uint8_t* bytes_;
   size_t size_;
