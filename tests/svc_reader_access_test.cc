@@ -84,6 +84,14 @@ class ReaderAccess : public ::testing::Test {
     return {SIZE_MAX, {}};
   }
 
+  // Another B-face (not the first) predicted from the frames `refs`, or SIZE_MAX.
+  static size_t another_b_face(const Reader& reader, const std::vector<size_t>& refs) {
+    for (size_t skip = 1;; ++skip) {
+      auto [candidate, candidate_refs] = some_b_face(reader, skip);
+      if (candidate == SIZE_MAX || candidate_refs == refs) return candidate;
+    }
+  }
+
   static testing::TempDir* dir_;
   static std::vector<ImageYCbCr420>* reference_;
 };
@@ -169,12 +177,8 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
 
   // Another B-face predicted from the same two I-faces: only its own chunk is read and
   // only its own bytes are entropy-decoded.
-  size_t second = SIZE_MAX;
-  for (size_t skip = 1; second == SIZE_MAX; ++skip) {
-    auto [candidate, candidate_refs] = some_b_face(**reader, skip);
-    ASSERT_NE(candidate, SIZE_MAX) << "no second B-face with the same references";
-    if (candidate_refs == refs) second = candidate;
-  }
+  const size_t second = another_b_face(**reader, refs);
+  ASSERT_NE(second, SIZE_MAX) << "no second B-face with the same references";
   face = (*reader)->decode_face_ycbcr(cells[second / kFaceCount].index, Face::kPX);
   ASSERT_TRUE(face.ok());
   EXPECT_TRUE(same_image(*face, reference(second)));
@@ -213,12 +217,8 @@ TEST_F(ReaderAccess, WithoutAReferenceCacheReferencesComeFromSemiDecodedIFaces) 
   ASSERT_TRUE(reader.ok());
   const auto [first, refs] = some_b_face(**reader, 0);
   ASSERT_NE(first, SIZE_MAX);
-  size_t second = SIZE_MAX;
-  for (size_t skip = 1; second == SIZE_MAX; ++skip) {
-    auto [candidate, candidate_refs] = some_b_face(**reader, skip);
-    ASSERT_NE(candidate, SIZE_MAX) << "no second B-face with the same references";
-    if (candidate_refs == refs) second = candidate;
-  }
+  const size_t second = another_b_face(**reader, refs);
+  ASSERT_NE(second, SIZE_MAX) << "no second B-face with the same references";
   const auto& cells = (*reader)->cells();
   for (size_t frame : {first, second}) {
     auto face = (*reader)->decode_face_ycbcr(cells[frame / kFaceCount].index, Face::kPX);
