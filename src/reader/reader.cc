@@ -5,6 +5,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <deque>
+#include <limits>
 #include <mutex>
 #include <thread>
 #include <tuple>
@@ -85,9 +86,13 @@ struct Reader::Impl {
   reader_internal::SharedCache<codec::CoefficientFrame> coefficients;
   reader_internal::SharedCache<ImageYCbCr420> faces;
   // Reference I-faces as B-faces use them: reconstructed, and padded with their cube's
-  // border (key: reference_key). An I-face computation never waits on another key, so a
-  // B-face computation may wait on one.
+  // border (key: reference_key). A padded entry's computation waits on plain entries of
+  // this cache, whose computations wait on nothing in it, so waits form no cycle.
   reader_internal::SharedCache<ImageYCbCr420> references;
+  // Whether every frame has its own reference keys (false only for indexes of more
+  // frames than 2^32 / 5, which limits wider than the defaults can admit): without
+  // them, references are computed and not cached.
+  bool reference_keys_fit = true;
 
   std::atomic<bool> closed{false};
   std::atomic<uint64_t> bytes_read{0}, chunks_read{0}, intra_parsed{0}, predicted_decoded{0};
@@ -152,7 +157,7 @@ struct Reader::Impl {
   }
 
   // Key of I-face `frame` in the reference cache: padded with `units` of border, or
-  // plain (0). parse_index bounds the frames well below 2^32 / 5.
+  // plain (0); distinct for every frame when reference_keys_fit.
   static uint32_t reference_key(uint32_t frame, int units) {
     return frame * (codec::kMaxCubeBorderUnits + 1) + static_cast<uint32_t>(units);
   }
@@ -161,12 +166,14 @@ struct Reader::Impl {
   // (cached) coefficients and kept as a reference.
   Result<ImagePointer> intra_image(uint32_t frame, Origin origin) {
     if (ImagePointer cached = faces.peek(frame)) return cached;
-    return references.get(reference_key(frame, 0), origin, [&]() -> Result<ImagePointer> {
+    auto reconstruct = [&]() -> Result<ImagePointer> {
       SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
       auto image = std::make_shared<ImageYCbCr420>();
       codec::reconstruct_intra_frame(*coefficients, image.get());
       return ImagePointer(std::move(image));
-    });
+    };
+    if (!reference_keys_fit) return reconstruct();
+    return references.get(reference_key(frame, 0), origin, reconstruct);
   }
 
   // Chunks read through the reader's counters; I-faces and padded references through the
@@ -178,6 +185,7 @@ struct Reader::Impl {
     Result<FacePointer> intra_face(uint32_t frame) override { return impl_.intra_image(frame, origin_); }
     Result<FacePointer> padded_intra_face(uint32_t frame, int units) override {
       if (units == 0) return intra_face(frame);
+      if (!impl_.reference_keys_fit) return CodedFaceSource::padded_intra_face(frame, units);
       return impl_.references.get(reference_key(frame, units), origin_,
                                   [&] { return CodedFaceSource::padded_intra_face(frame, units); });
     }
@@ -348,6 +356,8 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
   SVC_ASSIGN_OR_RETURN(impl->file, ReadOnlyFile::open(path));
   SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*impl->file, settings.limits));
   impl->index = std::move(opened.index);
+  impl->reference_keys_fit = impl->index.frames.size() <=
+                             std::numeric_limits<uint32_t>::max() / (codec::kMaxCubeBorderUnits + 1);
   impl->slot_damaged = opened.slot_damaged;
   const ContainerIndex& index = impl->index;
   impl->grid.dims = index.grid.dims;
