@@ -65,9 +65,9 @@ class LevelStreamReader {
   uint32_t bits(int count);
   // Fills the buffer to at least 57 bits, or to the stream's end (zeros follow it).
   void refill();
-  // From the buffer alone: the caller has refilled for them (a level takes at most 47).
-  uint32_t take(int count);
-  bool take_exp_golomb(uint32_t* value);
+  // Consumes `count` buffered bits (the caller has refilled for them; a level takes at
+  // most 47).
+  void consume(int count);
 
   const uint8_t* bytes_;
   size_t size_;
