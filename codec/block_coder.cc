@@ -143,6 +143,20 @@ void write_levels(Sink& sink, Set& contexts, const int16_t* levels, int first_sc
   }
 }
 
+inline bool read_exp_golomb(RangeDecoder& decoder, uint32_t* value) {
+  constexpr int kMaxExpGolombPrefix = 16;
+  int bits = 0;
+  uint32_t base = 0;
+  while (decoder.decode_bypass()) {
+    base += 1u << bits;
+    if (++bits > kMaxExpGolombPrefix) return false;
+  }
+  uint32_t suffix = 0;
+  for (int i = 0; i < bits; ++i) suffix = (suffix << 1) | static_cast<uint32_t>(decoder.decode_bypass());
+  *value = base + suffix;
+  return true;
+}
+
 // Returns 0 on invalid syntax, else the end-of-block count (last scan - first_scan + 1).
 int read_end_of_block(RangeDecoder& decoder, BlockContextSet& contexts, const ScanOrder& order, TransformSize size,
                       int first_scan) {
@@ -170,7 +184,7 @@ bool read_magnitude(RangeDecoder& decoder, BlockContextSet& contexts, const Neig
     if (!decoder.decode(range)) return true;
   }
   uint32_t quotient = 0;
-  if (!decode_exp_golomb_bypass(decoder, &quotient) || quotient > static_cast<uint32_t>(kMaxLevel)) return false;
+  if (!read_exp_golomb(decoder, &quotient) || quotient > static_cast<uint32_t>(kMaxLevel)) return false;
   const int rice = neighbours.rice_parameter(position);
   uint32_t remainder = quotient;
   for (int b = 0; b < rice; ++b) remainder = (remainder << 1) | static_cast<uint32_t>(decoder.decode_bypass());
@@ -181,6 +195,36 @@ bool read_magnitude(RangeDecoder& decoder, BlockContextSet& contexts, const Neig
 
 inline int dc_context_row(int previous_category) {
   return previous_category == 0 ? 0 : (previous_category <= 2 ? 1 : 2);
+}
+
+[[gnu::always_inline]] inline bool read_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan,
+                                               int coded_block_context, BlockLevel* out, int* count,
+                                               TransformSize size) {
+  *count = 0;
+  const ScanOrder& order = scan_order(size);
+  if (first_scan < 0 || first_scan >= order.count) return false;
+  if (coded_block_context >= 0 && !decoder.decode(contexts.coded_block[coded_block_context])) return true;
+  const int eob = read_end_of_block(decoder, contexts, order, size, first_scan);
+  if (eob == 0) return false;
+  const int last_scan = first_scan + eob - 1;
+  NeighbourMagnitudes neighbours(order);
+  int n = 0;
+  for (int i = last_scan; i >= first_scan; --i) {
+    const int position = order.scan[i];
+    int base_context = kSignificanceContexts + order.positions[position].position_class;
+    if (i != last_scan) {
+      base_context = neighbours.significance_context(position);
+      if (!decoder.decode(contexts.significant[base_context])) continue;
+    }
+    int magnitude = 0;
+    if (!read_magnitude(decoder, contexts, neighbours, position, base_context, &magnitude)) return false;
+    const int negative = decoder.decode_bypass();
+    out[n++] = {static_cast<uint8_t>(position), static_cast<int16_t>(negative ? -magnitude : magnitude)};
+    neighbours.set(position, magnitude);
+  }
+  std::reverse(out, out + n);
+  *count = n;
+  return true;
 }
 
 }  // namespace
@@ -216,19 +260,7 @@ void encode_exp_golomb_bypass(RangeEncoder& encoder, uint32_t value) {
   while (bits-- > 0) encoder.encode_bypass(static_cast<int>((value >> bits) & 1));
 }
 
-bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value) {
-  constexpr int kMaxExpGolombPrefix = 16;
-  int bits = 0;
-  uint32_t base = 0;
-  while (decoder.decode_bypass()) {
-    base += 1u << bits;
-    if (++bits > kMaxExpGolombPrefix) return false;
-  }
-  uint32_t suffix = 0;
-  for (int i = 0; i < bits; ++i) suffix = (suffix << 1) | static_cast<uint32_t>(decoder.decode_bypass());
-  *value = base + suffix;
-  return true;
-}
+bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value) { return read_exp_golomb(decoder, value); }
 
 void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
                          int coded_block_context, TransformSize size) {
@@ -256,33 +288,14 @@ float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes&
   return sink.bits + 1;  // sign
 }
 
-bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan, int coded_block_context,
-                         BlockLevel* out, int* count, TransformSize size) {
-  *count = 0;
-  const ScanOrder& order = scan_order(size);
-  if (first_scan < 0 || first_scan >= order.count) return false;
-  if (coded_block_context >= 0 && !decoder.decode(contexts.coded_block[coded_block_context])) return true;
-  const int eob = read_end_of_block(decoder, contexts, order, size, first_scan);
-  if (eob == 0) return false;
-  const int last_scan = first_scan + eob - 1;
-  NeighbourMagnitudes neighbours(order);
-  int n = 0;
-  for (int i = last_scan; i >= first_scan; --i) {
-    const int position = order.scan[i];
-    int base_context = kSignificanceContexts + order.positions[position].position_class;
-    if (i != last_scan) {
-      base_context = neighbours.significance_context(position);
-      if (!decoder.decode(contexts.significant[base_context])) continue;
-    }
-    int magnitude = 0;
-    if (!read_magnitude(decoder, contexts, neighbours, position, base_context, &magnitude)) return false;
-    const int negative = decoder.decode_bypass();
-    out[n++] = {static_cast<uint8_t>(position), static_cast<int16_t>(negative ? -magnitude : magnitude)};
-    neighbours.set(position, magnitude);
-  }
-  std::reverse(out, out + n);
-  *count = n;
-  return true;
+bool decode_block_levels(RangeDecoder& shared_decoder, BlockContextSet& contexts, int first_scan,
+                         int coded_block_context, BlockLevel* out, int* count, TransformSize size) {
+  // A local copy the compiler can keep in registers: byte stores through `out` and the
+  // contexts could otherwise alias the decoder's state.
+  RangeDecoder decoder = shared_decoder;
+  const bool valid = read_levels(decoder, contexts, first_scan, coded_block_context, out, count, size);
+  shared_decoder = decoder;
+  return valid;
 }
 
 void encode_dc_difference(RangeEncoder& encoder, BlockContextSet& contexts, int difference) {
