@@ -8,16 +8,13 @@
 
 namespace svc::codec::bframe {
 
-const std::array<float, 4097>& cost_table() {
-  static const std::array<float, 4097> table = [] {
-    std::array<float, 4097> t{};
-    for (int i = 0; i <= 4096; ++i) {
-      const double p = std::clamp((i * 8.0 + 4.0) / 32768.0, 1.0 / 32768.0, 1.0);
-      t[static_cast<size_t>(i)] = static_cast<float>(-std::log2(p));
-    }
-    return t;
-  }();
-  return table;
+std::array<float, 4097> make_cost_table() {
+  std::array<float, 4097> t{};
+  for (int i = 0; i <= 4096; ++i) {
+    const double p = std::clamp((i * 8.0 + 4.0) / 32768.0, 1.0 / 32768.0, 1.0);
+    t[static_cast<size_t>(i)] = static_cast<float>(-std::log2(p));
+  }
+  return t;
 }
 
 float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value) {

@@ -131,7 +131,7 @@ void write_levels(Sink& sink, Set& contexts, const int16_t* levels, int first_sc
   NeighbourMagnitudes neighbours(order);
   for (int i = last_scan; i >= first_scan; --i) {
     const int position = order.scan[i], level = levels[position], magnitude = std::abs(level);
-    int base_context = last_level_context(position, order.width);
+    int base_context = last_level_context(order, position);
     if (i != last_scan) {
       base_context = neighbours.significance_context(position);
       sink.bit(contexts.significant[base_context], magnitude != 0);
@@ -211,7 +211,7 @@ inline int dc_context_row(int previous_category) {
   int n = 0;
   for (int i = last_scan; i >= first_scan; --i) {
     const int position = order.scan[i];
-    int base_context = kSignificanceContexts + order.positions[position].position_class;
+    int base_context = last_level_context(order, position);
     if (i != last_scan) {
       base_context = neighbours.significance_context(position);
       if (!decoder.decode(contexts.significant[base_context])) continue;
@@ -232,8 +232,6 @@ inline int dc_context_row(int previous_category) {
 const ScanOrder& scan_order(TransformSize size) {
   return size == TransformSize::k4x4 ? kScan4x4 : size == TransformSize::k16x16 ? kScan16x16 : kScan8x8;
 }
-
-int position_class(int position, int width) { return diagonal_class(position / width, position % width); }
 
 int NeighbourMagnitudes::range_context(int position) const {
   const uint16_t* a = grid_.data() + positions_[position].grid;

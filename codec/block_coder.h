@@ -31,7 +31,7 @@ extern const std::array<uint8_t, 64> kZigZag;
 // per-coefficient work has no division.
 struct PositionContext {
   uint16_t grid;           // index in NeighbourMagnitudes' bordered grid
-  uint8_t position_class;  // position_class()
+  uint8_t position_class;  // 0 for the DC, 1 for row + column <= 2, 2 up to 5, 3 beyond
   uint8_t range_group;     // 0 for the DC, 1 for row and column < 2, 2 beyond
 };
 
@@ -108,12 +108,11 @@ class NeighbourMagnitudes {
   std::array<uint16_t, (kMaxTransformWidth + 2) * (kMaxTransformWidth + 2)> grid_;
 };
 
-// 0 for the DC, 1 for row + column <= 2, 2 up to 5, 3 beyond.
-int position_class(int position, int width);
 // The greater-than-1/2 context of the last significant coefficient (its neighbours to the
-// right and below are all zero, and its significance is implied).
-inline int last_level_context(int position, int width) {
-  return kSignificanceContexts + position_class(position, width);
+// right and below are all zero, and its significance is implied): one per position class
+// (0 for the DC, 1 for row + column <= 2, 2 up to 5, 3 beyond).
+inline int last_level_context(const ScanOrder& order, int position) {
+  return kSignificanceContexts + order.positions[position].position_class;
 }
 
 // Codes scan positions [first_scan, count) of `levels` (natural order, |level| <=

@@ -57,8 +57,7 @@ class RdoqSearch {
           d.level = sign * magnitude;
         }
         const float last_cost = error + lambda_ * magnitude_bits(contexts_, alone, position,
-                                                                 last_level_context(position, order.width),
-                                                                 magnitude);
+                                                                 last_level_context(order, position), magnitude);
         if (last_cost < d.last_cost) {
           d.last_cost = last_cost;
           d.last_level = sign * magnitude;

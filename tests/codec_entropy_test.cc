@@ -297,8 +297,8 @@ TEST(CodecBlockCoder, RejectsALevelBeyondTheMaximum) {
     BlockContextSet written;
     encoder.encode(written.coded_block[0], 1);
     encoder.encode(written.eob_class[0][0], 0);
-    encoder.encode(written.greater_than_one[last_level_context(0, 8)], 1);
-    encoder.encode(written.greater_than_two[last_level_context(0, 8)], 1);
+    encoder.encode(written.greater_than_one[last_level_context(scan_order(TransformSize::k8x8), 0)], 1);
+    encoder.encode(written.greater_than_two[last_level_context(scan_order(TransformSize::k8x8), 0)], 1);
     for (int k = 3; k < kRangeLevel; ++k) encoder.encode(written.level_range[0], 1);
     encode_exp_golomb_bypass(encoder, quotient);
     encoder.encode_bypass(0);
