@@ -71,6 +71,8 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_quant_neon(&table);
     init_mc_neon(&table);
     init_intra_neon(&table);
+    init_deblock_neon(&table);
+    init_cdef_neon(&table);
     init_cfl_neon(&table);
   }
 #endif

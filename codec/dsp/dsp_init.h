@@ -68,6 +68,8 @@ void init_transform_types_neon(DspTable* table);
 void init_quant_neon(DspTable* table);
 void init_mc_neon(DspTable* table);
 void init_intra_neon(DspTable* table);
+void init_deblock_neon(DspTable* table);
+void init_cdef_neon(DspTable* table);
 void init_cfl_neon(DspTable* table);
 #endif
 
