@@ -69,6 +69,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_transform_4_16_neon(&table);
     init_transform_types_neon(&table);
     init_quant_neon(&table);
+    init_color_neon(&table);
     init_mc_neon(&table);
     init_intra_neon(&table);
     init_deblock_neon(&table);

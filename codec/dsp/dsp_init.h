@@ -66,6 +66,7 @@ void init_transform_neon(DspTable* table);
 void init_transform_4_16_neon(DspTable* table);
 void init_transform_types_neon(DspTable* table);
 void init_quant_neon(DspTable* table);
+void init_color_neon(DspTable* table);
 void init_mc_neon(DspTable* table);
 void init_intra_neon(DspTable* table);
 void init_deblock_neon(DspTable* table);
