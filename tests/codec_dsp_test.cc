@@ -22,7 +22,8 @@ TEST(DspTable, FollowsDetectedFeaturesAndCpuMask) {
 }
 
 TEST(DspTable, EveryEntryIsSetForEveryFeatureSet) {
-  for (unsigned flags : {0u, unsigned{kCpuSse2}, unsigned{kCpuSse2 | kCpuSse41}, detected_cpu_flags()}) {
+  for (unsigned flags :
+       {0u, unsigned{kCpuSse2}, unsigned{kCpuSse2 | kCpuSse41}, unsigned{kCpuNeon}, detected_cpu_flags()}) {
     const DspTable table = make_dsp_table(flags);
     const auto* entries = reinterpret_cast<const unsigned char*>(&table);
     for (size_t offset = 0; offset < sizeof(DspTable); offset += sizeof(void*)) {
@@ -39,6 +40,14 @@ TEST(DspTable, PlainTableDiffersFromOptimizedWhereVariantsExist) {
   EXPECT_NE(plain.put_intermediate, sse2.put_intermediate);
   EXPECT_NE(plain.inverse_dct_8x8, sse2.inverse_dct_8x8);
   EXPECT_EQ(plain.quantize_8x8, sse2.quantize_8x8);  // no variant: the reference stays
+}
+
+TEST(DspTable, NeonTableDiffersFromPlainWhereVariantsExist) {
+  if ((detected_cpu_flags() & kCpuNeon) == 0) GTEST_SKIP() << "no NEON on this machine";
+  const DspTable plain = make_dsp_table(0), neon = make_dsp_table(kCpuNeon);
+  EXPECT_NE(plain.interpolate_8tap, neon.interpolate_8tap);
+  EXPECT_NE(plain.inverse_dct_8x8, neon.inverse_dct_8x8);
+  EXPECT_EQ(plain.forward_dct_8x8, neon.forward_dct_8x8);  // float: no variant
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Builds the kernel table: plain references first, then each x86 variant whose CPU
-// features are present, so the most capable variant of each kernel wins.
+// Builds the kernel table: plain references first, then each x86 or NEON variant whose
+// CPU features are present, so the most capable variant of each kernel wins.
 #include "codec/dsp/dsp.h"
 
 #include <cstdlib>
@@ -15,6 +15,8 @@ unsigned detected_cpu_flags() {
   if (__builtin_cpu_supports("sse2")) flags |= kCpuSse2;
   if (__builtin_cpu_supports("sse4.1")) flags |= kCpuSse41;
   if (__builtin_cpu_supports("avx2")) flags |= kCpuAvx2;
+#elif defined(__aarch64__)
+  flags |= kCpuNeon;  // part of the AArch64 base architecture
 #endif
   return flags;
 }
@@ -60,6 +62,19 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_cdef_sse41(&table);
     init_cfl_sse41(&table);
     init_quant_sse41(&table);
+  }
+#elif defined(__aarch64__)
+  if (cpu_flags & kCpuNeon) {
+    init_transform_neon(&table);
+    init_transform_4_16_neon(&table);
+    init_transform_types_neon(&table);
+    init_quant_neon(&table);
+    init_color_neon(&table);
+    init_mc_neon(&table);
+    init_intra_neon(&table);
+    init_deblock_neon(&table);
+    init_cdef_neon(&table);
+    init_cfl_neon(&table);
   }
 #endif
   return table;

@@ -1,7 +1,7 @@
 // The pixel kernels of the codec behind one table of function pointers, filled once by
 // CPU features (the pattern of dav1d's mc.h and libwebp's dsp/): every kernel has a plain
-// C++ reference, always compiled, and optional x86 variants that must match it bit for
-// bit. The codec calls kernels only through get_dsp(); tests and the kernel checker build
+// C++ reference, always compiled, and optional x86 or AArch64 NEON variants that must
+// match it bit for bit. The codec calls kernels only through get_dsp(); tests and the kernel checker build
 // tables for chosen feature sets with make_dsp_table(). docs/kernels.md describes how to
 // add a kernel or a variant.
 #pragma once
@@ -17,9 +17,11 @@ enum CpuFlag : unsigned {
   kCpuSse2 = 1u << 0,
   kCpuSse41 = 1u << 1,
   kCpuAvx2 = 1u << 2,
+  kCpuNeon = 1u << 3,  // AArch64 Advanced SIMD
 };
 
-// Features this machine has (0 on non-x86 builds).
+// Features this machine has: the x86 ones by CPUID, kCpuNeon on AArch64 (where every
+// processor has it), 0 elsewhere.
 unsigned detected_cpu_flags();
 // detected_cpu_flags() restricted by the SVC_CPU_MASK environment variable when it is set
 // (a number, e.g. 0 for the plain references only, 0x1 for SSE2); read once.

@@ -21,7 +21,7 @@ void init_cfl_c(DspTable* table);
 inline constexpr int kMaxInterpolationBlock = 64;
 inline constexpr int kIntermediateOffset = 8192;
 
-// Plain kernels that x86 variants fall back to for the sizes they do not specialise.
+// Plain kernels that the variants fall back to for the sizes they do not specialise.
 void interpolate_8tap_c(const uint8_t* window, ptrdiff_t window_stride, int width, int height, const int8_t* h_taps,
                         const int8_t* v_taps, int16_t* out, ptrdiff_t out_stride);
 void put_intermediate_c(const int16_t* in, int count, uint8_t* out);
@@ -59,6 +59,19 @@ void init_deblock_sse41(DspTable* table);
 void init_cdef_sse41(DspTable* table);
 void init_cfl_sse41(DspTable* table);
 void init_quant_sse41(DspTable* table);
+#endif
+
+#if defined(__aarch64__)
+void init_transform_neon(DspTable* table);
+void init_transform_4_16_neon(DspTable* table);
+void init_transform_types_neon(DspTable* table);
+void init_quant_neon(DspTable* table);
+void init_color_neon(DspTable* table);
+void init_mc_neon(DspTable* table);
+void init_intra_neon(DspTable* table);
+void init_deblock_neon(DspTable* table);
+void init_cdef_neon(DspTable* table);
+void init_cfl_neon(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp

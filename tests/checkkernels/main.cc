@@ -17,6 +17,7 @@ namespace svc::checkkernels {
 namespace {
 
 using codec::dsp::kCpuAvx2;
+using codec::dsp::kCpuNeon;
 using codec::dsp::kCpuSse2;
 using codec::dsp::kCpuSse41;
 
@@ -25,8 +26,8 @@ struct Variant {
   Tables tables;
 };
 
-// The plain table, then one table per feature level this machine has; a kernel's variant
-// at a level is the entry that differs from the level below.
+// The plain table, then one table per feature level this machine has (the x86 levels or
+// NEON); a kernel's variant at a level is the entry that differs from the level below.
 std::vector<Variant> variants_of_this_machine() {
   const unsigned detected = codec::dsp::detected_cpu_flags();
   auto tables_for = [](unsigned flags) {
@@ -36,7 +37,10 @@ std::vector<Variant> variants_of_this_machine() {
   const struct {
     const char* name;
     unsigned flags;
-  } levels[] = {{"sse2", kCpuSse2}, {"sse4.1", kCpuSse2 | kCpuSse41}, {"avx2", kCpuSse2 | kCpuSse41 | kCpuAvx2}};
+  } levels[] = {{"sse2", kCpuSse2},
+                {"sse4.1", kCpuSse2 | kCpuSse41},
+                {"avx2", kCpuSse2 | kCpuSse41 | kCpuAvx2},
+                {"neon", kCpuNeon}};
   for (const auto& level : levels) {
     if ((detected & level.flags) == level.flags) variants.push_back({level.name, tables_for(level.flags)});
   }

@@ -1,0 +1,26 @@
+// NEON integer inverses of the intra transform types other than DCT_DCT (arithmetic in
+// matrix_transform_neon.h). The float forward transforms have no NEON variant, for the
+// reason transform_4_16_neon.cc gives.
+#include "codec/dsp/arm/matrix_transform_neon.h"
+#include "codec/dsp/dsp_init.h"
+#include "codec/dsp/transform_type_basis.h"
+
+namespace svc::codec::dsp {
+namespace {
+
+template <int N>
+void inverse_typed_neon(int type, const int16_t* coefficients, int16_t* samples) {
+  const bool rows_dst = (type & 1) != 0, columns_dst = (type & 2) != 0;
+  inverse_by_matrices<N>(type_matrix<N>(rows_dst).m, type_row_shift(rows_dst), type_matrix<N>(columns_dst).m,
+                         type_column_shift(N, columns_dst), coefficients, samples);
+}
+
+}  // namespace
+
+void init_transform_types_neon(DspTable* table) {
+  table->inverse_typed_4x4 = inverse_typed_neon<4>;
+  table->inverse_typed_8x8 = inverse_typed_neon<8>;
+  table->inverse_typed_16x16 = inverse_typed_neon<16>;
+}
+
+}  // namespace svc::codec::dsp
