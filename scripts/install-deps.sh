@@ -14,6 +14,8 @@ packages=(
   python3
   # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
   openarena-081-textures unzip
+  # The test suite checks the AArch64 NEON kernels cross-built, under qemu (scripts/check-neon.sh).
+  g++-aarch64-linux-gnu qemu-user
 )
 # scripts/encode-slurm.sh and the one-node cluster of scripts/slurm-localhost.sh.
 if [[ "${SVC_WITH_SLURM:-0}" == 1 ]]; then
