@@ -107,6 +107,7 @@ Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacin
 Status Bench::run_svc_codec(const CodecPlan& plan, CodecResult* result) {
   std::unique_ptr<Reader> reference_reader;
   const SvcRun* reference_run = nullptr;
+  double reference_distance = 0;
   auto measure = [&](int quality) -> Result<double> {
     EncoderSettings settings = default_encoder_settings();
     settings.quality = quality;
@@ -120,10 +121,12 @@ Status Bench::run_svc_codec(const CodecPlan& plan, CodecResult* result) {
     SVC_ASSIGN_OR_RETURN(SvcRun run, run_svc(settings, 1, plan.name + "-q" + std::to_string(quality), &reader));
     log_point(plan.name, run.point);
     result->points.push_back(run.point);
+    const double distance = std::abs(run.point.psnr_y - kReferencePsnrY);
     svc_runs_.push_back(std::move(run));
-    if (quality == experiments_quality_ || !reference_reader) {
+    if (!reference_reader || distance < reference_distance) {  // ties keep the earlier point
       reference_reader = std::move(reader);
       reference_run = &svc_runs_.back();
+      reference_distance = distance;
     }
     return svc_runs_.back().point.psnr_y;
   };

@@ -319,8 +319,10 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
   md << "## Summary at svc's reference quality\n\n";
   md << "Every codec is scored on its decoded 8-bit RGB faces against the source faces with the same code "
         "(PSNR over all faces' summed squared error, SSIM the mean of per-face luma SSIM). Each row below is "
-        "svc and svc-intra at quality 75, every other codec at its setting nearest svc's PSNR-Y there; speed "
-        "and random access were measured at that setting. "
+        "svc and svc-intra at their point nearest PSNR-Y "
+     << format("%.0f", kReferencePsnrY)
+     << " dB, every other codec at its setting nearest svc's PSNR-Y there; speed and random access were "
+        "measured at that setting. "
         "BD-rate of svc: svc's bytes against the codec's at equal PSNR-Y, averaged over the PSNR-Y range both "
         "cover (negative: svc smaller). Random access: mean time and frames decoded for one random face; cold "
         "opens the stored file for every access, warm reuses the open reader (svc) or the sequence in memory.\n\n";
