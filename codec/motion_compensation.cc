@@ -123,10 +123,11 @@ void predict_block(const uint8_t* plane, int plane_width, int plane_height, Plan
   const int8_t* h_taps = interpolation_taps(kind, full_x & mask, filter).data();
   const int8_t* v_taps = interpolation_taps(kind, full_y & mask, filter).data();
   // Wholly inside the plane, the taps read it in place: no edge to extend. Kernels read
-  // widths of whole 8-sample groups and one sample past the taps' reach (dsp.h), which
-  // must lie in the same row.
-  if (left >= 0 && top >= 0 && left + block_width + kTapExtent < plane_width &&
-      top + block_height + kTapExtent <= plane_height && block_width % 8 == 0) {
+  // rows past the taps' reach (dsp.h: 1 sample for widths of whole 8-sample groups, up to
+  // 8 otherwise), which must lie in the same row.
+  const int over_read = block_width % 8 == 0 ? 1 : 8;
+  if (left >= 0 && top >= 0 && left + block_width + kTapExtent + over_read <= plane_width &&
+      top + block_height + kTapExtent <= plane_height) {
     dsp::get_dsp().interpolate_8tap(plane + static_cast<ptrdiff_t>(top) * plane_width + left, plane_width,
                                     block_width, block_height, h_taps, v_taps, out, out_stride);
     return;
