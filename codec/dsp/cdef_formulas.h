@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 
@@ -16,6 +17,25 @@ inline constexpr int kCdefDirections[8][2][2] = {
     {{-1, 1}, {-2, 2}}, {{0, 1}, {-1, 2}}, {{0, 1}, {0, 2}}, {{0, 1}, {1, 2}},
     {{1, 1}, {2, 2}},   {{1, 0}, {2, 1}},  {{1, 0}, {2, 0}}, {{1, 0}, {2, -1}},
 };
+// Sample offsets in a block of row stride `stride` of the primary taps (k = 0, 1) along
+// `direction` and of the secondary taps along the directions two steps either side (t = 0:
+// direction - 2, t = 1: direction + 2).
+struct CdefTapOffsets {
+  ptrdiff_t primary[2];
+  ptrdiff_t secondary[2][2];  // [k][t]
+};
+inline CdefTapOffsets cdef_tap_offsets(int direction, ptrdiff_t stride) {
+  CdefTapOffsets offsets{};
+  for (int k = 0; k < 2; ++k) {
+    const int* d = kCdefDirections[direction][k];
+    offsets.primary[k] = d[0] * stride + d[1];
+    for (int t = 0; t < 2; ++t) {
+      const int* e = kCdefDirections[(direction + (t == 0 ? -2 : 2)) & 7][k];
+      offsets.secondary[k][t] = e[0] * stride + e[1];
+    }
+  }
+  return offsets;
+}
 // Primary tap weights by the parity of the primary strength; secondary weights.
 inline constexpr int kCdefPrimaryTaps[2][2] = {{4, 2}, {3, 3}};
 inline constexpr int kCdefSecondaryTaps[2] = {2, 1};

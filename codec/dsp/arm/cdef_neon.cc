@@ -126,15 +126,7 @@ void cdef_filter_block_neon(const uint16_t* in, ptrdiff_t in_stride, uint8_t* ou
   const Constraint primary = constraint_of(taps.primary, taps.damping);
   const Constraint secondary = constraint_of(taps.secondary, taps.damping);
   const int* primary_taps = kCdefPrimaryTaps[taps.primary & 1];
-  ptrdiff_t primary_offset[2], secondary_offset[2][2];
-  for (int k = 0; k < 2; ++k) {
-    const int* d = kCdefDirections[taps.direction][k];
-    primary_offset[k] = d[0] * in_stride + d[1];
-    for (int t = 0; t < 2; ++t) {
-      const int* e = kCdefDirections[(taps.direction + (t == 0 ? -2 : 2)) & 7][k];
-      secondary_offset[k][t] = e[0] * in_stride + e[1];
-    }
-  }
+  const CdefTapOffsets offsets = cdef_tap_offsets(taps.direction, in_stride);
   const int rows_per_step = size == 8 ? 1 : 2;
   for (int y = 0; y < size; y += rows_per_step) {
     const uint16_t* center = in + y * in_stride;
@@ -144,10 +136,10 @@ void cdef_filter_block_neon(const uint16_t* in, ptrdiff_t in_stride, uint8_t* ou
     s.low = s.high = s.value;
     for (int k = 0; k < 2; ++k) {
       for (int sign = -1; sign <= 1; sign += 2) {
-        add_tap(&s, load_lanes(center + sign * primary_offset[k], in_stride, size),
+        add_tap(&s, load_lanes(center + sign * offsets.primary[k], in_stride, size),
                 static_cast<int16_t>(primary_taps[k]), primary);
         for (int t = 0; t < 2; ++t) {
-          add_tap(&s, load_lanes(center + sign * secondary_offset[k][t], in_stride, size),
+          add_tap(&s, load_lanes(center + sign * offsets.secondary[k][t], in_stride, size),
                   static_cast<int16_t>(kCdefSecondaryTaps[k]), secondary);
         }
       }

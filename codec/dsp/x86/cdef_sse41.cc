@@ -111,15 +111,7 @@ void cdef_filter_block_sse41(const uint16_t* in, ptrdiff_t in_stride, uint8_t* o
   const __m128i primary_shift = shift_of(taps.primary, taps.damping);
   const __m128i secondary_shift = shift_of(taps.secondary, taps.damping);
   const int* primary_taps = kCdefPrimaryTaps[taps.primary & 1];
-  ptrdiff_t primary_offset[2], secondary_offset[2][2];
-  for (int k = 0; k < 2; ++k) {
-    const int* d = kCdefDirections[taps.direction][k];
-    primary_offset[k] = d[0] * in_stride + d[1];
-    for (int t = 0; t < 2; ++t) {
-      const int* e = kCdefDirections[(taps.direction + (t == 0 ? -2 : 2)) & 7][k];
-      secondary_offset[k][t] = e[0] * in_stride + e[1];
-    }
-  }
+  const CdefTapOffsets offsets = cdef_tap_offsets(taps.direction, in_stride);
   const int rows_per_step = size == 8 ? 1 : 2;
   for (int y = 0; y < size; y += rows_per_step) {
     const uint16_t* center = in + y * in_stride;
@@ -131,10 +123,10 @@ void cdef_filter_block_sse41(const uint16_t* in, ptrdiff_t in_stride, uint8_t* o
       const __m128i primary_weight = _mm_set1_epi16(static_cast<int16_t>(primary_taps[k]));
       const __m128i secondary_weight = _mm_set1_epi16(static_cast<int16_t>(kCdefSecondaryTaps[k]));
       for (int sign = -1; sign <= 1; sign += 2) {
-        add_tap(&s, load_lanes(center + sign * primary_offset[k], in_stride, size), primary_weight, primary,
+        add_tap(&s, load_lanes(center + sign * offsets.primary[k], in_stride, size), primary_weight, primary,
                 primary_shift);
         for (int t = 0; t < 2; ++t) {
-          add_tap(&s, load_lanes(center + sign * secondary_offset[k][t], in_stride, size), secondary_weight,
+          add_tap(&s, load_lanes(center + sign * offsets.secondary[k][t], in_stride, size), secondary_weight,
                   secondary, secondary_shift);
         }
       }
