@@ -14,9 +14,11 @@ packages=(
   python3
   # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
   openarena-081-textures unzip
-  # The test suite checks the AArch64 NEON kernels cross-built, under qemu (scripts/check-neon.sh).
-  g++-aarch64-linux-gnu qemu-user
 )
+# The test suite checks the AArch64 NEON kernels cross-built, under qemu
+# (scripts/check-neon.sh). Without recommends: qemu-user recommends qemu-user-binfmt,
+# which registers handlers with the kernel, something a container may refuse.
+lean_packages=(g++-aarch64-linux-gnu qemu-user)
 # scripts/encode-slurm.sh and the one-node cluster of scripts/slurm-localhost.sh.
 if [[ "${SVC_WITH_SLURM:-0}" == 1 ]]; then
   packages+=(slurm-wlm munge)
@@ -25,19 +27,29 @@ if [[ "${SVC_WITH_CLANG:-0}" == 1 ]]; then
   packages+=(clang libclang-rt-14-dev)
 fi
 
-missing=()
-for p in "${packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
-done
-if ((${#missing[@]} == 0)); then
+missing_of() {
+  local p
+  for p in "$@"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      echo "$p"
+    fi
+  done
+}
+mapfile -t missing < <(missing_of "${packages[@]}")
+mapfile -t missing_lean < <(missing_of "${lean_packages[@]}")
+if ((${#missing[@]} + ${#missing_lean[@]} == 0)); then
   exit 0
 fi
 
-echo "installing: ${missing[*]}"
+all_missing=("${missing[@]}" "${missing_lean[@]}")
+echo "installing: ${all_missing[*]}"
 sudo=""
 if [[ $(id -u) != 0 ]]; then sudo="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $sudo apt-get update -qq
-$sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+if ((${#missing[@]} > 0)); then
+  $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+if ((${#missing_lean[@]} > 0)); then
+  $sudo apt-get install -y -qq --no-install-recommends "${missing_lean[@]}" >/dev/null
+fi
