@@ -20,7 +20,7 @@ inline constexpr int kProbabilityBits = 15;
 inline constexpr uint32_t kProbabilityOne = 1u << kProbabilityBits;
 
 // Probability that the next bit is 0, as the mean of a fast- and a slow-adapting
-// estimate (shifts 4 and 7), each in 1/32768 units.
+// estimate (shifts 4 and 6 once settled), each in 1/32768 units.
 struct AdaptiveBit {
   // From this many bits on, the shifts stay at 4 and 6 (bit_width(seen + 2) >= 6).
   static constexpr uint8_t kSettled = 62;

@@ -1,6 +1,9 @@
 // The integer inverse DCT's constants: part of the bitstream contract (docs/codec.md),
-// shared by the kernel and the matrix-product definition in codec/dct.cc.
+// shared by the kernel and the matrix-product definition in codec/dct.cc, and the scalar
+// column pass its variants fall back to.
 #pragma once
+
+#include <cstdint>
 
 namespace svc::codec::dsp {
 
@@ -21,5 +24,21 @@ inline constexpr int kIdctBasis[8][4] = {
 };
 inline constexpr int kIdctRowShift = 9;      // row pass keeps 5 extra fractional bits
 inline constexpr int kIdctColumnShift = 19;  // 14 + 14 - 9
+
+// The column pass in 64 bits over row-pass outputs stored by column (columns[x][v]),
+// exactly as the plain kernel computes it: the variants' fallback when a row-pass output
+// leaves 16 bits.
+inline void idct_column_pass_scalar(const int32_t columns[8][8], int16_t* samples) {
+  for (int x = 0; x < 8; ++x) {
+    for (int y = 0; y < 8; ++y) {
+      int64_t sum = int64_t{1} << (kIdctColumnShift - 1);
+      for (int v = 0; v < 8; ++v) {
+        const int b = y < 4 ? kIdctBasis[v][y] : ((v & 1) ? -kIdctBasis[v][7 - y] : kIdctBasis[v][7 - y]);
+        sum += int64_t{b} * columns[x][v];
+      }
+      samples[8 * y + x] = static_cast<int16_t>(sum >> kIdctColumnShift);
+    }
+  }
+}
 
 }  // namespace svc::codec::dsp

@@ -36,21 +36,6 @@ void idct_pass(const int16x8_t in[8], int32x4_t low[8], int32x4_t high[8]) {
   }
 }
 
-// The plain kernel's 64-bit column pass over row-pass outputs stored by column
-// (columns[x][v]).
-void column_pass_scalar(const int32_t columns[8][8], int16_t* samples) {
-  for (int x = 0; x < 8; ++x) {
-    for (int y = 0; y < 8; ++y) {
-      int64_t sum = int64_t{1} << (kIdctColumnShift - 1);
-      for (int v = 0; v < 8; ++v) {
-        const int b = y < 4 ? kIdctBasis[v][y] : ((v & 1) ? -kIdctBasis[v][7 - y] : kIdctBasis[v][7 - y]);
-        sum += int64_t{b} * columns[x][v];
-      }
-      samples[8 * y + x] = static_cast<int16_t>(sum >> kIdctColumnShift);
-    }
-  }
-}
-
 bool dc_only(const int16x8_t block[8]) {
   int16x8_t any = vsetq_lane_s16(0, block[0], 0);
   for (int v = 1; v < 8; ++v) any = vorrq_s16(any, block[v]);
@@ -86,7 +71,7 @@ void inverse_dct_8x8_neon(const int16_t* coefficients, int16_t* samples) {
       vst1q_s32(columns[x], low[x]);
       vst1q_s32(columns[x] + 4, high[x]);
     }
-    column_pass_scalar(columns, samples);
+    idct_column_pass_scalar(columns, samples);
     return;
   }
   for (int x = 0; x < 8; ++x) block[x] = vcombine_s16(vmovn_s32(low[x]), vmovn_s32(high[x]));

@@ -138,21 +138,6 @@ void idct_pass(const __m128i in[8], __m128i out_low[8], __m128i out_high[8]) {
   }
 }
 
-// The plain kernel's 64-bit column pass over row-pass outputs stored by column
-// (columns[x][v]).
-void column_pass_scalar(const int32_t columns[8][8], int16_t* samples) {
-  for (int x = 0; x < 8; ++x) {
-    for (int y = 0; y < 8; ++y) {
-      int64_t sum = int64_t{1} << (kIdctColumnShift - 1);
-      for (int v = 0; v < 8; ++v) {
-        const int b = y < 4 ? kIdctBasis[v][y] : ((v & 1) ? -kIdctBasis[v][7 - y] : kIdctBasis[v][7 - y]);
-        sum += int64_t{b} * columns[x][v];
-      }
-      samples[8 * y + x] = static_cast<int16_t>(sum >> kIdctColumnShift);
-    }
-  }
-}
-
 bool dc_only(const __m128i block[8]) {
   __m128i any = _mm_srli_si128(block[0], 2);  // row 0 without the DC
   for (int v = 1; v < 8; ++v) any = _mm_or_si128(any, block[v]);
@@ -187,7 +172,7 @@ void inverse_dct_8x8_sse2(const int16_t* coefficients, int16_t* samples) {
       _mm_store_si128(reinterpret_cast<__m128i*>(columns[x]), low[x]);
       _mm_store_si128(reinterpret_cast<__m128i*>(columns[x] + 4), high[x]);
     }
-    column_pass_scalar(columns, samples);
+    idct_column_pass_scalar(columns, samples);
     return;
   }
   transpose_8x8_epi16(block);  // block[v]: row v of the row pass
