@@ -30,7 +30,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 8;
+inline constexpr uint8_t kBFrameSyntaxVersion = 9;
 // Frame type, syntax version, qindex, reference border units, loop filter flags,
 // interpolation filter, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 8;

@@ -15,6 +15,7 @@
 #include "codec/bframe_loop_filter.h"
 #include "codec/bframe_state.h"
 #include "codec/bframe_syntax.h"
+#include "codec/context_priors.h"
 #include "codec/rdoq.h"
 #include "codec/search_planes.h"
 
@@ -1049,6 +1050,7 @@ std::vector<uint8_t> finish_frame(CodedMacroblocks& coded, const BFrameParams& p
   FrameState& state = coded.state;
   uint8_t loop_filters = choose_loop_filters(state, coded.padded, params);
   loop_filters |= apply_cdef_choice(*coded.encoder, state, coded.padded, params);
+  observe_bframe_contexts(state.contexts);
   coded.encoder->finish();
   std::vector<uint8_t> bytes = std::move(*coded.bytes);
   // Header byte 4: the loop filters, known only now, and the transform types flag.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "codec/context_priors.h"
 #include "codec/cube_padding.h"
 
 namespace svc::codec {
@@ -35,6 +36,8 @@ void init_state(FrameState& s, int width, int height, int qindex, const ImageYCb
   s.intra_quantizers = intra::residual_quantizers(qindex);
   s.vector_limit = max_vector_component(width, height);
   s.node_limit = max_warp_node_component(width, height);
+  s.contexts = bframe::SyntaxContexts{};
+  prime_bframe_contexts(s.contexts);
   s.nodes_x = s.mbs_x + 1;
   s.nodes_y = s.mbs_y + 1;
   for (int r = 0; r < 2; ++r) {

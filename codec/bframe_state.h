@@ -48,6 +48,30 @@ struct SyntaxContexts {
   BlockContextSet inter_luma, inter_chroma;
 };
 
+// Calls f on every context, in member order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, SyntaxContexts>
+void for_each_context(Set& s, F&& f) {
+  for_each_bit(s.skip, f);
+  for_each_bit(s.intra, f);
+  for_each_bit(s.bidirectional, f);
+  for_each_bit(s.backward, f);
+  for_each_bit(s.mvd_zero, f);
+  for_each_bit(s.mvd_magnitude, f);
+  for_each_bit(s.warp, f);
+  for_each_bit(s.partition_split, f);
+  for_each_bit(s.partition_quad, f);
+  for_each_bit(s.partition_vertical, f);
+  for_each_bit(s.node_zero, f);
+  for_each_bit(s.node_magnitude, f);
+  for_each_bit(s.cbp_luma, f);
+  for_each_bit(s.cbp_chroma, f);
+  for_each_context(s.intra_luma, f);
+  for_each_context(s.intra_chroma, f);
+  for_each_context(s.inter_luma, f);
+  for_each_context(s.inter_chroma, f);
+}
+
 struct MacroblockInfo {
   MacroblockMode mode = MacroblockMode::kIntra;
   // The prediction mode of an inter or skipped macroblock; for an intra one, the mode a

@@ -76,6 +76,21 @@ struct BlockContextSet {
   int previous_dc_category = 0;
 };
 
+// Calls f on every context of the set, in the order of the members above (arrays in
+// index order): the order of the trained initial probabilities (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, BlockContextSet>
+void for_each_context(Set& s, F&& f) {
+  for_each_bit(s.coded_block, f);
+  for_each_bit(s.eob_class, f);
+  for_each_bit(s.eob_extra, f);
+  for_each_bit(s.significant, f);
+  for_each_bit(s.greater_than_one, f);
+  for_each_bit(s.greater_than_two, f);
+  for_each_bit(s.level_range, f);
+  for_each_bit(s.dc_category, f);
+}
+
 // One decoded non-zero level: natural position and value.
 struct BlockLevel {
   uint8_t position;

@@ -46,6 +46,16 @@ struct CflContexts {
   std::array<std::array<AdaptiveBit, kCflMaxAlpha - 1>, 2> magnitude{};  // per plane, by bin
 };
 
+// Calls f on every context, in member order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, CflContexts>
+void for_each_context(Set& s, F&& f) {
+  for_each_bit(s.flag, f);
+  for_each_bit(s.cr_nonzero, f);
+  for_each_bit(s.sign, f);
+  for_each_bit(s.magnitude, f);
+}
+
 // Cb: the CfL flag (context `cfl_context`, the left and above Cb blocks using CfL), then
 // Cb's alpha (never 0) or the regular mode with `candidates`. Cr: nothing unless `cb`,
 // its Cb block's mode, is CfL; then Cr's alpha (possibly 0). The decoder returns `cb`'s

@@ -17,6 +17,7 @@
 #include "codec/bframe_syntax.h"
 #include "codec/block_coder.h"
 #include "codec/cfl.h"
+#include "codec/context_priors.h"
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
 #include "codec/intra_macroblock.h"
@@ -1019,6 +1020,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   if (params.transform_types) bytes[3] |= kTransformTypesFlag;
   RangeEncoder encoder(&bytes);
   PlaneContexts luma_contexts, chroma_contexts;
+  prime_intra_frame_contexts(luma_contexts, chroma_contexts);
   luma_contexts.types.enabled = chroma_contexts.types.enabled = params.transform_types;
   PaddedFrame frame = padded_frame(layout);
 
@@ -1071,6 +1073,7 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
     }
   }
   if (params.cdef && apply_cdef_choice(encoder, &frame, source, qindex)) bytes[3] |= kLoopFilterCdef;
+  observe_intra_frame_contexts(luma_contexts, chroma_contexts);
   encoder.finish();
   if (reconstruction != nullptr) crop(frame, width, height, reconstruction);
   return bytes;
@@ -1102,6 +1105,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   const auto planes = planes_of(layout, width, height);
   RangeDecoder decoder(bytes.subspan(kFrameHeaderBytes));
   PlaneContexts luma_contexts, chroma_contexts;
+  prime_intra_frame_contexts(luma_contexts, chroma_contexts);
   luma_contexts.types.enabled = chroma_contexts.types.enabled = (bytes[3] & kTransformTypesFlag) != 0;
 
   CoefficientFrame result;

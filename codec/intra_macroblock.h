@@ -35,6 +35,18 @@ struct PlaneContexts {
   TransformTypeContexts types;  // `enabled` from the frame header
 };
 
+// Calls f on every context, in member order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, PlaneContexts>
+void for_each_context(Set& s, F&& f) {
+  for_each_context(s.modes, f);
+  for_each_context(s.residual, f);
+  for_each_bit(s.split_16x16, f);
+  for_each_bit(s.split_8x8, f);
+  for_each_context(s.cfl, f);
+  for_each_context(s.types, f);
+}
+
 // Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
 // region splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four
 // 4x4 blocks.

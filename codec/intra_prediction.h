@@ -49,6 +49,14 @@ struct IntraModeContexts {
   std::array<AdaptiveBit, 2> most_probable_index;
 };
 
+// Calls f on every context, in member order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, IntraModeContexts>
+void for_each_context(Set& s, F&& f) {
+  for_each_bit(s.is_most_probable, f);
+  for_each_bit(s.most_probable_index, f);
+}
+
 // Mode coding: a flag, then the index among the most probable modes (truncated unary)
 // or the 5-bit rank of the mode among the other 32 (bypass bits).
 void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts,

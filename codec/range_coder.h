@@ -8,10 +8,13 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <bit>
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace svc::codec {
@@ -30,6 +33,9 @@ struct AdaptiveBit {
   uint8_t seen = 0;  // bits coded so far, saturating at kSettled: young contexts adapt faster
 
   uint32_t probability_of_zero() const { return (uint32_t{fast} + uint32_t{slow}) >> 1; }
+  // Starts a fresh context at a trained probability of 0 (1..32767) instead of 1/2; it
+  // adapts from there as fast as a fresh one.
+  void prime(uint16_t probability) { fast = slow = probability; }
   void update(int bit) {
     int fast_shift = 4, slow_shift = 6;
     if (seen < kSettled) {
@@ -47,6 +53,20 @@ struct AdaptiveBit {
     }
   }
 };
+
+// Calls f(bit) on a context, or on every context of a (nested) array in index order: the
+// building block of the context sets' for_each_context.
+template <class Bit, class F>
+requires std::same_as<std::remove_const_t<Bit>, AdaptiveBit>
+void for_each_bit(Bit& bit, F&& f) { f(bit); }
+template <class T, size_t N, class F>
+void for_each_bit(std::array<T, N>& bits, F&& f) {
+  for (T& bit : bits) for_each_bit(bit, f);
+}
+template <class T, size_t N, class F>
+void for_each_bit(const std::array<T, N>& bits, F&& f) {
+  for (const T& bit : bits) for_each_bit(bit, f);
+}
 
 class RangeEncoder {
  public:

@@ -27,6 +27,11 @@ struct TransformTypeContexts {
   std::array<std::array<std::array<AdaptiveBit, 3>, kTransformTypeModeClasses>, kTransformSizes> bits{};
 };
 
+// Calls f on every context, in index order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, TransformTypeContexts>
+void for_each_context(Set& s, F&& f) { for_each_bit(s.bits, f); }
+
 void encode_transform_type(RangeEncoder& encoder, TransformTypeContexts& contexts, TransformSize size, int mode,
                            TransformType type);
 TransformType decode_transform_type(RangeDecoder& decoder, TransformTypeContexts& contexts, TransformSize size,

