@@ -92,7 +92,6 @@ int main(int argc, char** argv) {
 
   svc::codec::set_context_observer(record);
   const std::filesystem::path scratch = std::filesystem::temp_directory_path() / "svc-train-context-priors.svc";
-  std::string commands;
   for (const auto& db : databases) {
     for (int quality : qualities) {
       svc::EncoderSettings settings;
@@ -122,7 +121,18 @@ int main(int argc, char** argv) {
             "extern const std::span<const uint16_t> kIntraFramePriors(kIntraFrameTable);\n"
             "extern const std::span<const uint16_t> kBFramePriors(kBFrameTable);\n\n"
             "}  // namespace svc::codec\n";
-  std::ofstream(out) << source.str();
+  // Written beside the target and renamed over it: a failed write leaves the table as it was.
+  const std::filesystem::path partial = out.string() + ".partial";
+  std::ofstream file(partial);
+  const bool written = static_cast<bool>(file << source.str() << std::flush);
+  file.close();
+  std::error_code error;
+  if (written) std::filesystem::rename(partial, out, error);
+  if (!written || error) {
+    std::fprintf(stderr, "svc-train-context-priors: cannot write %s\n", out.string().c_str());
+    std::filesystem::remove(partial, error);
+    return 1;
+  }
   std::printf("wrote %s\n", out.string().c_str());
   return 0;
 }

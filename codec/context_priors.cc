@@ -1,6 +1,7 @@
 #include "codec/context_priors.h"
 
 #include <atomic>
+#include <vector>
 
 namespace svc::codec {
 

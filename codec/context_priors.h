@@ -10,7 +10,6 @@
 
 #include <cstdint>
 #include <span>
-#include <vector>
 
 #include "codec/bframe_state.h"
 #include "codec/intra_macroblock.h"
