@@ -42,6 +42,9 @@ void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngular
 // The same for an N x N block (N = 4, 8 or 16): main[N + k], k = -N..2N+1, is sample k of
 // the projected edge (main holds 3N + 2 samples). Returns the angle.
 int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, uint8_t* main);
+// The [1 2 1] smoothing of an N x N block's edge (N = 4, 8 or 16; 4N + 1 samples, the
+// ends kept) that planar prediction and the diagonal modes read.
+void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out);
 int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);

@@ -166,6 +166,12 @@ int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, u
   return prepare_angular_reference<8>(edge, mode, main);
 }
 
+void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {
+  if (size == 4) return smooth_edge<4>(edge, out);
+  if (size == 16) return smooth_edge<16>(edge, out);
+  smooth_edge<8>(edge, out);
+}
+
 void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<4>(edge, mode, out); }
 void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<8>(edge, mode, out); }
 void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<16>(edge, mode, out); }

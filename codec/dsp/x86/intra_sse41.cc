@@ -1,8 +1,8 @@
 // SSE4.1 intra kernels. The Hadamard SATD keeps every value in 16 bits (residuals of
 // at most 255 grow by 8 per 1-D pass: |value| <= 16320), so it equals the plain sum.
 // Angular prediction interpolates a whole row at once with the plain kernel's integer
-// formula; planar and the edge preparation run the plain code. The 4x4 SATD transforms
-// two rows per register.
+// formula and planar a row of eight samples at once; DC and the edge preparation run
+// the plain code. The 4x4 SATD transforms two rows per register.
 #include <smmintrin.h>
 
 #include <cstring>
@@ -73,8 +73,44 @@ __m128i interpolate_row(const uint8_t* ref, int fraction) {
   return _mm_srli_epi16(_mm_add_epi16(sum, _mm_set1_epi16(16)), 5);
 }
 
+// Planar prediction from the smoothed edge, eight samples of a row per register (a 4x4
+// row computes eight and keeps four): row y is the row-0 sum plus y (below_left -
+// above[x]) plus (N - 1 - x) left[y], all exact in 16 bits (at most 62 * 255 + 16).
+template <int N>
+void predict_planar(const uint8_t* edge, uint8_t* out) {
+  constexpr int kCorner = 2 * N, kShift = N == 4 ? 3 : N == 8 ? 4 : 5;
+  uint8_t smoothed[4 * N + 1 + 8];  // room for the eight-sample load of a 4x4 block's above row
+  smooth_intra_edge_n(edge, N, smoothed);
+  std::memset(smoothed + 4 * N + 1, 0, 8);
+  const uint8_t* above = smoothed + kCorner + 1;
+  const __m128i above_right = _mm_set1_epi16(above[N]), below_left = _mm_set1_epi16(smoothed[kCorner - 1 - N]);
+  const __m128i lane = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
+  for (int x = 0; x < N; x += 8) {
+    const __m128i position = _mm_add_epi16(lane, _mm_set1_epi16(static_cast<int16_t>(x)));
+    const __m128i right_weight = _mm_add_epi16(position, _mm_set1_epi16(1));
+    const __m128i left_weight = _mm_sub_epi16(_mm_set1_epi16(N - 1), position);
+    const __m128i top = _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(above + x)));
+    __m128i sum =
+        _mm_add_epi16(_mm_mullo_epi16(right_weight, above_right), _mm_mullo_epi16(top, _mm_set1_epi16(N - 1)));
+    sum = _mm_add_epi16(sum, _mm_add_epi16(below_left, _mm_set1_epi16(N)));
+    const __m128i step = _mm_sub_epi16(below_left, top);
+    for (int y = 0; y < N; ++y) {
+      const __m128i left = _mm_set1_epi16(smoothed[kCorner - 1 - y]);
+      const __m128i row = _mm_srli_epi16(_mm_add_epi16(sum, _mm_mullo_epi16(left_weight, left)), kShift);
+      uint8_t packed[16];
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(packed), _mm_packus_epi16(row, row));
+      std::memcpy(out + N * y + x, packed, N < 8 ? N : 8);
+      sum = _mm_add_epi16(sum, step);
+    }
+  }
+}
+
 void intra_predict_8x8_sse41(const uint8_t* edge, int mode, uint8_t* out) {
-  if (mode < 2) {
+  if (mode == 0) {
+    predict_planar<8>(edge, out);
+    return;
+  }
+  if (mode == 1) {
     intra_predict_8x8_c(edge, mode, out);
     return;
   }
@@ -124,8 +160,8 @@ int satd_4x4_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t
   return _mm_cvtsi128_si32(sum);
 }
 
-// Angular prediction of a 4x4 or 16x16 block, eight samples of a row at a time (a 4x4
-// row computes eight and keeps four); horizontal modes are transposed on the way out.
+// Angular prediction of a 16x16 block, eight samples of a row at a time; horizontal
+// modes are transposed on the way out.
 template <int N>
 void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
   uint8_t main[3 * N + 2 + 16];  // room for the eight-sample loads past the last sample
@@ -151,16 +187,22 @@ void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
   }
 }
 
+// A 4x4 block's angular rows, eight samples computed to keep four, measured slower than
+// the plain loop (svc-checkkernels --bench): only planar has a variant.
 void intra_predict_4x4_sse41(const uint8_t* edge, int mode, uint8_t* out) {
-  if (mode < 2) {
-    intra_predict_4x4_c(edge, mode, out);
+  if (mode == 0) {
+    predict_planar<4>(edge, out);
     return;
   }
-  predict_angular<4>(edge, mode, out);
+  intra_predict_4x4_c(edge, mode, out);
 }
 
 void intra_predict_16x16_sse41(const uint8_t* edge, int mode, uint8_t* out) {
-  if (mode < 2) {
+  if (mode == 0) {
+    predict_planar<16>(edge, out);
+    return;
+  }
+  if (mode == 1) {
     intra_predict_16x16_c(edge, mode, out);
     return;
   }

@@ -25,6 +25,10 @@ void put_intermediate_sse2(const int16_t* in, int count, uint8_t* out) {
     const __m128i packed = _mm_packus_epi16(put8(load_int16x8(in + i)), put8(load_int16x8(in + i + 8)));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), packed);
   }
+  for (; i + 8 <= count; i += 8) {  // rows of 8-sample blocks
+    const __m128i row = put8(load_int16x8(in + i));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(row, row));
+  }
   if (i < count) put_intermediate_c(in + i, count - i, out + i);
 }
 
@@ -46,6 +50,10 @@ void average_intermediate_sse2(const int16_t* a, const int16_t* b, int count, ui
     const __m128i low = average8(load_int16x8(a + i), load_int16x8(b + i));
     const __m128i high = average8(load_int16x8(a + i + 8), load_int16x8(b + i + 8));
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(low, high));
+  }
+  for (; i + 8 <= count; i += 8) {
+    const __m128i row = average8(load_int16x8(a + i), load_int16x8(b + i));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(row, row));
   }
   if (i < count) average_intermediate_c(a + i, b + i, count - i, out + i);
 }
