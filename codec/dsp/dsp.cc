@@ -80,7 +80,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   return table;
 }
 
-const DspTable& get_dsp() {
+const DspTable& build_process_dsp_table() {
   static const DspTable table = make_dsp_table(active_cpu_flags());  // initialised once, thread-safe
   return table;
 }

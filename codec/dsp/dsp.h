@@ -141,7 +141,12 @@ struct DspTable {
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.
-const DspTable& get_dsp();
+// Inline, as every block calls it: after the first call it costs one initialised test.
+const DspTable& build_process_dsp_table();
+inline const DspTable& get_dsp() {
+  static const DspTable& table = build_process_dsp_table();
+  return table;
+}
 // A table using only variants whose features are in `cpu_flags` (0: plain references).
 DspTable make_dsp_table(unsigned cpu_flags);
 
