@@ -63,6 +63,11 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_cfl_sse41(&table);
     init_quant_sse41(&table);
   }
+  if ((cpu_flags & (kCpuSse2 | kCpuSse41 | kCpuAvx2)) == (kCpuSse2 | kCpuSse41 | kCpuAvx2)) {
+    init_mc_avx2(&table);
+    init_cdef_avx2(&table);
+    init_color_avx2(&table);
+  }
 #elif defined(__aarch64__)
   if (cpu_flags & kCpuNeon) {
     init_transform_neon(&table);
