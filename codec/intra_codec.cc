@@ -79,16 +79,29 @@ float intra_frame_lambda(int qindex) { return static_cast<float>(0.1 * scale_of(
 
 // out = clip(prediction + inverse transform of type `type` of `coefficients`), or the
 // prediction alone when there are none.
-void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type, int size,
-                       uint8_t* out, int stride) {
-  int16_t residual[kMaxTransformArea];
-  if (coefficients != nullptr) inverse_transform(size_of_width(size), type, coefficients, residual);
-  for (int y = 0; y < size; ++y) {
-    for (int x = 0; x < size; ++x) {
-      const int value = prediction[size * y + x] + (coefficients != nullptr ? residual[size * y + x] : 0);
+// Rows of a fixed width, so that the compiler vectorizes them.
+template <int N>
+void add_residual(const uint8_t* prediction, const int16_t* residual, uint8_t* out, int stride) {
+  for (int y = 0; y < N; ++y) {
+    for (int x = 0; x < N; ++x) {
+      const int value = prediction[N * y + x] + residual[N * y + x];
       out[y * stride + x] = static_cast<uint8_t>(std::clamp(value, 0, 255));
     }
   }
+}
+
+void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type, int size,
+                       uint8_t* out, int stride) {
+  if (coefficients == nullptr) {
+    for (int y = 0; y < size; ++y)
+      std::copy_n(prediction + size * y, size, out + static_cast<ptrdiff_t>(y) * stride);
+    return;
+  }
+  int16_t residual[kMaxTransformArea];
+  inverse_transform(size_of_width(size), type, coefficients, residual);
+  if (size == 4) return add_residual<4>(prediction, residual, out, stride);
+  if (size == 16) return add_residual<16>(prediction, residual, out, stride);
+  add_residual<8>(prediction, residual, out, stride);
 }
 
 // The source plane with its last row and column replicated into the padding.
