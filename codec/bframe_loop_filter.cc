@@ -1,5 +1,6 @@
 #include "codec/bframe_loop_filter.h"
 
+#include <array>
 #include <cstdlib>
 
 namespace svc::codec::bframe {
@@ -21,31 +22,48 @@ bool motion_differs(const MacroblockInfo& a, const MacroblockInfo& b) {
   return false;
 }
 
-// Strength of the edge between luma 8x8 blocks (bx0, by0) and (bx1, by1).
-uint8_t edge_strength(const FrameState& s, int bx0, int by0, int bx1, int by1) {
-  const MacroblockInfo& a = s.mb(bx0 >> 1, by0 >> 1);
-  const MacroblockInfo& b = s.mb(bx1 >> 1, by1 >> 1);
-  if (a.mode == MacroblockMode::kIntra || b.mode == MacroblockMode::kIntra) return 2;
+// Strengths of two parallel 8x8 block edges of macroblock `mb` against macroblock
+// `other` (mb itself for the edges inside it); near[i] / far[i] the coded flags of the
+// blocks on mb's side and the other side of edge i. The motion is compared once for both.
+std::array<uint8_t, 2> edge_strengths(const MacroblockInfo& mb, const MacroblockInfo& other,
+                                      const std::array<uint8_t, 2>& near, const std::array<uint8_t, 2>& far) {
+  if (mb.mode == MacroblockMode::kIntra || other.mode == MacroblockMode::kIntra) return {2, 2};
+  const bool coded0 = (near[0] | far[0]) != 0, coded1 = (near[1] | far[1]) != 0;
+  const bool differs = !(coded0 && coded1) && &mb != &other && motion_differs(other, mb);
+  return {static_cast<uint8_t>(coded0 || differs), static_cast<uint8_t>(coded1 || differs)};
+}
+
+// The map's entries for the left and top edges of macroblock (mx, my)'s four 8x8
+// blocks; each strength covers the two 4x4 units along its edge.
+void fill_macroblock_edges(const FrameState& s, int mx, int my, DeblockMap& map) {
+  const MacroblockInfo& mb = s.mb(mx, my);
   const int grid = s.grid_width(0);
-  if (s.coded[0][static_cast<size_t>(by0) * grid + bx0] || s.coded[0][static_cast<size_t>(by1) * grid + bx1]) {
-    return 1;
-  }
-  return &a != &b && motion_differs(a, b) ? 1 : 0;
+  auto coded = [&](int bx, int by) { return s.coded[0][static_cast<size_t>(by) * grid + bx]; };
+  const int bx = 2 * mx, by = 2 * my, ux = 4 * mx, uy = 4 * my;
+  auto set_left = [&](int column, const std::array<uint8_t, 2>& strength) {
+    for (int k = 0; k < 4; ++k) map.left(ux + 2 * column, uy + k) = strength[k >> 1];
+  };
+  auto set_top = [&](int row, const std::array<uint8_t, 2>& strength) {
+    for (int k = 0; k < 4; ++k) map.top(ux + k, uy + 2 * row) = strength[k >> 1];
+  };
+  const std::array<uint8_t, 2> first_column = {coded(bx, by), coded(bx, by + 1)};
+  const std::array<uint8_t, 2> second_column = {coded(bx + 1, by), coded(bx + 1, by + 1)};
+  const std::array<uint8_t, 2> first_row = {coded(bx, by), coded(bx + 1, by)};
+  const std::array<uint8_t, 2> second_row = {coded(bx, by + 1), coded(bx + 1, by + 1)};
+  if (mx > 0)
+    set_left(0, edge_strengths(mb, s.mb(mx - 1, my), first_column, {coded(bx - 1, by), coded(bx - 1, by + 1)}));
+  set_left(1, edge_strengths(mb, mb, second_column, first_column));
+  if (my > 0)
+    set_top(0, edge_strengths(mb, s.mb(mx, my - 1), first_row, {coded(bx, by - 1), coded(bx + 1, by - 1)}));
+  set_top(1, edge_strengths(mb, mb, second_row, first_row));
 }
 
 }  // namespace
 
 DeblockMap deblock_map(const FrameState& s) {
   DeblockMap map = DeblockMap::uniform(16 * s.mbs_x, 16 * s.mbs_y, 0);
-  for (int by = 0; by < 2 * s.mbs_y; ++by) {
-    for (int bx = 0; bx < 2 * s.mbs_x; ++bx) {
-      const uint8_t left = bx > 0 ? edge_strength(s, bx - 1, by, bx, by) : 0;
-      const uint8_t top = by > 0 ? edge_strength(s, bx, by - 1, bx, by) : 0;
-      for (int k = 0; k < 2; ++k) {
-        map.left(2 * bx, 2 * by + k) = left;
-        map.top(2 * bx + k, 2 * by) = top;
-      }
-    }
+  for (int my = 0; my < s.mbs_y; ++my) {
+    for (int mx = 0; mx < s.mbs_x; ++mx) fill_macroblock_edges(s, mx, my, map);
   }
   return map;
 }

@@ -21,45 +21,59 @@ bool plane_fits(const PlaneView& plane, int width, int height) {
   return plane.data != nullptr && plane.width == width && plane.height == height && plane.stride >= width;
 }
 
-// Luma: edges every 8 samples, a segment per 4x4 unit.
+// tc per boundary strength, 0 where a strength leaves its segments alone.
+struct SegmentTc {
+  uint8_t of_strength[3];
+  uint8_t operator()(uint8_t strength) const { return of_strength[std::min<int>(strength, 2)]; }
+};
+
+// Luma: edges every 8 samples, a segment per 4x4 unit; one kernel call per edge, with
+// the tc of each of its segments (an edge of tc 0 throughout is skipped).
 void deblock_luma_plane(const DeblockMap& map, int qindex, const PlaneView& plane) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int beta = deblock_beta(qindex);
-  const int tc[3] = {0, deblock_tc(qindex, 1), deblock_tc(qindex, 2)};
-  for (int uy = 0; uy < map.units_y; ++uy) {
-    for (int ux = 2; ux < map.units_x; ux += 2) {
-      const int strength = std::min<int>(map.left(ux, uy), 2);
-      if (tc[strength] == 0) continue;
-      dsp.deblock_luma(plane.data + static_cast<ptrdiff_t>(4 * uy) * plane.stride + 4 * ux, 1, plane.stride, beta,
-                       tc[strength]);
-    }
+  const SegmentTc tc_of{
+      {0, static_cast<uint8_t>(deblock_tc(qindex, 1)), static_cast<uint8_t>(deblock_tc(qindex, 2))}};
+  if (tc_of.of_strength[1] == 0 && tc_of.of_strength[2] == 0) return;
+  std::vector<uint8_t> tc(static_cast<size_t>(std::max(map.units_x, map.units_y)));
+  for (int ux = 2; ux < map.units_x; ux += 2) {
+    uint8_t any = 0;
+    for (int uy = 0; uy < map.units_y; ++uy) any |= tc[uy] = tc_of(map.left(ux, uy));
+    if (any != 0) dsp.deblock_luma(plane.data + 4 * ux, 1, plane.stride, map.units_y, beta, tc.data());
   }
   for (int uy = 2; uy < map.units_y; uy += 2) {
-    for (int ux = 0; ux < map.units_x; ++ux) {
-      const int strength = std::min<int>(map.top(ux, uy), 2);
-      if (tc[strength] == 0) continue;
-      dsp.deblock_luma(plane.data + static_cast<ptrdiff_t>(4 * uy) * plane.stride + 4 * ux, plane.stride, 1, beta,
-                       tc[strength]);
+    uint8_t any = 0;
+    for (int ux = 0; ux < map.units_x; ++ux) any |= tc[ux] = tc_of(map.top(ux, uy));
+    if (any != 0) {
+      dsp.deblock_luma(plane.data + static_cast<ptrdiff_t>(4 * uy) * plane.stride, plane.stride, 1, map.units_x,
+                       beta, tc.data());
     }
   }
 }
 
 // Chroma: edges every 8 chroma samples (16 luma), only where the strength is 2; a
 // segment of 4 chroma samples takes the strength of the luma unit at its first sample.
-void deblock_chroma_plane(const DeblockMap& map, int qindex, const PlaneView& plane) {
+// Both planes share each edge's tc.
+void deblock_chroma_planes(const DeblockMap& map, int qindex, const PlaneView& cb, const PlaneView& cr) {
   const dsp::DspTable& dsp = dsp::get_dsp();
-  const int tc = deblock_tc(qindex, 2);
-  if (tc == 0) return;
-  for (int uy = 0; uy < map.units_y; uy += 2) {
-    for (int ux = 4; ux < map.units_x; ux += 4) {
-      if (map.left(ux, uy) < 2) continue;
-      dsp.deblock_chroma(plane.data + static_cast<ptrdiff_t>(2 * uy) * plane.stride + 2 * ux, 1, plane.stride, tc);
-    }
+  const SegmentTc tc_of{{0, 0, static_cast<uint8_t>(deblock_tc(qindex, 2))}};
+  if (tc_of.of_strength[2] == 0) return;
+  std::vector<uint8_t> tc(static_cast<size_t>(std::max(map.units_x, map.units_y) / 2));
+  const int segments_down = map.units_y / 2, segments_across = map.units_x / 2;
+  for (int ux = 4; ux < map.units_x; ux += 4) {
+    uint8_t any = 0;
+    for (int j = 0; j < segments_down; ++j) any |= tc[j] = tc_of(map.left(ux, 2 * j));
+    if (any == 0) continue;
+    for (const PlaneView* plane : {&cb, &cr})
+      dsp.deblock_chroma(plane->data + 2 * ux, 1, plane->stride, segments_down, tc.data());
   }
   for (int uy = 4; uy < map.units_y; uy += 4) {
-    for (int ux = 0; ux < map.units_x; ux += 2) {
-      if (map.top(ux, uy) < 2) continue;
-      dsp.deblock_chroma(plane.data + static_cast<ptrdiff_t>(2 * uy) * plane.stride + 2 * ux, plane.stride, 1, tc);
+    uint8_t any = 0;
+    for (int j = 0; j < segments_across; ++j) any |= tc[j] = tc_of(map.top(2 * j, uy));
+    if (any == 0) continue;
+    for (const PlaneView* plane : {&cb, &cr}) {
+      dsp.deblock_chroma(plane->data + static_cast<ptrdiff_t>(2 * uy) * plane->stride, plane->stride, 1,
+                         segments_across, tc.data());
     }
   }
 }
@@ -94,8 +108,7 @@ void deblock_frame(const DeblockMap& map, int qindex, const std::array<PlaneView
     if (!plane_fits(planes[p], 2 * map.units_x, 2 * map.units_y)) return;
   }
   deblock_luma_plane(map, qindex, planes[0]);
-  deblock_chroma_plane(map, qindex, planes[1]);
-  deblock_chroma_plane(map, qindex, planes[2]);
+  deblock_chroma_planes(map, qindex, planes[1], planes[2]);
 }
 
 }  // namespace svc::codec

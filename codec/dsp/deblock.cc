@@ -1,5 +1,5 @@
-// Plain deblocking kernels (docs/codec.md, section 11 defines the arithmetic): one
-// 4-sample segment of an edge per call, the model of H.265 section 8.7.2.
+// Plain deblocking kernels (docs/codec.md, section 11 defines the arithmetic): the
+// segments of an edge one after another, each the model of H.265 section 8.7.2.
 #include <algorithm>
 #include <cstdlib>
 
@@ -49,7 +49,7 @@ void normal_filter_line(const Segment& s, int line, int tc, bool filter_p1, bool
   }
 }
 
-void deblock_luma_c(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc) {
+void filter_luma_segment(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc) {
   const LumaDecision decision = decide_luma_segment(pixels, across, along, beta, tc);
   const Segment s{pixels, across, along};
   for (int line = 0; line < 4; ++line) {
@@ -59,13 +59,25 @@ void deblock_luma_c(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta
   }
 }
 
-void deblock_chroma_c(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc) {
+void filter_chroma_segment(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc) {
   for (int line = 0; line < 4; ++line) {
     uint8_t* q = pixels + line * along;
     const int p1 = q[-2 * across], p0 = q[-across], q0 = q[0], q1 = q[across];
     const int delta = std::clamp((((q0 - p0) * 4) + p1 - q1 + 4) >> 3, -tc, tc);
     q[-across] = static_cast<uint8_t>(clip_pixel(p0 + delta));
     q[0] = static_cast<uint8_t>(clip_pixel(q0 - delta));
+  }
+}
+
+void deblock_luma_c(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int segments, int beta, const uint8_t* tc) {
+  for (int s = 0; s < segments; ++s) {
+    if (tc[s] != 0) filter_luma_segment(pixels + 4 * s * along, across, along, beta, tc[s]);
+  }
+}
+
+void deblock_chroma_c(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int segments, const uint8_t* tc) {
+  for (int s = 0; s < segments; ++s) {
+    if (tc[s] != 0) filter_chroma_segment(pixels + 4 * s * along, across, along, tc[s]);
   }
 }
 

@@ -1,6 +1,6 @@
 // The per-segment decisions of the luma deblocking filter (docs/codec.md, section 11),
-// shared by the plain kernel and its variants, which differ only in how they filter the
-// four lines.
+// shared by the plain kernel and the NEON variant, which differ only in how they filter
+// the four lines (the SSE4.1 variant makes the same decisions as lane masks).
 #pragma once
 
 #include <cstddef>

@@ -123,12 +123,15 @@ struct DspTable {
   int (*satd_8x8)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
   int (*satd_4x4)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 
-  // Deblocking of one 4-sample segment of an edge (docs/codec.md, section 11): `pixels`
-  // is q0 of the first line, p_i lies at pixels - (i + 1) across, q_i at pixels + i across,
-  // line l at pixels + l along. Luma reads p3..q3 and writes at most p2..q2; chroma reads
-  // p1..q1 and writes p0, q0. beta 0..64, tc 0..24 (luma) or 0..24 (chroma).
-  void (*deblock_luma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc);
-  void (*deblock_chroma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc);
+  // Deblocking of `segments` consecutive 4-sample segments of one edge (docs/codec.md,
+  // section 11): `pixels` is q0 of the first line, p_i lies at pixels - (i + 1) across,
+  // q_i at pixels + i across, line l at pixels + l along; one of across and along is 1.
+  // Segment s (lines 4s..4s+3) is filtered with tc[s] (0..24; 0 leaves it alone), each
+  // segment making its own decisions. Luma reads p3..q3 and writes at most p2..q2;
+  // chroma reads p1..q1 and writes p0, q0. beta 0..64.
+  void (*deblock_luma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int segments, int beta,
+                       const uint8_t* tc);
+  void (*deblock_chroma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int segments, const uint8_t* tc);
 
   // CDEF (docs/codec.md, section 11.2): the direction 0..7 of an 8x8 block and, in
   // *variance, the contrast of its best line fit against the orthogonal one.

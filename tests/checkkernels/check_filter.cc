@@ -1,4 +1,4 @@
-// The in-loop filter kernels: deblocking of an edge segment, both orientations.
+// The in-loop filter kernels: deblocking of an edge's segments, both orientations; CDEF.
 #include <string>
 #include <vector>
 
@@ -24,61 +24,135 @@ void fill_window(Random& random, uint8_t* window) {
   if (kind == 3) random.fill_with_extremes(window, kSize * kSize);
 }
 
+// Runs of segments along one edge: each segment its own content (so the strong, normal
+// and no-filter decisions mix within a call), its own tc (0 often), 1 to 11 segments
+// (pairs, groups of four and odd ones left over), both orientations, odd strides.
+constexpr int kEdgeWindow = 56;  // lines along the edge at most 48, samples across 16
+
+// Fills the 4 lines of one segment, p3..q3 around the edge at q0, with one kind of
+// content: a step on flat sides (strong), gentle ramps with noise (normal), noise (no
+// filter), a small step (strong at small tc) or extremes (saturating the clips).
+void fill_segment(Random& random, uint8_t* q0, ptrdiff_t across, ptrdiff_t along) {
+  const int kind = random.uniform(0, 4), extremes = random.uniform(0, 3);
+  const int base = random.uniform(0, 255), slope = random.uniform(-3, 3);
+  const int step = kind == 3 ? random.uniform(-3, 3) : random.uniform(-40, 40);
+  for (int line = 0; line < 4; ++line) {
+    for (int k = -4; k < 4; ++k) {
+      int v = base + (k >= 0 ? step : 0) + slope * k + (kind == 1 ? random.uniform(-2, 2) : 0);
+      if (kind == 2) v = random.uniform(0, 255);
+      if (kind == 4)
+        v = extremes == 0   ? 0
+            : extremes == 1 ? 255
+            : extremes == 2 ? (k < 0 ? 0 : 255)
+                            : 255 * random.uniform(0, 1);
+      q0[line * along + k * across] = static_cast<uint8_t>(std::clamp(v, 0, 255));
+    }
+  }
+}
+
+struct EdgeCase {
+  std::vector<uint8_t> window, tc;
+  ptrdiff_t q0 = 0, across = 0, along = 0;
+  int beta = 0;
+  std::string describe() const {
+    std::string text = across == 1 ? "vertical" : "horizontal";
+    text += " edge, beta " + std::to_string(beta) + ", tc";
+    for (uint8_t t : tc) text.append(" ").append(std::to_string(t));
+    return text;
+  }
+};
+
+EdgeCase random_edge(Random& random) {
+  EdgeCase e;
+  const int stride = random.uniform(48, kEdgeWindow);
+  e.window.resize(static_cast<size_t>(stride) * kEdgeWindow);
+  random.fill(e.window.data(), e.window.size());
+  const bool vertical = random.uniform(0, 1) != 0;
+  e.across = vertical ? 1 : stride;
+  e.along = vertical ? stride : 1;
+  e.q0 = 8 * e.across + random.uniform(0, 3) * e.along;  // the edge between 7 and 8 across
+  e.beta = random.uniform(0, 3) == 0 ? (random.uniform(0, 1) ? 0 : 64) : random.uniform(0, 64);
+  e.tc.resize(static_cast<size_t>(random.uniform(1, 11)));
+  const bool same_tc = random.uniform(0, 3) == 0;
+  for (size_t s = 0; s < e.tc.size(); ++s) {
+    const int pick = random.uniform(0, 4);
+    e.tc[s] = static_cast<uint8_t>(s > 0 && same_tc ? e.tc[0]
+                                   : pick == 0      ? 0
+                                   : pick == 1      ? 24
+                                                    : random.uniform(1, 24));
+    fill_segment(random, e.window.data() + e.q0 + static_cast<ptrdiff_t>(4 * s) * e.along, e.across, e.along);
+  }
+  return e;
+}
+
 template <typename Run>
-std::string check_segments(Random& random, int iterations, Run run) {
+std::string check_edges(Random& random, int iterations, Run run) {
   for (int n = 0; n < iterations; ++n) {
-    uint8_t input[kSize * kSize];
-    fill_window(random, input);
-    const bool vertical = random.uniform(0, 1) != 0;
-    const int beta = random.uniform(0, 3) == 0 ? (random.uniform(0, 1) ? 0 : 64) : random.uniform(0, 64);
-    const int tc = random.uniform(0, 3) == 0 ? (random.uniform(0, 1) ? 0 : 24) : random.uniform(0, 24);
-    const int offset = random.uniform(0, 12);  // first line of the segment
-    std::vector<uint8_t> expected(input, input + kSize * kSize), actual = expected;
-    // The edge between x (or y) 7 and 8; lines run along the other axis.
-    const ptrdiff_t across = vertical ? 1 : kSize, along = vertical ? kSize : 1;
-    const ptrdiff_t q0 = 8 * across + offset * along;
-    run(true, expected.data() + q0, across, along, beta, tc);
-    run(false, actual.data() + q0, across, along, beta, tc);
-    if (auto diff = first_difference(expected.data(), actual.data(), kSize * kSize, kSize); !diff.empty()) {
-      return diff + " (" + (vertical ? "vertical" : "horizontal") + " edge, beta " + std::to_string(beta) +
-             ", tc " + std::to_string(tc) + ")";
+    EdgeCase e = random_edge(random);
+    std::vector<uint8_t> expected = e.window, actual = e.window;
+    run(true, expected.data() + e.q0, e);
+    run(false, actual.data() + e.q0, e);
+    const size_t stride = e.window.size() / kEdgeWindow;
+    if (auto diff = first_difference(expected.data(), actual.data(), e.window.size(), stride); !diff.empty()) {
+      return diff + " (" + e.describe() + ")";
     }
   }
   return {};
 }
 
 std::string check_deblock_luma(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  return check_segments(random, iterations,
-                        [&](bool ref, uint8_t* p, ptrdiff_t across, ptrdiff_t along, int beta, int tc) {
-                          (ref ? reference : variant).deblock_luma(p, across, along, beta, tc);
-                        });
+  return check_edges(random, iterations, [&](bool ref, uint8_t* p, const EdgeCase& e) {
+    (ref ? reference : variant)
+        .deblock_luma(p, e.across, e.along, static_cast<int>(e.tc.size()), e.beta, e.tc.data());
+  });
 }
 
 std::string check_deblock_chroma(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  return check_segments(random, iterations,
-                        [&](bool ref, uint8_t* p, ptrdiff_t across, ptrdiff_t along, int, int tc) {
-                          (ref ? reference : variant).deblock_chroma(p, across, along, tc);
-                        });
+  return check_edges(random, iterations, [&](bool ref, uint8_t* p, const EdgeCase& e) {
+    (ref ? reference : variant).deblock_chroma(p, e.across, e.along, static_cast<int>(e.tc.size()), e.tc.data());
+  });
 }
 
-void bench_deblock_luma(const Tables& table, int iterations) {
-  uint8_t window[kSize * kSize];
-  for (int i = 0; i < kSize * kSize; ++i) window[i] = static_cast<uint8_t>(100 + (i % kSize >= 8 ? 6 : 0));
-  for (int n = 0; n < iterations; ++n) {
-    const bool vertical = n & 1;
-    table.deblock_luma(window + (vertical ? 8 : 8 * kSize), vertical ? 1 : kSize, vertical ? kSize : 1, 40, 4);
+// A 64-sample edge (16 segments, tc 4, beta 40) across the middle of a 64x64 plane,
+// vertical and horizontal in turn: segments with a step on flat sides (strong), ramps
+// (normal) and noise (none).
+struct BenchEdges {
+  uint8_t vertical[64 * 64], horizontal[64 * 64];  // the same content, transposed
+  uint8_t tc[16];
+  BenchEdges() {
+    for (int line = 0; line < 64; ++line) {
+      for (int k = 0; k < 64; ++k) {
+        const int kind = line / 4 % 3, step = k >= 32 ? 6 : 0;
+        const int v = kind == 0 ? 100 + step : kind == 1 ? 60 + 2 * k + step : (k * 37 + line * 91) % 256;
+        vertical[line * 64 + k] = horizontal[k * 64 + line] = static_cast<uint8_t>(v);
+      }
+    }
+    std::fill(tc, tc + 16, uint8_t{4});
   }
-  bench_sink = window[7];
+};
+
+void bench_deblock_luma(const Tables& table, int iterations) {
+  BenchEdges edges;
+  for (int n = 0; n < iterations; ++n) {
+    if (n & 1) {
+      table.deblock_luma(edges.vertical + 32, 1, 64, 16, 40, edges.tc);
+    } else {
+      table.deblock_luma(edges.horizontal + 32 * 64, 64, 1, 16, 40, edges.tc);
+    }
+  }
+  bench_sink = edges.vertical[31] + edges.horizontal[31 * 64];
 }
 
 void bench_deblock_chroma(const Tables& table, int iterations) {
-  uint8_t window[kSize * kSize];
-  for (int i = 0; i < kSize * kSize; ++i) window[i] = static_cast<uint8_t>(100 + (i % kSize >= 8 ? 6 : 0));
+  BenchEdges edges;
   for (int n = 0; n < iterations; ++n) {
-    const bool vertical = n & 1;
-    table.deblock_chroma(window + (vertical ? 8 : 8 * kSize), vertical ? 1 : kSize, vertical ? kSize : 1, 4);
+    if (n & 1) {
+      table.deblock_chroma(edges.vertical + 32, 1, 64, 16, edges.tc);
+    } else {
+      table.deblock_chroma(edges.horizontal + 32 * 64, 64, 1, 16, edges.tc);
+    }
   }
-  bench_sink = window[7];
+  bench_sink = edges.vertical[31] + edges.horizontal[31 * 64];
 }
 
 std::string check_cdef_direction(const Tables& reference, const Tables& variant, Random& random, int iterations) {

@@ -120,7 +120,7 @@ void normal_filter(Columns& s, int tc, bool filter_p1, bool filter_q1) {
   }
 }
 
-void deblock_luma_neon(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc) {
+void filter_luma_segment(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int beta, int tc) {
   const LumaDecision decision = decide_luma_segment(pixels, across, along, beta, tc);
   if (decision.filter == LumaFilter::kNone) return;
   Columns s = load_columns(pixels, across, along);
@@ -135,7 +135,7 @@ void deblock_luma_neon(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int b
 // 4x4 byte transpose: groups of 4 bytes become columns (its own inverse).
 constexpr uint8_t kTranspose4x4[16] = {0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15};
 
-void deblock_chroma_neon(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc) {
+void filter_chroma_segment(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int tc) {
   // Four columns p1, p0, q0, q1 of four bytes (one per line).
   uint32_t words[4];
   for (int i = 0; i < 4; ++i) {
@@ -156,6 +156,20 @@ void deblock_chroma_neon(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int
   vst1q_u32(words, vreinterpretq_u32_u8(columns));
   for (int i = 0; i < 4; ++i) {
     std::memcpy(across == 1 ? pixels + i * along - 2 : pixels + (i - 2) * across, &words[i], 4);
+  }
+}
+
+// The segments of an edge one after another, each with the single-segment code above.
+void deblock_luma_neon(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int segments, int beta,
+                       const uint8_t* tc) {
+  for (int s = 0; s < segments; ++s) {
+    if (tc[s] != 0) filter_luma_segment(pixels + 4 * s * along, across, along, beta, tc[s]);
+  }
+}
+
+void deblock_chroma_neon(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int segments, const uint8_t* tc) {
+  for (int s = 0; s < segments; ++s) {
+    if (tc[s] != 0) filter_chroma_segment(pixels + 4 * s * along, across, along, tc[s]);
   }
 }
 
