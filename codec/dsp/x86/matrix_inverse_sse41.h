@@ -61,7 +61,8 @@ bool inverse_row_pass(const InverseMatrixPairs<N>& rows, int shift, const int16_
       sums[g] = _mm_add_epi32(sums[g], _mm_madd_epi16(matrix, weights));
     }
   }
-  for (int g = 0; g < N / 4; ++g) _mm_storeu_si128(reinterpret_cast<__m128i*>(t + 4 * g), _mm_sra_epi32(sums[g], bits));
+  for (int g = 0; g < N / 4; ++g)
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(t + 4 * g), _mm_sra_epi32(sums[g], bits));
   return any;
 }
 
@@ -134,9 +135,9 @@ bool fits_16_bits(const int32_t* t) {
 }
 
 template <int N, class Matrix>
-void inverse_matrix_transform(const InverseMatrixPairs<N>& rows, int row_shift, const InverseMatrixPairs<N>& columns,
-                              const Matrix& column_matrix, int column_shift, const int16_t* coefficients,
-                              int16_t* samples) {
+void inverse_matrix_transform(const InverseMatrixPairs<N>& rows, int row_shift,
+                              const InverseMatrixPairs<N>& columns, const Matrix& column_matrix, int column_shift,
+                              const int16_t* coefficients, int16_t* samples) {
   alignas(16) int32_t t[N * N];
   uint32_t row_mask = 0;
   for (int v = 0; v < N; ++v) {
