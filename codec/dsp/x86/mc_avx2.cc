@@ -42,36 +42,43 @@ constexpr PairOrders kPairOrders = [] {
   return orders;
 }();
 
-// The first pass of a non-identity phase: 8 sums per group of 8 columns.
+// Whether taps 0, 1, 6 and 7 are zero (the chroma filters): only the middle two tap
+// pairs then add anything, and the vertical pass needs 4 fewer first-pass rows.
+inline bool four_taps(const int8_t* taps) { return (taps[0] | taps[1] | taps[6] | taps[7]) == 0; }
+
+// The first pass of a non-identity phase: 8 sums per group of 8 columns, from tap
+// pairs kFirst .. kFirst + kCount - 1 (the others zero).
+template <int kFirst, int kCount>
 class HorizontalTaps {
  public:
   explicit HorizontalTaps(const int8_t* taps) {
-    for (int k = 0; k < 4; ++k) {
-      pairs_[k] = _mm256_set1_epi16(static_cast<int16_t>((taps[2 * k] & 0xff) | (taps[2 * k + 1] << 8)));
-      shuffles_[k] = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPairOrders.bytes[k]));
+    for (int j = 0; j < kCount; ++j) {
+      const int k = kFirst + j;
+      pairs_[j] = _mm256_set1_epi16(static_cast<int16_t>((taps[2 * k] & 0xff) | (taps[2 * k + 1] << 8)));
+      shuffles_[j] = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPairOrders.bytes[k]));
     }
   }
   // The group whose taps start at `a` in lanes 0..7, at `b` in lanes 8..15 (16 bytes read at each).
   __m256i two_groups(const uint8_t* a, const uint8_t* b) const {
     const __m256i samples = join(load_bytes16(a), load_bytes16(b));
     __m256i sum = _mm256_maddubs_epi16(_mm256_shuffle_epi8(samples, shuffles_[0]), pairs_[0]);
-    for (int k = 1; k < 4; ++k) {
-      sum = _mm256_add_epi16(sum, _mm256_maddubs_epi16(_mm256_shuffle_epi8(samples, shuffles_[k]), pairs_[k]));
+    for (int j = 1; j < kCount; ++j) {
+      sum = _mm256_add_epi16(sum, _mm256_maddubs_epi16(_mm256_shuffle_epi8(samples, shuffles_[j]), pairs_[j]));
     }
     return sum;
   }
   __m128i one_group(const uint8_t* a) const {
     const __m128i samples = load_bytes16(a);
     __m128i sum = _mm_maddubs_epi16(_mm_shuffle_epi8(samples, low(shuffles_[0])), low(pairs_[0]));
-    for (int k = 1; k < 4; ++k) {
-      sum = _mm_add_epi16(sum, _mm_maddubs_epi16(_mm_shuffle_epi8(samples, low(shuffles_[k])), low(pairs_[k])));
+    for (int j = 1; j < kCount; ++j) {
+      sum = _mm_add_epi16(sum, _mm_maddubs_epi16(_mm_shuffle_epi8(samples, low(shuffles_[j])), low(pairs_[j])));
     }
     return sum;
   }
 
  private:
   static __m128i low(__m256i v) { return _mm256_castsi256_si128(v); }
-  __m256i pairs_[4], shuffles_[4];
+  __m256i pairs_[kCount], shuffles_[kCount];
 };
 
 // The first pass of the identity phase: 64 times the sample (pointers at the samples, not the taps).
@@ -104,25 +111,28 @@ void first_pass(const uint8_t* src, ptrdiff_t stride, int row_count, int padded_
 }
 
 // The second pass: out = ((sum_j v[j] rows[y + j]) >> 6) - offset, in 32 bits, on
-// groups of first-pass intermediates `step` apart (the next row's group).
+// groups of first-pass intermediates `step` apart (the next row's group), from tap pairs
+// kFirst .. kFirst + kCount - 1 (the others zero; `rows` starts at the first one's row).
+template <int kFirst, int kCount>
 class VerticalTaps {
  public:
   VerticalTaps(const int8_t* taps, int step) : step_(step) {
-    for (int k = 0; k < 4; ++k) {
-      pairs_[k] = _mm256_set1_epi32(static_cast<int32_t>((taps[2 * k] & 0xffff) | (taps[2 * k + 1] << 16)));
+    for (int j = 0; j < kCount; ++j) {
+      const int k = kFirst + j;
+      pairs_[j] = _mm256_set1_epi32(static_cast<int32_t>((taps[2 * k] & 0xffff) | (taps[2 * k + 1] << 16)));
     }
   }
-  // Outputs o = 0, 2, 4, ... below `count` from groups o..o+7 of the column at `rows`,
-  // passed to store(o, value). Output o + 2 shares three of output o's four interleaved
-  // group pairs, so each pair is interleaved once rather than four times.
+  // Outputs o = 0, 2, 4, ... below `count` from groups o..o+2kCount-1 of the column at
+  // `rows`, passed to store(o, value). Output o + 2 shares all but one of output o's
+  // interleaved group pairs, so each pair is interleaved once.
   template <typename Store>
   void every_other_output(const int16_t* rows, int count, const Store& store) const {
-    __m256i low[4], high[4];
-    for (int k = 0; k < 3; ++k) interleave(rows + 2 * k * step_, &low[k], &high[k]);
+    __m256i low[kCount], high[kCount];
+    for (int k = 0; k < kCount - 1; ++k) interleave(rows + 2 * k * step_, &low[k], &high[k]);
     for (int o = 0; o < count; o += 2) {
-      interleave(rows + (o + 6) * step_, &low[3], &high[3]);
+      interleave(rows + (o + 2 * kCount - 2) * step_, &low[kCount - 1], &high[kCount - 1]);
       store(o, filtered(low, high));
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < kCount - 1; ++k) {
         low[k] = low[k + 1];
         high[k] = high[k + 1];
       }
@@ -131,7 +141,7 @@ class VerticalTaps {
   // One group of 8 from the groups at rows, rows + step, ... (128-bit).
   __m128i one_group(const int16_t* rows) const {
     __m128i low = _mm_setzero_si128(), high = _mm_setzero_si128();
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < kCount; ++k) {
       const __m128i a = load_int16x8(rows + 2 * k * step_), b = load_int16x8(rows + (2 * k + 1) * step_);
       const __m128i pair = _mm256_castsi256_si128(pairs_[k]);
       low = _mm_add_epi32(low, _mm_madd_epi16(_mm_unpacklo_epi16(a, b), pair));
@@ -148,9 +158,9 @@ class VerticalTaps {
     *low = _mm256_unpacklo_epi16(a, b);
     *high = _mm256_unpackhi_epi16(a, b);
   }
-  __m256i filtered(const __m256i (&low)[4], const __m256i (&high)[4]) const {
+  __m256i filtered(const __m256i (&low)[kCount], const __m256i (&high)[kCount]) const {
     __m256i sum_low = _mm256_madd_epi16(low[0], pairs_[0]), sum_high = _mm256_madd_epi16(high[0], pairs_[0]);
-    for (int k = 1; k < 4; ++k) {
+    for (int k = 1; k < kCount; ++k) {
       sum_low = _mm256_add_epi32(sum_low, _mm256_madd_epi16(low[k], pairs_[k]));
       sum_high = _mm256_add_epi32(sum_high, _mm256_madd_epi16(high[k], pairs_[k]));
     }
@@ -159,7 +169,7 @@ class VerticalTaps {
                               _mm256_sub_epi32(_mm256_srai_epi32(sum_high, 6), offset));
   }
 
-  __m256i pairs_[4];
+  __m256i pairs_[kCount];
   int step_;
 };
 
@@ -213,9 +223,10 @@ void copy_block(const int16_t* rows, int padded_width, int width, int height, in
 }
 
 // Two rows of an 8-wide (or 4-wide) block per operation: group o holds rows o and o + 1.
+template <typename Taps>
 void filter_narrow_block(const int16_t* rows, int width, int height, const int8_t* v_taps, int16_t* out,
                          ptrdiff_t out_stride) {
-  const VerticalTaps taps(v_taps, 8);
+  const Taps taps(v_taps, 8);
   taps.every_other_output(rows, height - 1, [&](int y, __m256i value) {
     store_group(out + y * out_stride, _mm256_castsi256_si128(value), width);
     store_group(out + (y + 1) * out_stride, _mm256_extracti128_si256(value, 1), width);
@@ -224,9 +235,10 @@ void filter_narrow_block(const int16_t* rows, int width, int height, const int8_
 }
 
 // 16 columns per operation, even and odd rows in turn; a last group of 8 columns alone.
+template <typename Taps>
 void filter_wide_block(const int16_t* rows, int padded_width, int width, int height, const int8_t* v_taps,
                        int16_t* out, ptrdiff_t out_stride) {
-  const VerticalTaps taps(v_taps, padded_width);
+  const Taps taps(v_taps, padded_width);
   int x = 0;
   for (; x + 16 <= padded_width; x += 16) {
     for (int parity = 0; parity < 2; ++parity) {
@@ -242,25 +254,39 @@ void filter_wide_block(const int16_t* rows, int padded_width, int width, int hei
   }
 }
 
+template <typename Taps>
+void filter_block(const int16_t* rows, int padded_width, int width, int height, const int8_t* v_taps, int16_t* out,
+                  ptrdiff_t out_stride) {
+  if (padded_width == 8) {
+    filter_narrow_block<Taps>(rows, width, height, v_taps, out, out_stride);
+  } else {
+    filter_wide_block<Taps>(rows, padded_width, width, height, v_taps, out, out_stride);
+  }
+}
+
 void interpolate_8tap_avx2(const uint8_t* window, ptrdiff_t window_stride, int width, int height,
                            const int8_t* h_taps, const int8_t* v_taps, int16_t* out, ptrdiff_t out_stride) {
-  const bool vertical = !identity(v_taps);
-  // First-pass rows: all height + 7 when filtering vertically, else only the block's.
-  const int first_row = vertical ? 0 : 3, row_count = vertical ? height + 7 : height;
+  const bool vertical = !identity(v_taps), vertical_four = vertical && four_taps(v_taps);
+  // First-pass rows: those the vertical taps reach (height + 7, or height + 3 from row 2
+  // for four taps), else only the block's.
+  const int first_row = !vertical ? 3 : vertical_four ? 2 : 0;
+  const int row_count = !vertical ? height : vertical_four ? height + 3 : height + 7;
   const int padded_width = (width + 7) & ~7;
   alignas(32) int16_t rows[(kMaxInterpolationBlock + 7) * kMaxInterpolationBlock];
   const uint8_t* src = window + first_row * window_stride;
   if (identity(h_taps)) {
     first_pass(src + 3, window_stride, row_count, padded_width, IdentityTaps{}, rows);
+  } else if (four_taps(h_taps)) {
+    first_pass(src, window_stride, row_count, padded_width, HorizontalTaps<1, 2>(h_taps), rows);
   } else {
-    first_pass(src, window_stride, row_count, padded_width, HorizontalTaps(h_taps), rows);
+    first_pass(src, window_stride, row_count, padded_width, HorizontalTaps<0, 4>(h_taps), rows);
   }
   if (!vertical) {
     copy_block(rows, padded_width, width, height, out, out_stride);
-  } else if (padded_width == 8) {
-    filter_narrow_block(rows, width, height, v_taps, out, out_stride);
+  } else if (vertical_four) {
+    filter_block<VerticalTaps<1, 2>>(rows, padded_width, width, height, v_taps, out, out_stride);
   } else {
-    filter_wide_block(rows, padded_width, width, height, v_taps, out, out_stride);
+    filter_block<VerticalTaps<0, 4>>(rows, padded_width, width, height, v_taps, out, out_stride);
   }
 }
 
