@@ -68,6 +68,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_mc_avx2(&table);
     init_cdef_avx2(&table);
     init_color_avx2(&table);
+    init_pad_avx2(&table);
   }
 #elif defined(__aarch64__)
   if (cpu_flags & kCpuNeon) {

@@ -66,6 +66,7 @@ void init_quant_sse41(DspTable* table);
 void init_mc_avx2(DspTable* table);
 void init_cdef_avx2(DspTable* table);
 void init_color_avx2(DspTable* table);
+void init_pad_avx2(DspTable* table);
 #endif
 
 #if defined(__aarch64__)
