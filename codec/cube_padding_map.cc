@@ -28,23 +28,18 @@ AxisTaps axis_taps(int p16, int n) {
   return taps;
 }
 
-BorderTap make_tap(const BorderSource& source, int n) {
-  const AxisTaps x = axis_taps(source.x16, n), y = axis_taps(source.y16, n);
-  BorderTap tap;
-  tap.index = static_cast<uint32_t>(static_cast<size_t>(y.first) * n + x.first);
-  for (int k = 0; k < 4; ++k) tap.weights[k] = static_cast<uint16_t>(y.weights[k >> 1] * x.weights[k & 1]);
-  return tap;
-}
-
-// Appends border sample `offset` of the padded plane, read from `face`, to the map: onto
-// the last run when it continues it, else as a new run.
-void append(BorderMap* map, size_t offset, int face, const BorderTap& tap) {
-  if (map->runs.empty() || map->runs.back().face != face ||
+// Appends border sample `offset` of the padded plane, read from `face` at `source`, to
+// the map: onto the last run when it continues it, else as a new run.
+void append(BorderMap* map, size_t offset, const BorderSource& source, int n) {
+  if (map->runs.empty() || map->runs.back().face != source.face ||
       map->runs.back().offset + map->runs.back().count != offset) {
-    map->runs.push_back({offset, 0, face});
+    map->runs.push_back({offset, 0, source.face});
   }
   ++map->runs.back().count;
-  map->taps.push_back(tap);
+  const AxisTaps x = axis_taps(source.x16, n), y = axis_taps(source.y16, n);
+  map->indices.push_back(static_cast<uint32_t>(static_cast<size_t>(y.first) * n + x.first));
+  map->weights.push_back({static_cast<uint8_t>(x.weights[0]), static_cast<uint8_t>(x.weights[1]),
+                          static_cast<uint8_t>(y.weights[0]), static_cast<uint8_t>(y.weights[1])});
 }
 
 struct MapKey {
@@ -65,17 +60,8 @@ MapCache& map_cache() {
 }
 
 size_t map_bytes(const BorderMap& map) {
-  return map.taps.size() * sizeof(BorderTap) + map.runs.size() * sizeof(BorderRun);
-}
-
-// One run of border samples from plane `plane` (n x n). No branches: the edge clamp is in
-// the weights, so every sample reads a whole 2 x 2 block.
-void sample_run(const uint8_t* plane, size_t n, const BorderTap* taps, size_t count, uint8_t* out) {
-  for (size_t k = 0; k < count; ++k) {
-    const uint8_t* p = plane + taps[k].index;
-    const std::array<uint16_t, 4>& w = taps[k].weights;
-    out[k] = static_cast<uint8_t>((w[0] * p[0] + w[1] * p[1] + w[2] * p[n] + w[3] * p[n + 1] + 128) >> 8);
-  }
+  return map.indices.size() * sizeof(uint32_t) + map.weights.size() * sizeof(dsp::BilinearWeights) +
+         map.runs.size() * sizeof(BorderRun);
 }
 
 }  // namespace
@@ -83,7 +69,9 @@ void sample_run(const uint8_t* plane, size_t n, const BorderTap* taps, size_t co
 BorderMap build_border_map(int face, int n, int border) {
   BorderMap map;
   const size_t size = static_cast<size_t>(n) + 2 * static_cast<size_t>(border);
-  map.taps.reserve(size * size - static_cast<size_t>(n) * n);
+  const size_t samples = size * size - static_cast<size_t>(n) * n;
+  map.indices.reserve(samples);
+  map.weights.reserve(samples);
   for (int j = -border; j < n + border; ++j) {
     const bool row_inside = j >= 0 && j < n;
     for (int i = -border; i < n + border; ++i) {
@@ -91,9 +79,8 @@ BorderMap build_border_map(int face, int n, int border) {
         i = n - 1;
         continue;
       }
-      const BorderSource source = border_source(face, n, i, j);
-      append(&map, static_cast<size_t>(j + border) * size + static_cast<size_t>(i + border), source.face,
-             make_tap(source, n));
+      append(&map, static_cast<size_t>(j + border) * size + static_cast<size_t>(i + border),
+             border_source(face, n, i, j), n);
     }
   }
   return map;
@@ -144,9 +131,13 @@ void pad_plane(const FacePlanes& planes, int face, int n, int border, std::vecto
   out->resize(size * size);
   uint8_t* inside = out->data() + static_cast<size_t>(border) * size + border;
   for (size_t j = 0; j < side; ++j) std::memcpy(inside + j * size, planes[face]->data() + j * side, side);
-  const BorderTap* tap = map->taps.data();
+  // No branches per sample: the edge clamp is in the weights, so every sample reads a
+  // whole 2 x 2 block.
+  const auto sample_run = dsp::get_dsp().pad_sample_run;
+  size_t tap = 0;
   for (const BorderRun& run : map->runs) {
-    sample_run(planes[run.face]->data(), side, tap, run.count, out->data() + run.offset);
+    sample_run(planes[run.face]->data(), static_cast<ptrdiff_t>(side), map->indices.data() + tap,
+               map->weights.data() + tap, static_cast<int>(run.count), out->data() + run.offset);
     tap += run.count;
   }
 }

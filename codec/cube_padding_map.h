@@ -15,6 +15,7 @@
 #include <memory>
 #include <vector>
 
+#include "codec/dsp/dsp.h"
 #include "svc/types.h"
 
 namespace svc::codec::cube_padding_internal {
@@ -34,16 +35,6 @@ BorderSource border_source(int face, int n, int i, int j);
 // border sample by border_source and the edge-clamped bilinear filter of 10.6.
 void pad_plane_reference(const FacePlanes& planes, int face, int n, int border, std::vector<uint8_t>* out);
 
-// One border sample's bilinear filter with the edge clamp folded into its weights: the
-// 2 x 2 block of the source plane whose top-left sample is at `index`, weighted (top
-// left, top right, bottom left, bottom right). Where the reference clamps a tap onto its
-// neighbour, that tap's weight moves onto the neighbour, which gives the same sum; the
-// block is moved inside the plane where it would reach past the last row or column.
-struct BorderTap {
-  uint32_t index;
-  std::array<uint16_t, 4> weights;  // sum 256
-};
-
 // Consecutive border samples of the padded plane read from one source face.
 struct BorderRun {
   size_t offset;  // of the first sample in the padded plane
@@ -51,16 +42,23 @@ struct BorderRun {
   int face;
 };
 
-// The taps of every border sample of a padded plane, run after run.
+// The taps of every border sample of a padded plane, run after run, as the kernel
+// dsp::DspTable::pad_sample_run reads them: per sample, the top-left sample of a 2 x 2
+// block of the source plane and the block's bilinear weights, with the edge clamp folded
+// in. Where the reference clamps a tap onto its neighbour, that tap's weight moves onto
+// the neighbour, which gives the same sum; the block is moved inside the plane where it
+// would reach past the last row or column.
 struct BorderMap {
   std::vector<BorderRun> runs;
-  std::vector<BorderTap> taps;
+  std::vector<uint32_t> indices;
+  std::vector<dsp::BilinearWeights> weights;
 };
 
-// Planes the maps cover: a 2 x 2 block needs two samples a side, and taps index a plane
-// with 32 bits. The reference pads other planes.
+// Planes the maps cover: a 2 x 2 block needs two samples a side, and the kernel's
+// indices must stay below 2^31 (SIMD gathers take signed offsets). The reference pads
+// other planes.
 inline constexpr int kMinMappedPlaneSide = 2;
-inline constexpr int kMaxMappedPlaneSide = 65535;
+inline constexpr int kMaxMappedPlaneSide = 46340;
 
 // For kMinMappedPlaneSide <= n <= kMaxMappedPlaneSide.
 BorderMap build_border_map(int face, int n, int border);

@@ -46,6 +46,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   init_deblock_c(&table);
   init_cdef_c(&table);
   init_cfl_c(&table);
+  init_pad_c(&table);
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);
@@ -67,6 +68,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_mc_avx2(&table);
     init_cdef_avx2(&table);
     init_color_avx2(&table);
+    init_pad_avx2(&table);
   }
 #elif defined(__aarch64__)
   if (cpu_flags & kCpuNeon) {

@@ -43,6 +43,13 @@ struct CdefTaps {
 // A CDEF input sample outside the plane: it takes no part in the filter.
 inline constexpr uint16_t kCdefUnavailable = 30000;
 
+// The weights of a bilinear sample of a 2 x 2 block as two 1-D pairs, each summing to
+// 16: columns (x0, x1) and rows (y0, y1), so sample (r, c) weighs y_r x_c.
+struct BilinearWeights {
+  uint8_t x0, x1, y0, y1;
+  bool operator==(const BilinearWeights&) const = default;
+};
+
 struct DspTable {
   // 8x8 forward DCT (float, encoder only) and the bit-exact integer inverse; blocks are
   // 64 values, row-major.
@@ -141,6 +148,14 @@ struct DspTable {
   // into `out`.
   void (*cdef_filter_block)(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride, int size,
                             const CdefTaps& taps);
+
+  // Geometry padding of cube faces (docs/codec.md 10.6): `count` bilinear samples of a
+  // plane `stride` samples wide, out[k] = (w.y0 (w.x0 p[0] + w.x1 p[1]) + w.y1 (w.x0
+  // p[stride] + w.x1 p[stride + 1]) + 128) >> 8 with p = plane + index[k], w =
+  // weights[k]. Each 2 x 2 block lies inside the plane (its left column below
+  // stride - 1), and index[k] + stride + 1 < 2^31. Reads stay within each block's rows.
+  void (*pad_sample_run)(const uint8_t* plane, ptrdiff_t stride, const uint32_t* index,
+                         const BilinearWeights* weights, int count, uint8_t* out);
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.

@@ -16,6 +16,7 @@ void init_intra_c(DspTable* table);
 void init_deblock_c(DspTable* table);
 void init_cdef_c(DspTable* table);
 void init_cfl_c(DspTable* table);
+void init_pad_c(DspTable* table);
 
 // Interpolation: the largest block side and the offset of stored intermediates.
 inline constexpr int kMaxInterpolationBlock = 64;
@@ -65,6 +66,7 @@ void init_quant_sse41(DspTable* table);
 void init_mc_avx2(DspTable* table);
 void init_cdef_avx2(DspTable* table);
 void init_color_avx2(DspTable* table);
+void init_pad_avx2(DspTable* table);
 #endif
 
 #if defined(__aarch64__)
