@@ -27,10 +27,10 @@ __m256i gather_blocks(const uint8_t* plane, ptrdiff_t stride, __m256i offsets, _
 
 // The eight samples, 0..255 in 32-bit lanes.
 __m256i filter_blocks(__m256i blocks, __m256i w) {
-  const __m256i column_pairs =
-      _mm256_setr_epi8(0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13, 0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13);
-  const __m256i row_words = _mm256_setr_epi8(2, -1, 3, -1, 6, -1, 7, -1, 10, -1, 11, -1, 14, -1, 15, -1, 2, -1, 3, -1,
-                                             6, -1, 7, -1, 10, -1, 11, -1, 14, -1, 15, -1);
+  const __m256i column_pairs = _mm256_setr_epi8(0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13, 0, 1, 0, 1, 4,
+                                                5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13);
+  const __m256i row_words = _mm256_setr_epi8(2, -1, 3, -1, 6, -1, 7, -1, 10, -1, 11, -1, 14, -1, 15, -1, 2, -1, 3,
+                                             -1, 6, -1, 7, -1, 10, -1, 11, -1, 14, -1, 15, -1);
   const __m256i rows = _mm256_maddubs_epi16(blocks, _mm256_shuffle_epi8(w, column_pairs));
   const __m256i sums = _mm256_madd_epi16(rows, _mm256_shuffle_epi8(w, row_words));
   return _mm256_srli_epi32(_mm256_add_epi32(sums, _mm256_set1_epi32(128)), 8);
@@ -38,9 +38,9 @@ __m256i filter_blocks(__m256i blocks, __m256i w) {
 
 // The low byte of each 32-bit lane, in order.
 __m128i low_bytes(__m256i samples) {
-  const __m256i bytes = _mm256_shuffle_epi8(
-      samples, _mm256_setr_epi8(0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, 0, 4, 8, 12, -1, -1, -1,
-                                -1, -1, -1, -1, -1, -1, -1, -1, -1));
+  const __m256i bytes =
+      _mm256_shuffle_epi8(samples, _mm256_setr_epi8(0, 4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, 0,
+                                                    4, 8, 12, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1));
   return _mm_unpacklo_epi32(_mm256_castsi256_si128(bytes), _mm256_extracti128_si256(bytes, 1));
 }
 
