@@ -103,14 +103,18 @@ class NeighbourMagnitudes {
  public:
   explicit NeighbourMagnitudes(const ScanOrder& order) : positions_(order.positions), stride_(order.width + 2) {
     std::fill_n(grid_.begin(), stride_ * stride_, uint16_t{0});
+    std::fill_n(capped_.begin(), stride_ * stride_, uint8_t{0});
   }
-  void set(int position, int magnitude) { grid_[positions_[position].grid] = static_cast<uint16_t>(magnitude); }
+  void set(int position, int magnitude) {
+    const int cell = positions_[position].grid;
+    grid_[cell] = static_cast<uint16_t>(magnitude);
+    capped_[cell] = static_cast<uint8_t>(std::min(magnitude, 3));
+  }
   // Contexts of natural position `position` (docs/codec.md 5.2).
   int significance_context(int position) const {
-    const uint16_t* a = grid_.data() + positions_[position].grid;
+    const uint8_t* a = capped_.data() + positions_[position].grid;
     const int s = stride_;
-    const int magnitude = std::min<int>(a[1], 3) + std::min<int>(a[s], 3) + std::min<int>(a[s + 1], 3) +
-                          std::min<int>(a[2], 3) + std::min<int>(a[2 * s], 3);
+    const int magnitude = a[1] + a[s] + a[s + 1] + a[2] + a[2 * s];
     return positions_[position].position_class * kNeighbourhoods +
            std::min((magnitude + 1) >> 1, kNeighbourhoods - 1);
   }
@@ -121,6 +125,8 @@ class NeighbourMagnitudes {
   const PositionContext* positions_;
   int stride_;
   std::array<uint16_t, (kMaxTransformWidth + 2) * (kMaxTransformWidth + 2)> grid_;
+  // min(magnitude, 3), all the significance contexts read: no clamp per neighbour.
+  std::array<uint8_t, (kMaxTransformWidth + 2) * (kMaxTransformWidth + 2)> capped_;
 };
 
 // The greater-than-1/2 context of the last significant coefficient (its neighbours to the
