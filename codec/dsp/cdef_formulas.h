@@ -54,6 +54,21 @@ inline int cdef_constrain(int difference, int threshold, int damping) {
 // Direction (0..7) and contrast from the partial sums of section 11.2. The costs are
 // symmetric in partial[0], partial[4] (index k <-> 14 - k) and in partial[1],
 // partial[3], partial[5], partial[7] (k <-> 10 - k), so a variant may fill those mirrored.
+// The first direction of the largest cost (0 when all are 0) and, in *variance, its
+// contrast against the orthogonal direction.
+inline int cdef_direction_from_costs(const int32_t cost[8], int32_t* variance) {
+  int best = 0;
+  int32_t best_cost = 0;
+  for (int d = 0; d < 8; ++d) {
+    if (cost[d] > best_cost) {
+      best_cost = cost[d];
+      best = d;
+    }
+  }
+  *variance = (best_cost - cost[(best + 4) & 7]) >> 10;
+  return best;
+}
+
 inline int cdef_direction_from_partials(const int32_t partial[8][15], int32_t* variance) {
   constexpr int32_t kDivTable[9] = {0, 840, 420, 280, 210, 168, 140, 120, 105};
   int32_t cost[8] = {};
@@ -76,16 +91,7 @@ inline int cdef_direction_from_partials(const int32_t partial[8][15], int32_t* v
       cost[d] += (partial[d][j] * partial[d][j] + partial[d][10 - j] * partial[d][10 - j]) * kDivTable[2 * j + 2];
     }
   }
-  int best = 0;
-  int32_t best_cost = 0;
-  for (int d = 0; d < 8; ++d) {
-    if (cost[d] > best_cost) {
-      best_cost = cost[d];
-      best = d;
-    }
-  }
-  *variance = (best_cost - cost[(best + 4) & 7]) >> 10;
-  return best;
+  return cdef_direction_from_costs(cost, variance);
 }
 
 }  // namespace svc::codec::dsp

@@ -123,16 +123,7 @@ int cdef_direction_8x8_avx2(const uint8_t* pixels, ptrdiff_t stride, int32_t* va
   alignas(32) int32_t lanes[8];
   _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), costs);
   const int32_t cost[8] = {lanes[0], lanes[2], lanes[1], lanes[6], lanes[4], lanes[7], lanes[5], lanes[3]};
-  int best = 0;
-  int32_t best_cost = 0;
-  for (int d = 0; d < 8; ++d) {
-    if (cost[d] > best_cost) {
-      best_cost = cost[d];
-      best = d;
-    }
-  }
-  *variance = (best_cost - cost[(best + 4) & 7]) >> 10;
-  return best;
+  return cdef_direction_from_costs(cost, variance);
 }
 
 // Rows y and y + 1 of an 8-wide block, or rows y..y + 3 of a 4-wide one.
