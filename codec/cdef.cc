@@ -57,17 +57,6 @@ void load_block(const PlaneView& plane, int x0, int y0, int size, uint16_t* bloc
   }
 }
 
-void filter_block(const PlaneView& input, const PlaneView& output, int x0, int y0, int size,
-                  const dsp::CdefTaps& taps) {
-  if (taps.primary == 0 && taps.secondary == 0) return;
-  uint16_t block[(8 + 2 * kBorder) * (8 + 2 * kBorder)];
-  load_block(input, x0, y0, size, block);
-  const int stride = size + 2 * kBorder;
-  dsp::get_dsp().cdef_filter_block(block + kBorder * stride + kBorder, stride,
-                                   output.data + static_cast<ptrdiff_t>(y0) * output.stride + x0, output.stride,
-                                   size, taps);
-}
-
 bool planes_fit(const std::array<PlaneView, 3>& planes) {
   const int w = planes[0].width, h = planes[0].height;
   if (planes[0].data == nullptr || w <= 0 || h <= 0 || w % 16 != 0 || h % 16 != 0 || planes[0].stride < w) {
@@ -82,11 +71,45 @@ bool planes_fit(const std::array<PlaneView, 3>& planes) {
   return true;
 }
 
-// Filters every block of `output` from the unfiltered `input` planes.
-void filter_frame(const CdefParams& params, int qindex, std::span<const uint8_t> skip,
-                  const std::array<PlaneView, 3>& input, const std::array<PlaneView, 3>& output) {
-  const int blocks_x = input[0].width / 8, blocks_y = input[0].height / 8;
-  const int units_x = cdef_units(input[0].width);
+// The planes widened to 16 bits inside a kBorder frame of kCdefUnavailable, so that
+// every block's taps read in place, at the plane's edge as well.
+class WidenedPlanes {
+ public:
+  std::array<std::vector<uint16_t>, 3> samples;
+  std::array<int, 3> strides{};
+  explicit WidenedPlanes(const std::array<PlaneView, 3>& planes) {
+    for (int p = 0; p < 3; ++p) {
+      const PlaneView& plane = planes[p];
+      strides[p] = plane.width + 2 * kBorder;
+      samples[p].assign(static_cast<size_t>(strides[p]) * (plane.height + 2 * kBorder), dsp::kCdefUnavailable);
+      for (int y = 0; y < plane.height; ++y) {
+        const uint8_t* row = plane.data + static_cast<ptrdiff_t>(y) * plane.stride;
+        std::copy_n(row, plane.width, samples[p].data() + index(p, 0, y));
+      }
+    }
+  }
+  const uint16_t* at(int p, int x, int y) const { return samples[p].data() + index(p, x, y); }
+
+ private:
+  size_t index(int p, int x, int y) const {
+    return static_cast<size_t>(y + kBorder) * static_cast<size_t>(strides[p]) + static_cast<size_t>(x + kBorder);
+  }
+};
+
+void filter_block(const WidenedPlanes& input, int p, const PlaneView& output, int x0, int y0, int size,
+                  const dsp::CdefTaps& taps) {
+  if (taps.primary == 0 && taps.secondary == 0) return;
+  dsp::get_dsp().cdef_filter_block(input.at(p, x0, y0), input.strides[p],
+                                   output.data + static_cast<ptrdiff_t>(y0) * output.stride + x0, output.stride,
+                                   size, taps);
+}
+
+// Filters every block of `planes` in place from their unfiltered, widened `input`. The
+// direction search reads the block in `planes`: no block is written before its own turn.
+void filter_frame(const CdefParams& params, int qindex, std::span<const uint8_t> skip, const WidenedPlanes& input,
+                  const std::array<PlaneView, 3>& planes) {
+  const int blocks_x = planes[0].width / 8, blocks_y = planes[0].height / 8;
+  const int units_x = cdef_units(planes[0].width);
   const int damping = damping_of(qindex);
   for (int by = 0; by < blocks_y; ++by) {
     for (int bx = 0; bx < blocks_x; ++bx) {
@@ -97,12 +120,12 @@ void filter_frame(const CdefParams& params, int qindex, std::span<const uint8_t>
       const int secondary = secondary_of(strength.secondary_code);
       int32_t variance = 0;
       const int direction = dsp::get_dsp().cdef_direction_8x8(
-          input[0].data + static_cast<ptrdiff_t>(8 * by) * input[0].stride + 8 * bx, input[0].stride, &variance);
+          planes[0].data + static_cast<ptrdiff_t>(8 * by) * planes[0].stride + 8 * bx, planes[0].stride, &variance);
       const int luma_direction = strength.primary == 0 ? 0 : direction;
-      filter_block(input[0], output[0], 8 * bx, 8 * by, 8,
+      filter_block(input, 0, planes[0], 8 * bx, 8 * by, 8,
                    dsp::CdefTaps{adjusted_primary(strength.primary, variance), secondary, luma_direction, damping});
       for (int p = 1; p < 3; ++p) {
-        filter_block(input[p], output[p], 4 * bx, 4 * by, 4,
+        filter_block(input, p, planes[p], 4 * bx, 4 * by, 4,
                      dsp::CdefTaps{strength.primary, secondary, luma_direction, damping - 1});
       }
     }
@@ -137,23 +160,6 @@ std::vector<int64_t> unit_errors(const std::array<PlaneView, 3>& planes, const C
   }
   return errors;
 }
-
-// Planes backed by copies of `planes`' samples (stride = width).
-struct PlaneCopies {
-  std::array<std::vector<uint8_t>, 3> samples;
-  std::array<PlaneView, 3> views;
-  explicit PlaneCopies(const std::array<PlaneView, 3>& planes) {
-    for (int p = 0; p < 3; ++p) {
-      const PlaneView& plane = planes[p];
-      samples[p].resize(static_cast<size_t>(plane.width) * plane.height);
-      for (int y = 0; y < plane.height; ++y) {
-        std::copy_n(plane.data + static_cast<ptrdiff_t>(y) * plane.stride, plane.width,
-                    samples[p].data() + static_cast<size_t>(y) * plane.width);
-      }
-      views[p] = PlaneView{samples[p].data(), plane.width, plane.width, plane.height};
-    }
-  }
-};
 
 // Candidate presets the encoder tries: light to strong, primary only, secondary only, both.
 constexpr CdefStrength kCandidates[] = {{0, 1}, {0, 2}, {1, 0}, {2, 0}, {1, 1}, {2, 1},  {3, 1},
@@ -316,8 +322,8 @@ void cdef_frame(const CdefParams& params, int qindex, std::span<const uint8_t> s
   if (!params_fit(params, cdef_units(planes[0].width) * cdef_units(planes[0].height))) return;
   const size_t blocks = static_cast<size_t>(planes[0].width / 8) * (planes[0].height / 8);
   if (!skip.empty() && skip.size() != blocks) return;
-  const PlaneCopies input(planes);
-  filter_frame(params, qindex, skip, input.views, planes);
+  const WidenedPlanes input(planes);
+  filter_frame(params, qindex, skip, input, planes);
 }
 
 CdefParams choose_cdef(const std::array<PlaneView, 3>& planes, const CdefSource& source, int qindex,
