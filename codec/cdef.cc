@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <limits>
+#include <memory>
 
 #include "codec/dsp/dsp.h"
 
@@ -72,34 +73,44 @@ bool planes_fit(const std::array<PlaneView, 3>& planes) {
 }
 
 // The planes widened to 16 bits inside a kBorder frame of kCdefUnavailable, so that
-// every block's taps read in place, at the plane's edge as well.
+// every block's taps read in place, at the plane's edge as well. Each sample is written
+// once (the buffers are not value-initialised first).
 class WidenedPlanes {
  public:
-  std::array<std::vector<uint16_t>, 3> samples;
-  std::array<int, 3> strides{};
   explicit WidenedPlanes(const std::array<PlaneView, 3>& planes) {
-    for (int p = 0; p < 3; ++p) {
-      const PlaneView& plane = planes[p];
-      strides[p] = plane.width + 2 * kBorder;
-      samples[p].assign(static_cast<size_t>(strides[p]) * (plane.height + 2 * kBorder), dsp::kCdefUnavailable);
-      for (int y = 0; y < plane.height; ++y) {
-        const uint8_t* row = plane.data + static_cast<ptrdiff_t>(y) * plane.stride;
-        std::copy_n(row, plane.width, samples[p].data() + index(p, 0, y));
-      }
-    }
+    for (int p = 0; p < 3; ++p) widen(planes[p], p);
   }
-  const uint16_t* at(int p, int x, int y) const { return samples[p].data() + index(p, x, y); }
+  const uint16_t* at(int p, int x, int y) const { return samples_[p].get() + index(p, x, y); }
+  int stride(int p) const { return strides_[p]; }
 
  private:
-  size_t index(int p, int x, int y) const {
-    return static_cast<size_t>(y + kBorder) * static_cast<size_t>(strides[p]) + static_cast<size_t>(x + kBorder);
+  void widen(const PlaneView& plane, int p) {
+    const int stride = plane.width + 2 * kBorder, rows = plane.height + 2 * kBorder;
+    strides_[p] = stride;
+    samples_[p] = std::make_unique_for_overwrite<uint16_t[]>(static_cast<size_t>(stride) * rows);
+    uint16_t* data = samples_[p].get();
+    std::fill_n(data, static_cast<size_t>(stride) * kBorder, dsp::kCdefUnavailable);
+    std::fill_n(data + static_cast<size_t>(stride) * (rows - kBorder), static_cast<size_t>(stride) * kBorder,
+                dsp::kCdefUnavailable);
+    for (int y = 0; y < plane.height; ++y) {
+      uint16_t* row = data + index(p, 0, y);
+      std::fill_n(row - kBorder, kBorder, dsp::kCdefUnavailable);
+      std::copy_n(plane.data + static_cast<ptrdiff_t>(y) * plane.stride, plane.width, row);
+      std::fill_n(row + plane.width, kBorder, dsp::kCdefUnavailable);
+    }
   }
+  size_t index(int p, int x, int y) const {
+    return static_cast<size_t>(y + kBorder) * static_cast<size_t>(strides_[p]) + static_cast<size_t>(x + kBorder);
+  }
+
+  std::array<std::unique_ptr<uint16_t[]>, 3> samples_;
+  std::array<int, 3> strides_{};
 };
 
 void filter_block(const WidenedPlanes& input, int p, const PlaneView& output, int x0, int y0, int size,
                   const dsp::CdefTaps& taps) {
   if (taps.primary == 0 && taps.secondary == 0) return;
-  dsp::get_dsp().cdef_filter_block(input.at(p, x0, y0), input.strides[p],
+  dsp::get_dsp().cdef_filter_block(input.at(p, x0, y0), input.stride(p),
                                    output.data + static_cast<ptrdiff_t>(y0) * output.stride + x0, output.stride,
                                    size, taps);
 }
