@@ -35,29 +35,6 @@ int adjusted_primary(int primary, int32_t variance) {
   return (primary * (4 + scale) + 8) >> 4;
 }
 
-// The size x size block at (x0, y0) of `plane` with its border, as 16-bit samples,
-// kCdefUnavailable outside the plane. Stride size + 2 kBorder.
-void load_block(const PlaneView& plane, int x0, int y0, int size, uint16_t* block) {
-  const int stride = size + 2 * kBorder;
-  if (x0 >= kBorder && y0 >= kBorder && x0 + size + kBorder <= plane.width && y0 + size + kBorder <= plane.height) {
-    // Inside the plane, border included (most blocks): rows widened without a test per sample.
-    for (int y = 0; y < stride; ++y) {
-      const uint8_t* row = plane.data + static_cast<ptrdiff_t>(y0 + y - kBorder) * plane.stride + (x0 - kBorder);
-      std::copy_n(row, stride, block + y * stride);
-    }
-    return;
-  }
-  for (int y = 0; y < stride; ++y) {
-    const int py = y0 + y - kBorder;
-    for (int x = 0; x < stride; ++x) {
-      const int px = x0 + x - kBorder;
-      const bool inside = px >= 0 && py >= 0 && px < plane.width && py < plane.height;
-      block[y * stride + x] = inside ? plane.data[static_cast<ptrdiff_t>(py) * plane.stride + px]
-                                     : dsp::kCdefUnavailable;
-    }
-  }
-}
-
 bool planes_fit(const std::array<PlaneView, 3>& planes) {
   const int w = planes[0].width, h = planes[0].height;
   if (planes[0].data == nullptr || w <= 0 || h <= 0 || w % 16 != 0 || h % 16 != 0 || planes[0].stride < w) {
@@ -228,7 +205,7 @@ std::vector<std::vector<int64_t>> candidate_errors(const std::array<PlaneView, 3
   const int units_x = cdef_units(planes[0].width);
   const int damping = damping_of(qindex);
   const dsp::DspTable& dsp = dsp::get_dsp();
-  constexpr int kLumaStride = 8 + 2 * kBorder, kChromaStride = 4 + 2 * kBorder;
+  const WidenedPlanes widened(planes);
   for (int by = 0; by < blocks_y; ++by) {
     for (int bx = 0; bx < blocks_x; ++bx) {
       if (!skip.empty() && skip[static_cast<size_t>(by) * blocks_x + bx] != 0) continue;
@@ -237,16 +214,12 @@ std::vector<std::vector<int64_t>> candidate_errors(const std::array<PlaneView, 3
       const int direction =
           dsp.cdef_direction_8x8(planes[0].data + static_cast<ptrdiff_t>(8 * by) * planes[0].stride + 8 * bx,
                                  planes[0].stride, &variance);
-      uint16_t luma[kLumaStride * kLumaStride], chroma[2][kChromaStride * kChromaStride];
-      load_block(planes[0], 8 * bx, 8 * by, 8, luma);
-      for (int p = 1; p < 3; ++p) load_block(planes[p], 4 * bx, 4 * by, 4, chroma[p - 1]);
       uint8_t original[3][64];
       for (int p = 0; p < 3; ++p) {
-        const int size = p == 0 ? 8 : 4, stride = p == 0 ? kLumaStride : kChromaStride;
-        const uint16_t* in = p == 0 ? luma : chroma[p - 1];
+        const int size = p == 0 ? 8 : 4;
         for (int y = 0; y < size; ++y) {
-          for (int x = 0; x < size; ++x)
-            original[p][y * size + x] = static_cast<uint8_t>(in[(y + kBorder) * stride + x + kBorder]);
+          std::copy_n(planes[p].data + static_cast<ptrdiff_t>(size * by + y) * planes[p].stride + size * bx, size,
+                      original[p] + y * size);
         }
       }
       int64_t before = 0;
@@ -263,13 +236,13 @@ std::vector<std::vector<int64_t>> candidate_errors(const std::array<PlaneView, 3
         uint8_t filtered[3][64];
         int64_t after = 0;
         for (int p = 0; p < 3; ++p) {
-          const int size = p == 0 ? 8 : 4, stride = p == 0 ? kLumaStride : kChromaStride;
+          const int size = p == 0 ? 8 : 4;
           const dsp::CdefTaps& taps = p == 0 ? luma_taps : chroma_taps;
           if (taps.primary == 0 && taps.secondary == 0) {
             std::copy_n(original[p], size * size, filtered[p]);
           } else {
-            const uint16_t* in = p == 0 ? luma : chroma[p - 1];
-            dsp.cdef_filter_block(in + kBorder * stride + kBorder, stride, filtered[p], size, size, taps);
+            dsp.cdef_filter_block(widened.at(p, size * bx, size * by), widened.stride(p), filtered[p], size, size,
+                                  taps);
           }
           after += block_error(filtered[p], size, source, p, p ? 4 * bx : 8 * bx, p ? 4 * by : 8 * by);
         }

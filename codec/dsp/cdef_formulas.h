@@ -51,9 +51,6 @@ inline int cdef_constrain(int difference, int threshold, int damping) {
   return difference < 0 ? -magnitude : magnitude;
 }
 
-// Direction (0..7) and contrast from the partial sums of section 11.2. The costs are
-// symmetric in partial[0], partial[4] (index k <-> 14 - k) and in partial[1],
-// partial[3], partial[5], partial[7] (k <-> 10 - k), so a variant may fill those mirrored.
 // The first direction of the largest cost (0 when all are 0) and, in *variance, its
 // contrast against the orthogonal direction.
 inline int cdef_direction_from_costs(const int32_t cost[8], int32_t* variance) {
@@ -69,6 +66,9 @@ inline int cdef_direction_from_costs(const int32_t cost[8], int32_t* variance) {
   return best;
 }
 
+// Direction (0..7) and contrast from the partial sums of section 11.2. The costs are
+// symmetric in partial[0], partial[4] (index k <-> 14 - k) and in partial[1],
+// partial[3], partial[5], partial[7] (k <-> 10 - k), so a variant may fill those mirrored.
 inline int cdef_direction_from_partials(const int32_t partial[8][15], int32_t* variance) {
   constexpr int32_t kDivTable[9] = {0, 840, 420, 280, 210, 168, 140, 120, 105};
   int32_t cost[8] = {};

@@ -22,15 +22,20 @@
 namespace svc::codec::dsp {
 namespace {
 
-// Pairs of matrix rows interleaved for pmaddwd, pairs[p][2x + i] = m[2p + i][x] (row
-// pass), and pairs of matrix entries of one sample packed in 32 bits, packed[p][y] =
-// m[2p][y] | m[2p + 1][y] << 16 (column pass).
+// A matrix in the layouts the passes read: pairs of rows interleaved for pmaddwd,
+// interleaved[p][2x + i] = m[2p + i][x] (row pass); pairs of entries of one sample packed
+// in 32 bits, packed[p][y] = m[2p][y] | m[2p + 1][y] << 16 (16-bit column pass); the
+// entries themselves (32-bit column pass).
 template <int N>
 struct InverseMatrixPairs {
   alignas(16) int16_t interleaved[N / 2][2 * N];
   int32_t packed[N / 2][N];
+  int32_t entries[N][N];
   template <class Matrix>
   explicit InverseMatrixPairs(const Matrix& m) {
+    for (int u = 0; u < N; ++u) {
+      for (int x = 0; x < N; ++x) entries[u][x] = m[u][x];
+    }
     for (int p = 0; p < N / 2; ++p) {
       for (int x = 0; x < N; ++x) {
         interleaved[p][2 * x] = static_cast<int16_t>(m[2 * p][x]);
@@ -103,8 +108,8 @@ void inverse_column_pass_16(const InverseMatrixPairs<N>& columns, int shift, con
 }
 
 // Column pass in 32 bits, for row outputs beyond 16 bits.
-template <int N, class Matrix>
-void inverse_column_pass_32(const Matrix& columns, int shift, const int32_t* t, int16_t* samples) {
+template <int N>
+void inverse_column_pass_32(const InverseMatrixPairs<N>& columns, int shift, const int32_t* t, int16_t* samples) {
   const __m128i round = _mm_set1_epi32(1 << (shift - 1));
   const __m128i bits = _mm_cvtsi32_si128(shift);
   for (int y = 0; y < N; ++y) {
@@ -112,7 +117,7 @@ void inverse_column_pass_32(const Matrix& columns, int shift, const int32_t* t, 
       __m128i sum = round;
       for (int v = 0; v < N; ++v) {
         const __m128i row = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t + N * v + x));
-        sum = _mm_add_epi32(sum, _mm_mullo_epi32(_mm_set1_epi32(columns[v][y]), row));
+        sum = _mm_add_epi32(sum, _mm_mullo_epi32(_mm_set1_epi32(columns.entries[v][y]), row));
       }
       const __m128i out = _mm_sra_epi32(sum, bits);
       _mm_storel_epi64(reinterpret_cast<__m128i*>(samples + N * y + x), _mm_packs_epi32(out, out));
@@ -134,10 +139,10 @@ bool fits_16_bits(const int32_t* t) {
   return _mm_testz_si128(outside, outside) != 0;
 }
 
-template <int N, class Matrix>
+template <int N>
 void inverse_matrix_transform(const InverseMatrixPairs<N>& rows, int row_shift,
-                              const InverseMatrixPairs<N>& columns, const Matrix& column_matrix, int column_shift,
-                              const int16_t* coefficients, int16_t* samples) {
+                              const InverseMatrixPairs<N>& columns, int column_shift, const int16_t* coefficients,
+                              int16_t* samples) {
   alignas(16) int32_t t[N * N];
   uint32_t row_mask = 0;
   for (int v = 0; v < N; ++v) {
@@ -150,7 +155,7 @@ void inverse_matrix_transform(const InverseMatrixPairs<N>& rows, int row_shift,
       return;
     }
   }
-  inverse_column_pass_32<N>(column_matrix, column_shift, t, samples);
+  inverse_column_pass_32<N>(columns, column_shift, t, samples);
 }
 
 }  // namespace

@@ -47,7 +47,7 @@ void forward_typed(int type, const float* samples, float* coefficients) {
   }
 }
 
-// A matrix as aligned int32 rows, rows[u][x].
+// A direction's matrix (DST-VII when `dst`, else the DCT) in the inverse's layouts.
 template <int N>
 const InverseMatrixPairs<N>& matrix_pairs(bool dst) {
   static const InverseMatrixPairs<N> dct(type_matrix<N>(false).m), dst_pairs(type_matrix<N>(true).m);
@@ -58,8 +58,7 @@ template <int N>
 void inverse_typed(int type, const int16_t* coefficients, int16_t* samples) {
   const bool rows_dst = (type & 1) != 0, columns_dst = (type & 2) != 0;
   inverse_matrix_transform<N>(matrix_pairs<N>(rows_dst), type_row_shift(rows_dst), matrix_pairs<N>(columns_dst),
-                              type_matrix<N>(columns_dst).m, type_column_shift(N, columns_dst), coefficients,
-                              samples);
+                              type_column_shift(N, columns_dst), coefficients, samples);
 }
 
 }  // namespace
