@@ -30,7 +30,10 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 9;
+inline constexpr uint8_t kBFrameSyntaxVersion = 10;
+// Header byte 4 bit 4: coded inter macroblocks code whether their luma residual is one
+// 16x16 transform block instead of four 8x8 ones (docs/codec.md 10.4).
+inline constexpr uint8_t kInterTransformSizesFlag = 16;
 // Frame type, syntax version, qindex, reference border units, loop filter flags,
 // interpolation filter, reference count, warp mask.
 inline constexpr int kBFrameHeaderBytes = 8;
@@ -111,6 +114,10 @@ struct BFrameParams {
   // SSD + lambda * bits; off, the regular bank only. The sharp regular filter loses to
   // smoother ones on noisy references seen at other scales (docs/codec.md, 10.5).
   bool switchable_filter = true;
+  // Lets each coded inter macroblock code its luma residual as one 16x16 transform block
+  // where that lowers the rate-distortion cost (header flag kInterTransformSizesFlag);
+  // off, every residual block is 8x8.
+  bool inter_transform_sizes = true;
   // Splits inter macroblocks into 16x8, 8x16 or 8x8 partitions, each with its own
   // direction and vectors, where that lowers the rate-distortion cost; off, every inter
   // macroblock is one 16x16 partition (for ablation).
@@ -140,6 +147,8 @@ struct BFrameStats {
   int mb_warp = 0;
   // Inter macroblocks split into partitions (16x8, 8x16 or 8x8).
   int mb_partitioned = 0;
+  // Inter macroblocks whose luma residual is one 16x16 transform block.
+  int mb_luma_16x16 = 0;
   // Inter and skipped macroblocks whose luma prediction reads reference samples outside
   // the face (the cube-map border when the references are padded).
   int mb_leaving_face = 0;
@@ -202,10 +211,11 @@ struct BFrameHeader {
   // Cube-map border of the references in units of 16 luma samples a side (0: the
   // references are the bare faces; codec/cube_padding.h builds padded ones).
   int border_units = 0;
-  int loop_filters = 0;          // kLoopFilter* bits (intra_codec.h)
-  bool transform_types = false;  // byte 4 kTransformTypesFlag: intra blocks code their type
-  int reference_count = 0;       // 1 or 2
-  int warp_mask = 0;             // bit r: reference r may be warped
+  int loop_filters = 0;                // kLoopFilter* bits (intra_codec.h)
+  bool transform_types = false;        // byte 4 kTransformTypesFlag: intra blocks code their type
+  bool inter_transform_sizes = false;  // byte 4 kInterTransformSizesFlag
+  int reference_count = 0;             // 1 or 2
+  int warp_mask = 0;                   // bit r: reference r may be warped
   InterpolationFilter filter = InterpolationFilter::kRegular;
 };
 

@@ -214,12 +214,19 @@ class MacroblockReader {
     return read_residual(local_coded);
   }
 
+  // The luma transform size (when the frame codes it), then the coded flags: one for a
+  // 16x16 luma block (standing for its four 8x8 blocks), else one per 8x8 block.
   void read_coded_flags(uint8_t* local_coded) {
+    info_.luma_16x16 = s_.inter_transform_sizes && decoder_.decode(c_.luma_16x16[luma_16x16_context(s_, mx_, my_)]);
     for (int b = 0; b < 6; ++b) {
       const int plane = block_plane(b);
-      const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
-      local_coded[b] = static_cast<uint8_t>(
-          decoder_.decode(plane == 0 ? c_.cbp_luma[context] : c_.cbp_chroma[plane - 1][context]));
+      if (info_.luma_16x16 && b >= 1 && b <= 3) {
+        local_coded[b] = local_coded[0];
+      } else {
+        const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
+        local_coded[b] = static_cast<uint8_t>(
+            decoder_.decode(plane == 0 ? c_.cbp_luma[context] : c_.cbp_chroma[plane - 1][context]));
+      }
       coded_mask_ |= static_cast<uint8_t>(local_coded[b] << b);
     }
   }
@@ -244,7 +251,24 @@ class MacroblockReader {
 
   // Prediction plus the coded residual of each block whose flag is set.
   Status read_residual(const uint8_t* local_coded) {
-    for (int b = 0; b < 6; ++b) {
+    int first_block = 0;
+    if (info_.luma_16x16) {
+      first_block = 4;
+      if (!local_coded[0]) {
+        std::copy_n(prediction_.y.data(), 256, reconstruction_.y.data());
+      } else {
+        int count = 0;
+        if (!decode_block_levels(decoder_, c_.inter_luma, 0, kNoCodedBlockFlag, decoded_, &count,
+                                 TransformSize::k16x16)) {
+          return fail("invalid residual levels");
+        }
+        std::fill(std::begin(levels_), std::end(levels_), int16_t{0});
+        for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
+        reconstruct_residual_block(s_.inter_quantizer_16x16, levels_, prediction_.y.data(), 16,
+                                   reconstruction_.y.data(), 16);
+      }
+    }
+    for (int b = first_block; b < 6; ++b) {
       const uint8_t* pred = block_samples(prediction_, b);
       uint8_t* recon = block_samples(reconstruction_, b);
       const int stride = block_stride(b);
@@ -257,7 +281,7 @@ class MacroblockReader {
                                kNoCodedBlockFlag, decoded_, &count)) {
         return fail("invalid residual levels");
       }
-      std::fill(std::begin(levels_), std::end(levels_), int16_t{0});
+      std::fill_n(levels_, 64, int16_t{0});
       for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
       reconstruct_residual_block(s_.inter_quantizer, levels_, pred, stride, recon, stride);
     }
@@ -272,8 +296,8 @@ class MacroblockReader {
   std::array<MotionVector, 2> predictors_{};
   uint8_t coded_mask_ = 0;
   MacroblockPrediction prediction_, reconstruction_;
-  int16_t levels_[64];
-  BlockLevel decoded_[64];
+  int16_t levels_[kMaxTransformArea];
+  BlockLevel decoded_[kMaxTransformArea];
 };
 
 }  // namespace
@@ -294,7 +318,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return corrupt("byte 3: reference border of " + std::to_string(bytes[3]) + " units outside 0.." +
                    std::to_string(kMaxCubeBorderUnits));
   }
-  if ((bytes[4] & ~(kLoopFilterKnownBits | kTransformTypesFlag)) != 0) {
+  if ((bytes[4] & ~(kLoopFilterKnownBits | kTransformTypesFlag | kInterTransformSizesFlag)) != 0) {
     return corrupt("byte 4: unknown flags " + std::to_string(bytes[4]));
   }
   if (bytes[5] >= kInterpolationFilterCount) {
@@ -311,6 +335,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   out->border_units = bytes[3];
   out->loop_filters = bytes[4] & kLoopFilterKnownBits;
   out->transform_types = (bytes[4] & kTransformTypesFlag) != 0;
+  out->inter_transform_sizes = (bytes[4] & kInterTransformSizesFlag) != 0;
   out->filter = static_cast<InterpolationFilter>(bytes[5]);
   out->reference_count = bytes[6];
   out->warp_mask = bytes[7];
@@ -344,6 +369,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   init_state(s, width, height, header.qindex, &ref0, ref1, header.border_units);
   s.warp_mask = header.warp_mask;
   s.filter = header.filter;
+  s.inter_transform_sizes = header.inter_transform_sizes;
   s.contexts.intra_luma.types.enabled = s.contexts.intra_chroma.types.enabled = header.transform_types;
   if (modes != nullptr) {
     modes->clear();

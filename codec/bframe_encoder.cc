@@ -51,6 +51,9 @@ struct MacroblockChoice {
   bool warp = false;                                // inter or skip: predicted by warping
   std::array<MotionVector, 2> vectors{};            // used vectors; predictors for unused references
   std::array<std::array<int16_t, 64>, 6> levels{};  // inter only
+  // Inter only: whether the luma residual is one 16x16 block, and its levels.
+  bool luma_16x16 = false;
+  std::array<int16_t, 256> luma_levels{};
   // Intra only: the blocks as the intra frame's search chose them.
   std::unique_ptr<IntraChoice> intra;
   uint8_t coded_mask = 0;  // inter: coded block pattern; intra: 8x8 blocks with levels
@@ -440,14 +443,26 @@ class BFrameEncoder {
     }
     info.inter_mode = choice.mode;
     info.inter_warp = choice.warp;
+    info.luma_16x16 = choice.luma_16x16;
+    if (s_.inter_transform_sizes) encoder.encode(c.luma_16x16[luma_16x16_context(s_, mx, my)], choice.luma_16x16);
     uint8_t local_coded[6] = {};
     for (int b = 0; b < 6; ++b) {
       const int plane = block_plane(b);
       const int context = coded_context(s_, local_coded, plane, mx, my, block_x(b, mx), block_y(b, my));
       local_coded[b] = static_cast<uint8_t>((choice.coded_mask >> b) & 1);
+      // A 16x16 luma block's flag stands for its four 8x8 blocks.
+      if (choice.luma_16x16 && b >= 1 && b <= 3) continue;
       encoder.encode(plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context], local_coded[b]);
     }
-    for (int b = 0; b < 6; ++b) {
+    int first_block = 0;
+    if (choice.luma_16x16) {
+      first_block = 4;
+      if (local_coded[0]) {
+        encode_block_levels(encoder, c.inter_luma, choice.luma_levels.data(), 0, kNoCodedBlockFlag,
+                            TransformSize::k16x16);
+      }
+    }
+    for (int b = first_block; b < 6; ++b) {
       if (!local_coded[b]) continue;
       encode_block_levels(encoder, block_plane(b) == 0 ? c.inter_luma : c.inter_chroma, choice.levels[b].data(), 0,
                           kNoCodedBlockFlag);
@@ -717,12 +732,79 @@ class BFrameEncoder {
   // Each 8x8 block's residual, kept where it lowers the cost; sets the levels, coded
   // mask, reconstruction and cost (with `bits` of side information).
   void code_residual(const MacroblockPrediction& prediction, float bits, MacroblockChoice* out) {
-    const SyntaxContexts& c = s_.contexts;
     out->side_bits = bits;
     int64_t distortion = 0;
     uint8_t local_coded[6] = {};
     out->coded_mask = 0;
-    for (int b = 0; b < 6; ++b) {
+    out->luma_16x16 = false;
+    for (int b = 0; b < 4; ++b) code_block(prediction, b, local_coded, out, &distortion, &bits);
+    if (s_.inter_transform_sizes) {
+      const float flag_bits[2] = {bit_cost(s_.contexts.luma_16x16[luma_16x16_context(s_, mx_, my_)], 0),
+                                  bit_cost(s_.contexts.luma_16x16[luma_16x16_context(s_, mx_, my_)], 1)};
+      bits += flag_bits[0];
+      int64_t large_distortion = 0;
+      float large_bits = flag_bits[1];
+      uint8_t large_reconstruction[256];
+      const bool coded = code_luma_16x16(prediction, out, large_reconstruction, &large_distortion, &large_bits);
+      const float small_bits = bits - out->side_bits;
+      if (large_distortion + lambda_ * large_bits < distortion + lambda_ * small_bits) {
+        out->luma_16x16 = true;
+        distortion = large_distortion;
+        bits = out->side_bits + large_bits;
+        std::fill_n(local_coded, 4, static_cast<uint8_t>(coded));
+        out->coded_mask = coded ? 15 : 0;
+        std::copy_n(large_reconstruction, 256, out->reconstruction.y.data());
+      }
+    }
+    for (int b = 4; b < 6; ++b) code_block(prediction, b, local_coded, out, &distortion, &bits);
+    out->cost = static_cast<double>(distortion) + lambda_ * bits;
+  }
+
+  // The whole luma residual as one 16x16 block, coded where that lowers the cost; its
+  // levels go to out->luma_levels. Adds the error and bits (coded flag and levels).
+  // Returns whether it is coded.
+  bool code_luma_16x16(const MacroblockPrediction& prediction, MacroblockChoice* out, uint8_t* reconstruction,
+                       int64_t* distortion, float* bits) {
+    const SyntaxContexts& c = s_.contexts;
+    const uint8_t* src = source_block(0);
+    const int source_stride = source_.strides[0];
+    const uint8_t no_local[6] = {};
+    const AdaptiveBit& cbp_model = c.cbp_luma[coded_context(s_, no_local, 0, mx_, my_, 2 * mx_, 2 * my_)];
+    int16_t residual[256];
+    for (int y = 0; y < 16; ++y) {
+      for (int x = 0; x < 16; ++x)
+        residual[16 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - prediction.y[16 * y + x]);
+    }
+    const int visible_w = visible_w_[0] + visible_w_[1], visible_h = visible_h_[0] + visible_h_[2];
+    const int64_t uncoded_error = squared_error(src, source_stride, prediction.y.data(), 16, visible_w, visible_h);
+    int16_t* levels = out->luma_levels.data();
+    const int nonzero = transform_quantize_block_rd(s_.inter_quantizer_16x16, residual, quantize_rd_, c.inter_luma,
+                                                    0, kNoCodedBlockFlag, static_cast<float>(lambda_), levels);
+    if (nonzero > 0) {
+      reconstruct_residual_block(s_.inter_quantizer_16x16, levels, prediction.y.data(), 16, reconstruction, 16);
+      const int64_t coded_error = squared_error(src, source_stride, reconstruction, 16, visible_w, visible_h);
+      const float coded_bits = bit_cost(cbp_model, 1) +
+                               block_levels_bits(c.inter_luma, levels, 0, kNoCodedBlockFlag, TransformSize::k16x16);
+      if (coded_error + lambda_ * coded_bits < uncoded_error + lambda_ * bit_cost(cbp_model, 0)) {
+        *distortion += coded_error;
+        *bits += coded_bits;
+        return true;
+      }
+    }
+    *distortion += uncoded_error;
+    *bits += bit_cost(cbp_model, 0);
+    std::copy_n(prediction.y.data(), 256, reconstruction);
+    return false;
+  }
+
+  // 8x8 block b's residual, coded where that lowers the cost: its levels, coded flag and
+  // reconstruction; adds its error and bits.
+  void code_block(const MacroblockPrediction& prediction, int b, uint8_t* local_coded, MacroblockChoice* out,
+                  int64_t* distortion_sum, float* bits_sum) {
+    const SyntaxContexts& c = s_.contexts;
+    int64_t& distortion = *distortion_sum;
+    float& bits = *bits_sum;
+    {
       const int plane = block_plane(b), stride = block_stride(b);
       const uint8_t* pred = block_samples(prediction, b);
       uint8_t* recon = block_samples(out->reconstruction, b);
@@ -764,7 +846,6 @@ class BFrameEncoder {
       local_coded[b] = coded;
       out->coded_mask |= static_cast<uint8_t>(coded << b);
     }
-    out->cost = static_cast<double>(distortion) + lambda_ * bits;
   }
 
   // A split macroblock: per partition in coding order, the best vector per reference
@@ -914,6 +995,9 @@ void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
       choice.motion.partition != Partition::k16x16) {
     ++stats->mb_partitioned;
   }
+  if (choice.mode != MacroblockMode::kIntra && choice.mode != MacroblockMode::kSkipped && choice.luma_16x16) {
+    ++stats->mb_luma_16x16;
+  }
   switch (choice.mode) {
     case MacroblockMode::kIntra: ++stats->mb_intra; break;
     case MacroblockMode::kForward: ++stats->mb_forward; break;
@@ -995,6 +1079,7 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
   FrameState& state = coded.state;
   init_state(state, width, height, qindex, &ref0, ref1, border_units);
   state.filter = filter;
+  state.inter_transform_sizes = params.inter_transform_sizes;
   state.contexts.intra_luma.types.enabled = state.contexts.intra_chroma.types.enabled =
       params.intra_transform_types;
   const WarpField* fields[2] = {hints[0].warp, ref1 != nullptr ? hints[1].warp : nullptr};
@@ -1053,8 +1138,9 @@ std::vector<uint8_t> finish_frame(CodedMacroblocks& coded, const BFrameParams& p
   observe_bframe_contexts(state.contexts);
   coded.encoder->finish();
   std::vector<uint8_t> bytes = std::move(*coded.bytes);
-  // Header byte 4: the loop filters, known only now, and the transform types flag.
-  bytes[4] = static_cast<uint8_t>(loop_filters | (params.intra_transform_types ? kTransformTypesFlag : 0));
+  // Header byte 4: the loop filters, known only now, and the transform flags.
+  bytes[4] = static_cast<uint8_t>(loop_filters | (params.intra_transform_types ? kTransformTypesFlag : 0) |
+                                  (state.inter_transform_sizes ? kInterTransformSizesFlag : 0));
   if (stats != nullptr) {
     *stats = std::move(coded.stats);
     for (int r = 0; r < state.reference_count; ++r) {

@@ -52,10 +52,13 @@ void fill_macroblock_edges(const FrameState& s, int mx, int my, DeblockMap& map)
   const std::array<uint8_t, 2> second_row = {coded(bx, by + 1), coded(bx + 1, by + 1)};
   if (mx > 0)
     set_left(0, edge_strengths(mb, s.mb(mx - 1, my), first_column, {coded(bx - 1, by), coded(bx - 1, by + 1)}));
-  set_left(1, edge_strengths(mb, mb, second_column, first_column));
+  // A 16x16 luma residual has no transform edge inside its macroblock, and one
+  // macroblock's prediction no step there.
+  const bool inner_edges = !mb.luma_16x16;
+  if (inner_edges) set_left(1, edge_strengths(mb, mb, second_column, first_column));
   if (my > 0)
     set_top(0, edge_strengths(mb, s.mb(mx, my - 1), first_row, {coded(bx, by - 1), coded(bx + 1, by - 1)}));
-  set_top(1, edge_strengths(mb, mb, second_row, first_row));
+  if (inner_edges) set_top(1, edge_strengths(mb, mb, second_row, first_row));
 }
 
 }  // namespace

@@ -33,6 +33,7 @@ void init_state(FrameState& s, int width, int height, int qindex, const ImageYCb
   s.references = {ref0, ref1};
   s.reference_count = ref1 != nullptr ? 2 : 1;
   s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, qindex);
+  s.inter_quantizer_16x16 = make_residual_quantizer(TransformSize::k16x16, qindex);
   s.intra_quantizers = intra::residual_quantizers(qindex);
   s.vector_limit = max_vector_component(width, height);
   s.node_limit = max_warp_node_component(width, height);
@@ -107,6 +108,10 @@ int warp_context(const FrameState& s, int mx, int my) {
   return neighbour_context(s, mx, my, [](const MacroblockInfo& m) {
     return m.mode != MacroblockMode::kIntra && m.inter_warp;
   });
+}
+
+int luma_16x16_context(const FrameState& s, int mx, int my) {
+  return neighbour_context(s, mx, my, [](const MacroblockInfo& m) { return m.luma_16x16; });
 }
 
 int partition_context(const FrameState& s, int mx, int my) {
@@ -254,12 +259,13 @@ bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode 
 
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
                                 int prediction_stride, uint8_t* out, int out_stride) {
-  int16_t residual[64];
+  int16_t residual[kMaxTransformArea];
   dequantize_inverse_transform_block(quantizer, levels, residual);
-  for (int y = 0; y < 8; ++y) {
-    for (int x = 0; x < 8; ++x) {
+  const int width = transform_width(quantizer.size);
+  for (int y = 0; y < width; ++y) {
+    for (int x = 0; x < width; ++x) {
       out[y * out_stride + x] =
-          static_cast<uint8_t>(std::clamp(prediction[y * prediction_stride + x] + residual[8 * y + x], 0, 255));
+          static_cast<uint8_t>(std::clamp(prediction[y * prediction_stride + x] + residual[width * y + x], 0, 255));
     }
   }
 }

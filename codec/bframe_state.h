@@ -43,6 +43,9 @@ struct SyntaxContexts {
   std::array<std::array<std::array<AdaptiveBit, kNodeMagnitudeContexts>, 2>, 2> node_magnitude{};
   std::array<AdaptiveBit, kNeighbourContexts> cbp_luma{};
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> cbp_chroma{};  // [Cb/Cr][ctx]
+  // Whether a coded inter macroblock's luma residual is one 16x16 block (header flag
+  // kInterTransformSizesFlag).
+  std::array<AdaptiveBit, kNeighbourContexts> luma_16x16{};
   // Intra macroblocks: the intra frame's luma and chroma contexts (docs/codec.md 3).
   intra::PlaneContexts intra_luma, intra_chroma;
   BlockContextSet inter_luma, inter_chroma;
@@ -70,6 +73,7 @@ void for_each_context(Set& s, F&& f) {
   for_each_context(s.intra_chroma, f);
   for_each_context(s.inter_luma, f);
   for_each_context(s.inter_chroma, f);
+  for_each_bit(s.luma_16x16, f);
 }
 
 struct MacroblockInfo {
@@ -87,6 +91,8 @@ struct MacroblockInfo {
   std::array<int, 2> mvd_magnitude{};
   // Inter macroblocks only; 16x16 for every other mode.
   Partition partition = Partition::k16x16;
+  // Inter macroblocks only: the luma residual is one 16x16 transform block.
+  bool luma_16x16 = false;
 };
 
 // ---- Partitions of an inter macroblock: rectangles in luma samples of the macroblock,
@@ -135,6 +141,11 @@ struct FrameState {
   // its reference planes. 0 without padding.
   int border_mbs = 0;
   Quantizer inter_quantizer;
+  // The 16x16 luma residual's steps at the same qindex (docs/codec.md 6).
+  Quantizer inter_quantizer_16x16;
+  // Whether coded inter macroblocks choose their luma transform size (header flag
+  // kInterTransformSizesFlag); clear, every residual block is 8x8.
+  bool inter_transform_sizes = false;
   // Intra macroblocks: the intra frame's residual steps at the frame's qindex.
   intra::SizedQuantizers intra_quantizers{};
   int vector_limit = 0;
@@ -250,6 +261,9 @@ int warp_context(const FrameState& s, int mx, int my);
 // Left and top macroblocks that are inter (not skipped) with a partition other than 16x16.
 int partition_context(const FrameState& s, int mx, int my);
 
+// Left and top macroblocks whose luma residual is one 16x16 block.
+int luma_16x16_context(const FrameState& s, int mx, int my);
+
 // The vector predictor of partition k towards reference r, given the motion of the
 // partitions before it: the left partition's vector when it exists and uses r, else the
 // upper one's under the same condition, else the macroblock's predictor.
@@ -301,6 +315,8 @@ void predict_partition(const FrameState& s, int mx, int my, const PartitionRect&
 bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode mode, bool warp,
                             const std::array<MotionVector, 2>& vectors);
 
+// Prediction plus the dequantized, inverse transformed levels of one residual block of
+// quantizer.size, clipped to 8 bits.
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
                                 int prediction_stride, uint8_t* out, int out_stride);
 

@@ -367,7 +367,7 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
     bytes[1] = kBFrameSyntaxVersion;
     bytes[2] = static_cast<uint8_t>(rng());
     bytes[3] = 0;  // bare references
-    bytes[4] = static_cast<uint8_t>(rng() & kLoopFilterDeblocking);
+    bytes[4] = static_cast<uint8_t>(rng() & (kLoopFilterDeblocking | kInterTransformSizesFlag));
     bytes[5] = static_cast<uint8_t>(rng() % kInterpolationFilterCount);
     bytes[6] = 2;
     accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok();
@@ -389,6 +389,19 @@ ImageYCbCr420 half_pel_blur(const ImageYCbCr420& image) {
   return out;
 }
 
+// Squared error of all three planes plus the encoder's lambda times the bits: what the
+// encoder's choices minimize.
+double rd_cost(const ImageYCbCr420& source, const ImageYCbCr420& decoded, const std::vector<uint8_t>& bytes,
+               const BFrameParams& params) {
+  double squared = 0;
+  for (size_t i = 0; i < source.y.size(); ++i) squared += std::pow(source.y[i] - decoded.y[i], 2);
+  for (size_t i = 0; i < source.cb.size(); ++i) {
+    squared += std::pow(source.cb[i] - decoded.cb[i], 2) + std::pow(source.cr[i] - decoded.cr[i], 2);
+  }
+  const double scale = quantizer_scale_q8(params.qindex) / 256.0;
+  return squared + params.lambda_factor * scale * scale * 8.0 * static_cast<double>(bytes.size());
+}
+
 TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
   const int w = 64, h = 48;
   const ImageYCbCr420 ref = decoded_intra(textured_crop(w, h, 20, 20), 83);
@@ -397,15 +410,6 @@ TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
   BFrameParams params;
   params.qindex = 115;  // quantiser scale 6
   params.sub_pel_refinement = false;
-  const double scale = quantizer_scale_q8(params.qindex) / 256.0;
-  auto cost = [&](const std::vector<uint8_t>& bytes, const ImageYCbCr420& decoded) {
-    double squared = 0;
-    for (size_t i = 0; i < source.y.size(); ++i) squared += std::pow(source.y[i] - decoded.y[i], 2);
-    for (size_t i = 0; i < source.cb.size(); ++i) {
-      squared += std::pow(source.cb[i] - decoded.cb[i], 2) + std::pow(source.cr[i] - decoded.cr[i], 2);
-    }
-    return squared + params.lambda_factor * scale * scale * 8.0 * bytes.size();
-  };
   std::vector<double> costs;
   for (bool switchable : {false, true}) {
     params.switchable_filter = switchable;
@@ -417,7 +421,7 @@ TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
     EXPECT_EQ(header.filter == InterpolationFilter::kRegular, !switchable);
     ASSERT_TRUE(decode_b_frame(bytes, w, h, ref, nullptr, &decoded).ok());
     expect_same_image(decoded, reconstruction);
-    costs.push_back(cost(bytes, decoded));
+    costs.push_back(rd_cost(source, decoded, bytes, params));
 
     // The decoder predicts through the bank the header names: another bank, other pixels.
     std::vector<uint8_t> other = bytes;
@@ -428,6 +432,61 @@ TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
     other[5] = kInterpolationFilterCount;
     EXPECT_EQ(decode_b_frame(other, w, h, ref, nullptr, &other_decoded).code(), ErrorCode::kCorruptData);
   }
+  EXPECT_LT(costs[1], costs[0]);
+}
+
+// The reference moved by (dx, dy) whole pixels, its luma plus an offset per macroblock
+// and a gentle ramp: a residual one 16x16 transform block carries in a few coefficients.
+ImageYCbCr420 shifted_with_ramp(const ImageYCbCr420& reference, int dx, int dy) {
+  ImageYCbCr420 out = reference;
+  for (int y = 0; y < reference.height; ++y) {
+    for (int x = 0; x < reference.width; ++x) {
+      const int sx = std::clamp(x + dx, 0, reference.width - 1), sy = std::clamp(y + dy, 0, reference.height - 1);
+      const int ramp = 10 * ((x / 16 + y / 16) % 3) - 10 + (x % 16) / 4;
+      out.y[static_cast<size_t>(y) * reference.width + x] = static_cast<uint8_t>(
+          std::clamp(reference.y[static_cast<size_t>(sy) * reference.width + sx] + ramp, 0, 255));
+    }
+  }
+  return out;
+}
+
+TEST(BFrame, SmoothResidualsTakeOne16x16LumaBlockAndDecodeExactly) {
+  const int w = 64, h = 48;
+  const ImageYCbCr420 ref = decoded_intra(textured_crop(w, h, 30, 30), 100);
+  const ImageYCbCr420 source = shifted_with_ramp(ref, 0, 0);
+  const FaceCandidates candidates = uniform_candidates(w, h, {MotionVector{0, 0}});
+  BFrameParams params;
+  params.qindex = 160;
+  std::vector<double> costs;
+  for (bool sizes_on : {false, true}) {
+    params.inter_transform_sizes = sizes_on;
+    ImageYCbCr420 reconstruction, decoded;
+    BFrameStats stats;
+    const std::vector<uint8_t> bytes =
+        encode_b_frame(source, ref, nullptr, candidates, {}, params, &reconstruction, &stats);
+    BFrameHeader header;
+    ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
+    EXPECT_EQ(header.inter_transform_sizes, sizes_on);
+    EXPECT_EQ((bytes[4] & kInterTransformSizesFlag) != 0, sizes_on);
+    if (sizes_on) {
+      EXPECT_GE(stats.mb_luma_16x16, 6) << stats.mb_luma_16x16 << " of " << stats.macroblocks;
+    } else {
+      EXPECT_EQ(stats.mb_luma_16x16, 0);
+    }
+    std::vector<MacroblockMode> modes;
+    ASSERT_TRUE(decode_b_frame(bytes, w, h, ref, nullptr, &decoded, &modes).ok());
+    expect_same_image(decoded, reconstruction);
+    EXPECT_EQ(modes, stats.modes);
+    costs.push_back(rd_cost(source, decoded, bytes, params));
+
+    // The flag decides how the payload parses: flipped, the frame reads otherwise.
+    std::vector<uint8_t> flipped = bytes;
+    flipped[4] ^= kInterTransformSizesFlag;
+    ImageYCbCr420 other;
+    const Status status = decode_b_frame(flipped, w, h, ref, nullptr, &other);
+    EXPECT_TRUE(!status.ok() || other.y != decoded.y);
+  }
+  // The 16x16 blocks pay by the measure the encoder minimizes.
   EXPECT_LT(costs[1], costs[0]);
 }
 

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "71ef331f1433348933c5bf50eb8fe452c61e3bc7ef7b4715538df318fd37ca0e",
-     "b8918f1da1ad2d302a8a5575d3b6f94476ecaf96a16eb9e16ac7f5751be15ee2"},
+     "65983eb21e5b06b5b452b779685062d03a26dd2716d274282246437f3a74b82a",
+     "a14e8d1fb73c846804b07e59b8e929f3f204049836e501dcdcc3d15d4e987713"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "47fe7e0c16b2799ae046471d76e51c3955c3eb31a9fcf06f1285e39af4e203cd",
-     "f131b24f5dc36250b98625d8ed0878d69eab8085096e206b6425371b17ad79eb"},
+     "a6dc99546fb6cfe455bc3b731c3023dd1eabf05d95c69876fe7509ddf986106e",
+     "43a9e132cc1ca4bd204b2479f14b2a987fa1dc4e9c7c5e108cd172c5b2420f8f"},
 };
 
 std::string file_sha256(const fs::path& path) {

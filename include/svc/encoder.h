@@ -57,6 +57,9 @@ struct CodingTools {
   // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
   // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
   bool transform_sizes = true;
+  // B-faces: each coded inter macroblock's luma residual coded as one 16x16 transform
+  // block or four 8x8 blocks, by rate-distortion cost (docs/codec.md 10.4). Off: 8x8 only.
+  bool inter_transform_sizes = true;
   // I-faces and B-face intra macroblocks: chroma blocks may be predicted from the
   // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 10.4), by rate-distortion
   // cost against the regular modes. Off: never.

@@ -27,6 +27,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"rdoq", &CodingTools::rdoq},
     CodingToolEntry{"partitions", &CodingTools::partitions},
     CodingToolEntry{"transform-sizes", &CodingTools::transform_sizes},
+    CodingToolEntry{"inter-transform-sizes", &CodingTools::inter_transform_sizes},
     CodingToolEntry{"cfl", &CodingTools::cfl},
     CodingToolEntry{"transform-types", &CodingTools::transform_types},
     CodingToolEntry{"b-intra-prediction", &CodingTools::b_intra_prediction},
