@@ -30,9 +30,10 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 10;
+inline constexpr uint8_t kBFrameSyntaxVersion = 11;
 // Header byte 4 bit 4: coded inter macroblocks code whether their luma residual is one
-// 16x16 transform block instead of four 8x8 ones (docs/codec.md 10.4).
+// 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
+// it is four 4x4 blocks (docs/codec.md 10.4).
 inline constexpr uint8_t kInterTransformSizesFlag = 16;
 // Frame type, syntax version, qindex, reference border units, loop filter flags,
 // interpolation filter, reference count, warp mask.
@@ -114,9 +115,10 @@ struct BFrameParams {
   // SSD + lambda * bits; off, the regular bank only. The sharp regular filter loses to
   // smoother ones on noisy references seen at other scales (docs/codec.md, 10.5).
   bool switchable_filter = true;
-  // Lets each coded inter macroblock code its luma residual as one 16x16 transform block
-  // where that lowers the rate-distortion cost (header flag kInterTransformSizesFlag);
-  // off, every residual block is 8x8.
+  // Lets each coded inter macroblock code its luma residual as one 16x16 transform block,
+  // and each coded luma 8x8 block as four 4x4 ones, where that lowers the
+  // rate-distortion cost (header flag kInterTransformSizesFlag); off, every residual
+  // block is 8x8.
   bool inter_transform_sizes = true;
   // Splits inter macroblocks into 16x8, 8x16 or 8x8 partitions, each with its own
   // direction and vectors, where that lowers the rate-distortion cost; off, every inter
@@ -149,6 +151,8 @@ struct BFrameStats {
   int mb_partitioned = 0;
   // Inter macroblocks whose luma residual is one 16x16 transform block.
   int mb_luma_16x16 = 0;
+  // Coded luma 8x8 blocks of inter macroblocks split into four 4x4 transform blocks.
+  int luma_blocks_4x4 = 0;
   // Inter and skipped macroblocks whose luma prediction reads reference samples outside
   // the face (the cube-map border when the references are padded).
   int mb_leaving_face = 0;

@@ -276,6 +276,10 @@ class MacroblockReader {
         for (int y = 0; y < 8; ++y) std::copy_n(pred + y * stride, 8, recon + y * stride);
         continue;
       }
+      if (block_plane(b) == 0 && s_.inter_transform_sizes && decoder_.decode(c_.luma_4x4)) {
+        SVC_RETURN_IF_ERROR(read_split_block(pred, recon, stride));
+        continue;
+      }
       int count = 0;
       if (!decode_block_levels(decoder_, block_plane(b) == 0 ? c_.inter_luma : c_.inter_chroma, 0,
                                kNoCodedBlockFlag, decoded_, &count)) {
@@ -296,6 +300,25 @@ class MacroblockReader {
   std::array<MotionVector, 2> predictors_{};
   uint8_t coded_mask_ = 0;
   MacroblockPrediction prediction_, reconstruction_;
+  // A luma 8x8 block coded as four 4x4 blocks, each with its coded flag (context 0).
+  Status read_split_block(const uint8_t* pred, uint8_t* recon, int stride) {
+    for (int k = 0; k < 4; ++k) {
+      const int offset = 4 * (k >> 1) * stride + 4 * (k & 1);
+      int count = 0;
+      if (!decode_block_levels(decoder_, c_.inter_luma, 0, 0, decoded_, &count, TransformSize::k4x4)) {
+        return fail("invalid residual levels");
+      }
+      if (count == 0) {
+        for (int y = 0; y < 4; ++y) std::copy_n(pred + offset + y * stride, 4, recon + offset + y * stride);
+        continue;
+      }
+      std::fill_n(levels_, 16, int16_t{0});
+      for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
+      reconstruct_residual_block(s_.inter_quantizer_4x4, levels_, pred + offset, stride, recon + offset, stride);
+    }
+    return Status::Ok();
+  }
+
   int16_t levels_[kMaxTransformArea];
   BlockLevel decoded_[kMaxTransformArea];
 };

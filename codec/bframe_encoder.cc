@@ -54,6 +54,8 @@ struct MacroblockChoice {
   // Inter only: whether the luma residual is one 16x16 block, and its levels.
   bool luma_16x16 = false;
   std::array<int16_t, 256> luma_levels{};
+  // Inter only: per luma 8x8 block, whether its levels are four 4x4 blocks (16 each).
+  std::array<bool, 4> split{};
   // Intra only: the blocks as the intra frame's search chose them.
   std::unique_ptr<IntraChoice> intra;
   uint8_t coded_mask = 0;  // inter: coded block pattern; intra: 8x8 blocks with levels
@@ -464,6 +466,15 @@ class BFrameEncoder {
     }
     for (int b = first_block; b < 6; ++b) {
       if (!local_coded[b]) continue;
+      if (block_plane(b) == 0 && s_.inter_transform_sizes) {
+        encoder.encode(c.luma_4x4, choice.split[b]);
+        if (choice.split[b]) {
+          for (int k = 0; k < 4; ++k) {
+            encode_block_levels(encoder, c.inter_luma, choice.levels[b].data() + 16 * k, 0, 0, TransformSize::k4x4);
+          }
+          continue;
+        }
+      }
       encode_block_levels(encoder, block_plane(b) == 0 ? c.inter_luma : c.inter_chroma, choice.levels[b].data(), 0,
                           kNoCodedBlockFlag);
     }
@@ -797,55 +808,83 @@ class BFrameEncoder {
     return false;
   }
 
-  // 8x8 block b's residual, coded where that lowers the cost: its levels, coded flag and
-  // reconstruction; adds its error and bits.
+  // 8x8 block b's residual, coded where that lowers the cost (a luma block, when the
+  // frame codes transform sizes, as one 8x8 block or four 4x4 ones): its levels, split
+  // flag, coded flag and reconstruction; adds its error and bits.
   void code_block(const MacroblockPrediction& prediction, int b, uint8_t* local_coded, MacroblockChoice* out,
-                  int64_t* distortion_sum, float* bits_sum) {
+                  int64_t* distortion, float* bits) {
     const SyntaxContexts& c = s_.contexts;
-    int64_t& distortion = *distortion_sum;
-    float& bits = *bits_sum;
-    {
-      const int plane = block_plane(b), stride = block_stride(b);
-      const uint8_t* pred = block_samples(prediction, b);
-      uint8_t* recon = block_samples(out->reconstruction, b);
-      const uint8_t* src = source_block(b);
-      const int source_stride = source_.strides[plane];
-      const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
-      const AdaptiveBit& cbp_model = plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context];
-      int16_t residual[64];
-      for (int y = 0; y < 8; ++y) {
-        for (int x = 0; x < 8; ++x)
-          residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
-      }
-      int16_t* levels = out->levels[b].data();
-      const int nonzero = transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_,
-                                                      plane == 0 ? c.inter_luma : c.inter_chroma, 0,
-                                                      kNoCodedBlockFlag, static_cast<float>(lambda_), levels);
-      const int64_t uncoded_error = block_error(b, pred);
-      bool coded = false;
-      if (nonzero > 0) {
-        uint8_t trial[64];
-        reconstruct_residual_block(s_.inter_quantizer, levels, pred, stride, trial, 8);
-        const int64_t coded_error = squared_error(src, source_stride, trial, 8, visible_w_[b], visible_h_[b]);
-        const float coded_bits =
-            bit_cost(cbp_model, 1) +
-            block_levels_bits(plane == 0 ? c.inter_luma : c.inter_chroma, levels, 0, kNoCodedBlockFlag);
-        const float uncoded_bits = bit_cost(cbp_model, 0);
-        if (coded_error + lambda_ * coded_bits < uncoded_error + lambda_ * uncoded_bits) {
-          coded = true;
-          distortion += coded_error;
-          bits += coded_bits;
-          for (int y = 0; y < 8; ++y) std::copy_n(trial + 8 * y, 8, recon + y * stride);
-        }
-      }
-      if (!coded) {
-        distortion += uncoded_error;
-        bits += bit_cost(cbp_model, 0);
-        for (int y = 0; y < 8; ++y) std::copy_n(pred + y * stride, 8, recon + y * stride);
-      }
-      local_coded[b] = coded;
-      out->coded_mask |= static_cast<uint8_t>(coded << b);
+    const int plane = block_plane(b), stride = block_stride(b);
+    const uint8_t* pred = block_samples(prediction, b);
+    uint8_t* recon = block_samples(out->reconstruction, b);
+    const uint8_t* src = source_block(b);
+    const int source_stride = source_.strides[plane];
+    const int context = coded_context(s_, local_coded, plane, mx_, my_, block_x(b, mx_), block_y(b, my_));
+    const AdaptiveBit& cbp_model = plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context];
+    const BlockContextSet& contexts = plane == 0 ? c.inter_luma : c.inter_chroma;
+    int16_t residual[64];
+    for (int y = 0; y < 8; ++y) {
+      for (int x = 0; x < 8; ++x)
+        residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
     }
+    // The uncoded block, then each coded form that costs less.
+    int64_t best_error = block_error(b, pred);
+    float best_bits = bit_cost(cbp_model, 0);
+    const uint8_t* best_samples = pred;
+    int best_stride = stride;
+    const bool sizes = plane == 0 && s_.inter_transform_sizes;
+    if (plane == 0) out->split[b] = false;
+    int16_t* levels = out->levels[b].data();
+    uint8_t trial[64];
+    if (transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_, contexts, 0, kNoCodedBlockFlag,
+                                    static_cast<float>(lambda_), levels) > 0) {
+      reconstruct_residual_block(s_.inter_quantizer, levels, pred, stride, trial, 8);
+      const int64_t error = squared_error(src, source_stride, trial, 8, visible_w_[b], visible_h_[b]);
+      const float coded_bits = bit_cost(cbp_model, 1) + (sizes ? bit_cost(c.luma_4x4, 0) : 0.0f) +
+                               block_levels_bits(contexts, levels, 0, kNoCodedBlockFlag);
+      if (error + lambda_ * coded_bits < best_error + lambda_ * best_bits) {
+        best_error = error;
+        best_bits = coded_bits;
+        best_samples = trial;
+        best_stride = 8;
+      }
+    }
+    uint8_t split_trial[64];
+    int16_t split_levels[64];
+    if (sizes) {
+      float split_bits = bit_cost(cbp_model, 1) + bit_cost(c.luma_4x4, 1);
+      for (int k = 0; k < 4; ++k) {
+        const int offset = 32 * (k >> 1) + 4 * (k & 1);
+        int16_t quarter[16];
+        for (int y = 0; y < 4; ++y) std::copy_n(residual + offset + 8 * y, 4, quarter + 4 * y);
+        int16_t* quarter_levels = split_levels + 16 * k;
+        const int nonzero = transform_quantize_block_rd(s_.inter_quantizer_4x4, quarter, quantize_rd_, contexts, 0,
+                                                        0, static_cast<float>(lambda_), quarter_levels);
+        if (nonzero > 0) {
+          reconstruct_residual_block(s_.inter_quantizer_4x4, quarter_levels,
+                                     pred + (offset / 8) * stride + offset % 8, stride, split_trial + offset, 8);
+        } else {
+          for (int y = 0; y < 4; ++y)
+            std::copy_n(pred + ((offset / 8) + y) * stride + offset % 8, 4, split_trial + offset + 8 * y);
+        }
+        split_bits += block_levels_bits(contexts, quarter_levels, 0, 0, TransformSize::k4x4);
+      }
+      const int64_t error = squared_error(src, source_stride, split_trial, 8, visible_w_[b], visible_h_[b]);
+      if (error + lambda_ * split_bits < best_error + lambda_ * best_bits) {
+        best_error = error;
+        best_bits = split_bits;
+        best_samples = split_trial;
+        best_stride = 8;
+        out->split[b] = true;
+        std::copy_n(split_levels, 64, levels);
+      }
+    }
+    const bool coded = best_samples != pred;
+    *distortion += best_error;
+    *bits += best_bits;
+    for (int y = 0; y < 8; ++y) std::copy_n(best_samples + y * best_stride, 8, recon + y * stride);
+    local_coded[b] = coded;
+    out->coded_mask |= static_cast<uint8_t>(coded << b);
   }
 
   // A split macroblock: per partition in coding order, the best vector per reference
@@ -995,8 +1034,10 @@ void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
       choice.motion.partition != Partition::k16x16) {
     ++stats->mb_partitioned;
   }
-  if (choice.mode != MacroblockMode::kIntra && choice.mode != MacroblockMode::kSkipped && choice.luma_16x16) {
-    ++stats->mb_luma_16x16;
+  if (choice.mode != MacroblockMode::kIntra && choice.mode != MacroblockMode::kSkipped) {
+    stats->mb_luma_16x16 += choice.luma_16x16;
+    for (int b = 0; b < 4; ++b)
+      stats->luma_blocks_4x4 += !choice.luma_16x16 && ((choice.coded_mask >> b) & 1) && choice.split[b];
   }
   switch (choice.mode) {
     case MacroblockMode::kIntra: ++stats->mb_intra; break;

@@ -34,6 +34,7 @@ void init_state(FrameState& s, int width, int height, int qindex, const ImageYCb
   s.reference_count = ref1 != nullptr ? 2 : 1;
   s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, qindex);
   s.inter_quantizer_16x16 = make_residual_quantizer(TransformSize::k16x16, qindex);
+  s.inter_quantizer_4x4 = make_residual_quantizer(TransformSize::k4x4, qindex);
   s.intra_quantizers = intra::residual_quantizers(qindex);
   s.vector_limit = max_vector_component(width, height);
   s.node_limit = max_warp_node_component(width, height);

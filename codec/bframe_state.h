@@ -46,6 +46,8 @@ struct SyntaxContexts {
   // Whether a coded inter macroblock's luma residual is one 16x16 block (header flag
   // kInterTransformSizesFlag).
   std::array<AdaptiveBit, kNeighbourContexts> luma_16x16{};
+  // Whether a coded luma 8x8 block of such a macroblock is four 4x4 blocks.
+  AdaptiveBit luma_4x4{};
   // Intra macroblocks: the intra frame's luma and chroma contexts (docs/codec.md 3).
   intra::PlaneContexts intra_luma, intra_chroma;
   BlockContextSet inter_luma, inter_chroma;
@@ -74,6 +76,7 @@ void for_each_context(Set& s, F&& f) {
   for_each_context(s.inter_luma, f);
   for_each_context(s.inter_chroma, f);
   for_each_bit(s.luma_16x16, f);
+  f(s.luma_4x4);
 }
 
 struct MacroblockInfo {
@@ -143,6 +146,7 @@ struct FrameState {
   Quantizer inter_quantizer;
   // The 16x16 luma residual's steps at the same qindex (docs/codec.md 6).
   Quantizer inter_quantizer_16x16;
+  Quantizer inter_quantizer_4x4;
   // Whether coded inter macroblocks choose their luma transform size (header flag
   // kInterTransformSizesFlag); clear, every residual block is 8x8.
   bool inter_transform_sizes = false;

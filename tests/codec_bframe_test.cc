@@ -490,6 +490,46 @@ TEST(BFrame, SmoothResidualsTakeOne16x16LumaBlockAndDecodeExactly) {
   EXPECT_LT(costs[1], costs[0]);
 }
 
+// The reference's luma with a small bright spot in the top-left corner of every 8x8
+// block: a residual that one 4x4 transform block of four carries.
+ImageYCbCr420 with_spots(const ImageYCbCr420& reference) {
+  ImageYCbCr420 out = reference;
+  for (int y = 0; y < reference.height; ++y) {
+    for (int x = 0; x < reference.width; ++x) {
+      if (x % 8 >= 3 || y % 8 >= 3) continue;
+      uint8_t& sample = out.y[static_cast<size_t>(y) * reference.width + x];
+      sample = static_cast<uint8_t>(std::min(255, sample + 40));
+    }
+  }
+  return out;
+}
+
+TEST(BFrame, LocalResidualsTakeFour4x4BlocksAndDecodeExactly) {
+  const int w = 64, h = 48;
+  const ImageYCbCr420 ref = decoded_intra(textured_crop(w, h, 30, 30), 100);
+  const ImageYCbCr420 source = with_spots(ref);
+  const FaceCandidates candidates = uniform_candidates(w, h, {MotionVector{0, 0}});
+  BFrameParams params;
+  params.qindex = 120;
+  std::vector<double> costs;
+  for (bool sizes_on : {false, true}) {
+    params.inter_transform_sizes = sizes_on;
+    ImageYCbCr420 reconstruction, decoded;
+    BFrameStats stats;
+    const std::vector<uint8_t> bytes =
+        encode_b_frame(source, ref, nullptr, candidates, {}, params, &reconstruction, &stats);
+    if (sizes_on) {
+      EXPECT_GE(stats.luma_blocks_4x4, 24) << "of " << 4 * stats.macroblocks << " luma blocks";
+    } else {
+      EXPECT_EQ(stats.luma_blocks_4x4, 0);
+    }
+    ASSERT_TRUE(decode_b_frame(bytes, w, h, ref, nullptr, &decoded).ok());
+    expect_same_image(decoded, reconstruction);
+    costs.push_back(rd_cost(source, decoded, bytes, params));
+  }
+  EXPECT_LT(costs[1], costs[0]);
+}
+
 TEST(BFrame, EmptyCandidateListsFallBackToZeroAndNeighbours) {
   const int w = 64, h = 48;
   const ImageYCbCr420 source = textured_crop(w, h, 30, 30),

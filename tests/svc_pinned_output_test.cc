@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "65983eb21e5b06b5b452b779685062d03a26dd2716d274282246437f3a74b82a",
-     "a14e8d1fb73c846804b07e59b8e929f3f204049836e501dcdcc3d15d4e987713"},
+     "2d20d5d097b1f37e097ccc48d1131366214a09df910757397d3e9ace42bcc3ad",
+     "e000d399266e59a0af093d465a89f1d30ecf2cf8c30219b7f42797b7bcef5390"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "a6dc99546fb6cfe455bc3b731c3023dd1eabf05d95c69876fe7509ddf986106e",
-     "43a9e132cc1ca4bd204b2479f14b2a987fa1dc4e9c7c5e108cd172c5b2420f8f"},
+     "05acb519ea6aa3ece4808044832dbd060ae12dea3d29188bf36456cd00b74feb",
+     "025718b74f4e6960a1eb6c2b8bf504770a11c16b57e7355a24c3d67554ba99c6"},
 };
 
 std::string file_sha256(const fs::path& path) {

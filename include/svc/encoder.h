@@ -58,7 +58,8 @@ struct CodingTools {
   // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
   bool transform_sizes = true;
   // B-faces: each coded inter macroblock's luma residual coded as one 16x16 transform
-  // block or four 8x8 blocks, by rate-distortion cost (docs/codec.md 10.4). Off: 8x8 only.
+  // block or four 8x8 blocks, each of those whole or as four 4x4 blocks, by
+  // rate-distortion cost (docs/codec.md 10.4). Off: 8x8 only.
   bool inter_transform_sizes = true;
   // I-faces and B-face intra macroblocks: chroma blocks may be predicted from the
   // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 10.4), by rate-distortion
