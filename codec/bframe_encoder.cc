@@ -808,6 +808,30 @@ class BFrameEncoder {
     return false;
   }
 
+  // Luma 8x8 block b's `residual` as four 4x4 blocks in raster order: their levels (16
+  // each) and the reconstruction from `pred`, 8 samples a row. Adds the blocks' bits
+  // (coded-block flags and levels) to *bits; returns the squared error.
+  int64_t code_quarters(const int16_t* residual, const uint8_t* pred, int stride, int b, int16_t* levels,
+                        uint8_t* reconstruction, float* bits) {
+    const BlockContextSet& contexts = s_.contexts.inter_luma;
+    for (int k = 0; k < 4; ++k) {
+      const int row = 4 * (k >> 1), column = 4 * (k & 1);
+      int16_t quarter[16];
+      for (int y = 0; y < 4; ++y) std::copy_n(residual + 8 * (row + y) + column, 4, quarter + 4 * y);
+      int16_t* quarter_levels = levels + 16 * k;
+      const uint8_t* quarter_pred = pred + row * stride + column;
+      uint8_t* out = reconstruction + 8 * row + column;
+      if (transform_quantize_block_rd(s_.inter_quantizer_4x4, quarter, quantize_rd_, contexts, 0, 0,
+                                      static_cast<float>(lambda_), quarter_levels) > 0) {
+        reconstruct_residual_block(s_.inter_quantizer_4x4, quarter_levels, quarter_pred, stride, out, 8);
+      } else {
+        for (int y = 0; y < 4; ++y) std::copy_n(quarter_pred + y * stride, 4, out + 8 * y);
+      }
+      *bits += block_levels_bits(contexts, quarter_levels, 0, 0, TransformSize::k4x4);
+    }
+    return squared_error(source_block(b), source_.strides[0], reconstruction, 8, visible_w_[b], visible_h_[b]);
+  }
+
   // 8x8 block b's residual, coded where that lowers the cost (a luma block, when the
   // frame codes transform sizes, as one 8x8 block or four 4x4 ones): its levels, split
   // flag, coded flag and reconstruction; adds its error and bits.
@@ -853,23 +877,7 @@ class BFrameEncoder {
     int16_t split_levels[64];
     if (sizes) {
       float split_bits = bit_cost(cbp_model, 1) + bit_cost(c.luma_4x4, 1);
-      for (int k = 0; k < 4; ++k) {
-        const int offset = 32 * (k >> 1) + 4 * (k & 1);
-        int16_t quarter[16];
-        for (int y = 0; y < 4; ++y) std::copy_n(residual + offset + 8 * y, 4, quarter + 4 * y);
-        int16_t* quarter_levels = split_levels + 16 * k;
-        const int nonzero = transform_quantize_block_rd(s_.inter_quantizer_4x4, quarter, quantize_rd_, contexts, 0,
-                                                        0, static_cast<float>(lambda_), quarter_levels);
-        if (nonzero > 0) {
-          reconstruct_residual_block(s_.inter_quantizer_4x4, quarter_levels,
-                                     pred + (offset / 8) * stride + offset % 8, stride, split_trial + offset, 8);
-        } else {
-          for (int y = 0; y < 4; ++y)
-            std::copy_n(pred + ((offset / 8) + y) * stride + offset % 8, 4, split_trial + offset + 8 * y);
-        }
-        split_bits += block_levels_bits(contexts, quarter_levels, 0, 0, TransformSize::k4x4);
-      }
-      const int64_t error = squared_error(src, source_stride, split_trial, 8, visible_w_[b], visible_h_[b]);
+      const int64_t error = code_quarters(residual, pred, stride, b, split_levels, split_trial, &split_bits);
       if (error + lambda_ * split_bits < best_error + lambda_ * best_bits) {
         best_error = error;
         best_bits = split_bits;
