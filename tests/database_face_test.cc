@@ -400,6 +400,39 @@ TEST_F(FaceTest, GarbageAndMissingFilesAreReported) {
   expect_error(load(manifest, Face::kNX), ErrorCode::kNotFound, {"cell (0,0,0)", "face nx", "depth", "depth.exr"});
 }
 
+TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColour) {
+  const auto rgb = pattern8(kPixels, 3);
+  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+              rgb.data());
+  std::vector<float> depth = constant(kPixels, 3.0f);
+  depth[5] = kInf;
+  depth[9] = 7.25f;
+  write_float_exr(at("d.exr"), {"Z"}, depth);
+  const DatabaseManifest manifest = make_database("rgb.png", "d.exr");
+  const auto cell = read_cell(manifest, 0);
+  ASSERT_TRUE(cell.ok()) << cell.status().to_string();
+  const auto face = load(manifest, Face::kNY);
+  const auto alone = load_face_depth(manifest, *cell, Face::kNY);
+  ASSERT_TRUE(face.ok() && alone.ok());
+  EXPECT_EQ(*alone, face->depth);
+
+  // The colour file is not read: damaged, it fails the face but not its depth.
+  std::ofstream(at("rgb.png"), std::ios::binary | std::ios::trunc) << "not an image";
+  EXPECT_FALSE(load(manifest, Face::kNY).ok());
+  const auto still = load_face_depth(manifest, *cell, Face::kNY);
+  ASSERT_TRUE(still.ok()) << still.status().to_string();
+  EXPECT_EQ(*still, face->depth);
+
+  // A missing depth file is named as for the whole face.
+  fs::remove(at("d.exr"));
+  const auto missing = load_face_depth(manifest, *cell, Face::kPZ);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.status().code(), ErrorCode::kNotFound);
+  for (const char* needle : {"cell (0,0,0)", "face pz", "depth", "d.exr"}) {
+    EXPECT_NE(missing.status().message().find(needle), std::string::npos) << missing.status().message();
+  }
+}
+
 TEST_F(FaceTest, OutOfRangeArgumentsAreRejected) {
   const auto rgb = pattern8(kPixels, 3);
   write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,

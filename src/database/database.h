@@ -120,6 +120,10 @@ struct FaceData {
 Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
 // The same for a cell whose sources the caller has read already. Thread-safe.
 Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face);
+// The depth of load_face alone, without reading or converting the colour (unless the
+// two share a file): for passes that look at geometry only. Same errors for the depth
+// file. Thread-safe.
+Result<std::vector<float>> load_face_depth(const DatabaseManifest& manifest, const CellSource& cell, Face face);
 
 // Where a manifest path lives on disk: absolute paths as they are, relative paths under
 // manifest.root.

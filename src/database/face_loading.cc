@@ -214,48 +214,76 @@ Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal
   return load_face(manifest, cell, face);
 }
 
-Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face) {
+namespace {
+
+// Where a face's files are and how errors name them.
+struct FaceFiles {
+  const FaceSource* source = nullptr;
+  fs::path color_path, depth_path;
+  std::string color_what, depth_what;
+};
+
+Result<FaceFiles> face_files(const DatabaseManifest& manifest, const CellSource& cell, Face face) {
   const auto face_slot = static_cast<size_t>(face);
   if (face_slot >= kFaceCount) {
     return Status(ErrorCode::kInvalidArgument, "face " + std::to_string(face_slot) + " is out of range");
   }
-  const FaceSource& source = cell.faces[face_slot];
+  FaceFiles files;
+  files.source = &cell.faces[face_slot];
   const std::string where = cell_label(cell.index) + ", face " + face_name(face);
-  const fs::path color_path = resolve_database_path(manifest, source.color_path);
-  const fs::path depth_path = resolve_database_path(manifest, source.depth_path);
+  files.color_path = resolve_database_path(manifest, files.source->color_path);
+  files.depth_path = resolve_database_path(manifest, files.source->depth_path);
   const auto describe = [&](const char* role, const std::string& path, const fs::path& resolved) {
     return where + ", " + role + " file " + in_quotes(path) + " (" + resolved.string() + ")";
   };
+  files.color_what = describe("color", files.source->color_path, files.color_path);
+  files.depth_what = describe("depth", files.source->depth_path, files.depth_path);
+  return files;
+}
 
-  const std::string color_what = describe("color", source.color_path, color_path);
-  SVC_ASSIGN_OR_RETURN(const FloatImage color_image,
-                       read_float_image(color_path, color_what, manifest.face_width, manifest.face_height));
-  // Colour and depth often share one EXR; read it once then.
-  const bool shared_file = depth_path == color_path;
-  FloatImage depth_storage;
-  const std::string depth_what = describe("depth", source.depth_path, depth_path);
-  if (!shared_file) {
-    SVC_ASSIGN_OR_RETURN(depth_storage,
-                         read_float_image(depth_path, depth_what, manifest.face_width, manifest.face_height));
-  }
-  const FloatImage& depth_image = shared_file ? color_image : depth_storage;
+// Eye-space depth from the face's depth image (read already).
+Result<std::vector<float>> eye_depth(const DatabaseManifest& manifest, const FaceFiles& files,
+                                     const FloatImage& depth_image) {
   const int channel = depth_channel(depth_image);
   if (channel < 0) {
-    return Status(ErrorCode::kBadInput, depth_what +
+    return Status(ErrorCode::kBadInput, files.depth_what +
                                             ": no depth channel (looked for Z, *.Z, "
                                             "depth, Y; the image has " +
                                             channel_list(depth_image) + ")");
   }
   if (!is_float_type(depth_image.channel_types[channel])) {
-    return Status(ErrorCode::kBadInput,
-                  depth_what + ": depth channel " + in_quotes(depth_image.channel_names[channel]) + " holds " +
-                      depth_image.channel_types[channel].c_str() + " values; depth must be half or float");
+    return Status(ErrorCode::kBadInput, files.depth_what + ": depth channel " +
+                                            in_quotes(depth_image.channel_names[channel]) + " holds " +
+                                            depth_image.channel_types[channel].c_str() +
+                                            " values; depth must be half or float");
   }
+  return to_eye_depth(depth_image, channel, manifest.depth_mode, files.source->camera.frustum);
+}
 
+}  // namespace
+
+Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face) {
+  SVC_ASSIGN_OR_RETURN(const FaceFiles files, face_files(manifest, cell, face));
+  SVC_ASSIGN_OR_RETURN(const FloatImage color_image, read_float_image(files.color_path, files.color_what,
+                                                                      manifest.face_width, manifest.face_height));
+  // Colour and depth often share one EXR; read it once then.
+  const bool shared_file = files.depth_path == files.color_path;
+  FloatImage depth_storage;
+  if (!shared_file) {
+    SVC_ASSIGN_OR_RETURN(depth_storage, read_float_image(files.depth_path, files.depth_what, manifest.face_width,
+                                                         manifest.face_height));
+  }
   FaceData data;
+  SVC_ASSIGN_OR_RETURN(data.depth, eye_depth(manifest, files, shared_file ? color_image : depth_storage));
   data.color = to_rgb8(color_image);
-  data.depth = to_eye_depth(depth_image, channel, manifest.depth_mode, source.camera.frustum);
   return data;
+}
+
+Result<std::vector<float>> load_face_depth(const DatabaseManifest& manifest, const CellSource& cell, Face face) {
+  SVC_ASSIGN_OR_RETURN(const FaceFiles files, face_files(manifest, cell, face));
+  SVC_ASSIGN_OR_RETURN(const FloatImage depth_image, read_float_image(files.depth_path, files.depth_what,
+                                                                      manifest.face_width, manifest.face_height));
+  return eye_depth(manifest, files, depth_image);
 }
 
 }  // namespace svc

@@ -19,9 +19,9 @@ Result<CubeSamples> load_cube(const DatabaseManifest& manifest, size_t source_ce
   SVC_ASSIGN_OR_RETURN(const CellSource source, read_cell(manifest, source_cell));
   CubeSamples cube;
   for (Face face : kAllFaces) {
-    SVC_ASSIGN_OR_RETURN(FaceData data, load_face(manifest, source, face));
+    SVC_ASSIGN_OR_RETURN(const std::vector<float> depth, load_face_depth(manifest, source, face));
     if (!add_face_samples(&cube, face, source.faces[static_cast<int>(face)].camera, manifest.face_width,
-                          manifest.face_height, data.depth)) {
+                          manifest.face_height, depth)) {
       return Status(ErrorCode::kBadInput, face_label(source.index, face) + ": depth does not have the face size " +
                                               std::to_string(manifest.face_width) + "x" +
                                               std::to_string(manifest.face_height));
