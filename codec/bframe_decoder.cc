@@ -257,15 +257,8 @@ class MacroblockReader {
       if (!local_coded[0]) {
         std::copy_n(prediction_.y.data(), 256, reconstruction_.y.data());
       } else {
-        int count = 0;
-        if (!decode_block_levels(decoder_, c_.inter_luma, 0, kNoCodedBlockFlag, decoded_, &count,
-                                 TransformSize::k16x16)) {
-          return fail("invalid residual levels");
-        }
-        std::fill(std::begin(levels_), std::end(levels_), int16_t{0});
-        for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
-        reconstruct_residual_block(s_.inter_quantizer_16x16, levels_, prediction_.y.data(), 16,
-                                   reconstruction_.y.data(), 16);
+        SVC_RETURN_IF_ERROR(read_block(c_.inter_luma, kNoCodedBlockFlag, s_.inter_quantizer_16x16,
+                                       prediction_.y.data(), reconstruction_.y.data(), 16));
       }
     }
     for (int b = first_block; b < 6; ++b) {
@@ -277,17 +270,16 @@ class MacroblockReader {
         continue;
       }
       if (block_plane(b) == 0 && s_.inter_transform_sizes && decoder_.decode(c_.luma_4x4)) {
-        SVC_RETURN_IF_ERROR(read_split_block(pred, recon, stride));
+        // Four 4x4 blocks in raster order, each with its coded flag (context 0).
+        for (int k = 0; k < 4; ++k) {
+          const int offset = 4 * (k >> 1) * stride + 4 * (k & 1);
+          SVC_RETURN_IF_ERROR(
+              read_block(c_.inter_luma, 0, s_.inter_quantizer_4x4, pred + offset, recon + offset, stride));
+        }
         continue;
       }
-      int count = 0;
-      if (!decode_block_levels(decoder_, block_plane(b) == 0 ? c_.inter_luma : c_.inter_chroma, 0,
-                               kNoCodedBlockFlag, decoded_, &count)) {
-        return fail("invalid residual levels");
-      }
-      std::fill_n(levels_, 64, int16_t{0});
-      for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
-      reconstruct_residual_block(s_.inter_quantizer, levels_, pred, stride, recon, stride);
+      SVC_RETURN_IF_ERROR(read_block(block_plane(b) == 0 ? c_.inter_luma : c_.inter_chroma, kNoCodedBlockFlag,
+                                     s_.inter_quantizer, pred, recon, stride));
     }
     return Status::Ok();
   }
@@ -300,22 +292,23 @@ class MacroblockReader {
   std::array<MotionVector, 2> predictors_{};
   uint8_t coded_mask_ = 0;
   MacroblockPrediction prediction_, reconstruction_;
-  // A luma 8x8 block coded as four 4x4 blocks, each with its coded flag (context 0).
-  Status read_split_block(const uint8_t* pred, uint8_t* recon, int stride) {
-    for (int k = 0; k < 4; ++k) {
-      const int offset = 4 * (k >> 1) * stride + 4 * (k & 1);
-      int count = 0;
-      if (!decode_block_levels(decoder_, c_.inter_luma, 0, 0, decoded_, &count, TransformSize::k4x4)) {
-        return fail("invalid residual levels");
-      }
-      if (count == 0) {
-        for (int y = 0; y < 4; ++y) std::copy_n(pred + offset + y * stride, 4, recon + offset + y * stride);
-        continue;
-      }
-      std::fill_n(levels_, 16, int16_t{0});
-      for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
-      reconstruct_residual_block(s_.inter_quantizer_4x4, levels_, pred + offset, stride, recon + offset, stride);
+  // One residual block of quantizer.size read with `contexts` (coded_block_context as
+  // decode_block_levels takes it) and added to `pred` into `recon`; a block without
+  // levels copies the prediction.
+  Status read_block(BlockContextSet& contexts, int coded_block_context, const Quantizer& quantizer,
+                    const uint8_t* pred, uint8_t* recon, int stride) {
+    int count = 0;
+    if (!decode_block_levels(decoder_, contexts, 0, coded_block_context, decoded_, &count, quantizer.size)) {
+      return fail("invalid residual levels");
     }
+    const int width = transform_width(quantizer.size);
+    if (count == 0) {
+      for (int y = 0; y < width; ++y) std::copy_n(pred + y * stride, width, recon + y * stride);
+      return Status::Ok();
+    }
+    std::fill_n(levels_, transform_area(quantizer.size), int16_t{0});
+    for (int i = 0; i < count; ++i) levels_[decoded_[i].position] = decoded_[i].level;
+    reconstruct_residual_block(quantizer, levels_, pred, stride, recon, stride);
     return Status::Ok();
   }
 

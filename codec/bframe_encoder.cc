@@ -100,6 +100,17 @@ int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_st
   return sum;
 }
 
+// residual = source - prediction over a width x width block, packed rows.
+void subtract_prediction(const uint8_t* source, int source_stride, const uint8_t* prediction, int prediction_stride,
+                         int width, int16_t* residual) {
+  for (int y = 0; y < width; ++y) {
+    for (int x = 0; x < width; ++x) {
+      residual[width * y + x] =
+          static_cast<int16_t>(source[y * source_stride + x] - prediction[y * prediction_stride + x]);
+    }
+  }
+}
+
 // Samples of edge extension of the motion search's planes; vectors reaching further are
 // priced exactly.
 constexpr int kSearchMargin = 32;
@@ -750,8 +761,8 @@ class BFrameEncoder {
     out->luma_16x16 = false;
     for (int b = 0; b < 4; ++b) code_block(prediction, b, local_coded, out, &distortion, &bits);
     if (s_.inter_transform_sizes) {
-      const float flag_bits[2] = {bit_cost(s_.contexts.luma_16x16[luma_16x16_context(s_, mx_, my_)], 0),
-                                  bit_cost(s_.contexts.luma_16x16[luma_16x16_context(s_, mx_, my_)], 1)};
+      const AdaptiveBit& flag = s_.contexts.luma_16x16[luma_16x16_context(s_, mx_, my_)];
+      const float flag_bits[2] = {bit_cost(flag, 0), bit_cost(flag, 1)};
       bits += flag_bits[0];
       int64_t large_distortion = 0;
       float large_bits = flag_bits[1];
@@ -782,10 +793,7 @@ class BFrameEncoder {
     const uint8_t no_local[6] = {};
     const AdaptiveBit& cbp_model = c.cbp_luma[coded_context(s_, no_local, 0, mx_, my_, 2 * mx_, 2 * my_)];
     int16_t residual[256];
-    for (int y = 0; y < 16; ++y) {
-      for (int x = 0; x < 16; ++x)
-        residual[16 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - prediction.y[16 * y + x]);
-    }
+    subtract_prediction(src, source_stride, prediction.y.data(), 16, 16, residual);
     const int visible_w = visible_w_[0] + visible_w_[1], visible_h = visible_h_[0] + visible_h_[2];
     const int64_t uncoded_error = squared_error(src, source_stride, prediction.y.data(), 16, visible_w, visible_h);
     int16_t* levels = out->luma_levels.data();
@@ -847,10 +855,7 @@ class BFrameEncoder {
     const AdaptiveBit& cbp_model = plane == 0 ? c.cbp_luma[context] : c.cbp_chroma[plane - 1][context];
     const BlockContextSet& contexts = plane == 0 ? c.inter_luma : c.inter_chroma;
     int16_t residual[64];
-    for (int y = 0; y < 8; ++y) {
-      for (int x = 0; x < 8; ++x)
-        residual[8 * y + x] = static_cast<int16_t>(src[y * source_stride + x] - pred[y * stride + x]);
-    }
+    subtract_prediction(src, source_stride, pred, stride, 8, residual);
     // The uncoded block, then each coded form that costs less.
     int64_t best_error = block_error(b, pred);
     float best_bits = bit_cost(cbp_model, 0);
@@ -1044,8 +1049,7 @@ void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
   }
   if (choice.mode != MacroblockMode::kIntra && choice.mode != MacroblockMode::kSkipped) {
     stats->mb_luma_16x16 += choice.luma_16x16;
-    for (int b = 0; b < 4; ++b)
-      stats->luma_blocks_4x4 += !choice.luma_16x16 && ((choice.coded_mask >> b) & 1) && choice.split[b];
+    for (int b = 0; b < 4; ++b) stats->luma_blocks_4x4 += !choice.luma_16x16 && choice.split[b];
   }
   switch (choice.mode) {
     case MacroblockMode::kIntra: ++stats->mb_intra; break;

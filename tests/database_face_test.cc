@@ -104,13 +104,19 @@ class FaceTest : public ::testing::Test {
 
   void write_default_depth() { write_float_exr(at("depth.exr"), {"Z"}, constant(kPixels, 2.5f)); }
 
+  // An 8-bit RGB PNG of the face size holding pattern8; returns its pixels.
+  std::vector<uint8_t> write_rgb_png(const std::string& relative) {
+    const auto rgb = pattern8(kPixels, 3);
+    write_image(at(relative), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
+                rgb.data());
+    return rgb;
+  }
+
   testing::TempDir dir_{"svc-database-face"};
 };
 
 TEST_F(FaceTest, EightBitPngIsLoadedExactly) {
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("faces/rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  const auto rgb = write_rgb_png("faces/rgb.png");
   write_default_depth();
   const DatabaseManifest manifest = make_database("faces/rgb.png", "depth.exr");
   const auto face = load(manifest, Face::kNZ);
@@ -249,9 +255,7 @@ TEST_F(FaceTest, BlenderLayerChannelsServeColourAndDepth) {
 }
 
 TEST_F(FaceTest, DepthChannelIsFoundByName) {
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  write_rgb_png("rgb.png");
   struct Case {
     std::vector<std::string> names;
     int depth_channel;  // which channel holds the real depth
@@ -281,9 +285,7 @@ TEST_F(FaceTest, DepthChannelIsFoundByName) {
 }
 
 TEST_F(FaceTest, DepthFileWithoutUsableChannelIsRejected) {
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  write_rgb_png("rgb.png");
   write_float_exr(at("nodepth.exr"), {"U", "V"}, constant(kPixels * 2, 1.0f));
   expect_error(load(make_database("rgb.png", "nodepth.exr"), Face::kPY), ErrorCode::kBadInput,
                {"cell (0,0,0)", "face py", "nodepth.exr", "no depth channel", "U, V"});
@@ -293,9 +295,7 @@ TEST_F(FaceTest, DepthFileWithoutUsableChannelIsRejected) {
 }
 
 TEST_F(FaceTest, BackgroundDepthBecomesInfinity) {
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  write_rgb_png("rgb.png");
   std::vector<float> depth = constant(kPixels, 1.0f);
   depth[0] = kInf;
   depth[1] = std::numeric_limits<float>::quiet_NaN();
@@ -347,9 +347,7 @@ TEST_F(FaceTest, RadialDepthOfAPlaneIsFlatInEyeZ) {
     }
   }
   write_float_exr(at("wall.exr"), {"Z"}, radial);
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  write_rgb_png("rgb.png");
   const json extra = {
       {"depth", "radial"},
       {"projection",
@@ -392,18 +390,14 @@ TEST_F(FaceTest, GarbageAndMissingFilesAreReported) {
   expect_error(load(make_database("truncated.png", "depth.exr")), ErrorCode::kBadInput,
                {"cell (0,0,0)", "face px", "color", "truncated.png"});
 
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  write_rgb_png("rgb.png");
   const DatabaseManifest manifest = make_database("rgb.png", "depth.exr");
   fs::remove(at("depth.exr"));
   expect_error(load(manifest, Face::kNX), ErrorCode::kNotFound, {"cell (0,0,0)", "face nx", "depth", "depth.exr"});
 }
 
 TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColour) {
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  write_rgb_png("rgb.png");
   std::vector<float> depth = constant(kPixels, 3.0f);
   depth[5] = kInf;
   depth[9] = 7.25f;
@@ -434,9 +428,7 @@ TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColour) {
 }
 
 TEST_F(FaceTest, OutOfRangeArgumentsAreRejected) {
-  const auto rgb = pattern8(kPixels, 3);
-  write_image(at("rgb.png"), kWidth, kHeight, {"R", "G", "B"}, OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT8,
-              rgb.data());
+  write_rgb_png("rgb.png");
   write_default_depth();
   const DatabaseManifest manifest = make_database("rgb.png", "depth.exr");
   expect_error(load_face(manifest, 1, Face::kPX), ErrorCode::kInvalidArgument, {"ordinal 1"});
