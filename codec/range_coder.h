@@ -37,21 +37,32 @@ struct AdaptiveBit {
   // adapts from there as fast as a fresh one.
   void prime(uint16_t probability) { fast = slow = probability; }
   void update(int bit) {
-    int fast_shift = 4, slow_shift = 6;
-    if (seen < kSettled) {
-      const int warm = std::bit_width(static_cast<unsigned>(seen) + 2u);
-      fast_shift = std::min(warm, 4);
-      slow_shift = std::min(warm, 6);
-      ++seen;
-    }
-    if (bit) {
-      fast = static_cast<uint16_t>(fast - (fast >> fast_shift));
-      slow = static_cast<uint16_t>(slow - (slow >> slow_shift));
-    } else {
-      fast = static_cast<uint16_t>(fast + ((kProbabilityOne - fast) >> fast_shift));
-      slow = static_cast<uint16_t>(slow + ((kProbabilityOne - slow) >> slow_shift));
-    }
+    const Shifts shifts = kShifts[seen];
+    seen = static_cast<uint8_t>(seen + (seen < kSettled));
+    // Both branches computed and one kept: the bit is data, so a branch on it mispredicts.
+    const auto fast_down = static_cast<uint16_t>(fast - (fast >> shifts.fast));
+    const auto fast_up = static_cast<uint16_t>(fast + ((kProbabilityOne - fast) >> shifts.fast));
+    const auto slow_down = static_cast<uint16_t>(slow - (slow >> shifts.slow));
+    const auto slow_up = static_cast<uint16_t>(slow + ((kProbabilityOne - slow) >> shifts.slow));
+    fast = bit ? fast_down : fast_up;
+    slow = bit ? slow_down : slow_up;
   }
+
+ private:
+  struct Shifts {
+    uint8_t fast, slow;
+  };
+  // Adaptation shifts by bits seen: min(bit_width(seen + 2), 4) and min(..., 6), so that
+  // young contexts move faster; settled ones use 4 and 6.
+  static constexpr std::array<Shifts, kSettled + 1> kShifts = [] {
+    std::array<Shifts, kSettled + 1> table{};
+    for (int seen = 0; seen <= kSettled; ++seen) {
+      const int warm = seen < kSettled ? std::bit_width(static_cast<unsigned>(seen) + 2u) : 6;
+      table[static_cast<size_t>(seen)] = {static_cast<uint8_t>(std::min(warm, 4)),
+                                          static_cast<uint8_t>(std::min(warm, 6))};
+    }
+    return table;
+  }();
 };
 
 // Calls f(bit) on a context, or on every context of a (nested) array in index order: the
@@ -137,15 +148,9 @@ class RangeDecoder {
 
   int decode(AdaptiveBit& model) {
     const uint32_t bound = (range_ >> kProbabilityBits) * model.probability_of_zero();
-    int bit;
-    if (code_ < bound) {
-      range_ = bound;
-      bit = 0;
-    } else {
-      code_ -= bound;
-      range_ -= bound;
-      bit = 1;
-    }
+    const int bit = code_ >= bound;
+    code_ = bit ? code_ - bound : code_;
+    range_ = bit ? range_ - bound : bound;
     model.update(bit);
     normalize();
     return bit;
@@ -163,15 +168,16 @@ class RangeDecoder {
   }
 
   // Bytes requested beyond the end of the input (0 for any complete stream).
-  size_t overrun() const { return overrun_; }
+  size_t overrun() const { return position_ - consumed(); }
   // Bytes of input consumed so far (including the 4 read at construction).
-  size_t consumed() const { return position_; }
+  size_t consumed() const { return std::min(position_, bytes_.size()); }
 
  private:
+  // position_ counts every byte requested, those past the end too: one counter for both.
   uint8_t next_byte() {
-    if (position_ < bytes_.size()) return bytes_[position_++];
-    ++overrun_;
-    return 0;
+    const uint8_t byte = position_ < bytes_.size() ? bytes_[position_] : uint8_t{0};
+    ++position_;
+    return byte;
   }
   void normalize() {
     while (range_ < (1u << 24)) {
@@ -182,7 +188,6 @@ class RangeDecoder {
 
   std::span<const uint8_t> bytes_;
   size_t position_ = 0;
-  size_t overrun_ = 0;
   uint32_t code_ = 0;
   uint32_t range_ = 0xFFFFFFFFu;
 };

@@ -145,15 +145,21 @@ struct TapState {
   __m256i value, sum, low, high;
 };
 
+// kClamp: also track the taps' range. With one kind of tap only (primary or secondary)
+// the weights add up to 12 of the 16 the sum is divided by, so the filtered value never
+// leaves the range of its taps and the clamp is the identity: skipped then.
+template <bool kClamp>
 inline void add_tap(TapState* s, __m256i p, __m256i weight, __m256i threshold, __m128i shift) {
   const __m256i difference = _mm256_sub_epi16(p, s->value);
   const __m256i magnitude = _mm256_abs_epi16(difference);
   const __m256i limit = _mm256_subs_epu16(threshold, _mm256_srl_epi16(magnitude, shift));
   const __m256i constrained = _mm256_sign_epi16(_mm256_min_epi16(magnitude, limit), difference);
   s->sum = _mm256_add_epi16(s->sum, _mm256_mullo_epi16(constrained, weight));
-  s->low = _mm256_min_epi16(s->low, p);
-  const __m256i unavailable = _mm256_cmpeq_epi16(p, _mm256_set1_epi16(static_cast<int16_t>(kCdefUnavailable)));
-  s->high = _mm256_max_epi16(s->high, _mm256_andnot_si256(unavailable, p));
+  if constexpr (kClamp) {
+    s->low = _mm256_min_epi16(s->low, p);
+    const __m256i unavailable = _mm256_cmpeq_epi16(p, _mm256_set1_epi16(static_cast<int16_t>(kCdefUnavailable)));
+    s->high = _mm256_max_epi16(s->high, _mm256_andnot_si256(unavailable, p));
+  }
 }
 
 inline __m128i shift_of(int threshold, int damping) {
@@ -174,9 +180,11 @@ inline void store_rows(__m256i bytes, uint8_t* row, ptrdiff_t stride) {
   }
 }
 
-template <int kSize>
+// kPrimary, kSecondary: which taps the block uses (a strength of 0 adds nothing).
+template <int kSize, bool kPrimary, bool kSecondary>
 void filter_block(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride,
                   const CdefTaps& taps) {
+  constexpr bool kClamp = kPrimary && kSecondary;
   const __m256i primary = _mm256_set1_epi16(static_cast<int16_t>(taps.primary));
   const __m256i secondary = _mm256_set1_epi16(static_cast<int16_t>(taps.secondary));
   const __m128i primary_shift = shift_of(taps.primary, taps.damping);
@@ -194,19 +202,36 @@ void filter_block(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff
       const __m256i primary_weight = _mm256_set1_epi16(static_cast<int16_t>(primary_taps[k]));
       const __m256i secondary_weight = _mm256_set1_epi16(static_cast<int16_t>(kCdefSecondaryTaps[k]));
       for (int sign = -1; sign <= 1; sign += 2) {
-        add_tap(&s, load_lanes<kSize>(center + sign * offsets.primary[k], in_stride), primary_weight, primary,
-                primary_shift);
-        for (int t = 0; t < 2; ++t) {
-          add_tap(&s, load_lanes<kSize>(center + sign * offsets.secondary[k][t], in_stride), secondary_weight,
-                  secondary, secondary_shift);
+        if constexpr (kPrimary) {
+          add_tap<kClamp>(&s, load_lanes<kSize>(center + sign * offsets.primary[k], in_stride), primary_weight,
+                          primary, primary_shift);
+        }
+        if constexpr (kSecondary) {
+          for (int t = 0; t < 2; ++t) {
+            add_tap<kClamp>(&s, load_lanes<kSize>(center + sign * offsets.secondary[k][t], in_stride),
+                            secondary_weight, secondary, secondary_shift);
+          }
         }
       }
     }
     const __m256i negative = _mm256_cmpgt_epi16(_mm256_setzero_si256(), s.sum);
     const __m256i delta =
         _mm256_srai_epi16(_mm256_add_epi16(_mm256_add_epi16(s.sum, _mm256_set1_epi16(8)), negative), 4);
-    const __m256i result = _mm256_min_epi16(_mm256_max_epi16(_mm256_add_epi16(s.value, delta), s.low), s.high);
+    __m256i result = _mm256_add_epi16(s.value, delta);
+    if constexpr (kClamp) result = _mm256_min_epi16(_mm256_max_epi16(result, s.low), s.high);
     store_rows<kSize>(_mm256_packus_epi16(result, result), out + y * out_stride, out_stride);
+  }
+}
+
+template <int kSize>
+void filter_block(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride,
+                  const CdefTaps& taps) {
+  if (taps.secondary == 0) {
+    filter_block<kSize, true, false>(in, in_stride, out, out_stride, taps);
+  } else if (taps.primary == 0) {
+    filter_block<kSize, false, true>(in, in_stride, out, out_stride, taps);
+  } else {
+    filter_block<kSize, true, true>(in, in_stride, out, out_stride, taps);
   }
 }
 

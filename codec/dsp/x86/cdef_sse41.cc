@@ -89,23 +89,30 @@ struct TapState {
   __m128i value, sum, low, high;
 };
 
+// kClamp: also track the taps' range, needed only with both kinds of tap (the AVX2
+// kernel, cdef_avx2.cc, says why).
+template <bool kClamp>
 inline void add_tap(TapState* s, __m128i p, __m128i weight, __m128i threshold, __m128i shift) {
   const __m128i difference = _mm_sub_epi16(p, s->value);
   const __m128i magnitude = _mm_abs_epi16(difference);
   const __m128i limit = _mm_subs_epu16(threshold, _mm_srl_epi16(magnitude, shift));
   const __m128i constrained = _mm_sign_epi16(_mm_min_epi16(magnitude, limit), difference);
   s->sum = _mm_add_epi16(s->sum, _mm_mullo_epi16(constrained, weight));
-  s->low = _mm_min_epi16(s->low, p);
-  const __m128i unavailable = _mm_cmpeq_epi16(p, _mm_set1_epi16(static_cast<int16_t>(kCdefUnavailable)));
-  s->high = _mm_max_epi16(s->high, _mm_andnot_si128(unavailable, p));
+  if constexpr (kClamp) {
+    s->low = _mm_min_epi16(s->low, p);
+    const __m128i unavailable = _mm_cmpeq_epi16(p, _mm_set1_epi16(static_cast<int16_t>(kCdefUnavailable)));
+    s->high = _mm_max_epi16(s->high, _mm_andnot_si128(unavailable, p));
+  }
 }
 
 inline __m128i shift_of(int threshold, int damping) {
   return _mm_cvtsi32_si128(threshold == 0 ? 0 : std::max(0, damping - cdef_floor_log2(threshold)));
 }
 
-void cdef_filter_block_sse41(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride, int size,
-                             const CdefTaps& taps) {
+template <bool kPrimary, bool kSecondary>
+void filter_block(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride, int size,
+                  const CdefTaps& taps) {
+  constexpr bool kClamp = kPrimary && kSecondary;
   const __m128i primary = _mm_set1_epi16(static_cast<int16_t>(taps.primary));
   const __m128i secondary = _mm_set1_epi16(static_cast<int16_t>(taps.secondary));
   const __m128i primary_shift = shift_of(taps.primary, taps.damping);
@@ -123,17 +130,22 @@ void cdef_filter_block_sse41(const uint16_t* in, ptrdiff_t in_stride, uint8_t* o
       const __m128i primary_weight = _mm_set1_epi16(static_cast<int16_t>(primary_taps[k]));
       const __m128i secondary_weight = _mm_set1_epi16(static_cast<int16_t>(kCdefSecondaryTaps[k]));
       for (int sign = -1; sign <= 1; sign += 2) {
-        add_tap(&s, load_lanes(center + sign * offsets.primary[k], in_stride, size), primary_weight, primary,
-                primary_shift);
-        for (int t = 0; t < 2; ++t) {
-          add_tap(&s, load_lanes(center + sign * offsets.secondary[k][t], in_stride, size), secondary_weight,
-                  secondary, secondary_shift);
+        if constexpr (kPrimary) {
+          add_tap<kClamp>(&s, load_lanes(center + sign * offsets.primary[k], in_stride, size), primary_weight,
+                          primary, primary_shift);
+        }
+        if constexpr (kSecondary) {
+          for (int t = 0; t < 2; ++t) {
+            add_tap<kClamp>(&s, load_lanes(center + sign * offsets.secondary[k][t], in_stride, size),
+                            secondary_weight, secondary, secondary_shift);
+          }
         }
       }
     }
     const __m128i negative = _mm_cmplt_epi16(s.sum, _mm_setzero_si128());
     const __m128i delta = _mm_srai_epi16(_mm_add_epi16(_mm_add_epi16(s.sum, _mm_set1_epi16(8)), negative), 4);
-    const __m128i result = _mm_min_epi16(_mm_max_epi16(_mm_add_epi16(s.value, delta), s.low), s.high);
+    __m128i result = _mm_add_epi16(s.value, delta);
+    if constexpr (kClamp) result = _mm_min_epi16(_mm_max_epi16(result, s.low), s.high);
     const __m128i bytes = _mm_packus_epi16(result, result);
     uint8_t* row = out + y * out_stride;
     if (size == 8) {
@@ -143,6 +155,17 @@ void cdef_filter_block_sse41(const uint16_t* in, ptrdiff_t in_stride, uint8_t* o
       std::memcpy(row, &first, 4);
       std::memcpy(row + out_stride, &second, 4);
     }
+  }
+}
+
+void cdef_filter_block_sse41(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride, int size,
+                             const CdefTaps& taps) {
+  if (taps.secondary == 0) {
+    filter_block<true, false>(in, in_stride, out, out_stride, size, taps);
+  } else if (taps.primary == 0) {
+    filter_block<false, true>(in, in_stride, out, out_stride, size, taps);
+  } else {
+    filter_block<true, true>(in, in_stride, out, out_stride, size, taps);
   }
 }
 
