@@ -106,10 +106,14 @@ void filter_frame(const CdefParams& params, int qindex, std::span<const uint8_t>
       if (preset == 0 || (!skip.empty() && skip[block] != 0)) continue;
       const CdefStrength& strength = params.presets[preset - 1];
       const int secondary = secondary_of(strength.secondary_code);
+      // Without primary taps the direction is 0 and the contrast unused: no search.
       int32_t variance = 0;
-      const int direction = dsp::get_dsp().cdef_direction_8x8(
-          planes[0].data + static_cast<ptrdiff_t>(8 * by) * planes[0].stride + 8 * bx, planes[0].stride, &variance);
-      const int luma_direction = strength.primary == 0 ? 0 : direction;
+      const int luma_direction =
+          strength.primary == 0
+              ? 0
+              : dsp::get_dsp().cdef_direction_8x8(planes[0].data +
+                                                      static_cast<ptrdiff_t>(8 * by) * planes[0].stride + 8 * bx,
+                                                  planes[0].stride, &variance);
       filter_block(input, 0, planes[0], 8 * bx, 8 * by, 8,
                    dsp::CdefTaps{adjusted_primary(strength.primary, variance), secondary, luma_direction, damping});
       for (int p = 1; p < 3; ++p) {

@@ -77,6 +77,28 @@ std::string check_interpolate(const Tables& reference, const Tables& variant, Ra
   return {};
 }
 
+// 4x4 blocks, the warped mode's, which variants may take a path of their own for: every
+// phase pair of every bank and plane kind, then random phases.
+std::string check_interpolate_4x4(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  for (int f = 0; f < codec::kInterpolationFilterCount; ++f) {
+    const auto filter = static_cast<codec::InterpolationFilter>(f);
+    for (const auto kind : {codec::PlaneKind::kLuma, codec::PlaneKind::kChroma}) {
+      const int phases = kind == codec::PlaneKind::kLuma ? 4 : 8;
+      for (int pair = 0; pair < phases * phases; ++pair) {
+        const int8_t* h = codec::interpolation_taps(kind, pair % phases, filter).data();
+        const int8_t* v = codec::interpolation_taps(kind, pair / phases, filter).data();
+        if (auto diff = compare_interpolation(reference, variant, random, 4, 4, h, v); !diff.empty()) return diff;
+      }
+    }
+  }
+  for (int n = 0; n < iterations; ++n) {
+    const int8_t* h = random_taps(random, n);
+    const int8_t* v = random_taps(random, n >> 1);
+    if (auto diff = compare_interpolation(reference, variant, random, 4, 4, h, v); !diff.empty()) return diff;
+  }
+  return {};
+}
+
 // Intermediates over their whole range, sometimes at its ends.
 void fill_intermediates(Random& random, int16_t* data, int count) {
   const int mode = random.uniform(0, 3);
@@ -182,6 +204,18 @@ void bench_interpolate(const Tables& table, int iterations) {
   bench_sink = out[5];
 }
 
+// The warped mode's 4x4 blocks, phases as in bench_interpolate.
+void bench_interpolate_4x4(const Tables& table, int iterations) {
+  const BenchPlane plane;
+  int16_t out[16];
+  for (int n = 0; n < iterations; ++n) {
+    const int8_t* h = codec::interpolation_taps(codec::PlaneKind::kLuma, n & 3).data();
+    const int8_t* v = codec::interpolation_taps(codec::PlaneKind::kLuma, (n >> 2) & 3).data();
+    table.interpolate_8tap(plane.samples.data() + (n & 7), 96, 4, 4, h, v, out, 4);
+  }
+  bench_sink = out[5];
+}
+
 void bench_put(const Tables& table, int iterations) {
   int16_t in[256];
   for (int i = 0; i < 256; ++i) in[i] = static_cast<int16_t>(i * 97 - 8192);
@@ -225,6 +259,8 @@ std::vector<Kernel> motion_kernels() {
   return {
       {"interpolate_8tap", [](const Tables& t) { return entry_of(t.interpolate_8tap); }, check_interpolate,
        bench_interpolate},
+      {"interpolate_8tap_4x4", [](const Tables& t) { return entry_of(t.interpolate_8tap); }, check_interpolate_4x4,
+       bench_interpolate_4x4},
       {"put_intermediate", [](const Tables& t) { return entry_of(t.put_intermediate); }, check_put, bench_put},
       {"average_intermediate", [](const Tables& t) { return entry_of(t.average_intermediate); }, check_average,
        bench_average},

@@ -7,6 +7,8 @@
 // interpolate_8tap_c bit for bit (tests/checkkernels).
 #include <immintrin.h>
 
+#include <cstring>
+
 #include "codec/dsp/dsp_init.h"
 
 #pragma GCC target("avx2")
@@ -264,8 +266,134 @@ void filter_block(const int16_t* rows, int padded_width, int width, int height, 
   }
 }
 
+// 4x4 blocks (the warped mode predicts in them): one row per 128-bit half, its four
+// outputs' products of two tap pairs side by side (pair k in bytes 0..7, pair k + 1 in
+// bytes 8..15), added across the halves of the half; the second pass two output rows
+// per operation. Half the work of the padded 8-wide path for these blocks.
+template <int kFirst, int kCount>
+class Horizontal4 {
+ public:
+  explicit Horizontal4(const int8_t* taps) {
+    for (int m = 0; m < kCount / 2; ++m) {
+      alignas(32) int8_t order[32];
+      alignas(32) int8_t weights[32];
+      for (int half = 0; half < 2; ++half) {
+        const int k = kFirst + 2 * m + half;
+        for (int i = 0; i < 4; ++i) {
+          for (int lane = 0; lane < 32; lane += 16) {
+            order[lane + 8 * half + 2 * i] = static_cast<int8_t>(2 * k + i);
+            order[lane + 8 * half + 2 * i + 1] = static_cast<int8_t>(2 * k + i + 1);
+            weights[lane + 8 * half + 2 * i] = taps[2 * k];
+            weights[lane + 8 * half + 2 * i + 1] = taps[2 * k + 1];
+          }
+        }
+      }
+      shuffles_[m] = _mm256_load_si256(reinterpret_cast<const __m256i*>(order));
+      weights_[m] = _mm256_load_si256(reinterpret_cast<const __m256i*>(weights));
+    }
+  }
+  // Rows a and b (16 bytes read at each): the four sums of each in lanes 0..3 of its half.
+  __m256i two_rows(const uint8_t* a, const uint8_t* b) const {
+    const __m256i samples = join(load_bytes16(a), load_bytes16(b));
+    __m256i sum = _mm256_maddubs_epi16(_mm256_shuffle_epi8(samples, shuffles_[0]), weights_[0]);
+    for (int m = 1; m < kCount / 2; ++m) {
+      sum = _mm256_add_epi16(sum, _mm256_maddubs_epi16(_mm256_shuffle_epi8(samples, shuffles_[m]), weights_[m]));
+    }
+    return _mm256_add_epi16(sum, _mm256_srli_si256(sum, 8));
+  }
+
+ private:
+  __m256i shuffles_[kCount / 2], weights_[kCount / 2];
+};
+
+struct Identity4 {
+  __m256i two_rows(const uint8_t* a, const uint8_t* b) const {
+    const __m128i pair =
+        _mm_unpacklo_epi32(_mm_cvtsi32_si128(load_int32(a + 3)), _mm_cvtsi32_si128(load_int32(b + 3)));
+    const __m256i wide = _mm256_slli_epi16(_mm256_cvtepu8_epi16(pair), 6);
+    // Row a's four in lanes 0..3 of the low half, row b's in those of the high half.
+    return _mm256_permute4x64_epi64(wide, 0x10);
+  }
+  static int32_t load_int32(const uint8_t* p) {
+    int32_t value;
+    std::memcpy(&value, p, 4);
+    return value;
+  }
+};
+
+// First-pass rows of a 4x4 block: row r's four intermediates in lanes 0..3 of rows[r].
+template <typename Taps>
+void first_pass_4x4(const uint8_t* src, ptrdiff_t stride, int row_count, const Taps& taps, __m128i* rows) {
+  for (int r = 0; r < row_count; r += 2) {
+    const __m256i pair = taps.two_rows(src + r * stride, src + (r + 1 < row_count ? r + 1 : r) * stride);
+    rows[r] = _mm256_castsi256_si128(pair);
+    rows[r + 1] = _mm256_extracti128_si256(pair, 1);
+  }
+}
+
+inline void store_4x4(__m256i rows_0_2_1_3, int16_t* out, ptrdiff_t stride) {
+  const __m128i low = _mm256_castsi256_si128(rows_0_2_1_3), high = _mm256_extracti128_si256(rows_0_2_1_3, 1);
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(out), low);
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(out + stride), high);
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 2 * stride), _mm_unpackhi_epi64(low, low));
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 3 * stride), _mm_unpackhi_epi64(high, high));
+}
+
+// The second pass from tap pairs kFirst .. kFirst + kCount - 1 on first-pass rows that
+// start at the first one's row.
+template <int kFirst, int kCount>
+void second_pass_4x4(const __m128i* rows, const int8_t* taps, int16_t* out, ptrdiff_t stride) {
+  // joined[m]: rows 2m, 2m + 1 interleaved in the low half, rows 2m + 1, 2m + 2 in the high.
+  __m256i joined[kCount + 1];
+  for (int m = 0; m <= kCount; ++m) {
+    joined[m] = join(_mm_unpacklo_epi16(rows[2 * m], rows[2 * m + 1]),
+                     _mm_unpacklo_epi16(rows[2 * m + 1], rows[2 * m + 2]));
+  }
+  __m256i sum_01 = _mm256_setzero_si256(), sum_23 = _mm256_setzero_si256();
+  for (int j = 0; j < kCount; ++j) {
+    const int k = kFirst + j;
+    const __m256i pair = _mm256_set1_epi32(static_cast<int32_t>((taps[2 * k] & 0xffff) | (taps[2 * k + 1] << 16)));
+    sum_01 = _mm256_add_epi32(sum_01, _mm256_madd_epi16(joined[j], pair));
+    sum_23 = _mm256_add_epi32(sum_23, _mm256_madd_epi16(joined[j + 1], pair));
+  }
+  const __m256i offset = _mm256_set1_epi32(kIntermediateOffset);
+  const __m256i rows_01 = _mm256_sub_epi32(_mm256_srai_epi32(sum_01, 6), offset);
+  const __m256i rows_23 = _mm256_sub_epi32(_mm256_srai_epi32(sum_23, 6), offset);
+  store_4x4(_mm256_packs_epi32(rows_01, rows_23), out, stride);
+}
+
+void interpolate_4x4(const uint8_t* window, ptrdiff_t window_stride, const int8_t* h_taps, const int8_t* v_taps,
+                     int16_t* out, ptrdiff_t out_stride) {
+  const bool vertical = !identity(v_taps), vertical_four = vertical && four_taps(v_taps);
+  const int first_row = !vertical ? 3 : vertical_four ? 2 : 0;
+  const int row_count = !vertical ? 4 : vertical_four ? 7 : 11;
+  __m128i rows[12];
+  const uint8_t* src = window + first_row * window_stride;
+  if (identity(h_taps)) {
+    first_pass_4x4(src, window_stride, row_count, Identity4{}, rows);
+  } else if (four_taps(h_taps)) {
+    first_pass_4x4(src, window_stride, row_count, Horizontal4<1, 2>(h_taps), rows);
+  } else {
+    first_pass_4x4(src, window_stride, row_count, Horizontal4<0, 4>(h_taps), rows);
+  }
+  if (!vertical) {
+    const __m128i offset = _mm_set1_epi16(kIntermediateOffset);
+    for (int y = 0; y < 4; ++y) {
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(out + y * out_stride), _mm_sub_epi16(rows[y], offset));
+    }
+  } else if (vertical_four) {
+    second_pass_4x4<1, 2>(rows, v_taps, out, out_stride);
+  } else {
+    second_pass_4x4<0, 4>(rows, v_taps, out, out_stride);
+  }
+}
+
 void interpolate_8tap_avx2(const uint8_t* window, ptrdiff_t window_stride, int width, int height,
                            const int8_t* h_taps, const int8_t* v_taps, int16_t* out, ptrdiff_t out_stride) {
+  if (width == 4 && height == 4) {
+    interpolate_4x4(window, window_stride, h_taps, v_taps, out, out_stride);
+    return;
+  }
   const bool vertical = !identity(v_taps), vertical_four = vertical && four_taps(v_taps);
   // First-pass rows: those the vertical taps reach (height + 7, or height + 3 from row 2
   // for four taps), else only the block's.
