@@ -246,7 +246,7 @@ ContainerIndex rig_index() {
     if (frame.type == FaceType::kPredicted) frame.references = {n % kFaceCount};
     frame.chunk_offset = offset;
     frame.payload_size = 40 + n;
-    offset += frame.payload_size + kChunkOverhead;
+    offset += chunk_bytes(frame);
     index.frames.push_back(frame);
   }
   index.stats[0].faces = 6;
@@ -472,7 +472,7 @@ OneCell one_cell_index() {
   for (FrameRecord& frame : one.index.frames) {
     frame.chunk_offset = offset;
     frame.payload_size = 50;
-    offset += 50 + kChunkOverhead;
+    offset += chunk_bytes(frame);
   }
   one.bytes = serialize_index(one.index);
   one.frames_at = one.bytes.size() - kStatisticsBytes - 3 * kFaceCount;
@@ -499,7 +499,7 @@ TEST(ContainerIndexV2, BadVarintsAreRefused) {
   const OneCell one = one_cell_index();
   const std::vector<uint8_t>& bytes = one.bytes;
   const size_t record = one.frames_at + 3 * 2;  // frame 2: face py
-  ASSERT_EQ(bytes[record], 0);
+  ASSERT_EQ(bytes[record], 0x20);               // an I-face in a bare chunk
   ASSERT_EQ(bytes[record + 1], 0);
   ASSERT_EQ(bytes[record + 2], 50);
   ASSERT_TRUE(parse_edited(bytes, record, 3, {0, 0, 50}).ok());
@@ -521,7 +521,8 @@ TEST(ContainerIndexV2, BadVarintsAreRefused) {
   expect_refused(parse_edited(bytes, record + 1, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}),
                  "leads outside the file");
   // Reserved bits of the type byte; an unknown frame type.
-  expect_refused(parse_edited(bytes, record, 1, {0x20}), "reserved bits");
+  expect_refused(parse_edited(bytes, record, 1, {0x40}), "reserved bits");
+  expect_refused(parse_edited(bytes, record, 1, {0xA0}), "reserved bits");
   expect_refused(parse_edited(bytes, record, 1, {0x10}), "cube-references bit");
   expect_refused(parse_edited(bytes, record, 1, {0x02}), "unknown frame type");
   // An I-face with a reference; a B-face reference past the frame count.

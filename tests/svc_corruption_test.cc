@@ -69,8 +69,7 @@ class Corruption : public ::testing::Test {
   static std::optional<uint32_t> frame_at(uint64_t offset) {
     for (uint32_t f = 0; f < index_->frames.size(); ++f) {
       const FrameRecord& frame = index_->frames[f];
-      if (offset >= frame.chunk_offset && offset < frame.chunk_offset + frame.payload_size + kChunkOverhead)
-        return f;
+      if (offset >= frame.chunk_offset && offset < frame.chunk_offset + chunk_bytes(frame)) return f;
     }
     return std::nullopt;
   }

@@ -4,9 +4,10 @@
 //   SVC_WRITE_FUZZ_CORPUS=tests/fuzz/corpus build/bin/svc_integration_tests --gtest_filter=FuzzCorpus.Generate
 // ). Inputs the fuzzers found are added beside the seeds by hand.
 //
-// The container seeds seed-*.svc are what the current encoder writes (index version 2).
-// Their twins seed-v1index-*.svc are the same bytes with the index rewritten in version 1,
-// so that readers keep being exercised on such files.
+// The container seeds seed-*.svc are what the current encoder writes (index version 2,
+// bare face chunks). The older encoder's files stay beside them, so that readers keep
+// being exercised on such files: seed-framed-*.svc (FACE chunks) and their twins
+// seed-v1index-*.svc, the same bytes with the index rewritten in version 1.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -113,12 +114,11 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
   return seeds;
 }
 
-// The committed container seeds written by the encoder, by file name.
-std::vector<fs::path> encoder_seeds() {
+// The committed seeds of the encoder before bare face chunks (index version 2).
+std::vector<fs::path> framed_seeds() {
   std::vector<fs::path> seeds;
   for (const fs::path& path : corpus_files("container")) {
-    const std::string name = path.filename().string();
-    if (name.rfind("seed-", 0) == 0 && name.rfind("seed-v1index-", 0) != 0) seeds.push_back(path);
+    if (path.filename().string().rfind("seed-framed-", 0) == 0) seeds.push_back(path);
   }
   return seeds;
 }
@@ -148,13 +148,15 @@ std::vector<uint8_t> reindexed(const std::vector<uint8_t>& bytes, const fs::path
   return out;
 }
 
-fs::path version_one_twin(const fs::path& seed) {
-  return seed.parent_path() / ("seed-v1index-" + seed.filename().string().substr(5));
+// seed-framed-NAME's twin seed-v1index-NAME.
+fs::path version_one_twin(const fs::path& framed_seed) {
+  return framed_seed.parent_path() /
+         ("seed-v1index-" + framed_seed.filename().string().substr(std::string("seed-framed-").size()));
 }
 
-TEST(FuzzCorpus, VersionOneTwinsAreTheSeedsWithAVersionOneIndex) {
+TEST(FuzzCorpus, VersionOneTwinsAreTheFramedSeedsWithAVersionOneIndex) {
   testing::TempDir dir("svc-fuzz-twins");
-  const std::vector<fs::path> seeds = encoder_seeds();
+  const std::vector<fs::path> seeds = framed_seeds();
   ASSERT_GE(seeds.size(), 3u);
   for (const fs::path& seed : seeds) {
     SCOPED_TRACE(seed.string());
@@ -239,12 +241,9 @@ TEST(FuzzCorpus, Generate) {
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     ASSERT_TRUE(out.good()) << path;
   };
-  // Container seeds, each with its version 1 index twin.
-  for (const auto& [name, bytes] : container_seeds(dir.path())) {
-    const fs::path seed = fs::path(target) / "container" / name;
-    write(seed, bytes);
-    write(version_one_twin(seed), reindexed(bytes, dir.path() / "scratch.svc", &testing::serialize_index_v1));
-  }
+  // Container seeds (the framed seeds and their version 1 twins are kept as committed:
+  // the encoder no longer writes FACE chunks).
+  for (const auto& [name, bytes] : container_seeds(dir.path())) write(fs::path(target) / "container" / name, bytes);
   for (const auto& [name, bytes] : frame_seeds()) write(fs::path(target) / "frame" / name, bytes);
 }
 

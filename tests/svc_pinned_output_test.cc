@@ -54,10 +54,10 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "2d20d5d097b1f37e097ccc48d1131366214a09df910757397d3e9ace42bcc3ad",
+     "a89d441eb6bed1dfea5e3587731b10e5cf8a4ce7210f2051fad25a6acd2f40f3",
      "e000d399266e59a0af093d465a89f1d30ecf2cf8c30219b7f42797b7bcef5390"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "05acb519ea6aa3ece4808044832dbd060ae12dea3d29188bf36456cd00b74feb",
+     "d711c4db69ead8c9d99e7927da6ccaeef307b815dd4741d1e7e7edf57b7ca284",
      "025718b74f4e6960a1eb6c2b8bf504770a11c16b57e7355a24c3d67554ba99c6"},
 };
 

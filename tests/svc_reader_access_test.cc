@@ -171,7 +171,7 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   EXPECT_EQ(stats.coefficient_cache.misses, refs.size());
   EXPECT_EQ(stats.coefficient_cache.entries, refs.size());
   const uint64_t bytes_after_first = stats.bytes_read;
-  uint64_t expected_bytes = cells[first / kFaceCount].faces[0].coded_bytes + (refs.size() + 1) * 16;
+  uint64_t expected_bytes = cells[first / kFaceCount].faces[0].coded_bytes + (refs.size() + 1) * kBareChunkOverhead;
   for (size_t ref : refs) expected_bytes += cells[ref / kFaceCount].faces[ref % kFaceCount].coded_bytes;
   EXPECT_EQ(bytes_after_first, expected_bytes);
 
@@ -344,7 +344,7 @@ TEST_F(ReaderAccess, SemiDecodedIFacesAreChargedWhatTheyHold) {
       ASSERT_TRUE((*reader)->decode_face_ycbcr(cell.index, face).ok());
       ++i_faces;
       // The same payload parsed here: the cache holds exactly this sparse form.
-      auto payload = (*file_reader)->read_vector(entry.offset + 12, entry.coded_bytes);
+      auto payload = (*file_reader)->read_vector(entry.offset, entry.coded_bytes);  // a bare chunk
       ASSERT_TRUE(payload.ok());
       codec::CoefficientFrame parsed;
       ASSERT_TRUE(codec::parse_intra_frame(*payload, 48, 48, &parsed).ok());

@@ -27,6 +27,13 @@ std::vector<uint8_t> make_chunk(uint32_t tag, std::span<const uint8_t> payload) 
   return w.take();
 }
 
+std::vector<uint8_t> make_bare_chunk(std::span<const uint8_t> payload) {
+  ByteWriter w;
+  w.raw(payload);
+  w.u32(crc32_of(payload));
+  return w.take();
+}
+
 std::vector<uint8_t> make_file_header() {
   ByteWriter w;
   w.raw(kMagic);
@@ -167,7 +174,19 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
 
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what) {
-  return read_chunk(file, frame.chunk_offset, uint64_t{frame.payload_size} + kChunkOverhead, kFaceChunkTag, what);
+  if (!frame.bare_chunk) return read_chunk(file, frame.chunk_offset, chunk_bytes(frame), kFaceChunkTag, what);
+  const uint64_t offset = frame.chunk_offset, size = chunk_bytes(frame);
+  if (offset > file.size() || size > file.size() - offset) {
+    return corrupt_at(what + " chunk of " + std::to_string(size) + " bytes lies outside the file", offset);
+  }
+  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, file.read_vector(offset, size));
+  const uint64_t payload_size = frame.payload_size;
+  ByteReader r(std::span<const uint8_t>(bytes).subspan(payload_size), offset + payload_size);
+  if (r.u32() != crc32_of(std::span<const uint8_t>(bytes).first(payload_size))) {
+    return corrupt_at(what + " chunk fails its CRC-32 check (" + std::to_string(size) + " bytes)", offset);
+  }
+  bytes.resize(payload_size);
+  return bytes;
 }
 
 }  // namespace svc

@@ -29,6 +29,7 @@ inline constexpr uint64_t kFileHeaderSize = 32;
 inline constexpr uint64_t kCommitSlotSize = 32;
 inline constexpr uint64_t kPreludeSize = kFileHeaderSize + 2 * kCommitSlotSize;  // chunks start here
 inline constexpr uint64_t kChunkOverhead = 16;                                   // tag, payload size, CRC-32
+inline constexpr uint64_t kBareChunkOverhead = 4;                                // CRC-32 (docs/format.md)
 
 inline constexpr uint32_t chunk_tag(char a, char b, char c, char d) {
   return uint32_t(uint8_t(a)) | uint32_t(uint8_t(b)) << 8 | uint32_t(uint8_t(c)) << 16 | uint32_t(uint8_t(d)) << 24;
@@ -93,7 +94,7 @@ class FrameReferences {
 
 // Packed: 32 bytes a frame, the index's cost per face besides its camera.
 struct FrameRecord {
-  uint64_t chunk_offset = 0;   // file offset of the FACE chunk
+  uint64_t chunk_offset = 0;   // file offset of the face's chunk
   uint32_t cell = 0;           // ordinal into ContainerIndex::cells
   uint32_t payload_size = 0;   // coded bytes inside the chunk
   FrameReferences references;  // ordinals into ContainerIndex::frames
@@ -102,8 +103,16 @@ struct FrameRecord {
   // A B-face predicting from padded references (docs/codec.md 10.6): it also depends on
   // the four faces adjacent to its face in each reference cube (frame_dependencies).
   bool cube_references = false;
+  // The chunk is bare (payload and CRC-32, make_bare_chunk), as every writer now writes
+  // them; a FACE chunk (make_chunk) in files from before.
+  bool bare_chunk = true;
 };
 static_assert(sizeof(FrameRecord) <= 32);
+
+// Bytes the frame's chunk takes in the file, payload and framing.
+inline uint64_t chunk_bytes(const FrameRecord& frame) {
+  return uint64_t{frame.payload_size} + (frame.bare_chunk ? kBareChunkOverhead : kChunkOverhead);
+}
 
 // Every frame `frame` needs decoded before it can be: its references, then, with cube
 // references, the four adjacent faces of each reference cube (codec/cube_padding.h
@@ -146,6 +155,8 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
 
 // A chunk as written to the file: tag, payload size, payload, CRC-32 of all before it.
 std::vector<uint8_t> make_chunk(uint32_t tag, std::span<const uint8_t> payload);
+// A face's bare chunk: the payload and its CRC-32. The index holds its offset and size.
+std::vector<uint8_t> make_bare_chunk(std::span<const uint8_t> payload);
 
 std::vector<uint8_t> make_file_header();
 std::vector<uint8_t> make_commit_slot(uint64_t generation, uint64_t index_offset, uint64_t index_chunk_size);
@@ -167,8 +178,8 @@ struct OpenedContainer {
 // Reads the header, the newest valid commit slot and the index it points at.
 Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLimits& limits);
 
-// Reads one face's chunk and checks tag, size and CRC. Errors name the chunk offset and,
-// through `what`, the face.
+// Reads one face's chunk (bare or FACE, as the record says) and checks its CRC, and a
+// FACE chunk's tag and size. Errors name the chunk offset and, through `what`, the face.
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what);
 

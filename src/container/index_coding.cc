@@ -26,12 +26,13 @@ constexpr uint8_t kExplicitCameraMarker = 255;
 constexpr size_t kMaxRigEntries = 64;
 constexpr uint64_t kRigEntryBytes = (9 + 6) * 8;
 // Version 2 frame record type byte: bits 0-1 frame type, bits 2-3 reference count, bit 4
-// cube references.
+// cube references, bit 5 bare chunk.
 constexpr uint8_t kFaceTypeMask = 0x03;
 constexpr int kRefCountShift = 2;
 constexpr uint8_t kRefCountMask = 0x03;
 constexpr uint8_t kCubeReferencesBit = 0x10;
-constexpr uint8_t kFrameHeadReservedMask = 0xE0;
+constexpr uint8_t kBareChunkBit = 0x20;
+constexpr uint8_t kFrameHeadReservedMask = 0xC0;
 constexpr int kMaxVarintBytes = 10;
 
 std::string at_offset(uint64_t offset) { return " at byte offset " + std::to_string(offset); }
@@ -375,7 +376,7 @@ Status check_frame(const FrameRecord& frame, uint8_t kind, uint64_t ref_count, c
                                                  " bytes, above the reader's limit" + at_offset(record_at));
   }
   if (frame.chunk_offset < kPreludeSize || frame.chunk_offset > file_size ||
-      uint64_t{frame.payload_size} + kChunkOverhead > file_size - frame.chunk_offset) {
+      chunk_bytes(frame) > file_size - frame.chunk_offset) {
     return corrupt_at(what + " points at bytes " + std::to_string(frame.chunk_offset) + " outside the file",
                       record_at);
   }
@@ -401,6 +402,7 @@ Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     r.u8();
     frame.chunk_offset = r.u64();
     frame.payload_size = r.u32();
+    frame.bare_chunk = false;
     if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
     // Frames are stored cell-major in face order, so the position fixes cell and face.
     if (frame.cell != i / kFaceCount || face != i % kFaceCount) {
@@ -433,6 +435,7 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     const uint8_t kind = head & kFaceTypeMask;
     const uint8_t ref_count = (head >> kRefCountShift) & kRefCountMask;
     frame.cube_references = (head & kCubeReferencesBit) != 0;
+    frame.bare_chunk = (head & kBareChunkBit) != 0;
     if (frame.cube_references && static_cast<FaceType>(kind) != FaceType::kPredicted) {
       return corrupt_at(what + " is not a B-face but has the cube-references bit set", record_at);
     }
@@ -466,7 +469,7 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
       }
       ref = static_cast<uint32_t>(value);
     }
-    previous_end = frame.chunk_offset + frame.payload_size + kChunkOverhead;
+    previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   return Status::Ok();
 }
@@ -528,12 +531,13 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
   for (const FrameRecord& frame : index.frames) {
     w.u8(static_cast<uint8_t>((static_cast<uint8_t>(frame.type) & kFaceTypeMask) |
                               (frame.references.size() & kRefCountMask) << kRefCountShift |
-                              (frame.cube_references ? kCubeReferencesBit : 0)));
+                              (frame.cube_references ? kCubeReferencesBit : 0) |
+                              (frame.bare_chunk ? kBareChunkBit : 0)));
     // Two's complement difference: chunks appended by `svc add` lie before earlier ones.
     write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
     write_varint(w, frame.payload_size);
     for (uint32_t ref : frame.references) write_varint(w, ref);
-    previous_end = frame.chunk_offset + frame.payload_size + kChunkOverhead;
+    previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   for (const FaceTypeStats& t : index.stats) {
     for (uint64_t v : {t.faces, t.bytes, t.mb_intra, t.mb_forward, t.mb_backward, t.mb_bidirectional, t.mb_skipped,

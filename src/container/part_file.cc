@@ -9,14 +9,14 @@ namespace svc {
 
 namespace {
 
-constexpr uint8_t kPartFormatVersion = 1;
+constexpr uint8_t kPartFormatVersion = 2;  // 2: bare face chunks
 constexpr char kHeaderMagic[8] = {'S', 'V', 'C', 'P', 'A', 'R', 'T', kPartFormatVersion};
 constexpr char kTrailerMagic[8] = {'S', 'V', 'C', 'P', 'E', 'N', 'D', kPartFormatVersion};
 constexpr uint64_t kPartFaceRecordSize = 16;  // frame, chunk offset, payload size
 
 // parse_index wants every chunk inside a file; the plan's frames all point at one empty
 // chunk right after an imaginary prelude.
-constexpr uint64_t kPlanFileSize = kPreludeSize + kChunkOverhead;
+constexpr uint64_t kPlanFileSize = kPreludeSize + kBareChunkOverhead;
 
 std::span<const uint8_t> magic_bytes(const char (&magic)[8]) {
   return {reinterpret_cast<const uint8_t*>(magic), sizeof magic};
@@ -57,7 +57,7 @@ Status check_faces(const PartDescriptor& d, uint64_t faces_end) {
                     what + " lies outside the plan's " + std::to_string(d.plan.frames.size()) + " frames");
     }
     if (face.chunk_offset < kPartHeaderSize || face.chunk_offset > faces_end ||
-        uint64_t{face.payload_size} + kChunkOverhead > faces_end - face.chunk_offset) {
+        uint64_t{face.payload_size} + kBareChunkOverhead > faces_end - face.chunk_offset) {
       return corrupt_at(what + " points outside the face chunks", face.chunk_offset);
     }
   }
@@ -107,7 +107,7 @@ Result<std::unique_ptr<PartWriter>> PartWriter::create(const std::filesystem::pa
 
 Result<uint64_t> PartWriter::append_frame(std::span<const uint8_t> payload) {
   const uint64_t offset = out_->position();
-  SVC_RETURN_IF_ERROR(out_->write(make_chunk(kFaceChunkTag, payload)));
+  SVC_RETURN_IF_ERROR(out_->write(make_bare_chunk(payload)));
   return offset;
 }
 

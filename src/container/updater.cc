@@ -52,7 +52,7 @@ Result<std::unique_ptr<ContainerUpdater>> ContainerUpdater::open(const std::file
   // appended by an update that never committed.
   uint64_t end = opened->index_offset + opened->index_chunk_size;
   for (const FrameRecord& frame : opened->index.frames) {
-    end = std::max(end, frame.chunk_offset + frame.payload_size + kChunkOverhead);
+    end = std::max(end, frame.chunk_offset + chunk_bytes(frame));
   }
   if (end < (*file)->size() && ::ftruncate(fd, static_cast<off_t>(end)) != 0) {
     return fail(Status(ErrorCode::kIoError,
@@ -102,7 +102,7 @@ Status ContainerUpdater::sync(const char* what) {
 Result<uint64_t> ContainerUpdater::append_frame(std::span<const uint8_t> payload) {
   if (committed_once_) return Status(ErrorCode::kInternal, "append after commit");
   const uint64_t offset = end_;
-  const std::vector<uint8_t> chunk = make_chunk(kFaceChunkTag, payload);
+  const std::vector<uint8_t> chunk = make_bare_chunk(payload);
   SVC_RETURN_IF_ERROR(write_at(offset, chunk));
   end_ += chunk.size();
   return offset;

@@ -13,7 +13,7 @@ Result<std::unique_ptr<ContainerWriter>> ContainerWriter::create(const std::file
 
 Result<uint64_t> ContainerWriter::append_frame(std::span<const uint8_t> payload) {
   const uint64_t offset = out_->position();
-  SVC_RETURN_IF_ERROR(out_->write(make_chunk(kFaceChunkTag, payload)));
+  SVC_RETURN_IF_ERROR(out_->write(make_bare_chunk(payload)));
   return offset;
 }
 

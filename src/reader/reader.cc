@@ -116,7 +116,7 @@ struct Reader::Impl {
 
   Result<std::vector<uint8_t>> read_payload(uint32_t frame) {
     const FrameRecord& record = index.frames[frame];
-    bytes_read.fetch_add(uint64_t{record.payload_size} + kChunkOverhead, std::memory_order_relaxed);
+    bytes_read.fetch_add(chunk_bytes(record), std::memory_order_relaxed);
     chunks_read.fetch_add(1, std::memory_order_relaxed);
     return read_frame_payload(*file, record, frame_name(frame));
   }

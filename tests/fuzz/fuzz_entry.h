@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -72,9 +73,10 @@ class MemoryFile {
 };
 
 // Rewrites every CRC-32 a mutated file would fail: the header's, each non-empty commit
-// slot's, and those of the chunks found by walking the chunk framing from the end of the
-// prelude. Lets mutations reach the index and face parsers instead of stopping at a CRC.
-// Returns whether anything changed.
+// slot's, those of the framed chunks found by walking from the end of the prelude while
+// their tags are known (older files' FACE chunks), of the index chunk each slot points
+// at, and of the bare face chunks that index lists. Lets mutations reach the index and
+// face parsers instead of stopping at a CRC. Returns whether anything changed.
 inline bool repair_checksums(std::vector<uint8_t>& bytes) {
   auto put_u32 = [&](uint64_t at, uint32_t v) {
     bool changed = false;
@@ -85,8 +87,24 @@ inline bool repair_checksums(std::vector<uint8_t>& bytes) {
     }
     return changed;
   };
+  auto get = [&](uint64_t at, int size) {
+    uint64_t v = 0;
+    for (int i = 0; i < size; ++i) v |= uint64_t{bytes[at + i]} << (8 * i);
+    return v;
+  };
   auto crc_of = [&](uint64_t from, uint64_t size) {
     return crc32_of(std::span<const uint8_t>(bytes.data() + from, size));
+  };
+  // The framed chunk at `at`, if it fits: its CRC repaired, its end returned.
+  auto repair_framed = [&](uint64_t at, bool* changed) -> std::optional<uint64_t> {
+    if (bytes.size() - at < kChunkOverhead) return std::nullopt;
+    const uint64_t tag = get(at, 4), payload = get(at + 4, 8);
+    if ((tag != kFaceChunkTag && tag != kIndexChunkTag) || payload > bytes.size() - at - kChunkOverhead) {
+      return std::nullopt;
+    }
+    const uint64_t crc_at = at + 12 + payload;
+    *changed |= put_u32(crc_at, crc_of(at, crc_at - at));
+    return crc_at + 4;
   };
   if (bytes.size() < kPreludeSize) return false;
   bool changed = put_u32(kFileHeaderSize - 4, crc_of(0, kFileHeaderSize - 4));
@@ -96,14 +114,20 @@ inline bool repair_checksums(std::vector<uint8_t>& bytes) {
     for (uint64_t i = 0; i < kCommitSlotSize; ++i) empty &= bytes[at + i] == 0;
     if (!empty) changed |= put_u32(at + kCommitSlotSize - 4, crc_of(at, kCommitSlotSize - 4));
   }
-  uint64_t at = kPreludeSize;
-  while (bytes.size() - at >= kChunkOverhead) {
-    uint64_t payload = 0;
-    for (int i = 0; i < 8; ++i) payload |= uint64_t{bytes[at + 4 + i]} << (8 * i);
-    if (payload > bytes.size() - at - kChunkOverhead) break;
-    const uint64_t crc_at = at + 12 + payload;
-    changed |= put_u32(crc_at, crc_of(at, crc_at - at));
-    at = crc_at + 4;
+  for (std::optional<uint64_t> at = kPreludeSize; at; at = repair_framed(*at, &changed)) {
+  }
+  for (int slot = 0; slot < 2; ++slot) {
+    const uint64_t at = kFileHeaderSize + slot * kCommitSlotSize;
+    const uint64_t index_at = get(at + 8, 8);
+    if (index_at < kPreludeSize || index_at > bytes.size() || !repair_framed(index_at, &changed)) continue;
+    const auto payload = std::span<const uint8_t>(bytes).subspan(index_at + 12, get(index_at + 4, 8));
+    const auto index = parse_index(payload, index_at + 12, bytes.size(), fuzz_limits());
+    if (!index.ok()) continue;
+    for (const FrameRecord& frame : index->frames) {
+      if (frame.bare_chunk) {
+        changed |= put_u32(frame.chunk_offset + frame.payload_size, crc_of(frame.chunk_offset, frame.payload_size));
+      }
+    }
   }
   return changed;
 }
