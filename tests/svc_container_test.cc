@@ -262,14 +262,15 @@ uint32_t index_version(const std::vector<uint8_t>& bytes) {
 TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
   const ContainerIndex index = rig_index();
   const std::vector<uint8_t> bytes = serialize_index(index);
-  EXPECT_EQ(index_version(bytes), 2u);
+  EXPECT_EQ(index_version(bytes), 3u);
   EXPECT_EQ(bytes[kRigCountAt], 6);
-  // Header, rig table, cell records of one source byte per face, then frame records:
+  // Header, rig table, cell records (position gap, flags: the first with one source byte
+  // per face, the others on the grid with the first's rig entries), then frame records:
   // type byte, offset delta 0 (chunks back to back), payload size (< 128), reference.
-  const size_t cell_bytes = 3 * 4 + 3 * 8 + kFaceCount;
+  const size_t cell_bytes = (2 + kFaceCount) + 8 * 2;
   const size_t frame_bytes = 6 * 3 + 48 * 4;
   EXPECT_EQ(bytes.size(),
-            kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + 9 * cell_bytes + 4 + frame_bytes + kStatisticsBytes);
+            kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + cell_bytes + 4 + frame_bytes + kStatisticsBytes);
   EXPECT_LT(bytes.size() * 5, testing::serialize_index_v1(index).size());
 
   auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
@@ -296,8 +297,10 @@ TEST(ContainerIndexV2, CamerasNoRigEntryReproducesAreStoredExplicitly) {
 
   const std::vector<uint8_t> bytes = serialize_index(index);
   EXPECT_EQ(bytes[kRigCountAt], 7);
-  // Three explicit cameras (22 doubles each) and one more rig entry.
-  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 22 * 8 + kRigEntryBytes);
+  // Three explicit cameras (22 doubles each) and one more rig entry; cells 1 to 6 list
+  // their sources (6 bytes each) instead of taking the previous cell's: they have an
+  // explicit camera or a new rig entry, or follow a cell with an explicit camera.
+  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 22 * 8 + kRigEntryBytes + 6 * kFaceCount);
   auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   expect_same_index(*parsed, index);
@@ -324,10 +327,11 @@ TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
     }
     return set;
   };
-  // +0: what the rig derives (and what text manifests hold), so no explicit camera.
+  // +0: what the rig derives (and what text manifests hold), so no explicit camera; the
+  // centre is off the grid (24 bytes).
   ASSERT_EQ(set_zero_translations(0.0), 2 * kFaceCount);
   std::vector<uint8_t> bytes = serialize_index(index);
-  EXPECT_EQ(bytes.size(), rig_only_size);
+  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 8);
   auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   expect_same_index(*parsed, index);
@@ -336,7 +340,8 @@ TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
   // back with its sign.
   ASSERT_EQ(set_zero_translations(-0.0), 2 * kFaceCount);
   bytes = serialize_index(index);
-  EXPECT_EQ(bytes.size(), rig_only_size + kFaceCount * 22 * 8);
+  // The next cell lists its sources, as it follows explicit cameras.
+  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 8 + kFaceCount * 22 * 8 + kFaceCount);
   parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   expect_same_index(*parsed, index);
@@ -417,9 +422,9 @@ TEST(ContainerIndexV2, VersionOneIndexStillParses) {
   }
 }
 
-TEST(ContainerIndexV2, VersionOneCorpusFilesOpenAndRewriteLosslessly) {
+TEST(ContainerIndexV2, OlderCorpusFilesOpenAndRewriteLosslessly) {
   namespace fs = std::filesystem;
-  int version_one_files = 0;
+  int older_files[3] = {};  // by index version
   for (const auto& entry : fs::directory_iterator(fs::path(SVC_SOURCE_DIR) / "tests/fuzz/corpus/container")) {
     if (entry.path().filename().string().rfind("seed-", 0) != 0) continue;
     SCOPED_TRACE(entry.path().string());
@@ -429,15 +434,18 @@ TEST(ContainerIndexV2, VersionOneCorpusFilesOpenAndRewriteLosslessly) {
     ASSERT_TRUE(opened.ok()) << opened.status().to_string();
     std::vector<uint8_t> version(4);
     ASSERT_TRUE((*file)->read_at(opened->index_offset + 12, version).ok());
-    if (index_version(version) != 1) continue;
-    ++version_one_files;
-    const std::vector<uint8_t> v2 = serialize_index(opened->index);
-    auto parsed = parse_index(v2, 0, (*file)->size(), ReaderLimits{});
+    if (index_version(version) > 2) continue;
+    ++older_files[index_version(version)];
+    const std::vector<uint8_t> rewritten = serialize_index(opened->index);
+    auto parsed = parse_index(rewritten, 0, (*file)->size(), ReaderLimits{});
     ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
     expect_same_index(*parsed, opened->index);
-    EXPECT_EQ(testing::serialize_index_v1(*parsed), testing::serialize_index_v1(opened->index));
+    if (index_version(version) == 1) {
+      EXPECT_EQ(testing::serialize_index_v1(*parsed), testing::serialize_index_v1(opened->index));
+    }
   }
-  EXPECT_GE(version_one_files, 3);
+  EXPECT_GE(older_files[1], 3);
+  EXPECT_GE(older_files[2], 3);
 }
 
 TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
@@ -537,7 +545,9 @@ TEST(ContainerIndexV2, BadRigTablesAreRefused) {
   const std::vector<uint8_t>& bytes = one.bytes;
   ASSERT_EQ(bytes[kRigCountAt], 6);
   const size_t cell_at = kRigCountAt + 1 + 6 * kRigEntryBytes + 4;
-  const size_t sources_at = cell_at + 3 * 4 + 3 * 8;
+  const size_t sources_at = cell_at + 2;  // after the position gap and the flags
+  ASSERT_EQ(bytes[cell_at], 0);
+  ASSERT_EQ(bytes[cell_at + 1], 1);  // centre on the grid
   for (int f = 0; f < kFaceCount; ++f) ASSERT_EQ(bytes[sources_at + f], f);
 
   // More entries than the cap, and more than the bytes left.
@@ -564,15 +574,58 @@ TEST(ContainerIndexV2, BadRigTablesAreRefused) {
   expect_refused(parse_edited(bytes, bytes.size(), 0, {0}), "unexpected bytes");
 }
 
+TEST(ContainerIndexV3, BadCellRecordsAreRefused) {
+  const OneCell one = one_cell_index();
+  const std::vector<uint8_t>& bytes = one.bytes;
+  const size_t cell_at = kRigCountAt + 1 + 6 * kRigEntryBytes + 4;
+  ASSERT_TRUE(parse_edited(bytes, cell_at, 1, {8}).ok());  // the last cell of the 3x1x3 grid
+  expect_refused(parse_edited(bytes, cell_at, 1, {9}), "cell record 0 lies past the end of the grid");
+  expect_refused(parse_edited(bytes, cell_at, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}),
+                 "lies past the end of the grid");
+  expect_refused(parse_edited(bytes, cell_at + 1, 1, {0x05}), "cell (0,0,0) has reserved flags set");
+  // The first record cannot take a previous cell's rig entries.
+  expect_refused(parse_edited(bytes, cell_at + 1, 1 + kFaceCount, {0x03}), "previous cell's rig entries");
+  // Off the grid: the centre follows the flags.
+  ByteWriter centre;
+  for (double v : {0.25, 1.5, -3.0}) centre.f64(v);
+  std::vector<uint8_t> off_grid = centre.bytes();
+  off_grid.insert(off_grid.begin(), 0x00);
+  ASSERT_TRUE(parse_edited(bytes, cell_at + 1, 1, off_grid).ok());
+  // Clearing the flag makes the sources and frame records read as a centre, and what
+  // follows as sources.
+  expect_refused(parse_edited(bytes, cell_at + 1, 1, {0x00}), "cell (0,0,0) face px names camera rig entry");
+}
+
+TEST(ContainerIndexV3, SparseGridsAndCentresOffTheGridRoundTrip) {
+  ContainerIndex index = rig_index();
+  // Cells 1 and 5 missing (gaps in the raster order), cell 3's centre moved off the grid.
+  for (size_t c : {5u, 1u}) {
+    index.cells.erase(index.cells.begin() + static_cast<std::ptrdiff_t>(c));
+    index.cameras.erase(index.cameras.begin() + static_cast<std::ptrdiff_t>(c));
+  }
+  index.frames.resize(index.cells.size() * kFaceCount);
+  for (uint32_t n = 0; n < index.frames.size(); ++n) index.frames[n].cell = n / kFaceCount;
+  index.cells[2].position[1] += 0.001;
+  for (int f = 0; f < kFaceCount; ++f) {
+    index.cameras[2][f] = cube_face_camera(index.cells[2].position, f, kCubeFrustum);
+  }
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_EQ(serialize_index(*parsed), bytes);
+}
+
 TEST(ContainerIndexV2, CountsAreBoundedByTheBytesLeft) {
   const OneCell one = one_cell_index();
   const size_t cell_count_at = kRigCountAt + 1 + 6 * kRigEntryBytes;
-  // Two cells need at least 2 * 42 bytes, and six frames per cell at least 3 bytes each.
+  // Cells need at least 2 bytes each (the one record here takes 8), and six frames per
+  // cell at least 3 bytes each.
   const size_t frames_count_at = one.frames_at - 4;
   std::vector<uint8_t> forged = one.bytes;
   forged.resize(frames_count_at);  // drop frames and statistics: the one cell record stays
-  forged[cell_count_at] = 2;
-  expect_refused(parse_edited(forged, 0, 0, {}), "cell count 2 does not fit");
+  forged[cell_count_at] = 5;
+  expect_refused(parse_edited(forged, 0, 0, {}), "cell count 5 does not fit");
   forged = one.bytes;
   forged.resize(frames_count_at + 4 + 3 * kFaceCount - 1);
   expect_refused(parse_edited(forged, 0, 0, {}), "frame count 6 does not fit");

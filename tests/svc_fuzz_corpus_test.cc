@@ -4,7 +4,7 @@
 //   SVC_WRITE_FUZZ_CORPUS=tests/fuzz/corpus build/bin/svc_integration_tests --gtest_filter=FuzzCorpus.Generate
 // ). Inputs the fuzzers found are added beside the seeds by hand.
 //
-// The container seeds seed-*.svc are what the current encoder writes (index version 2,
+// The container seeds seed-*.svc are what the current encoder writes (index version 3,
 // bare face chunks). The older encoder's files stay beside them, so that readers keep
 // being exercised on such files: seed-framed-*.svc (FACE chunks) and their twins
 // seed-v1index-*.svc, the same bytes with the index rewritten in version 1.
@@ -45,7 +45,7 @@ std::vector<fs::path> corpus_files(const std::string& target) {
 }
 
 // The seeds: named inputs, each valid (every face decodes), encoded by the current
-// encoder (index version 2).
+// encoder (index version 3).
 std::map<std::string, std::vector<uint8_t>> container_seeds(const fs::path& work) {
   std::map<std::string, std::vector<uint8_t>> seeds;
   struct Variant {

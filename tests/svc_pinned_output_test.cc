@@ -54,10 +54,10 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "a89d441eb6bed1dfea5e3587731b10e5cf8a4ce7210f2051fad25a6acd2f40f3",
+     "73497521a50162bbabf5ed4f33a4e74bcb7a10da3fee6c0af505cd406cd18816",
      "e000d399266e59a0af093d465a89f1d30ecf2cf8c30219b7f42797b7bcef5390"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "d711c4db69ead8c9d99e7927da6ccaeef307b815dd4741d1e7e7edf57b7ca284",
+     "7ea0c087bcde2ed37d8b5a765b76a0515a7ad4048db3ac3c8d8ca33dae8e8450",
      "025718b74f4e6960a1eb6c2b8bf504770a11c16b57e7355a24c3d67554ba99c6"},
 };
 

@@ -136,8 +136,9 @@ struct ContainerIndex {
   std::array<FaceTypeStats, 2> stats;  // indexed by FaceType, kept for `svc info`
 };
 
-// Writes index version 2 (docs/format.md, "The index"): face cameras that a rig entry
-// reproduces bit for bit are stored as one byte, frame records as varints. Lossless:
+// Writes index version 3 (docs/format.md, "The index"): face cameras that a rig entry
+// reproduces bit for bit are stored as one byte, cell records of a regular grid in two,
+// frame records as varints. Lossless:
 // parse_index returns exactly `index` (every double bit for bit). `index` must be one
 // that parse_index accepts (at most two references per frame).
 std::vector<uint8_t> serialize_index(const ContainerIndex& index);
@@ -147,7 +148,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index);
 // those cameras in `cameras`.
 using CameraReader = std::function<Result<CellCameras>(size_t cell)>;
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras);
-// Reads index versions 1 and 2. Validates every field against `limits` before it sizes
+// Reads index versions 1, 2 and 3. Validates every field against `limits` before it sizes
 // anything; `file_size` bounds chunk offsets. Errors name the field and its file offset
 // (`payload_offset` is the index payload's offset in the file).
 Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset, uint64_t file_size,

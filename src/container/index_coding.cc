@@ -14,13 +14,19 @@ namespace svc {
 namespace {
 
 constexpr uint32_t kIndexVersion1 = 1;
-constexpr uint32_t kIndexVersion2 = 2;  // written; version 1 is still read
+constexpr uint32_t kIndexVersion2 = 2;
+constexpr uint32_t kIndexVersion3 = 3;  // written; versions 1 and 2 are still read
 constexpr uint64_t kCameraBytes = (16 + 6) * 8;
 // Smallest record sizes, used to bound counts against the bytes left before allocating.
 constexpr uint64_t kCellRecordBytesV1 = 3 * 4 + 3 * 8 + kFaceCount * kCameraBytes;
 constexpr uint64_t kFrameRecordMinBytesV1 = 4 + 1 + 1 + 1 + 1 + 8 + 4;
 constexpr uint64_t kCellRecordMinBytesV2 = 3 * 4 + 3 * 8 + kFaceCount;  // every face from the rig
 constexpr uint64_t kFrameRecordMinBytesV2 = 1 + 1 + 1;                  // type byte, offset delta, payload size
+constexpr uint64_t kCellRecordMinBytesV3 = 1 + 1;                       // raster gap, flags
+// Version 3 cell record flags.
+constexpr uint8_t kCentreOnGridBit = 0x01;
+constexpr uint8_t kPreviousSourcesBit = 0x02;
+constexpr uint8_t kCellFlagsReservedMask = 0xFC;
 // Version 2 camera rig table.
 constexpr uint8_t kExplicitCameraMarker = 255;
 constexpr size_t kMaxRigEntries = 64;
@@ -199,6 +205,34 @@ void write_varint(ByteWriter& w, uint64_t v) {
 uint64_t zigzag_encode(int64_t v) { return (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63); }
 int64_t zigzag_decode(uint64_t v) { return static_cast<int64_t>(v >> 1) ^ -static_cast<int64_t>(v & 1); }
 
+// --- Version 3: compact cell records ----------------------------------------------
+
+// A cell's position in (y, z, x) order over the whole grid: the order of the records.
+uint64_t raster_of(const CellIndex& c, const GridSpec& grid) {
+  return (uint64_t(c.y) * uint64_t(grid.dims[2]) + uint64_t(c.z)) * uint64_t(grid.dims[0]) + uint64_t(c.x);
+}
+
+CellIndex cell_at_raster(uint64_t raster, const GridSpec& grid) {
+  const uint64_t dx = uint64_t(grid.dims[0]), dz = uint64_t(grid.dims[2]);
+  return CellIndex{static_cast<int32_t>(raster % dx), static_cast<int32_t>(raster / dx / dz),
+                   static_cast<int32_t>(raster / dx % dz)};
+}
+
+// origin + index * spacing per axis, as one correctly rounded fused multiply-add: the
+// same bits on every machine.
+std::array<double, 3> grid_centre(const CellIndex& c, const GridSpec& grid) {
+  const std::array<int32_t, 3> index{c.x, c.y, c.z};
+  std::array<double, 3> centre{};
+  for (int axis = 0; axis < 3; ++axis) {
+    centre[axis] = std::fma(static_cast<double>(index[axis]), grid.spacing[axis], grid.origin[axis]);
+  }
+  return centre;
+}
+
+bool same_bits(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return bits_of(a[0]) == bits_of(b[0]) && bits_of(a[1]) == bits_of(b[1]) && bits_of(a[2]) == bits_of(b[2]);
+}
+
 // Unsigned LEB128: at most 10 bytes, no bits beyond 64, no redundant trailing zero
 // byte (one encoding per value). `what` names the field for errors.
 Result<uint64_t> read_varint(ByteReader& r, const std::string& what) {
@@ -319,6 +353,73 @@ Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
   return Status::Ok();
 }
 
+// Versions 2 and 3: the six face cameras, each from a rig entry at the cell's centre or
+// explicit; sets each face's source (kExplicitCameraMarker for an explicit one).
+Status read_face_cameras(ByteReader& r, const std::vector<RigEntry>& rig, const CellRecord& cell,
+                         CellCameras& cameras, std::array<uint8_t, kFaceCount>& sources) {
+  for (int f = 0; f < kFaceCount; ++f) {
+    const uint64_t source_at = r.file_offset();
+    sources[f] = r.u8();
+    if (!r.ok()) return Status::Ok();  // the caller reports the truncation
+    if (sources[f] == kExplicitCameraMarker) {
+      cameras[f] = read_camera(r);
+    } else if (sources[f] < rig.size()) {
+      // A non-finite centre makes a non-finite camera; check_cell names the centre first.
+      cameras[f] = camera_from_rig(rig[sources[f]], cell.position);
+    } else {
+      return corrupt_at(face_label(cell.index, static_cast<Face>(f)) + " names camera rig entry " +
+                            std::to_string(sources[f]) + " of " + std::to_string(rig.size()),
+                        source_at);
+    }
+  }
+  return Status::Ok();
+}
+
+bool all_from_rig(const std::array<uint8_t, kFaceCount>& sources) {
+  return std::none_of(sources.begin(), sources.end(), [](uint8_t s) { return s == kExplicitCameraMarker; });
+}
+
+// Version 3: a cell record after the one that ended at raster position `next_raster`
+// (whose face sources were `previous`, none on the first record).
+Status read_compact_cell(ByteReader& r, const std::vector<RigEntry>& rig, uint64_t i, uint64_t& next_raster,
+                         std::optional<std::array<uint8_t, kFaceCount>>& previous, ContainerIndex& index) {
+  const uint64_t record_at = r.file_offset();
+  const GridSpec& grid = index.grid;
+  const uint64_t cells_in_grid = uint64_t(grid.dims[0]) * uint64_t(grid.dims[1]) * uint64_t(grid.dims[2]);
+  SVC_ASSIGN_OR_RETURN(const uint64_t gap, read_varint(r, "cell record " + std::to_string(i) + " position"));
+  if (gap >= cells_in_grid - next_raster) {
+    return corrupt_at("cell record " + std::to_string(i) + " lies past the end of the grid", record_at);
+  }
+  const uint64_t raster = next_raster + gap;
+  next_raster = raster + 1;
+  CellRecord& cell = index.cells[i];
+  cell.index = cell_at_raster(raster, grid);
+  const uint64_t flags_at = r.file_offset();
+  const uint8_t flags = r.u8();
+  if (!r.ok()) return corrupt_at("cell record " + std::to_string(i) + " is truncated", record_at);
+  if (flags & kCellFlagsReservedMask)
+    return corrupt_at(cell_label(cell.index) + " has reserved flags set", flags_at);
+  if (flags & kCentreOnGridBit) {
+    cell.position = grid_centre(cell.index, grid);
+  } else {
+    for (double& v : cell.position) v = r.f64();
+  }
+  std::array<uint8_t, kFaceCount> sources{};
+  if (flags & kPreviousSourcesBit) {
+    if (!previous || !all_from_rig(*previous)) {
+      return corrupt_at(cell_label(cell.index) + " takes the previous cell's rig entries, which it has not",
+                        flags_at);
+    }
+    sources = *previous;
+    for (int f = 0; f < kFaceCount; ++f) index.cameras[i][f] = camera_from_rig(rig[sources[f]], cell.position);
+  } else {
+    SVC_RETURN_IF_ERROR(read_face_cameras(r, rig, cell, index.cameras[i], sources));
+  }
+  previous = sources;
+  if (!r.ok()) return corrupt_at("cell record " + std::to_string(i) + " is truncated", record_at);
+  return check_cell(index, i, record_at);
+}
+
 Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>& rig, const ReaderLimits& limits,
                    ContainerIndex& index) {
   const uint64_t cells_at = r.file_offset();
@@ -328,13 +429,21 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
     return Status(ErrorCode::kLimitExceeded, "cell count " + std::to_string(cell_count) +
                                                  " is zero or above the reader's limit" + at_offset(cells_at));
   }
-  const uint64_t min_record_bytes = version == kIndexVersion1 ? kCellRecordBytesV1 : kCellRecordMinBytesV2;
+  const uint64_t min_record_bytes = version == kIndexVersion1   ? kCellRecordBytesV1
+                                    : version == kIndexVersion2 ? kCellRecordMinBytesV2
+                                                                : kCellRecordMinBytesV3;
   if (cell_count * min_record_bytes > r.remaining()) {
     return corrupt_at("cell count " + std::to_string(cell_count) + " does not fit in the index", cells_at);
   }
   index.cells.resize(cell_count);
   index.cameras.resize(cell_count);
+  uint64_t next_raster = 0;
+  std::optional<std::array<uint8_t, kFaceCount>> previous;
   for (uint64_t i = 0; i < cell_count; ++i) {
+    if (version == kIndexVersion3) {
+      SVC_RETURN_IF_ERROR(read_compact_cell(r, rig, i, next_raster, previous, index));
+      continue;
+    }
     const uint64_t record_at = r.file_offset();
     CellRecord& cell = index.cells[i];
     CellCameras& cameras = index.cameras[i];
@@ -345,21 +454,8 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
     if (version == kIndexVersion1) {
       for (Camera& camera : cameras) camera = read_camera(r);
     } else {
-      for (int f = 0; f < kFaceCount; ++f) {
-        const uint64_t source_at = r.file_offset();
-        const uint8_t source = r.u8();
-        if (!r.ok()) break;
-        if (source == kExplicitCameraMarker) {
-          cameras[f] = read_camera(r);
-        } else if (source < rig.size()) {
-          // A non-finite centre makes a non-finite camera; check_cell names the centre first.
-          cameras[f] = camera_from_rig(rig[source], cell.position);
-        } else {
-          return corrupt_at(face_label(cell.index, static_cast<Face>(f)) + " names camera rig entry " +
-                                std::to_string(source) + " of " + std::to_string(rig.size()),
-                            source_at);
-        }
-      }
+      std::array<uint8_t, kFaceCount> sources{};
+      SVC_RETURN_IF_ERROR(read_face_cameras(r, rig, cell, cameras, sources));
     }
     if (!r.ok()) return corrupt_at("cell record " + std::to_string(i) + " is truncated", record_at);
     SVC_RETURN_IF_ERROR(check_cell(index, i, record_at));
@@ -483,7 +579,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
 
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras) {
   ByteWriter w;
-  w.u32(kIndexVersion2);
+  w.u32(kIndexVersion3);
   w.u32(index.face_width);
   w.u32(index.face_height);
   for (int32_t d : index.grid.dims) w.i32(d);
@@ -511,19 +607,32 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
     write_frustum(w, entry.frustum);
   }
 
+  // Cell records, version 3: the position in (y, z, x) order as the gap from the previous
+  // record, a centre on the grid and the previous cell's rig entries as flags.
   w.u32(static_cast<uint32_t>(index.cells.size()));
+  uint64_t next_raster = 0;
+  std::optional<std::array<uint8_t, kFaceCount>> previous;
   for (size_t c = 0; c < index.cells.size(); ++c) {
     const CellRecord& cell = index.cells[c];
     SVC_ASSIGN_OR_RETURN(const CellCameras cameras, read_cameras(c));
-    w.i32(cell.index.x);
-    w.i32(cell.index.y);
-    w.i32(cell.index.z);
-    for (double v : cell.position) w.f64(v);
-    for (const Camera& camera : cameras) {
-      const uint8_t source = rig_source(camera, cell.position, rig);
-      w.u8(source);
-      if (source == kExplicitCameraMarker) write_camera(w, camera);
+    const uint64_t raster = raster_of(cell.index, index.grid);
+    write_varint(w, raster - next_raster);
+    next_raster = raster + 1;
+    std::array<uint8_t, kFaceCount> sources{};
+    for (int f = 0; f < kFaceCount; ++f) sources[f] = rig_source(cameras[f], cell.position, rig);
+    const bool on_grid = same_bits(cell.position, grid_centre(cell.index, index.grid));
+    const bool as_previous = previous && all_from_rig(*previous) && sources == *previous;
+    w.u8(static_cast<uint8_t>((on_grid ? kCentreOnGridBit : 0) | (as_previous ? kPreviousSourcesBit : 0)));
+    if (!on_grid) {
+      for (double v : cell.position) w.f64(v);
     }
+    if (!as_previous) {
+      for (int f = 0; f < kFaceCount; ++f) {
+        w.u8(sources[f]);
+        if (sources[f] == kExplicitCameraMarker) write_camera(w, cameras[f]);
+      }
+    }
+    previous = sources;
   }
 
   w.u32(static_cast<uint32_t>(index.frames.size()));
@@ -555,13 +664,13 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   const uint64_t version_at = r.file_offset();
   const uint32_t version = r.u32();
   if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
-  if (version != kIndexVersion1 && version != kIndexVersion2) {
+  if (version != kIndexVersion1 && version != kIndexVersion2 && version != kIndexVersion3) {
     return Status(ErrorCode::kUnsupported,
                   "index version " + std::to_string(version) + " is not supported" + at_offset(version_at));
   }
   SVC_RETURN_IF_ERROR(parse_header(r, limits, index));
   std::vector<RigEntry> rig;
-  if (version == kIndexVersion2) {
+  if (version != kIndexVersion1) {
     SVC_ASSIGN_OR_RETURN(rig, parse_rig_table(r));
   }
   SVC_RETURN_IF_ERROR(parse_cells(r, version, rig, limits, index));
