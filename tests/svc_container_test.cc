@@ -535,9 +535,12 @@ TEST(ContainerIndexV2, BadVarintsAreRefused) {
   expect_refused(parse_edited(bytes, record, 1, {0x02}), "unknown frame type");
   // An I-face with a reference; a B-face reference past the frame count.
   expect_refused(parse_edited(bytes, record, 3, {0x04, 0, 50, 0}), "references, which its type does not allow");
-  expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 6}), "references frame 6 of 6");
+  // References are cells relative to the frame's own (zigzag): 6 is 3 cells on, 1 is the
+  // cell before the first.
+  expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 6}), "references a cell 3 cells away, outside the 1");
+  expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 1}), "references a cell -1 cells away");
   // A reference to itself (a B-face) is not an I-face.
-  expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 2}), "not an I-face");
+  expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 0}), "not an I-face");
 }
 
 TEST(ContainerIndexV2, BadRigTablesAreRefused) {

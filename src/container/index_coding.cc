@@ -514,7 +514,11 @@ Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& li
   return Status::Ok();
 }
 
-Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
+// Versions 2 and 3, which differ in how references are written: frame numbers (2), or
+// the referenced cell's ordinal less this frame's, zigzag-signed (3: the face is the
+// frame's own).
+Status parse_frames_v2(ByteReader& r, uint32_t version, uint64_t file_size, const ReaderLimits& limits,
+                       ContainerIndex& index) {
   const uint64_t frame_count = index.frames.size();
   uint64_t previous_end = kPreludeSize;  // where the previous frame's chunk ends
   for (uint64_t i = 0; i < frame_count; ++i) {
@@ -558,12 +562,24 @@ Status parse_frames_v2(ByteReader& r, uint64_t file_size, const ReaderLimits& li
     frame.references.resize(ref_count);
     for (uint32_t& ref : frame.references) {
       SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
-      if (value >= frame_count) {
-        return corrupt_at(what + " references frame " + std::to_string(value) + " of " +
-                              std::to_string(frame_count),
+      if (version == kIndexVersion2) {
+        if (value >= frame_count) {
+          return corrupt_at(what + " references frame " + std::to_string(value) + " of " +
+                                std::to_string(frame_count),
+                            record_at);
+        }
+        ref = static_cast<uint32_t>(value);
+        continue;
+      }
+      const int64_t cell_delta = zigzag_decode(value);
+      const uint64_t cell_count = frame_count / kFaceCount;
+      if (cell_delta < -static_cast<int64_t>(frame.cell) ||
+          cell_delta >= static_cast<int64_t>(cell_count - frame.cell)) {
+        return corrupt_at(what + " references a cell " + std::to_string(cell_delta) + " cells away, outside the " +
+                              std::to_string(cell_count),
                           record_at);
       }
-      ref = static_cast<uint32_t>(value);
+      ref = static_cast<uint32_t>((frame.cell + cell_delta) * kFaceCount + i % kFaceCount);
     }
     previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
@@ -637,7 +653,9 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
 
   w.u32(static_cast<uint32_t>(index.frames.size()));
   uint64_t previous_end = kPreludeSize;
-  for (const FrameRecord& frame : index.frames) {
+  for (size_t n = 0; n < index.frames.size(); ++n) {
+    const FrameRecord& frame = index.frames[n];
+    const auto cell = static_cast<int64_t>(n / kFaceCount);
     w.u8(static_cast<uint8_t>((static_cast<uint8_t>(frame.type) & kFaceTypeMask) |
                               (frame.references.size() & kRefCountMask) << kRefCountShift |
                               (frame.cube_references ? kCubeReferencesBit : 0) |
@@ -645,7 +663,10 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
     // Two's complement difference: chunks appended by `svc add` lie before earlier ones.
     write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
     write_varint(w, frame.payload_size);
-    for (uint32_t ref : frame.references) write_varint(w, ref);
+    // References of the same face (the only ones parse_index accepts): the cell suffices.
+    for (uint32_t ref : frame.references) {
+      write_varint(w, zigzag_encode(static_cast<int64_t>(ref / kFaceCount) - cell));
+    }
     previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   for (const FaceTypeStats& t : index.stats) {
@@ -689,7 +710,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   if (version == kIndexVersion1) {
     SVC_RETURN_IF_ERROR(parse_frames_v1(r, file_size, limits, index));
   } else {
-    SVC_RETURN_IF_ERROR(parse_frames_v2(r, file_size, limits, index));
+    SVC_RETURN_IF_ERROR(parse_frames_v2(r, version, file_size, limits, index));
   }
   // References must name existing intra frames of the same face, and cube references
   // I-faces of the same cells: then no cycle and no chain can exist, and any face
