@@ -30,14 +30,14 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 11;
+inline constexpr uint8_t kBFrameSyntaxVersion = 12;
 // Header byte 4 bit 4: coded inter macroblocks code whether their luma residual is one
 // 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
 // it is four 4x4 blocks (docs/codec.md 10.4).
 inline constexpr uint8_t kInterTransformSizesFlag = 16;
-// Frame type, syntax version, qindex, reference border units, loop filter flags,
-// interpolation filter, reference count, warp mask.
-inline constexpr int kBFrameHeaderBytes = 8;
+// Frame type, syntax version, qindex, the references' byte (border units, interpolation
+// filter, reference count, warp mask), flags (docs/codec.md 10).
+inline constexpr int kBFrameHeaderBytes = 5;
 
 // The border units (codec/cube_padding.h) of references `extra` samples wider and taller
 // than the face (a border of extra / 2 on each side), or -1 when `extra` is not a valid
@@ -225,6 +225,9 @@ struct BFrameHeader {
 
 // Validates and reads the header of a B-frame payload (kCorruptData / kUnsupported).
 Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
+// The header bytes of `header` (this build's syntax version), which must hold values
+// parse_b_frame_header accepts.
+std::array<uint8_t, kBFrameHeaderBytes> serialize_b_frame_header(const BFrameHeader& header);
 
 // Decodes a B-frame of width x height. ref1 must be null exactly when the frame was coded
 // with one reference; references must be width x height with consistent planes, or

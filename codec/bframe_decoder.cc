@@ -316,6 +316,11 @@ class MacroblockReader {
   BlockLevel decoded_[kMaxTransformArea];
 };
 
+// Header byte 3: bits 0-2 reference border units, bits 3-4 interpolation filter, bit 5
+// reference count - 1, bits 6-7 warp mask.
+constexpr int kFilterShift = 3, kSecondReferenceShift = 5, kWarpMaskShift = 6;
+constexpr uint8_t kBorderMask = 0x07, kFilterMask = 0x03, kWarpMaskMask = 0x03;
+
 }  // namespace
 
 Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
@@ -330,32 +335,41 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return Status(ErrorCode::kUnsupported, "B-frame: byte 1: syntax version " + std::to_string(bytes[1]) +
                                                " (this build reads " + std::to_string(kBFrameSyntaxVersion) + ")");
   }
-  if (bytes[3] > kMaxCubeBorderUnits) {
-    return corrupt("byte 3: reference border of " + std::to_string(bytes[3]) + " units outside 0.." +
+  const int border_units = bytes[3] & kBorderMask, filter = (bytes[3] >> kFilterShift) & kFilterMask;
+  const int reference_count = 1 + ((bytes[3] >> kSecondReferenceShift) & 1);
+  const int warp_mask = (bytes[3] >> kWarpMaskShift) & kWarpMaskMask;
+  if (border_units > kMaxCubeBorderUnits) {
+    return corrupt("byte 3: reference border of " + std::to_string(border_units) + " units outside 0.." +
                    std::to_string(kMaxCubeBorderUnits));
+  }
+  if (filter >= kInterpolationFilterCount) {
+    return corrupt("byte 3: interpolation filter " + std::to_string(filter) + " is not 0, 1 or 2");
+  }
+  if ((warp_mask & ~((1 << reference_count) - 1)) != 0) {
+    return corrupt("byte 3: warp mask " + std::to_string(warp_mask) + " names a reference beyond the " +
+                   std::to_string(reference_count) + " present");
   }
   if ((bytes[4] & ~(kLoopFilterKnownBits | kTransformTypesFlag | kInterTransformSizesFlag)) != 0) {
     return corrupt("byte 4: unknown flags " + std::to_string(bytes[4]));
   }
-  if (bytes[5] >= kInterpolationFilterCount) {
-    return corrupt("byte 5: interpolation filter " + std::to_string(bytes[5]) + " is not 0, 1 or 2");
-  }
-  if (bytes[6] != 1 && bytes[6] != 2) {
-    return corrupt("byte 6: reference count " + std::to_string(bytes[6]) + " is not 1 or 2");
-  }
-  if ((bytes[7] & ~((1 << bytes[6]) - 1)) != 0) {
-    return corrupt("byte 7: warp mask " + std::to_string(bytes[7]) + " names a reference beyond the " +
-                   std::to_string(bytes[6]) + " present");
-  }
   out->qindex = bytes[2];  // every byte value is a valid index
-  out->border_units = bytes[3];
+  out->border_units = border_units;
   out->loop_filters = bytes[4] & kLoopFilterKnownBits;
   out->transform_types = (bytes[4] & kTransformTypesFlag) != 0;
   out->inter_transform_sizes = (bytes[4] & kInterTransformSizesFlag) != 0;
-  out->filter = static_cast<InterpolationFilter>(bytes[5]);
-  out->reference_count = bytes[6];
-  out->warp_mask = bytes[7];
+  out->filter = static_cast<InterpolationFilter>(filter);
+  out->reference_count = reference_count;
+  out->warp_mask = warp_mask;
   return Status::Ok();
+}
+
+std::array<uint8_t, kBFrameHeaderBytes> serialize_b_frame_header(const BFrameHeader& header) {
+  return {static_cast<uint8_t>(FaceType::kPredicted), kBFrameSyntaxVersion, static_cast<uint8_t>(header.qindex),
+          static_cast<uint8_t>(header.border_units | static_cast<int>(header.filter) << kFilterShift |
+                               (header.reference_count - 1) << kSecondReferenceShift |
+                               header.warp_mask << kWarpMaskShift),
+          static_cast<uint8_t>(header.loop_filters | (header.transform_types ? kTransformTypesFlag : 0) |
+                               (header.inter_transform_sizes ? kInterTransformSizesFlag : 0))};
 }
 
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,

@@ -1155,11 +1155,14 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
     stats->modes.reserve(static_cast<size_t>(stats->macroblocks));
   }
 
-  coded.bytes = std::make_unique<std::vector<uint8_t>>(
-      std::vector<uint8_t>{static_cast<uint8_t>(FaceType::kPredicted), kBFrameSyntaxVersion,
-                           static_cast<uint8_t>(qindex), static_cast<uint8_t>(border_units), 0,
-                           static_cast<uint8_t>(filter), static_cast<uint8_t>(state.reference_count),
-                           static_cast<uint8_t>(state.warp_mask)});
+  BFrameHeader header;  // the flags (byte 4) are set when the frame is finished
+  header.qindex = qindex;
+  header.border_units = border_units;
+  header.filter = filter;
+  header.reference_count = state.reference_count;
+  header.warp_mask = state.warp_mask;
+  const std::array<uint8_t, kBFrameHeaderBytes> header_bytes = serialize_b_frame_header(header);
+  coded.bytes = std::make_unique<std::vector<uint8_t>>(header_bytes.begin(), header_bytes.end());
   coded.encoder = std::make_unique<RangeEncoder>(coded.bytes.get());
   BFrameEncoder coder(state, coded.padded, params, search);
   for (int my = 0; my < state.mbs_y; ++my) {

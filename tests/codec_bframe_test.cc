@@ -307,8 +307,17 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   changed[1] = kBFrameSyntaxVersion - 1;  // older entropy coding
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
   changed = bytes;
-  changed[6] = 3;  // reference count
+  changed[3] |= 0x80;  // a warp mask naming reference 1 of a one-reference frame
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  changed = bytes;
+  changed[3] |= 0x07;  // a reference border of 7 units
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  changed = bytes;
+  changed[3] |= 0x18;  // interpolation filter 3
+  EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
+  // The header's bytes are those its fields serialize to.
+  const auto again = serialize_b_frame_header(header);
+  EXPECT_TRUE(std::equal(again.begin(), again.end(), bytes.begin()));
   changed = bytes;
   changed[4] = 4;  // a loop filter this decoder does not know
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
@@ -363,13 +372,14 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   for (int trial = 0; trial < 300; ++trial) {
     std::vector<uint8_t> bytes(static_cast<size_t>(kBFrameHeaderBytes + rng() % 400));
     for (uint8_t& b : bytes) b = static_cast<uint8_t>(rng());
-    bytes[0] = 1;
-    bytes[1] = kBFrameSyntaxVersion;
-    bytes[2] = static_cast<uint8_t>(rng());
-    bytes[3] = 0;  // bare references
-    bytes[4] = static_cast<uint8_t>(rng() & (kLoopFilterDeblocking | kInterTransformSizesFlag));
-    bytes[5] = static_cast<uint8_t>(rng() % kInterpolationFilterCount);
-    bytes[6] = 2;
+    BFrameHeader header;  // bare references (border 0), two of them
+    header.qindex = static_cast<int>(rng() % 256);
+    header.loop_filters = static_cast<int>(rng() & kLoopFilterDeblocking);
+    header.inter_transform_sizes = (rng() & 1) != 0;
+    header.filter = static_cast<InterpolationFilter>(rng() % kInterpolationFilterCount);
+    header.reference_count = 2;
+    const auto header_bytes = serialize_b_frame_header(header);
+    std::copy(header_bytes.begin(), header_bytes.end(), bytes.begin());
     accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out, &modes).ok();
   }
   SUCCEED() << accepted << " damaged payloads decoded to some image";
@@ -425,12 +435,14 @@ TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
 
     // The decoder predicts through the bank the header names: another bank, other pixels.
     std::vector<uint8_t> other = bytes;
-    other[5] = static_cast<uint8_t>((bytes[5] + 1) % kInterpolationFilterCount);
+    BFrameHeader other_header = header;
+    other_header.filter =
+        static_cast<InterpolationFilter>((static_cast<int>(header.filter) + 1) % kInterpolationFilterCount);
+    const auto other_bytes = serialize_b_frame_header(other_header);
+    std::copy(other_bytes.begin(), other_bytes.end(), other.begin());
     ImageYCbCr420 other_decoded;
     ASSERT_TRUE(decode_b_frame(other, w, h, ref, nullptr, &other_decoded).ok());
     EXPECT_FALSE(other_decoded.y == decoded.y);
-    other[5] = kInterpolationFilterCount;
-    EXPECT_EQ(decode_b_frame(other, w, h, ref, nullptr, &other_decoded).code(), ErrorCode::kCorruptData);
   }
   EXPECT_LT(costs[1], costs[0]);
 }

@@ -418,7 +418,8 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
 }
 
 TEST(CubePadding, HeaderRejectsBordersBeyondTheLimit) {
-  std::vector<uint8_t> header = {1, kBFrameSyntaxVersion, 10, kMaxCubeBorderUnits + 1, 0, 0, 1, 0};
+  // Byte 3 bits 0-2: the border units (one reference, regular filter, no warp).
+  std::vector<uint8_t> header = {1, kBFrameSyntaxVersion, 10, kMaxCubeBorderUnits + 1, 0};
   BFrameHeader parsed;
   const Status status = parse_b_frame_header(header, &parsed);
   EXPECT_EQ(status.code(), ErrorCode::kCorruptData);

@@ -54,10 +54,10 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "07d54965f74e69184d70f5a06bb64893119123a72e23f9b0199054a177016fd4",
+     "c3f6c5737ccb5f03b1d060b3defeb704d43a2e974e37e360c37676de304663c3",
      "e000d399266e59a0af093d465a89f1d30ecf2cf8c30219b7f42797b7bcef5390"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "385941f210cfeaec5c505f99de0118d52789e2df7f3660b92a6d9d4f6a08870c",
+     "8ec3742de9ef5344d65c1324ad2f259ae618566f92239c270ff3a0f3bbe4120d",
      "025718b74f4e6960a1eb6c2b8bf504770a11c16b57e7355a24c3d67554ba99c6"},
 };
 
