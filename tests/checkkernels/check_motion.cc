@@ -193,25 +193,15 @@ struct BenchPlane {
   }
 };
 
+// size x size blocks, the 16 luma phase pairs in turn.
+template <int size>
 void bench_interpolate(const Tables& table, int iterations) {
   const BenchPlane plane;
-  int16_t out[256];
+  int16_t out[size * size];
   for (int n = 0; n < iterations; ++n) {
     const int8_t* h = codec::interpolation_taps(codec::PlaneKind::kLuma, n & 3).data();
     const int8_t* v = codec::interpolation_taps(codec::PlaneKind::kLuma, (n >> 2) & 3).data();
-    table.interpolate_8tap(plane.samples.data() + (n & 7), 96, 16, 16, h, v, out, 16);
-  }
-  bench_sink = out[5];
-}
-
-// The warped mode's 4x4 blocks, phases as in bench_interpolate.
-void bench_interpolate_4x4(const Tables& table, int iterations) {
-  const BenchPlane plane;
-  int16_t out[16];
-  for (int n = 0; n < iterations; ++n) {
-    const int8_t* h = codec::interpolation_taps(codec::PlaneKind::kLuma, n & 3).data();
-    const int8_t* v = codec::interpolation_taps(codec::PlaneKind::kLuma, (n >> 2) & 3).data();
-    table.interpolate_8tap(plane.samples.data() + (n & 7), 96, 4, 4, h, v, out, 4);
+    table.interpolate_8tap(plane.samples.data() + (n & 7), 96, size, size, h, v, out, size);
   }
   bench_sink = out[5];
 }
@@ -258,9 +248,9 @@ void bench_sad_average(const Tables& table, int iterations) {
 std::vector<Kernel> motion_kernels() {
   return {
       {"interpolate_8tap", [](const Tables& t) { return entry_of(t.interpolate_8tap); }, check_interpolate,
-       bench_interpolate},
+       bench_interpolate<16>},
       {"interpolate_8tap_4x4", [](const Tables& t) { return entry_of(t.interpolate_8tap); }, check_interpolate_4x4,
-       bench_interpolate_4x4},
+       bench_interpolate<4>},
       {"put_intermediate", [](const Tables& t) { return entry_of(t.put_intermediate); }, check_put, bench_put},
       {"average_intermediate", [](const Tables& t) { return entry_of(t.average_intermediate); }, check_average,
        bench_average},
