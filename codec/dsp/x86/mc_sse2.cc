@@ -3,6 +3,8 @@
 // kernel in mc.cc bit for bit.
 #include <emmintrin.h>
 
+#include <cstring>
+
 #include "codec/dsp/dsp_init.h"
 
 #pragma GCC target("sse2")
@@ -28,6 +30,11 @@ void put_intermediate_sse2(const int16_t* in, int count, uint8_t* out) {
   for (; i + 8 <= count; i += 8) {  // rows of 8-sample blocks
     const __m128i row = put8(load_int16x8(in + i));
     _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(row, row));
+  }
+  for (; i + 4 <= count; i += 4) {  // rows of the warped mode's 4x4 chroma blocks
+    const __m128i row = put8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(in + i)));
+    const int32_t bytes = _mm_cvtsi128_si32(_mm_packus_epi16(row, row));
+    std::memcpy(out + i, &bytes, 4);
   }
   if (i < count) put_intermediate_c(in + i, count - i, out + i);
 }
