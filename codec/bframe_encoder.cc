@@ -1073,7 +1073,8 @@ struct PredictionRecord {
 struct CodedMacroblocks {
   FrameState state;
   PaddedSource padded;
-  std::unique_ptr<std::vector<uint8_t>> bytes;  // the range encoder appends here
+  BFrameHeader header;                          // its flags are known when the frame is finished
+  std::unique_ptr<std::vector<uint8_t>> bytes;  // the header, then what the range encoder appends
   std::unique_ptr<RangeEncoder> encoder;
   BFrameStats stats;
   std::vector<PredictionRecord> predictions;  // per macroblock, raster order
@@ -1155,12 +1156,14 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
     stats->modes.reserve(static_cast<size_t>(stats->macroblocks));
   }
 
-  BFrameHeader header;  // the flags (byte 4) are set when the frame is finished
+  BFrameHeader& header = coded.header;
   header.qindex = qindex;
   header.border_units = border_units;
   header.filter = filter;
   header.reference_count = state.reference_count;
   header.warp_mask = state.warp_mask;
+  header.transform_types = params.intra_transform_types;
+  header.inter_transform_sizes = state.inter_transform_sizes;
   const std::array<uint8_t, kBFrameHeaderBytes> header_bytes = serialize_b_frame_header(header);
   coded.bytes = std::make_unique<std::vector<uint8_t>>(header_bytes.begin(), header_bytes.end());
   coded.encoder = std::make_unique<RangeEncoder>(coded.bytes.get());
@@ -1194,9 +1197,10 @@ std::vector<uint8_t> finish_frame(CodedMacroblocks& coded, const BFrameParams& p
   observe_bframe_contexts(state.contexts);
   coded.encoder->finish();
   std::vector<uint8_t> bytes = std::move(*coded.bytes);
-  // Header byte 4: the loop filters, known only now, and the transform flags.
-  bytes[4] = static_cast<uint8_t>(loop_filters | (params.intra_transform_types ? kTransformTypesFlag : 0) |
-                                  (state.inter_transform_sizes ? kInterTransformSizesFlag : 0));
+  // The header again with the loop filters, known only now.
+  coded.header.loop_filters = loop_filters;
+  const std::array<uint8_t, kBFrameHeaderBytes> header_bytes = serialize_b_frame_header(coded.header);
+  std::copy(header_bytes.begin(), header_bytes.end(), bytes.begin());
   if (stats != nullptr) {
     *stats = std::move(coded.stats);
     for (int r = 0; r < state.reference_count; ++r) {

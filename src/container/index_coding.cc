@@ -397,8 +397,9 @@ Status read_compact_cell(ByteReader& r, const std::vector<RigEntry>& rig, uint64
   const uint64_t flags_at = r.file_offset();
   const uint8_t flags = r.u8();
   if (!r.ok()) return corrupt_at("cell record " + std::to_string(i) + " is truncated", record_at);
-  if (flags & kCellFlagsReservedMask)
+  if (flags & kCellFlagsReservedMask) {
     return corrupt_at(cell_label(cell.index) + " has reserved flags set", flags_at);
+  }
   if (flags & kCentreOnGridBit) {
     cell.position = grid_centre(cell.index, grid);
   } else {
@@ -517,8 +518,8 @@ Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& li
 // Versions 2 and 3, which differ in how references are written: frame numbers (2), or
 // the referenced cell's ordinal less this frame's, zigzag-signed (3: the face is the
 // frame's own).
-Status parse_frames_v2(ByteReader& r, uint32_t version, uint64_t file_size, const ReaderLimits& limits,
-                       ContainerIndex& index) {
+Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, const ReaderLimits& limits,
+                           ContainerIndex& index) {
   const uint64_t frame_count = index.frames.size();
   uint64_t previous_end = kPreludeSize;  // where the previous frame's chunk ends
   for (uint64_t i = 0; i < frame_count; ++i) {
@@ -710,7 +711,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   if (version == kIndexVersion1) {
     SVC_RETURN_IF_ERROR(parse_frames_v1(r, file_size, limits, index));
   } else {
-    SVC_RETURN_IF_ERROR(parse_frames_v2(r, version, file_size, limits, index));
+    SVC_RETURN_IF_ERROR(parse_varint_frames(r, version, file_size, limits, index));
   }
   // References must name existing intra frames of the same face, and cube references
   // I-faces of the same cells: then no cycle and no chain can exist, and any face
