@@ -78,14 +78,32 @@ CommitSlot parse_slot(std::span<const uint8_t> bytes) {
   return slot;
 }
 
+// The chunk of `size` bytes at `offset`, framing included, if it lies inside the file.
+Result<std::vector<uint8_t>> read_chunk_bytes(const ReadOnlyFile& file, uint64_t offset, uint64_t size,
+                                              const std::string& what) {
+  if (offset > file.size() || size > file.size() - offset) {
+    return corrupt_at(what + " chunk of " + std::to_string(size) + " bytes lies outside the file", offset);
+  }
+  return file.read_vector(offset, size);
+}
+
+// Every chunk, bare or framed, ends with the CRC-32 of the bytes before it.
+Status check_trailing_crc(std::span<const uint8_t> chunk, uint64_t offset, const std::string& what) {
+  ByteReader r(chunk.last(4), offset + chunk.size() - 4);
+  if (r.u32() != crc32_of(chunk.first(chunk.size() - 4))) {
+    return corrupt_at(what + " chunk fails its CRC-32 check (" + std::to_string(chunk.size()) + " bytes)", offset);
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offset, uint64_t chunk_size,
                                         uint32_t expected_tag, const std::string& what) {
-  if (chunk_size < kChunkOverhead || offset > file.size() || chunk_size > file.size() - offset) {
+  if (chunk_size < kChunkOverhead) {
     return corrupt_at(what + " chunk of " + std::to_string(chunk_size) + " bytes lies outside the file", offset);
   }
-  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, file.read_vector(offset, chunk_size));
+  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, read_chunk_bytes(file, offset, chunk_size, what));
   ByteReader r(bytes, offset);
   const uint32_t tag = r.u32();
   const uint64_t payload_size = r.u64();
@@ -93,13 +111,7 @@ Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offse
   if (payload_size != chunk_size - kChunkOverhead) {
     return corrupt_at(what + " chunk's size field does not match the index", offset + 4);
   }
-  const std::span<const uint8_t> all(bytes);
-  const uint32_t stored_crc =
-      static_cast<uint32_t>(all[chunk_size - 4]) | static_cast<uint32_t>(all[chunk_size - 3]) << 8 |
-      static_cast<uint32_t>(all[chunk_size - 2]) << 16 | static_cast<uint32_t>(all[chunk_size - 1]) << 24;
-  if (stored_crc != crc32_of(all.first(chunk_size - 4))) {
-    return corrupt_at(what + " chunk fails its CRC-32 check (" + std::to_string(chunk_size) + " bytes)", offset);
-  }
+  SVC_RETURN_IF_ERROR(check_trailing_crc(bytes, offset, what));
   bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(chunk_size - 4), bytes.end());
   bytes.erase(bytes.begin(), bytes.begin() + 12);
   return bytes;
@@ -175,17 +187,10 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what) {
   if (!frame.bare_chunk) return read_chunk(file, frame.chunk_offset, chunk_bytes(frame), kFaceChunkTag, what);
-  const uint64_t offset = frame.chunk_offset, size = chunk_bytes(frame);
-  if (offset > file.size() || size > file.size() - offset) {
-    return corrupt_at(what + " chunk of " + std::to_string(size) + " bytes lies outside the file", offset);
-  }
-  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, file.read_vector(offset, size));
-  const uint64_t payload_size = frame.payload_size;
-  ByteReader r(std::span<const uint8_t>(bytes).subspan(payload_size), offset + payload_size);
-  if (r.u32() != crc32_of(std::span<const uint8_t>(bytes).first(payload_size))) {
-    return corrupt_at(what + " chunk fails its CRC-32 check (" + std::to_string(size) + " bytes)", offset);
-  }
-  bytes.resize(payload_size);
+  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
+                       read_chunk_bytes(file, frame.chunk_offset, chunk_bytes(frame), what));
+  SVC_RETURN_IF_ERROR(check_trailing_crc(bytes, frame.chunk_offset, what));
+  bytes.resize(frame.payload_size);
   return bytes;
 }
 
