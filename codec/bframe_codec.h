@@ -30,7 +30,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 12;
+inline constexpr uint8_t kBFrameSyntaxVersion = 13;
 // Header byte 4 bit 4: coded inter macroblocks code whether their luma residual is one
 // 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
 // it is four 4x4 blocks (docs/codec.md 10.4).
@@ -124,6 +124,9 @@ struct BFrameParams {
   // direction and vectors, where that lowers the rate-distortion cost; off, every inter
   // macroblock is one 16x16 partition (for ablation).
   bool partitions = true;
+  // Each coded vector and skip takes the cheapest of its vector predictors (docs/codec.md
+  // 10.3); off, the first (the median) always, for ablation.
+  bool vector_predictors = true;
   // Intra macroblocks are coded as in intra frames (docs/codec.md 10.4), searched with
   // the intra frame's tools: every prediction mode (off: planar and DC only, for
   // ablation), the rate-distortion mode search and the 16x16 / 8x8 / 4x4 transform

@@ -107,7 +107,10 @@ class MacroblockReader {
     info_ = MacroblockInfo{};
     const MacroblockMode skip_mode = predicted_mode(s_, mx, my);
     predictors_ = {};
-    for (int r = 0; r < s_.reference_count; ++r) predictors_[r] = predict_vector(s_, mx, my, r);
+    for (int r = 0; r < s_.reference_count; ++r) {
+      predictor_lists_[r] = macroblock_predictors(s_, mx, my, r);
+      predictors_[r] = predictor_lists_[r].vectors[0];
+    }
     info_.inter_mode = skip_mode;
     info_.inter_warp = predicted_warp(s_, mx, my);
     info_.vectors = predictors_;
@@ -144,7 +147,10 @@ class MacroblockReader {
       if (!read_warp_nodes(skip_mode)) return fail("invalid warp node");
       build_warp_prediction(s_, mx_, my_, skip_mode, &reconstruction_);
     } else {
-      build_prediction(s_, mx_, my_, skip_mode, predictors_, &reconstruction_);
+      const int count = skip_predictor_count(predictor_lists_, skip_mode);
+      const int index = decode_predictor_index(decoder_, c_.skip_predictor_index, count);
+      info_.vectors = skip_vectors(predictor_lists_, skip_mode, index);
+      build_prediction(s_, mx_, my_, skip_mode, info_.vectors, &reconstruction_);
     }
     return Status::Ok();
   }
@@ -177,7 +183,7 @@ class MacroblockReader {
     if (info_.inter_warp && !read_warp_nodes(mode)) return fail("invalid warp node");
     if (!info_.inter_warp) {
       for (int r = 0; r < s_.reference_count; ++r) {
-        if (uses_reference(mode, r)) SVC_RETURN_IF_ERROR(read_vector(r, predictors_[r], &info_.vectors[r]));
+        if (uses_reference(mode, r)) SVC_RETURN_IF_ERROR(read_vector(r, predictor_lists_[r], &info_.vectors[r]));
       }
     }
     uint8_t local_coded[6] = {};
@@ -200,7 +206,7 @@ class MacroblockReader {
       for (int r = 0; r < s_.reference_count; ++r) {
         if (!uses_reference(motion.modes[k], r)) continue;
         SVC_RETURN_IF_ERROR(
-            read_vector(r, partition_predictor(motion, k, r, predictors_[r]), &motion.vectors[k][r]));
+            read_vector(r, partition_predictors(motion, k, r, predictor_lists_[r]), &motion.vectors[k][r]));
         info_.vectors[r] = motion.vectors[k][r];
       }
     }
@@ -232,7 +238,10 @@ class MacroblockReader {
   }
 
   // One vector difference towards reference r (x, then y), added to `predictor`.
-  Status read_vector(int r, MotionVector predictor, MotionVector* vector) {
+  Status read_vector(int r, const VectorPredictors& predictors, MotionVector* vector) {
+    const MotionVector predictor =
+        predictors
+            .vectors[static_cast<size_t>(decode_predictor_index(decoder_, c_.predictor_index, predictors.count))];
     int dx = 0, dy = 0;
     if (!decode_mvd_component(decoder_, c_, 0, mvd_context(s_, mx_, my_, 0), &dx) ||
         !decode_mvd_component(decoder_, c_, 1, mvd_context(s_, mx_, my_, 1), &dy)) {
@@ -289,7 +298,8 @@ class MacroblockReader {
   RangeDecoder& decoder_;
   int mx_ = 0, my_ = 0;
   MacroblockInfo info_;
-  std::array<MotionVector, 2> predictors_{};
+  std::array<MotionVector, 2> predictors_{};  // the first of each list
+  std::array<VectorPredictors, 2> predictor_lists_{};
   uint8_t coded_mask_ = 0;
   MacroblockPrediction prediction_, reconstruction_;
   // One residual block of quantizer.size read with `contexts` (coded_block_context as

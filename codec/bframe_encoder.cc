@@ -62,6 +62,7 @@ struct MacroblockChoice {
   // Inter only: the partitions, with their modes and vectors when split.
   PartitionMotion motion;
   MacroblockPrediction reconstruction;
+  int skip_index = 0;   // skipped by translation: the predictor index
   float side_bits = 0;  // inter: every bit but the residual's
   double cost = 0;
 };
@@ -258,7 +259,7 @@ class VectorSet {
   }
 
  private:
-  // More than a search ever prices (candidates, predictor, zero, two rings of 8).
+  // More than a search ever prices (candidates, predictors, zero, two rings of 8).
   static constexpr uint32_t kSlots = 256;
   std::array<uint32_t, kSlots> keys_{};
   std::array<uint32_t, kSlots> stamps_{};
@@ -293,7 +294,8 @@ class BFrameEncoder {
         full_evaluations_(std::max(1, params.inter_evaluations)),
         max_candidates_(std::clamp(params.max_candidates, 1, kMaxCandidates)),
         rdoq_(params.rdoq),
-        partitions_(params.partitions) {
+        partitions_(params.partitions),
+        vector_predictors_(params.vector_predictors) {
     const double scale = quantizer_scale_q8(s_.inter_quantizer.qindex) / 256.0;
     lambda_ = std::max(0.0, params.lambda_factor) * scale * scale;
     lambda_sad_ = std::sqrt(lambda_);
@@ -313,7 +315,10 @@ class BFrameEncoder {
     warp_cache_ = {};
     compute_visible();
     std::array<MotionVector, 2> predictors{};
-    for (int r = 0; r < s_.reference_count; ++r) predictors[r] = predict_vector(s_, mx, my, r);
+    for (int r = 0; r < s_.reference_count; ++r) {
+      predictor_lists_[r] = macroblock_predictors(s_, mx, my, r);
+      predictors[r] = predictor_lists_[r].vectors[0];
+    }
     predictors_ = predictors;
     const MacroblockMode skip_mode = predicted_mode(s_, mx, my);
 
@@ -321,7 +326,7 @@ class BFrameEncoder {
     for (int r = 0; r < s_.reference_count; ++r) {
       std::span<const MotionVector> list;
       if (hints[r].macroblock != nullptr) list = *hints[r].macroblock;
-      best[r] = search_reference(r, kWholeMacroblock, predictors[r], list, stats);
+      best[r] = search_reference(r, kWholeMacroblock, predictor_lists_[r], list, stats);
     }
 
     MacroblockChoice winner, option;
@@ -425,7 +430,13 @@ class BFrameEncoder {
     info.vectors = predictors_;
     encoder.encode(c.skip[skip_context(s_, mx, my)], choice.mode == MacroblockMode::kSkipped);
     if (choice.mode == MacroblockMode::kSkipped) {
-      if (info.inter_warp) write_warp_nodes(encoder, info.inter_mode, &info);
+      if (info.inter_warp) {
+        write_warp_nodes(encoder, info.inter_mode, &info);
+      } else {
+        encode_predictor_index(encoder, c.skip_predictor_index,
+                               skip_predictor_count(predictor_lists_, info.inter_mode), choice.skip_index);
+        info.vectors = choice.vectors;
+      }
       commit_macroblock(s_, mx, my, info, choice.reconstruction, 0);
       return;
     }
@@ -497,7 +508,8 @@ class BFrameEncoder {
     const int contexts[2] = {mvd_context(s_, mx_, my_, 0), mvd_context(s_, mx_, my_, 1)};
     for (int r = 0; r < s_.reference_count; ++r) {
       if (!uses_reference(choice.mode, r)) continue;
-      const int dx = choice.vectors[r].x - predictors_[r].x, dy = choice.vectors[r].y - predictors_[r].y;
+      const MotionVector predictor = write_predictor_index(encoder, choice.vectors[r], predictor_lists_[r]);
+      const int dx = choice.vectors[r].x - predictor.x, dy = choice.vectors[r].y - predictor.y;
       encode_mvd_component(encoder, s_.contexts, 0, contexts[0], dx);
       encode_mvd_component(encoder, s_.contexts, 1, contexts[1], dy);
       info->mvd_magnitude[0] += std::abs(dx);
@@ -514,7 +526,9 @@ class BFrameEncoder {
       encode_direction(encoder, s_, mx_, my_, motion.modes[k]);
       for (int r = 0; r < s_.reference_count; ++r) {
         if (!uses_reference(motion.modes[k], r)) continue;
-        const MotionVector predictor = partition_predictor(motion, k, r, predictors_[r]);
+        const MotionVector predictor =
+            write_predictor_index(encoder, motion.vectors[k][r],
+                                  partition_predictors(motion, k, r, predictor_lists_[r]));
         const int dx = motion.vectors[k][r].x - predictor.x, dy = motion.vectors[k][r].y - predictor.y;
         encode_mvd_component(encoder, s_.contexts, 0, contexts[0], dx);
         encode_mvd_component(encoder, s_.contexts, 1, contexts[1], dy);
@@ -600,11 +614,41 @@ class BFrameEncoder {
   }
 
   float vector_bits(int reference, MotionVector vector) const {
-    return vector_bits(vector, predictors_[reference]);
+    return vector_bits(vector, predictor_lists_[reference]);
   }
 
-  float vector_bits(MotionVector vector, MotionVector predictor) const {
-    return mvd_costs_[0].bits(vector.x - predictor.x) + mvd_costs_[1].bits(vector.y - predictor.y);
+  float vector_bits(MotionVector vector, const VectorPredictors& predictors) const {
+    float bits = 0;
+    cheapest_predictor(vector, predictors, &bits);
+    return bits;
+  }
+
+  // The index of the predictor that codes `vector` in the fewest bits (the first of
+  // equal ones), and those bits, index included.
+  int cheapest_predictor(MotionVector vector, const VectorPredictors& predictors, float* bits) const {
+    int best = 0;
+    for (int i = 0; i < usable_predictors(predictors.count); ++i) {
+      const MotionVector p = predictors.vectors[static_cast<size_t>(i)];
+      const float candidate = predictor_index_bits(s_.contexts.predictor_index, predictors.count, i) +
+                              mvd_costs_[0].bits(vector.x - p.x) + mvd_costs_[1].bits(vector.y - p.y);
+      if (i == 0 || candidate < *bits) {
+        best = i;
+        *bits = candidate;
+      }
+    }
+    return best;
+  }
+
+  // Of `count` predictors, those the encoder may choose (the first only without the tool).
+  int usable_predictors(int count) const { return vector_predictors_ ? count : 1; }
+
+  // Codes the index of the predictor `vector` is cheapest from and returns that predictor.
+  MotionVector write_predictor_index(RangeEncoder& encoder, MotionVector vector,
+                                     const VectorPredictors& predictors) {
+    float bits = 0;
+    const int index = cheapest_predictor(vector, predictors, &bits);
+    encode_predictor_index(encoder, s_.contexts.predictor_index, predictors.count, index);
+    return predictors.vectors[static_cast<size_t>(index)];
   }
 
   // Luma SAD of the prediction of `rect` from `reference` with vector v: on the search
@@ -647,15 +691,15 @@ class BFrameEncoder {
 
   // Best vector for `rect` towards one reference by SAD + lambda * vector bits over the
   // supplied candidates and the predictor (the zero vector too when no candidate is given).
-  MotionVector search_reference(int reference, const PartitionRect& rect, MotionVector predictor,
+  MotionVector search_reference(int reference, const PartitionRect& rect, const VectorPredictors& predictors,
                                 std::span<const MotionVector> list, BFrameStats* stats) {
     tried_.clear();
-    MotionVector best = predictor;
+    MotionVector best = predictors.vectors[0];
     double best_cost = 1e300;
     auto try_vector = [&](MotionVector v) {
       v = clamp_vector(v);
       if (!tried_.insert(v)) return false;
-      const double rate = lambda_sad_ * vector_bits(v, predictor);
+      const double rate = lambda_sad_ * vector_bits(v, predictors);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
       const int sad = rect_sad(reference, rect, v);
       if (stats != nullptr) ++stats->sad_evaluations;
@@ -672,7 +716,8 @@ class BFrameEncoder {
     for (size_t k = 0; k < count; ++k) supplied += try_vector(list[k]);
     if (stats != nullptr && rect.width == 16 && rect.height == 16) stats->candidates_evaluated += supplied;
     if (supplied == 0) try_vector(MotionVector{});
-    try_vector(predictor);
+    for (int i = 0; i < usable_predictors(predictors.count); ++i)
+      try_vector(predictors.vectors[static_cast<size_t>(i)]);
     if (refine_) {
       // The half-pel ring around the best, then the quarter-pel ring around the new best.
       for (int step = 2; step >= (quarter_pel_ ? 1 : 2); --step) {
@@ -710,21 +755,40 @@ class BFrameEncoder {
     quantize_rd_ = false;
   }
 
+  // A translational skip tries each predictor index.
   void evaluate_skip(MacroblockMode mode, bool warp, MacroblockChoice* out) {
     out->mode = MacroblockMode::kSkipped;
     out->warp = warp;
     out->vectors = predictors_;
     out->coded_mask = 0;
-    float bits = bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 1);
+    const float skip_bits = bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 1);
     if (warp) {
       build_cached_warp_prediction(mode, &out->reconstruction);
-      bits += warp_nodes_bits(mode);
-    } else {
-      build_prediction(s_, mx_, my_, mode, predictors_, &out->reconstruction);
+      out->cost = static_cast<double>(prediction_error(out->reconstruction)) +
+                  lambda_ * (skip_bits + warp_nodes_bits(mode));
+      return;
     }
+    const int count = skip_predictor_count(predictor_lists_, mode);
+    MacroblockPrediction prediction;
+    for (int index = 0; index < usable_predictors(count); ++index) {
+      const std::array<MotionVector, 2> vectors = skip_vectors(predictor_lists_, mode, index);
+      build_prediction(s_, mx_, my_, mode, vectors, &prediction);
+      const double cost =
+          static_cast<double>(prediction_error(prediction)) +
+          lambda_ * (skip_bits + predictor_index_bits(s_.contexts.skip_predictor_index, count, index));
+      if (index == 0 || cost < out->cost) {
+        out->cost = cost;
+        out->vectors = vectors;
+        out->skip_index = index;
+        out->reconstruction = prediction;
+      }
+    }
+  }
+
+  int64_t prediction_error(const MacroblockPrediction& prediction) const {
     int64_t distortion = 0;
-    for (int b = 0; b < 6; ++b) distortion += block_error(b, block_samples(out->reconstruction, b));
-    out->cost = static_cast<double>(distortion) + lambda_ * bits;
+    for (int b = 0; b < 6; ++b) distortion += block_error(b, block_samples(prediction, b));
+    return distortion;
   }
 
   void evaluate_inter(MacroblockMode mode, bool warp, const std::array<MotionVector, 2>& best,
@@ -918,10 +982,11 @@ class BFrameEncoder {
         source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
     for (int k = 0; k < partition_count(partition); ++k) {
       const PartitionRect rect = partition_rect(partition, k);
-      std::array<MotionVector, 2> vectors{}, part_predictors{};
+      std::array<MotionVector, 2> vectors{};
+      std::array<VectorPredictors, 2> part_predictors{};
       std::array<MacroblockIntermediate, 2> luma;
       for (int r = 0; r < s_.reference_count; ++r) {
-        part_predictors[r] = partition_predictor(motion, k, r, predictors_[r]);
+        part_predictors[r] = partition_predictors(motion, k, r, predictor_lists_[r]);
         // The 16x16 choice is tried too, within the max_candidates a search prices.
         CandidateList list = partition_candidates(hints[r], rect, static_cast<size_t>(max_candidates_ - 1));
         if (std::find(list.begin(), list.end(), macroblock_best[r]) == list.end())
@@ -1013,8 +1078,10 @@ class BFrameEncoder {
   // mode decision (made with plain quantization) is over.
   bool quantize_rd_ = false;
   const bool partitions_;
+  const bool vector_predictors_;
   int mx_ = 0, my_ = 0;
-  std::array<MotionVector, 2> predictors_{};
+  std::array<MotionVector, 2> predictors_{};  // the first of each list
+  std::array<VectorPredictors, 2> predictor_lists_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
   VectorSet tried_;
   std::array<MvdCostTable, 2> mvd_costs_;  // per component, for the current macroblock

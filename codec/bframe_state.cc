@@ -75,6 +75,22 @@ MotionVector predict_vector(const FrameState& s, int mx, int my, int reference) 
                       static_cast<int16_t>(median3(left.y, top.y, diagonal.y))};
 }
 
+void VectorPredictors::add(MotionVector v) {
+  if (count == kMaxVectorPredictors ||
+      std::find(vectors.begin(), vectors.begin() + count, v) != vectors.begin() + count)
+    return;
+  vectors[static_cast<size_t>(count++)] = v;
+}
+
+VectorPredictors macroblock_predictors(const FrameState& s, int mx, int my, int reference) {
+  VectorPredictors list;
+  list.add(predict_vector(s, mx, my, reference));
+  if (mx > 0) list.add(s.mb(mx - 1, my).vectors[reference]);
+  if (my > 0) list.add(s.mb(mx, my - 1).vectors[reference]);
+  if (my > 0 && mx + 1 < s.mbs_x) list.add(s.mb(mx + 1, my - 1).vectors[reference]);
+  return list;
+}
+
 MacroblockMode predicted_mode(const FrameState& s, int mx, int my) {
   if (mx > 0) return s.mb(mx - 1, my).inter_mode;
   if (my > 0) return s.mb(mx, my - 1).inter_mode;
@@ -124,6 +140,33 @@ MotionVector partition_predictor(const PartitionMotion& motion, int k, int r, Mo
     if (neighbour >= 0 && uses_reference(motion.modes[neighbour], r)) return motion.vectors[neighbour][r];
   }
   return macroblock_predictor;
+}
+
+int skip_predictor_count(const std::array<VectorPredictors, 2>& lists, MacroblockMode mode) {
+  int count = 1;
+  for (int r = 0; r < 2; ++r) {
+    if (uses_reference(mode, r)) count = std::max(count, lists[static_cast<size_t>(r)].count);
+  }
+  return count;
+}
+
+std::array<MotionVector, 2> skip_vectors(const std::array<VectorPredictors, 2>& lists, MacroblockMode mode,
+                                         int index) {
+  std::array<MotionVector, 2> vectors = {lists[0].vectors[0], lists[1].vectors[0]};
+  for (int r = 0; r < 2; ++r) {
+    const VectorPredictors& list = lists[static_cast<size_t>(r)];
+    if (uses_reference(mode, r) && list.count > 0)
+      vectors[static_cast<size_t>(r)] = list.vectors[static_cast<size_t>(std::min(index, list.count - 1))];
+  }
+  return vectors;
+}
+
+VectorPredictors partition_predictors(const PartitionMotion& motion, int k, int r,
+                                      const VectorPredictors& macroblock) {
+  VectorPredictors list;
+  list.add(partition_predictor(motion, k, r, macroblock.vectors[0]));
+  for (int i = 0; i < macroblock.count; ++i) list.add(macroblock.vectors[static_cast<size_t>(i)]);
+  return list;
 }
 
 WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int my) {

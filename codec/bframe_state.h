@@ -48,6 +48,11 @@ struct SyntaxContexts {
   std::array<AdaptiveBit, kNeighbourContexts> luma_16x16{};
   // Whether a coded luma 8x8 block of such a macroblock is four 4x4 blocks.
   AdaptiveBit luma_4x4{};
+  // Which vector predictor a coded vector's difference is taken from: [0] the first or a
+  // later one, [1] the second or the third (docs/codec.md 10.3).
+  std::array<AdaptiveBit, 2> predictor_index{};
+  // The same for the vectors of a skipped macroblock (one index for both references).
+  std::array<AdaptiveBit, 2> skip_predictor_index{};
   // Intra macroblocks: the intra frame's luma and chroma contexts (docs/codec.md 3).
   intra::PlaneContexts intra_luma, intra_chroma;
   BlockContextSet inter_luma, inter_chroma;
@@ -77,6 +82,8 @@ void for_each_context(Set& s, F&& f) {
   for_each_context(s.inter_chroma, f);
   for_each_bit(s.luma_16x16, f);
   f(s.luma_4x4);
+  for_each_bit(s.predictor_index, f);
+  for_each_bit(s.skip_predictor_index, f);
 }
 
 struct MacroblockInfo {
@@ -232,6 +239,21 @@ inline int median3(int a, int b, int c) { return std::max(std::min(a, b), std::m
 
 MotionVector predict_vector(const FrameState& s, int mx, int my, int reference);
 
+inline constexpr int kMaxVectorPredictors = 3;
+
+// The distinct predictors a coded vector may take its difference from, in order; the
+// vector codes the index of the one it uses (docs/codec.md 10.3).
+struct VectorPredictors {
+  int count = 0;
+  std::array<MotionVector, kMaxVectorPredictors> vectors{};
+  // Appends v unless it is already listed or the list is full.
+  void add(MotionVector v);
+};
+
+// predict_vector's median, then the vectors of the left, top and top-right macroblocks
+// that exist, the first three distinct ones.
+VectorPredictors macroblock_predictors(const FrameState& s, int mx, int my, int reference);
+
 MacroblockMode predicted_mode(const FrameState& s, int mx, int my);
 
 // The warp flag a skip inherits, from the same neighbour as predicted_mode.
@@ -272,6 +294,17 @@ int luma_16x16_context(const FrameState& s, int mx, int my);
 // partitions before it: the left partition's vector when it exists and uses r, else the
 // upper one's under the same condition, else the macroblock's predictor.
 MotionVector partition_predictor(const PartitionMotion& motion, int k, int r, MotionVector macroblock_predictor);
+
+// A translational skip in `mode` codes an index below the longest list of the references
+// it uses; reference r takes entry min(index, count - 1) of its list.
+int skip_predictor_count(const std::array<VectorPredictors, 2>& lists, MacroblockMode mode);
+std::array<MotionVector, 2> skip_vectors(const std::array<VectorPredictors, 2>& lists, MacroblockMode mode,
+                                         int index);
+
+// Partition k's predictors towards reference r: partition_predictor's vector (with the
+// macroblock's first predictor), then the macroblock's predictors, distinct.
+VectorPredictors partition_predictors(const PartitionMotion& motion, int k, int r,
+                                      const VectorPredictors& macroblock);
 
 // Bit mask of the references a prediction mode reads.
 inline int reference_mask(MacroblockMode mode) {

@@ -130,6 +130,24 @@ bool decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int componen
   return true;
 }
 
+float predictor_index_bits(const PredictorIndexBits& bits, int count, int index) {
+  if (count < 2) return 0;
+  float cost = bit_cost(bits[0], index > 0);
+  if (index > 0 && count > 2) cost += bit_cost(bits[1], index > 1);
+  return cost;
+}
+
+void encode_predictor_index(RangeEncoder& encoder, PredictorIndexBits& bits, int count, int index) {
+  if (count < 2) return;
+  encoder.encode(bits[0], index > 0);
+  if (index > 0 && count > 2) encoder.encode(bits[1], index > 1);
+}
+
+int decode_predictor_index(RangeDecoder& decoder, PredictorIndexBits& bits, int count) {
+  if (count < 2 || !decoder.decode(bits[0])) return 0;
+  return count > 2 && decoder.decode(bits[1]) ? 2 : 1;
+}
+
 float node_component_bits(const SyntaxContexts& c, int component, int kind, int value) {
   float bits = bit_cost(c.node_zero[component][kind], value != 0);
   if (value == 0) return bits;

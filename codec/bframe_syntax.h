@@ -69,6 +69,14 @@ MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, in
 // ---- Syntax writers (mirrored by the readers below). ----
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value);
 
+// Which of `count` vector predictors a coded vector uses (nothing when count is 1):
+// a bit for index > 0, then with three predictors a bit for index 2.
+// `bits` is SyntaxContexts::predictor_index or skip_predictor_index.
+using PredictorIndexBits = std::array<AdaptiveBit, 2>;
+float predictor_index_bits(const PredictorIndexBits& bits, int count, int index);
+void encode_predictor_index(RangeEncoder& encoder, PredictorIndexBits& bits, int count, int index);
+int decode_predictor_index(RangeDecoder& decoder, PredictorIndexBits& bits, int count);
+
 bool decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context, int* value);
 
 // A node difference component: zero flag, sign, then |d| - 1 as a unary prefix of

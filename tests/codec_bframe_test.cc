@@ -714,6 +714,58 @@ TEST(BFramePartitions, DamagedPartitionedPayloadsAreRejectedOrDecoded) {
   }
 }
 
+// Rows of macroblocks alternate between two motions (a depth edge along every
+// macroblock row): source = a in even macroblock rows, b in odd ones.
+ImageYCbCr420 row_mix(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  ImageYCbCr420 mixed = a;
+  const int cw = (a.width + 1) / 2;
+  for (size_t i = 0; i < a.y.size(); ++i) {
+    if ((static_cast<int>(i / static_cast<size_t>(a.width)) / 16) % 2 != 0) mixed.y[i] = b.y[i];
+  }
+  for (size_t i = 0; i < a.cb.size(); ++i) {
+    if ((static_cast<int>(i / static_cast<size_t>(cw)) / 8) % 2 != 0) {
+      mixed.cb[i] = b.cb[i];
+      mixed.cr[i] = b.cr[i];
+    }
+  }
+  return mixed;
+}
+
+// The median of the left, top and top-right vectors takes the other row's motion there;
+// the left macroblock's vector, second in the predictor list, is exact.
+TEST(BFrame, VectorsTakeTheLeftPredictorWhereTheMedianIsWrongAndDecodeExactly) {
+  const int w = 128, h = 96, q = 128;
+  const MotionVector even{12, 8}, odd{-8, 4};
+  const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q);
+  const ImageYCbCr420 source = row_mix(textured_crop(w, h, 43, 42), textured_crop(w, h, 38, 41));
+  const int mbs_x = (w + 15) / 16;
+  FaceCandidates candidates(static_cast<size_t>(mbs_x) * ((h + 15) / 16));
+  for (size_t i = 0; i < candidates.size(); ++i) candidates[i] = {(i / mbs_x) % 2 == 0 ? even : odd};
+  BFrameParams params;
+  params.qindex = suggested_b_qindex(q);
+  ImageYCbCr420 listed_reconstruction, median_reconstruction;
+  BFrameStats listed_stats, median_stats;
+  const std::vector<uint8_t> listed =
+      encode_b_frame(source, reference, nullptr, candidates, {}, params, &listed_reconstruction, &listed_stats);
+  params.vector_predictors = false;
+  const std::vector<uint8_t> median =
+      encode_b_frame(source, reference, nullptr, candidates, {}, params, &median_reconstruction, &median_stats);
+  ASSERT_FALSE(listed.empty());
+  ASSERT_FALSE(median.empty());
+  // Each row after the first codes the jump between the rows' motions once (its first
+  // macroblock) instead of at every macroblock, or skips with the left vector.
+  EXPECT_LT(listed.size() * 3, median.size() * 2) << listed.size() << " vs " << median.size();
+  EXPECT_GT(psnr(source.y, listed_reconstruction.y), psnr(source.y, median_reconstruction.y) - 0.2);
+  EXPECT_GT(listed_stats.mb_skipped, median_stats.mb_skipped);
+  for (const auto* bytes : {&listed, &median}) {
+    ImageYCbCr420 decoded;
+    std::vector<MacroblockMode> modes;
+    ASSERT_TRUE(decode_b_frame(*bytes, w, h, reference, nullptr, &decoded, &modes).ok());
+    expect_same_image(decoded, bytes == &listed ? listed_reconstruction : median_reconstruction);
+    EXPECT_EQ(modes, (bytes == &listed ? listed_stats : median_stats).modes);
+  }
+}
+
 TEST(BFrame, SuggestedQIndex) {
   EXPECT_EQ(suggested_b_qindex(128), 170);
   EXPECT_EQ(suggested_b_qindex(0), 42);

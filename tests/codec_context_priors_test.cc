@@ -12,7 +12,7 @@ namespace {
 
 TEST(ContextPriors, TablesListEveryContextOfTheirBundle) {
   EXPECT_EQ(context_count(ContextBundle::kIntraFrame), 560);
-  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1013);
+  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1017);
   for (ContextBundle bundle : {ContextBundle::kIntraFrame, ContextBundle::kBFrame}) {
     const auto priors = context_priors(bundle);
     ASSERT_EQ(static_cast<int>(priors.size()), context_count(bundle));

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "c3f6c5737ccb5f03b1d060b3defeb704d43a2e974e37e360c37676de304663c3",
-     "e000d399266e59a0af093d465a89f1d30ecf2cf8c30219b7f42797b7bcef5390"},
+     "8933ca7d17b5f65a8de0a6acdeb9902bd7c9b8a7bca326cc2cb922fb6a4948d5",
+     "aba36aa4f758d303c85d87588f2152eaeb2c072601b417bcb1922cb2f38be174"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "8ec3742de9ef5344d65c1324ad2f259ae618566f92239c270ff3a0f3bbe4120d",
-     "025718b74f4e6960a1eb6c2b8bf504770a11c16b57e7355a24c3d67554ba99c6"},
+     "5870acf1e26df3cf1427abfaf9652d67460d52b52e1563edf19cb44fa38ea73b",
+     "cfe33a768b14e0fecc563a9f935a37258d9556ea2ec3b5ae87236f39a33f1ad9"},
 };
 
 std::string file_sha256(const fs::path& path) {

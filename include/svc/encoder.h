@@ -79,6 +79,10 @@ struct CodingTools {
   // and directional modes also follow transform-sizes, intra-rd-search and
   // intra-directional.)
   bool b_intra_prediction = true;
+  // B-faces: each coded vector, and each skip, takes the vector predictor (the median,
+  // the left, top or top-right macroblock's vector) it codes cheapest from
+  // (docs/codec.md 10.3). Off: the median always.
+  bool vector_predictors = true;
 
   bool operator==(const CodingTools&) const = default;
 };

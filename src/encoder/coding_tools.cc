@@ -31,6 +31,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"cfl", &CodingTools::cfl},
     CodingToolEntry{"transform-types", &CodingTools::transform_types},
     CodingToolEntry{"b-intra-prediction", &CodingTools::b_intra_prediction},
+    CodingToolEntry{"vector-predictors", &CodingTools::vector_predictors},
 };
 
 }  // namespace
