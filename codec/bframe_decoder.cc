@@ -242,11 +242,8 @@ class MacroblockReader {
     const MotionVector predictor =
         predictors
             .vectors[static_cast<size_t>(decode_predictor_index(decoder_, c_.predictor_index, predictors.count))];
-    int dx = 0, dy = 0;
-    if (!decode_mvd_component(decoder_, c_, 0, mvd_context(s_, mx_, my_, 0), &dx) ||
-        !decode_mvd_component(decoder_, c_, 1, mvd_context(s_, mx_, my_, 1), &dy)) {
-      return fail("invalid motion vector difference");
-    }
+    const int dx = decode_mvd_component(decoder_, c_, 0, mvd_context(s_, mx_, my_, 0));
+    const int dy = decode_mvd_component(decoder_, c_, 1, mvd_context(s_, mx_, my_, 1));
     const int vx = predictor.x + dx, vy = predictor.y + dy;
     if (std::abs(vx) > s_.vector_limit || std::abs(vy) > s_.vector_limit) {
       return fail("motion vector (" + std::to_string(vx) + ", " + std::to_string(vy) + ") towards reference " +

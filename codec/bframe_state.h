@@ -21,7 +21,9 @@
 
 namespace svc::codec::bframe {
 
-constexpr int kMvdPrefixBins = 8;  // unary bins of |mvd| before the Exp-Golomb escape
+// |mvd| in class k lies in 2^k .. 2^(k+1) - 1; vectors and predictors within the range
+// of docs/codec.md 10.3 differ by less than 2^16.
+constexpr int kMvdClasses = 16;
 constexpr int kNeighbourContexts = 3;
 constexpr int kNodePrefixBins = 8;  // unary bins of |node difference| before the escape
 constexpr int kNodeMagnitudeContexts = 6;
@@ -32,7 +34,10 @@ struct SyntaxContexts {
   std::array<AdaptiveBit, kNeighbourContexts> bidirectional{};
   std::array<AdaptiveBit, kNeighbourContexts> backward{};
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> mvd_zero{};  // [component][ctx]
-  std::array<std::array<AdaptiveBit, 4>, 2> mvd_magnitude{};              // [component][bin]
+  // [component][k]: the class of |mvd| is above k; the bit below the leading one of a
+  // magnitude in class k + 1.
+  std::array<std::array<AdaptiveBit, kMvdClasses - 1>, 2> mvd_class{};
+  std::array<std::array<AdaptiveBit, kMvdClasses - 1>, 2> mvd_class_bit{};
   std::array<AdaptiveBit, kNeighbourContexts> warp{};
   // Partition of an inter macroblock (docs/codec.md, section 10.4).
   std::array<AdaptiveBit, kNeighbourContexts> partition_split{};
@@ -67,7 +72,8 @@ void for_each_context(Set& s, F&& f) {
   for_each_bit(s.bidirectional, f);
   for_each_bit(s.backward, f);
   for_each_bit(s.mvd_zero, f);
-  for_each_bit(s.mvd_magnitude, f);
+  for_each_bit(s.mvd_class, f);
+  for_each_bit(s.mvd_class_bit, f);
   for_each_bit(s.warp, f);
   for_each_bit(s.partition_split, f);
   for_each_bit(s.partition_quad, f);

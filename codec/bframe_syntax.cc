@@ -17,28 +17,18 @@ std::array<float, 4097> make_cost_table() {
   return t;
 }
 
-float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value) {
-  float bits = bit_cost(c.mvd_zero[component][context], value != 0);
-  if (value == 0) return bits;
-  const int magnitude = std::abs(value);
-  int k = 1;
-  for (; k <= kMvdPrefixBins; ++k) {
-    bits += bit_cost(c.mvd_magnitude[component][std::min(k - 1, 3)], magnitude > k);
-    if (magnitude <= k) break;
-  }
-  if (magnitude > kMvdPrefixBins) bits += exp_golomb_bits(static_cast<uint32_t>(magnitude - kMvdPrefixBins - 1));
-  return bits + 1;  // sign
-}
-
 MvdCostTable::MvdCostTable(const SyntaxContexts& c, int component, int context) {
-  bits_[0] = bit_cost(c.mvd_zero[component][context], 0);
-  float prefix = bit_cost(c.mvd_zero[component][context], 1);
-  for (int k = 1; k <= kMvdPrefixBins; ++k) {
-    // Magnitude k: the bins "> 1" .. "> k - 1" set, "> k" clear, then the sign.
-    bits_[static_cast<size_t>(k)] = prefix + bit_cost(c.mvd_magnitude[component][std::min(k - 1, 3)], 0) + 1;
-    prefix += bit_cost(c.mvd_magnitude[component][std::min(k - 1, 3)], 1);
+  zero_ = bit_cost(c.mvd_zero[component][context], 0);
+  // The zero flag, the class bins before class k, then the sign.
+  float prefix = bit_cost(c.mvd_zero[component][context], 1) + 1;
+  for (int k = 0; k < kMvdClasses; ++k) {
+    const float last_bin = k + 1 < kMvdClasses ? bit_cost(c.mvd_class[component][k], 0) : 0;
+    for (int below = 0; below < 2; ++below) {
+      const float rest = k > 0 ? bit_cost(c.mvd_class_bit[component][k - 1], below) + static_cast<float>(k - 1) : 0;
+      class_[static_cast<size_t>(k)][static_cast<size_t>(below)] = prefix + last_bin + rest;
+    }
+    if (k + 1 < kMvdClasses) prefix += bit_cost(c.mvd_class[component][k], 1);
   }
-  bits_[kMvdPrefixBins + 1] = prefix;
 }
 
 float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode) {
@@ -102,32 +92,23 @@ MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, in
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value) {
   encoder.encode(c.mvd_zero[component][context], value != 0);
   if (value == 0) return;
-  const int magnitude = std::abs(value);
-  for (int k = 1; k <= kMvdPrefixBins; ++k) {
-    encoder.encode(c.mvd_magnitude[component][std::min(k - 1, 3)], magnitude > k);
-    if (magnitude <= k) break;
-  }
-  if (magnitude > kMvdPrefixBins) {
-    encode_exp_golomb_bypass(encoder, static_cast<uint32_t>(magnitude - kMvdPrefixBins - 1));
-  }
+  const auto magnitude = static_cast<unsigned>(std::abs(value));
+  const int k = static_cast<int>(std::bit_width(magnitude)) - 1;
+  for (int j = 0; j < k; ++j) encoder.encode(c.mvd_class[component][j], 1);
+  if (k + 1 < kMvdClasses) encoder.encode(c.mvd_class[component][k], 0);
+  if (k > 0) encoder.encode(c.mvd_class_bit[component][k - 1], static_cast<int>((magnitude >> (k - 1)) & 1));
+  for (int b = k - 2; b >= 0; --b) encoder.encode_bypass(static_cast<int>((magnitude >> b) & 1));
   encoder.encode_bypass(value < 0);
 }
 
-bool decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context, int* value) {
-  *value = 0;
-  if (!decoder.decode(c.mvd_zero[component][context])) return true;
+int decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context) {
+  if (!decoder.decode(c.mvd_zero[component][context])) return 0;
+  int k = 0;
+  while (k + 1 < kMvdClasses && decoder.decode(c.mvd_class[component][k])) ++k;
   int magnitude = 1;
-  for (int k = 1; k <= kMvdPrefixBins; ++k) {
-    if (!decoder.decode(c.mvd_magnitude[component][std::min(k - 1, 3)])) break;
-    magnitude = k + 1;
-  }
-  if (magnitude > kMvdPrefixBins) {
-    uint32_t escape = 0;
-    if (!decode_exp_golomb_bypass(decoder, &escape)) return false;
-    magnitude = kMvdPrefixBins + 1 + static_cast<int>(escape);
-  }
-  *value = decoder.decode_bypass() ? -magnitude : magnitude;
-  return true;
+  if (k > 0) magnitude = 2 + decoder.decode(c.mvd_class_bit[component][k - 1]);
+  for (int b = k - 2; b >= 0; --b) magnitude = 2 * magnitude + decoder.decode_bypass();
+  return decoder.decode_bypass() ? -magnitude : magnitude;
 }
 
 float predictor_index_bits(const PredictorIndexBits& bits, int count, int index) {

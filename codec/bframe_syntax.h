@@ -28,25 +28,26 @@ inline float bit_cost(const AdaptiveBit& model, int bit) {
 
 inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1); }
 
-float mvd_component_bits(const SyntaxContexts& c, int component, int context, int value);
-
-// mvd_component_bits of one component and context as a table over the magnitude, equal
-// to it value for value: for the motion search's many queries within one macroblock,
-// where the contexts do not change.
+// The bits of one vector difference component under one context, as tables over the
+// class: for the motion search's many queries within one macroblock, where the contexts
+// do not change.
 class MvdCostTable {
  public:
   MvdCostTable() = default;
   MvdCostTable(const SyntaxContexts& c, int component, int context);
   float bits(int value) const {
-    const int magnitude = std::abs(value);
-    if (magnitude <= kMvdPrefixBins) return bits_[static_cast<size_t>(magnitude)];
-    return bits_[kMvdPrefixBins + 1] + exp_golomb_bits(static_cast<uint32_t>(magnitude - kMvdPrefixBins - 1)) + 1;
+    const auto magnitude = static_cast<unsigned>(std::abs(value));
+    if (magnitude == 0) return zero_;
+    const int k = std::min(static_cast<int>(std::bit_width(magnitude)) - 1, kMvdClasses - 1);
+    const int below = k > 0 ? static_cast<int>((magnitude >> (k - 1)) & 1) : 0;
+    return class_[static_cast<size_t>(k)][static_cast<size_t>(below)];
   }
 
  private:
-  // [m]: the whole cost of magnitude m <= kMvdPrefixBins; [kMvdPrefixBins + 1]: that of
-  // the zero flag and the prefix of a larger one.
-  std::array<float, kMvdPrefixBins + 2> bits_{};
+  float zero_ = 0;
+  // [k][b]: the whole cost of a magnitude in class k whose bit below the leading one is
+  // b, sign and bypass bits included.
+  std::array<std::array<float, 2>, kMvdClasses> class_{};
 };
 
 float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode);
@@ -77,7 +78,7 @@ float predictor_index_bits(const PredictorIndexBits& bits, int count, int index)
 void encode_predictor_index(RangeEncoder& encoder, PredictorIndexBits& bits, int count, int index);
 int decode_predictor_index(RangeDecoder& decoder, PredictorIndexBits& bits, int count);
 
-bool decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context, int* value);
+int decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context);
 
 // A node difference component: zero flag, sign, then |d| - 1 as a unary prefix of
 // kNodePrefixBins adaptive bins with an Exp-Golomb escape.

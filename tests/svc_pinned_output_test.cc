@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "8933ca7d17b5f65a8de0a6acdeb9902bd7c9b8a7bca326cc2cb922fb6a4948d5",
-     "aba36aa4f758d303c85d87588f2152eaeb2c072601b417bcb1922cb2f38be174"},
+     "a24eefd072753cdee6103a4e1bcc74ef8ae2ead64460d883d1803a160dc724b1",
+     "0cf871f2e9a31f08f8e4d4d824a211a3a682c0c24e74cd68bc70bd3a27c50c51"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "5870acf1e26df3cf1427abfaf9652d67460d52b52e1563edf19cb44fa38ea73b",
-     "cfe33a768b14e0fecc563a9f935a37258d9556ea2ec3b5ae87236f39a33f1ad9"},
+     "1575e678dd5b940095f22d4c41f1630b4fbeb40cc7d0d89d741f9fb0f2c67417",
+     "a0dd82f80edd7f09ec3f2916ffe6059fa12fa04cc125938f52c62629b46859f3"},
 };
 
 std::string file_sha256(const fs::path& path) {
