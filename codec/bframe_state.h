@@ -21,12 +21,25 @@
 
 namespace svc::codec::bframe {
 
-// |mvd| in class k lies in 2^k .. 2^(k+1) - 1; vectors and predictors within the range
-// of docs/codec.md 10.3 differ by less than 2^16.
-constexpr int kMvdClasses = 16;
+// A magnitude of class k lies in 2^k .. 2^(k+1) - 1 (docs/codec.md 10.3). Vector
+// differences stay below 2^16 and node differences below 2^18 within the ranges of 10.3.
+constexpr int kMagnitudeClasses = 18;
 constexpr int kNeighbourContexts = 3;
-constexpr int kNodePrefixBins = 8;  // unary bins of |node difference| before the escape
-constexpr int kNodeMagnitudeContexts = 6;
+
+// The adaptive bits of a magnitude coded by class: [k] whether the class is above k,
+// and the bit below the leading one of a magnitude in class k + 1.
+struct MagnitudeBits {
+  std::array<AdaptiveBit, kMagnitudeClasses - 1> above{};
+  std::array<AdaptiveBit, kMagnitudeClasses - 1> below{};
+};
+
+using svc::codec::for_each_bit;
+template <class M, class F>
+requires std::same_as<std::remove_const_t<M>, MagnitudeBits>
+void for_each_bit(M& magnitude, F&& f) {
+  for_each_bit(magnitude.above, f);
+  for_each_bit(magnitude.below, f);
+}
 
 struct SyntaxContexts {
   std::array<AdaptiveBit, kNeighbourContexts> skip{};
@@ -34,10 +47,7 @@ struct SyntaxContexts {
   std::array<AdaptiveBit, kNeighbourContexts> bidirectional{};
   std::array<AdaptiveBit, kNeighbourContexts> backward{};
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> mvd_zero{};  // [component][ctx]
-  // [component][k]: the class of |mvd| is above k; the bit below the leading one of a
-  // magnitude in class k + 1.
-  std::array<std::array<AdaptiveBit, kMvdClasses - 1>, 2> mvd_class{};
-  std::array<std::array<AdaptiveBit, kMvdClasses - 1>, 2> mvd_class_bit{};
+  std::array<MagnitudeBits, 2> mvd_magnitude{};                           // [component]
   std::array<AdaptiveBit, kNeighbourContexts> warp{};
   // Partition of an inter macroblock (docs/codec.md, section 10.4).
   std::array<AdaptiveBit, kNeighbourContexts> partition_split{};
@@ -45,7 +55,7 @@ struct SyntaxContexts {
   AdaptiveBit partition_vertical{};
   // Node differences: [component][predictor kind: 0 planar, 1 other].
   std::array<std::array<AdaptiveBit, 2>, 2> node_zero{};
-  std::array<std::array<std::array<AdaptiveBit, kNodeMagnitudeContexts>, 2>, 2> node_magnitude{};
+  std::array<std::array<MagnitudeBits, 2>, 2> node_magnitude{};
   std::array<AdaptiveBit, kNeighbourContexts> cbp_luma{};
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> cbp_chroma{};  // [Cb/Cr][ctx]
   // Whether a coded inter macroblock's luma residual is one 16x16 block (header flag
@@ -72,8 +82,7 @@ void for_each_context(Set& s, F&& f) {
   for_each_bit(s.bidirectional, f);
   for_each_bit(s.backward, f);
   for_each_bit(s.mvd_zero, f);
-  for_each_bit(s.mvd_class, f);
-  for_each_bit(s.mvd_class_bit, f);
+  for_each_bit(s.mvd_magnitude, f);
   for_each_bit(s.warp, f);
   for_each_bit(s.partition_split, f);
   for_each_bit(s.partition_quad, f);

@@ -17,17 +17,44 @@ std::array<float, 4097> make_cost_table() {
   return t;
 }
 
+void encode_magnitude(RangeEncoder& encoder, MagnitudeBits& bits, unsigned magnitude) {
+  const int k = static_cast<int>(std::bit_width(magnitude)) - 1;
+  for (int j = 0; j < k; ++j) encoder.encode(bits.above[static_cast<size_t>(j)], 1);
+  if (k + 1 < kMagnitudeClasses) encoder.encode(bits.above[static_cast<size_t>(k)], 0);
+  if (k > 0) encoder.encode(bits.below[static_cast<size_t>(k - 1)], static_cast<int>((magnitude >> (k - 1)) & 1));
+  for (int b = k - 2; b >= 0; --b) encoder.encode_bypass(static_cast<int>((magnitude >> b) & 1));
+}
+
+unsigned decode_magnitude(RangeDecoder& decoder, MagnitudeBits& bits) {
+  int k = 0;
+  while (k + 1 < kMagnitudeClasses && decoder.decode(bits.above[static_cast<size_t>(k)])) ++k;
+  if (k == 0) return 1;
+  auto magnitude = static_cast<unsigned>(2 + decoder.decode(bits.below[static_cast<size_t>(k - 1)]));
+  for (int b = k - 2; b >= 0; --b) magnitude = 2 * magnitude + static_cast<unsigned>(decoder.decode_bypass());
+  return magnitude;
+}
+
+float magnitude_bits(const MagnitudeBits& bits, unsigned magnitude) {
+  const int k = static_cast<int>(std::bit_width(magnitude)) - 1;
+  float cost = 0;
+  for (int j = 0; j < k; ++j) cost += bit_cost(bits.above[static_cast<size_t>(j)], 1);
+  if (k + 1 < kMagnitudeClasses) cost += bit_cost(bits.above[static_cast<size_t>(k)], 0);
+  if (k > 0) {
+    cost += bit_cost(bits.below[static_cast<size_t>(k - 1)], static_cast<int>((magnitude >> (k - 1)) & 1)) +
+            static_cast<float>(k - 1);
+  }
+  return cost;
+}
+
 MvdCostTable::MvdCostTable(const SyntaxContexts& c, int component, int context) {
   zero_ = bit_cost(c.mvd_zero[component][context], 0);
-  // The zero flag, the class bins before class k, then the sign.
-  float prefix = bit_cost(c.mvd_zero[component][context], 1) + 1;
-  for (int k = 0; k < kMvdClasses; ++k) {
-    const float last_bin = k + 1 < kMvdClasses ? bit_cost(c.mvd_class[component][k], 0) : 0;
-    for (int below = 0; below < 2; ++below) {
-      const float rest = k > 0 ? bit_cost(c.mvd_class_bit[component][k - 1], below) + static_cast<float>(k - 1) : 0;
-      class_[static_cast<size_t>(k)][static_cast<size_t>(below)] = prefix + last_bin + rest;
+  const float flag_and_sign = bit_cost(c.mvd_zero[component][context], 1) + 1;
+  for (int k = 0; k < kMagnitudeClasses; ++k) {
+    for (unsigned below = 0; below < 2; ++below) {
+      // The smallest magnitude of class k with that bit below the leading one.
+      const unsigned magnitude = k == 0 ? 1u : (2u + below) << (k - 1);
+      class_[static_cast<size_t>(k)][below] = flag_and_sign + magnitude_bits(c.mvd_magnitude[component], magnitude);
     }
-    if (k + 1 < kMvdClasses) prefix += bit_cost(c.mvd_class[component][k], 1);
   }
 }
 
@@ -92,22 +119,13 @@ MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, in
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value) {
   encoder.encode(c.mvd_zero[component][context], value != 0);
   if (value == 0) return;
-  const auto magnitude = static_cast<unsigned>(std::abs(value));
-  const int k = static_cast<int>(std::bit_width(magnitude)) - 1;
-  for (int j = 0; j < k; ++j) encoder.encode(c.mvd_class[component][j], 1);
-  if (k + 1 < kMvdClasses) encoder.encode(c.mvd_class[component][k], 0);
-  if (k > 0) encoder.encode(c.mvd_class_bit[component][k - 1], static_cast<int>((magnitude >> (k - 1)) & 1));
-  for (int b = k - 2; b >= 0; --b) encoder.encode_bypass(static_cast<int>((magnitude >> b) & 1));
+  encode_magnitude(encoder, c.mvd_magnitude[component], static_cast<unsigned>(std::abs(value)));
   encoder.encode_bypass(value < 0);
 }
 
 int decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context) {
   if (!decoder.decode(c.mvd_zero[component][context])) return 0;
-  int k = 0;
-  while (k + 1 < kMvdClasses && decoder.decode(c.mvd_class[component][k])) ++k;
-  int magnitude = 1;
-  if (k > 0) magnitude = 2 + decoder.decode(c.mvd_class_bit[component][k - 1]);
-  for (int b = k - 2; b >= 0; --b) magnitude = 2 * magnitude + decoder.decode_bypass();
+  const auto magnitude = static_cast<int>(decode_magnitude(decoder, c.mvd_magnitude[component]));
   return decoder.decode_bypass() ? -magnitude : magnitude;
 }
 
@@ -130,51 +148,23 @@ int decode_predictor_index(RangeDecoder& decoder, PredictorIndexBits& bits, int 
 }
 
 float node_component_bits(const SyntaxContexts& c, int component, int kind, int value) {
-  float bits = bit_cost(c.node_zero[component][kind], value != 0);
+  const float bits = bit_cost(c.node_zero[component][kind], value != 0);
   if (value == 0) return bits;
-  const int magnitude = std::abs(value);
-  const auto& bins = c.node_magnitude[component][kind];
-  int k = 1;
-  for (; k <= kNodePrefixBins; ++k) {
-    bits += bit_cost(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)], magnitude > k);
-    if (magnitude <= k) break;
-  }
-  if (magnitude > kNodePrefixBins) bits += exp_golomb_bits(static_cast<uint32_t>(magnitude - kNodePrefixBins - 1));
-  return bits + 1;
+  return bits + 1 + magnitude_bits(c.node_magnitude[component][kind], static_cast<unsigned>(std::abs(value)));
 }
 
 void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int kind, int value) {
   encoder.encode(c.node_zero[component][kind], value != 0);
   if (value == 0) return;
   encoder.encode_bypass(value < 0);
-  const int magnitude = std::abs(value);
-  auto& bins = c.node_magnitude[component][kind];
-  for (int k = 1; k <= kNodePrefixBins; ++k) {
-    encoder.encode(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)], magnitude > k);
-    if (magnitude <= k) break;
-  }
-  if (magnitude > kNodePrefixBins) {
-    encode_exp_golomb_bypass(encoder, static_cast<uint32_t>(magnitude - kNodePrefixBins - 1));
-  }
+  encode_magnitude(encoder, c.node_magnitude[component][kind], static_cast<unsigned>(std::abs(value)));
 }
 
-bool decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind, int* value) {
-  *value = 0;
-  if (!decoder.decode(c.node_zero[component][kind])) return true;
+int decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind) {
+  if (!decoder.decode(c.node_zero[component][kind])) return 0;
   const bool negative = decoder.decode_bypass() != 0;
-  auto& bins = c.node_magnitude[component][kind];
-  int magnitude = 1;
-  for (int k = 1; k <= kNodePrefixBins; ++k) {
-    if (!decoder.decode(bins[std::min(k - 1, kNodeMagnitudeContexts - 1)])) break;
-    magnitude = k + 1;
-  }
-  if (magnitude > kNodePrefixBins) {
-    uint32_t escape = 0;
-    if (!decode_exp_golomb_bypass(decoder, &escape)) return false;
-    magnitude = kNodePrefixBins + 1 + static_cast<int>(escape);
-  }
-  *value = negative ? -magnitude : magnitude;
-  return true;
+  const auto magnitude = static_cast<int>(decode_magnitude(decoder, c.node_magnitude[component][kind]));
+  return negative ? -magnitude : magnitude;
 }
 
 void encode_missing_nodes(RangeEncoder& encoder, FrameState& s, int reference, int mx, int my,
@@ -217,11 +207,8 @@ bool decode_missing_nodes(RangeDecoder& decoder, FrameState& s, int reference, i
     if (s.known(reference, i, j)) continue;
     int kind = 0;
     const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
-    int dx = 0, dy = 0;
-    if (!decode_node_component(decoder, s.contexts, 0, kind, &dx) ||
-        !decode_node_component(decoder, s.contexts, 1, kind, &dy)) {
-      return false;
-    }
+    const int dx = decode_node_component(decoder, s.contexts, 0, kind);
+    const int dy = decode_node_component(decoder, s.contexts, 1, kind);
     const int64_t x = int64_t{prediction.x} + dx, y = int64_t{prediction.y} + dy;
     if (std::abs(x) > s.node_limit || std::abs(y) > s.node_limit) return false;
     s.nodes[reference][s.node_index(i, j)] = WarpNode{static_cast<int32_t>(x), static_cast<int32_t>(y)};

@@ -28,6 +28,12 @@ inline float bit_cost(const AdaptiveBit& model, int bit) {
 
 inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1); }
 
+// A magnitude of 1 .. 2^kMagnitudeClasses - 1 by class (docs/codec.md 10.3): the class
+// in unary, the bit below the leading one, then the rest as bypass bits.
+void encode_magnitude(RangeEncoder& encoder, MagnitudeBits& bits, unsigned magnitude);
+unsigned decode_magnitude(RangeDecoder& decoder, MagnitudeBits& bits);
+float magnitude_bits(const MagnitudeBits& bits, unsigned magnitude);
+
 // The bits of one vector difference component under one context, as tables over the
 // class: for the motion search's many queries within one macroblock, where the contexts
 // do not change.
@@ -38,7 +44,7 @@ class MvdCostTable {
   float bits(int value) const {
     const auto magnitude = static_cast<unsigned>(std::abs(value));
     if (magnitude == 0) return zero_;
-    const int k = std::min(static_cast<int>(std::bit_width(magnitude)) - 1, kMvdClasses - 1);
+    const int k = std::min(static_cast<int>(std::bit_width(magnitude)) - 1, kMagnitudeClasses - 1);
     const int below = k > 0 ? static_cast<int>((magnitude >> (k - 1)) & 1) : 0;
     return class_[static_cast<size_t>(k)][static_cast<size_t>(below)];
   }
@@ -46,8 +52,8 @@ class MvdCostTable {
  private:
   float zero_ = 0;
   // [k][b]: the whole cost of a magnitude in class k whose bit below the leading one is
-  // b, sign and bypass bits included.
-  std::array<std::array<float, 2>, kMvdClasses> class_{};
+  // b, zero flag and sign included.
+  std::array<std::array<float, 2>, kMagnitudeClasses> class_{};
 };
 
 float mode_bits(const FrameState& s, int mx, int my, MacroblockMode mode);
@@ -80,13 +86,12 @@ int decode_predictor_index(RangeDecoder& decoder, PredictorIndexBits& bits, int 
 
 int decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context);
 
-// A node difference component: zero flag, sign, then |d| - 1 as a unary prefix of
-// kNodePrefixBins adaptive bins with an Exp-Golomb escape.
+// A node difference component: zero flag, sign, then the magnitude by class.
 float node_component_bits(const SyntaxContexts& c, int component, int kind, int value);
 
 void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int kind, int value);
 
-bool decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind, int* value);
+int decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind);
 
 // Codes (encoder) the corner nodes of macroblock (mx, my) towards `reference` that the
 // decoder does not know yet, in corner order, and marks them known.

@@ -504,7 +504,7 @@ std::array<SizesRun, 2> code_without_and_with_sizes(const ImageYCbCr420& source,
 }
 
 TEST(BFrame, SmoothResidualsTakeOne16x16LumaBlockAndDecodeExactly) {
-  const ImageYCbCr420 ref = decoded_intra(textured_crop(64, 48, 30, 30), 100);
+  const ImageYCbCr420 ref = decoded_intra(textured_crop(128, 96, 30, 30), 100);
   const std::array<SizesRun, 2> runs = code_without_and_with_sizes(shifted_with_ramp(ref, 0, 0), ref, 160);
   EXPECT_EQ(runs[0].stats.mb_luma_16x16, 0);
   EXPECT_GE(runs[1].stats.mb_luma_16x16, 6) << "of " << runs[1].stats.macroblocks;

@@ -12,7 +12,7 @@ namespace {
 
 TEST(ContextPriors, TablesListEveryContextOfTheirBundle) {
   EXPECT_EQ(context_count(ContextBundle::kIntraFrame), 560);
-  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1069);
+  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1189);
   for (ContextBundle bundle : {ContextBundle::kIntraFrame, ContextBundle::kBFrame}) {
     const auto priors = context_priors(bundle);
     ASSERT_EQ(static_cast<int>(priors.size()), context_count(bundle));
@@ -43,9 +43,9 @@ TEST(ContextPriors, BFrameContextsStartAtTheTableInItsOrder) {
   const auto priors = context_priors(ContextBundle::kBFrame);
   EXPECT_EQ(contexts.skip[0].fast, priors[0]);
   EXPECT_EQ(contexts.intra[0].fast, priors[3]);
-  EXPECT_EQ(contexts.mvd_class[0][0].fast, priors[18]);
-  EXPECT_EQ(contexts.warp[0].fast, priors[78]);
-  EXPECT_EQ(contexts.intra_luma.modes.is_most_probable.fast, priors[123]);
+  EXPECT_EQ(contexts.mvd_magnitude[0].above[0].fast, priors[18]);
+  EXPECT_EQ(contexts.warp[0].fast, priors[86]);
+  EXPECT_EQ(contexts.intra_luma.modes.is_most_probable.fast, priors[243]);
   // Then luma_16x16[3], luma_4x4, predictor_index[2] and skip_predictor_index[2].
   EXPECT_EQ(contexts.inter_chroma.dc_category[2][13].fast, priors[priors.size() - 9]);
   EXPECT_EQ(contexts.skip_predictor_index[1].fast, priors.back());

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "a24eefd072753cdee6103a4e1bcc74ef8ae2ead64460d883d1803a160dc724b1",
-     "0cf871f2e9a31f08f8e4d4d824a211a3a682c0c24e74cd68bc70bd3a27c50c51"},
+     "e673d67b1b88c8cd9afc8a9300c006d3c6b98dda6bbb80a172da4b5dad6ce9e0",
+     "ebbaa6ed3d63e8de3502440a69d7fd98cbde4f9334ff158e2803f9abff3eb7bd"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "1575e678dd5b940095f22d4c41f1630b4fbeb40cc7d0d89d741f9fb0f2c67417",
-     "a0dd82f80edd7f09ec3f2916ffe6059fa12fa04cc125938f52c62629b46859f3"},
+     "b794b6ca3e44d42d3f9dacbc8c6933963437e1299d6b2969dae455a667dea389",
+     "2d95a602fd2ab333856f77df7906228fa4f957b3e8f090a93ae7d190d89786a7"},
 };
 
 std::string file_sha256(const fs::path& path) {
