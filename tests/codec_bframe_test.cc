@@ -586,21 +586,31 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   EXPECT_GT(psnr(source.y, reconstruction.y), 38.0);
 }
 
-// Columns of 8 luma pixels alternate between two motions, so every macroblock holds two
-// 8x16 halves moving differently: source(x, y) = a(x, y) where (x / 8) is even, else b.
-ImageYCbCr420 column_mix(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+// a where takes_b(x, y) is false, else b, with (x, y) a luma position (chroma sample
+// (u, v) follows luma (2u, 2v)).
+template <class TakesB>
+ImageYCbCr420 mix(const ImageYCbCr420& a, const ImageYCbCr420& b, TakesB takes_b) {
   ImageYCbCr420 mixed = a;
   const int cw = (a.width + 1) / 2;
   for (size_t i = 0; i < a.y.size(); ++i) {
-    if ((static_cast<int>(i % static_cast<size_t>(a.width)) / 8) % 2 != 0) mixed.y[i] = b.y[i];
+    const auto x = static_cast<int>(i % static_cast<size_t>(a.width));
+    const auto y = static_cast<int>(i / static_cast<size_t>(a.width));
+    if (takes_b(x, y)) mixed.y[i] = b.y[i];
   }
   for (size_t i = 0; i < a.cb.size(); ++i) {
-    if ((static_cast<int>(i % static_cast<size_t>(cw)) / 4) % 2 != 0) {
+    const auto u = static_cast<int>(i % static_cast<size_t>(cw)), v = static_cast<int>(i / static_cast<size_t>(cw));
+    if (takes_b(2 * u, 2 * v)) {
       mixed.cb[i] = b.cb[i];
       mixed.cr[i] = b.cr[i];
     }
   }
   return mixed;
+}
+
+// Columns of 8 luma pixels alternate between two motions, so every macroblock holds two
+// 8x16 halves moving differently: source(x, y) = a(x, y) where (x / 8) is even, else b.
+ImageYCbCr420 column_mix(const ImageYCbCr420& a, const ImageYCbCr420& b) {
+  return mix(a, b, [](int x, int) { return (x / 8) % 2 != 0; });
 }
 
 // Per 8x8 block, the vector of its column's motion (what depth would give).
@@ -717,18 +727,7 @@ TEST(BFramePartitions, DamagedPartitionedPayloadsAreRejectedOrDecoded) {
 // Rows of macroblocks alternate between two motions (a depth edge along every
 // macroblock row): source = a in even macroblock rows, b in odd ones.
 ImageYCbCr420 row_mix(const ImageYCbCr420& a, const ImageYCbCr420& b) {
-  ImageYCbCr420 mixed = a;
-  const int cw = (a.width + 1) / 2;
-  for (size_t i = 0; i < a.y.size(); ++i) {
-    if ((static_cast<int>(i / static_cast<size_t>(a.width)) / 16) % 2 != 0) mixed.y[i] = b.y[i];
-  }
-  for (size_t i = 0; i < a.cb.size(); ++i) {
-    if ((static_cast<int>(i / static_cast<size_t>(cw)) / 8) % 2 != 0) {
-      mixed.cb[i] = b.cb[i];
-      mixed.cr[i] = b.cr[i];
-    }
-  }
-  return mixed;
+  return mix(a, b, [](int, int y) { return (y / 16) % 2 != 0; });
 }
 
 // The median of the left, top and top-right vectors takes the other row's motion there;
