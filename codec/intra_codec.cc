@@ -341,7 +341,9 @@ class BlockSearch {
   float choose(const uint8_t* source, int stride, const uint8_t* edge, int size, const PlaneContexts& contexts,
                const std::array<int, kMostProbableModes>* candidates, int cbf_context, const ModeSet* ranked,
                BlockChoice* best, float prefix_bits = 0) const {
-    std::array<int, kSearchedModes> searched{best->mode, -1, -1};
+    std::array<int, kSearchedModes> searched;
+    searched.fill(-1);
+    searched[0] = best->mode;  // a fixed mode is the only one searched
     if (candidates != nullptr) searched = preselect(source, stride, edge, size, *candidates, ranked);
     float best_cost = std::numeric_limits<float>::max(), best_bits = 0;
     for (int mode : searched) {
@@ -423,7 +425,8 @@ class BlockSearch {
     // 18 cells of the photographic hall).
     const int kept = rd_search_ && size != 4 ? std::min(kSearchedModes, count) : 1;
     std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + count);
-    std::array<int, kSearchedModes> searched{-1, -1, -1};
+    std::array<int, kSearchedModes> searched;
+    searched.fill(-1);
     for (int i = 0; i < kept; ++i) searched[static_cast<size_t>(i)] = costs[static_cast<size_t>(i)].second;
     return searched;
   }
