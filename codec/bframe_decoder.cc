@@ -237,11 +237,11 @@ class MacroblockReader {
     }
   }
 
-  // One vector difference towards reference r (x, then y), added to `predictor`.
+  // One vector towards reference r: the index of its predictor among `predictors`, then
+  // the difference (x, then y) added to that predictor.
   Status read_vector(int r, const VectorPredictors& predictors, MotionVector* vector) {
-    const MotionVector predictor =
-        predictors
-            .vectors[static_cast<size_t>(decode_predictor_index(decoder_, c_.predictor_index, predictors.count))];
+    const int index = decode_predictor_index(decoder_, c_.predictor_index, predictors.count);
+    const MotionVector predictor = predictors.vectors[static_cast<size_t>(index)];
     const int dx = decode_mvd_component(decoder_, c_, 0, mvd_context(s_, mx_, my_, 0));
     const int dy = decode_mvd_component(decoder_, c_, 1, mvd_context(s_, mx_, my_, 1));
     const int vx = predictor.x + dx, vy = predictor.y + dy;
