@@ -41,17 +41,27 @@ TEST(IntraPrediction, FlatEdgePredictsFlatBlockInEveryMode) {
   }
 }
 
-TEST(IntraPrediction, VerticalHorizontalAndDcFollowTheirEdges) {
-  const auto edge = make_edge(50, 90, 10, 10);  // above: 10, 20, ..., 80 over the block
+TEST(IntraPrediction, VerticalHorizontalAndDcFollowTheirEdgesWithBoundaryFilters) {
+  const auto edge = make_edge(50, 40, 10, 10);  // above: 10, 20, ..., 80 over the block
   const auto vertical = predict(edge, kVerticalMode), horizontal = predict(edge, kHorizontalMode);
+  const auto dc = predict(edge, kDcMode);
+  // (8 x 50 + (10 + ... + 80) + 8) >> 4 = (400 + 360 + 8) >> 4 = 48.
+  const int dc_value = 48;
   for (int y = 0; y < 8; ++y) {
     for (int x = 0; x < 8; ++x) {
-      EXPECT_EQ(vertical[8 * y + x], 10 + 10 * x);
-      EXPECT_EQ(horizontal[8 * y + x], 50);
+      const int above = 10 + 10 * x;
+      // The first column of vertical adds half the left edge's step from the corner:
+      // 10 + ((50 - 40) >> 1); the first row of horizontal half the above edge's.
+      EXPECT_EQ(vertical[8 * y + x], x == 0 ? 15 : above) << x << "," << y;
+      EXPECT_EQ(horizontal[8 * y + x], y == 0 ? 50 + ((above - 40) >> 1) : 50) << x << "," << y;
+      // DC blends its first row and column with the neighbours.
+      const int expected_dc = x == 0 && y == 0 ? (50 + 2 * dc_value + 10 + 2) >> 2
+                              : y == 0         ? (above + 3 * dc_value + 2) >> 2
+                              : x == 0         ? (50 + 3 * dc_value + 2) >> 2
+                                               : dc_value;
+      EXPECT_EQ(dc[8 * y + x], expected_dc) << x << "," << y;
     }
   }
-  // (8 x 50 + (10 + ... + 80) + 8) >> 4 = (400 + 360 + 8) >> 4 = 48.
-  EXPECT_EQ(predict(edge, kDcMode)[27], 48);
 }
 
 TEST(IntraPrediction, AngularModeInterpolatesBetweenReferenceSamples) {
@@ -127,12 +137,45 @@ TEST(IntraPrediction, OtherBlockSizesPredictByTheSameRules) {
       for (int x = 0; x < size; ++x) EXPECT_EQ(out[static_cast<size_t>(size * y + x)], 20 + 5 * x) << size;
     }
     predict(edge.data(), kHorizontalMode, out.data());
-    EXPECT_TRUE(std::all_of(out.begin(), out.end(), [](uint8_t v) { return v == 60; })) << size;
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) {
+        EXPECT_EQ(out[static_cast<size_t>(size * y + x)], y == 0 ? 60 + ((20 + 5 * x - 60) >> 1) : 60) << size;
+      }
+    }
     predict(edge.data(), kDcMode, out.data());
     int sum = size;  // (sum of N above + N left + N) / 2N
     for (int i = 0; i < size; ++i) sum += 60 + 20 + 5 * i;
-    EXPECT_EQ(out[0], sum / (2 * size)) << size;
+    const int dc = sum / (2 * size);
+    EXPECT_EQ(out[static_cast<size_t>(size * size - 1)], dc) << size;
+    EXPECT_EQ(out[0], (60 + 2 * dc + 20 + 2) >> 2) << size;
+    EXPECT_EQ(out[1], (25 + 3 * dc + 2) >> 2) << size;
+    EXPECT_EQ(out[static_cast<size_t>(size)], (60 + 3 * dc + 2) >> 2) << size;
   }
+}
+
+// Which angular modes smooth their edge first (HEVC's rule): at 16x16 every angle but
+// the three nearest pure vertical and horizontal, at 8x8 only the diagonals, at 4x4 none.
+// One bright sample above the block shows it: smoothing spreads it to its neighbours.
+TEST(IntraPrediction, EdgeSmoothingFollowsBlockSizeAndAngle) {
+  auto row0 = [](int size, int mode) {
+    std::vector<uint8_t> edge(static_cast<size_t>(4 * size + 1), 0);
+    edge[static_cast<size_t>(2 * size + 2)] = 200;  // above[1]
+    std::vector<uint8_t> out(static_cast<size_t>(size * size));
+    intra_predictor(size)(edge.data(), mode, out.data());
+    return out[0];
+  };
+  // Mode 30 (13/32 a row): row 0, x = 0 is (19 A[0] + 13 A[1] + 16) >> 5. Smoothed,
+  // A[0] = (0 + 0 + 200 + 2) >> 2 = 50 and A[1] = (0 + 400 + 0 + 2) >> 2 = 100.
+  const int smoothed = (19 * 50 + 13 * 100 + 16) >> 5, sharp = (13 * 200 + 16) >> 5;
+  EXPECT_EQ(row0(16, 30), smoothed);
+  EXPECT_EQ(row0(8, 30), sharp);
+  EXPECT_EQ(row0(4, 30), sharp);
+  // Mode 27 (2/32 a row) lies next to vertical: never smoothed.
+  EXPECT_EQ(row0(16, 27), (2 * 200 + 16) >> 5);
+  // Mode 34 (the diagonal, a whole sample a row): row 0, x = 0 is A[1].
+  EXPECT_EQ(row0(16, 34), 100);
+  EXPECT_EQ(row0(8, 34), 100);
+  EXPECT_EQ(row0(4, 34), 200);
 }
 
 TEST(IntraPrediction, EveryModeRoundTripsThroughModeCoding) {

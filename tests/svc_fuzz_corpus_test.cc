@@ -5,9 +5,11 @@
 // ). Inputs the fuzzers found are added beside the seeds by hand.
 //
 // The container seeds seed-*.svc are what the current encoder writes (index version 3,
-// bare face chunks). The older encoder's files stay beside them, so that readers keep
-// being exercised on such files: seed-framed-*.svc (FACE chunks) and their twins
-// seed-v1index-*.svc, the same bytes with the index rewritten in version 1.
+// bare face chunks). Files of the older container stay beside them, so that readers keep
+// being exercised on such files: seed-framed-*.svc (FACE chunks, index version 2, its
+// cells as the older encoder wrote them) and their twins seed-v1index-*.svc, the same
+// bytes with the index rewritten in version 1. Generate renews their faces with the
+// current encoder's, so that every seed decodes whole.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -18,6 +20,7 @@
 #include "fuzz/fuzz_entry.h"
 #include "scene/scene.h"
 #include "support/index_v1.h"
+#include "support/index_v2.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
 
@@ -123,21 +126,33 @@ std::vector<fs::path> framed_seeds() {
   return seeds;
 }
 
-// `bytes` (a file whose last chunk is its index) with the index rewritten by `writer`:
-// the same header and face chunks, the new INDX chunk in place of the old one, committed
-// in slot 0 as generation 1.
-std::vector<uint8_t> reindexed(const std::vector<uint8_t>& bytes, const fs::path& scratch,
-                               std::vector<uint8_t> (*writer)(const ContainerIndex&)) {
+// The bytes' container, opened through a scratch file (the readers take files).
+struct OpenedBytes {
+  std::unique_ptr<ReadOnlyFile> file;
+  OpenedContainer container;
+};
+std::optional<OpenedBytes> open_bytes(const std::vector<uint8_t>& bytes, const fs::path& scratch) {
   {
     std::ofstream out(scratch, std::ios::binary);
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   }
   auto file = ReadOnlyFile::open(scratch);
-  EXPECT_TRUE(file.ok());
-  if (!file.ok()) return {};
+  EXPECT_TRUE(file.ok()) << scratch;
+  if (!file.ok()) return std::nullopt;
   auto opened = open_container(**file, ReaderLimits{});
   EXPECT_TRUE(opened.ok()) << opened.status().to_string();
-  if (!opened.ok()) return {};
+  if (!opened.ok()) return std::nullopt;
+  return OpenedBytes{std::move(*file), std::move(*opened)};
+}
+
+// `bytes` (a file whose last chunk is its index) with the index rewritten by `writer`:
+// the same header and face chunks, the new INDX chunk in place of the old one, committed
+// in slot 0 as generation 1.
+std::vector<uint8_t> reindexed(const std::vector<uint8_t>& bytes, const fs::path& scratch,
+                               std::vector<uint8_t> (*writer)(const ContainerIndex&)) {
+  auto bytes_file = open_bytes(bytes, scratch);
+  if (!bytes_file) return {};
+  const OpenedContainer* opened = &bytes_file->container;
   EXPECT_EQ(opened->index_offset + opened->index_chunk_size, bytes.size()) << "the index is not the last chunk";
   std::vector<uint8_t> out(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(opened->index_offset));
   const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, writer(opened->index));
@@ -146,6 +161,71 @@ std::vector<uint8_t> reindexed(const std::vector<uint8_t>& bytes, const fs::path
   std::fill(out.begin() + kFileHeaderSize + kCommitSlotSize, out.begin() + kPreludeSize, 0);
   out.insert(out.end(), chunk.begin(), chunk.end());
   return out;
+}
+
+// The framed seed `framed` with the faces of `current`, the current encoder's file of the
+// same scene and settings: the header, cameras and cells of `framed`'s index (its bytes up
+// to the frame records) kept, `current`'s frame records and payloads in FACE chunks, the
+// index committed in slot 0 as generation 1.
+std::vector<uint8_t> renewed_framed_seed(const std::vector<uint8_t>& framed, const std::vector<uint8_t>& current,
+                                         const fs::path& work) {
+  auto old_file = open_bytes(framed, work / "framed.svc");
+  auto new_file = open_bytes(current, work / "current.svc");
+  if (!old_file || !new_file) return {};
+  const OpenedContainer& old_container = old_file->container;
+  ContainerIndex index = new_file->container.index;
+  ContainerIndex old_scene = old_container.index;
+  old_scene.frames = index.frames;
+  old_scene.stats = index.stats;
+  EXPECT_EQ(serialize_index(old_scene), serialize_index(index))
+      << "the two files hold different scenes or settings";
+  auto old_payload = read_chunk(*old_file->file, old_container.index_offset, old_container.index_chunk_size,
+                                kIndexChunkTag, "index");
+  EXPECT_TRUE(old_payload.ok()) << old_payload.status().to_string();
+  if (!old_payload.ok()) return {};
+  const std::vector<uint8_t> old_frames = testing::serialize_frames_v2(old_container.index);
+  EXPECT_TRUE(old_payload->size() > old_frames.size() &&
+              std::equal(old_frames.begin(), old_frames.end(), old_payload->end() - old_frames.size()))
+      << "the framed seed's index does not end in version 2 frame records";
+  std::vector<uint8_t> out(framed.begin(), framed.begin() + kFileHeaderSize);
+  out.resize(kPreludeSize, 0);
+  for (FrameRecord& frame : index.frames) {
+    auto payload = read_frame_payload(*new_file->file, frame, "face");
+    EXPECT_TRUE(payload.ok()) << payload.status().to_string();
+    if (!payload.ok()) return {};
+    frame.chunk_offset = out.size();
+    frame.bare_chunk = false;
+    const std::vector<uint8_t> chunk = make_chunk(kFaceChunkTag, *payload);
+    out.insert(out.end(), chunk.begin(), chunk.end());
+  }
+  std::vector<uint8_t> index_payload(old_payload->begin(), old_payload->end() - old_frames.size());
+  const std::vector<uint8_t> frames = testing::serialize_frames_v2(index);
+  index_payload.insert(index_payload.end(), frames.begin(), frames.end());
+  const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, index_payload);
+  const std::vector<uint8_t> slot = make_commit_slot(1, out.size(), chunk.size());
+  std::copy(slot.begin(), slot.end(), out.begin() + kFileHeaderSize);
+  out.insert(out.end(), chunk.begin(), chunk.end());
+  return out;
+}
+
+// seed-framed-NAME's current twin seed-NAME.
+std::string current_twin(const fs::path& framed_seed) {
+  return "seed-" + framed_seed.filename().string().substr(std::string("seed-framed-").size());
+}
+
+TEST(FuzzCorpus, FramedSeedsHoldTheCurrentEncodersFaces) {
+  testing::TempDir dir("svc-fuzz-framed");
+  const auto current = container_seeds(dir.path());
+  for (const fs::path& seed : framed_seeds()) {
+    SCOPED_TRACE(seed.string() + " (renew with SVC_WRITE_FUZZ_CORPUS, see the top of this file)");
+    const std::vector<uint8_t> framed = read_bytes(seed);
+    ASSERT_TRUE(current.count(current_twin(seed))) << "no current seed " << current_twin(seed);
+    EXPECT_EQ(framed, renewed_framed_seed(framed, current.at(current_twin(seed)), dir.path()));
+    auto opened = open_bytes(framed, dir.path() / "seed.svc");
+    ASSERT_TRUE(opened);
+    EXPECT_EQ(fuzz::run_container_input(framed), static_cast<int>(opened->container.index.frames.size()))
+        << "not every face decodes";
+  }
 }
 
 // seed-framed-NAME's twin seed-v1index-NAME.
@@ -241,9 +321,17 @@ TEST(FuzzCorpus, Generate) {
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     ASSERT_TRUE(out.good()) << path;
   };
-  // Container seeds (the framed seeds and their version 1 twins are kept as committed:
-  // the encoder no longer writes FACE chunks).
-  for (const auto& [name, bytes] : container_seeds(dir.path())) write(fs::path(target) / "container" / name, bytes);
+  // Container seeds; the framed seeds and their version 1 twins renewed from them.
+  const auto current = container_seeds(dir.path());
+  for (const auto& [name, bytes] : current) write(fs::path(target) / "container" / name, bytes);
+  for (const fs::path& seed : framed_seeds()) {
+    const std::vector<uint8_t> framed =
+        renewed_framed_seed(read_bytes(seed), current.at(current_twin(seed)), dir.path());
+    ASSERT_FALSE(framed.empty()) << seed;
+    write(fs::path(target) / "container" / seed.filename(), framed);
+    write(fs::path(target) / "container" / version_one_twin(seed).filename(),
+          reindexed(framed, dir.path() / "scratch.svc", &testing::serialize_index_v1));
+  }
   for (const auto& [name, bytes] : frame_seeds()) write(fs::path(target) / "frame" / name, bytes);
 }
 

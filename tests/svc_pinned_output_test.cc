@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "e673d67b1b88c8cd9afc8a9300c006d3c6b98dda6bbb80a172da4b5dad6ce9e0",
-     "ebbaa6ed3d63e8de3502440a69d7fd98cbde4f9334ff158e2803f9abff3eb7bd"},
+     "63c6e663ad1db31479b5b4a88f548f34ea4465d9ff0b0bdb22b2acb8ad8b4efa",
+     "9d921f92618556da07419efe3f4fca1d8177be0cdd5cf8dac746162d17664b8c"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "b794b6ca3e44d42d3f9dacbc8c6933963437e1299d6b2969dae455a667dea389",
-     "2d95a602fd2ab333856f77df7906228fa4f957b3e8f090a93ae7d190d89786a7"},
+     "62a74607450282497fddbd2db92957bd6b693dff6e8ad936de3fcccc985197be",
+     "3ff950a8f76c57a023d9698780a8acdd03b3aecfa534cd8d50d113c1e6f23e42"},
 };
 
 std::string file_sha256(const fs::path& path) {

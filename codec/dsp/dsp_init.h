@@ -46,6 +46,10 @@ int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, u
 // The [1 2 1] smoothing of an N x N block's edge (N = 4, 8 or 16; 4N + 1 samples, the
 // ends kept) that planar prediction and the diagonal modes read.
 void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out);
+// The boundary filter of DC (mode 1), pure horizontal (10) and pure vertical (26) over
+// an N x N block's unfiltered prediction `out`, from its unsmoothed edge; other modes
+// are left alone (docs/codec.md 3.1). Every variant of the angular modes calls it.
+void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* out);
 int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);

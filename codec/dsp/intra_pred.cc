@@ -27,7 +27,14 @@ int inverse_angle(int angle) {
   }
 }
 
-bool edge_is_smoothed(int mode) { return mode == 0 || mode == 2 || mode == 18 || mode == 34; }
+// HEVC's rule (docs/codec.md 3.1): planar always; no angle at 4x4; the three diagonals
+// at 8x8; at 16x16 every angle but the three nearest pure horizontal and vertical.
+template <int N>
+bool edge_is_smoothed(int mode) {
+  if (mode == 0) return true;
+  const int distance = std::min(std::abs(mode - 26), std::abs(mode - 10));
+  return N == 8 ? distance > 7 : N == 16 ? distance > 1 : false;
+}
 
 constexpr int log2_of(int n) { return n == 4 ? 2 : n == 8 ? 3 : 4; }
 
@@ -71,7 +78,7 @@ template <int N>
 int prepare_angular_reference(const uint8_t* edge, int mode, uint8_t* main) {
   constexpr int kCorner = 2 * N;
   uint8_t smoothed[4 * N + 1];
-  if (edge_is_smoothed(mode)) {
+  if (edge_is_smoothed<N>(mode)) {
     smooth_edge<N>(edge, smoothed);
     edge = smoothed;
   }
@@ -114,17 +121,41 @@ void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
   }
 }
 
+// HEVC's boundary filters: DC blends its first row and column with the neighbours,
+// pure vertical (26) and horizontal (10) add half the edge's gradient to their first
+// column or row.
+template <int N>
+void filter_boundary(const uint8_t* edge, int mode, uint8_t* out) {
+  constexpr int kCorner = 2 * N;
+  const int corner = edge[kCorner], left = edge[kCorner - 1], above = edge[kCorner + 1];
+  if (mode == 1) {
+    const int dc = out[N * N - 1];
+    out[0] = static_cast<uint8_t>((left + 2 * dc + above + 2) >> 2);
+    for (int x = 1; x < N; ++x) out[x] = static_cast<uint8_t>((edge[kCorner + 1 + x] + 3 * dc + 2) >> 2);
+    for (int y = 1; y < N; ++y) out[N * y] = static_cast<uint8_t>((edge[kCorner - 1 - y] + 3 * dc + 2) >> 2);
+  } else if (mode == 26) {
+    for (int y = 0; y < N; ++y)
+      out[N * y] = static_cast<uint8_t>(std::clamp(above + ((edge[kCorner - 1 - y] - corner) >> 1), 0, 255));
+  } else if (mode == 10) {
+    for (int x = 0; x < N; ++x)
+      out[x] = static_cast<uint8_t>(std::clamp(left + ((edge[kCorner + 1 + x] - corner) >> 1), 0, 255));
+  }
+}
+
 template <int N>
 void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
   if (mode == 0) {
     uint8_t smoothed[4 * N + 1];
     smooth_edge<N>(edge, smoothed);
     predict_planar<N>(smoothed, out);
-  } else if (mode == 1) {
+    return;
+  }
+  if (mode == 1) {
     predict_dc<N>(edge, out);
   } else {
     predict_angular<N>(edge, mode, out);
   }
+  filter_boundary<N>(edge, mode, out);
 }
 
 // 1-D N-point Hadamard butterflies in place.
@@ -164,6 +195,12 @@ int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, u
   if (size == 4) return prepare_angular_reference<4>(edge, mode, main);
   if (size == 16) return prepare_angular_reference<16>(edge, mode, main);
   return prepare_angular_reference<8>(edge, mode, main);
+}
+
+void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* out) {
+  if (size == 4) return filter_boundary<4>(edge, mode, out);
+  if (size == 16) return filter_boundary<16>(edge, mode, out);
+  filter_boundary<8>(edge, mode, out);
 }
 
 void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {

@@ -54,6 +54,7 @@ void intra_predict_neon(const uint8_t* edge, int mode, uint8_t* out) {
     return;
   }
   predict_angular<N>(edge, mode, out);
+  filter_intra_boundary_n(edge, mode, N, out);
 }
 
 // 1-D Hadamard butterflies across N vectors (one transform per lane), in place.

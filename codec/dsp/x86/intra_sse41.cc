@@ -126,6 +126,7 @@ void intra_predict_8x8_sse41(const uint8_t* edge, int mode, uint8_t* out) {
   for (int y = 0; y < 8; y += 2) {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 8 * y), _mm_packus_epi16(rows[y], rows[y + 1]));
   }
+  filter_intra_boundary_n(edge, mode, 8, out);
 }
 
 // 4x4 Hadamard on two rows per register. The SATD sums the magnitudes of all sixteen
@@ -180,11 +181,12 @@ void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
   }
   if (mode >= 18) {
     std::memcpy(out, rows, N * N);
-    return;
+  } else {
+    for (int y = 0; y < N; ++y) {
+      for (int x = 0; x < N; ++x) out[N * x + y] = rows[N * y + x];
+    }
   }
-  for (int y = 0; y < N; ++y) {
-    for (int x = 0; x < N; ++x) out[N * x + y] = rows[N * y + x];
-  }
+  filter_intra_boundary_n(edge, mode, N, out);
 }
 
 // A 4x4 block's angular rows, eight samples computed to keep four, measured slower than
