@@ -429,7 +429,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
     }
     // A complete payload is never read past its end; stopping at the first row that does
     // bounds the work garbage can cause.
-    if (decoder.overrun() > 0) {
+    if (decoder.overrun() > kImplicitZeroBytes) {
       return corrupt("payload truncated (macroblock row " + std::to_string(my) + " needs bytes beyond the " +
                      std::to_string(bytes.size()) + " given)");
     }
@@ -437,7 +437,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   CdefParams cdef;
   if (header.loop_filters & kLoopFilterCdef) {
     read_cdef_syntax(decoder, cdef_units(16 * s.mbs_x), cdef_units(16 * s.mbs_y), &cdef);
-    if (decoder.overrun() > 0) {
+    if (decoder.overrun() > kImplicitZeroBytes) {
       return corrupt("payload truncated (CDEF syntax needs bytes beyond the " + std::to_string(bytes.size()) +
                      " given)");
     }

@@ -64,7 +64,7 @@ inline constexpr uint8_t kTransformTypesFlag = 8;
 
 // Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
 inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 9;
+inline constexpr uint8_t kIntraSyntaxVersion = 10;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 

@@ -20,6 +20,9 @@
 namespace svc::codec {
 
 inline constexpr int kProbabilityBits = 15;
+// A complete stream may end this many bytes before the last byte its decoder reads
+// (RangeEncoder::finish leaves out final zero bytes); reading further means truncation.
+inline constexpr size_t kImplicitZeroBytes = 4;
 inline constexpr uint32_t kProbabilityOne = 1u << kProbabilityBits;
 
 // Probability that the next bit is 0, as the mean of a fast- and a slow-adapting
@@ -82,7 +85,7 @@ void for_each_bit(const std::array<T, N>& bits, F&& f) {
 class RangeEncoder {
  public:
   // Appends to `out` (not owned; must outlive the encoder until finish()).
-  explicit RangeEncoder(std::vector<uint8_t>* out) : out_(out) {}
+  explicit RangeEncoder(std::vector<uint8_t>* out) : out_(out), start_(out->size()) {}
 
   void encode(AdaptiveBit& model, int bit) {
     const uint32_t bound = (range_ >> kProbabilityBits) * model.probability_of_zero();
@@ -103,9 +106,20 @@ class RangeEncoder {
     normalize();
   }
 
-  // Writes the final bytes; the encoder must not be used afterwards.
+  // Writes the final bytes; the encoder must not be used afterwards. The stream ends on
+  // the value in [low, low + range) with the most trailing zero bits, and its last
+  // kImplicitZeroBytes zero bytes, at most, are left out: the decoder reads them as zeros.
   void finish() {
+    for (int bits = 32; bits > 0; --bits) {
+      const uint64_t mask = (uint64_t{1} << bits) - 1;
+      const uint64_t value = (low_ + mask) & ~mask;
+      if (value - low_ < range_) {
+        low_ = value;
+        break;
+      }
+    }
     for (int i = 0; i < 5; ++i) shift_low();
+    for (size_t i = 0; i < kImplicitZeroBytes && out_->size() > start_ && out_->back() == 0; ++i) out_->pop_back();
   }
 
  private:
@@ -132,6 +146,7 @@ class RangeEncoder {
   }
 
   std::vector<uint8_t>* out_;
+  size_t start_;  // out_'s size before this stream's first byte
   uint64_t low_ = 0;
   uint32_t range_ = 0xFFFFFFFFu;
   uint8_t cache_ = 0;
@@ -167,7 +182,8 @@ class RangeDecoder {
     return bit;
   }
 
-  // Bytes requested beyond the end of the input (0 for any complete stream).
+  // Bytes requested beyond the end of the input (at most kImplicitZeroBytes for any
+  // complete stream).
   size_t overrun() const { return position_ - consumed(); }
   // Bytes of input consumed so far (including the 4 read at construction).
   size_t consumed() const { return std::min(position_, bytes_.size()); }

@@ -88,7 +88,7 @@ TEST(Cfl, ChromaModesRoundTrip) {
     ASSERT_EQ(cr.mode, blocks[i].second.mode) << i;
     ASSERT_EQ(cr.alpha, blocks[i].second.alpha) << i;
   }
-  EXPECT_EQ(decoder.overrun(), 0u);
+  EXPECT_LE(decoder.overrun(), kImplicitZeroBytes);  // the final zeros left out
   const CflContexts fresh;
   EXPECT_NEAR(cfl_alpha_bits(fresh, ChromaPlane::kCr, 1, 0), 1.0, 0.01);
   EXPECT_NEAR(cfl_alpha_bits(fresh, ChromaPlane::kCb, 0, -2), 3.0, 0.03);  // sign, two magnitude bins

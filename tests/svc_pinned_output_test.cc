@@ -54,10 +54,10 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "63c6e663ad1db31479b5b4a88f548f34ea4465d9ff0b0bdb22b2acb8ad8b4efa",
+     "53810c4cc1298ef607dbf1ae548758bd6515d21547d88b21ffd1288f05612db8",
      "9d921f92618556da07419efe3f4fca1d8177be0cdd5cf8dac746162d17664b8c"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "62a74607450282497fddbd2db92957bd6b693dff6e8ad936de3fcccc985197be",
+     "edf3adb5160d0bc0553b0ffe8a26bb7b69914bb6513ab248076661b07f6b493f",
      "3ff950a8f76c57a023d9698780a8acdd03b3aecfa534cd8d50d113c1e6f23e42"},
 };
 
