@@ -8,6 +8,7 @@
 #include "common/bytes.h"
 #include "container/container.h"
 #include "support/index_v1.h"
+#include "support/index_v2_v3.h"
 
 namespace svc {
 namespace {
@@ -50,7 +51,7 @@ constexpr uint64_t kFileSize = 1 << 20;
 // Version 2 layout: the rig table follows the 96-byte header.
 constexpr size_t kRigCountAt = 4 + 8 + 12 + 48 + 4 + 8 + 12;
 constexpr size_t kRigEntryBytes = 15 * 8;
-constexpr size_t kStatisticsBytes = 2 * 9 * 8;
+constexpr size_t kStatisticsBytes = 2 * 9 * 8;  // versions 1 to 3
 
 TEST(ContainerIndex, RoundTripsEveryField) {
   const ContainerIndex index = sample_index();
@@ -262,15 +263,18 @@ uint32_t index_version(const std::vector<uint8_t>& bytes) {
 TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
   const ContainerIndex index = rig_index();
   const std::vector<uint8_t> bytes = serialize_index(index);
-  EXPECT_EQ(index_version(bytes), 3u);
+  EXPECT_EQ(index_version(bytes), 4u);
   EXPECT_EQ(bytes[kRigCountAt], 6);
   // Header, rig table, cell records (position gap, flags: the first with one source byte
   // per face, the others on the grid with the first's rig entries), then frame records:
-  // type byte, offset delta 0 (chunks back to back), payload size (< 128), reference.
+  // type byte (chunks back to back: no offset delta) and payload size (< 128); a B-cube's
+  // first face adds its reference, the other five share it (version 4). Statistics as
+  // varints: 1 byte each but 1,234,567's 3.
   const size_t cell_bytes = (2 + kFaceCount) + 8 * 2;
-  const size_t frame_bytes = 6 * 3 + 48 * 4;
+  const size_t frame_bytes = 6 * 2 + 8 * (3 + 5 * 2);
+  const size_t statistics_bytes = 2 * 9 + 2;
   EXPECT_EQ(bytes.size(),
-            kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + cell_bytes + 4 + frame_bytes + kStatisticsBytes);
+            kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + cell_bytes + 4 + frame_bytes + statistics_bytes);
   EXPECT_LT(bytes.size() * 5, testing::serialize_index_v1(index).size());
 
   auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
@@ -424,7 +428,7 @@ TEST(ContainerIndexV2, VersionOneIndexStillParses) {
 
 TEST(ContainerIndexV2, OlderCorpusFilesOpenAndRewriteLosslessly) {
   namespace fs = std::filesystem;
-  int older_files[3] = {};  // by index version
+  int older_files[4] = {};  // by index version
   for (const auto& entry : fs::directory_iterator(fs::path(SVC_SOURCE_DIR) / "tests/fuzz/corpus/container")) {
     if (entry.path().filename().string().rfind("seed-", 0) != 0) continue;
     SCOPED_TRACE(entry.path().string());
@@ -434,7 +438,7 @@ TEST(ContainerIndexV2, OlderCorpusFilesOpenAndRewriteLosslessly) {
     ASSERT_TRUE(opened.ok()) << opened.status().to_string();
     std::vector<uint8_t> version(4);
     ASSERT_TRUE((*file)->read_at(opened->index_offset + 12, version).ok());
-    if (index_version(version) > 2) continue;
+    if (index_version(version) > 3) continue;
     ++older_files[index_version(version)];
     const std::vector<uint8_t> rewritten = serialize_index(opened->index);
     auto parsed = parse_index(rewritten, 0, (*file)->size(), ReaderLimits{});
@@ -446,6 +450,7 @@ TEST(ContainerIndexV2, OlderCorpusFilesOpenAndRewriteLosslessly) {
   }
   EXPECT_GE(older_files[1], 3);
   EXPECT_GE(older_files[2], 3);
+  EXPECT_GE(older_files[3], 3);
 }
 
 TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
@@ -462,7 +467,7 @@ TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
   }
 }
 
-// A one-cell index of I-faces whose frame records are the 18 bytes before the
+// A one-cell version 3 index of I-faces whose frame records are the 18 bytes before the
 // statistics: {type 0, offset delta 0, payload size 50} each.
 struct OneCell {
   ContainerIndex index;
@@ -482,7 +487,7 @@ OneCell one_cell_index() {
     frame.payload_size = 50;
     offset += chunk_bytes(frame);
   }
-  one.bytes = serialize_index(one.index);
+  one.bytes = testing::serialize_index_v3(one.index);
   one.frames_at = one.bytes.size() - kStatisticsBytes - 3 * kFaceCount;
   return one;
 }
@@ -597,6 +602,47 @@ TEST(ContainerIndexV3, BadCellRecordsAreRefused) {
   // Clearing the flag makes the sources and frame records read as a centre, and what
   // follows as sources.
   expect_refused(parse_edited(bytes, cell_at + 1, 1, {0x00}), "cell (0,0,0) face px names camera rig entry");
+}
+
+// Version 4 frame records: an I-cube then a B-cube predicted from it, chunks back to
+// back, payloads of 50 bytes, no statistics.
+TEST(ContainerIndexV4, FramesShareChunkPositionsAndReferences) {
+  ContainerIndex index = rig_index();
+  index.cells.resize(2);
+  index.cameras.resize(2);
+  index.frames.resize(2 * kFaceCount);
+  index.stats = {};
+  uint64_t offset = kPreludeSize;
+  for (FrameRecord& frame : index.frames) {
+    frame.chunk_offset = offset;
+    frame.payload_size = 50;
+    offset += chunk_bytes(frame);
+  }
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  const size_t frames_at = bytes.size() - 2 * 9 - 2 * kFaceCount - (3 + 5 * 2);
+  // I-faces: bare chunk, back to back; the B-cube's first face names cell 0 (zigzag -1),
+  // the others share it.
+  const std::vector<uint8_t> expected = {0x60, 50, 0x60, 50, 0x60, 50, 0x60, 50, 0x60, 50, 0x60, 50, 0x65,
+                                         50,   1,  0xE5, 50, 0xE5, 50, 0xE5, 50, 0xE5, 50, 0xE5, 50};
+  ASSERT_TRUE(std::equal(expected.begin(), expected.end(), bytes.begin() + static_cast<std::ptrdiff_t>(frames_at)));
+  auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_EQ(parsed->frames[9].references, FrameReferences{3});  // cell 0's face ny
+  // The version 3 bytes of the same index read the same.
+  auto from_v3 = parse_index(testing::serialize_index_v3(index), 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(from_v3.ok()) << from_v3.status().to_string();
+  expect_same_index(*from_v3, index);
+  EXPECT_LT(bytes.size() + 10 * 2, testing::serialize_index_v3(index).size());
+
+  // An explicit offset delta of 0 in place of bit 6 is the same index.
+  ASSERT_TRUE(parse_edited(bytes, frames_at, 1, {0x20, 0}).ok());
+  const size_t b_cube = frames_at + 2 * kFaceCount;
+  // Sharing references on a cell's first face; sharing them with another count.
+  expect_refused(parse_edited(bytes, b_cube, 3, {0xE5, 50}), "but is its cell's first");
+  expect_refused(parse_edited(bytes, b_cube + 3, 1, {0xE9}), "counts 2 against its 1");
+  // Statistics are varints: one more byte is not part of them.
+  expect_refused(parse_edited(bytes, bytes.size(), 0, {0}), "unexpected bytes");
 }
 
 TEST(ContainerIndexV3, SparseGridsAndCentresOffTheGridRoundTrip) {

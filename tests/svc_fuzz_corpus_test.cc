@@ -4,12 +4,13 @@
 //   SVC_WRITE_FUZZ_CORPUS=tests/fuzz/corpus build/bin/svc_integration_tests --gtest_filter=FuzzCorpus.Generate
 // ). Inputs the fuzzers found are added beside the seeds by hand.
 //
-// The container seeds seed-*.svc are what the current encoder writes (index version 3,
+// The container seeds seed-*.svc are what the current encoder writes (index version 4,
 // bare face chunks). Files of the older container stay beside them, so that readers keep
-// being exercised on such files: seed-framed-*.svc (FACE chunks, index version 2, its
-// cells as the older encoder wrote them) and their twins seed-v1index-*.svc, the same
-// bytes with the index rewritten in version 1. Generate renews their faces with the
-// current encoder's, so that every seed decodes whole.
+// being exercised on such files: seed-v3index-*.svc, the current seeds with the index
+// rewritten in version 3; seed-framed-*.svc (FACE chunks, index version 2, its cells as
+// the older encoder wrote them) and their twins seed-v1index-*.svc, the same bytes with
+// the index rewritten in version 1. Generate renews their faces with the current
+// encoder's, so that every seed decodes whole.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -20,7 +21,7 @@
 #include "fuzz/fuzz_entry.h"
 #include "scene/scene.h"
 #include "support/index_v1.h"
-#include "support/index_v2.h"
+#include "support/index_v2_v3.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
 
@@ -183,7 +184,7 @@ std::vector<uint8_t> renewed_framed_seed(const std::vector<uint8_t>& framed, con
                                 kIndexChunkTag, "index");
   EXPECT_TRUE(old_payload.ok()) << old_payload.status().to_string();
   if (!old_payload.ok()) return {};
-  const std::vector<uint8_t> old_frames = testing::serialize_frames_v2(old_container.index);
+  const std::vector<uint8_t> old_frames = testing::serialize_frames_v2_v3(old_container.index, 2);
   EXPECT_TRUE(old_payload->size() > old_frames.size() &&
               std::equal(old_frames.begin(), old_frames.end(), old_payload->end() - old_frames.size()))
       << "the framed seed's index does not end in version 2 frame records";
@@ -199,7 +200,7 @@ std::vector<uint8_t> renewed_framed_seed(const std::vector<uint8_t>& framed, con
     out.insert(out.end(), chunk.begin(), chunk.end());
   }
   std::vector<uint8_t> index_payload(old_payload->begin(), old_payload->end() - old_frames.size());
-  const std::vector<uint8_t> frames = testing::serialize_frames_v2(index);
+  const std::vector<uint8_t> frames = testing::serialize_frames_v2_v3(index, 2);
   index_payload.insert(index_payload.end(), frames.begin(), frames.end());
   const std::vector<uint8_t> chunk = make_chunk(kIndexChunkTag, index_payload);
   const std::vector<uint8_t> slot = make_commit_slot(1, out.size(), chunk.size());
@@ -323,7 +324,11 @@ TEST(FuzzCorpus, Generate) {
   };
   // Container seeds; the framed seeds and their version 1 twins renewed from them.
   const auto current = container_seeds(dir.path());
-  for (const auto& [name, bytes] : current) write(fs::path(target) / "container" / name, bytes);
+  for (const auto& [name, bytes] : current) {
+    write(fs::path(target) / "container" / name, bytes);
+    write(fs::path(target) / "container" / ("seed-v3index-" + name.substr(std::string("seed-").size())),
+          reindexed(bytes, dir.path() / "scratch.svc", &testing::serialize_index_v3));
+  }
   for (const fs::path& seed : framed_seeds()) {
     const std::vector<uint8_t> framed =
         renewed_framed_seed(read_bytes(seed), current.at(current_twin(seed)), dir.path());

@@ -136,9 +136,10 @@ struct ContainerIndex {
   std::array<FaceTypeStats, 2> stats;  // indexed by FaceType, kept for `svc info`
 };
 
-// Writes index version 3 (docs/format.md, "The index"): face cameras that a rig entry
+// Writes index version 4 (docs/format.md, "The index"): face cameras that a rig entry
 // reproduces bit for bit are stored as one byte, cell records of a regular grid in two,
-// frame records as varints. Lossless:
+// frame records as varints, without the chunk offset of a chunk that follows the
+// previous one or the references a B-cube's faces share. Lossless:
 // parse_index returns exactly `index` (every double bit for bit). `index` must be one
 // that parse_index accepts (at most two references per frame).
 std::vector<uint8_t> serialize_index(const ContainerIndex& index);

@@ -15,13 +15,15 @@ namespace {
 
 constexpr uint32_t kIndexVersion1 = 1;
 constexpr uint32_t kIndexVersion2 = 2;
-constexpr uint32_t kIndexVersion3 = 3;  // written; versions 1 and 2 are still read
+constexpr uint32_t kIndexVersion3 = 3;
+constexpr uint32_t kIndexVersion4 = 4;  // written; versions 1 to 3 are still read
 constexpr uint64_t kCameraBytes = (16 + 6) * 8;
 // Smallest record sizes, used to bound counts against the bytes left before allocating.
 constexpr uint64_t kCellRecordBytesV1 = 3 * 4 + 3 * 8 + kFaceCount * kCameraBytes;
 constexpr uint64_t kFrameRecordMinBytesV1 = 4 + 1 + 1 + 1 + 1 + 8 + 4;
 constexpr uint64_t kCellRecordMinBytesV2 = 3 * 4 + 3 * 8 + kFaceCount;  // every face from the rig
 constexpr uint64_t kFrameRecordMinBytesV2 = 1 + 1 + 1;                  // type byte, offset delta, payload size
+constexpr uint64_t kFrameRecordMinBytesV4 = 1 + 1;                      // type byte, payload size
 constexpr uint64_t kCellRecordMinBytesV3 = 1 + 1;                       // raster gap, flags
 // Version 3 cell record flags.
 constexpr uint8_t kCentreOnGridBit = 0x01;
@@ -38,7 +40,11 @@ constexpr int kRefCountShift = 2;
 constexpr uint8_t kRefCountMask = 0x03;
 constexpr uint8_t kCubeReferencesBit = 0x10;
 constexpr uint8_t kBareChunkBit = 0x20;
-constexpr uint8_t kFrameHeadReservedMask = 0xC0;
+constexpr uint8_t kFrameHeadReservedMask = 0xC0;  // before version 4
+// Version 4: bit 6, the chunk follows the previous record's (no offset delta); bit 7, the
+// references name the cells the previous record's do (no references).
+constexpr uint8_t kBackToBackBit = 0x40;
+constexpr uint8_t kSameReferencesBit = 0x80;
 constexpr int kMaxVarintBytes = 10;
 
 std::string at_offset(uint64_t offset) { return " at byte offset " + std::to_string(offset); }
@@ -441,7 +447,7 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
   uint64_t next_raster = 0;
   std::optional<std::array<uint8_t, kFaceCount>> previous;
   for (uint64_t i = 0; i < cell_count; ++i) {
-    if (version == kIndexVersion3) {
+    if (version >= kIndexVersion3) {
       SVC_RETURN_IF_ERROR(read_compact_cell(r, rig, i, next_raster, previous, index));
       continue;
     }
@@ -518,6 +524,24 @@ Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& li
 // Versions 2 and 3, which differ in how references are written: frame numbers (2), or
 // the referenced cell's ordinal less this frame's, zigzag-signed (3: the face is the
 // frame's own).
+// Version 4, bit 7: frame i references the cells frame i - 1 of the same cell does.
+Status copy_previous_references(ContainerIndex& index, uint64_t i, uint64_t ref_count, const std::string& what,
+                                uint64_t record_at) {
+  if (i % kFaceCount == 0) {
+    return corrupt_at(what + " shares the references of a previous face, but is its cell's first", record_at);
+  }
+  const FrameRecord& previous = index.frames[i - 1];
+  if (previous.references.size() != ref_count) {
+    return corrupt_at(what + " shares the previous face's references, but counts " + std::to_string(ref_count) +
+                          " against its " + std::to_string(previous.references.size()),
+                      record_at);
+  }
+  FrameReferences references;
+  for (uint32_t ref : previous.references) references.push_back(ref + 1);  // the same cell, the next face
+  index.frames[i].references = references;
+  return Status::Ok();
+}
+
 Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, const ReaderLimits& limits,
                            ContainerIndex& index) {
   const uint64_t frame_count = index.frames.size();
@@ -530,9 +554,11 @@ Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, 
     const std::string what = frame_name(index, i);
     const uint8_t head = r.u8();
     if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
-    if (head & kFrameHeadReservedMask) {
+    if (version < kIndexVersion4 && (head & kFrameHeadReservedMask)) {
       return corrupt_at(what + " has reserved bits set in its type byte", record_at);
     }
+    const bool back_to_back = version >= kIndexVersion4 && (head & kBackToBackBit);
+    const bool same_references = version >= kIndexVersion4 && (head & kSameReferencesBit);
     const uint8_t kind = head & kFaceTypeMask;
     const uint8_t ref_count = (head >> kRefCountShift) & kRefCountMask;
     frame.cube_references = (head & kCubeReferencesBit) != 0;
@@ -541,7 +567,10 @@ Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, 
       return corrupt_at(what + " is not a B-face but has the cube-references bit set", record_at);
     }
 
-    SVC_ASSIGN_OR_RETURN(const uint64_t zigzag, read_varint(r, what + " chunk offset"));
+    uint64_t zigzag = 0;
+    if (!back_to_back) {
+      SVC_ASSIGN_OR_RETURN(zigzag, read_varint(r, what + " chunk offset"));
+    }
     const int64_t delta = zigzag_decode(zigzag);
     // previous_end <= file_size here, so these bounds keep the sum inside [0, file_size].
     const uint64_t magnitude = delta < 0 ? uint64_t{0} - static_cast<uint64_t>(delta)
@@ -560,6 +589,11 @@ Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, 
     frame.payload_size = static_cast<uint32_t>(payload_size);
     SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, what, record_at, file_size, limits));
     frame.type = static_cast<FaceType>(kind);
+    if (same_references) {
+      SVC_RETURN_IF_ERROR(copy_previous_references(index, i, ref_count, what, record_at));
+      previous_end = frame.chunk_offset + chunk_bytes(frame);
+      continue;
+    }
     frame.references.resize(ref_count);
     for (uint32_t& ref : frame.references) {
       SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
@@ -587,6 +621,16 @@ Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, 
   return Status::Ok();
 }
 
+// Whether `references` (of a frame) name the cells `previous` (of the frame before it,
+// the same cell's previous face) name, in the same order.
+bool same_reference_cells(const FrameReferences& references, const FrameReferences& previous) {
+  if (references.size() != previous.size()) return false;
+  for (size_t k = 0; k < references.size(); ++k) {
+    if (references[k] / kFaceCount != previous[k] / kFaceCount) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
@@ -596,7 +640,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
 
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras) {
   ByteWriter w;
-  w.u32(kIndexVersion3);
+  w.u32(kIndexVersion4);
   w.u32(index.face_width);
   w.u32(index.face_height);
   for (int32_t d : index.grid.dims) w.i32(d);
@@ -624,7 +668,7 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
     write_frustum(w, entry.frustum);
   }
 
-  // Cell records, version 3: the position in (y, z, x) order as the gap from the previous
+  // Cell records, versions 3 and 4: the position in (y, z, x) order as the gap from the previous
   // record, a centre on the grid and the previous cell's rig entries as flags.
   w.u32(static_cast<uint32_t>(index.cells.size()));
   uint64_t next_raster = 0;
@@ -657,23 +701,29 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
   for (size_t n = 0; n < index.frames.size(); ++n) {
     const FrameRecord& frame = index.frames[n];
     const auto cell = static_cast<int64_t>(n / kFaceCount);
+    const bool back_to_back = frame.chunk_offset == previous_end;
+    const bool same_references = n % kFaceCount != 0 && !frame.references.empty() &&
+                                 same_reference_cells(frame.references, index.frames[n - 1].references);
     w.u8(static_cast<uint8_t>((static_cast<uint8_t>(frame.type) & kFaceTypeMask) |
                               (frame.references.size() & kRefCountMask) << kRefCountShift |
                               (frame.cube_references ? kCubeReferencesBit : 0) |
-                              (frame.bare_chunk ? kBareChunkBit : 0)));
+                              (frame.bare_chunk ? kBareChunkBit : 0) | (back_to_back ? kBackToBackBit : 0) |
+                              (same_references ? kSameReferencesBit : 0)));
     // Two's complement difference: chunks appended by `svc add` lie before earlier ones.
-    write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
+    if (!back_to_back) write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
     write_varint(w, frame.payload_size);
     // References of the same face (the only ones parse_index accepts): the cell suffices.
-    for (uint32_t ref : frame.references) {
-      write_varint(w, zigzag_encode(static_cast<int64_t>(ref / kFaceCount) - cell));
+    if (!same_references) {
+      for (uint32_t ref : frame.references) {
+        write_varint(w, zigzag_encode(static_cast<int64_t>(ref / kFaceCount) - cell));
+      }
     }
     previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   for (const FaceTypeStats& t : index.stats) {
     for (uint64_t v : {t.faces, t.bytes, t.mb_intra, t.mb_forward, t.mb_backward, t.mb_bidirectional, t.mb_skipped,
                        t.candidate_vectors, t.candidate_macroblocks}) {
-      w.u64(v);
+      write_varint(w, v);
     }
   }
   return w.take();
@@ -686,7 +736,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   const uint64_t version_at = r.file_offset();
   const uint32_t version = r.u32();
   if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
-  if (version != kIndexVersion1 && version != kIndexVersion2 && version != kIndexVersion3) {
+  if (version < kIndexVersion1 || version > kIndexVersion4) {
     return Status(ErrorCode::kUnsupported,
                   "index version " + std::to_string(version) + " is not supported" + at_offset(version_at));
   }
@@ -703,7 +753,9 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   if (frame_count != index.cells.size() * kFaceCount) {
     return corrupt_at("frame count " + std::to_string(frame_count) + " is not six per cell", frames_at);
   }
-  const uint64_t min_record_bytes = version == kIndexVersion1 ? kFrameRecordMinBytesV1 : kFrameRecordMinBytesV2;
+  const uint64_t min_record_bytes = version == kIndexVersion1   ? kFrameRecordMinBytesV1
+                                    : version == kIndexVersion4 ? kFrameRecordMinBytesV4
+                                                                : kFrameRecordMinBytesV2;
   if (frame_count * min_record_bytes > r.remaining()) {
     return corrupt_at("frame count " + std::to_string(frame_count) + " does not fit in the index", frames_at);
   }
@@ -737,7 +789,11 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   for (FaceTypeStats& t : index.stats) {
     for (uint64_t* v : {&t.faces, &t.bytes, &t.mb_intra, &t.mb_forward, &t.mb_backward, &t.mb_bidirectional,
                         &t.mb_skipped, &t.candidate_vectors, &t.candidate_macroblocks}) {
-      *v = r.u64();
+      if (version < kIndexVersion4) {
+        *v = r.u64();
+        continue;
+      }
+      SVC_ASSIGN_OR_RETURN(*v, read_varint(r, "encoder statistics"));
     }
   }
   if (!r.ok()) return corrupt_at("encoder statistics are truncated", r.failed_at());
