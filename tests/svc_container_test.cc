@@ -50,7 +50,9 @@ ContainerIndex sample_index() {
 constexpr uint64_t kFileSize = 1 << 20;
 // Version 2 layout: the rig table follows the 96-byte header.
 constexpr size_t kRigCountAt = 4 + 8 + 12 + 48 + 4 + 8 + 12;
-constexpr size_t kRigEntryBytes = 15 * 8;
+constexpr size_t kRigEntryBytes = 15 * 8;  // versions 2 and 3
+// Version 4, a square frustum: packed rotation, flags, right, near and far.
+constexpr size_t kSquareRigEntryBytesV4 = 3 + 1 + 3 * 8;
 constexpr size_t kStatisticsBytes = 2 * 9 * 8;  // versions 1 to 3
 
 TEST(ContainerIndex, RoundTripsEveryField) {
@@ -265,7 +267,7 @@ TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
   const std::vector<uint8_t> bytes = serialize_index(index);
   EXPECT_EQ(index_version(bytes), 4u);
   EXPECT_EQ(bytes[kRigCountAt], 6);
-  // Header, rig table, cell records (position gap, flags: the first with one source byte
+  // Header, rig table (square frusta), cell records (position gap, flags: the first with one source byte
   // per face, the others on the grid with the first's rig entries), then frame records:
   // type byte (chunks back to back: no offset delta) and payload size (< 128); a B-cube's
   // first face adds its reference, the other five share it (version 4). Statistics as
@@ -274,7 +276,7 @@ TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
   const size_t frame_bytes = 6 * 2 + 8 * (3 + 5 * 2);
   const size_t statistics_bytes = 2 * 9 + 2;
   EXPECT_EQ(bytes.size(),
-            kRigCountAt + 1 + 6 * kRigEntryBytes + 4 + cell_bytes + 4 + frame_bytes + statistics_bytes);
+            kRigCountAt + 1 + 6 * kSquareRigEntryBytesV4 + 4 + cell_bytes + 4 + frame_bytes + statistics_bytes);
   EXPECT_LT(bytes.size() * 5, testing::serialize_index_v1(index).size());
 
   auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
@@ -304,7 +306,7 @@ TEST(ContainerIndexV2, CamerasNoRigEntryReproducesAreStoredExplicitly) {
   // Three explicit cameras (22 doubles each) and one more rig entry; cells 1 to 6 list
   // their sources (6 bytes each) instead of taking the previous cell's: they have an
   // explicit camera or a new rig entry, or follow a cell with an explicit camera.
-  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 22 * 8 + kRigEntryBytes + 6 * kFaceCount);
+  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 22 * 8 + kSquareRigEntryBytesV4 + 6 * kFaceCount);
   auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   expect_same_index(*parsed, index);
@@ -643,6 +645,36 @@ TEST(ContainerIndexV4, FramesShareChunkPositionsAndReferences) {
   expect_refused(parse_edited(bytes, b_cube + 3, 1, {0xE9}), "counts 2 against its 1");
   // Statistics are varints: one more byte is not part of them.
   expect_refused(parse_edited(bytes, bytes.size(), 0, {0}), "unexpected bytes");
+}
+
+// Version 4 rig entries: the rotation packed two bits an entry (negative zeros kept), a
+// frustum that is not square stored whole; reserved bits refused.
+TEST(ContainerIndexV4, RigEntriesArePackedAndExact) {
+  ContainerIndex index = rig_index();
+  for (int f = 0; f < kFaceCount; ++f) {
+    Camera& camera = index.cameras[0][f];
+    camera.frustum.left *= 2;  // not centred: all six doubles
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        double& v = camera.world_to_camera[j * 4 + i];
+        if (v == 0) v = -0.0;  // negative zeros survive bit for bit
+      }
+    }
+  }
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  EXPECT_EQ(bytes[kRigCountAt], 12);
+  auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_TRUE(std::signbit(parsed->cameras[0][0].world_to_camera[4]));
+  EXPECT_EQ(serialize_index(*parsed), bytes);
+  // The first entry: rotation bits past the nine entries, then an unknown flag.
+  const size_t entry0 = kRigCountAt + 1;
+  expect_refused(parse_edited(bytes, entry0 + 2, 1, {static_cast<uint8_t>(bytes[entry0 + 2] | 0x04)}),
+                 "rig entry 0 has reserved bits set");
+  expect_refused(parse_edited(bytes, entry0 + 3, 1, {0x02}), "rig entry 0 has reserved bits set");
+  // A rotation of two +1s in one row.
+  expect_refused(parse_edited(bytes, entry0, 1, {0xAA}), "not a signed permutation");
 }
 
 TEST(ContainerIndexV3, SparseGridsAndCentresOffTheGridRoundTrip) {

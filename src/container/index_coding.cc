@@ -32,7 +32,12 @@ constexpr uint8_t kCellFlagsReservedMask = 0xFC;
 // Version 2 camera rig table.
 constexpr uint8_t kExplicitCameraMarker = 255;
 constexpr size_t kMaxRigEntries = 64;
-constexpr uint64_t kRigEntryBytes = (9 + 6) * 8;
+constexpr uint64_t kRigEntryBytes = (9 + 6) * 8;  // versions 2 and 3
+// Version 4: the rotation's nine entries two bits each (+0, -0, +1, -1) in 3 bytes, a
+// flags byte (bit 0: the frustum is square and centred, right = top = -left = -bottom,
+// and only right, near and far follow), then the frustum's doubles.
+constexpr uint64_t kRigEntryMinBytesV4 = 3 + 1 + 3 * 8;
+constexpr uint8_t kSquareFrustumBit = 0x01;
 // Version 2 frame record type byte: bits 0-1 frame type, bits 2-3 reference count, bit 4
 // cube references, bit 5 bare chunk.
 constexpr uint8_t kFaceTypeMask = 0x03;
@@ -188,6 +193,48 @@ uint8_t rig_source(const Camera& camera, const std::array<double, 3>& centre, co
   return found == rig.end() ? kExplicitCameraMarker : static_cast<uint8_t>(found - rig.begin());
 }
 
+// A signed-permutation entry as version 4 codes it: 0 for +0, 1 for -0, 2 for +1, 3 for -1.
+uint32_t rotation_entry_code(double v) { return (v != 0 ? 2u : 0u) | (std::signbit(v) ? 1u : 0u); }
+double rotation_entry_value(uint32_t code) {
+  const double magnitude = code & 2 ? 1.0 : 0.0;
+  return code & 1 ? -magnitude : magnitude;
+}
+
+bool is_square(const Frustum& f) {
+  const double w = f.right;
+  return bits_of(f.left) == bits_of(-w) && bits_of(f.bottom) == bits_of(-w) && bits_of(f.top) == bits_of(w);
+}
+
+// Version 4's rig entry (kRigEntryMinBytesV4); the rotation must be a signed permutation.
+void write_rig_entry(ByteWriter& w, const RigEntry& entry) {
+  uint32_t packed = 0;
+  for (int k = 0; k < 9; ++k) packed |= rotation_entry_code(entry.rotation[static_cast<size_t>(k)]) << (2 * k);
+  for (int b = 0; b < 3; ++b) w.u8(static_cast<uint8_t>(packed >> (8 * b)));
+  const bool square = is_square(entry.frustum);
+  w.u8(square ? kSquareFrustumBit : 0);
+  if (!square) {
+    write_frustum(w, entry.frustum);
+    return;
+  }
+  for (double v : {entry.frustum.right, entry.frustum.near_plane, entry.frustum.far_plane}) w.f64(v);
+}
+
+// Reads what write_rig_entry wrote; the caller checks r.ok() and the entry's values.
+// Returns false for reserved flag bits or rotation bits.
+bool read_rig_entry(ByteReader& r, RigEntry& entry) {
+  uint32_t packed = 0;
+  for (int b = 0; b < 3; ++b) packed |= uint32_t{r.u8()} << (8 * b);
+  const uint8_t flags = r.u8();
+  for (int k = 0; k < 9; ++k) entry.rotation[static_cast<size_t>(k)] = rotation_entry_value(packed >> (2 * k) & 3);
+  if (!(flags & kSquareFrustumBit)) {
+    entry.frustum = read_frustum(r);
+  } else {
+    const double w = r.f64(), near = r.f64(), far = r.f64();
+    entry.frustum = {-w, w, -w, w, near, far};
+  }
+  return (packed >> 18) == 0 && (flags & ~kSquareFrustumBit) == 0;
+}
+
 // Adds the entry that reproduces `camera` when the table has none yet and has room:
 // first-use order makes the table a function of the cells alone.
 void add_rig_entry(const Camera& camera, const std::array<double, 3>& centre, std::vector<RigEntry>& rig) {
@@ -306,7 +353,7 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
   return Status::Ok();
 }
 
-Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r) {
+Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r, uint32_t version) {
   const uint64_t count_at = r.file_offset();
   const uint64_t count = r.u8();
   if (!r.ok()) return corrupt_at("index is truncated before the camera rig table", r.failed_at());
@@ -315,23 +362,32 @@ Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r) {
                           std::to_string(kMaxRigEntries),
                       count_at);
   }
-  if (count * kRigEntryBytes > r.remaining()) {
+  if (count * (version >= kIndexVersion4 ? kRigEntryMinBytesV4 : kRigEntryBytes) > r.remaining()) {
     return corrupt_at("camera rig table of " + std::to_string(count) + " entries does not fit in the index",
                       count_at);
   }
   std::vector<RigEntry> rig(count);
   for (uint64_t k = 0; k < count; ++k) {
     const uint64_t entry_at = r.file_offset();
-    for (double& v : rig[k].rotation) v = r.f64();
-    rig[k].frustum = read_frustum(r);
+    bool reserved_clear = true;
+    if (version >= kIndexVersion4) {
+      reserved_clear = read_rig_entry(r, rig[k]);
+    } else {
+      for (double& v : rig[k].rotation) v = r.f64();
+      rig[k].frustum = read_frustum(r);
+    }
     if (!r.ok()) return corrupt_at("camera rig entry " + std::to_string(k) + " is truncated", entry_at);
+    if (!reserved_clear) {
+      return corrupt_at("camera rig entry " + std::to_string(k) + " has reserved bits set", entry_at);
+    }
     if (!is_signed_permutation(rig[k].rotation)) {
       return corrupt_at("camera rig entry " + std::to_string(k) +
                             " has a rotation that is not a signed permutation",
                         entry_at);
     }
     if (!frustum_is_valid(rig[k].frustum)) {
-      return corrupt_at("camera rig entry " + std::to_string(k) + " has an invalid frustum", entry_at + 72);
+      return corrupt_at("camera rig entry " + std::to_string(k) + " has an invalid frustum",
+                        entry_at + (version >= kIndexVersion4 ? 4 : 72));
     }
   }
   return rig;
@@ -663,10 +719,7 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
     for (const Camera& camera : cameras) add_rig_entry(camera, index.cells[c].position, rig);
   }
   w.u8(static_cast<uint8_t>(rig.size()));
-  for (const RigEntry& entry : rig) {
-    for (double v : entry.rotation) w.f64(v);
-    write_frustum(w, entry.frustum);
-  }
+  for (const RigEntry& entry : rig) write_rig_entry(w, entry);
 
   // Cell records, versions 3 and 4: the position in (y, z, x) order as the gap from the previous
   // record, a centre on the grid and the previous cell's rig entries as flags.
@@ -743,7 +796,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   SVC_RETURN_IF_ERROR(parse_header(r, limits, index));
   std::vector<RigEntry> rig;
   if (version != kIndexVersion1) {
-    SVC_ASSIGN_OR_RETURN(rig, parse_rig_table(r));
+    SVC_ASSIGN_OR_RETURN(rig, parse_rig_table(r, version));
   }
   SVC_RETURN_IF_ERROR(parse_cells(r, version, rig, limits, index));
 

@@ -47,17 +47,39 @@ inline std::vector<uint8_t> serialize_frames_v2_v3(const ContainerIndex& index, 
   return w.take();
 }
 
-// A version 3 index: version 4's header, rig table and cell records (the same bytes),
-// then version 3's frame records and statistics.
+// A version 3 index: version 4's header and cell records (the same bytes), its rig
+// entries written out in full (nine rotation doubles, six frustum doubles), then version
+// 3's frame records and statistics.
 inline std::vector<uint8_t> serialize_index_v3(const ContainerIndex& index) {
+  constexpr size_t kRigCountAt = 4 + 8 + 12 + 48 + 4 + 8 + 12;
   // Without frames and statistics the version 4 index ends in a zero frame count and 18
   // one-byte zero statistics.
   ContainerIndex cells_only = index;
   cells_only.frames.clear();
   cells_only.stats = {};
-  std::vector<uint8_t> bytes = serialize_index(cells_only);
-  bytes.resize(bytes.size() - 4 - 2 * 9);
+  const std::vector<uint8_t> v4 = serialize_index(cells_only);
+  std::vector<uint8_t> bytes(v4.begin(), v4.begin() + kRigCountAt + 1);
   bytes[0] = 3;
+  ByteReader r(std::span<const uint8_t>(v4).subspan(kRigCountAt + 1), 0);
+  ByteWriter rig;
+  for (int k = 0; k < v4[kRigCountAt]; ++k) {
+    uint32_t packed = 0;
+    for (int b = 0; b < 3; ++b) packed |= uint32_t{r.u8()} << (8 * b);
+    for (int e = 0; e < 9; ++e) {
+      const uint32_t code = packed >> (2 * e) & 3;
+      const double magnitude = code & 2 ? 1.0 : 0.0;
+      rig.f64(code & 1 ? -magnitude : magnitude);
+    }
+    if (r.u8() == 0) {
+      for (int v = 0; v < 6; ++v) rig.f64(r.f64());
+    } else {
+      const double w = r.f64(), near = r.f64(), far = r.f64();
+      for (double v : {-w, w, -w, w, near, far}) rig.f64(v);
+    }
+  }
+  bytes.insert(bytes.end(), rig.bytes().begin(), rig.bytes().end());
+  const size_t cells_at = v4.size() - r.remaining();
+  bytes.insert(bytes.end(), v4.begin() + static_cast<std::ptrdiff_t>(cells_at), v4.end() - 4 - 2 * 9);
   const std::vector<uint8_t> frames = serialize_frames_v2_v3(index, 3);
   bytes.insert(bytes.end(), frames.begin(), frames.end());
   return bytes;
