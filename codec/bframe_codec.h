@@ -30,14 +30,16 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 17;
-// Header byte 4 bit 4: coded inter macroblocks code whether their luma residual is one
+inline constexpr uint8_t kBFrameSyntaxVersion = 18;
+// Flags byte bit 4: coded inter macroblocks code whether their luma residual is one
 // 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
 // it is four 4x4 blocks (docs/codec.md 10.4).
 inline constexpr uint8_t kInterTransformSizesFlag = 16;
-// Frame type, syntax version, qindex, the references' byte (border units, interpolation
-// filter, reference count, warp mask), flags (docs/codec.md 10).
-inline constexpr int kBFrameHeaderBytes = 5;
+// Frame type and syntax version (byte 0, intra_codec.h), qindex, the references' byte
+// (border units, interpolation filter, reference count, warp mask), flags (docs/codec.md 10).
+inline constexpr int kBFrameReferencesByte = 2;
+inline constexpr int kBFrameFlagsByte = 3;
+inline constexpr int kBFrameHeaderBytes = 4;
 
 // The border units (codec/cube_padding.h) of references `extra` samples wider and taller
 // than the face (a border of extra / 2 on each side), or -1 when `extra` is not a valid
@@ -136,7 +138,7 @@ struct BFrameParams {
   bool intra_transform_sizes = true;
   // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
   bool intra_cfl = true;
-  // Intra blocks with levels code their transform type (docs/codec.md 5.4; header byte 4
+  // Intra blocks with levels code their transform type (docs/codec.md 5.4; header byte 3
   // bit 3); off, every intra block is DCT_DCT and no type is coded.
   bool intra_transform_types = true;
 };
@@ -219,8 +221,8 @@ struct BFrameHeader {
   // references are the bare faces; codec/cube_padding.h builds padded ones).
   int border_units = 0;
   int loop_filters = 0;                // kLoopFilter* bits (intra_codec.h)
-  bool transform_types = false;        // byte 4 kTransformTypesFlag: intra blocks code their type
-  bool inter_transform_sizes = false;  // byte 4 kInterTransformSizesFlag
+  bool transform_types = false;        // byte 3 kTransformTypesFlag: intra blocks code their type
+  bool inter_transform_sizes = false;  // byte 3 kInterTransformSizesFlag
   int reference_count = 0;             // 1 or 2
   int warp_mask = 0;                   // bit r: reference r may be warped
   InterpolationFilter filter = InterpolationFilter::kRegular;

@@ -323,7 +323,7 @@ class MacroblockReader {
   BlockLevel decoded_[kMaxTransformArea];
 };
 
-// Header byte 3: bits 0-2 reference border units, bits 3-4 interpolation filter, bit 5
+// Header byte 2: bits 0-2 reference border units, bits 3-4 interpolation filter, bit 5
 // reference count - 1, bits 6-7 warp mask.
 constexpr int kFilterShift = 3, kSecondReferenceShift = 5, kWarpMaskShift = 6;
 constexpr uint8_t kBorderMask = 0x07, kFilterMask = 0x03, kWarpMaskMask = 0x03;
@@ -335,35 +335,35 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return corrupt("payload of " + std::to_string(bytes.size()) + " bytes is shorter than the " +
                    std::to_string(kBFrameHeaderBytes) + "-byte header");
   }
-  if (bytes[0] != static_cast<uint8_t>(FaceType::kPredicted)) {
-    return corrupt("byte 0: frame type " + std::to_string(bytes[0]) + " is not bidirectional (1)");
-  }
-  if (bytes[1] != kBFrameSyntaxVersion) {
-    return Status(ErrorCode::kUnsupported, "B-frame: byte 1: syntax version " + std::to_string(bytes[1]) +
+  if (!(bytes[0] & kBidirectionalTypeBit)) return corrupt("byte 0: frame type bit says intra, not bidirectional");
+  const int version = bytes[0] & kSyntaxVersionMask;
+  if (version != kBFrameSyntaxVersion) {
+    return Status(ErrorCode::kUnsupported, "B-frame: byte 0: syntax version " + std::to_string(version) +
                                                " (this build reads " + std::to_string(kBFrameSyntaxVersion) + ")");
   }
-  const int border_units = bytes[3] & kBorderMask, filter = (bytes[3] >> kFilterShift) & kFilterMask;
-  const int reference_count = 1 + ((bytes[3] >> kSecondReferenceShift) & 1);
-  const int warp_mask = (bytes[3] >> kWarpMaskShift) & kWarpMaskMask;
+  const uint8_t references = bytes[kBFrameReferencesByte], flags = bytes[kBFrameFlagsByte];
+  const int border_units = references & kBorderMask, filter = (references >> kFilterShift) & kFilterMask;
+  const int reference_count = 1 + ((references >> kSecondReferenceShift) & 1);
+  const int warp_mask = (references >> kWarpMaskShift) & kWarpMaskMask;
   if (border_units > kMaxCubeBorderUnits) {
-    return corrupt("byte 3: reference border of " + std::to_string(border_units) + " units outside 0.." +
+    return corrupt("byte 2: reference border of " + std::to_string(border_units) + " units outside 0.." +
                    std::to_string(kMaxCubeBorderUnits));
   }
   if (filter >= kInterpolationFilterCount) {
-    return corrupt("byte 3: interpolation filter " + std::to_string(filter) + " is not 0, 1 or 2");
+    return corrupt("byte 2: interpolation filter " + std::to_string(filter) + " is not 0, 1 or 2");
   }
   if ((warp_mask & ~((1 << reference_count) - 1)) != 0) {
-    return corrupt("byte 3: warp mask " + std::to_string(warp_mask) + " names a reference beyond the " +
+    return corrupt("byte 2: warp mask " + std::to_string(warp_mask) + " names a reference beyond the " +
                    std::to_string(reference_count) + " present");
   }
-  if ((bytes[4] & ~(kLoopFilterKnownBits | kTransformTypesFlag | kInterTransformSizesFlag)) != 0) {
-    return corrupt("byte 4: unknown flags " + std::to_string(bytes[4]));
+  if ((flags & ~(kLoopFilterKnownBits | kTransformTypesFlag | kInterTransformSizesFlag)) != 0) {
+    return corrupt("byte 3: unknown flags " + std::to_string(flags));
   }
-  out->qindex = bytes[2];  // every byte value is a valid index
+  out->qindex = bytes[kQIndexByte];  // every byte value is a valid index
   out->border_units = border_units;
-  out->loop_filters = bytes[4] & kLoopFilterKnownBits;
-  out->transform_types = (bytes[4] & kTransformTypesFlag) != 0;
-  out->inter_transform_sizes = (bytes[4] & kInterTransformSizesFlag) != 0;
+  out->loop_filters = flags & kLoopFilterKnownBits;
+  out->transform_types = (flags & kTransformTypesFlag) != 0;
+  out->inter_transform_sizes = (flags & kInterTransformSizesFlag) != 0;
   out->filter = static_cast<InterpolationFilter>(filter);
   out->reference_count = reference_count;
   out->warp_mask = warp_mask;
@@ -371,7 +371,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
 }
 
 std::array<uint8_t, kBFrameHeaderBytes> serialize_b_frame_header(const BFrameHeader& header) {
-  return {static_cast<uint8_t>(FaceType::kPredicted), kBFrameSyntaxVersion, static_cast<uint8_t>(header.qindex),
+  return {static_cast<uint8_t>(kBidirectionalTypeBit | kBFrameSyntaxVersion), static_cast<uint8_t>(header.qindex),
           static_cast<uint8_t>(header.border_units | static_cast<int>(header.filter) << kFilterShift |
                                (header.reference_count - 1) << kSecondReferenceShift |
                                header.warp_mask << kWarpMaskShift),

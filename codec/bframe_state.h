@@ -178,7 +178,7 @@ struct FrameState {
   int node_limit = 0;
   // References with a warp node field (bit r for reference r).
   int warp_mask = 0;
-  // The frame's interpolation filter bank (header byte 3, bits 3-4).
+  // The frame's interpolation filter bank (header byte 2, bits 3-4).
   InterpolationFilter filter = InterpolationFilter::kRegular;
   // Node grids (mbs_x + 1) x (mbs_y + 1) per reference: values and whether the decoder
   // knows them yet. The encoder stores its whole field up front and marks nodes known as

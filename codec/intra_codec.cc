@@ -1028,12 +1028,11 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   planes[1].pixels = source.cb.data();
   planes[2].pixels = source.cr.data();
 
-  std::vector<uint8_t> bytes = {static_cast<uint8_t>(FaceType::kIntra), kIntraSyntaxVersion,
-                                static_cast<uint8_t>(qindex),
+  std::vector<uint8_t> bytes = {kIntraSyntaxVersion, static_cast<uint8_t>(qindex),
                                 params.residual_matrix == ResidualMatrix::kWeighted ? kIntraWeightedMatrix
                                                                                     : uint8_t{0}};
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
-  if (params.transform_types) bytes[3] |= kTransformTypesFlag;
+  if (params.transform_types) bytes[kIntraFlagsByte] |= kTransformTypesFlag;
   RangeEncoder encoder(&bytes);
   PlaneContexts luma_contexts, chroma_contexts;
   prime_intra_frame_contexts(luma_contexts, chroma_contexts);
@@ -1084,11 +1083,11 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
     PaddedFrame filtered = frame;
     deblock_intra(&filtered, qindex);
     if (frame_error(filtered, source) < frame_error(frame, source)) {
-      bytes[3] |= kLoopFilterDeblocking;
+      bytes[kIntraFlagsByte] |= kLoopFilterDeblocking;
       frame = std::move(filtered);
     }
   }
-  if (params.cdef && apply_cdef_choice(encoder, &frame, source, qindex)) bytes[3] |= kLoopFilterCdef;
+  if (params.cdef && apply_cdef_choice(encoder, &frame, source, qindex)) bytes[kIntraFlagsByte] |= kLoopFilterCdef;
   observe_intra_frame_contexts(luma_contexts, chroma_contexts);
   encoder.finish();
   if (reconstruction != nullptr) crop(frame, width, height, reconstruction);
@@ -1105,16 +1104,15 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
     return corrupt("payload of " + std::to_string(bytes.size()) + " bytes is shorter than the " +
                    std::to_string(kFrameHeaderBytes) + "-byte header");
   }
-  if (bytes[0] != static_cast<uint8_t>(FaceType::kIntra)) {
-    return corrupt("byte 0: frame type " + std::to_string(bytes[0]) + " is not intra (0)");
-  }
-  if (bytes[1] != kIntraSyntaxVersion) {
-    return Status(ErrorCode::kUnsupported, "intra frame: byte 1: syntax version " + std::to_string(bytes[1]) +
+  if (bytes[0] & kBidirectionalTypeBit) return corrupt("byte 0: frame type bit says bidirectional, not intra");
+  if (bytes[0] != kIntraSyntaxVersion) {
+    return Status(ErrorCode::kUnsupported, "intra frame: byte 0: syntax version " + std::to_string(bytes[0]) +
                                                " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
   }
-  const int qindex = bytes[2];  // every byte value is a valid index
-  if ((bytes[3] & ~(kLoopFilterKnownBits | kIntraWeightedMatrix | kTransformTypesFlag)) != 0) {
-    return corrupt("byte 3: unknown flags " + std::to_string(bytes[3]));
+  const int qindex = bytes[kQIndexByte];  // every byte value is a valid index
+  const uint8_t flags = bytes[kIntraFlagsByte];
+  if ((flags & ~(kLoopFilterKnownBits | kIntraWeightedMatrix | kTransformTypesFlag)) != 0) {
+    return corrupt("byte 2: unknown flags " + std::to_string(flags));
   }
 
   const BlockLayout layout = block_layout(width, height);
@@ -1122,14 +1120,14 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   RangeDecoder decoder(bytes.subspan(kFrameHeaderBytes));
   PlaneContexts luma_contexts, chroma_contexts;
   prime_intra_frame_contexts(luma_contexts, chroma_contexts);
-  luma_contexts.types.enabled = chroma_contexts.types.enabled = (bytes[3] & kTransformTypesFlag) != 0;
+  luma_contexts.types.enabled = chroma_contexts.types.enabled = (flags & kTransformTypesFlag) != 0;
 
   CoefficientFrame result;
   result.width = width;
   result.height = height;
   result.qindex = qindex;
-  result.loop_filters = bytes[3] & kLoopFilterKnownBits;
-  result.residual_matrix = (bytes[3] & kIntraWeightedMatrix) ? ResidualMatrix::kWeighted : ResidualMatrix::kFlat;
+  result.loop_filters = flags & kLoopFilterKnownBits;
+  result.residual_matrix = (flags & kIntraWeightedMatrix) ? ResidualMatrix::kWeighted : ResidualMatrix::kFlat;
   result.block_counts.reserve(static_cast<size_t>(layout.block_count()));
   result.block_modes.reserve(static_cast<size_t>(layout.block_count()));
   result.luma_partitions.reserve(static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y);

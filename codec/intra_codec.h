@@ -47,7 +47,7 @@ struct CodingParams {
   // signalled in the header (kTransformTypesFlag): the encoder picks each coded block's
   // type by rate-distortion cost. When false, every block is DCT_DCT and no type is coded.
   bool transform_types = true;
-  // The residual quantization matrix (quant.h), signalled in the header (byte 3 bit 2).
+  // The residual quantization matrix (quant.h), signalled in the header (byte 2 bit 2).
   ResidualMatrix residual_matrix = ResidualMatrix::kFlat;
 };
 
@@ -56,15 +56,21 @@ struct CodingParams {
 inline constexpr uint8_t kLoopFilterDeblocking = 1;
 inline constexpr uint8_t kLoopFilterCdef = 2;
 inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
-// Byte 3 bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
+// Flags byte bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
 inline constexpr uint8_t kIntraWeightedMatrix = 4;
-// Intra frame byte 3 bit 3, B-frame byte 4 bit 3: intra blocks with levels code their
+// Flags byte bit 3, intra frames and B-frames: intra blocks with levels code their
 // transform type (docs/codec.md 5.4); without it every block is DCT_DCT.
 inline constexpr uint8_t kTransformTypesFlag = 8;
 
-// Every frame payload starts with: frame type, syntax version, qindex, loop filter flags.
-inline constexpr int kFrameHeaderBytes = 4;
-inline constexpr uint8_t kIntraSyntaxVersion = 10;
+// Byte 0 of every frame payload: the frame type in bit 7 (0 intra, 1 bidirectional) and
+// the syntax version in bits 0-6. An intra payload goes on with its qindex and its flags
+// byte (loop filters, matrix, transform types).
+inline constexpr uint8_t kBidirectionalTypeBit = 0x80;
+inline constexpr uint8_t kSyntaxVersionMask = 0x7F;
+inline constexpr int kQIndexByte = 1;
+inline constexpr int kIntraFlagsByte = 2;
+inline constexpr int kFrameHeaderBytes = 3;
+inline constexpr uint8_t kIntraSyntaxVersion = 11;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 

@@ -28,7 +28,7 @@ bool vector_in_range(MotionVector vector, int width, int height);
 // positions in 1/8 pel with the 4-tap filter.
 enum class PlaneKind : uint8_t { kLuma, kChroma };
 
-// The filter bank of a B-frame (header byte 3, docs/codec.md 10.1): HEVC's DCT-based
+// The filter bank of a B-frame (header byte 2, docs/codec.md 10.1): HEVC's DCT-based
 // filters, AV1's EIGHTTAP_SMOOTH, or bilinear. References carry quantisation noise and
 // are often seen at another scale, where a smoother filter predicts better.
 enum class InterpolationFilter : uint8_t { kRegular = 0, kSmooth = 1, kBilinear = 2 };

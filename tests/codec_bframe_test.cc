@@ -295,36 +295,37 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
   EXPECT_EQ(header.reference_count, 1);
   EXPECT_EQ(header.qindex, BFrameParams{}.qindex);
-  EXPECT_EQ(bytes[0], static_cast<uint8_t>(FaceType::kPredicted));
+  EXPECT_EQ(bytes[0], kBidirectionalTypeBit | kBFrameSyntaxVersion);
 
   ImageYCbCr420 out;
   EXPECT_EQ(decode_b_frame(bytes, w, h, ref, &ref, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_b_frame(bytes, w, h + 1, ref, nullptr, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_b_frame(bytes, 0, h, ref, nullptr, &out).code(), ErrorCode::kInvalidArgument);
   std::vector<uint8_t> changed = bytes;
-  changed[1] = kBFrameSyntaxVersion + 1;  // a later syntax
+  changed[0] = kBidirectionalTypeBit | (kBFrameSyntaxVersion + 1);  // a later syntax
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
-  changed[1] = kBFrameSyntaxVersion - 1;  // older entropy coding
+  changed[0] = kBidirectionalTypeBit | (kBFrameSyntaxVersion - 1);  // older entropy coding
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kUnsupported);
   changed = bytes;
-  changed[3] |= 0x80;  // a warp mask naming reference 1 of a one-reference frame
+  changed[kBFrameReferencesByte] |= 0x80;  // a warp mask naming reference 1 of a one-reference frame
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
   changed = bytes;
-  changed[3] |= 0x07;  // a reference border of 7 units
+  changed[kBFrameReferencesByte] |= 0x07;  // a reference border of 7 units
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
   changed = bytes;
-  changed[3] |= 0x18;  // interpolation filter 3
+  changed[kBFrameReferencesByte] |= 0x18;  // interpolation filter 3
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
   // The header's bytes are those its fields serialize to.
   const auto again = serialize_b_frame_header(header);
   EXPECT_TRUE(std::equal(again.begin(), again.end(), bytes.begin()));
   changed = bytes;
-  changed[4] = 4;  // a loop filter this decoder does not know
+  changed[kBFrameFlagsByte] = 4;  // a loop filter this decoder does not know
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
-  changed[4] = static_cast<uint8_t>(bytes[4] ^ kLoopFilterDeblocking);  // valid either way
+  changed[kBFrameFlagsByte] =
+      static_cast<uint8_t>(bytes[kBFrameFlagsByte] ^ kLoopFilterDeblocking);  // valid either way
   EXPECT_TRUE(decode_b_frame(changed, w, h, ref, nullptr, &out).ok());
   changed = bytes;
-  changed[0] = 0;
+  changed[0] = kBFrameSyntaxVersion;  // the type bit says intra
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
   // Zeros appended: up to kImplicitZeroBytes the decoder may read them as the ones left
   // out at the end; beyond, they are trailing bytes.
@@ -500,7 +501,7 @@ std::array<SizesRun, 2> code_without_and_with_sizes(const ImageYCbCr420& source,
 
     // The flag decides how the payload parses: flipped, the frame reads otherwise.
     std::vector<uint8_t> flipped = bytes;
-    flipped[4] ^= kInterTransformSizesFlag;
+    flipped[kBFrameFlagsByte] ^= kInterTransformSizesFlag;
     ImageYCbCr420 other;
     const Status status = decode_b_frame(flipped, w, h, ref, nullptr, &other);
     EXPECT_TRUE(!status.ok() || other.y != decoded.y);

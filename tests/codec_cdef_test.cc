@@ -125,8 +125,8 @@ TEST(Cdef, IntraFramesSignalChooseAndDecodeExactly) {
   ImageYCbCr420 filtered, plain, decoded, from_coefficients;
   const std::vector<uint8_t> with = encode_intra_frame(source, on, &filtered);
   const std::vector<uint8_t> without = encode_intra_frame(source, off, &plain);
-  ASSERT_NE(with[3] & kLoopFilterCdef, 0);
-  EXPECT_EQ(without[3] & kLoopFilterCdef, 0);
+  ASSERT_NE(with[kIntraFlagsByte] & kLoopFilterCdef, 0);
+  EXPECT_EQ(without[kIntraFlagsByte] & kLoopFilterCdef, 0);
   EXPECT_LT(luma_error(filtered, source), luma_error(plain, source));
   ASSERT_TRUE(decode_intra_frame(with, 136, 72, &decoded).ok());
   EXPECT_EQ(decoded.y, filtered.y);
@@ -145,7 +145,7 @@ TEST(Cdef, DamagedSyntaxIsRejectedOrDecodes) {
   CodingParams params;
   params.qindex = 170;
   const std::vector<uint8_t> bytes = encode_intra_frame(source, params, nullptr);
-  ASSERT_NE(bytes[3] & kLoopFilterCdef, 0);
+  ASSERT_NE(bytes[kIntraFlagsByte] & kLoopFilterCdef, 0);
   ImageYCbCr420 decoded;
   // The CDEF syntax is last: without the final bytes the decoder runs out.
   const Status truncated =
@@ -157,7 +157,7 @@ TEST(Cdef, DamagedSyntaxIsRejectedOrDecodes) {
   ImageYCbCr420 filtered;
   ASSERT_TRUE(decode_intra_frame(bytes, 136, 72, &filtered).ok());
   std::vector<uint8_t> flipped = bytes;
-  flipped[3] ^= kLoopFilterCdef;
+  flipped[kIntraFlagsByte] ^= kLoopFilterCdef;
   const Status unfiltered = decode_intra_frame(flipped, 136, 72, &decoded);
   EXPECT_TRUE(!unfiltered.ok() || decoded.y != filtered.y);
   // Damage in the last bytes: an error or a whole frame, never a crash.
@@ -191,7 +191,7 @@ TEST(Cdef, BFramesDecodeToTheEncodersReconstruction) {
   EXPECT_EQ(decoded.cr, reconstruction.cr);
   params.cdef = false;
   const std::vector<uint8_t> without = encode_b_frame(source, reference, nullptr, {}, {}, params, nullptr, nullptr);
-  EXPECT_EQ(without[3] & kLoopFilterCdef, 0);
+  EXPECT_EQ(without[kIntraFlagsByte] & kLoopFilterCdef, 0);
 }
 
 }  // namespace

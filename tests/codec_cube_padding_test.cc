@@ -401,8 +401,8 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
       encode_b_frame(source, padded, nullptr, candidates, {}, params, &padded_recon, &padded_stats);
   ASSERT_FALSE(plain.empty());
   ASSERT_FALSE(with_border.empty());
-  EXPECT_EQ(plain[3] & 7, 0);  // bits 0..2: the reference border
-  EXPECT_EQ(with_border[3] & 7, 2);
+  EXPECT_EQ(plain[kBFrameReferencesByte] & 7, 0);  // bits 0..2: the reference border
+  EXPECT_EQ(with_border[kBFrameReferencesByte] & 7, 2);
   ASSERT_TRUE(decode_b_frame(with_border, n, n, padded, nullptr, &decoded).ok());
   EXPECT_EQ(decoded.y, padded_recon.y);
   EXPECT_EQ(decoded.cb, padded_recon.cb);
@@ -418,13 +418,13 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
 }
 
 TEST(CubePadding, HeaderRejectsBordersBeyondTheLimit) {
-  // Byte 3 bits 0-2: the border units (one reference, regular filter, no warp).
-  std::vector<uint8_t> header = {1, kBFrameSyntaxVersion, 10, kMaxCubeBorderUnits + 1, 0};
+  // Byte 2 bits 0-2: the border units (one reference, regular filter, no warp).
+  std::vector<uint8_t> header = {kBidirectionalTypeBit | kBFrameSyntaxVersion, 10, kMaxCubeBorderUnits + 1, 0};
   BFrameHeader parsed;
   const Status status = parse_b_frame_header(header, &parsed);
   EXPECT_EQ(status.code(), ErrorCode::kCorruptData);
-  EXPECT_NE(status.message().find("byte 3"), std::string::npos) << status.message();
-  header[3] = kMaxCubeBorderUnits;
+  EXPECT_NE(status.message().find("byte 2"), std::string::npos) << status.message();
+  header[kBFrameReferencesByte] = kMaxCubeBorderUnits;
   ASSERT_TRUE(parse_b_frame_header(header, &parsed).ok());
   EXPECT_EQ(parsed.border_units, kMaxCubeBorderUnits);
 }

@@ -72,9 +72,8 @@ TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
       ImageYCbCr420 reconstruction, decoded;
       const std::vector<uint8_t> bytes = encode_intra_frame(source, {qs}, &reconstruction);
       ASSERT_GE(bytes.size(), static_cast<size_t>(kFrameHeaderBytes));
-      EXPECT_EQ(bytes[0], 0);
-      EXPECT_EQ(bytes[1], kIntraSyntaxVersion);
-      EXPECT_EQ(bytes[2], qs);
+      EXPECT_EQ(bytes[0], kIntraSyntaxVersion);  // type bit 0: intra
+      EXPECT_EQ(bytes[kQIndexByte], qs);
       const Status status = decode_intra_frame(bytes, width, height, &decoded);
       ASSERT_TRUE(status.ok()) << status.to_string();
       expect_same_image(decoded, reconstruction);
@@ -228,18 +227,20 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
     bytes[static_cast<size_t>(index)] = value;
     return decode_intra_frame(bytes, 32, 32, &out);
   };
-  EXPECT_EQ(with(0, 1).code(), ErrorCode::kCorruptData);                        // B-frame type
-  EXPECT_EQ(with(1, kIntraSyntaxVersion + 1).code(), ErrorCode::kUnsupported);  // future syntax
-  EXPECT_EQ(with(1, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
-  EXPECT_TRUE(with(2, 0).ok());                                                 // every qindex is valid: the finest
-  EXPECT_TRUE(with(2, 255).ok());                                               // and the coarsest
-  EXPECT_TRUE(with(3, kTransformTypesFlag).ok());  // loop filters off: other pixels, still valid
+  EXPECT_EQ(with(0, kBidirectionalTypeBit | kIntraSyntaxVersion).code(), ErrorCode::kCorruptData);  // B-frame
+  EXPECT_EQ(with(0, kIntraSyntaxVersion + 1).code(), ErrorCode::kUnsupported);                      // future syntax
+  EXPECT_EQ(with(0, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
+  EXPECT_EQ(with(0, 0).code(), ErrorCode::kUnsupported);  // before byte 0 held the version: type 0, version 8
+  EXPECT_TRUE(with(kQIndexByte, 0).ok());                 // every qindex is valid: the finest
+  EXPECT_TRUE(with(kQIndexByte, 255).ok());               // and the coarsest
+  EXPECT_TRUE(with(kIntraFlagsByte, kTransformTypesFlag).ok());  // loop filters off: other pixels, still valid
   // CDEF without its syntax reads it from the final zeros left out, or runs out.
-  const Status cdef_without_syntax = with(3, 2 | kTransformTypesFlag);
+  const Status cdef_without_syntax = with(kIntraFlagsByte, 2 | kTransformTypesFlag);
   EXPECT_TRUE(cdef_without_syntax.ok() || cdef_without_syntax.code() == ErrorCode::kCorruptData);
-  EXPECT_TRUE(with(3, 1 | kIntraWeightedMatrix | kTransformTypesFlag).ok());     // weighted: other pixels
-  EXPECT_EQ(with(3, 16 | kTransformTypesFlag).code(), ErrorCode::kCorruptData);  // an unknown flag
-  EXPECT_EQ(with(3, 0x80).code(), ErrorCode::kCorruptData);
+  EXPECT_TRUE(
+      with(kIntraFlagsByte, 1 | kIntraWeightedMatrix | kTransformTypesFlag).ok());  // weighted: other pixels
+  EXPECT_EQ(with(kIntraFlagsByte, 16 | kTransformTypesFlag).code(), ErrorCode::kCorruptData);  // an unknown flag
+  EXPECT_EQ(with(kIntraFlagsByte, 0x80).code(), ErrorCode::kCorruptData);
   EXPECT_EQ(decode_intra_frame(good, 0, 32, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame(good, 32, kMaxFrameDimension + 1, &out).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(decode_intra_frame({}, 32, 32, &out).code(), ErrorCode::kCorruptData);
@@ -282,11 +283,10 @@ TEST(CodecFrame, GarbageAndBitFlipsNeverCrash) {
     if (trial % 2 == 0) {
       bytes.resize(rng() % 600);
       for (auto& v : bytes) v = static_cast<uint8_t>(rng());
-      if (bytes.size() >= 4) {  // mostly a valid header, to reach the entropy decoder
-        bytes[0] = 0;
-        bytes[1] = kIntraSyntaxVersion;
-        bytes[2] = static_cast<uint8_t>(rng());
-        bytes[3] = 0;
+      if (bytes.size() >= kFrameHeaderBytes) {  // mostly a valid header, to reach the entropy decoder
+        bytes[0] = kIntraSyntaxVersion;
+        bytes[kQIndexByte] = static_cast<uint8_t>(rng());
+        bytes[kIntraFlagsByte] = 0;
       }
     } else {
       bytes = good;
@@ -320,8 +320,8 @@ TEST(CodecFrame, WeightedMatricesAreSignalledAndDecodeExactly) {
   ImageYCbCr420 flat_reconstruction, weighted_reconstruction, decoded;
   const std::vector<uint8_t> flat_bytes = encode_intra_frame(source, flat, &flat_reconstruction);
   const std::vector<uint8_t> weighted_bytes = encode_intra_frame(source, weighted, &weighted_reconstruction);
-  EXPECT_EQ(flat_bytes[3] & kIntraWeightedMatrix, 0);
-  EXPECT_EQ(weighted_bytes[3] & kIntraWeightedMatrix, kIntraWeightedMatrix);
+  EXPECT_EQ(flat_bytes[kIntraFlagsByte] & kIntraWeightedMatrix, 0);
+  EXPECT_EQ(weighted_bytes[kIntraFlagsByte] & kIntraWeightedMatrix, kIntraWeightedMatrix);
   // Coarser high frequencies: fewer bytes and other pixels at the same index.
   EXPECT_LT(weighted_bytes.size(), flat_bytes.size());
   EXPECT_FALSE(weighted_reconstruction.y == flat_reconstruction.y);
@@ -332,7 +332,7 @@ TEST(CodecFrame, WeightedMatricesAreSignalledAndDecodeExactly) {
   EXPECT_EQ(coefficients.residual_matrix, ResidualMatrix::kWeighted);
   // The same levels read with the flat matrix give other pixels: the flag matters.
   std::vector<uint8_t> relabelled = weighted_bytes;
-  relabelled[3] &= static_cast<uint8_t>(~kIntraWeightedMatrix);
+  relabelled[kIntraFlagsByte] &= static_cast<uint8_t>(~kIntraWeightedMatrix);
   ImageYCbCr420 misread;
   ASSERT_TRUE(decode_intra_frame(relabelled, 64, 48, &misread).ok());
   EXPECT_FALSE(misread.y == decoded.y);

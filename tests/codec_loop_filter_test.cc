@@ -116,8 +116,8 @@ TEST(LoopFilter, IntraFramesSignalAndApplyDeblocking) {
   ImageYCbCr420 filtered, plain, decoded, from_coefficients;
   const std::vector<uint8_t> with = encode_intra_frame(source, on, &filtered);
   const std::vector<uint8_t> without = encode_intra_frame(source, off, &plain);
-  ASSERT_EQ(with[3] & kLoopFilterKnownBits, kLoopFilterDeblocking);
-  ASSERT_EQ(without[3] & kLoopFilterKnownBits, 0);
+  ASSERT_EQ(with[kIntraFlagsByte] & kLoopFilterKnownBits, kLoopFilterDeblocking);
+  ASSERT_EQ(without[kIntraFlagsByte] & kLoopFilterKnownBits, 0);
   EXPECT_TRUE(std::equal(with.begin() + 4, with.end(), without.begin() + 4, without.end()));  // same symbols
   EXPECT_LT(error(filtered), error(plain));
   ASSERT_TRUE(decode_intra_frame(with, 96, 64, &decoded).ok());

@@ -225,7 +225,7 @@ TEST(TransformTypes, IntraFramesUseEveryTypeAndDecodeExactly) {
     ImageYCbCr420 reconstruction, decoded;
     const auto bytes = encode_intra_frame(image, params, &reconstruction);
     ASSERT_GT(bytes.size(), static_cast<size_t>(kFrameHeaderBytes));
-    EXPECT_EQ((bytes[3] & kTransformTypesFlag) != 0, types);
+    EXPECT_EQ((bytes[kIntraFlagsByte] & kTransformTypesFlag) != 0, types);
     CoefficientFrame parsed;
     ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, &parsed).ok());
     reconstruct_intra_frame(parsed, &decoded);
@@ -250,7 +250,7 @@ TEST(TransformTypes, DamagedStreamsGiveErrorsNotCrashes) {
   params.transform_types = false;
   ImageYCbCr420 reconstruction;
   auto bytes = encode_intra_frame(image, params, &reconstruction);
-  bytes[3] |= kTransformTypesFlag;
+  bytes[kIntraFlagsByte] |= kTransformTypesFlag;
   CoefficientFrame parsed;
   ImageYCbCr420 decoded;
   if (parse_intra_frame(bytes, image.width, image.height, &parsed).ok()) {

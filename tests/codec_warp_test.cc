@@ -360,7 +360,7 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   ASSERT_TRUE(parse_b_frame_header(one_ref, &header).ok());
   ASSERT_EQ(header.warp_mask, 1);
   std::vector<uint8_t> changed = one_ref;
-  changed[3] |= 0xC0;
+  changed[kBFrameReferencesByte] |= 0xC0;
   EXPECT_EQ(decode_b_frame(changed, w, h, ref0, nullptr, &out).code(), ErrorCode::kCorruptData);
 
   std::mt19937 rng(9);

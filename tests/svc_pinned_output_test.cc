@@ -54,10 +54,10 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "a13f34cac243475be9fa5eec72f16c0440be122aa1af44cb8fda5a935cb6c365",
+     "e2f0a31a64ef1b55b27d3d1e2136e5f1fe16725fb0993669c51695a124f9b3d8",
      "9d921f92618556da07419efe3f4fca1d8177be0cdd5cf8dac746162d17664b8c"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "be64d0efb121a08834819984377fb919e7fe37e3880c7074fae9d169f2512336",
+     "7fc1074de7fdafb6fa14ca1ff436f5a14d893e5ddd378a2eae7554efcfc2719f",
      "3ff950a8f76c57a023d9698780a8acdd03b3aecfa534cd8d50d113c1e6f23e42"},
 };
 

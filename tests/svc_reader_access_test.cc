@@ -287,8 +287,11 @@ TEST_F(ReaderAccess, BorderAndCubeReferencesBitMustAgree) {
         : FileCodedFaceSource(file, index), frame_(frame), border_(border) {}
     Result<std::vector<uint8_t>> payload(uint32_t frame) override {
       SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, FileCodedFaceSource::payload(frame));
-      // Header byte 3, bits 0-2 (codec/bframe_codec.h).
-      if (frame == frame_) bytes[3] = static_cast<uint8_t>((bytes[3] & ~0x07) | border_);
+      // Header byte 2, bits 0-2 (codec/bframe_codec.h).
+      if (frame == frame_) {
+        bytes[codec::kBFrameReferencesByte] =
+            static_cast<uint8_t>((bytes[codec::kBFrameReferencesByte] & ~0x07) | border_);
+      }
       return bytes;
     }
 
@@ -307,7 +310,7 @@ TEST_F(ReaderAccess, BorderAndCubeReferencesBitMustAgree) {
   EditedSource too_wide(**file_handle, index, b_frame, 7);
   decoded = decode_indexed_face(**file_handle, index, b_frame, too_wide);
   ASSERT_FALSE(decoded.ok());
-  EXPECT_NE(decoded.status().message().find("byte 3"), std::string::npos) << decoded.status().message();
+  EXPECT_NE(decoded.status().message().find("byte 2"), std::string::npos) << decoded.status().message();
   index.frames[b_frame].cube_references = false;
   decoded = decode_indexed_face(**file_handle, index, b_frame);
   ASSERT_FALSE(decoded.ok());
