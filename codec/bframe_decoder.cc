@@ -427,9 +427,9 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
         warped->push_back(coded_inter && s.mb(mx, my).inter_warp ? 1 : 0);
       }
     }
-    // A complete payload is never read past its end; stopping at the first row that does
-    // bounds the work garbage can cause.
-    if (decoder.overrun() > kImplicitZeroBytes) {
+    // A complete payload is never read further past its end than its left-out final zeros;
+    // stopping at the first row that does bounds the work garbage can cause.
+    if (decoder.truncated()) {
       return corrupt("payload truncated (macroblock row " + std::to_string(my) + " needs bytes beyond the " +
                      std::to_string(bytes.size()) + " given)");
     }
@@ -437,7 +437,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   CdefParams cdef;
   if (header.loop_filters & kLoopFilterCdef) {
     read_cdef_syntax(decoder, cdef_units(16 * s.mbs_x), cdef_units(16 * s.mbs_y), &cdef);
-    if (decoder.overrun() > kImplicitZeroBytes) {
+    if (decoder.truncated()) {
       return corrupt("payload truncated (CDEF syntax needs bytes beyond the " + std::to_string(bytes.size()) +
                      " given)");
     }

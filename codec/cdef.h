@@ -39,7 +39,7 @@ int cdef_units(int samples);
 
 // Writes / reads the filter's syntax (section 11.2) at the end of a frame's range-coded
 // data. Every bit pattern reads as valid parameters; truncation shows in the decoder's
-// overrun() (beyond kImplicitZeroBytes).
+// truncated().
 // `params` must hold units_x x units_y unit entries, each at most its preset count.
 void write_cdef_syntax(RangeEncoder& encoder, const CdefParams& params, int units_x, int units_y);
 void read_cdef_syntax(RangeDecoder& decoder, int units_x, int units_y, CdefParams* params);

@@ -1154,7 +1154,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
       }
       result.luma_partitions.push_back(partition);
     }
-    if (decoder.overrun() > kImplicitZeroBytes) return truncated(0, 2 * mby);
+    if (decoder.truncated()) return truncated(0, 2 * mby);
   }
   const PlaneGeometry& chroma = planes[1];
   std::vector<ChromaMode> cb_modes(static_cast<size_t>(chroma.blocks_x) * chroma.blocks_y);
@@ -1167,13 +1167,13 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
         ChromaMode& cb = cb_modes[static_cast<size_t>(by) * chroma.blocks_x + bx];
         if (!reader->read_chroma(8 * bx, 8 * by, plane, &cb)) return invalid();
       }
-      if (decoder.overrun() > kImplicitZeroBytes) return truncated(p, by);
+      if (decoder.truncated()) return truncated(p, by);
     }
   }
   if (result.loop_filters & kLoopFilterCdef) {
     read_cdef_syntax(decoder, cdef_units(8 * layout.luma_blocks_x), cdef_units(8 * layout.luma_blocks_y),
                      &result.cdef);
-    if (decoder.overrun() > kImplicitZeroBytes) {
+    if (decoder.truncated()) {
       return corrupt("payload truncated (CDEF syntax needs bytes beyond the " + std::to_string(bytes.size()) +
                      " given)");
     }

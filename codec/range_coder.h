@@ -185,6 +185,8 @@ class RangeDecoder {
   // Bytes requested beyond the end of the input (at most kImplicitZeroBytes for any
   // complete stream).
   size_t overrun() const { return position_ - consumed(); }
+  // Whether the decoder has read further past the end than a complete stream can make it.
+  bool truncated() const { return overrun() > kImplicitZeroBytes; }
   // Bytes of input consumed so far (including the 4 read at construction).
   size_t consumed() const { return std::min(position_, bytes_.size()); }
 

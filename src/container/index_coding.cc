@@ -577,9 +577,6 @@ Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& li
   return Status::Ok();
 }
 
-// Versions 2 and 3, which differ in how references are written: frame numbers (2), or
-// the referenced cell's ordinal less this frame's, zigzag-signed (3: the face is the
-// frame's own).
 // Version 4, bit 7: frame i references the cells frame i - 1 of the same cell does.
 Status copy_previous_references(ContainerIndex& index, uint64_t i, uint64_t ref_count, const std::string& what,
                                 uint64_t record_at) {
@@ -598,6 +595,39 @@ Status copy_previous_references(ContainerIndex& index, uint64_t i, uint64_t ref_
   return Status::Ok();
 }
 
+// Frame i's `ref_count` references as listed in its record: frame numbers (version 2),
+// or the referenced cell's ordinal less this frame's, zigzag-signed (versions 3 and 4:
+// the face is the frame's own).
+Status read_listed_references(ByteReader& r, uint32_t version, ContainerIndex& index, uint64_t i,
+                              uint64_t ref_count, const std::string& what, uint64_t record_at) {
+  const uint64_t frame_count = index.frames.size();
+  FrameRecord& frame = index.frames[i];
+  frame.references.resize(ref_count);
+  for (uint32_t& ref : frame.references) {
+    SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
+    if (version == kIndexVersion2) {
+      if (value >= frame_count) {
+        return corrupt_at(what + " references frame " + std::to_string(value) + " of " +
+                              std::to_string(frame_count),
+                          record_at);
+      }
+      ref = static_cast<uint32_t>(value);
+      continue;
+    }
+    const int64_t cell_delta = zigzag_decode(value);
+    const uint64_t cell_count = frame_count / kFaceCount;
+    if (cell_delta < -static_cast<int64_t>(frame.cell) ||
+        cell_delta >= static_cast<int64_t>(cell_count - frame.cell)) {
+      return corrupt_at(what + " references a cell " + std::to_string(cell_delta) + " cells away, outside the " +
+                            std::to_string(cell_count),
+                        record_at);
+    }
+    ref = static_cast<uint32_t>((frame.cell + cell_delta) * kFaceCount + i % kFaceCount);
+  }
+  return Status::Ok();
+}
+
+// Versions 2 to 4: varint records (docs/format.md "Frame record" and the older versions).
 Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, const ReaderLimits& limits,
                            ContainerIndex& index) {
   const uint64_t frame_count = index.frames.size();
@@ -645,33 +675,8 @@ Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, 
     frame.payload_size = static_cast<uint32_t>(payload_size);
     SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, what, record_at, file_size, limits));
     frame.type = static_cast<FaceType>(kind);
-    if (same_references) {
-      SVC_RETURN_IF_ERROR(copy_previous_references(index, i, ref_count, what, record_at));
-      previous_end = frame.chunk_offset + chunk_bytes(frame);
-      continue;
-    }
-    frame.references.resize(ref_count);
-    for (uint32_t& ref : frame.references) {
-      SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
-      if (version == kIndexVersion2) {
-        if (value >= frame_count) {
-          return corrupt_at(what + " references frame " + std::to_string(value) + " of " +
-                                std::to_string(frame_count),
-                            record_at);
-        }
-        ref = static_cast<uint32_t>(value);
-        continue;
-      }
-      const int64_t cell_delta = zigzag_decode(value);
-      const uint64_t cell_count = frame_count / kFaceCount;
-      if (cell_delta < -static_cast<int64_t>(frame.cell) ||
-          cell_delta >= static_cast<int64_t>(cell_count - frame.cell)) {
-        return corrupt_at(what + " references a cell " + std::to_string(cell_delta) + " cells away, outside the " +
-                              std::to_string(cell_count),
-                          record_at);
-      }
-      ref = static_cast<uint32_t>((frame.cell + cell_delta) * kFaceCount + i % kFaceCount);
-    }
+    SVC_RETURN_IF_ERROR(same_references ? copy_previous_references(index, i, ref_count, what, record_at)
+                                        : read_listed_references(r, version, index, i, ref_count, what, record_at));
     previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   return Status::Ok();
