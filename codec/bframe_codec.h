@@ -22,6 +22,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/epipolar.h"
 #include "codec/intra_codec.h"
 #include "codec/motion.h"
 #include "codec/motion_compensation.h"
@@ -30,11 +31,14 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 18;
+inline constexpr uint8_t kBFrameSyntaxVersion = 19;
 // Flags byte bit 4: coded inter macroblocks code whether their luma residual is one
 // 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
 // it is four 4x4 blocks (docs/codec.md 10.4).
 inline constexpr uint8_t kInterTransformSizesFlag = 16;
+// Byte 3 bit 2: each reference's epipolar lines open the range-coded data and vector
+// differences are coded along and across them (docs/codec.md 10.3).
+inline constexpr uint8_t kEpipolarLinesFlag = 4;
 // Frame type and syntax version (byte 0, intra_codec.h), qindex, the references' byte
 // (border units, interpolation filter, reference count, warp mask), flags (docs/codec.md 10).
 inline constexpr int kBFrameReferencesByte = 2;
@@ -126,6 +130,9 @@ struct BFrameParams {
   // direction and vectors, where that lowers the rate-distortion cost; off, every inter
   // macroblock is one 16x16 partition (for ablation).
   bool partitions = true;
+  // Codes vector differences along and across each reference's epipolar lines where the
+  // hints give them (docs/codec.md 10.3); off, in x and y, for ablation.
+  bool epipolar_lines = true;
   // Each coded vector and skip takes the cheapest of its vector predictors (docs/codec.md
   // 10.3); off, the first (the median) always, for ablation.
   bool vector_predictors = true;
@@ -208,6 +215,9 @@ struct ReferenceHints {
   const FaceCandidates* blocks = nullptr;
   // The warp node field, as in the overload above.
   const WarpField* warp = nullptr;
+  // The epipolar lines of the reference's camera seen from the current one (same
+  // orientation); absent, vectors are coded in x and y (docs/codec.md 10.3).
+  EpipolarLines lines;
 };
 
 // The same with per-reference hints (reference 1's ignored when ref1 is null).
@@ -223,6 +233,7 @@ struct BFrameHeader {
   int loop_filters = 0;                // kLoopFilter* bits (intra_codec.h)
   bool transform_types = false;        // byte 3 kTransformTypesFlag: intra blocks code their type
   bool inter_transform_sizes = false;  // byte 3 kInterTransformSizesFlag
+  bool epipolar_lines = false;         // byte 3 kEpipolarLinesFlag
   int reference_count = 0;             // 1 or 2
   int warp_mask = 0;                   // bit r: reference r may be warped
   InterpolationFilter filter = InterpolationFilter::kRegular;

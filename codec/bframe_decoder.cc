@@ -242,16 +242,15 @@ class MacroblockReader {
   Status read_vector(int r, const VectorPredictors& predictors, MotionVector* vector) {
     const int index = decode_predictor_index(decoder_, c_.predictor_index, predictors.count);
     const MotionVector predictor = predictors.vectors[static_cast<size_t>(index)];
-    const int dx = decode_mvd_component(decoder_, c_, 0, mvd_context(s_, mx_, my_, 0));
-    const int dy = decode_mvd_component(decoder_, c_, 1, mvd_context(s_, mx_, my_, 1));
-    const int vx = predictor.x + dx, vy = predictor.y + dy;
-    if (std::abs(vx) > s_.vector_limit || std::abs(vy) > s_.vector_limit) {
-      return fail("motion vector (" + std::to_string(vx) + ", " + std::to_string(vy) + ") towards reference " +
-                  std::to_string(r) + " quarter-pels beyond the limit " + std::to_string(s_.vector_limit));
+    const int d0 = decode_mvd_component(decoder_, c_, 0, mvd_context(s_, mx_, my_, 0));
+    const int d1 = decode_mvd_component(decoder_, c_, 1, mvd_context(s_, mx_, my_, 1));
+    if (!add_vector_difference(s_, r, mx_, my_, predictor, {d0, d1}, vector)) {
+      return fail("motion vector difference (" + std::to_string(d0) + ", " + std::to_string(d1) +
+                  ") towards reference " + std::to_string(r) + " leads beyond the limit of " +
+                  std::to_string(s_.vector_limit) + " quarter-pels");
     }
-    *vector = MotionVector{static_cast<int16_t>(vx), static_cast<int16_t>(vy)};
-    info_.mvd_magnitude[0] += std::abs(dx);
-    info_.mvd_magnitude[1] += std::abs(dy);
+    info_.mvd_magnitude[0] += std::abs(d0);
+    info_.mvd_magnitude[1] += std::abs(d1);
     return Status::Ok();
   }
 
@@ -356,7 +355,8 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
     return corrupt("byte 2: warp mask " + std::to_string(warp_mask) + " names a reference beyond the " +
                    std::to_string(reference_count) + " present");
   }
-  if ((flags & ~(kLoopFilterKnownBits | kTransformTypesFlag | kInterTransformSizesFlag)) != 0) {
+  if ((flags & ~(kLoopFilterKnownBits | kTransformTypesFlag | kInterTransformSizesFlag | kEpipolarLinesFlag)) !=
+      0) {
     return corrupt("byte 3: unknown flags " + std::to_string(flags));
   }
   out->qindex = bytes[kQIndexByte];  // every byte value is a valid index
@@ -364,6 +364,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   out->loop_filters = flags & kLoopFilterKnownBits;
   out->transform_types = (flags & kTransformTypesFlag) != 0;
   out->inter_transform_sizes = (flags & kInterTransformSizesFlag) != 0;
+  out->epipolar_lines = (flags & kEpipolarLinesFlag) != 0;
   out->filter = static_cast<InterpolationFilter>(filter);
   out->reference_count = reference_count;
   out->warp_mask = warp_mask;
@@ -376,7 +377,8 @@ std::array<uint8_t, kBFrameHeaderBytes> serialize_b_frame_header(const BFrameHea
                                (header.reference_count - 1) << kSecondReferenceShift |
                                header.warp_mask << kWarpMaskShift),
           static_cast<uint8_t>(header.loop_filters | (header.transform_types ? kTransformTypesFlag : 0) |
-                               (header.inter_transform_sizes ? kInterTransformSizesFlag : 0))};
+                               (header.inter_transform_sizes ? kInterTransformSizesFlag : 0) |
+                               (header.epipolar_lines ? kEpipolarLinesFlag : 0))};
 }
 
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
@@ -415,6 +417,14 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   if (partitions != nullptr) partitions->clear();
   if (warped != nullptr) warped->clear();
   RangeDecoder decoder(bytes.subspan(kBFrameHeaderBytes));
+  if (header.epipolar_lines) {
+    for (int r = 0; r < s.reference_count; ++r) {
+      if (!decode_epipolar_lines(decoder, &s.lines[r])) {
+        return corrupt("epipolar lines of reference " + std::to_string(r) + ": a coefficient beyond " +
+                       std::to_string(kMaxEpipolarCoefficient));
+      }
+    }
+  }
   MacroblockReader reader(s, decoder);
   for (int my = 0; my < s.mbs_y; ++my) {
     for (int mx = 0; mx < s.mbs_x; ++mx) {

@@ -508,13 +508,19 @@ class BFrameEncoder {
     const int contexts[2] = {mvd_context(s_, mx_, my_, 0), mvd_context(s_, mx_, my_, 1)};
     for (int r = 0; r < s_.reference_count; ++r) {
       if (!uses_reference(choice.mode, r)) continue;
-      const MotionVector predictor = write_predictor_index(encoder, choice.vectors[r], predictor_lists_[r]);
-      const int dx = choice.vectors[r].x - predictor.x, dy = choice.vectors[r].y - predictor.y;
-      encode_mvd_component(encoder, s_.contexts, 0, contexts[0], dx);
-      encode_mvd_component(encoder, s_.contexts, 1, contexts[1], dy);
-      info->mvd_magnitude[0] += std::abs(dx);
-      info->mvd_magnitude[1] += std::abs(dy);
+      const MotionVector predictor = write_predictor_index(encoder, r, choice.vectors[r], predictor_lists_[r]);
+      write_difference(encoder, contexts, r, choice.vectors[r], predictor, info);
       info->vectors[r] = choice.vectors[r];
+    }
+  }
+
+  // The difference of `vector` from `predictor` (10.3), counted into the neighbour context.
+  void write_difference(RangeEncoder& encoder, const int (&contexts)[2], int reference, MotionVector vector,
+                        MotionVector predictor, MacroblockInfo* info) {
+    const std::array<int64_t, 2> d = vector_difference(s_, reference, mx_, my_, vector, predictor);
+    for (int c = 0; c < 2; ++c) {
+      encode_mvd_component(encoder, s_.contexts, c, contexts[c], static_cast<int>(d[static_cast<size_t>(c)]));
+      info->mvd_magnitude[static_cast<size_t>(c)] += static_cast<int>(std::llabs(d[static_cast<size_t>(c)]));
     }
   }
 
@@ -527,13 +533,9 @@ class BFrameEncoder {
       for (int r = 0; r < s_.reference_count; ++r) {
         if (!uses_reference(motion.modes[k], r)) continue;
         const MotionVector predictor =
-            write_predictor_index(encoder, motion.vectors[k][r],
+            write_predictor_index(encoder, r, motion.vectors[k][r],
                                   partition_predictors(motion, k, r, predictor_lists_[r]));
-        const int dx = motion.vectors[k][r].x - predictor.x, dy = motion.vectors[k][r].y - predictor.y;
-        encode_mvd_component(encoder, s_.contexts, 0, contexts[0], dx);
-        encode_mvd_component(encoder, s_.contexts, 1, contexts[1], dy);
-        info->mvd_magnitude[0] += std::abs(dx);
-        info->mvd_magnitude[1] += std::abs(dy);
+        write_difference(encoder, contexts, r, motion.vectors[k][r], predictor, info);
         info->vectors[r] = motion.vectors[k][r];
       }
     }
@@ -614,23 +616,26 @@ class BFrameEncoder {
   }
 
   float vector_bits(int reference, MotionVector vector) const {
-    return vector_bits(vector, predictor_lists_[reference]);
+    return vector_bits(reference, vector, predictor_lists_[reference]);
   }
 
-  float vector_bits(MotionVector vector, const VectorPredictors& predictors) const {
+  float vector_bits(int reference, MotionVector vector, const VectorPredictors& predictors) const {
     float bits = 0;
-    cheapest_predictor(vector, predictors, &bits);
+    cheapest_predictor(reference, vector, predictors, &bits);
     return bits;
   }
 
   // The index of the predictor that codes `vector` in the fewest bits (the first of
   // equal ones), and those bits, index included.
-  int cheapest_predictor(MotionVector vector, const VectorPredictors& predictors, float* bits) const {
+  int cheapest_predictor(int reference, MotionVector vector, const VectorPredictors& predictors,
+                         float* bits) const {
     int best = 0;
     for (int i = 0; i < usable_predictors(predictors.count); ++i) {
-      const MotionVector p = predictors.vectors[static_cast<size_t>(i)];
+      const std::array<int64_t, 2> d =
+          vector_difference(s_, reference, mx_, my_, vector, predictors.vectors[static_cast<size_t>(i)]);
       const float candidate = predictor_index_bits(s_.contexts.predictor_index, predictors.count, i) +
-                              mvd_costs_[0].bits(vector.x - p.x) + mvd_costs_[1].bits(vector.y - p.y);
+                              mvd_costs_[0].bits(static_cast<int>(d[0])) +
+                              mvd_costs_[1].bits(static_cast<int>(d[1]));
       if (i == 0 || candidate < *bits) {
         best = i;
         *bits = candidate;
@@ -643,10 +648,10 @@ class BFrameEncoder {
   int usable_predictors(int count) const { return vector_predictors_ ? count : 1; }
 
   // Codes the index of the predictor `vector` is cheapest from and returns that predictor.
-  MotionVector write_predictor_index(RangeEncoder& encoder, MotionVector vector,
+  MotionVector write_predictor_index(RangeEncoder& encoder, int reference, MotionVector vector,
                                      const VectorPredictors& predictors) {
     float bits = 0;
-    const int index = cheapest_predictor(vector, predictors, &bits);
+    const int index = cheapest_predictor(reference, vector, predictors, &bits);
     encode_predictor_index(encoder, s_.contexts.predictor_index, predictors.count, index);
     return predictors.vectors[static_cast<size_t>(index)];
   }
@@ -699,7 +704,7 @@ class BFrameEncoder {
     auto try_vector = [&](MotionVector v) {
       v = clamp_vector(v);
       if (!tried_.insert(v)) return false;
-      const double rate = lambda_sad_ * vector_bits(v, predictors);
+      const double rate = lambda_sad_ * vector_bits(reference, v, predictors);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
       const int sad = rect_sad(reference, rect, v);
       if (stats != nullptr) ++stats->sad_evaluations;
@@ -713,7 +718,13 @@ class BFrameEncoder {
     int supplied = 0;
     // Lists are ranked (most pixels first): the tail rarely wins and costs a SAD each.
     const size_t count = std::min(list.size(), static_cast<size_t>(max_candidates_));
-    for (size_t k = 0; k < count; ++k) supplied += try_vector(list[k]);
+    // A candidate is the motion of one pixel; on the line through the centre it predicts
+    // a surface facing the camera as well or better, and costs no across difference.
+    const LineDirection line = macroblock_direction(s_, reference, mx_, my_);
+    for (size_t k = 0; k < count; ++k) {
+      supplied += try_vector(list[k]);
+      if (s_.lines[reference].present()) try_vector(onto_line(line, list[k], s_.vector_limit));
+    }
     if (stats != nullptr && rect.width == 16 && rect.height == 16) stats->candidates_evaluated += supplied;
     if (supplied == 0) try_vector(MotionVector{});
     for (int i = 0; i < usable_predictors(predictors.count); ++i)
@@ -1004,7 +1015,7 @@ class BFrameEncoder {
         if (s_.reference_count == 1 && mode != MacroblockMode::kForward) continue;
         float mode_side_bits = direction_bits(s_, mx_, my_, mode);
         for (int r = 0; r < s_.reference_count; ++r) {
-          if (uses_reference(mode, r)) mode_side_bits += vector_bits(vectors[r], part_predictors[r]);
+          if (uses_reference(mode, r)) mode_side_bits += vector_bits(r, vectors[r], part_predictors[r]);
         }
         uint8_t prediction[256];
         for (int y = rect.y; y < rect.y + rect.height; ++y) {
@@ -1216,6 +1227,9 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
                                    std::clamp(field->nodes[n].y, -state.node_limit, state.node_limit)};
     }
   }
+  for (int r = 0; r < state.reference_count; ++r) {
+    if (params.epipolar_lines) state.lines[r] = hints[r].lines;
+  }
   coded.padded = pad_source(source, state);
   BFrameStats* stats = with_stats ? &coded.stats : nullptr;
   if (stats != nullptr) {
@@ -1231,9 +1245,13 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
   header.warp_mask = state.warp_mask;
   header.transform_types = params.intra_transform_types;
   header.inter_transform_sizes = state.inter_transform_sizes;
+  header.epipolar_lines = state.lines[0].present() || state.lines[1].present();
   const std::array<uint8_t, kBFrameHeaderBytes> header_bytes = serialize_b_frame_header(header);
   coded.bytes = std::make_unique<std::vector<uint8_t>>(header_bytes.begin(), header_bytes.end());
   coded.encoder = std::make_unique<RangeEncoder>(coded.bytes.get());
+  if (header.epipolar_lines) {
+    for (int r = 0; r < state.reference_count; ++r) encode_epipolar_lines(*coded.encoder, state.lines[r]);
+  }
   BFrameEncoder coder(state, coded.padded, params, search);
   for (int my = 0; my < state.mbs_y; ++my) {
     for (int mx = 0; mx < state.mbs_x; ++mx) {
@@ -1285,8 +1303,8 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     const FaceCandidates& candidates1, const WarpField* warp0,
                                     const WarpField* warp1, const BFrameParams& params,
                                     ImageYCbCr420* reconstruction, BFrameStats* stats) {
-  const std::array<ReferenceHints, 2> hints = {ReferenceHints{&candidates0, nullptr, warp0},
-                                               ReferenceHints{&candidates1, nullptr, warp1}};
+  const std::array<ReferenceHints, 2> hints = {ReferenceHints{&candidates0, nullptr, warp0, {}},
+                                               ReferenceHints{&candidates1, nullptr, warp1, {}}};
   return encode_b_frame(source, ref0, ref1, hints, params, reconstruction, stats);
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "codec/context_priors.h"
@@ -64,15 +65,31 @@ int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, 
          (by > 0 ? block_value(s, s.coded[plane], local, plane, mx, my, bx, by - 1) : 0);
 }
 
-MotionVector predict_vector(const FrameState& s, int mx, int my, int reference) {
-  if (my == 0) return mx == 0 ? MotionVector{} : s.mb(mx - 1, 0).vectors[reference];
-  const MotionVector top = s.mb(mx, my - 1).vectors[reference];
-  const MotionVector left = mx > 0 ? s.mb(mx - 1, my).vectors[reference] : top;
-  const MotionVector diagonal = mx + 1 < s.mbs_x ? s.mb(mx + 1, my - 1).vectors[reference]
-                                : mx > 0         ? s.mb(mx - 1, my - 1).vectors[reference]
-                                                 : top;
+namespace {
+
+// The median predictor of 10.2 over the neighbours' vectors as `at(nx, ny)` gives them.
+template <class VectorAt>
+MotionVector median_predictor(const FrameState& s, int mx, int my, VectorAt at) {
+  if (my == 0) return mx == 0 ? MotionVector{} : at(mx - 1, 0);
+  const MotionVector top = at(mx, my - 1);
+  const MotionVector left = mx > 0 ? at(mx - 1, my) : top;
+  const MotionVector diagonal = mx + 1 < s.mbs_x ? at(mx + 1, my - 1) : mx > 0 ? at(mx - 1, my - 1) : top;
   return MotionVector{static_cast<int16_t>(median3(left.x, top.x, diagonal.x)),
                       static_cast<int16_t>(median3(left.y, top.y, diagonal.y))};
+}
+
+}  // namespace
+
+MotionVector predict_vector(const FrameState& s, int mx, int my, int reference) {
+  return median_predictor(s, mx, my, [&](int nx, int ny) { return s.mb(nx, ny).vectors[reference]; });
+}
+
+MotionVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDirection here) {
+  const MotionVector v = s.mb(nx, ny).vectors[r];
+  int64_t x = 0, y = 0;
+  if (!carry_along_lines(v.x, v.y, macroblock_direction(s, r, nx, ny), here, &x, &y)) return v;
+  if (std::llabs(x) > s.vector_limit || std::llabs(y) > s.vector_limit) return v;
+  return MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)};
 }
 
 void VectorPredictors::add(MotionVector v) {
@@ -82,12 +99,23 @@ void VectorPredictors::add(MotionVector v) {
   vectors[static_cast<size_t>(count++)] = v;
 }
 
+MotionVector onto_line(LineDirection d, MotionVector v, int limit) {
+  if (d.x == 0 && d.y == 0) return v;
+  int64_t x = 0, y = 0;
+  from_line_coordinates({to_line_coordinates(v.x, v.y, d).along, 0}, d, &x, &y);
+  if (std::llabs(x) > limit || std::llabs(y) > limit) return v;
+  return MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)};
+}
+
 VectorPredictors macroblock_predictors(const FrameState& s, int mx, int my, int reference) {
+  const LineDirection d = macroblock_direction(s, reference, mx, my);
+  auto at = [&](int nx, int ny) { return carried_vector(s, reference, nx, ny, d); };
   VectorPredictors list;
-  list.add(predict_vector(s, mx, my, reference));
-  if (mx > 0) list.add(s.mb(mx - 1, my).vectors[reference]);
-  if (my > 0) list.add(s.mb(mx, my - 1).vectors[reference]);
-  if (my > 0 && mx + 1 < s.mbs_x) list.add(s.mb(mx + 1, my - 1).vectors[reference]);
+  auto add = [&](MotionVector v) { list.add(onto_line(d, v, s.vector_limit)); };
+  add(median_predictor(s, mx, my, at));
+  if (mx > 0) add(at(mx - 1, my));
+  if (my > 0) add(at(mx, my - 1));
+  if (my > 0 && mx + 1 < s.mbs_x) add(at(mx + 1, my - 1));
   return list;
 }
 
@@ -186,9 +214,19 @@ WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vec
     return planar(node(i + 1, j), node(i, j - 1), node(i + 1, j - 1));
   }
   *kind = 1;
-  if (s.known(r, i - 1, j)) return node(i - 1, j);
-  if (s.known(r, i, j - 1)) return node(i, j - 1);
-  if (s.known(r, i + 1, j)) return node(i + 1, j);
+  // A neighbour's node as this node would see the same depth (itself without lines).
+  auto carried = [&](int x, int y) {
+    const WarpNode n = node(x, y);
+    int64_t cx = 0, cy = 0;
+    if (!carry_along_lines(n.x, n.y, node_direction(s, r, x, y), node_direction(s, r, i, j), &cx, &cy) ||
+        std::llabs(cx) > s.node_limit || std::llabs(cy) > s.node_limit) {
+      return n;
+    }
+    return WarpNode{static_cast<int32_t>(cx), static_cast<int32_t>(cy)};
+  };
+  if (s.known(r, i - 1, j)) return carried(i - 1, j);
+  if (s.known(r, i, j - 1)) return carried(i, j - 1);
+  if (s.known(r, i + 1, j)) return carried(i + 1, j);
   return WarpNode{2 * vector_predictor.x, 2 * vector_predictor.y};
 }
 
@@ -203,6 +241,41 @@ int mvd_context(const FrameState& s, int mx, int my, int component) {
   const int sum = (mx > 0 ? s.mb(mx - 1, my).mvd_magnitude[component] : 0) +
                   (my > 0 ? s.mb(mx, my - 1).mvd_magnitude[component] : 0);
   return sum == 0 ? 0 : (sum < 8 ? 1 : 2);
+}
+
+LineDirection macroblock_direction(const FrameState& s, int r, int mx, int my) {
+  return line_direction(s.lines[r], s.width, s.height, 32 * int64_t{mx} + 16, 32 * int64_t{my} + 16);
+}
+
+LineDirection node_direction(const FrameState& s, int r, int i, int j) {
+  return line_direction(s.lines[r], s.width, s.height, 32 * int64_t{i}, 32 * int64_t{j});
+}
+
+std::array<int64_t, 2> line_difference(LineDirection d, int64_t x, int64_t y, int64_t px, int64_t py) {
+  const LineCoordinates v = to_line_coordinates(x, y, d), p = to_line_coordinates(px, py, d);
+  if (d.x == 0 && d.y == 0) return {v.along - p.along, v.across - p.across};
+  return {v.along - p.along, v.across};
+}
+
+void add_line_difference(LineDirection d, int64_t px, int64_t py, std::array<int64_t, 2> difference, int64_t* x,
+                         int64_t* y) {
+  const LineCoordinates p = to_line_coordinates(px, py, d);
+  const int64_t across = d.x == 0 && d.y == 0 ? p.across + difference[1] : difference[1];
+  from_line_coordinates({p.along + difference[0], across}, d, x, y);
+}
+
+std::array<int64_t, 2> vector_difference(const FrameState& s, int r, int mx, int my, MotionVector vector,
+                                         MotionVector predictor) {
+  return line_difference(macroblock_direction(s, r, mx, my), vector.x, vector.y, predictor.x, predictor.y);
+}
+
+bool add_vector_difference(const FrameState& s, int r, int mx, int my, MotionVector predictor,
+                           std::array<int64_t, 2> difference, MotionVector* vector) {
+  int64_t x = 0, y = 0;
+  add_line_difference(macroblock_direction(s, r, mx, my), predictor.x, predictor.y, difference, &x, &y);
+  if (std::llabs(x) > s.vector_limit || std::llabs(y) > s.vector_limit) return false;
+  *vector = MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)};
+  return true;
 }
 
 void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,

@@ -178,6 +178,8 @@ struct FrameState {
   int node_limit = 0;
   // References with a warp node field (bit r for reference r).
   int warp_mask = 0;
+  // Per reference: the epipolar lines vector differences follow (absent: x and y).
+  std::array<EpipolarLines, 2> lines{};
   // The frame's interpolation filter bank (header byte 2, bits 3-4).
   InterpolationFilter filter = InterpolationFilter::kRegular;
   // Node grids (mbs_x + 1) x (mbs_y + 1) per reference: values and whether the decoder
@@ -253,6 +255,11 @@ int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, 
 inline int median3(int a, int b, int c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); }
 
 MotionVector predict_vector(const FrameState& s, int mx, int my, int reference);
+
+// The vector of macroblock (nx, ny) towards r as macroblock (mx, my) with direction
+// `here` would see the same depth (carry_along_lines from the neighbour's direction);
+// the vector itself without lines, where a direction is zero or beyond the range.
+MotionVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDirection here);
 
 inline constexpr int kMaxVectorPredictors = 3;
 
@@ -347,6 +354,34 @@ WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vec
 MotionVector warp_centre_vector(const FrameState& s, const WarpCorners& c);
 
 int mvd_context(const FrameState& s, int mx, int my, int component);
+
+// The epipolar direction of reference r at the centre of macroblock (mx, my) and at
+// warp node (i, j) (zero without lines).
+LineDirection macroblock_direction(const FrameState& s, int r, int mx, int my);
+LineDirection node_direction(const FrameState& s, int r, int i, int j);
+
+// The difference of (x, y) from the prediction (px, py) along and across direction d:
+// along, the difference of their line coordinates; across, that of (x, y) alone, the
+// line being where motion lies (with a zero direction, the x and y difference).
+std::array<int64_t, 2> line_difference(LineDirection d, int64_t x, int64_t y, int64_t px, int64_t py);
+// Its inverse.
+void add_line_difference(LineDirection d, int64_t px, int64_t py, std::array<int64_t, 2> difference, int64_t* x,
+                         int64_t* y);
+
+// The vector on line d with the line coordinate `along` of v (v itself without a line or
+// when that vector lies beyond `limit`).
+MotionVector onto_line(LineDirection d, MotionVector v, int limit);
+
+// The coded difference of `vector` from `predictor` towards reference r at macroblock
+// (mx, my): in x and y, or along and across the reference's epipolar line there
+// (docs/codec.md 10.3). Components may exceed 16 bits.
+std::array<int64_t, 2> vector_difference(const FrameState& s, int r, int mx, int my, MotionVector vector,
+                                         MotionVector predictor);
+
+// The vector whose difference from `predictor` is `difference`; false when it lies
+// outside the range of 10.3.
+bool add_vector_difference(const FrameState& s, int r, int mx, int my, MotionVector predictor,
+                           std::array<int64_t, 2> difference, MotionVector* vector);
 
 void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
                       const std::array<MotionVector, 2>& vectors, MacroblockPrediction* out);

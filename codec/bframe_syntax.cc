@@ -116,6 +116,29 @@ MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, in
                                                                  : MacroblockMode::kForward;
 }
 
+namespace {
+
+uint32_t signed_code(int32_t value) {
+  return value > 0 ? 2 * static_cast<uint32_t>(value) - 1 : 2 * static_cast<uint32_t>(-int64_t{value});
+}
+
+}  // namespace
+
+void encode_epipolar_lines(RangeEncoder& encoder, const EpipolarLines& lines) {
+  for (const int32_t value : {lines.a, lines.bx, lines.by}) encode_exp_golomb_bypass(encoder, signed_code(value));
+}
+
+bool decode_epipolar_lines(RangeDecoder& decoder, EpipolarLines* lines) {
+  for (int32_t* value : {&lines->a, &lines->bx, &lines->by}) {
+    uint32_t code = 0;
+    if (!decode_exp_golomb_bypass(decoder, &code) || code > 2 * static_cast<uint32_t>(kMaxEpipolarCoefficient)) {
+      return false;
+    }
+    *value = (code & 1) ? static_cast<int32_t>((code + 1) / 2) : -static_cast<int32_t>(code / 2);
+  }
+  return true;
+}
+
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value) {
   encoder.encode(c.mvd_zero[component][context], value != 0);
   if (value == 0) return;
@@ -175,8 +198,10 @@ void encode_missing_nodes(RangeEncoder& encoder, FrameState& s, int reference, i
     int kind = 0;
     const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
     const WarpNode value = s.nodes[reference][s.node_index(i, j)];
-    encode_node_component(encoder, s.contexts, 0, kind, value.x - prediction.x);
-    encode_node_component(encoder, s.contexts, 1, kind, value.y - prediction.y);
+    const std::array<int64_t, 2> d =
+        line_difference(node_direction(s, reference, i, j), value.x, value.y, prediction.x, prediction.y);
+    encode_node_component(encoder, s.contexts, 0, kind, static_cast<int>(d[0]));
+    encode_node_component(encoder, s.contexts, 1, kind, static_cast<int>(d[1]));
     s.node_known[reference][s.node_index(i, j)] = 1;
   }
 }
@@ -191,8 +216,10 @@ float missing_nodes_bits(FrameState& s, int reference, int mx, int my, MotionVec
     int kind = 0;
     const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
     const WarpNode value = s.nodes[reference][s.node_index(i, j)];
-    bits += node_component_bits(s.contexts, 0, kind, value.x - prediction.x) +
-            node_component_bits(s.contexts, 1, kind, value.y - prediction.y);
+    const std::array<int64_t, 2> d =
+        line_difference(node_direction(s, reference, i, j), value.x, value.y, prediction.x, prediction.y);
+    bits += node_component_bits(s.contexts, 0, kind, static_cast<int>(d[0])) +
+            node_component_bits(s.contexts, 1, kind, static_cast<int>(d[1]));
     marked[static_cast<size_t>(marked_count++)] = s.node_index(i, j);
     s.node_known[reference][s.node_index(i, j)] = 1;
   }
@@ -207,9 +234,10 @@ bool decode_missing_nodes(RangeDecoder& decoder, FrameState& s, int reference, i
     if (s.known(reference, i, j)) continue;
     int kind = 0;
     const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
-    const int dx = decode_node_component(decoder, s.contexts, 0, kind);
-    const int dy = decode_node_component(decoder, s.contexts, 1, kind);
-    const int64_t x = int64_t{prediction.x} + dx, y = int64_t{prediction.y} + dy;
+    const int d0 = decode_node_component(decoder, s.contexts, 0, kind);
+    const int d1 = decode_node_component(decoder, s.contexts, 1, kind);
+    int64_t x = 0, y = 0;
+    add_line_difference(node_direction(s, reference, i, j), prediction.x, prediction.y, {d0, d1}, &x, &y);
     if (std::abs(x) > s.node_limit || std::abs(y) > s.node_limit) return false;
     s.nodes[reference][s.node_index(i, j)] = WarpNode{static_cast<int32_t>(x), static_cast<int32_t>(y)};
     s.node_known[reference][s.node_index(i, j)] = 1;

@@ -73,6 +73,12 @@ void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, Macr
 
 MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, int my);
 
+// A reference's epipolar lines (docs/codec.md 10.3): a, bx, by, each a signed value as
+// an Exp-Golomb code in bypass bits. The reader refuses magnitudes above
+// kMaxEpipolarCoefficient.
+void encode_epipolar_lines(RangeEncoder& encoder, const EpipolarLines& lines);
+bool decode_epipolar_lines(RangeDecoder& decoder, EpipolarLines* lines);
+
 // ---- Syntax writers (mirrored by the readers below). ----
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value);
 

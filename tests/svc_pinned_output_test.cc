@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "e2f0a31a64ef1b55b27d3d1e2136e5f1fe16725fb0993669c51695a124f9b3d8",
-     "9d921f92618556da07419efe3f4fca1d8177be0cdd5cf8dac746162d17664b8c"},
+     "f1c9d5180ec4dfa5412216d046ff4aa83b195e1bd600ba0a66bef43c8ec7afbe",
+     "e66302f6117dbfba150eea80a297335e74e81e5f778cbc05bd3ddc78e31d7ff3"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "7fc1074de7fdafb6fa14ca1ff436f5a14d893e5ddd378a2eae7554efcfc2719f",
-     "3ff950a8f76c57a023d9698780a8acdd03b3aecfa534cd8d50d113c1e6f23e42"},
+     "b679b59570127bb406fb055a0d436911f7007653d2fc1c79a0cb5638d303a7e9",
+     "9bb03e4830a9109ed6283ffb5a07c587773b73edee2825aa3ad1b8465f54d501"},
 };
 
 std::string file_sha256(const fs::path& path) {

@@ -83,6 +83,10 @@ struct CodingTools {
   // the left, top or top-right macroblock's vector) it codes cheapest from
   // (docs/codec.md 10.3). Off: the median always.
   bool vector_predictors = true;
+  // B-faces: vector and warp node differences coded along and across the epipolar line
+  // of each reference (from the cameras; docs/codec.md 10.3), predictors and candidates
+  // taken onto the line. Off: in x and y.
+  bool epipolar_lines = true;
 
   bool operator==(const CodingTools&) const = default;
 };

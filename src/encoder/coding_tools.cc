@@ -32,6 +32,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"transform-types", &CodingTools::transform_types},
     CodingToolEntry{"b-intra-prediction", &CodingTools::b_intra_prediction},
     CodingToolEntry{"vector-predictors", &CodingTools::vector_predictors},
+    CodingToolEntry{"epipolar-lines", &CodingTools::epipolar_lines},
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "codec/color.h"
 #include "codec/log_search.h"
+#include "spatial/epipolar_lines.h"
 
 namespace svc {
 
@@ -29,10 +30,12 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
     coded.candidates += candidate_stats(candidates[r]);
   }
   const ImageYCbCr420* second = references.size() > 1 ? references[1].image : nullptr;
-  const std::array<codec::ReferenceHints, 2> hints = {codec::ReferenceHints{&candidates[0], &block_lists[0],
-                                                                            &warps[0]},
-                                                      codec::ReferenceHints{&candidates[1], &block_lists[1],
-                                                                            &warps[1]}};
+  std::array<codec::ReferenceHints, 2> hints = {
+      codec::ReferenceHints{&candidates[0], &block_lists[0], &warps[0], {}},
+      codec::ReferenceHints{&candidates[1], &block_lists[1], &warps[1], {}}};
+  for (size_t r = 0; r < references.size(); ++r) {
+    hints[r].lines = epipolar_lines(camera, *references[r].camera, data.color.width, data.color.height);
+  }
   coded.payload = codec::encode_b_frame(ycc, *references[0].image, second, hints, params, nullptr, &coded.stats);
   if (coded.payload.empty()) return Status(ErrorCode::kInternal, what + ": B-frame coding failed");
   return coded;
