@@ -84,12 +84,12 @@ MotionVector predict_vector(const FrameState& s, int mx, int my, int reference) 
   return median_predictor(s, mx, my, [&](int nx, int ny) { return s.mb(nx, ny).vectors[reference]; });
 }
 
-MotionVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDirection here) {
+CarriedVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDirection here) {
   const MotionVector v = s.mb(nx, ny).vectors[r];
   int64_t x = 0, y = 0;
-  if (!carry_along_lines(v.x, v.y, macroblock_direction(s, r, nx, ny), here, &x, &y)) return v;
-  if (std::llabs(x) > s.vector_limit || std::llabs(y) > s.vector_limit) return v;
-  return MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)};
+  if (!carry_along_lines(v.x, v.y, macroblock_direction(s, r, nx, ny), here, &x, &y)) return {v, false};
+  if (std::llabs(x) > s.vector_limit || std::llabs(y) > s.vector_limit) return {v, false};
+  return {MotionVector{static_cast<int16_t>(x), static_cast<int16_t>(y)}, true};
 }
 
 void VectorPredictors::add(MotionVector v) {
@@ -108,14 +108,39 @@ MotionVector onto_line(LineDirection d, MotionVector v, int limit) {
 }
 
 VectorPredictors macroblock_predictors(const FrameState& s, int mx, int my, int reference) {
-  const LineDirection d = macroblock_direction(s, reference, mx, my);
-  auto at = [&](int nx, int ny) { return carried_vector(s, reference, nx, ny, d); };
   VectorPredictors list;
-  auto add = [&](MotionVector v) { list.add(onto_line(d, v, s.vector_limit)); };
-  add(median_predictor(s, mx, my, at));
-  if (mx > 0) add(at(mx - 1, my));
-  if (my > 0) add(at(mx, my - 1));
-  if (my > 0 && mx + 1 < s.mbs_x) add(at(mx + 1, my - 1));
+  if (!s.lines[reference].present()) {
+    list.add(predict_vector(s, mx, my, reference));
+    if (mx > 0) list.add(s.mb(mx - 1, my).vectors[reference]);
+    if (my > 0) list.add(s.mb(mx, my - 1).vectors[reference]);
+    if (my > 0 && mx + 1 < s.mbs_x) list.add(s.mb(mx + 1, my - 1).vectors[reference]);
+    return list;
+  }
+  const LineDirection d = macroblock_direction(s, reference, mx, my);
+  // Each neighbour (left, top, top-right, top-left) carried once. A carried vector is on
+  // the line, and so is the median of vectors on it (both components are monotonic in
+  // the along coordinate): taking those onto the line again would change nothing.
+  std::array<CarriedVector, 4> carried;
+  std::array<bool, 4> done{};
+  auto neighbour = [&](int nx, int ny) -> const CarriedVector& {
+    const size_t slot = ny == my ? 0 : nx == mx ? 1 : nx > mx ? 2 : 3;
+    if (!done[slot]) carried[slot] = carried_vector(s, reference, nx, ny, d);
+    done[slot] = true;
+    return carried[slot];
+  };
+  bool median_on_line = true;
+  const MotionVector median = median_predictor(s, mx, my, [&](int nx, int ny) {
+    const CarriedVector& c = neighbour(nx, ny);
+    median_on_line = median_on_line && c.on_line;
+    return c.vector;
+  });
+  auto add = [&](const CarriedVector& c) {
+    list.add(c.on_line ? c.vector : onto_line(d, c.vector, s.vector_limit));
+  };
+  add({median, median_on_line});
+  if (mx > 0) add(neighbour(mx - 1, my));
+  if (my > 0) add(neighbour(mx, my - 1));
+  if (my > 0 && mx + 1 < s.mbs_x) add(neighbour(mx + 1, my - 1));
   return list;
 }
 

@@ -256,10 +256,15 @@ inline int median3(int a, int b, int c) { return std::max(std::min(a, b), std::m
 
 MotionVector predict_vector(const FrameState& s, int mx, int my, int reference);
 
-// The vector of macroblock (nx, ny) towards r as macroblock (mx, my) with direction
-// `here` would see the same depth (carry_along_lines from the neighbour's direction);
-// the vector itself without lines, where a direction is zero or beyond the range.
-MotionVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDirection here);
+// The vector of macroblock (nx, ny) towards r as a macroblock with direction `here`
+// would see the same depth (carry_along_lines from the neighbour's direction), on_line;
+// the vector itself, not on_line, without lines, where a direction is zero or beyond
+// the range.
+struct CarriedVector {
+  MotionVector vector;
+  bool on_line = false;
+};
+CarriedVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDirection here);
 
 inline constexpr int kMaxVectorPredictors = 3;
 
