@@ -630,9 +630,11 @@ class BFrameEncoder {
   int cheapest_predictor(int reference, MotionVector vector, const VectorPredictors& predictors,
                          float* bits) const {
     int best = 0;
+    const LineDirection line = macroblock_direction(s_, reference, mx_, my_);
+    const LineCoordinates coordinates = to_line_coordinates(vector.x, vector.y, line);
     for (int i = 0; i < usable_predictors(predictors.count); ++i) {
-      const std::array<int64_t, 2> d =
-          vector_difference(s_, reference, mx_, my_, vector, predictors.vectors[static_cast<size_t>(i)]);
+      const MotionVector p = predictors.vectors[static_cast<size_t>(i)];
+      const std::array<int64_t, 2> d = line_difference(line, coordinates, to_line_coordinates(p.x, p.y, line));
       const float candidate = predictor_index_bits(s_.contexts.predictor_index, predictors.count, i) +
                               mvd_costs_[0].bits(static_cast<int>(d[0])) +
                               mvd_costs_[1].bits(static_cast<int>(d[1]));

@@ -276,8 +276,7 @@ LineDirection node_direction(const FrameState& s, int r, int i, int j) {
   return line_direction(s.lines[r], s.width, s.height, 32 * int64_t{i}, 32 * int64_t{j});
 }
 
-std::array<int64_t, 2> line_difference(LineDirection d, int64_t x, int64_t y, int64_t px, int64_t py) {
-  const LineCoordinates v = to_line_coordinates(x, y, d), p = to_line_coordinates(px, py, d);
+std::array<int64_t, 2> line_difference(LineDirection d, LineCoordinates v, LineCoordinates p) {
   if (d.x == 0 && d.y == 0) return {v.along - p.along, v.across - p.across};
   return {v.along - p.along, v.across};
 }
@@ -291,7 +290,9 @@ void add_line_difference(LineDirection d, int64_t px, int64_t py, std::array<int
 
 std::array<int64_t, 2> vector_difference(const FrameState& s, int r, int mx, int my, MotionVector vector,
                                          MotionVector predictor) {
-  return line_difference(macroblock_direction(s, r, mx, my), vector.x, vector.y, predictor.x, predictor.y);
+  const LineDirection d = macroblock_direction(s, r, mx, my);
+  return line_difference(d, to_line_coordinates(vector.x, vector.y, d),
+                         to_line_coordinates(predictor.x, predictor.y, d));
 }
 
 bool add_vector_difference(const FrameState& s, int r, int mx, int my, MotionVector predictor,

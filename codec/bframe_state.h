@@ -365,10 +365,10 @@ int mvd_context(const FrameState& s, int mx, int my, int component);
 LineDirection macroblock_direction(const FrameState& s, int r, int mx, int my);
 LineDirection node_direction(const FrameState& s, int r, int i, int j);
 
-// The difference of (x, y) from the prediction (px, py) along and across direction d:
-// along, the difference of their line coordinates; across, that of (x, y) alone, the
-// line being where motion lies (with a zero direction, the x and y difference).
-std::array<int64_t, 2> line_difference(LineDirection d, int64_t x, int64_t y, int64_t px, int64_t py);
+// The difference of a vector from its prediction, given by their line coordinates v and p
+// for direction d: along, the difference of the two; across, v's alone, the line being
+// where motion lies (with a zero direction, the x and y difference).
+std::array<int64_t, 2> line_difference(LineDirection d, LineCoordinates v, LineCoordinates p);
 // Its inverse.
 void add_line_difference(LineDirection d, int64_t px, int64_t py, std::array<int64_t, 2> difference, int64_t* x,
                          int64_t* y);

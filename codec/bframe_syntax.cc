@@ -190,16 +190,28 @@ int decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int componen
   return negative ? -magnitude : magnitude;
 }
 
+namespace {
+
+// The prediction kind and the coded difference of node (i, j) towards `reference`
+// (docs/codec.md 10.3), the encoder's node value against its prediction.
+std::array<int64_t, 2> node_difference(const FrameState& s, int reference, int i, int j,
+                                       MotionVector vector_predictor, int* kind) {
+  const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, kind);
+  const WarpNode value = s.nodes[reference][s.node_index(i, j)];
+  const LineDirection d = node_direction(s, reference, i, j);
+  return line_difference(d, to_line_coordinates(value.x, value.y, d),
+                         to_line_coordinates(prediction.x, prediction.y, d));
+}
+
+}  // namespace
+
 void encode_missing_nodes(RangeEncoder& encoder, FrameState& s, int reference, int mx, int my,
                           MotionVector vector_predictor) {
   for (int k = 0; k < 4; ++k) {
     const int i = corner_i(mx, k), j = corner_j(my, k);
     if (s.known(reference, i, j)) continue;
     int kind = 0;
-    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
-    const WarpNode value = s.nodes[reference][s.node_index(i, j)];
-    const std::array<int64_t, 2> d =
-        line_difference(node_direction(s, reference, i, j), value.x, value.y, prediction.x, prediction.y);
+    const std::array<int64_t, 2> d = node_difference(s, reference, i, j, vector_predictor, &kind);
     encode_node_component(encoder, s.contexts, 0, kind, static_cast<int>(d[0]));
     encode_node_component(encoder, s.contexts, 1, kind, static_cast<int>(d[1]));
     s.node_known[reference][s.node_index(i, j)] = 1;
@@ -214,10 +226,7 @@ float missing_nodes_bits(FrameState& s, int reference, int mx, int my, MotionVec
     const int i = corner_i(mx, k), j = corner_j(my, k);
     if (s.known(reference, i, j)) continue;
     int kind = 0;
-    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
-    const WarpNode value = s.nodes[reference][s.node_index(i, j)];
-    const std::array<int64_t, 2> d =
-        line_difference(node_direction(s, reference, i, j), value.x, value.y, prediction.x, prediction.y);
+    const std::array<int64_t, 2> d = node_difference(s, reference, i, j, vector_predictor, &kind);
     bits += node_component_bits(s.contexts, 0, kind, static_cast<int>(d[0])) +
             node_component_bits(s.contexts, 1, kind, static_cast<int>(d[1]));
     marked[static_cast<size_t>(marked_count++)] = s.node_index(i, j);

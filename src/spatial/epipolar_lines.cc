@@ -5,8 +5,7 @@
 #include <cmath>
 #include <numeric>
 
-#include <glm/glm.hpp>
-#include <glm/gtc/type_ptr.hpp>
+#include "spatial/camera_terms.h"
 
 namespace svc {
 namespace {
@@ -47,20 +46,17 @@ codec::EpipolarLines epipolar_lines(const Camera& current, const Camera& referen
   if (!same_frustum(current.frustum, reference.frustum) || width <= 0 || height <= 0) return {};
   // Current camera space -> reference camera space: a rotation other than the identity
   // moves points at infinity too.
-  const glm::dmat4 combined = glm::make_mat4(reference.world_to_camera.data()) *
-                              glm::inverse(glm::make_mat4(current.world_to_camera.data()));
+  const glm::dmat4 combined = current_to_reference(current, reference);
   for (int c = 0; c < 3; ++c) {
     for (int r = 0; r < 3; ++r) {
       if (std::abs(combined[c][r] - (c == r ? 1.0 : 0.0)) > kSameOrientation) return {};
     }
   }
   const glm::dvec3 t(combined[3]);
-  const Frustum& f = current.frustum;
-  const double p00 = 2.0 * f.near_plane / (f.right - f.left), p02 = (f.right + f.left) / (f.right - f.left);
-  const double p11 = 2.0 * f.near_plane / (f.top - f.bottom), p12 = (f.top + f.bottom) / (f.top - f.bottom);
+  const ProjectionTerms p = projection_terms(current.frustum);
   // The flow of a point at eye depth z is (tz X + w (p00 tx + p02 tz), tz Y - h (p11 ty +
   // p12 tz)) / (2 (z - tz)) pixels, X and Y as in codec/epipolar.h.
-  const std::array<double, 3> direction = {t.z, p00 * t.x + p02 * t.z, -(p11 * t.y + p12 * t.z)};
+  const std::array<double, 3> direction = {t.z, p.p00 * t.x + p.p02 * t.z, -(p.p11 * t.y + p.p12 * t.z)};
   if (std::max({std::abs(direction[0]), std::abs(direction[1]), std::abs(direction[2])}) < kSameOrientation)
     return {};
   return small_integers(direction);

@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "spatial/camera_terms.h"
 #include "spatial/flow_kernels.h"
 
 namespace svc {
@@ -67,7 +68,7 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
   flow.valid.resize(n);
 
   // Current camera space -> reference camera space, once per face.
-  const glm::dmat4 combined = view_matrix(reference) * glm::inverse(view_matrix(current));
+  const glm::dmat4 combined = current_to_reference(current, reference);
   const glm::dvec3 col_x(combined[0]), col_y(combined[1]), col_z(combined[2]);
   const glm::dvec3 translation(combined[3]);
 
@@ -84,12 +85,7 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
     column_z[static_cast<size_t>(i)] = term.z;
   }
 
-  // Reference projection: x_ndc = -(p00 * x / z) - p02, likewise y.
-  const Frustum& rf = reference.frustum;
-  const double p00 = 2.0 * rf.near_plane / (rf.right - rf.left);
-  const double p02 = (rf.right + rf.left) / (rf.right - rf.left);
-  const double p11 = 2.0 * rf.near_plane / (rf.top - rf.bottom);
-  const double p12 = (rf.top + rf.bottom) / (rf.top - rf.bottom);
+  const ProjectionTerms projection = projection_terms(reference.frustum);
   const FlowKernels& kernels = get_flow_kernels();
   FlowRow flow_row{column_x.data(),
                    column_y.data(),
@@ -100,10 +96,10 @@ void compute_flow(const Camera& current, const Camera& reference, int width, int
                    translation.x,
                    translation.y,
                    translation.z,
-                   p00,
-                   p02,
-                   p11,
-                   p12,
+                   projection.p00,
+                   projection.p02,
+                   projection.p11,
+                   projection.p12,
                    w,
                    h,
                    cf.far_plane,
@@ -183,7 +179,7 @@ std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& r
   if (n == 0 || depth.size() != n || reference_depth.size() != n) return seen;
   const FlowField flow = compute_flow(current, reference, width, height, depth);
   // Eye z in the reference camera of the point each pixel shows.
-  const glm::dmat4 combined = view_matrix(reference) * glm::inverse(view_matrix(current));
+  const glm::dmat4 combined = current_to_reference(current, reference);
   const Frustum& cf = current.frustum;
   for (int j = 0; j < height; ++j) {
     for (int i = 0; i < width; ++i) {

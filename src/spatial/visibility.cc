@@ -8,6 +8,8 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "spatial/camera_terms.h"
+
 namespace svc {
 namespace {
 
@@ -29,14 +31,8 @@ struct ProjectedFace {
 ProjectedFace prepare(const CubeSamples& cube, int f) {
   const Camera& camera = cube.cameras[static_cast<size_t>(f)];
   const Frustum& fr = camera.frustum;
-  ProjectedFace face{{},
-                     2.0 * fr.near_plane / (fr.right - fr.left),
-                     (fr.right + fr.left) / (fr.right - fr.left),
-                     2.0 * fr.near_plane / (fr.top - fr.bottom),
-                     (fr.top + fr.bottom) / (fr.top - fr.bottom),
-                     fr.near_plane,
-                     &cube.depth[static_cast<size_t>(f)],
-                     &fr};
+  const ProjectionTerms p = projection_terms(fr);
+  ProjectedFace face{{}, p.p00, p.p02, p.p11, p.p12, fr.near_plane, &cube.depth[static_cast<size_t>(f)], &fr};
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c) {
       face.rows[static_cast<size_t>(r)][static_cast<size_t>(c)] =
