@@ -167,6 +167,25 @@ Result<CodecPlan> intra_image_plan(const std::string& name, const AnchorOptions&
   return plan;
 }
 
+// The caller's encoder options for the plan's codec, named in its description.
+Status apply_codec_options(const AnchorOptions& options, CodecPlan* plan) {
+  const auto it = options.codec_options.find(plan->name);
+  if (it == options.codec_options.end() || it->second.empty()) return Status::Ok();
+  if (plan->is_svc) {
+    return Status(ErrorCode::kInvalidArgument,
+                  plan->name + " takes no encoder options (its coding tools are switched with --ablation)");
+  }
+  std::string named;
+  for (const auto& [key, value] : it->second) {
+    if (key.empty())
+      return Status(ErrorCode::kInvalidArgument, "encoder option of " + plan->name + " without a name");
+    plan->base.codec_options[key] = value;
+    named += (named.empty() ? "" : " ") + key + "=" + value;
+  }
+  plan->description += "; encoder options " + named;
+  return Status::Ok();
+}
+
 }  // namespace
 
 Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& options, int width, int height) {
@@ -186,6 +205,7 @@ Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& option
   }
   plan.base.codec = plan.encoder;
   plan.base.threads = 1;
+  SVC_RETURN_IF_ERROR(apply_codec_options(options, &plan));
   return plan;
 }
 

@@ -25,6 +25,11 @@ struct AnchorOptions {
   // "x265-intra" (x264/x265 preset names), "av1" (SVT-AV1 preset, or libaom cpu-used),
   // "avif" (libaom cpu-used), "webp" (compression level 0..6), "jxl" (effort 1..9).
   std::map<std::string, std::string> presets;
+  // Private encoder options per codec name, set after the plan's own (replacing one of
+  // the same key): what an ablation of an anchor's tools needs, e.g. for "avif"
+  // {"aom-params", "enable-rect-partitions=0"}. Not for svc, whose tools are its own
+  // (`--ablation`). The encoder rejects an unknown key when it opens.
+  std::map<std::string, std::map<std::string, std::string>> codec_options;
 };
 
 // Where the quality search may look, and which way quality goes.
@@ -53,7 +58,8 @@ struct CodecPlan {
   bool parallel_faces = true;
 };
 
-// kInvalidArgument for a preset that the codec does not take; names the codec.
+// kInvalidArgument for a preset that the codec does not take, or encoder options for svc;
+// names the codec.
 Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& options, int width, int height);
 
 // The ffmpeg command line that encodes one face sequence as `plan` does at `setting`:

@@ -54,6 +54,10 @@ Status run_ablation(Bench& bench, BenchResults* results) {
 
 // The requested codecs in report order, svc first: the others pick their reference
 // point by svc's PSNR.
+AnchorOptions anchor_options_of(const BenchOptions& options) {
+  return AnchorOptions{options.gop, options.anchor_presets, options.anchor_options};
+}
+
 Result<std::vector<std::string>> ordered_codecs(const BenchOptions& options) {
   const std::vector<std::string>& all = all_codec_names();
   const std::vector<std::string>& codecs = options.codecs.empty() ? all : options.codecs;
@@ -69,13 +73,18 @@ Result<std::vector<std::string>> ordered_codecs(const BenchOptions& options) {
       return Status(ErrorCode::kInvalidArgument, "svc bench: preset for unknown codec '" + name + "'");
     }
   }
+  for (const auto& [name, codec_options] : options.anchor_options) {
+    if (std::find(all.begin(), all.end(), name) == all.end()) {
+      return Status(ErrorCode::kInvalidArgument, "svc bench: encoder options for unknown codec '" + name + "'");
+    }
+  }
   std::vector<std::string> ordered;
   for (const std::string& name : all) {
     if (std::find(codecs.begin(), codecs.end(), name) != codecs.end()) ordered.push_back(name);
   }
   // Bad presets are refused before any work (the face size is checked again per run).
   for (const std::string& name : ordered) {
-    auto plan = make_plan(name, AnchorOptions{options.gop, options.anchor_presets}, 64, 64);
+    auto plan = make_plan(name, anchor_options_of(options), 64, 64);
     if (!plan.ok()) return plan.status().with_context("svc bench: " + name);
   }
   return ordered;
@@ -83,7 +92,7 @@ Result<std::vector<std::string>> ordered_codecs(const BenchOptions& options) {
 
 Status run_codecs(Bench& bench, const std::vector<std::string>& names, const BenchOptions& options,
                   BenchResults* results) {
-  const AnchorOptions anchors{options.gop, options.anchor_presets};
+  const AnchorOptions anchors = anchor_options_of(options);
   for (const std::string& name : names) {
     const auto t0 = Clock::now();
     bench.log(name + ": quality search");

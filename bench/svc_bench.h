@@ -70,9 +70,11 @@ struct BenchOptions {
   std::filesystem::path before_results;
   // Two PSNR targets and at most three encodes per codec: for tests and quick looks.
   bool quick = false;
-  // GOP of x264, x265 and AV1, and presets replacing the defaults (see anchors.h).
+  // GOP of x264, x265 and AV1, presets replacing the defaults and private encoder
+  // options per codec (see anchors.h, AnchorOptions).
   int gop = 9;
   std::map<std::string, std::string> anchor_presets;
+  std::map<std::string, std::map<std::string, std::string>> anchor_options;
   // Progress lines ("[  12.3 s] x264 crf 23: ..."). Unset: nothing is printed.
   std::function<void(const std::string&)> progress;
 };

@@ -116,6 +116,43 @@ TEST_P(BenchAnchorCliTest, BytesAndPsnrMatchTheDocumentedFfmpegCommand) {
   EXPECT_NEAR(our_quality->psnr_y, cli_quality->psnr_y, psnr_tolerance) << command;
 }
 
+// An anchor's encoder options (`svc bench --anchor-option`) reach its encoder, its
+// description and its documented command line; an unknown one fails the encode by name.
+TEST(BenchAnchorOptions, ReachTheEncoderTheDescriptionAndTheCommandLine) {
+  if (!baseline::encoder_available("libx264")) GTEST_SKIP() << "libx264 not in this build";
+  baseline::quiet_ffmpeg_logging();
+  AnchorOptions options;
+  auto plain = make_plan("x264", options, 64, 64);
+  options.codec_options["x264"] = {{"x264-params", "no-deblock=1"}};
+  auto unfiltered = make_plan("x264", options, 64, 64);
+  ASSERT_TRUE(plain.ok() && unfiltered.ok());
+  EXPECT_NE(unfiltered->description.find("x264-params=no-deblock=1"), std::string::npos) << unfiltered->description;
+  EXPECT_NE(ffmpeg_command(*unfiltered, 23, "in%04d.png", "out.h264").find(" -x264-params no-deblock=1"),
+            std::string::npos);
+  std::vector<ImageRGB8> frames;
+  for (int k = 0; k < 6; ++k) frames.push_back(moving_face(k, 64));
+  auto encode = [&](const CodecPlan& plan) {
+    baseline::EncodeSettings settings = plan.base;
+    settings.quantizer = 30;
+    return baseline::encode_sequence(baseline::frames_from_images(frames), {}, settings);
+  };
+  auto with_filter = encode(*plain), without_filter = encode(*unfiltered);
+  ASSERT_TRUE(with_filter.ok() && without_filter.ok());
+  auto decoded_with = baseline::decode_all(*with_filter), decoded_without = baseline::decode_all(*without_filter);
+  ASSERT_TRUE(decoded_with.ok() && decoded_without.ok());
+  EXPECT_NE(decoded_with->front().pixels, decoded_without->front().pixels);
+
+  options.codec_options["x264"] = {{"no-such-option", "1"}};
+  auto unknown = make_plan("x264", options, 64, 64);
+  ASSERT_TRUE(unknown.ok());
+  auto failed = encode(*unknown);
+  ASSERT_FALSE(failed.ok());
+  EXPECT_NE(failed.status().message().find("no-such-option"), std::string::npos) << failed.status().to_string();
+
+  options.codec_options = {{"svc", {{"x", "1"}}}};
+  EXPECT_EQ(make_plan("svc", options, 64, 64).status().code(), ErrorCode::kInvalidArgument);
+}
+
 INSTANTIATE_TEST_SUITE_P(Anchors, BenchAnchorCliTest,
                          ::testing::Values("x264", "x265", "x265-ra", "av1", "jpeg", "webp", "jxl", "avif",
                                            "x265-intra"),

@@ -310,6 +310,12 @@ TEST(BenchOptionsTest, BadPresetOrGopIsRejectedBeforeAnyWork) {
   options.anchor_presets = {{"divx", "fast"}};
   EXPECT_NE(run_bench(options).status().message().find("divx"), std::string::npos);
   options.anchor_presets.clear();
+  options.anchor_options = {{"divx", {{"x264-params", "no-deblock=1"}}}};
+  EXPECT_NE(run_bench(options).status().message().find("divx"), std::string::npos);
+  options.anchor_options = {{"svc", {{"aom-params", "enable-cdef=0"}}}};
+  EXPECT_EQ(run_bench(options).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_FALSE(fs::exists(options.out_dir));
+  options.anchor_options.clear();
   options.gop = 0;
   EXPECT_EQ(run_bench(options).status().code(), ErrorCode::kInvalidArgument);
   EXPECT_FALSE(fs::exists(options.out_dir));

@@ -252,6 +252,14 @@ TEST_F(CliConventions, BenchNamesTheValidCodecsAndLeavesNothingOnFailure) {
   EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
   EXPECT_NE(unknown.output.find("'foo' (valid: svc, svc-regular, svc-intra, mpeg2"), std::string::npos)
       << unknown.output;
+  for (const char* option : {"avif", "avif=aom-params", "=aom-params=x", "avif==1"}) {
+    const CliRun malformed =
+        svc("bench " + quoted(db()) + " --anchor-option " + option + " --out " + quoted(work("bench-option")));
+    EXPECT_EQ(malformed.exit_code, 2) << malformed.output;
+    EXPECT_NE(malformed.output.find("--anchor-option wants CODEC=KEY=VALUE"), std::string::npos)
+        << malformed.output;
+    EXPECT_FALSE(fs::exists(work("bench-option")));
+  }
   const CliRun missing = svc("bench nope --out " + quoted(work("bench-nope")));
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_FALSE(fs::exists(work("bench-nope"))) << missing.output;

@@ -88,7 +88,8 @@ struct BenchSubcommand::Options {
   std::string out_dir = "bench-results";
   bool no_experiments = false;
   bool overwrite = false;
-  std::vector<std::string> presets;  // CODEC=PRESET
+  std::vector<std::string> presets;        // CODEC=PRESET
+  std::vector<std::string> codec_options;  // CODEC=KEY=VALUE
   command_line::Verbosity verbosity;
 };
 
@@ -118,6 +119,9 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
   command_->add_option("--anchor-preset", options_->presets,
                        "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "
                        "libaom cpu-used where SVT-AV1 is missing), avif=6 (libaom cpu-used), jxl=7 (effort)");
+  command_->add_option("--anchor-option", options_->codec_options,
+                       "CODEC=KEY=VALUE, repeatable: a private option of that anchor's libavcodec encoder, e.g. "
+                       "avif=aom-params=enable-rect-partitions=0 (to measure an anchor's tools)");
   add_overwrite_flag(command_, &options_->overwrite);
   command_line::add_verbosity_options(command_, &options_->verbosity);
   command_->add_flag("--no-experiments", options_->no_experiments,
@@ -153,6 +157,16 @@ int BenchSubcommand::run() const {
           Status(ErrorCode::kInvalidArgument, "--anchor-preset wants CODEC=PRESET, not '" + entry + "'"));
     }
     options.anchor_presets[entry.substr(0, eq)] = entry.substr(eq + 1);
+  }
+  for (const std::string& entry : options_->codec_options) {
+    const size_t codec_end = entry.find('=');
+    const size_t key_end = codec_end == std::string::npos ? codec_end : entry.find('=', codec_end + 1);
+    if (codec_end == 0 || key_end == std::string::npos || key_end == codec_end + 1) {
+      return report_error(
+          Status(ErrorCode::kInvalidArgument, "--anchor-option wants CODEC=KEY=VALUE, not '" + entry + "'"));
+    }
+    options.anchor_options[entry.substr(0, codec_end)][entry.substr(codec_end + 1, key_end - codec_end - 1)] =
+        entry.substr(key_end + 1);
   }
   // The benchmark reports its steps as lines on stderr, not a bar: shown unless
   // --quiet, --no-progress or --json (there only with --progress).
