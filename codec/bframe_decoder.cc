@@ -63,7 +63,7 @@ class IntraBlockDecoder final : public intra::BlockReader {
     const int count = block_.count;
     if (count > 0) {
       const Quantizer& quantizer = intra::quantizer_for(s_.intra_quantizers, size);
-      std::fill_n(coefficients_, size * size, int16_t{0});
+      std::fill_n(coefficients_, shape_area(size), int16_t{0});
       for (int i = 0; i < count; ++i) {
         const BlockLevel& level = block_.levels[i];
         coefficients_[level.position] =
@@ -82,7 +82,7 @@ class IntraBlockDecoder final : public intra::BlockReader {
     }
     for (int b = 0; b < 4; ++b) {
       const int bx = 16 * mx_ + 8 * (b & 1), by = 16 * my_ + 8 * (b >> 1);
-      if (x0 < bx + 8 && bx < x0 + size && y0 < by + 8 && by < y0 + size)
+      if (x0 < bx + 8 && bx < x0 + shape_width(size) && y0 < by + 8 && by < y0 + shape_height(size))
         coded_mask_ |= static_cast<uint8_t>(1 << b);
     }
   }

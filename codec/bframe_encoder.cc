@@ -39,7 +39,8 @@ uint8_t intra_coded_mask(const IntraChoice& choice) {
     if (!choice.luma.blocks[static_cast<size_t>(n++)].coded) return;
     for (int b = 0; b < 4; ++b) {
       const int bx = 8 * (b & 1), by = 8 * (b >> 1);
-      if (x < bx + 8 && bx < x + size && y < by + 8 && by < y + size) mask |= static_cast<uint8_t>(1 << b);
+      if (x < bx + 8 && bx < x + shape_width(size) && y < by + 8 && by < y + shape_height(size))
+        mask |= static_cast<uint8_t>(1 << b);
     }
   });
   return mask;

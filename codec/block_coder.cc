@@ -20,33 +20,35 @@ namespace {
 
 // The zig-zag of an N x N block: anti-diagonals in increasing order, odd ones from the
 // top right down, even ones from the bottom left up (MPEG-2's order for N = 8).
-template <int N>
-constexpr std::array<uint8_t, N * N> zig_zag() {
-  std::array<uint8_t, N * N> scan{};
+template <int W, int H = W>
+constexpr std::array<uint8_t, W * H> zig_zag() {
+  std::array<uint8_t, W * H> scan{};
   int i = 0;
-  for (int d = 0; d <= 2 * (N - 1); ++d) {
+  for (int d = 0; d <= W + H - 2; ++d) {
     for (int k = 0; k <= d; ++k) {
       const int row = d % 2 ? k : d - k, column = d - row;
-      if (row < N && column < N) scan[static_cast<size_t>(i++)] = static_cast<uint8_t>(N * row + column);
+      if (row < H && column < W) scan[static_cast<size_t>(i++)] = static_cast<uint8_t>(W * row + column);
     }
   }
   return scan;
 }
 constexpr std::array<uint8_t, 16> kZigZag4x4 = zig_zag<4>();
 constexpr std::array<uint8_t, 256> kZigZag16x16 = zig_zag<16>();
+constexpr std::array<uint8_t, 128> kZigZag16x8 = zig_zag<16, 8>();
+constexpr std::array<uint8_t, 128> kZigZag8x16 = zig_zag<8, 16>();
 
 constexpr int diagonal_class(int row, int column) {
   const int diagonal = row + column;
   return diagonal == 0 ? 0 : diagonal <= 2 ? 1 : diagonal <= 5 ? 2 : 3;
 }
 
-template <int N>
-constexpr std::array<PositionContext, N * N> position_contexts() {
-  std::array<PositionContext, N * N> table{};
-  for (int row = 0; row < N; ++row) {
-    for (int column = 0; column < N; ++column) {
-      PositionContext& entry = table[static_cast<size_t>(row * N + column)];
-      entry.grid = static_cast<uint16_t>(row * (N + 2) + column);
+template <int W, int H = W>
+constexpr std::array<PositionContext, W * H> position_contexts() {
+  std::array<PositionContext, W * H> table{};
+  for (int row = 0; row < H; ++row) {
+    for (int column = 0; column < W; ++column) {
+      PositionContext& entry = table[static_cast<size_t>(row * W + column)];
+      entry.grid = static_cast<uint16_t>(row * (W + 2) + column);
       entry.position_class = static_cast<uint8_t>(diagonal_class(row, column));
       entry.range_group = static_cast<uint8_t>(row + column == 0 ? 0 : (row < 2 && column < 2 ? 1 : 2));
     }
@@ -56,10 +58,14 @@ constexpr std::array<PositionContext, N * N> position_contexts() {
 constexpr std::array<PositionContext, 16> kPositions4x4 = position_contexts<4>();
 constexpr std::array<PositionContext, 64> kPositions8x8 = position_contexts<8>();
 constexpr std::array<PositionContext, 256> kPositions16x16 = position_contexts<16>();
+constexpr std::array<PositionContext, 128> kPositions16x8 = position_contexts<16, 8>();
+constexpr std::array<PositionContext, 128> kPositions8x16 = position_contexts<8, 16>();
 
-constexpr ScanOrder kScan8x8{8, 64, kZigZag.data(), kPositions8x8.data()};
-constexpr ScanOrder kScan4x4{4, 16, kZigZag4x4.data(), kPositions4x4.data()};
-constexpr ScanOrder kScan16x16{16, 256, kZigZag16x16.data(), kPositions16x16.data()};
+constexpr ScanOrder kScan8x8{8, 8, 64, kZigZag.data(), kPositions8x8.data()};
+constexpr ScanOrder kScan4x4{4, 4, 16, kZigZag4x4.data(), kPositions4x4.data()};
+constexpr ScanOrder kScan16x16{16, 16, 256, kZigZag16x16.data(), kPositions16x16.data()};
+constexpr ScanOrder kScan16x8{16, 8, 128, kZigZag16x8.data(), kPositions16x8.data()};
+constexpr ScanOrder kScan8x16{8, 16, 128, kZigZag8x16.data(), kPositions8x16.data()};
 
 // eob in [1, 256]: 0 for 1, 1 for 2, then c for 2^(c-1) < eob <= 2^c.
 int end_of_block_class(int eob) { return eob <= 2 ? eob - 1 : std::bit_width(static_cast<unsigned>(eob - 1)); }
@@ -230,7 +236,13 @@ inline int dc_context_row(int previous_category) {
 }  // namespace
 
 const ScanOrder& scan_order(TransformSize size) {
-  return size == TransformSize::k4x4 ? kScan4x4 : size == TransformSize::k16x16 ? kScan16x16 : kScan8x8;
+  switch (size) {
+    case TransformSize::k4x4: return kScan4x4;
+    case TransformSize::k16x16: return kScan16x16;
+    case TransformSize::k16x8: return kScan16x8;
+    case TransformSize::k8x16: return kScan8x16;
+    default: return kScan8x8;
+  }
 }
 
 int NeighbourMagnitudes::range_context(int position) const {

@@ -38,8 +38,9 @@ struct PositionContext {
 // A size's scan: every position comes after its left and upper neighbours (the zig-zag
 // over anti-diagonals), so the reverse scan codes right and lower neighbours first.
 struct ScanOrder {
-  int width;                         // coefficients per row and column
-  int count;                         // width * width
+  int width;                         // coefficients per row
+  int height;                        // rows
+  int count;                         // width * height
   const uint8_t* scan;               // scan index -> natural position (row * width + column)
   const PositionContext* positions;  // natural position -> its contexts' inputs
 };
@@ -102,8 +103,8 @@ struct BlockLevel {
 class NeighbourMagnitudes {
  public:
   explicit NeighbourMagnitudes(const ScanOrder& order) : positions_(order.positions), stride_(order.width + 2) {
-    std::fill_n(grid_.begin(), stride_ * stride_, uint16_t{0});
-    std::fill_n(capped_.begin(), stride_ * stride_, uint8_t{0});
+    std::fill_n(grid_.begin(), stride_ * (order.height + 2), uint16_t{0});
+    std::fill_n(capped_.begin(), stride_ * (order.height + 2), uint8_t{0});
   }
   void set(int position, int magnitude) {
     const int cell = positions_[position].grid;

@@ -98,7 +98,59 @@ void inverse_dct_8x8_reference(const double* coefficients, double* samples) {
   }
 }
 
+namespace {
+
+// 16x8 and 8x16 blocks: HEVC's matrix of each direction's length, coefficients at
+// 1/sqrt(2) of the orthonormal scale (so that 8-bit residuals fit 12 bits and the two
+// passes divide by a power of two, 2^15).
+constexpr int kRectangularRowShift = 4, kRectangularColumnShift = 11;
+
+void forward_rectangular(TransformSize size, const float* samples, float* coefficients) {
+  const int w = transform_width(size), h = transform_height(size);
+  auto basis = [](int n, int k, int x) {
+    return static_cast<float>(dsp::hevc_dct_entry(n, k, x) / (64.0 * std::sqrt(static_cast<double>(n))));
+  };
+  float tmp[kMaxTransformArea];
+  for (int y = 0; y < h; ++y) {
+    for (int u = 0; u < w; ++u) {
+      float sum = 0;
+      for (int x = 0; x < w; ++x) sum += basis(w, u, x) * samples[w * y + x];
+      tmp[w * y + u] = sum;
+    }
+  }
+  const float scale = static_cast<float>(1.0 / std::sqrt(2.0));
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      float sum = 0;
+      for (int y = 0; y < h; ++y) sum += basis(h, v, y) * tmp[w * y + u];
+      coefficients[w * v + u] = sum * scale;
+    }
+  }
+}
+
+void inverse_rectangular(TransformSize size, const int16_t* coefficients, int16_t* samples) {
+  const int w = transform_width(size), h = transform_height(size);
+  int tmp[kMaxTransformArea];
+  for (int v = 0; v < h; ++v) {
+    for (int x = 0; x < w; ++x) {
+      int sum = 1 << (kRectangularRowShift - 1);
+      for (int u = 0; u < w; ++u) sum += dsp::hevc_dct_entry(w, u, x) * coefficients[w * v + u];
+      tmp[w * v + x] = sum >> kRectangularRowShift;
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      int sum = 1 << (kRectangularColumnShift - 1);
+      for (int v = 0; v < h; ++v) sum += dsp::hevc_dct_entry(h, v, y) * tmp[w * v + x];
+      samples[w * y + x] = static_cast<int16_t>(std::clamp(sum >> kRectangularColumnShift, -32768, 32767));
+    }
+  }
+}
+
+}  // namespace
+
 void forward_transform(TransformSize size, const float* samples, float* coefficients) {
+  if (is_rectangular(size)) return forward_rectangular(size, samples, coefficients);
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
     case TransformSize::k4x4: dsp.forward_dct_4x4(samples, coefficients); break;
@@ -108,6 +160,7 @@ void forward_transform(TransformSize size, const float* samples, float* coeffici
 }
 
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples) {
+  if (is_rectangular(size)) return inverse_rectangular(size, coefficients, samples);
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
     case TransformSize::k4x4: dsp.inverse_dct_4x4(coefficients, samples); break;
@@ -117,6 +170,7 @@ void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t*
 }
 
 void inverse_transform_integer_reference(TransformSize size, const int16_t* coefficients, int16_t* samples) {
+  if (is_rectangular(size)) return inverse_rectangular(size, coefficients, samples);
   if (size == TransformSize::k8x8) {
     inverse_dct_8x8_integer_reference(coefficients, samples);
     return;
@@ -148,24 +202,24 @@ void inverse_transform_reference(TransformSize size, const double* coefficients,
     inverse_dct_8x8_reference(coefficients, samples);
     return;
   }
-  const int n = transform_width(size);
-  const double scale = size == TransformSize::k16x16 ? 2.0 : 1.0;
-  auto basis = [n](int k, int x) {
+  const int w = transform_width(size), h = transform_height(size);
+  const double scale = size == TransformSize::k16x16 ? 2.0 : is_rectangular(size) ? std::sqrt(2.0) : 1.0;
+  auto basis = [](int n, int k, int x) {
     return dsp::hevc_dct_entry(n, k, x) / (64.0 * std::sqrt(static_cast<double>(n)));
   };
-  for (int y = 0; y < n; ++y) {
-    for (int x = 0; x < n; ++x) {
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
       double sum = 0;
-      for (int v = 0; v < n; ++v) {
-        for (int u = 0; u < n; ++u) sum += basis(v, y) * basis(u, x) * coefficients[n * v + u];
+      for (int v = 0; v < h; ++v) {
+        for (int u = 0; u < w; ++u) sum += basis(h, v, y) * basis(w, u, x) * coefficients[w * v + u];
       }
-      samples[n * y + x] = scale * sum;
+      samples[w * y + x] = scale * sum;
     }
   }
 }
 
 void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients) {
-  if (type == TransformType::kDctDct) {
+  if (type == TransformType::kDctDct || is_rectangular(size)) {
     forward_transform(size, samples, coefficients);
     return;
   }
@@ -179,7 +233,7 @@ void forward_transform(TransformSize size, TransformType type, const float* samp
 }
 
 void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples) {
-  if (type == TransformType::kDctDct) {
+  if (type == TransformType::kDctDct || is_rectangular(size)) {
     inverse_transform(size, coefficients, samples);
     return;
   }
@@ -205,7 +259,7 @@ int type_matrix_entry(int points, bool dst, int k, int n) {
 
 void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,
                                          int16_t* samples) {
-  if (type == TransformType::kDctDct) {
+  if (type == TransformType::kDctDct || is_rectangular(size)) {
     inverse_transform_integer_reference(size, coefficients, samples);
     return;
   }

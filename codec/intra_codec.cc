@@ -10,6 +10,7 @@
 #include "codec/intra_codec.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <string>
@@ -31,8 +32,15 @@
 namespace svc::codec {
 namespace {
 
-TransformSize size_of_width(int width) {
-  return width == 4 ? TransformSize::k4x4 : width == 16 ? TransformSize::k16x16 : TransformSize::k8x8;
+// The transform size of a block shape (block_shape, transform_size.h).
+TransformSize size_of_width(int shape) {
+  switch (shape) {
+    case 4: return TransformSize::k4x4;
+    case 16: return TransformSize::k16x16;
+    case block_shape(16, 8): return TransformSize::k16x8;
+    case block_shape(8, 16): return TransformSize::k8x16;
+    default: return TransformSize::k8x8;
+  }
 }
 
 }  // namespace
@@ -80,9 +88,9 @@ float intra_frame_lambda(int qindex) { return static_cast<float>(0.1 * scale_of(
 // out = clip(prediction + inverse transform of type `type` of `coefficients`), or the
 // prediction alone when there are none.
 // Rows of a fixed width, so that the compiler vectorizes them.
-template <int N>
+template <int N, int H = N>
 void add_residual(const uint8_t* prediction, const int16_t* residual, uint8_t* out, int stride) {
-  for (int y = 0; y < N; ++y) {
+  for (int y = 0; y < H; ++y) {
     for (int x = 0; x < N; ++x) {
       const int value = prediction[N * y + x] + residual[N * y + x];
       out[y * stride + x] = static_cast<uint8_t>(std::clamp(value, 0, 255));
@@ -93,14 +101,17 @@ void add_residual(const uint8_t* prediction, const int16_t* residual, uint8_t* o
 void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type, int size,
                        uint8_t* out, int stride) {
   if (coefficients == nullptr) {
-    for (int y = 0; y < size; ++y)
-      std::copy_n(prediction + size * y, size, out + static_cast<ptrdiff_t>(y) * stride);
+    const int w = shape_width(size);
+    for (int y = 0; y < shape_height(size); ++y)
+      std::copy_n(prediction + w * y, w, out + static_cast<ptrdiff_t>(y) * stride);
     return;
   }
   int16_t residual[kMaxTransformArea];
   inverse_transform(size_of_width(size), type, coefficients, residual);
   if (size == 4) return add_residual<4>(prediction, residual, out, stride);
   if (size == 16) return add_residual<16>(prediction, residual, out, stride);
+  if (size == block_shape(16, 8)) return add_residual<16, 8>(prediction, residual, out, stride);
+  if (size == block_shape(8, 16)) return add_residual<8, 16>(prediction, residual, out, stride);
   add_residual<8>(prediction, residual, out, stride);
 }
 
@@ -214,7 +225,7 @@ class BlockReconstructor {
   // The next block: size x size at (x0, y0) of `recon` (stride samples per row); `luma`,
   // for a chroma block, is the reconstructed luma plane (stride 2 * stride).
   void next(PlaneState& state, uint8_t* recon, int stride, int x0, int y0, int size, const uint8_t* luma) {
-    const int area = size * size;
+    const int area = shape_area(size);
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
     int values[kMaxTransformArea];
@@ -290,11 +301,12 @@ float intra_mode_cost(const IntraModeContexts& c, const std::array<int, kMostPro
   return index > 0 ? bits + bframe::bit_cost(c.most_probable_index[1], index > 1) : bits;
 }
 
-int block_sse(const uint8_t* source, int stride, const uint8_t* block, int size) {
+int block_sse(const uint8_t* source, int stride, const uint8_t* block, int shape) {
+  const int w = shape_width(shape);
   int sum = 0;
-  for (int y = 0; y < size; ++y) {
-    for (int x = 0; x < size; ++x) {
-      const int d = source[y * stride + x] - block[size * y + x];
+  for (int y = 0; y < shape_height(shape); ++y) {
+    for (int x = 0; x < w; ++x) {
+      const int d = source[y * stride + x] - block[w * y + x];
       sum += d * d;
     }
   }
@@ -307,12 +319,14 @@ int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, int
   const dsp::DspTable& dsp = dsp::get_dsp();
   if (size == 4) return dsp.satd_4x4(source, stride, prediction);
   if (size == 8) return dsp.satd_8x8(source, stride, prediction);
+  const int w = shape_width(size);
   int sum = 0;
-  uint8_t quadrant[64];
-  for (int q = 0; q < 4; ++q) {
-    const int x = 8 * (q & 1), y = 8 * (q >> 1);
-    for (int row = 0; row < 8; ++row) std::copy_n(prediction + 16 * (y + row) + x, 8, quadrant + 8 * row);
-    sum += dsp.satd_8x8(source + y * stride + x, stride, quadrant);
+  uint8_t tile[64];
+  for (int y = 0; y < shape_height(size); y += 8) {
+    for (int x = 0; x < w; x += 8) {
+      for (int row = 0; row < 8; ++row) std::copy_n(prediction + w * (y + row) + x, 8, tile + 8 * row);
+      sum += dsp.satd_8x8(source + y * stride + x, stride, tile);
+    }
   }
   return sum;
 }
@@ -393,8 +407,8 @@ class BlockSearch {
     to->cfl_alpha = from.cfl_alpha;
     to->coded = from.coded;
     to->transform_type = from.transform_type;
-    std::copy_n(from.prediction, size * size, to->prediction);
-    std::copy_n(from.levels, size * size, to->levels);
+    std::copy_n(from.prediction, shape_area(size), to->prediction);
+    std::copy_n(from.levels, shape_area(size), to->levels);
   }
 
  private:
@@ -460,10 +474,10 @@ class BlockSearch {
   // types and the block has levels; the mode stays), by the same cost. Returns the cost.
   float choose_transform_type(const uint8_t* source, int stride, int size, const PlaneContexts& contexts,
                               int cbf_context, float mode_bits, BlockChoice* best, float best_cost) const {
-    if (!contexts.types.enabled || !best->coded) return best_cost;
+    if (!contexts.types.enabled || !best->coded || !has_transform_types(size_of_width(size))) return best_cost;
     trial_.mode = best->mode;
     trial_.cfl_alpha = best->cfl_alpha;
-    std::copy_n(best->prediction, size * size, trial_.prediction);
+    std::copy_n(best->prediction, shape_area(size), trial_.prediction);
     for (int t = 1; t < kTransformTypes; ++t) {
       const float cost =
           evaluate(source, stride, size, contexts, cbf_context, mode_bits, static_cast<TransformType>(t), &trial_);
@@ -480,11 +494,11 @@ class BlockSearch {
                  float mode_bits, TransformType type, BlockChoice* trial) const {
     const BlockContextSet& contexts = plane_contexts.residual;
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
-    const int area = size * size;
+    const int area = shape_area(size), w = shape_width(size);
     int16_t residual[kMaxTransformArea], coefficients[kMaxTransformArea];
-    for (int y = 0; y < size; ++y) {
-      for (int x = 0; x < size; ++x)
-        residual[size * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[size * y + x]);
+    for (int y = 0; y < shape_height(size); ++y) {
+      for (int x = 0; x < w; ++x)
+        residual[w * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[w * y + x]);
     }
     trial->coded = transform_quantize_block_rd(quantizer, residual, rdoq_, contexts, 0, cbf_context, lambda_,
                                                trial->levels, type) > 0;
@@ -496,7 +510,7 @@ class BlockSearch {
     if (!trial->coded) return uncoded_cost;
     uint8_t reconstructed[kMaxTransformArea];
     dequantize_block(quantizer, trial->levels, coefficients);
-    reconstruct_block(trial->prediction, coefficients, type, size, reconstructed, size);
+    reconstruct_block(trial->prediction, coefficients, type, size, reconstructed, w);
     const float coded_cost =
         static_cast<float>(block_sse(source, stride, reconstructed, size)) +
         lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context, quantizer.size) +
@@ -611,7 +625,8 @@ class PlaneSearch {
 // Encoder only: the partition of a luma macroblock by rate-distortion cost. Four 8x8
 // blocks come first, each also tried as four 4x4 blocks when it has levels (a block the
 // prediction alone serves gains nothing from splitting); then, unless an 8x8 split, one
-// 16x16 block whose modes are ranked among the 8x8 blocks' and the most probable ones.
+// 16x16 block whose modes are ranked among the 8x8 blocks' and the most probable ones,
+// and two 16x8 and two 8x16 blocks over every mode, the cheapest kept.
 class MacroblockSearch {
  public:
   explicit MacroblockSearch(bool transform_sizes) : sizes_(transform_sizes) {}
@@ -626,7 +641,7 @@ class MacroblockSearch {
     split_.partition = kSplit16x16;
     float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
     for (int i = 0; i < 4; ++i) split_cost += choose_8x8(state, x0, y0, i);
-    if (!sizes_ || split_.partition != kSplit16x16 || all_coded()) {
+    if (!sizes_ || split_.partition != kSplit16x16) {
       *out = split_;
       return split_cost;
     }
@@ -639,12 +654,40 @@ class MacroblockSearch {
     ranked.add(kDcMode);
     state.clear(x0, y0, 16);
     BlockChoice& whole = out->blocks[0];
-    const float whole_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0) +
-                             plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
-    if (whole_cost < split_cost) {
-      out->partition = 0;
-      return whole_cost;
+    const float unsplit_bits = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0);
+    const auto& halves_bit = contexts.halves_16x16[static_cast<size_t>(split_context)];
+    float whole_cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 0) +
+                       plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
+    out->partition = 0;
+    uint8_t whole_samples[kMaxTransformArea];
+    for (const uint8_t halves : {kHalves16x16, static_cast<uint8_t>(kHalves16x16 | kVerticalHalves)}) {
+      plane_->save(x0, y0, 16, whole_samples);
+      const BlockChoice kept = whole;
+      state.clear(x0, y0, 16);
+      const bool vertical = (halves & kVerticalHalves) != 0;
+      float cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +
+                   plane_->split_bit_cost(contexts.vertical_halves, vertical ? 1 : 0);
+      const int shape = vertical ? block_shape(8, 16) : block_shape(16, 8);
+      for (int half = 0; half < 2 && cost < whole_cost; ++half) {
+        const int hx = x0 + (vertical ? 8 * half : 0), hy = y0 + (vertical ? 0 : 8 * half);
+        const ModeSet ranked = half_modes(state, hx, hy, vertical, half);
+        cost += plane_->code_block(state, hx, hy, shape, &ranked, false, &halves_[static_cast<size_t>(half)]);
+      }
+      if (cost < whole_cost) {
+        whole_cost = cost;
+        out->partition = halves;
+        out->blocks[0] = halves_[0];
+        out->blocks[1] = halves_[1];
+        continue;
+      }
+      plane_->restore(x0, y0, 16, whole_samples);
+      for_each_luma_block(out->partition, [&, n = 0](int x, int y, int shape_of) mutable {
+        const BlockChoice& b = n++ == 0 ? kept : out->blocks[1];
+        state.mark(x0 + x, y0 + y, shape_of, b.mode, b.coded);
+      });
+      whole = kept;
     }
+    if (whole_cost < split_cost) return whole_cost;
     plane_->restore(x0, y0, 16, saved);
     for_each_luma_block(split_.partition, [&, n = 0](int x, int y, int size) mutable {
       const BlockChoice& b = split_.blocks[static_cast<size_t>(n++)];
@@ -685,12 +728,18 @@ class MacroblockSearch {
     return whole_cost;
   }
 
-  // Four 8x8 blocks that all need levels hold detail a 16x16 transform rarely serves
-  // (it won 1.6 % of such macroblocks in `svc encode --intra-only -q 60` of 18 cells of
-  // the photographic hall): not tried.
-  bool all_coded() const {
-    return std::all_of(split_.blocks.begin(), split_.blocks.begin() + 4,
-                       [](const BlockChoice& b) { return b.coded; });
+  // The modes a half ranks: those of the two 8x8 blocks it covers, its most probable
+  // modes, planar and DC.
+  ModeSet half_modes(const PlaneState& state, int x0, int y0, bool vertical, int half) const {
+    ModeSet ranked;
+    for (int k = 0; k < 2; ++k) {
+      const int quarter = vertical ? half + 2 * k : 2 * half + k;
+      ranked.add(split_.blocks[static_cast<size_t>(block_index(quarter))].mode);
+    }
+    for (int mode : state.candidates(x0, y0)) ranked.add(mode);
+    ranked.add(kPlanarMode);
+    ranked.add(kDcMode);
+    return ranked;
   }
 
   // Index in split_.blocks of the first block of 8x8 block i, given the splits before it.
@@ -704,6 +753,7 @@ class MacroblockSearch {
   bool sizes_;
   MacroblockChoice split_;
   std::array<BlockChoice, 4> quarters_;
+  std::array<BlockChoice, 2> halves_;
 };
 
 // Parse stage of an intra frame: reads each block's syntax into `frame` and marks it.
@@ -790,8 +840,13 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
                           BlockReader& reader, uint8_t* partition) {
   const int x0 = 16 * mbx, y0 = 16 * mby;
   *partition = 0;
-  if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))])) {
-    return reader.read(x0, y0, 16);
+  const int split_context = state.split_context(x0, y0, 16);
+  if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(split_context)])) {
+    if (!decoder.decode(contexts.halves_16x16[static_cast<size_t>(split_context)])) return reader.read(x0, y0, 16);
+    const bool vertical = decoder.decode(contexts.vertical_halves) != 0;
+    *partition = static_cast<uint8_t>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
+    const int shape = vertical ? block_shape(8, 16) : block_shape(16, 8);
+    return reader.read(x0, y0, shape) && reader.read(x0 + (vertical ? 8 : 0), y0 + (vertical ? 0 : 8), shape);
   }
   *partition = kSplit16x16;
   for (int i = 0; i < 4; ++i) {
@@ -840,7 +895,8 @@ void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& st
                   const BlockChoice& choice) {
   encode_block_levels(encoder, contexts.residual, choice.levels, 0, state.coded_block_context(x0, y0),
                       size_of_width(size));
-  const bool has_levels = std::any_of(choice.levels, choice.levels + size * size, [](int16_t l) { return l != 0; });
+  const bool has_levels =
+      std::any_of(choice.levels, choice.levels + shape_area(size), [](int16_t l) { return l != 0; });
   if (has_levels)
     encode_transform_type(encoder, contexts.types, size_of_width(size), choice.mode, choice.transform_type);
   state.mark(x0, y0, size, choice.mode, choice.coded);
@@ -864,11 +920,17 @@ void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneSta
 void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
                       const MacroblockChoice& choice) {
   const int x0 = 16 * mbx, y0 = 16 * mby;
-  encoder.encode(contexts.split_16x16[static_cast<size_t>(state.split_context(x0, y0, 16))],
-                 choice.partition & kSplit16x16);
+  const int split_context = state.split_context(x0, y0, 16);
+  encoder.encode(contexts.split_16x16[static_cast<size_t>(split_context)], choice.partition & kSplit16x16);
+  if ((choice.partition & kSplit16x16) == 0) {
+    encoder.encode(contexts.halves_16x16[static_cast<size_t>(split_context)],
+                   (choice.partition & kHalves16x16) != 0);
+    if (choice.partition & kHalves16x16)
+      encoder.encode(contexts.vertical_halves, (choice.partition & kVerticalHalves) != 0);
+  }
   int n = 0;
   for_each_luma_block(choice.partition, [&](int x, int y, int size) {
-    if (size != 16 && x % 8 == 0 && y % 8 == 0) {
+    if ((choice.partition & kSplit16x16) && x % 8 == 0 && y % 8 == 0) {
       encoder.encode(contexts.split_8x8[static_cast<size_t>(state.split_context(x0 + x, y0 + y, 8))], size == 4);
     }
     write_block(encoder, contexts, state, x0 + x, y0 + y, size, choice.blocks[static_cast<size_t>(n++)]);

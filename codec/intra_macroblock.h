@@ -31,6 +31,8 @@ struct PlaneContexts {
   BlockContextSet residual;
   std::array<AdaptiveBit, 3> split_16x16{};  // luma only, by split_context
   std::array<AdaptiveBit, 3> split_8x8{};
+  std::array<AdaptiveBit, 3> halves_16x16{};  // luma only, by split_context
+  AdaptiveBit vertical_halves;
   CflContexts cfl;              // chroma only
   TransformTypeContexts types;  // `enabled` from the frame header
 };
@@ -43,22 +45,35 @@ void for_each_context(Set& s, F&& f) {
   for_each_context(s.residual, f);
   for_each_bit(s.split_16x16, f);
   for_each_bit(s.split_8x8, f);
+  for_each_bit(s.halves_16x16, f);
+  for_each_bit(s.vertical_halves, f);
   for_each_context(s.cfl, f);
   for_each_context(s.types, f);
 }
 
 // Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
 // region splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four
-// 4x4 blocks.
+// 4x4 blocks; without bit 0, bit 5 makes it two 16x8 blocks (top, bottom), or with bit 6
+// two 8x16 blocks (left, right).
 inline constexpr uint8_t kSplit16x16 = 1;
 constexpr uint8_t split_8x8_bit(int i) { return static_cast<uint8_t>(2 << i); }
+inline constexpr uint8_t kHalves16x16 = 32;
+inline constexpr uint8_t kVerticalHalves = 64;
 
-// Calls visit(x, y, size) for the transform blocks of a macroblock partition in coding
-// order (x, y relative to the macroblock).
+// Calls visit(x, y, shape) for the transform blocks of a macroblock partition in coding
+// order (x, y relative to the macroblock; shape as block_shape).
 template <class Visit>
 void for_each_luma_block(uint8_t partition, Visit&& visit) {
   if ((partition & kSplit16x16) == 0) {
-    visit(0, 0, 16);
+    if ((partition & kHalves16x16) == 0) {
+      visit(0, 0, 16);
+    } else if (partition & kVerticalHalves) {
+      visit(0, 0, block_shape(8, 16));
+      visit(8, 0, block_shape(8, 16));
+    } else {
+      visit(0, 0, block_shape(16, 8));
+      visit(0, 8, block_shape(16, 8));
+    }
     return;
   }
   for (int i = 0; i < 4; ++i) {
@@ -94,19 +109,25 @@ class PlaneState {
   int split_context(int x0, int y0, int width) const {
     return (x0 > 0 && at(x0 - 4, y0).width < width) + (y0 > 0 && at(x0, y0 - 4).width < width);
   }
-  EdgeAvailability availability(int x0, int y0, int size) const {
+  // `shape` as block_shape (transform_size.h). Below-left and above-right count when
+  // the whole segment (the other side's length) lies in the plane, reconstructed.
+  EdgeAvailability availability(int x0, int y0, int shape) const {
+    const int w = shape_width(shape), h = shape_height(shape);
     EdgeAvailability a;
     a.left = x0 > 0;
     a.above = y0 > 0;
-    a.below_left = a.left && (y0 + size) / 4 < units_y_ && at(x0 - 4, y0 + size).width != 0;
-    a.above_right = a.above && (x0 + size) / 4 < units_x_ && at(x0 + size, y0 - 4).width != 0;
+    a.below_left = a.left && (y0 + h + w) / 4 <= units_y_ && at(x0 - 4, y0 + h).width != 0 &&
+                   at(x0 - 4, y0 + h + w - 4).width != 0;
+    a.above_right = a.above && (x0 + w + h) / 4 <= units_x_ && at(x0 + w, y0 - 4).width != 0 &&
+                    at(x0 + w + h - 4, y0 - 4).width != 0;
     return a;
   }
-  void mark(int x0, int y0, int size, int mode, bool coded) {
-    fill(x0, y0, size, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(size)});
+  void mark(int x0, int y0, int shape, int mode, bool coded) {
+    const int narrow = std::min(shape_width(shape), shape_height(shape));
+    fill(x0, y0, shape, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(narrow)});
   }
   // Forgets a region, as before it was reconstructed (encoder: trying another partition).
-  void clear(int x0, int y0, int size) { fill(x0, y0, size, Unit{}); }
+  void clear(int x0, int y0, int shape) { fill(x0, y0, shape, Unit{}); }
 
  private:
   struct Unit {
@@ -117,10 +138,10 @@ class PlaneState {
   // A CfL block counts as DC for the most probable modes (its prediction's base).
   static int regular_mode(int mode) { return mode == kCflMode ? kDcMode : mode; }
   const Unit& at(int x, int y) const { return units_[static_cast<size_t>(y / 4) * units_x_ + x / 4]; }
-  void fill(int x0, int y0, int size, const Unit& unit) {
-    for (int y = y0 / 4; y < (y0 + size) / 4; ++y) {
-      std::fill_n(units_.begin() + static_cast<ptrdiff_t>(static_cast<size_t>(y) * units_x_ + x0 / 4), size / 4,
-                  unit);
+  void fill(int x0, int y0, int shape, const Unit& unit) {
+    for (int y = y0 / 4; y < (y0 + shape_height(shape)) / 4; ++y) {
+      std::fill_n(units_.begin() + static_cast<ptrdiff_t>(static_cast<size_t>(y) * units_x_ + x0 / 4),
+                  shape_width(shape) / 4, unit);
     }
   }
   int units_x_, units_y_;

@@ -52,15 +52,15 @@ int quant_step(BlockKind kind, int qindex, int position) {
 
 int residual_step(TransformSize size, int qindex) {
   const int step = quant_step(BlockKind::kNonIntra, qindex, 0);
-  return size == TransformSize::k16x16 ? std::max((step + 1) >> 1, 128) : step;
+  if (size == TransformSize::k16x16) return std::max((step + 1) >> 1, 128);
+  if (is_rectangular(size)) return std::max((step * 181 + 128) >> 8, 128);  // coefficients at 1/sqrt(2)
+  return step;
 }
 
 int residual_weight(TransformSize size, int position) {
-  const int width = transform_width(size);
+  const int width = transform_width(size), height = transform_height(size);
   const int row = position / width, column = position % width;
-  int r = row, c = column;  // the 8x8 entry standing for the same frequency
-  if (size == TransformSize::k16x16) r = row / 2, c = column / 2;
-  if (size == TransformSize::k4x4) r = 2 * row, c = 2 * column;
+  const int r = row * 8 / height, c = column * 8 / width;  // the 8x8 entry standing for the same frequency
   return r == 0 && c == 0 ? 16 : kDefaultIntraMatrix[static_cast<size_t>(8 * r + c)];
 }
 

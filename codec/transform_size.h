@@ -5,14 +5,37 @@
 
 namespace svc::codec {
 
-enum class TransformSize : uint8_t { k8x8 = 0, k4x4 = 1, k16x16 = 2 };
-inline constexpr int kTransformSizes = 3;
+// 16x8 and 8x16 are width x height (rows of 16 samples, or of 8).
+enum class TransformSize : uint8_t { k8x8 = 0, k4x4 = 1, k16x16 = 2, k16x8 = 3, k8x16 = 4 };
+inline constexpr int kTransformSizes = 5;
 inline constexpr int kMaxTransformWidth = 16;  // the largest size the tables are laid out for
 inline constexpr int kMaxTransformArea = kMaxTransformWidth * kMaxTransformWidth;
 
 constexpr int transform_width(TransformSize size) {
-  return size == TransformSize::k4x4 ? 4 : size == TransformSize::k16x16 ? 16 : 8;
+  switch (size) {
+    case TransformSize::k4x4: return 4;
+    case TransformSize::k16x16:
+    case TransformSize::k16x8: return 16;
+    default: return 8;
+  }
 }
-constexpr int transform_area(TransformSize size) { return transform_width(size) * transform_width(size); }
+constexpr int transform_height(TransformSize size) {
+  switch (size) {
+    case TransformSize::k4x4: return 4;
+    case TransformSize::k16x16:
+    case TransformSize::k8x16: return 16;
+    default: return 8;
+  }
+}
+constexpr int transform_area(TransformSize size) { return transform_width(size) * transform_height(size); }
+constexpr bool is_rectangular(TransformSize size) {
+  return size == TransformSize::k16x8 || size == TransformSize::k8x16;
+}
+
+// A block's shape as one int: its width for a square block, else width | height << 8.
+constexpr int block_shape(int width, int height) { return width == height ? width : width | (height << 8); }
+constexpr int shape_width(int shape) { return shape & 0xFF; }
+constexpr int shape_height(int shape) { return shape >> 8 ? shape >> 8 : shape; }
+constexpr int shape_area(int shape) { return shape_width(shape) * shape_height(shape); }
 
 }  // namespace svc::codec

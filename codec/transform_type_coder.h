@@ -19,12 +19,17 @@ namespace svc::codec {
 inline constexpr int kTransformTypeModeClasses = 5;
 int transform_type_mode_class(int mode);  // mode 0..34, or kCflMode
 
+// The sizes with transform types: 8x8, 4x4 and 16x16 (TransformSize order); rectangular
+// blocks are always DCT_DCT and code no type.
+inline constexpr int kTypedTransformSizes = 3;
+constexpr bool has_transform_types(TransformSize size) { return static_cast<int>(size) < kTypedTransformSizes; }
+
 struct TransformTypeContexts {
   // Whether the frame codes transform types (header flag); when false every block is
   // DCT_DCT and nothing is coded.
   bool enabled = false;
   // [size][mode class][0: vertical, 1 + vertical: horizontal]
-  std::array<std::array<std::array<AdaptiveBit, 3>, kTransformTypeModeClasses>, kTransformSizes> bits{};
+  std::array<std::array<std::array<AdaptiveBit, 3>, kTransformTypeModeClasses>, kTypedTransformSizes> bits{};
 };
 
 // Calls f on every context, in index order (docs/codec.md 4).

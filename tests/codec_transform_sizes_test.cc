@@ -1,5 +1,6 @@
-// Transform sizes 4x4 and 16x16: the integer inverses against their definitions and the
-// exact transform, their scans and level coding, and intra frames that choose them.
+// Transform sizes 4x4, 16x16, 16x8 and 8x16: the integer inverses against their
+// definitions and the exact transform, their scans and level coding, and intra frames that
+// choose them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include "codec/block_coder.h"
 #include "codec/dct.h"
 #include "codec/intra_codec.h"
+#include "codec/intra_prediction.h"
 #include "codec/quant.h"
 #include "codec/range_coder.h"
 #include "support/random_coefficients.h"
@@ -18,7 +20,8 @@
 namespace svc::codec {
 namespace {
 
-constexpr TransformSize kNewSizes[] = {TransformSize::k4x4, TransformSize::k16x16};
+constexpr TransformSize kNewSizes[] = {TransformSize::k4x4, TransformSize::k16x16, TransformSize::k16x8,
+                                       TransformSize::k8x16};
 
 using testing::random_coefficients;
 
@@ -71,7 +74,8 @@ TEST(TransformSizes, IntegerInversesStayWithinOneOfTheExactInverse) {
 }
 
 TEST(TransformSizes, DcKeepsTheScaleOfEachSize) {
-  // A flat block of 10: 4x4 DC = 4 x 10 (orthonormal), 16x16 DC = 8 x 10 (half of 16 x 10).
+  // A flat block of 10: 4x4 DC = 4 x 10 (orthonormal), 16x16 DC = 8 x 10 (half of 16 x 10),
+  // 16x8 and 8x16 DC = 8 x 10 (sqrt(128) x 10 / sqrt(2)).
   for (TransformSize size : kNewSizes) {
     const int area = transform_area(size);
     std::vector<float> samples(static_cast<size_t>(area), 10.0f), coefficients(static_cast<size_t>(area));
@@ -85,12 +89,16 @@ TEST(TransformSizes, DcKeepsTheScaleOfEachSize) {
   EXPECT_EQ(residual_step(TransformSize::k4x4, 100), residual_step(TransformSize::k8x8, 100));
   EXPECT_EQ(residual_step(TransformSize::k16x16, 100), (residual_step(TransformSize::k8x8, 100) + 1) / 2);
   EXPECT_EQ(residual_step(TransformSize::k16x16, 0), 128);  // never finer than 128 / 256
+  EXPECT_EQ(residual_step(TransformSize::k16x8, 100), (residual_step(TransformSize::k8x8, 100) * 181 + 128) >> 8);
+  EXPECT_EQ(residual_step(TransformSize::k8x16, 100), residual_step(TransformSize::k16x8, 100));
 }
 
 TEST(TransformSizes, ScansVisitEveryPositionByAntiDiagonal) {
-  for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16}) {
+  for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16, TransformSize::k16x8,
+                             TransformSize::k8x16}) {
     const ScanOrder& order = scan_order(size);
     ASSERT_EQ(order.width, transform_width(size));
+    ASSERT_EQ(order.height, transform_height(size));
     ASSERT_EQ(order.count, transform_area(size));
     std::set<int> seen;
     int previous_diagonal = 0;
@@ -173,6 +181,70 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
       EXPECT_TRUE(std::all_of(parsed.luma_partitions.begin(), parsed.luma_partitions.end(),
                               [](uint8_t p) { return p == 1; }));
     }
+  }
+}
+
+// 16x8 and 8x16 prediction (docs/codec.md 3.1): a flat edge predicts flat in every mode;
+// the diagonals copy the edge (mode 2 the left column from row x + y + 1, mode 34 the
+// above row from column x + y + 1, both smoothed: on a linear edge smoothing changes
+// nothing); pure horizontal copies the left column beyond the first row.
+TEST(TransformSizes, RectangularPredictionFollowsTheEdge) {
+  for (int shape : {block_shape(16, 8), block_shape(8, 16)}) {
+    const int w = shape_width(shape), h = shape_height(shape), corner = w + h;
+    uint8_t edge[2 * 24 + 1], out[128];
+    std::fill_n(edge, 2 * corner + 1, uint8_t{90});
+    for (int mode = 0; mode < kIntraModes; ++mode) {
+      intra_predictor(shape)(edge, mode, out);
+      ASSERT_TRUE(std::all_of(out, out + w * h, [](uint8_t v) { return v == 90; })) << w << "x" << h << " " << mode;
+    }
+    for (int i = 0; i < corner; ++i) {
+      edge[corner - 1 - i] = static_cast<uint8_t>(50 + 3 * i);   // left of row i
+      edge[corner + 1 + i] = static_cast<uint8_t>(100 + 2 * i);  // above column i
+    }
+    edge[corner] = 47;
+    intra_predictor(shape)(edge, 2, out);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) ASSERT_EQ(out[w * y + x], 50 + 3 * (x + y + 1)) << w << "x" << h;
+    }
+    intra_predictor(shape)(edge, 34, out);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) ASSERT_EQ(out[w * y + x], 100 + 2 * (x + y + 1)) << w << "x" << h;
+    }
+    intra_predictor(shape)(edge, kHorizontalMode, out);
+    for (int y = 1; y < h; ++y) {
+      for (int x = 0; x < w; ++x) ASSERT_EQ(out[w * y + x], 50 + 3 * y);
+    }
+  }
+}
+
+// Macroblocks whose top and bottom halves hold different gradients along their rows: the
+// encoder codes some as two 16x8 blocks, and the transposed picture's as two 8x16 blocks;
+// the decoder follows.
+TEST(TransformSizes, IntraFramesChooseHalvesAndDecodeExactly) {
+  for (bool transposed : {false, true}) {
+    ImageYCbCr420 image;
+    image.width = image.height = 64;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const int along = transposed ? y : x, across = transposed ? x : y;
+        const bool first = (across % 16) < 8;
+        image.y.push_back(static_cast<uint8_t>(first ? 40 + 3 * (along % 16) : 200 - 5 * (along % 16)));
+      }
+    }
+    image.cb.assign(32 * 32, 128);
+    image.cr.assign(32 * 32, 128);
+    CodingParams params;
+    params.qindex = 120;
+    ImageYCbCr420 reconstruction, decoded;
+    const auto bytes = encode_intra_frame(image, params, &reconstruction);
+    CoefficientFrame parsed;
+    ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, &parsed).ok());
+    reconstruct_intra_frame(parsed, &decoded);
+    EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
+                decoded.cr == reconstruction.cr);
+    const uint8_t halves = transposed ? 32 | 64 : 32;  // 8x16 or 16x8 halves
+    EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), halves), 0)
+        << (transposed ? "8x16" : "16x8");
   }
 }
 

@@ -133,7 +133,7 @@ TEST(TransformTypes, TypesRoundTripThroughTheirContextsAndCostNothingWhenDisable
   encoding.enabled = true;
   std::vector<std::array<int, 3>> symbols;  // size, mode, type
   for (int n = 0; n < 400; ++n) {
-    const int size = static_cast<int>(rng() % kTransformSizes), mode = static_cast<int>(rng() % 36);
+    const int size = static_cast<int>(rng() % kTypedTransformSizes), mode = static_cast<int>(rng() % 36);
     const int type = static_cast<int>(rng() % 7 % kTransformTypes);
     EXPECT_GT(transform_type_bits(encoding, static_cast<TransformSize>(size), mode,
                                   static_cast<TransformType>(type)),
@@ -163,6 +163,11 @@ TEST(TransformTypes, TypesRoundTripThroughTheirContextsAndCostNothingWhenDisable
   EXPECT_EQ(disabled_bytes, empty);
   RangeDecoder off_decoder(disabled_bytes);
   EXPECT_EQ(decode_transform_type(off_decoder, off, TransformSize::k4x4, 10), TransformType::kDctDct);
+  // Rectangular blocks are DCT_DCT and code no type, enabled or not.
+  for (TransformSize size : {TransformSize::k16x8, TransformSize::k8x16}) {
+    EXPECT_EQ(transform_type_bits(encoding, size, 10, TransformType::kDstDst), 0.0f);
+    EXPECT_FALSE(has_transform_types(size));
+  }
 }
 
 TEST(TransformTypes, ModeClassesFollowThePredictionDirection) {

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "f1c9d5180ec4dfa5412216d046ff4aa83b195e1bd600ba0a66bef43c8ec7afbe",
-     "e66302f6117dbfba150eea80a297335e74e81e5f778cbc05bd3ddc78e31d7ff3"},
+     "a4aa09f680605d1384ba1c3941e476d5ac2b45bf240c8b31b51cac8c859a78fd",
+     "2fc91cc34e409ed2ff2d48145d71b612cd69ee0ceaff13ec608088b4d7f0cf68"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "b679b59570127bb406fb055a0d436911f7007653d2fc1c79a0cb5638d303a7e9",
-     "9bb03e4830a9109ed6283ffb5a07c587773b73edee2825aa3ad1b8465f54d501"},
+     "60ecfbc669834ca5086f0547abd185f70188ae07b31a09dfc3a971ff22c8962b",
+     "74db0453572ac97b7e0bf2ab24a1e1202301a978642c71c5533b9ae8c75d2ceb"},
 };
 
 std::string file_sha256(const fs::path& path) {
