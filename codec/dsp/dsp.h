@@ -119,6 +119,11 @@ struct DspTable {
   // above column i.
   void (*intra_predict_4x4)(const uint8_t* edge, int mode, uint8_t* out);
   void (*intra_predict_16x16)(const uint8_t* edge, int mode, uint8_t* out);
+  // The same for 16x8 and 8x16 blocks (W x H samples out, W a row; docs/codec.md 3.1):
+  // edge[W + H - 1 - i] is the left neighbour of row i (i = 0..W+H-1), edge[W + H] the
+  // corner, edge[W + H + 1 + i] the sample above column i.
+  void (*intra_predict_16x8)(const uint8_t* edge, int mode, uint8_t* out);
+  void (*intra_predict_8x16)(const uint8_t* edge, int mode, uint8_t* out);
   // Chroma from luma (docs/codec.md 3.3): the 8x8 chroma block's luma, `luma` pointing at
   // its 16x16 co-located samples, as 2x2 sums minus their rounded mean over the block
   // (64 values in -1020..1020, row-major); and the prediction

@@ -32,6 +32,8 @@ void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, ui
 void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out);
+void intra_predict_16x8_c(const uint8_t* edge, int mode, uint8_t* out);
+void intra_predict_8x16_c(const uint8_t* edge, int mode, uint8_t* out);
 // The reference row of an angular mode (2..34), smoothed where the mode asks:
 // main[kIntraAngularReferenceOffset + k], k = -8..17, is sample k of the projected edge.
 inline constexpr int kIntraAngularReferenceOffset = 8;

@@ -1,4 +1,4 @@
-// Plain intra prediction kernels: the 35 modes of a 4x4, 8x8 or 16x16 block from its
+// Plain intra prediction kernels: the 35 modes of a 4x4, 8x8, 16x16, 16x8 or 8x16 block from its
 // reference edge (planar, DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is
 // the definition) and the encoder's 4x4 and 8x8 Hadamard SATD.
 #include <algorithm>
@@ -158,6 +158,85 @@ void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
   filter_boundary<N>(edge, mode, out);
 }
 
+// Rectangular W x H blocks (16x8, 8x16): the modes of docs/codec.md 3.1 on an edge of
+// W + H samples each side, the corner at W + H. Planar weighs both directions by the
+// other side's length (as VVC), DC averages the longer side, angular modes project as
+// for squares; the edge is smoothed as for 8x8 blocks.
+template <int W, int H>
+void predict_rectangular(const uint8_t* raw_edge, int mode, uint8_t* out) {
+  constexpr int kCorner = W + H, kSamples = 2 * (W + H) + 1;
+  uint8_t smoothed[kSamples];
+  const uint8_t* edge = raw_edge;
+  if (mode != 1 && edge_is_smoothed<8>(mode)) {  // planar and the three diagonals
+    smoothed[0] = raw_edge[0];
+    smoothed[kSamples - 1] = raw_edge[kSamples - 1];
+    for (int i = 1; i < kSamples - 1; ++i)
+      smoothed[i] = static_cast<uint8_t>((raw_edge[i - 1] + 2 * raw_edge[i] + raw_edge[i + 1] + 2) >> 2);
+    edge = smoothed;
+  }
+  const uint8_t* above = edge + kCorner + 1;
+  auto left = [&](int y) { return edge[kCorner - 1 - y]; };
+  constexpr int kLogW = W == 16 ? 4 : 3, kLogH = H == 16 ? 4 : 3;
+  if (mode == 0) {
+    for (int y = 0; y < H; ++y) {
+      for (int x = 0; x < W; ++x) {
+        const int vertical = ((H - 1 - y) * above[x] + (y + 1) * left(H)) << kLogW;
+        const int horizontal = ((W - 1 - x) * left(y) + (x + 1) * above[W]) << kLogH;
+        out[W * y + x] = static_cast<uint8_t>((vertical + horizontal + W * H) >> (kLogW + kLogH + 1));
+      }
+    }
+    return;
+  }
+  if (mode == 1) {
+    int sum = 0;
+    if (W >= H)
+      for (int x = 0; x < W; ++x) sum += above[x];
+    if (H >= W)
+      for (int y = 0; y < H; ++y) sum += left(y);
+    const int count = W == H ? 2 * W : std::max(W, H);
+    const auto dc = static_cast<uint8_t>((sum + count / 2) / count);
+    std::fill_n(out, W * H, dc);
+    out[0] = static_cast<uint8_t>((left(0) + 2 * dc + above[0] + 2) >> 2);
+    for (int x = 1; x < W; ++x) out[x] = static_cast<uint8_t>((above[x] + 3 * dc + 2) >> 2);
+    for (int y = 1; y < H; ++y) out[W * y] = static_cast<uint8_t>((left(y) + 3 * dc + 2) >> 2);
+    return;
+  }
+  const bool vertical = mode >= 18;
+  const int angle = kAngle[mode - 2];
+  // Predict a bw x bh block along its columns from `main` (above for vertical modes, else
+  // the left column, transposed on the way out).
+  const int bw = vertical ? W : H, bh = vertical ? H : W;
+  uint8_t buffer[3 * (W + H) + 2] = {};
+  uint8_t* ref = buffer + (W + H);  // ref[-(W+H) .. W+H+1]
+  uint8_t side[W + H + 1];
+  for (int k = 0; k <= W + H; ++k) {
+    const int a = edge[kCorner + k], l = edge[kCorner - k];
+    ref[k] = static_cast<uint8_t>(vertical ? a : l);
+    side[k] = static_cast<uint8_t>(vertical ? l : a);
+  }
+  if (angle < 0) {
+    const int inverse = inverse_angle(angle);
+    for (int k = (bh * angle) >> 5; k < 0; ++k) ref[k] = side[std::min((k * inverse + 128) >> 8, W + H)];
+  }
+  for (int y = 0; y < bh; ++y) {
+    const int position = (y + 1) * angle, whole = position >> 5, fraction = position & 31;
+    for (int x = 0; x < bw; ++x) {
+      const int value = ((32 - fraction) * ref[x + whole + 1] + fraction * ref[x + whole + 2] + 16) >> 5;
+      out[vertical ? W * y + x : W * x + y] = static_cast<uint8_t>(value);
+    }
+  }
+  const int corner = raw_edge[kCorner];
+  if (mode == 26) {
+    for (int y = 0; y < H; ++y)
+      out[W * y] = static_cast<uint8_t>(
+          std::clamp(raw_edge[kCorner + 1] + ((raw_edge[kCorner - 1 - y] - corner) >> 1), 0, 255));
+  } else if (mode == 10) {
+    for (int x = 0; x < W; ++x)
+      out[x] = static_cast<uint8_t>(
+          std::clamp(raw_edge[kCorner - 1] + ((raw_edge[kCorner + 1 + x] - corner) >> 1), 0, 255));
+  }
+}
+
 // 1-D N-point Hadamard butterflies in place.
 template <int N>
 void hadamard(int* v, int stride) {
@@ -212,6 +291,12 @@ void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {
 void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<4>(edge, mode, out); }
 void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<8>(edge, mode, out); }
 void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<16>(edge, mode, out); }
+void intra_predict_16x8_c(const uint8_t* edge, int mode, uint8_t* out) {
+  predict_rectangular<16, 8>(edge, mode, out);
+}
+void intra_predict_8x16_c(const uint8_t* edge, int mode, uint8_t* out) {
+  predict_rectangular<8, 16>(edge, mode, out);
+}
 int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
   return satd<4>(source, source_stride, prediction);
 }
@@ -223,6 +308,8 @@ void init_intra_c(DspTable* table) {
   table->intra_predict_4x4 = intra_predict_4x4_c;
   table->intra_predict_8x8 = intra_predict_8x8_c;
   table->intra_predict_16x16 = intra_predict_16x16_c;
+  table->intra_predict_16x8 = intra_predict_16x8_c;
+  table->intra_predict_8x16 = intra_predict_8x16_c;
   table->satd_4x4 = satd_4x4_c;
   table->satd_8x8 = satd_8x8_c;
 }

@@ -50,26 +50,34 @@ std::string check_satd(const Tables& reference, const Tables& variant, Random& r
   return {};
 }
 
-// 4x4 and 16x16 blocks from edges of 4N + 1 samples built the same ways.
-template <int N>
+// The W x H predictor of a table: 4x4, 16x16, 16x8 or 8x16.
+template <int W, int H>
+auto predictor_of(const Tables& t) {
+  if constexpr (W == 4) return t.intra_predict_4x4;
+  if constexpr (W == 16 && H == 16) return t.intra_predict_16x16;
+  if constexpr (W == 16 && H == 8) return t.intra_predict_16x8;
+  if constexpr (W == 8 && H == 16) return t.intra_predict_8x16;
+}
+
+// 4x4, 16x16, 16x8 and 8x16 blocks from edges of 2 (W + H) + 1 samples built the same ways.
+template <int N, int H = N>
 std::string check_intra_predict_n(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  constexpr int kSamples = 4 * N + 1;
-  auto predict = [](const Tables& t) { return N == 4 ? t.intra_predict_4x4 : t.intra_predict_16x16; };
+  constexpr int W = N, kSamples = 2 * (W + H) + 1;
   for (int n = 0; n < iterations; ++n) {
-    uint8_t edge[kSamples], expected[N * N], actual[N * N];
+    uint8_t edge[kSamples], expected[W * H], actual[W * H];
     const int pattern = random.uniform(0, 2);
     if (pattern == 0) {
       random.fill_with_extremes(edge, kSamples);
     } else if (pattern == 1) {
       const uint8_t left = random.byte(), above = random.byte();
-      for (int i = 0; i < kSamples; ++i) edge[i] = i < 2 * N ? left : above;
+      for (int i = 0; i < kSamples; ++i) edge[i] = i < W + H ? left : above;
     } else {
       random.fill(edge, kSamples);
     }
     for (int mode = 0; mode < 35; ++mode) {
-      predict(reference)(edge, mode, expected);
-      predict(variant)(edge, mode, actual);
-      if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) {
+      predictor_of<W, H>(reference)(edge, mode, expected);
+      predictor_of<W, H>(variant)(edge, mode, actual);
+      if (auto diff = first_difference(expected, actual, W * H, W); !diff.empty()) {
         return "mode " + std::to_string(mode) + ": " + diff;
       }
     }
@@ -94,11 +102,11 @@ std::string check_satd_4x4(const Tables& reference, const Tables& variant, Rando
   return {};
 }
 
-template <int N>
+template <int N, int H = N>
 void bench_intra_predict_n(const Tables& table, int iterations) {
-  const auto predict = N == 4 ? table.intra_predict_4x4 : table.intra_predict_16x16;
-  uint8_t edge[4 * N + 1], out[N * N];
-  for (int i = 0; i < 4 * N + 1; ++i) edge[i] = static_cast<uint8_t>(i * 7);
+  const auto predict = predictor_of<N, H>(table);
+  uint8_t edge[2 * (N + H) + 1], out[N * H];
+  for (int i = 0; i < 2 * (N + H) + 1; ++i) edge[i] = static_cast<uint8_t>(i * 7);
   for (int n = 0; n < iterations; ++n) predict(edge, n % 35, out);
   bench_sink = out[0];
 }
@@ -215,6 +223,10 @@ std::vector<Kernel> intra_kernels() {
        bench_intra_predict_n<4>},
       {"intra_predict_16x16", [](const Tables& t) { return entry_of(t.intra_predict_16x16); },
        check_intra_predict_n<16>, bench_intra_predict_n<16>},
+      {"intra_predict_16x8", [](const Tables& t) { return entry_of(t.intra_predict_16x8); },
+       check_intra_predict_n<16, 8>, bench_intra_predict_n<16, 8>},
+      {"intra_predict_8x16", [](const Tables& t) { return entry_of(t.intra_predict_8x16); },
+       check_intra_predict_n<8, 16>, bench_intra_predict_n<8, 16>},
       {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd_4x4, bench_satd_4x4},
       {"cfl_luma_ac_8x8", [](const Tables& t) { return entry_of(t.cfl_luma_ac_8x8); }, check_cfl_luma_ac,
        bench_cfl_luma_ac},
