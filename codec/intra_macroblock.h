@@ -167,7 +167,8 @@ struct BlockSyntax {
 };
 
 // Reads a luma block's mode and levels at (x0, y0) of a plane whose neighbours `state`
-// describes; the caller marks the block. Returns false on invalid levels.
+// describes (`size` a block shape, transform_size.h block_shape, as in every call below
+// that takes one); the caller marks the block. Returns false on invalid levels.
 bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
                        int size, BlockSyntax* out);
 // Reads an 8x8 chroma block's mode (codec/cfl.h: the CfL flag and alpha, or the regular
@@ -187,12 +188,13 @@ class BlockReader {
   ~BlockReader() = default;
 };
 
-// Reads the split flags of luma macroblock (mbx, mby) and hands each block to `reader` in
-// coding order; `partition` receives the partition byte. False when the reader fails.
+// Reads the split and halves flags of luma macroblock (mbx, mby) and hands each block to
+// `reader` in coding order; `partition` receives the partition byte. False when the
+// reader fails.
 bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
                           BlockReader& reader, uint8_t* partition);
 
-// Predicts the size x size block at (x0, y0) of `plane` (stride samples a row) in `mode`
+// Predicts the block of shape `size` at (x0, y0) of `plane` (stride samples a row) in `mode`
 // from its reconstructed neighbours, adds the inverse transform of type `type` of
 // `coefficients` (dequantized, natural order; null when the block has no levels),
 // writes the clipped result into the plane and marks the block in `state`.

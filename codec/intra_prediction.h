@@ -1,4 +1,5 @@
-// Spatial intra prediction of 4x4, 8x8 and 16x16 blocks from reconstructed neighbours:
+// Spatial intra prediction of 4x4, 8x8, 16x16, 16x8 and 8x16 blocks from reconstructed
+// neighbours:
 // the reference edge of a block, the most probable modes derived from its left and above
 // neighbours, and the coding of a block's mode. The predictors themselves are kernels
 // (dsp::DspTable::intra_predict_*). Exact definitions in docs/codec.md 3.1-3.2.
@@ -29,16 +30,16 @@ struct EdgeAvailability {
   bool left = false, above = false, below_left = false, above_right = false;
 };
 
-// Fills edge[4 size + 1] (the corner at 2 size) for the size x size block (size 4, 8 or
-// 16) at sample (x0, y0) of `plane` (stride samples per row), reading only the
-// neighbours `available` names. Missing neighbours are substituted as docs/codec.md 3.1
-// defines.
-void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int size,
+// Fills edge[2 (W + H) + 1] (the corner at W + H) for the W x H block of `shape`
+// (block_shape of transform_size.h: 4, 8, 16, or 16x8 and 8x16) at sample (x0, y0) of
+// `plane` (stride samples per row), reading only the neighbours `available` names.
+// Missing neighbours are substituted as docs/codec.md 3.1 defines.
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int shape,
                       const EdgeAvailability& available, uint8_t* edge);
 
-// The intra prediction kernel of a block size (4, 8 or 16).
+// The intra prediction kernel of a block shape (as build_intra_edge's).
 using IntraPredictor = void (*)(const uint8_t* edge, int mode, uint8_t* out);
-IntraPredictor intra_predictor(int size);
+IntraPredictor intra_predictor(int shape);
 
 // The three most probable modes for a block whose left and above neighbours use
 // left_mode and above_mode (kDcMode where a neighbour is missing); all different.
