@@ -52,29 +52,29 @@ Status run_ablation(Bench& bench, BenchResults* results) {
   return Status::Ok();
 }
 
-// The requested codecs in report order, svc first: the others pick their reference
-// point by svc's PSNR.
 AnchorOptions anchor_options_of(const BenchOptions& options) {
   return AnchorOptions{options.gop, options.anchor_presets, options.anchor_options};
 }
 
+// The requested codecs in report order, svc first: the others pick their reference
+// point by svc's PSNR.
 Result<std::vector<std::string>> ordered_codecs(const BenchOptions& options) {
   const std::vector<std::string>& all = all_codec_names();
   const std::vector<std::string>& codecs = options.codecs.empty() ? all : options.codecs;
+  auto unknown = [&](const std::string& name) { return std::find(all.begin(), all.end(), name) == all.end(); };
   std::string valid;
   for (const std::string& name : all) valid += (valid.empty() ? "" : ", ") + name;
   for (const std::string& name : codecs) {
-    if (std::find(all.begin(), all.end(), name) == all.end()) {
+    if (unknown(name)) {
       return Status(ErrorCode::kInvalidArgument, "svc bench: unknown codec '" + name + "' (valid: " + valid + ")");
     }
   }
   for (const auto& [name, preset] : options.anchor_presets) {
-    if (std::find(all.begin(), all.end(), name) == all.end()) {
+    if (unknown(name))
       return Status(ErrorCode::kInvalidArgument, "svc bench: preset for unknown codec '" + name + "'");
-    }
   }
   for (const auto& [name, codec_options] : options.anchor_options) {
-    if (std::find(all.begin(), all.end(), name) == all.end()) {
+    if (unknown(name)) {
       return Status(ErrorCode::kInvalidArgument, "svc bench: encoder options for unknown codec '" + name + "'");
     }
   }

@@ -100,49 +100,58 @@ void inverse_dct_8x8_reference(const double* coefficients, double* samples) {
 
 namespace {
 
-// 16x8 and 8x16 blocks: HEVC's matrix of each direction's length, coefficients at
-// 1/sqrt(2) of the orthonormal scale (so that 8-bit residuals fit 12 bits and the two
-// passes divide by a power of two, 2^15).
+// Entry (k, n) of a direction's integer matrix at `points` = 4, 8 or 16.
+int type_matrix_entry(int points, bool dst, int k, int n) {
+  if (points == 4) return dsp::type_matrix<4>(dst).m[k][n];
+  if (points == 8) return dsp::type_matrix<8>(dst).m[k][n];
+  return dsp::type_matrix<16>(dst).m[k][n];
+}
+
+// 16x8 and 8x16 blocks: HEVC's DCT of each direction's length (the DCT matrices and
+// float bases of the transform types), coefficients at 1/sqrt(2) of the orthonormal
+// scale (so that 8-bit residuals fit 12 bits and the two passes divide by a power of
+// two, 2^15).
 constexpr int kRectangularRowShift = 4, kRectangularColumnShift = 11;
 
-void forward_rectangular(TransformSize size, const float* samples, float* coefficients) {
-  const int w = transform_width(size), h = transform_height(size);
-  auto basis = [](int n, int k, int x) {
-    return static_cast<float>(dsp::hevc_dct_entry(n, k, x) / (64.0 * std::sqrt(static_cast<double>(n))));
-  };
-  float tmp[kMaxTransformArea];
-  for (int y = 0; y < h; ++y) {
-    for (int u = 0; u < w; ++u) {
+template <int W, int H>
+void forward_rectangular(const float* samples, float* coefficients) {
+  const dsp::TypeFloatBasis<W>& rows = dsp::type_float_basis<W>(false);
+  const dsp::TypeFloatBasis<H>& columns = dsp::type_float_basis<H>(false);
+  float tmp[W * H];
+  for (int y = 0; y < H; ++y) {
+    for (int u = 0; u < W; ++u) {
       float sum = 0;
-      for (int x = 0; x < w; ++x) sum += basis(w, u, x) * samples[w * y + x];
-      tmp[w * y + u] = sum;
+      for (int x = 0; x < W; ++x) sum += rows.b[u][x] * samples[W * y + x];
+      tmp[W * y + u] = sum;
     }
   }
   const float scale = static_cast<float>(1.0 / std::sqrt(2.0));
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
       float sum = 0;
-      for (int y = 0; y < h; ++y) sum += basis(h, v, y) * tmp[w * y + u];
-      coefficients[w * v + u] = sum * scale;
+      for (int y = 0; y < H; ++y) sum += columns.b[v][y] * tmp[W * y + u];
+      coefficients[W * v + u] = sum * scale;
     }
   }
 }
 
-void inverse_rectangular(TransformSize size, const int16_t* coefficients, int16_t* samples) {
-  const int w = transform_width(size), h = transform_height(size);
-  int tmp[kMaxTransformArea];
-  for (int v = 0; v < h; ++v) {
-    for (int x = 0; x < w; ++x) {
+template <int W, int H>
+void inverse_rectangular(const int16_t* coefficients, int16_t* samples) {
+  const auto& rows = dsp::type_matrix<W>(false).m;
+  const auto& columns = dsp::type_matrix<H>(false).m;
+  int tmp[W * H];
+  for (int v = 0; v < H; ++v) {
+    for (int x = 0; x < W; ++x) {
       int sum = 1 << (kRectangularRowShift - 1);
-      for (int u = 0; u < w; ++u) sum += dsp::hevc_dct_entry(w, u, x) * coefficients[w * v + u];
-      tmp[w * v + x] = sum >> kRectangularRowShift;
+      for (int u = 0; u < W; ++u) sum += rows[u][x] * coefficients[W * v + u];
+      tmp[W * v + x] = sum >> kRectangularRowShift;
     }
   }
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) {
       int sum = 1 << (kRectangularColumnShift - 1);
-      for (int v = 0; v < h; ++v) sum += dsp::hevc_dct_entry(h, v, y) * tmp[w * v + x];
-      samples[w * y + x] = static_cast<int16_t>(std::clamp(sum >> kRectangularColumnShift, -32768, 32767));
+      for (int v = 0; v < H; ++v) sum += columns[v][y] * tmp[W * v + x];
+      samples[W * y + x] = static_cast<int16_t>(std::clamp(sum >> kRectangularColumnShift, -32768, 32767));
     }
   }
 }
@@ -150,7 +159,8 @@ void inverse_rectangular(TransformSize size, const int16_t* coefficients, int16_
 }  // namespace
 
 void forward_transform(TransformSize size, const float* samples, float* coefficients) {
-  if (is_rectangular(size)) return forward_rectangular(size, samples, coefficients);
+  if (size == TransformSize::k16x8) return forward_rectangular<16, 8>(samples, coefficients);
+  if (size == TransformSize::k8x16) return forward_rectangular<8, 16>(samples, coefficients);
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
     case TransformSize::k4x4: dsp.forward_dct_4x4(samples, coefficients); break;
@@ -160,7 +170,8 @@ void forward_transform(TransformSize size, const float* samples, float* coeffici
 }
 
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples) {
-  if (is_rectangular(size)) return inverse_rectangular(size, coefficients, samples);
+  if (size == TransformSize::k16x8) return inverse_rectangular<16, 8>(coefficients, samples);
+  if (size == TransformSize::k8x16) return inverse_rectangular<8, 16>(coefficients, samples);
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
     case TransformSize::k4x4: dsp.inverse_dct_4x4(coefficients, samples); break;
@@ -170,7 +181,8 @@ void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t*
 }
 
 void inverse_transform_integer_reference(TransformSize size, const int16_t* coefficients, int16_t* samples) {
-  if (is_rectangular(size)) return inverse_rectangular(size, coefficients, samples);
+  if (is_rectangular(size))
+    return inverse_transform_integer_reference(size, TransformType::kDctDct, coefficients, samples);
   if (size == TransformSize::k8x8) {
     inverse_dct_8x8_integer_reference(coefficients, samples);
     return;
@@ -246,39 +258,30 @@ void inverse_transform(TransformSize size, TransformType type, const int16_t* co
   }
 }
 
-namespace {
-
-// Entry (k, n) of a direction's integer matrix at `points` = 4, 8 or 16.
-int type_matrix_entry(int points, bool dst, int k, int n) {
-  if (points == 4) return dsp::type_matrix<4>(dst).m[k][n];
-  if (points == 8) return dsp::type_matrix<8>(dst).m[k][n];
-  return dsp::type_matrix<16>(dst).m[k][n];
-}
-
-}  // namespace
-
 void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,
                                          int16_t* samples) {
-  if (type == TransformType::kDctDct || is_rectangular(size)) {
+  const bool rectangular = is_rectangular(size);  // always DCT_DCT
+  if (type == TransformType::kDctDct && !rectangular) {
     inverse_transform_integer_reference(size, coefficients, samples);
     return;
   }
-  const int n = transform_width(size);
-  const bool rows_dst = horizontal_dst(type), columns_dst = vertical_dst(type);
-  const int row_shift = dsp::type_row_shift(rows_dst), column_shift = dsp::type_column_shift(n, columns_dst);
+  const int w = transform_width(size), h = transform_height(size);
+  const bool rows_dst = !rectangular && horizontal_dst(type), columns_dst = !rectangular && vertical_dst(type);
+  const int row_shift = rectangular ? kRectangularRowShift : dsp::type_row_shift(rows_dst);
+  const int column_shift = rectangular ? kRectangularColumnShift : dsp::type_column_shift(w, columns_dst);
   int tmp[kMaxTransformArea];
-  for (int v = 0; v < n; ++v) {
-    for (int x = 0; x < n; ++x) {
+  for (int v = 0; v < h; ++v) {
+    for (int x = 0; x < w; ++x) {
       int sum = 1 << (row_shift - 1);
-      for (int u = 0; u < n; ++u) sum += type_matrix_entry(n, rows_dst, u, x) * coefficients[n * v + u];
-      tmp[n * v + x] = sum >> row_shift;
+      for (int u = 0; u < w; ++u) sum += type_matrix_entry(w, rows_dst, u, x) * coefficients[w * v + u];
+      tmp[w * v + x] = sum >> row_shift;
     }
   }
-  for (int y = 0; y < n; ++y) {
-    for (int x = 0; x < n; ++x) {
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
       int sum = 1 << (column_shift - 1);
-      for (int v = 0; v < n; ++v) sum += type_matrix_entry(n, columns_dst, v, y) * tmp[n * v + x];
-      samples[n * y + x] = static_cast<int16_t>(std::clamp(sum >> column_shift, -32768, 32767));
+      for (int v = 0; v < h; ++v) sum += type_matrix_entry(h, columns_dst, v, y) * tmp[w * v + x];
+      samples[w * y + x] = static_cast<int16_t>(std::clamp(sum >> column_shift, -32768, 32767));
     }
   }
 }

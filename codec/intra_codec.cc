@@ -10,7 +10,6 @@
 #include "codec/intra_codec.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <string>
@@ -33,7 +32,7 @@ namespace svc::codec {
 namespace {
 
 // The transform size of a block shape (block_shape, transform_size.h).
-TransformSize size_of_width(int shape) {
+TransformSize size_of_shape(int shape) {
   switch (shape) {
     case 4: return TransformSize::k4x4;
     case 16: return TransformSize::k16x16;
@@ -55,7 +54,7 @@ SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix) {
 }
 
 const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size) {
-  return quantizers[static_cast<size_t>(size_of_width(size))];
+  return quantizers[static_cast<size_t>(size_of_shape(size))];
 }
 
 }  // namespace intra
@@ -107,7 +106,7 @@ void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, T
     return;
   }
   int16_t residual[kMaxTransformArea];
-  inverse_transform(size_of_width(size), type, coefficients, residual);
+  inverse_transform(size_of_shape(size), type, coefficients, residual);
   if (size == 4) return add_residual<4>(prediction, residual, out, stride);
   if (size == 16) return add_residual<16>(prediction, residual, out, stride);
   if (size == block_shape(16, 8)) return add_residual<16, 8>(prediction, residual, out, stride);
@@ -230,7 +229,7 @@ class BlockReconstructor {
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
     int values[kMaxTransformArea];
     TransformType type = TransformType::kDctDct;
-    const int decoded = coefficients_.read_levels(&offset_, count, size_of_width(size), positions_, values, &type);
+    const int decoded = coefficients_.read_levels(&offset_, count, size_of_shape(size), positions_, values, &type);
     for (int i = 0; i < decoded; ++i) {
       block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values[i]));
     }
@@ -474,7 +473,7 @@ class BlockSearch {
   // types and the block has levels; the mode stays), by the same cost. Returns the cost.
   float choose_transform_type(const uint8_t* source, int stride, int size, const PlaneContexts& contexts,
                               int cbf_context, float mode_bits, BlockChoice* best, float best_cost) const {
-    if (!contexts.types.enabled || !best->coded || !has_transform_types(size_of_width(size))) return best_cost;
+    if (!contexts.types.enabled || !best->coded || !has_transform_types(size_of_shape(size))) return best_cost;
     trial_.mode = best->mode;
     trial_.cfl_alpha = best->cfl_alpha;
     std::copy_n(best->prediction, shape_area(size), trial_.prediction);
@@ -659,10 +658,9 @@ class MacroblockSearch {
     float whole_cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 0) +
                        plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
     out->partition = 0;
-    uint8_t whole_samples[kMaxTransformArea];
+    uint8_t best_samples[kMaxTransformArea];
     for (const uint8_t halves : {kHalves16x16, static_cast<uint8_t>(kHalves16x16 | kVerticalHalves)}) {
-      plane_->save(x0, y0, 16, whole_samples);
-      const BlockChoice kept = whole;
+      plane_->save(x0, y0, 16, best_samples);
       state.clear(x0, y0, 16);
       const bool vertical = (halves & kVerticalHalves) != 0;
       float cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +
@@ -680,19 +678,13 @@ class MacroblockSearch {
         out->blocks[1] = halves_[1];
         continue;
       }
-      plane_->restore(x0, y0, 16, whole_samples);
-      for_each_luma_block(out->partition, [&, n = 0](int x, int y, int shape_of) mutable {
-        const BlockChoice& b = n++ == 0 ? kept : out->blocks[1];
-        state.mark(x0 + x, y0 + y, shape_of, b.mode, b.coded);
-      });
-      whole = kept;
+      // The trial wrote only halves_: the best so far is still in `out`.
+      plane_->restore(x0, y0, 16, best_samples);
+      mark_blocks(state, x0, y0, *out);
     }
     if (whole_cost < split_cost) return whole_cost;
     plane_->restore(x0, y0, 16, saved);
-    for_each_luma_block(split_.partition, [&, n = 0](int x, int y, int size) mutable {
-      const BlockChoice& b = split_.blocks[static_cast<size_t>(n++)];
-      state.mark(x0 + x, y0 + y, size, b.mode, b.coded);
-    });
+    mark_blocks(state, x0, y0, split_);
     *out = split_;
     return split_cost;
   }
@@ -726,6 +718,14 @@ class MacroblockSearch {
     state.mark(x0, y0, 8, kept.mode, kept.coded);
     whole = kept;
     return whole_cost;
+  }
+
+  // Marks the blocks of `choice` in `state` again, after a trial over them.
+  static void mark_blocks(PlaneState& state, int x0, int y0, const MacroblockChoice& choice) {
+    for_each_luma_block(choice.partition, [&, n = 0](int x, int y, int shape) mutable {
+      const BlockChoice& b = choice.blocks[static_cast<size_t>(n++)];
+      state.mark(x0 + x, y0 + y, shape, b.mode, b.coded);
+    });
   }
 
   // The modes a half ranks: those of the two 8x8 blocks it covers, its most probable
@@ -779,7 +779,7 @@ class FrameBlockReader final : public BlockReader {
   // Marks the block read and appends it to the frame with its mode byte.
   void append(int x0, int y0, int size, uint8_t mode_byte) {
     state_.mark(x0, y0, size, block_.mode, block_.count > 0);
-    frame_->append_levels(block_.levels, block_.count, size_of_width(size), block_.transform_type);
+    frame_->append_levels(block_.levels, block_.count, size_of_shape(size), block_.transform_type);
     frame_->block_counts.push_back(static_cast<uint16_t>(block_.count));
     frame_->block_modes.push_back(mode_byte);
   }
@@ -823,7 +823,7 @@ bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const Pla
                        int size, BlockSyntax* out) {
   out->mode = decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
   out->cfl_alpha = 0;
-  return read_levels_and_type(decoder, contexts, state, x0, y0, size_of_width(size), out);
+  return read_levels_and_type(decoder, contexts, state, x0, y0, size_of_shape(size), out);
 }
 
 bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0,
@@ -845,8 +845,10 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
     if (!decoder.decode(contexts.halves_16x16[static_cast<size_t>(split_context)])) return reader.read(x0, y0, 16);
     const bool vertical = decoder.decode(contexts.vertical_halves) != 0;
     *partition = static_cast<uint8_t>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
-    const int shape = vertical ? block_shape(8, 16) : block_shape(16, 8);
-    return reader.read(x0, y0, shape) && reader.read(x0 + (vertical ? 8 : 0), y0 + (vertical ? 0 : 8), shape);
+    bool read = true;
+    for_each_luma_block(*partition,
+                        [&](int x, int y, int shape) { read = read && reader.read(x0 + x, y0 + y, shape); });
+    return read;
   }
   *partition = kSplit16x16;
   for (int i = 0; i < 4; ++i) {
@@ -894,11 +896,11 @@ namespace {
 void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
                   const BlockChoice& choice) {
   encode_block_levels(encoder, contexts.residual, choice.levels, 0, state.coded_block_context(x0, y0),
-                      size_of_width(size));
+                      size_of_shape(size));
   const bool has_levels =
       std::any_of(choice.levels, choice.levels + shape_area(size), [](int16_t l) { return l != 0; });
   if (has_levels)
-    encode_transform_type(encoder, contexts.types, size_of_width(size), choice.mode, choice.transform_type);
+    encode_transform_type(encoder, contexts.types, size_of_shape(size), choice.mode, choice.transform_type);
   state.mark(x0, y0, size, choice.mode, choice.coded);
 }
 

@@ -25,6 +25,16 @@ constexpr TransformSize kNewSizes[] = {TransformSize::k4x4, TransformSize::k16x1
 
 using testing::random_coefficients;
 
+// Encodes `image` as an intra frame, parses it into *parsed and expects the decoder to
+// reproduce the encoder's reconstruction exactly.
+void encode_and_decode_exactly(const ImageYCbCr420& image, const CodingParams& params, CoefficientFrame* parsed) {
+  ImageYCbCr420 reconstruction, decoded;
+  const auto bytes = encode_intra_frame(image, params, &reconstruction);
+  ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, parsed).ok());
+  reconstruct_intra_frame(*parsed, &decoded);
+  EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb && decoded.cr == reconstruction.cr);
+}
+
 TEST(TransformSizes, IntegerInversesMatchTheirMatrixProductsBitExactly) {
   std::mt19937 rng(11);
   for (TransformSize size : kNewSizes) {
@@ -164,13 +174,8 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
     params.qindex = 90;
     params.transform_sizes = sizes;
     params.transform_types = false;  // with DST types the detailed 8x8 blocks rarely split
-    ImageYCbCr420 reconstruction, decoded;
-    const auto bytes = encode_intra_frame(image, params, &reconstruction);
     CoefficientFrame parsed;
-    ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, &parsed).ok());
-    reconstruct_intra_frame(parsed, &decoded);
-    EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
-                decoded.cr == reconstruction.cr);
+    ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
     const auto whole = std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), 0);
     const auto with_4x4 = std::count_if(parsed.luma_partitions.begin(), parsed.luma_partitions.end(),
                                         [](uint8_t p) { return (p & 0x1E) != 0; });
@@ -235,13 +240,8 @@ TEST(TransformSizes, IntraFramesChooseHalvesAndDecodeExactly) {
     image.cr.assign(32 * 32, 128);
     CodingParams params;
     params.qindex = 120;
-    ImageYCbCr420 reconstruction, decoded;
-    const auto bytes = encode_intra_frame(image, params, &reconstruction);
     CoefficientFrame parsed;
-    ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, &parsed).ok());
-    reconstruct_intra_frame(parsed, &decoded);
-    EXPECT_TRUE(decoded.y == reconstruction.y && decoded.cb == reconstruction.cb &&
-                decoded.cr == reconstruction.cr);
+    ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
     const uint8_t halves = transposed ? 32 | 64 : 32;  // 8x16 or 16x8 halves
     EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), halves), 0)
         << (transposed ? "8x16" : "16x8");

@@ -38,10 +38,11 @@ bool edge_is_smoothed(int mode) {
 
 constexpr int log2_of(int n) { return n == 4 ? 2 : n == 8 ? 3 : 4; }
 
-// The edge of an N x N block: 4N + 1 samples, the corner at 2N.
-template <int N>
+// The edge of an N x H block: 2 (N + H) + 1 samples, the corner at N + H (4N + 1, 2N for
+// a square).
+template <int N, int H = N>
 void smooth_edge(const uint8_t* edge, uint8_t* out) {
-  constexpr int kSamples = 4 * N + 1;
+  constexpr int kSamples = 2 * (N + H) + 1;
   out[0] = edge[0];
   out[kSamples - 1] = edge[kSamples - 1];
   for (int i = 1; i < kSamples - 1; ++i)
@@ -123,18 +124,18 @@ void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
 
 // HEVC's boundary filters: DC blends its first row and column with the neighbours,
 // pure vertical (26) and horizontal (10) add half the edge's gradient to their first
-// column or row.
-template <int N>
+// column or row. N x H blocks (rows of N samples), square by default.
+template <int N, int H = N>
 void filter_boundary(const uint8_t* edge, int mode, uint8_t* out) {
-  constexpr int kCorner = 2 * N;
+  constexpr int kCorner = N + H;
   const int corner = edge[kCorner], left = edge[kCorner - 1], above = edge[kCorner + 1];
   if (mode == 1) {
-    const int dc = out[N * N - 1];
+    const int dc = out[N * H - 1];
     out[0] = static_cast<uint8_t>((left + 2 * dc + above + 2) >> 2);
     for (int x = 1; x < N; ++x) out[x] = static_cast<uint8_t>((edge[kCorner + 1 + x] + 3 * dc + 2) >> 2);
-    for (int y = 1; y < N; ++y) out[N * y] = static_cast<uint8_t>((edge[kCorner - 1 - y] + 3 * dc + 2) >> 2);
+    for (int y = 1; y < H; ++y) out[N * y] = static_cast<uint8_t>((edge[kCorner - 1 - y] + 3 * dc + 2) >> 2);
   } else if (mode == 26) {
-    for (int y = 0; y < N; ++y)
+    for (int y = 0; y < H; ++y)
       out[N * y] = static_cast<uint8_t>(std::clamp(above + ((edge[kCorner - 1 - y] - corner) >> 1), 0, 255));
   } else if (mode == 10) {
     for (int x = 0; x < N; ++x)
@@ -168,10 +169,7 @@ void predict_rectangular(const uint8_t* raw_edge, int mode, uint8_t* out) {
   uint8_t smoothed[kSamples];
   const uint8_t* edge = raw_edge;
   if (mode != 1 && edge_is_smoothed<8>(mode)) {  // planar and the three diagonals
-    smoothed[0] = raw_edge[0];
-    smoothed[kSamples - 1] = raw_edge[kSamples - 1];
-    for (int i = 1; i < kSamples - 1; ++i)
-      smoothed[i] = static_cast<uint8_t>((raw_edge[i - 1] + 2 * raw_edge[i] + raw_edge[i + 1] + 2) >> 2);
+    smooth_edge<W, H>(raw_edge, smoothed);
     edge = smoothed;
   }
   const uint8_t* above = edge + kCorner + 1;
@@ -194,11 +192,8 @@ void predict_rectangular(const uint8_t* raw_edge, int mode, uint8_t* out) {
     if (H >= W)
       for (int y = 0; y < H; ++y) sum += left(y);
     const int count = W == H ? 2 * W : std::max(W, H);
-    const auto dc = static_cast<uint8_t>((sum + count / 2) / count);
-    std::fill_n(out, W * H, dc);
-    out[0] = static_cast<uint8_t>((left(0) + 2 * dc + above[0] + 2) >> 2);
-    for (int x = 1; x < W; ++x) out[x] = static_cast<uint8_t>((above[x] + 3 * dc + 2) >> 2);
-    for (int y = 1; y < H; ++y) out[W * y] = static_cast<uint8_t>((left(y) + 3 * dc + 2) >> 2);
+    std::fill_n(out, W * H, static_cast<uint8_t>((sum + count / 2) / count));
+    filter_boundary<W, H>(raw_edge, mode, out);
     return;
   }
   const bool vertical = mode >= 18;
@@ -225,16 +220,7 @@ void predict_rectangular(const uint8_t* raw_edge, int mode, uint8_t* out) {
       out[vertical ? W * y + x : W * x + y] = static_cast<uint8_t>(value);
     }
   }
-  const int corner = raw_edge[kCorner];
-  if (mode == 26) {
-    for (int y = 0; y < H; ++y)
-      out[W * y] = static_cast<uint8_t>(
-          std::clamp(raw_edge[kCorner + 1] + ((raw_edge[kCorner - 1 - y] - corner) >> 1), 0, 255));
-  } else if (mode == 10) {
-    for (int x = 0; x < W; ++x)
-      out[x] = static_cast<uint8_t>(
-          std::clamp(raw_edge[kCorner - 1] + ((raw_edge[kCorner + 1 + x] - corner) >> 1), 0, 255));
-  }
+  filter_boundary<W, H>(raw_edge, mode, out);
 }
 
 // 1-D N-point Hadamard butterflies in place.
