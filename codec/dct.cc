@@ -107,62 +107,13 @@ int type_matrix_entry(int points, bool dst, int k, int n) {
   return dsp::type_matrix<16>(dst).m[k][n];
 }
 
-// 16x8 and 8x16 blocks: HEVC's DCT of each direction's length (the DCT matrices and
-// float bases of the transform types), coefficients at 1/sqrt(2) of the orthonormal
-// scale (so that 8-bit residuals fit 12 bits and the two passes divide by a power of
-// two, 2^15).
-constexpr int kRectangularRowShift = 4, kRectangularColumnShift = 11;
-
-template <int W, int H>
-void forward_rectangular(const float* samples, float* coefficients) {
-  const dsp::TypeFloatBasis<W>& rows = dsp::type_float_basis<W>(false);
-  const dsp::TypeFloatBasis<H>& columns = dsp::type_float_basis<H>(false);
-  float tmp[W * H];
-  for (int y = 0; y < H; ++y) {
-    for (int u = 0; u < W; ++u) {
-      float sum = 0;
-      for (int x = 0; x < W; ++x) sum += rows.b[u][x] * samples[W * y + x];
-      tmp[W * y + u] = sum;
-    }
-  }
-  const float scale = static_cast<float>(1.0 / std::sqrt(2.0));
-  for (int v = 0; v < H; ++v) {
-    for (int u = 0; u < W; ++u) {
-      float sum = 0;
-      for (int y = 0; y < H; ++y) sum += columns.b[v][y] * tmp[W * y + u];
-      coefficients[W * v + u] = sum * scale;
-    }
-  }
-}
-
-template <int W, int H>
-void inverse_rectangular(const int16_t* coefficients, int16_t* samples) {
-  const auto& rows = dsp::type_matrix<W>(false).m;
-  const auto& columns = dsp::type_matrix<H>(false).m;
-  int tmp[W * H];
-  for (int v = 0; v < H; ++v) {
-    for (int x = 0; x < W; ++x) {
-      int sum = 1 << (kRectangularRowShift - 1);
-      for (int u = 0; u < W; ++u) sum += rows[u][x] * coefficients[W * v + u];
-      tmp[W * v + x] = sum >> kRectangularRowShift;
-    }
-  }
-  for (int y = 0; y < H; ++y) {
-    for (int x = 0; x < W; ++x) {
-      int sum = 1 << (kRectangularColumnShift - 1);
-      for (int v = 0; v < H; ++v) sum += columns[v][y] * tmp[W * v + x];
-      samples[W * y + x] = static_cast<int16_t>(std::clamp(sum >> kRectangularColumnShift, -32768, 32767));
-    }
-  }
-}
-
 }  // namespace
 
 void forward_transform(TransformSize size, const float* samples, float* coefficients) {
-  if (size == TransformSize::k16x8) return forward_rectangular<16, 8>(samples, coefficients);
-  if (size == TransformSize::k8x16) return forward_rectangular<8, 16>(samples, coefficients);
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
+    case TransformSize::k16x8: dsp.forward_typed_16x8(0, samples, coefficients); break;
+    case TransformSize::k8x16: dsp.forward_typed_8x16(0, samples, coefficients); break;
     case TransformSize::k4x4: dsp.forward_dct_4x4(samples, coefficients); break;
     case TransformSize::k16x16: dsp.forward_dct_16x16(samples, coefficients); break;
     default: dsp.forward_dct_8x8(samples, coefficients);
@@ -170,10 +121,10 @@ void forward_transform(TransformSize size, const float* samples, float* coeffici
 }
 
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples) {
-  if (size == TransformSize::k16x8) return inverse_rectangular<16, 8>(coefficients, samples);
-  if (size == TransformSize::k8x16) return inverse_rectangular<8, 16>(coefficients, samples);
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
+    case TransformSize::k16x8: dsp.inverse_typed_16x8(0, coefficients, samples); break;
+    case TransformSize::k8x16: dsp.inverse_typed_8x16(0, coefficients, samples); break;
     case TransformSize::k4x4: dsp.inverse_dct_4x4(coefficients, samples); break;
     case TransformSize::k16x16: dsp.inverse_dct_16x16(coefficients, samples); break;
     default: dsp.inverse_dct_8x8(coefficients, samples);
@@ -267,8 +218,7 @@ void inverse_transform_integer_reference(TransformSize size, TransformType type,
   }
   const int w = transform_width(size), h = transform_height(size);
   const bool rows_dst = !rectangular && horizontal_dst(type), columns_dst = !rectangular && vertical_dst(type);
-  const int row_shift = rectangular ? kRectangularRowShift : dsp::type_row_shift(rows_dst);
-  const int column_shift = rectangular ? kRectangularColumnShift : dsp::type_column_shift(w, columns_dst);
+  const int row_shift = dsp::type_row_shift(rows_dst), column_shift = dsp::type_column_shift(h, columns_dst);
   int tmp[kMaxTransformArea];
   for (int v = 0; v < h; ++v) {
     for (int x = 0; x < w; ++x) {

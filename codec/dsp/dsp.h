@@ -73,6 +73,12 @@ struct DspTable {
   void (*inverse_typed_4x4)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_8x8)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_16x16)(int type, const int16_t* coefficients, int16_t* samples);
+  // 16x8 and 8x16 blocks (docs/codec.md 7.3; W x H, W samples a row): the same with
+  // `type` 0..3, 0 being DCT_DCT; coefficients at 1/sqrt(2) of the orthonormal scale.
+  void (*forward_typed_16x8)(int type, const float* samples, float* coefficients);
+  void (*forward_typed_8x16)(int type, const float* samples, float* coefficients);
+  void (*inverse_typed_16x8)(int type, const int16_t* coefficients, int16_t* samples);
+  void (*inverse_typed_8x16)(int type, const int16_t* coefficients, int16_t* samples);
 
   // Quantizes 64 coefficients: level = trunc(|c| inverse_step[i] + rounding) capped at
   // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.

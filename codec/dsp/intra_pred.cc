@@ -160,49 +160,60 @@ void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
 }
 
 // Rectangular W x H blocks (16x8, 8x16): the modes of docs/codec.md 3.1 on an edge of
-// W + H samples each side, the corner at W + H. Planar weighs both directions by the
-// other side's length (as VVC), DC averages the longer side, angular modes project as
-// for squares; the edge is smoothed as for 8x8 blocks.
+// W + H samples each side, the corner at W + H. The edge is smoothed as for 8x8 blocks
+// (planar and the three diagonals).
 template <int W, int H>
-void predict_rectangular(const uint8_t* raw_edge, int mode, uint8_t* out) {
-  constexpr int kCorner = W + H, kSamples = 2 * (W + H) + 1;
-  uint8_t smoothed[kSamples];
-  const uint8_t* edge = raw_edge;
-  if (mode != 1 && edge_is_smoothed<8>(mode)) {  // planar and the three diagonals
-    smooth_edge<W, H>(raw_edge, smoothed);
-    edge = smoothed;
-  }
+const uint8_t* rectangular_edge(const uint8_t* edge, int mode, uint8_t* smoothed) {
+  if (mode == 1 || !edge_is_smoothed<8>(mode)) return edge;
+  smooth_edge<W, H>(edge, smoothed);
+  return smoothed;
+}
+
+// Planar weighs both directions by the other side's length (as VVC).
+template <int W, int H>
+void predict_rectangular_planar(const uint8_t* raw_edge, uint8_t* out) {
+  constexpr int kCorner = W + H, kLogW = W == 16 ? 4 : 3, kLogH = H == 16 ? 4 : 3;
+  uint8_t smoothed[2 * (W + H) + 1];
+  const uint8_t* edge = rectangular_edge<W, H>(raw_edge, 0, smoothed);
   const uint8_t* above = edge + kCorner + 1;
   auto left = [&](int y) { return edge[kCorner - 1 - y]; };
-  constexpr int kLogW = W == 16 ? 4 : 3, kLogH = H == 16 ? 4 : 3;
-  if (mode == 0) {
-    for (int y = 0; y < H; ++y) {
-      for (int x = 0; x < W; ++x) {
-        const int vertical = ((H - 1 - y) * above[x] + (y + 1) * left(H)) << kLogW;
-        const int horizontal = ((W - 1 - x) * left(y) + (x + 1) * above[W]) << kLogH;
-        out[W * y + x] = static_cast<uint8_t>((vertical + horizontal + W * H) >> (kLogW + kLogH + 1));
-      }
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; ++x) {
+      const int vertical = ((H - 1 - y) * above[x] + (y + 1) * left(H)) << kLogW;
+      const int horizontal = ((W - 1 - x) * left(y) + (x + 1) * above[W]) << kLogH;
+      out[W * y + x] = static_cast<uint8_t>((vertical + horizontal + W * H) >> (kLogW + kLogH + 1));
     }
-    return;
   }
-  if (mode == 1) {
-    int sum = 0;
-    if (W >= H)
-      for (int x = 0; x < W; ++x) sum += above[x];
-    if (H >= W)
-      for (int y = 0; y < H; ++y) sum += left(y);
-    const int count = W == H ? 2 * W : std::max(W, H);
-    std::fill_n(out, W * H, static_cast<uint8_t>((sum + count / 2) / count));
-    filter_boundary<W, H>(raw_edge, mode, out);
-    return;
-  }
+}
+
+// DC averages the longer side.
+template <int W, int H>
+void predict_rectangular_dc(const uint8_t* edge, uint8_t* out) {
+  constexpr int kCorner = W + H;
+  int sum = 0;
+  if (W >= H)
+    for (int x = 0; x < W; ++x) sum += edge[kCorner + 1 + x];
+  if (H >= W)
+    for (int y = 0; y < H; ++y) sum += edge[kCorner - 1 - y];
+  const int count = W == H ? 2 * W : std::max(W, H);
+  std::fill_n(out, W * H, static_cast<uint8_t>((sum + count / 2) / count));
+}
+
+// The reference row of an angular mode: main[W + H + k], k = -(W + H)..W + H + 1, is
+// sample k of the projected (and, where the mode asks, smoothed) edge; of the negative k
+// only those the mode reads are set. Angular modes
+// predict a bw x bh block along its columns from it (above for vertical modes, W x H;
+// else the left column, H x W, transposed on the way out). Returns the angle.
+template <int W, int H>
+int prepare_rectangular_reference(const uint8_t* raw_edge, int mode, uint8_t* main) {
+  constexpr int kCorner = W + H;
+  uint8_t smoothed[2 * (W + H) + 1];
+  const uint8_t* edge = rectangular_edge<W, H>(raw_edge, mode, smoothed);
   const bool vertical = mode >= 18;
   const int angle = kAngle[mode - 2];
-  // Predict a bw x bh block along its columns from `main` (above for vertical modes, else
-  // the left column, transposed on the way out).
-  const int bw = vertical ? W : H, bh = vertical ? H : W;
-  uint8_t buffer[3 * (W + H) + 2] = {};
-  uint8_t* ref = buffer + (W + H);  // ref[-(W+H) .. W+H+1]
+  const int bh = vertical ? H : W;
+  uint8_t* ref = main + (W + H);
+  ref[W + H + 1] = 0;  // read, with weight 0, by the steepest angle
   uint8_t side[W + H + 1];
   for (int k = 0; k <= W + H; ++k) {
     const int a = edge[kCorner + k], l = edge[kCorner - k];
@@ -213,14 +224,29 @@ void predict_rectangular(const uint8_t* raw_edge, int mode, uint8_t* out) {
     const int inverse = inverse_angle(angle);
     for (int k = (bh * angle) >> 5; k < 0; ++k) ref[k] = side[std::min((k * inverse + 128) >> 8, W + H)];
   }
-  for (int y = 0; y < bh; ++y) {
-    const int position = (y + 1) * angle, whole = position >> 5, fraction = position & 31;
-    for (int x = 0; x < bw; ++x) {
-      const int value = ((32 - fraction) * ref[x + whole + 1] + fraction * ref[x + whole + 2] + 16) >> 5;
-      out[vertical ? W * y + x : W * x + y] = static_cast<uint8_t>(value);
+  return angle;
+}
+
+template <int W, int H>
+void predict_rectangular(const uint8_t* edge, int mode, uint8_t* out) {
+  if (mode == 0) return predict_rectangular_planar<W, H>(edge, out);
+  if (mode == 1) {
+    predict_rectangular_dc<W, H>(edge, out);
+  } else {
+    uint8_t main[3 * (W + H) + 2];
+    const int angle = prepare_rectangular_reference<W, H>(edge, mode, main);
+    const uint8_t* ref = main + (W + H);
+    const bool vertical = mode >= 18;
+    const int bw = vertical ? W : H, bh = vertical ? H : W;
+    for (int y = 0; y < bh; ++y) {
+      const int position = (y + 1) * angle, whole = position >> 5, fraction = position & 31;
+      for (int x = 0; x < bw; ++x) {
+        const int value = ((32 - fraction) * ref[x + whole + 1] + fraction * ref[x + whole + 2] + 16) >> 5;
+        out[vertical ? W * y + x : W * x + y] = static_cast<uint8_t>(value);
+      }
     }
   }
-  filter_boundary<W, H>(raw_edge, mode, out);
+  filter_boundary<W, H>(edge, mode, out);
 }
 
 // 1-D N-point Hadamard butterflies in place.
@@ -266,6 +292,21 @@ void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* o
   if (size == 4) return filter_boundary<4>(edge, mode, out);
   if (size == 16) return filter_boundary<16>(edge, mode, out);
   filter_boundary<8>(edge, mode, out);
+}
+
+int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, uint8_t* main) {
+  return width == 16 ? prepare_rectangular_reference<16, 8>(edge, mode, main)
+                     : prepare_rectangular_reference<8, 16>(edge, mode, main);
+}
+
+void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, uint8_t* out) {
+  if (width == 16) return filter_boundary<16, 8>(edge, mode, out);
+  filter_boundary<8, 16>(edge, mode, out);
+}
+
+void smooth_intra_edge_rectangular(const uint8_t* edge, int width, uint8_t* out) {
+  if (width == 16) return smooth_edge<16, 8>(edge, out);
+  smooth_edge<8, 16>(edge, out);
 }
 
 void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {

@@ -76,8 +76,13 @@ constexpr int type_row_shift(bool dst) { return 4 + (dst ? kDstExtraShift : 0); 
 constexpr int type_column_shift(int points, bool dst) {
   return (points == 4 ? 10 : 11) + (dst ? kDstExtraShift : 0);
 }
-// The forward transform's output scale (16x16: half the orthonormal scale, as its DCT).
-constexpr float type_forward_scale(int points) { return points == 16 ? 0.5f : 1.0f; }
+// The forward transform's output scale (16x16: half the orthonormal scale, as its DCT;
+// 16x8 and 8x16, docs/codec.md 7.3: 1/sqrt(2) of it, which the passes' 2^15 gives with
+// the 8- and 16-point matrices).
+constexpr float type_forward_scale(int width, int height) {
+  if (width != height) return 0.70710677f;
+  return width == 16 ? 0.5f : 1.0f;
+}
 
 // The integer matrix of a direction: DST-VII when `dst`, else HEVC's DCT.
 template <int N>

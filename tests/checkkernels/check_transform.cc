@@ -245,77 +245,84 @@ void bench_inverse_dct_n(const Tables& table, int iterations) {
   bench_sink = samples[0];
 }
 
-// The intra transform types 1..3 (DST-VII in one or both directions), over the same
-// input patterns as the DCTs of their size, each type in turn.
-template <int N>
+// The intra transform types, over the same input patterns as the DCTs of their size, each
+// type in turn: 1..3 (DST-VII in one or both directions) for squares, 0..3 for 16x8 and
+// 8x16 blocks (W x H), whose DCT_DCT is a typed kernel too.
+template <int W, int H>
 auto forward_typed_of(const Tables& t) {
-  return N == 4 ? t.forward_typed_4x4 : N == 8 ? t.forward_typed_8x8 : t.forward_typed_16x16;
+  if constexpr (W != H) return W == 16 ? t.forward_typed_16x8 : t.forward_typed_8x16;
+  return W == 4 ? t.forward_typed_4x4 : W == 8 ? t.forward_typed_8x8 : t.forward_typed_16x16;
 }
-template <int N>
+template <int W, int H>
 auto inverse_typed_of(const Tables& t) {
-  return N == 4 ? t.inverse_typed_4x4 : N == 8 ? t.inverse_typed_8x8 : t.inverse_typed_16x16;
+  if constexpr (W != H) return W == 16 ? t.inverse_typed_16x8 : t.inverse_typed_8x16;
+  return W == 4 ? t.inverse_typed_4x4 : W == 8 ? t.inverse_typed_8x8 : t.inverse_typed_16x16;
+}
+template <int W, int H>
+int type_of_iteration(int n) {
+  return W == H ? 1 + n % 3 : n % 4;
 }
 
-template <int N>
+template <int W, int H>
 std::string check_forward_typed(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
-    float samples[N * N], expected[N * N], actual[N * N];
+    float samples[W * H], expected[W * H], actual[W * H];
     const int range = random.uniform(0, 1) ? 128 : 255, pattern = random.uniform(0, 4);
-    for (int i = 0; i < N * N; ++i) {
+    for (int i = 0; i < W * H; ++i) {
       samples[i] = pattern == 0   ? static_cast<float>(range)
-                   : pattern == 1 ? static_cast<float>(((i + i / N) & 1) ? range : -range)
+                   : pattern == 1 ? static_cast<float>(((i + i / W) & 1) ? range : -range)
                                   : static_cast<float>(random.uniform(-range, range));
     }
-    const int type = 1 + n % 3;
-    forward_typed_of<N>(reference)(type, samples, expected);
-    forward_typed_of<N>(variant)(type, samples, actual);
-    if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) {
+    const int type = type_of_iteration<W, H>(n);
+    forward_typed_of<W, H>(reference)(type, samples, expected);
+    forward_typed_of<W, H>(variant)(type, samples, actual);
+    if (auto diff = first_difference(expected, actual, W * H, W); !diff.empty()) {
       return "type " + std::to_string(type) + ": " + diff;
     }
   }
   return {};
 }
 
-template <int N>
+template <int W, int H>
 std::string check_inverse_typed(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   for (int n = 0; n < iterations; ++n) {
-    int16_t coefficients[N * N] = {}, expected[N * N], actual[N * N];
+    int16_t coefficients[W * H] = {}, expected[W * H], actual[W * H];
     const int pattern = random.uniform(0, 4);
-    for (int i = 0; i < N * N; ++i) {
+    for (int i = 0; i < W * H; ++i) {
       const auto value = static_cast<int16_t>(random.uniform(codec::kMinCoefficient, codec::kMaxCoefficient));
       if (pattern == 0 || (pattern == 1 && random.uniform(0, 7) == 0)) coefficients[i] = value;
-      if (pattern == 2) coefficients[i] = ((i * 7 + i / N) & 1) ? 2047 : -2048;  // saturates the output
+      if (pattern == 2) coefficients[i] = ((i * 7 + i / W) & 1) ? 2047 : -2048;  // saturates the output
       if (pattern == 3) coefficients[i] = random.uniform(0, 1) ? 2047 : -2048;
     }
     if (pattern == 4) coefficients[0] = static_cast<int16_t>(random.uniform(-2048, 2047));
-    const int type = 1 + n % 3;
-    inverse_typed_of<N>(reference)(type, coefficients, expected);
-    inverse_typed_of<N>(variant)(type, coefficients, actual);
-    if (auto diff = first_difference(expected, actual, N * N, N); !diff.empty()) {
+    const int type = type_of_iteration<W, H>(n);
+    inverse_typed_of<W, H>(reference)(type, coefficients, expected);
+    inverse_typed_of<W, H>(variant)(type, coefficients, actual);
+    if (auto diff = first_difference(expected, actual, W * H, W); !diff.empty()) {
       return "type " + std::to_string(type) + ": " + diff;
     }
   }
   return {};
 }
 
-template <int N>
+template <int W, int H>
 void bench_forward_typed(const Tables& table, int iterations) {
-  float samples[N * N], coefficients[N * N];
-  for (int i = 0; i < N * N; ++i) samples[i] = static_cast<float>((i * 37) % 255 - 128);
+  float samples[W * H], coefficients[W * H];
+  for (int i = 0; i < W * H; ++i) samples[i] = static_cast<float>((i * 37) % 255 - 128);
   for (int n = 0; n < iterations; ++n) {
-    samples[n % (N * N)] += 1.0f;
-    forward_typed_of<N>(table)(1 + n % 3, samples, coefficients);
+    samples[n % (W * H)] += 1.0f;
+    forward_typed_of<W, H>(table)(type_of_iteration<W, H>(n), samples, coefficients);
   }
   bench_sink = static_cast<int>(coefficients[0]);
 }
 
-template <int N>
+template <int W, int H>
 void bench_inverse_typed(const Tables& table, int iterations) {
-  int16_t coefficients[N * N], samples[N * N];
-  for (int i = 0; i < N * N; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
+  int16_t coefficients[W * H], samples[W * H];
+  for (int i = 0; i < W * H; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
   for (int n = 0; n < iterations; ++n) {
     coefficients[n & 15] ^= 1;
-    inverse_typed_of<N>(table)(1 + n % 3, coefficients, samples);
+    inverse_typed_of<W, H>(table)(type_of_iteration<W, H>(n), coefficients, samples);
   }
   bench_sink = samples[0];
 }
@@ -339,18 +346,26 @@ std::vector<Kernel> transform_kernels() {
        bench_inverse_dct_n<4>},
       {"inverse_dct_16x16", [](const Tables& t) { return entry_of(t.inverse_dct_16x16); }, check_inverse_dct_n<16>,
        bench_inverse_dct_n<16>},
-      {"forward_typed_4x4", [](const Tables& t) { return entry_of(t.forward_typed_4x4); }, check_forward_typed<4>,
-       bench_forward_typed<4>},
-      {"inverse_typed_4x4", [](const Tables& t) { return entry_of(t.inverse_typed_4x4); }, check_inverse_typed<4>,
-       bench_inverse_typed<4>},
-      {"forward_typed_8x8", [](const Tables& t) { return entry_of(t.forward_typed_8x8); }, check_forward_typed<8>,
-       bench_forward_typed<8>},
-      {"inverse_typed_8x8", [](const Tables& t) { return entry_of(t.inverse_typed_8x8); }, check_inverse_typed<8>,
-       bench_inverse_typed<8>},
+      {"forward_typed_4x4", [](const Tables& t) { return entry_of(t.forward_typed_4x4); },
+       check_forward_typed<4, 4>, bench_forward_typed<4, 4>},
+      {"inverse_typed_4x4", [](const Tables& t) { return entry_of(t.inverse_typed_4x4); },
+       check_inverse_typed<4, 4>, bench_inverse_typed<4, 4>},
+      {"forward_typed_8x8", [](const Tables& t) { return entry_of(t.forward_typed_8x8); },
+       check_forward_typed<8, 8>, bench_forward_typed<8, 8>},
+      {"inverse_typed_8x8", [](const Tables& t) { return entry_of(t.inverse_typed_8x8); },
+       check_inverse_typed<8, 8>, bench_inverse_typed<8, 8>},
       {"forward_typed_16x16", [](const Tables& t) { return entry_of(t.forward_typed_16x16); },
-       check_forward_typed<16>, bench_forward_typed<16>},
+       check_forward_typed<16, 16>, bench_forward_typed<16, 16>},
       {"inverse_typed_16x16", [](const Tables& t) { return entry_of(t.inverse_typed_16x16); },
-       check_inverse_typed<16>, bench_inverse_typed<16>},
+       check_inverse_typed<16, 16>, bench_inverse_typed<16, 16>},
+      {"forward_typed_16x8", [](const Tables& t) { return entry_of(t.forward_typed_16x8); },
+       check_forward_typed<16, 8>, bench_forward_typed<16, 8>},
+      {"inverse_typed_16x8", [](const Tables& t) { return entry_of(t.inverse_typed_16x8); },
+       check_inverse_typed<16, 8>, bench_inverse_typed<16, 8>},
+      {"forward_typed_8x16", [](const Tables& t) { return entry_of(t.forward_typed_8x16); },
+       check_forward_typed<8, 16>, bench_forward_typed<8, 16>},
+      {"inverse_typed_8x16", [](const Tables& t) { return entry_of(t.inverse_typed_8x16); },
+       check_inverse_typed<8, 16>, bench_inverse_typed<8, 16>},
   };
 }
 

@@ -1,4 +1,4 @@
-// NEON intra kernels. Angular prediction interpolates eight samples of a row at once
+// NEON intra kernels (every block shape). Angular prediction interpolates eight samples of a row at once
 // with the plain kernel's integer formula ((32 - f) a + f b + 16 is at most 8176, in
 // 16-bit lanes); planar, DC and the edge preparation run the plain code. The Hadamard
 // SATDs keep every value in 16 bits (residuals of at most 255 grow by 8 per 1-D pass:
@@ -55,6 +55,38 @@ void intra_predict_neon(const uint8_t* edge, int mode, uint8_t* out) {
   }
   predict_angular<N>(edge, mode, out);
   filter_intra_boundary_n(edge, mode, N, out);
+}
+
+// 16x8 and 8x16 blocks: the angular modes eight samples of a row of the bw x bh block
+// predicted along its columns at a time (transposed on the way out for horizontal modes);
+// planar and DC run the plain code.
+template <int W, int H>
+void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out) {
+  if (mode < 2) {
+    if constexpr (W == 16) intra_predict_16x8_c(edge, mode, out);
+    if constexpr (W == 8) intra_predict_8x16_c(edge, mode, out);
+    return;
+  }
+  uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
+  std::memset(main + 3 * (W + H) + 2, 0, 16);
+  const int angle = prepare_intra_angular_reference_rectangular(edge, mode, W, main);
+  const uint8_t* ref = main + (W + H);
+  const bool vertical = mode >= 18;
+  const int bw = vertical ? W : H, bh = vertical ? H : W;
+  uint8_t rows[W * H];
+  for (int y = 0; y < bh; ++y) {
+    const int position = (y + 1) * angle;
+    for (int x = 0; x < bw; x += 8)
+      vst1_u8(rows + bw * y + x, interpolate_row(ref + x + (position >> 5) + 1, position & 31));
+  }
+  if (vertical) {
+    std::memcpy(out, rows, W * H);
+  } else {
+    for (int y = 0; y < bh; ++y) {
+      for (int x = 0; x < bw; ++x) out[W * x + y] = rows[bw * y + x];
+    }
+  }
+  filter_intra_boundary_rectangular(edge, mode, W, out);
 }
 
 // 1-D Hadamard butterflies across N vectors (one transform per lane), in place.
@@ -115,6 +147,8 @@ void init_intra_neon(DspTable* table) {
   table->intra_predict_4x4 = intra_predict_neon<4>;
   table->intra_predict_8x8 = intra_predict_neon<8>;
   table->intra_predict_16x16 = intra_predict_neon<16>;
+  table->intra_predict_16x8 = intra_predict_rectangular_neon<16, 8>;
+  table->intra_predict_8x16 = intra_predict_rectangular_neon<8, 16>;
   table->satd_4x4 = satd_4x4_neon;
   table->satd_8x8 = satd_8x8_neon;
 }

@@ -10,12 +10,12 @@ namespace svc::codec::dsp {
 namespace {
 
 void inverse_dct_4x4_neon(const int16_t* coefficients, int16_t* samples) {
-  inverse_by_matrices<4>(kDct4Matrix.m, kIdct4RowShift, kDct4Matrix.m, kIdct4ColumnShift, coefficients, samples);
+  inverse_by_matrices<4, 4>(kDct4Matrix.m, kIdct4RowShift, kDct4Matrix.m, kIdct4ColumnShift, coefficients, samples);
 }
 
 void inverse_dct_16x16_neon(const int16_t* coefficients, int16_t* samples) {
-  inverse_by_matrices<16>(kDct16Matrix.m, kIdct16RowShift, kDct16Matrix.m, kIdct16ColumnShift, coefficients,
-                          samples);
+  inverse_by_matrices<16, 16>(kDct16Matrix.m, kIdct16RowShift, kDct16Matrix.m, kIdct16ColumnShift, coefficients,
+                              samples);
 }
 
 }  // namespace

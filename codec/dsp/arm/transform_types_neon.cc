@@ -1,4 +1,4 @@
-// NEON integer inverses of the intra transform types other than DCT_DCT (arithmetic in
+// NEON integer inverses of the intra transform types (for 16x8 and 8x16 blocks DCT_DCT too; arithmetic in
 // matrix_transform_neon.h). The float forward transforms have no NEON variant, for the
 // reason transform_4_16_neon.cc gives.
 #include "codec/dsp/arm/matrix_transform_neon.h"
@@ -8,19 +8,21 @@
 namespace svc::codec::dsp {
 namespace {
 
-template <int N>
+template <int W, int H>
 void inverse_typed_neon(int type, const int16_t* coefficients, int16_t* samples) {
   const bool rows_dst = (type & 1) != 0, columns_dst = (type & 2) != 0;
-  inverse_by_matrices<N>(type_matrix<N>(rows_dst).m, type_row_shift(rows_dst), type_matrix<N>(columns_dst).m,
-                         type_column_shift(N, columns_dst), coefficients, samples);
+  inverse_by_matrices<W, H>(type_matrix<W>(rows_dst).m, type_row_shift(rows_dst), type_matrix<H>(columns_dst).m,
+                            type_column_shift(H, columns_dst), coefficients, samples);
 }
 
 }  // namespace
 
 void init_transform_types_neon(DspTable* table) {
-  table->inverse_typed_4x4 = inverse_typed_neon<4>;
-  table->inverse_typed_8x8 = inverse_typed_neon<8>;
-  table->inverse_typed_16x16 = inverse_typed_neon<16>;
+  table->inverse_typed_4x4 = inverse_typed_neon<4, 4>;
+  table->inverse_typed_8x8 = inverse_typed_neon<8, 8>;
+  table->inverse_typed_16x16 = inverse_typed_neon<16, 16>;
+  table->inverse_typed_16x8 = inverse_typed_neon<16, 8>;
+  table->inverse_typed_8x16 = inverse_typed_neon<8, 16>;
 }
 
 }  // namespace svc::codec::dsp

@@ -1,6 +1,7 @@
-// The integer inverse of an N x N separable transform given its row and column matrices
-// (m[frequency][sample], entries within 16 bits), shared by the SSE4.1 4x4 and 16x16
-// DCTs and the transform types. It computes what the plain kernels define:
+// The integer inverse of a W x H separable transform (W samples a row) given its row
+// (W-point) and column (H-point) matrices (m[frequency][sample], entries within 16 bits),
+// shared by the SSE4.1 4x4 and 16x16 DCTs and the transform types of every size. It
+// computes what the plain kernels define:
 //   row pass    t[v][x] = (2^(rs-1) + sum_u rows[u][x] c[v][u]) >> rs      (32 bits)
 //   column pass s[y][x] = clamp16((2^(cs-1) + sum_v columns[v][y] t[v][x]) >> cs)
 // with pmaddwd on pairs of 16-bit operands: coefficient pairs against interleaved matrix
@@ -72,17 +73,17 @@ bool inverse_row_pass(const InverseMatrixPairs<N>& rows, int shift, const int16_
 }
 
 // Column pass with 16-bit row outputs: eight samples of an output row per two pmaddwd.
-template <int N>
-void inverse_column_pass_16(const InverseMatrixPairs<N>& columns, int shift, const int32_t* t, uint32_t row_mask,
+template <int W, int H>
+void inverse_column_pass_16(const InverseMatrixPairs<H>& columns, int shift, const int32_t* t, uint32_t row_mask,
                             int16_t* samples) {
-  __m128i interleaved[N / 2][N / 8][2];
+  __m128i interleaved[H / 2][W / 8][2];
   uint32_t pair_mask = 0;
-  for (int p = 0; p < N / 2; ++p) {
+  for (int p = 0; p < H / 2; ++p) {
     if (((row_mask >> (2 * p)) & 3u) == 0) continue;
     pair_mask |= 1u << p;
-    for (int g = 0; g < N / 8; ++g) {
+    for (int g = 0; g < W / 8; ++g) {
       auto row16 = [&](int v) {
-        const __m128i* row = reinterpret_cast<const __m128i*>(t + N * v + 8 * g);
+        const __m128i* row = reinterpret_cast<const __m128i*>(t + W * v + 8 * g);
         return _mm_packs_epi32(_mm_loadu_si128(row), _mm_loadu_si128(row + 1));
       };
       const __m128i a = row16(2 * p), b = row16(2 * p + 1);
@@ -92,8 +93,8 @@ void inverse_column_pass_16(const InverseMatrixPairs<N>& columns, int shift, con
   }
   const __m128i round = _mm_set1_epi32(1 << (shift - 1));
   const __m128i bits = _mm_cvtsi32_si128(shift);
-  for (int y = 0; y < N; ++y) {
-    for (int g = 0; g < N / 8; ++g) {
+  for (int y = 0; y < H; ++y) {
+    for (int g = 0; g < W / 8; ++g) {
       __m128i low = round, high = round;
       for (uint32_t pairs = pair_mask; pairs != 0; pairs &= pairs - 1) {
         const int p = __builtin_ctz(pairs);
@@ -102,34 +103,34 @@ void inverse_column_pass_16(const InverseMatrixPairs<N>& columns, int shift, con
         high = _mm_add_epi32(high, _mm_madd_epi16(interleaved[p][g][1], weights));
       }
       const __m128i out = _mm_packs_epi32(_mm_sra_epi32(low, bits), _mm_sra_epi32(high, bits));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(samples + N * y + 8 * g), out);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(samples + W * y + 8 * g), out);
     }
   }
 }
 
 // Column pass in 32 bits, for row outputs beyond 16 bits.
-template <int N>
-void inverse_column_pass_32(const InverseMatrixPairs<N>& columns, int shift, const int32_t* t, int16_t* samples) {
+template <int W, int H>
+void inverse_column_pass_32(const InverseMatrixPairs<H>& columns, int shift, const int32_t* t, int16_t* samples) {
   const __m128i round = _mm_set1_epi32(1 << (shift - 1));
   const __m128i bits = _mm_cvtsi32_si128(shift);
-  for (int y = 0; y < N; ++y) {
-    for (int x = 0; x < N; x += 4) {
+  for (int y = 0; y < H; ++y) {
+    for (int x = 0; x < W; x += 4) {
       __m128i sum = round;
-      for (int v = 0; v < N; ++v) {
-        const __m128i row = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t + N * v + x));
+      for (int v = 0; v < H; ++v) {
+        const __m128i row = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t + W * v + x));
         sum = _mm_add_epi32(sum, _mm_mullo_epi32(_mm_set1_epi32(columns.entries[v][y]), row));
       }
       const __m128i out = _mm_sra_epi32(sum, bits);
-      _mm_storel_epi64(reinterpret_cast<__m128i*>(samples + N * y + x), _mm_packs_epi32(out, out));
+      _mm_storel_epi64(reinterpret_cast<__m128i*>(samples + W * y + x), _mm_packs_epi32(out, out));
     }
   }
 }
 
-// Whether every value of t fits 16 bits.
-template <int N>
+// Whether each of the `count` values of t fits 16 bits.
+template <int count>
 bool fits_16_bits(const int32_t* t) {
   __m128i low = _mm_setzero_si128(), high = _mm_setzero_si128();
-  for (int i = 0; i < N * N; i += 4) {
+  for (int i = 0; i < count; i += 4) {
     const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t + i));
     low = _mm_min_epi32(low, v);
     high = _mm_max_epi32(high, v);
@@ -139,23 +140,23 @@ bool fits_16_bits(const int32_t* t) {
   return _mm_testz_si128(outside, outside) != 0;
 }
 
-template <int N>
-void inverse_matrix_transform(const InverseMatrixPairs<N>& rows, int row_shift,
-                              const InverseMatrixPairs<N>& columns, int column_shift, const int16_t* coefficients,
+template <int W, int H>
+void inverse_matrix_transform(const InverseMatrixPairs<W>& rows, int row_shift,
+                              const InverseMatrixPairs<H>& columns, int column_shift, const int16_t* coefficients,
                               int16_t* samples) {
-  alignas(16) int32_t t[N * N];
+  alignas(16) int32_t t[W * H];
   uint32_t row_mask = 0;
-  for (int v = 0; v < N; ++v) {
-    if (inverse_row_pass<N>(rows, row_shift, coefficients + N * v, t + N * v)) row_mask |= 1u << v;
+  for (int v = 0; v < H; ++v) {
+    if (inverse_row_pass<W>(rows, row_shift, coefficients + W * v, t + W * v)) row_mask |= 1u << v;
   }
   // A 4x4 block's rows are narrower than a 16-bit column pass's eight samples.
-  if constexpr (N >= 8) {
-    if (fits_16_bits<N>(t)) {
-      inverse_column_pass_16<N>(columns, column_shift, t, row_mask, samples);
+  if constexpr (W >= 8) {
+    if (fits_16_bits<W * H>(t)) {
+      inverse_column_pass_16<W, H>(columns, column_shift, t, row_mask, samples);
       return;
     }
   }
-  inverse_column_pass_32<N>(columns, column_shift, t, samples);
+  inverse_column_pass_32<W, H>(columns, column_shift, t, samples);
 }
 
 }  // namespace

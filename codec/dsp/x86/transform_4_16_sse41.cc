@@ -52,12 +52,12 @@ void forward_dct_16x16_sse41(const float* samples, float* coefficients) {
 
 void inverse_dct_4x4_sse41(const int16_t* coefficients, int16_t* samples) {
   static const InverseMatrixPairs<4> pairs(kDct4Matrix.m);
-  inverse_matrix_transform<4>(pairs, kIdct4RowShift, pairs, kIdct4ColumnShift, coefficients, samples);
+  inverse_matrix_transform<4, 4>(pairs, kIdct4RowShift, pairs, kIdct4ColumnShift, coefficients, samples);
 }
 
 void inverse_dct_16x16_sse41(const int16_t* coefficients, int16_t* samples) {
   static const InverseMatrixPairs<16> pairs(kDct16Matrix.m);
-  inverse_matrix_transform<16>(pairs, kIdct16RowShift, pairs, kIdct16ColumnShift, coefficients, samples);
+  inverse_matrix_transform<16, 16>(pairs, kIdct16RowShift, pairs, kIdct16ColumnShift, coefficients, samples);
 }
 
 }  // namespace
