@@ -182,13 +182,15 @@ void inverse_transform_reference(TransformSize size, const double* coefficients,
 }
 
 void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients) {
-  if (type == TransformType::kDctDct || is_rectangular(size)) {
+  if (type == TransformType::kDctDct) {
     forward_transform(size, samples, coefficients);
     return;
   }
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int t = static_cast<int>(type);
   switch (size) {
+    case TransformSize::k16x8: dsp.forward_typed_16x8(t, samples, coefficients); break;
+    case TransformSize::k8x16: dsp.forward_typed_8x16(t, samples, coefficients); break;
     case TransformSize::k4x4: dsp.forward_typed_4x4(t, samples, coefficients); break;
     case TransformSize::k16x16: dsp.forward_typed_16x16(t, samples, coefficients); break;
     default: dsp.forward_typed_8x8(t, samples, coefficients);
@@ -196,13 +198,15 @@ void forward_transform(TransformSize size, TransformType type, const float* samp
 }
 
 void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples) {
-  if (type == TransformType::kDctDct || is_rectangular(size)) {
+  if (type == TransformType::kDctDct) {
     inverse_transform(size, coefficients, samples);
     return;
   }
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int t = static_cast<int>(type);
   switch (size) {
+    case TransformSize::k16x8: dsp.inverse_typed_16x8(t, coefficients, samples); break;
+    case TransformSize::k8x16: dsp.inverse_typed_8x16(t, coefficients, samples); break;
     case TransformSize::k4x4: dsp.inverse_typed_4x4(t, coefficients, samples); break;
     case TransformSize::k16x16: dsp.inverse_typed_16x16(t, coefficients, samples); break;
     default: dsp.inverse_typed_8x8(t, coefficients, samples);
@@ -211,13 +215,12 @@ void inverse_transform(TransformSize size, TransformType type, const int16_t* co
 
 void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,
                                          int16_t* samples) {
-  const bool rectangular = is_rectangular(size);  // always DCT_DCT
-  if (type == TransformType::kDctDct && !rectangular) {
+  if (type == TransformType::kDctDct && !is_rectangular(size)) {
     inverse_transform_integer_reference(size, coefficients, samples);
     return;
   }
   const int w = transform_width(size), h = transform_height(size);
-  const bool rows_dst = !rectangular && horizontal_dst(type), columns_dst = !rectangular && vertical_dst(type);
+  const bool rows_dst = horizontal_dst(type), columns_dst = vertical_dst(type);
   const int row_shift = dsp::type_row_shift(rows_dst), column_shift = dsp::type_column_shift(h, columns_dst);
   int tmp[kMaxTransformArea];
   for (int v = 0; v < h; ++v) {

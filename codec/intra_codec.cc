@@ -29,20 +29,6 @@
 #include "codec/rdoq.h"
 
 namespace svc::codec {
-namespace {
-
-// The transform size of a block shape (block_shape, transform_size.h).
-TransformSize size_of_shape(int shape) {
-  switch (shape) {
-    case 4: return TransformSize::k4x4;
-    case 16: return TransformSize::k16x16;
-    case block_shape(16, 8): return TransformSize::k16x8;
-    case block_shape(8, 16): return TransformSize::k8x16;
-    default: return TransformSize::k8x8;
-  }
-}
-
-}  // namespace
 
 namespace intra {
 

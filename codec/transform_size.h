@@ -37,5 +37,15 @@ constexpr int block_shape(int width, int height) { return width == height ? widt
 constexpr int shape_width(int shape) { return shape & 0xFF; }
 constexpr int shape_height(int shape) { return shape >> 8 ? shape >> 8 : shape; }
 constexpr int shape_area(int shape) { return shape_width(shape) * shape_height(shape); }
+// The transform size of a block shape (8x8 for any shape without one of its own).
+constexpr TransformSize size_of_shape(int shape) {
+  switch (shape) {
+    case 4: return TransformSize::k4x4;
+    case 16: return TransformSize::k16x16;
+    case block_shape(16, 8): return TransformSize::k16x8;
+    case block_shape(8, 16): return TransformSize::k8x16;
+    default: return TransformSize::k8x8;
+  }
+}
 
 }  // namespace svc::codec

@@ -19,9 +19,9 @@ namespace svc::codec {
 inline constexpr int kTransformTypeModeClasses = 5;
 int transform_type_mode_class(int mode);  // mode 0..34, or kCflMode
 
-// The sizes with transform types: 8x8, 4x4 and 16x16 (TransformSize order); rectangular
-// blocks are always DCT_DCT and code no type.
-inline constexpr int kTypedTransformSizes = 3;
+// The sizes with transform types: every size (8x8, 4x4, 16x16, 16x8, 8x16 in
+// TransformSize order).
+inline constexpr int kTypedTransformSizes = 5;
 constexpr bool has_transform_types(TransformSize size) { return static_cast<int>(size) < kTypedTransformSizes; }
 
 struct TransformTypeContexts {

@@ -13,6 +13,7 @@
 #include "codec/dct.h"
 #include "codec/dsp/transform_type_basis.h"
 #include "codec/intra_codec.h"
+#include "codec/intra_macroblock.h"
 #include "codec/range_coder.h"
 #include "codec/transform_type_coder.h"
 #include "support/random_coefficients.h"
@@ -20,7 +21,8 @@
 namespace svc::codec {
 namespace {
 
-constexpr TransformSize kSizes[] = {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16};
+constexpr TransformSize kSizes[] = {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16,
+                                    TransformSize::k16x8, TransformSize::k8x16};
 constexpr TransformType kTypes[] = {TransformType::kDctDct, TransformType::kDctDst, TransformType::kDstDct,
                                     TransformType::kDstDst};
 
@@ -57,7 +59,8 @@ TEST(TransformTypes, IntegerInversesMatchTheirMatrixProductsBitExactly) {
         std::vector<int16_t> fast(static_cast<size_t>(area)), reference(static_cast<size_t>(area));
         inverse_transform(size, type, coefficients.data(), fast.data());
         inverse_transform_integer_reference(size, type, coefficients.data(), reference.data());
-        ASSERT_EQ(fast, reference) << "size " << transform_width(size) << ", type " << static_cast<int>(type);
+        ASSERT_EQ(fast, reference) << "size " << transform_width(size) << "x" << transform_height(size) << ", type "
+                                   << static_cast<int>(type);
       }
     }
   }
@@ -98,9 +101,11 @@ TEST(TransformTypes, ForwardThenInverseIsNearIdentityForEveryTypeAndSize) {
         dct_peak = peak;
         dct_mean_square = mean_square;
       }
-      EXPECT_LE(peak, dct_peak + 1) << "size " << transform_width(size) << ", type " << static_cast<int>(type);
+      EXPECT_LE(peak, dct_peak + 1) << "size " << transform_width(size) << "x" << transform_height(size)
+                                    << ", type " << static_cast<int>(type);
       EXPECT_LT(mean_square, 2 * dct_mean_square + 0.05)
-          << "size " << transform_width(size) << ", type " << static_cast<int>(type);
+          << "size " << transform_width(size) << "x" << transform_height(size) << ", type "
+          << static_cast<int>(type);
     }
   }
 }
@@ -110,7 +115,7 @@ TEST(TransformTypes, EveryTypeKeepsTheScaleOfItsSize) {
   std::mt19937 rng(23);
   for (TransformSize size : kSizes) {
     const int area = transform_area(size);
-    const double expected_gain = size == TransformSize::k16x16 ? 0.25 : 1.0;
+    const double expected_gain = size == TransformSize::k16x16 ? 0.25 : is_rectangular(size) ? 0.5 : 1.0;
     std::vector<float> samples(static_cast<size_t>(area)), coefficients(static_cast<size_t>(area));
     for (float& s : samples) s = static_cast<float>(static_cast<int>(rng() % 201) - 100);
     double sample_energy = 0;
@@ -120,7 +125,8 @@ TEST(TransformTypes, EveryTypeKeepsTheScaleOfItsSize) {
       double energy = 0;
       for (float c : coefficients) energy += c * c;
       EXPECT_NEAR(energy / sample_energy, expected_gain, 0.02 * expected_gain)
-          << "size " << transform_width(size) << ", type " << static_cast<int>(type);
+          << "size " << transform_width(size) << "x" << transform_height(size) << ", type "
+          << static_cast<int>(type);
     }
   }
 }
@@ -163,11 +169,9 @@ TEST(TransformTypes, TypesRoundTripThroughTheirContextsAndCostNothingWhenDisable
   EXPECT_EQ(disabled_bytes, empty);
   RangeDecoder off_decoder(disabled_bytes);
   EXPECT_EQ(decode_transform_type(off_decoder, off, TransformSize::k4x4, 10), TransformType::kDctDct);
-  // Rectangular blocks are DCT_DCT and code no type, enabled or not.
-  for (TransformSize size : {TransformSize::k16x8, TransformSize::k8x16}) {
-    EXPECT_EQ(transform_type_bits(encoding, size, 10, TransformType::kDstDst), 0.0f);
-    EXPECT_FALSE(has_transform_types(size));
-  }
+  // Every size codes types, rectangular blocks too (intra syntax 13).
+  for (int size = 0; size < kTransformSizes; ++size)
+    EXPECT_TRUE(has_transform_types(static_cast<TransformSize>(size)));
 }
 
 TEST(TransformTypes, ModeClassesFollowThePredictionDirection) {
@@ -243,6 +247,35 @@ TEST(TransformTypes, IntraFramesUseEveryTypeAndDecodeExactly) {
       EXPECT_EQ(counts[1] + counts[2] + counts[3], 0);
     }
   }
+}
+
+// 16x8 and 8x16 blocks choose their types too (intra syntax 13): the luma blocks of every
+// macroblock in coding order, each block's type read from the semi-decoded form.
+TEST(TransformTypes, RectangularBlocksUseTypes) {
+  const ImageYCbCr420 image = textured_image(128, 96);
+  CodingParams params;
+  params.qindex = 50;
+  params.transform_types = true;
+  ImageYCbCr420 reconstruction, decoded;
+  const auto bytes = encode_intra_frame(image, params, &reconstruction);
+  CoefficientFrame parsed;
+  ASSERT_TRUE(parse_intra_frame(bytes, image.width, image.height, &parsed).ok());
+  reconstruct_intra_frame(parsed, &decoded);
+  EXPECT_TRUE(decoded.y == reconstruction.y);
+  std::array<int, kTransformTypes> rectangular{};
+  size_t block = 0, offset = 0;
+  int positions[kMaxTransformArea], values[kMaxTransformArea];
+  for (uint8_t partition : parsed.luma_partitions) {
+    intra::for_each_luma_block(partition, [&](int, int, int shape) {
+      const int count = parsed.block_counts[block++];
+      if (count == 0) return;
+      TransformType type = TransformType::kDctDct;
+      ASSERT_EQ(parsed.read_levels(&offset, count, size_of_shape(shape), positions, values, &type), count);
+      if (shape_width(shape) != shape_height(shape)) ++rectangular[static_cast<size_t>(type)];
+    });
+  }
+  EXPECT_GT(rectangular[0], 0);
+  EXPECT_GT(rectangular[1] + rectangular[2] + rectangular[3], 0);
 }
 
 // A stream coded without types, its header flag set: the parser then reads type bits

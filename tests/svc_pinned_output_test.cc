@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "a4aa09f680605d1384ba1c3941e476d5ac2b45bf240c8b31b51cac8c859a78fd",
-     "2fc91cc34e409ed2ff2d48145d71b612cd69ee0ceaff13ec608088b4d7f0cf68"},
+     "7eaa2d634d0c3f1154c90c1dd4a7ef95778d1d0123cbb1f776497e09c91499d8",
+     "ed7e4b4e9029be4b53e0a71b6468a2d0a126bf984fa9163050418ea9d8c2541a"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "60ecfbc669834ca5086f0547abd185f70188ae07b31a09dfc3a971ff22c8962b",
-     "74db0453572ac97b7e0bf2ab24a1e1202301a978642c71c5533b9ae8c75d2ceb"},
+     "04a9283b7206b033f0376b18e117c87f469bc855c1732a158ef632ded2b400d5",
+     "6b2d7b43032e8aa4a1909ad44ffff426c664b4f7c0155097326d93a11d46eebe"},
 };
 
 std::string file_sha256(const fs::path& path) {
