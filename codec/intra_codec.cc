@@ -97,6 +97,8 @@ void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, T
   if (size == 16) return add_residual<16>(prediction, residual, out, stride);
   if (size == block_shape(16, 8)) return add_residual<16, 8>(prediction, residual, out, stride);
   if (size == block_shape(8, 16)) return add_residual<8, 16>(prediction, residual, out, stride);
+  if (size == block_shape(16, 4)) return add_residual<16, 4>(prediction, residual, out, stride);
+  if (size == block_shape(4, 16)) return add_residual<4, 16>(prediction, residual, out, stride);
   add_residual<8>(prediction, residual, out, stride);
 }
 
@@ -298,19 +300,20 @@ int block_sse(const uint8_t* source, int stride, const uint8_t* block, int shape
   return sum;
 }
 
-// Hadamard SATD of a size x size residual: the 4x4 or 8x8 kernel, a 16x16 block as four
-// 8x8 quadrants.
-int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, int size) {
+// Hadamard SATD of a block of `shape`: the 4x4 or 8x8 kernel, a larger block as the sum
+// over its 8x8 tiles, or its 4x4 tiles when a side is 4.
+int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, int shape) {
   const dsp::DspTable& dsp = dsp::get_dsp();
-  if (size == 4) return dsp.satd_4x4(source, stride, prediction);
-  if (size == 8) return dsp.satd_8x8(source, stride, prediction);
-  const int w = shape_width(size);
+  if (shape == 4) return dsp.satd_4x4(source, stride, prediction);
+  if (shape == 8) return dsp.satd_8x8(source, stride, prediction);
+  const int w = shape_width(shape), h = shape_height(shape), t = std::min({w, h, 8});
+  const auto satd = t == 8 ? dsp.satd_8x8 : dsp.satd_4x4;
   int sum = 0;
   uint8_t tile[64];
-  for (int y = 0; y < shape_height(size); y += 8) {
-    for (int x = 0; x < w; x += 8) {
-      for (int row = 0; row < 8; ++row) std::copy_n(prediction + w * (y + row) + x, 8, tile + 8 * row);
-      sum += dsp.satd_8x8(source + y * stride + x, stride, tile);
+  for (int y = 0; y < h; y += t) {
+    for (int x = 0; x < w; x += t) {
+      for (int row = 0; row < t; ++row) std::copy_n(prediction + w * (y + row) + x, t, tile + t * row);
+      sum += satd(source + y * stride + x, stride, tile);
     }
   }
   return sum;
@@ -609,9 +612,9 @@ class PlaneSearch {
 
 // Encoder only: the partition of a luma macroblock by rate-distortion cost. Four 8x8
 // blocks come first, each also tried as four 4x4 blocks when it has levels (a block the
-// prediction alone serves gains nothing from splitting); then, unless an 8x8 split, one
-// 16x16 block whose modes are ranked among the 8x8 blocks' and the most probable ones,
-// and two 16x8 and two 8x16 blocks over every mode, the cheapest kept.
+// prediction alone serves gains nothing from splitting); then one 16x16 block whose
+// modes are ranked among those blocks' and the most probable ones, two 16x8, two 8x16,
+// four 16x4 and four 4x16 blocks (try_partition), the cheapest kept.
 class MacroblockSearch {
  public:
   explicit MacroblockSearch(bool transform_sizes) : sizes_(transform_sizes) {}
@@ -626,14 +629,16 @@ class MacroblockSearch {
     split_.partition = kSplit16x16;
     float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
     for (int i = 0; i < 4; ++i) split_cost += choose_8x8(state, x0, y0, i);
-    if (!sizes_ || split_.partition != kSplit16x16) {
+    if (!sizes_) {
       *out = split_;
       return split_cost;
     }
     uint8_t saved[kMaxTransformArea];
     plane_->save(x0, y0, 16, saved);
     ModeSet ranked;
-    for (int i = 0; i < 4; ++i) ranked.add(split_.blocks[static_cast<size_t>(i)].mode);
+    for_each_luma_block(split_.partition, [&, n = 0](int, int, int) mutable {
+      ranked.add(split_.blocks[static_cast<size_t>(n++)].mode);
+    });
     for (int mode : state.candidates(x0, y0)) ranked.add(mode);
     ranked.add(kPlanarMode);
     ranked.add(kDcMode);
@@ -644,29 +649,14 @@ class MacroblockSearch {
     float whole_cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 0) +
                        plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
     out->partition = 0;
-    uint8_t best_samples[kMaxTransformArea];
-    for (const uint8_t halves : {kHalves16x16, static_cast<uint8_t>(kHalves16x16 | kVerticalHalves)}) {
-      plane_->save(x0, y0, 16, best_samples);
-      state.clear(x0, y0, 16);
-      const bool vertical = (halves & kVerticalHalves) != 0;
-      float cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +
-                   plane_->split_bit_cost(contexts.vertical_halves, vertical ? 1 : 0);
-      const int shape = vertical ? block_shape(8, 16) : block_shape(16, 8);
-      for (int half = 0; half < 2 && cost < whole_cost; ++half) {
-        const int hx = x0 + (vertical ? 8 * half : 0), hy = y0 + (vertical ? 0 : 8 * half);
-        const ModeSet ranked = half_modes(state, hx, hy, vertical, half);
-        cost += plane_->code_block(state, hx, hy, shape, &ranked, false, &halves_[static_cast<size_t>(half)]);
-      }
-      if (cost < whole_cost) {
-        whole_cost = cost;
-        out->partition = halves;
-        out->blocks[0] = halves_[0];
-        out->blocks[1] = halves_[1];
-        continue;
-      }
-      // The trial wrote only halves_: the best so far is still in `out`.
-      plane_->restore(x0, y0, 16, best_samples);
-      mark_blocks(state, x0, y0, *out);
+    for (const bool vertical : {false, true}) {
+      const uint8_t halves = static_cast<uint8_t>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
+      const auto& strips_bit = contexts.strips[vertical ? 1 : 0];
+      const float bits = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +
+                         plane_->split_bit_cost(contexts.vertical_halves, vertical ? 1 : 0);
+      try_partition(state, x0, y0, halves, bits + plane_->split_bit_cost(strips_bit, 0), &whole_cost, out);
+      try_partition(state, x0, y0, halves | kStrips, bits + plane_->split_bit_cost(strips_bit, 1), &whole_cost,
+                    out);
     }
     if (whole_cost < split_cost) return whole_cost;
     plane_->restore(x0, y0, 16, saved);
@@ -714,15 +704,48 @@ class MacroblockSearch {
     });
   }
 
-  // The modes a half ranks: those of the two 8x8 blocks it covers, its most probable
-  // modes, planar and DC.
-  ModeSet half_modes(const PlaneState& state, int x0, int y0, bool vertical, int half) const {
-    ModeSet ranked;
-    for (int k = 0; k < 2; ++k) {
-      const int quarter = vertical ? half + 2 * k : 2 * half + k;
-      ranked.add(split_.blocks[static_cast<size_t>(block_index(quarter))].mode);
+  // Tries the macroblock at (x0, y0) as `partition` (halves or strips), whose flags cost
+  // `bits`, and keeps it in *out when it costs less than *best_cost. Each block's
+  // trial stops once the partition costs more.
+  void try_partition(PlaneState& state, int x0, int y0, uint8_t partition, float bits, float* best_cost,
+                     MacroblockChoice* out) {
+    uint8_t best_samples[kMaxTransformArea];
+    plane_->save(x0, y0, 16, best_samples);
+    state.clear(x0, y0, 16);
+    float cost = bits;
+    int n = 0;
+    for_each_luma_block(partition, [&](int x, int y, int shape) {
+      if (cost >= *best_cost) return;
+      const ModeSet ranked = covered_modes(state, x0, y0, x, y, shape, *out);
+      cost += plane_->code_block(state, x0 + x, y0 + y, shape, &ranked, false, &trial_[static_cast<size_t>(n++)]);
+    });
+    if (cost < *best_cost) {
+      *best_cost = cost;
+      out->partition = partition;
+      std::copy_n(trial_.begin(), n, out->blocks.begin());
+      return;
     }
-    for (int mode : state.candidates(x0, y0)) ranked.add(mode);
+    // The trial wrote only trial_: the best so far is still in `out`.
+    plane_->restore(x0, y0, 16, best_samples);
+    mark_blocks(state, x0, y0, *out);
+  }
+
+  // The modes a block (x, y, shape within the macroblock at x0, y0) ranks: those of the
+  // 8x8 blocks and of the best partition's blocks it overlaps, its most probable modes,
+  // planar and DC.
+  ModeSet covered_modes(const PlaneState& state, int x0, int y0, int x, int y, int shape,
+                        const MacroblockChoice& best) const {
+    ModeSet ranked;
+    const int w = shape_width(shape), h = shape_height(shape);
+    auto add_overlapping = [&](const MacroblockChoice& choice) {
+      for_each_luma_block(choice.partition, [&, n = 0](int bx, int by, int b) mutable {
+        const int mode = choice.blocks[static_cast<size_t>(n++)].mode;
+        if (bx < x + w && x < bx + shape_width(b) && by < y + h && y < by + shape_height(b)) ranked.add(mode);
+      });
+    };
+    add_overlapping(split_);
+    add_overlapping(best);
+    for (int mode : state.candidates(x0 + x, y0 + y)) ranked.add(mode);
     ranked.add(kPlanarMode);
     ranked.add(kDcMode);
     return ranked;
@@ -739,7 +762,7 @@ class MacroblockSearch {
   bool sizes_;
   MacroblockChoice split_;
   std::array<BlockChoice, 4> quarters_;
-  std::array<BlockChoice, 2> halves_;
+  std::array<BlockChoice, 4> trial_;
 };
 
 // Parse stage of an intra frame: reads each block's syntax into `frame` and marks it.
@@ -830,7 +853,8 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
   if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(split_context)])) {
     if (!decoder.decode(contexts.halves_16x16[static_cast<size_t>(split_context)])) return reader.read(x0, y0, 16);
     const bool vertical = decoder.decode(contexts.vertical_halves) != 0;
-    *partition = static_cast<uint8_t>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
+    const bool strips = decoder.decode(contexts.strips[vertical ? 1 : 0]) != 0;
+    *partition = static_cast<uint8_t>(kHalves16x16 | (vertical ? kVerticalHalves : 0) | (strips ? kStrips : 0));
     bool read = true;
     for_each_luma_block(*partition,
                         [&](int x, int y, int shape) { read = read && reader.read(x0 + x, y0 + y, shape); });
@@ -913,8 +937,11 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
   if ((choice.partition & kSplit16x16) == 0) {
     encoder.encode(contexts.halves_16x16[static_cast<size_t>(split_context)],
                    (choice.partition & kHalves16x16) != 0);
-    if (choice.partition & kHalves16x16)
-      encoder.encode(contexts.vertical_halves, (choice.partition & kVerticalHalves) != 0);
+    if (choice.partition & kHalves16x16) {
+      const bool vertical = (choice.partition & kVerticalHalves) != 0;
+      encoder.encode(contexts.vertical_halves, vertical);
+      encoder.encode(contexts.strips[vertical ? 1 : 0], (choice.partition & kStrips) != 0);
+    }
   }
   int n = 0;
   for_each_luma_block(choice.partition, [&](int x, int y, int size) {

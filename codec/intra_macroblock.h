@@ -33,8 +33,9 @@ struct PlaneContexts {
   std::array<AdaptiveBit, 3> split_8x8{};
   std::array<AdaptiveBit, 3> halves_16x16{};  // luma only, by split_context
   AdaptiveBit vertical_halves;
-  CflContexts cfl;              // chroma only
-  TransformTypeContexts types;  // `enabled` from the frame header
+  std::array<AdaptiveBit, 2> strips{};  // luma only, by vertical_halves
+  CflContexts cfl;                      // chroma only
+  TransformTypeContexts types;          // `enabled` from the frame header
 };
 
 // Calls f on every context, in member order (docs/codec.md 4).
@@ -47,6 +48,7 @@ void for_each_context(Set& s, F&& f) {
   for_each_bit(s.split_8x8, f);
   for_each_bit(s.halves_16x16, f);
   for_each_bit(s.vertical_halves, f);
+  for_each_bit(s.strips, f);
   for_each_context(s.cfl, f);
   for_each_context(s.types, f);
 }
@@ -54,11 +56,13 @@ void for_each_context(Set& s, F&& f) {
 // Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
 // region splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four
 // 4x4 blocks; without bit 0, bit 5 makes it two 16x8 blocks (top, bottom), or with bit 6
-// two 8x16 blocks (left, right).
+// two 8x16 blocks (left, right), and bit 7 with bit 5 four strips instead: 16x4 blocks
+// top to bottom, or with bit 6 4x16 blocks left to right.
 inline constexpr uint8_t kSplit16x16 = 1;
 constexpr uint8_t split_8x8_bit(int i) { return static_cast<uint8_t>(2 << i); }
 inline constexpr uint8_t kHalves16x16 = 32;
 inline constexpr uint8_t kVerticalHalves = 64;
+inline constexpr uint8_t kStrips = 128;
 
 // Calls visit(x, y, shape) for the transform blocks of a macroblock partition in coding
 // order (x, y relative to the macroblock; shape as block_shape).
@@ -67,6 +71,11 @@ void for_each_luma_block(uint8_t partition, Visit&& visit) {
   if ((partition & kSplit16x16) == 0) {
     if ((partition & kHalves16x16) == 0) {
       visit(0, 0, 16);
+    } else if (partition & kStrips) {
+      const bool vertical = (partition & kVerticalHalves) != 0;
+      for (int k = 0; k < 4; ++k) {
+        visit(vertical ? 4 * k : 0, vertical ? 0 : 4 * k, vertical ? block_shape(4, 16) : block_shape(16, 4));
+      }
     } else if (partition & kVerticalHalves) {
       visit(0, 0, block_shape(8, 16));
       visit(8, 0, block_shape(8, 16));

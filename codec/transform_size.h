@@ -5,31 +5,38 @@
 
 namespace svc::codec {
 
-// 16x8 and 8x16 are width x height (rows of 16 samples, or of 8).
-enum class TransformSize : uint8_t { k8x8 = 0, k4x4 = 1, k16x16 = 2, k16x8 = 3, k8x16 = 4 };
-inline constexpr int kTransformSizes = 5;
+// Rectangular sizes are width x height (16x8: rows of 16 samples, 8 rows).
+enum class TransformSize : uint8_t { k8x8 = 0, k4x4 = 1, k16x16 = 2, k16x8 = 3, k8x16 = 4, k16x4 = 5, k4x16 = 6 };
+inline constexpr int kTransformSizes = 7;
 inline constexpr int kMaxTransformWidth = 16;  // the largest size the tables are laid out for
 inline constexpr int kMaxTransformArea = kMaxTransformWidth * kMaxTransformWidth;
 
 constexpr int transform_width(TransformSize size) {
   switch (size) {
-    case TransformSize::k4x4: return 4;
+    case TransformSize::k4x4:
+    case TransformSize::k4x16: return 4;
     case TransformSize::k16x16:
-    case TransformSize::k16x8: return 16;
+    case TransformSize::k16x8:
+    case TransformSize::k16x4: return 16;
     default: return 8;
   }
 }
 constexpr int transform_height(TransformSize size) {
   switch (size) {
-    case TransformSize::k4x4: return 4;
+    case TransformSize::k4x4:
+    case TransformSize::k16x4: return 4;
     case TransformSize::k16x16:
-    case TransformSize::k8x16: return 16;
+    case TransformSize::k8x16:
+    case TransformSize::k4x16: return 16;
     default: return 8;
   }
 }
 constexpr int transform_area(TransformSize size) { return transform_width(size) * transform_height(size); }
-constexpr bool is_rectangular(TransformSize size) {
-  return size == TransformSize::k16x8 || size == TransformSize::k8x16;
+constexpr bool is_rectangular(TransformSize size) { return transform_width(size) != transform_height(size); }
+// 16x4 and 4x16: sides in the ratio 1:4 (whose coefficients are orthonormal; those of
+// 16x8 and 8x16, 1:2, are at 1/sqrt(2); docs/codec.md 7.3).
+constexpr bool is_quarter_wide(TransformSize size) {
+  return size == TransformSize::k16x4 || size == TransformSize::k4x16;
 }
 
 // A block's shape as one int: its width for a square block, else width | height << 8.
@@ -44,6 +51,8 @@ constexpr TransformSize size_of_shape(int shape) {
     case 16: return TransformSize::k16x16;
     case block_shape(16, 8): return TransformSize::k16x8;
     case block_shape(8, 16): return TransformSize::k8x16;
+    case block_shape(16, 4): return TransformSize::k16x4;
+    case block_shape(4, 16): return TransformSize::k4x16;
     default: return TransformSize::k8x8;
   }
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "codec/intra_codec.h"
+#include "codec/intra_macroblock.h"
 
 namespace svc::codec {
 namespace {
@@ -140,11 +141,16 @@ TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   EXPECT_EQ(coefficients.width, 64);
   EXPECT_EQ(coefficients.qindex, 106);
   // One partition per macroblock; blocks as the partitions count them (a 16x16 block
-  // is one, an 8x8 split into 4x4 four) plus the 8x8 chroma blocks.
+  // is one, halves two, strips four, an 8x8 split into 4x4 four) plus the 8x8 chroma
+  // blocks.
   ASSERT_EQ(coefficients.luma_partitions.size(), 12u);
   size_t blocks = 2 * 12;
   for (uint8_t partition : coefficients.luma_partitions) {
-    blocks += (partition & 1) == 0 ? 1 : 4 + 3 * static_cast<size_t>(std::popcount(unsigned{partition} >> 1));
+    if ((partition & intra::kSplit16x16) != 0) {
+      blocks += 4 + 3 * static_cast<size_t>(std::popcount(unsigned{partition} >> 1));
+    } else {
+      blocks += (partition & intra::kHalves16x16) == 0 ? 1 : (partition & intra::kStrips) != 0 ? 4 : 2;
+    }
   }
   EXPECT_EQ(coefficients.block_counts.size(), blocks);
   reconstruct_intra_frame(coefficients, &from_coefficients);

@@ -1,4 +1,4 @@
-// Transform sizes 4x4, 16x16, 16x8 and 8x16: the integer inverses against their
+// Transform sizes 4x4, 16x16, 16x8, 8x16, 16x4 and 4x16: the integer inverses against their
 // definitions and the exact transform, their scans and level coding, and intra frames that
 // choose them.
 #include <gtest/gtest.h>
@@ -20,8 +20,8 @@
 namespace svc::codec {
 namespace {
 
-constexpr TransformSize kNewSizes[] = {TransformSize::k4x4, TransformSize::k16x16, TransformSize::k16x8,
-                                       TransformSize::k8x16};
+constexpr TransformSize kNewSizes[] = {TransformSize::k4x4,  TransformSize::k16x16, TransformSize::k16x8,
+                                       TransformSize::k8x16, TransformSize::k16x4,  TransformSize::k4x16};
 
 using testing::random_coefficients;
 
@@ -85,7 +85,8 @@ TEST(TransformSizes, IntegerInversesStayWithinOneOfTheExactInverse) {
 
 TEST(TransformSizes, DcKeepsTheScaleOfEachSize) {
   // A flat block of 10: 4x4 DC = 4 x 10 (orthonormal), 16x16 DC = 8 x 10 (half of 16 x 10),
-  // 16x8 and 8x16 DC = 8 x 10 (sqrt(128) x 10 / sqrt(2)).
+  // 16x8 and 8x16 DC = 8 x 10 (sqrt(128) x 10 / sqrt(2)), 16x4 and 4x16 DC = 8 x 10
+  // (orthonormal).
   for (TransformSize size : kNewSizes) {
     const int area = transform_area(size);
     std::vector<float> samples(static_cast<size_t>(area), 10.0f), coefficients(static_cast<size_t>(area));
@@ -101,11 +102,13 @@ TEST(TransformSizes, DcKeepsTheScaleOfEachSize) {
   EXPECT_EQ(residual_step(TransformSize::k16x16, 0), 128);  // never finer than 128 / 256
   EXPECT_EQ(residual_step(TransformSize::k16x8, 100), (residual_step(TransformSize::k8x8, 100) * 181 + 128) >> 8);
   EXPECT_EQ(residual_step(TransformSize::k8x16, 100), residual_step(TransformSize::k16x8, 100));
+  EXPECT_EQ(residual_step(TransformSize::k16x4, 100), residual_step(TransformSize::k8x8, 100));
+  EXPECT_EQ(residual_step(TransformSize::k4x16, 100), residual_step(TransformSize::k8x8, 100));
 }
 
 TEST(TransformSizes, ScansVisitEveryPositionByAntiDiagonal) {
-  for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16, TransformSize::k16x8,
-                             TransformSize::k8x16}) {
+  for (int s = 0; s < kTransformSizes; ++s) {
+    const TransformSize size = static_cast<TransformSize>(s);
     const ScanOrder& order = scan_order(size);
     ASSERT_EQ(order.width, transform_width(size));
     ASSERT_EQ(order.height, transform_height(size));
@@ -189,12 +192,12 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
   }
 }
 
-// 16x8 and 8x16 prediction (docs/codec.md 3.1): a flat edge predicts flat in every mode;
+// Rectangular prediction (docs/codec.md 3.1): a flat edge predicts flat in every mode;
 // the diagonals copy the edge (mode 2 the left column from row x + y + 1, mode 34 the
 // above row from column x + y + 1, both smoothed: on a linear edge smoothing changes
 // nothing); pure horizontal copies the left column beyond the first row.
 TEST(TransformSizes, RectangularPredictionFollowsTheEdge) {
-  for (int shape : {block_shape(16, 8), block_shape(8, 16)}) {
+  for (int shape : {block_shape(16, 8), block_shape(8, 16), block_shape(16, 4), block_shape(4, 16)}) {
     const int w = shape_width(shape), h = shape_height(shape), corner = w + h;
     uint8_t edge[2 * 24 + 1], out[128];
     std::fill_n(edge, 2 * corner + 1, uint8_t{90});
@@ -245,6 +248,31 @@ TEST(TransformSizes, IntraFramesChooseHalvesAndDecodeExactly) {
     const uint8_t halves = transposed ? 32 | 64 : 32;  // 8x16 or 16x8 halves
     EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), halves), 0)
         << (transposed ? "8x16" : "16x8");
+  }
+}
+
+// The same with four different gradients down each macroblock, one per 4 rows: some
+// macroblocks are coded as four 16x4 strips, and the transposed picture's as four 4x16.
+TEST(TransformSizes, IntraFramesChooseStripsAndDecodeExactly) {
+  for (bool transposed : {false, true}) {
+    ImageYCbCr420 image;
+    image.width = image.height = 64;
+    constexpr int kBase[4] = {40, 200, 70, 170}, kSlope[4] = {3, -5, 4, -3};
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const int along = transposed ? y : x, strip = ((transposed ? x : y) % 16) / 4;
+        image.y.push_back(static_cast<uint8_t>(kBase[strip] + kSlope[strip] * (along % 16)));
+      }
+    }
+    image.cb.assign(32 * 32, 128);
+    image.cr.assign(32 * 32, 128);
+    CodingParams params;
+    params.qindex = 120;
+    CoefficientFrame parsed;
+    ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
+    const uint8_t strips = transposed ? 32 | 64 | 128 : 32 | 128;  // 4x16 or 16x4 strips
+    EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), strips), 0)
+        << (transposed ? "4x16" : "16x4");
   }
 }
 

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "7eaa2d634d0c3f1154c90c1dd4a7ef95778d1d0123cbb1f776497e09c91499d8",
-     "ed7e4b4e9029be4b53e0a71b6468a2d0a126bf984fa9163050418ea9d8c2541a"},
+     "d5896f074c39f2a78c55a4efa3e21b340cf152c84719625ec58f4acfc69c0c31",
+     "b702e04011b6beb039bab31be39b2cbb827b34be1891c653d37bf4461c1f1ad4"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "04a9283b7206b033f0376b18e117c87f469bc855c1732a158ef632ded2b400d5",
-     "6b2d7b43032e8aa4a1909ad44ffff426c664b4f7c0155097326d93a11d46eebe"},
+     "9b1c2d7d858d0761fb8f12210f0995477dc22f07078047697ac35eda7630a967",
+     "95ea0844b635672bdce0310d9c12a86fa4cf8e2add365ee4b9939346218078ac"},
 };
 
 std::string file_sha256(const fs::path& path) {

@@ -34,6 +34,8 @@ void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_16x8_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_8x16_c(const uint8_t* edge, int mode, uint8_t* out);
+void intra_predict_16x4_c(const uint8_t* edge, int mode, uint8_t* out);
+void intra_predict_4x16_c(const uint8_t* edge, int mode, uint8_t* out);
 // The reference row of an angular mode (2..34), smoothed where the mode asks:
 // main[kIntraAngularReferenceOffset + k], k = -8..17, is sample k of the projected edge.
 inline constexpr int kIntraAngularReferenceOffset = 8;
@@ -52,13 +54,15 @@ void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out);
 // an N x N block's unfiltered prediction `out`, from its unsmoothed edge; other modes
 // are left alone (docs/codec.md 3.1). Every variant of the angular modes calls it.
 void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* out);
-// The same three for 16x8 (`width` 16) and 8x16 (`width` 8) blocks, whose edge holds
-// 2 (W + H) + 1 = 49 samples: the angular reference main[24 + k], k = -24..25 (main
-// holds 74 samples), of a block predicted along its columns (W x H for vertical modes,
-// H x W, to be transposed, for horizontal ones); the boundary filters; the smoothing.
-int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, uint8_t* main);
-void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, uint8_t* out);
-void smooth_intra_edge_rectangular(const uint8_t* edge, int width, uint8_t* out);
+// The same three for W x H blocks 16x8, 8x16, 16x4 and 4x16, whose edge holds
+// 2 (W + H) + 1 samples: the angular reference main[W + H + k], k = -(W + H)..W + H + 1
+// (main holds 3 (W + H) + 2 samples), of a block predicted along its columns (W x H for
+// vertical modes, H x W, to be transposed, for horizontal ones); the boundary filters;
+// the smoothing.
+int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, int height,
+                                                uint8_t* main);
+void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, int height, uint8_t* out);
+void smooth_intra_edge_rectangular(const uint8_t* edge, int width, int height, uint8_t* out);
 int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);

@@ -1,4 +1,4 @@
-// Plain intra prediction kernels: the 35 modes of a 4x4, 8x8, 16x16, 16x8 or 8x16 block from its
+// Plain intra prediction kernels: the 35 modes of a 4x4, 8x8, 16x16, 16x8, 8x16, 16x4 or 4x16 block from its
 // reference edge (planar, DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is
 // the definition) and the encoder's 4x4 and 8x8 Hadamard SATD.
 #include <algorithm>
@@ -159,7 +159,7 @@ void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
   filter_boundary<N>(edge, mode, out);
 }
 
-// Rectangular W x H blocks (16x8, 8x16): the modes of docs/codec.md 3.1 on an edge of
+// Rectangular W x H blocks (16x8, 8x16, 16x4, 4x16): the modes of docs/codec.md 3.1 on an edge of
 // W + H samples each side, the corner at W + H. The edge is smoothed as for 8x8 blocks
 // (planar and the three diagonals).
 template <int W, int H>
@@ -172,7 +172,7 @@ const uint8_t* rectangular_edge(const uint8_t* edge, int mode, uint8_t* smoothed
 // Planar weighs both directions by the other side's length (as VVC).
 template <int W, int H>
 void predict_rectangular_planar(const uint8_t* raw_edge, uint8_t* out) {
-  constexpr int kCorner = W + H, kLogW = W == 16 ? 4 : 3, kLogH = H == 16 ? 4 : 3;
+  constexpr int kCorner = W + H, kLogW = log2_of(W), kLogH = log2_of(H);
   uint8_t smoothed[2 * (W + H) + 1];
   const uint8_t* edge = rectangular_edge<W, H>(raw_edge, 0, smoothed);
   const uint8_t* above = edge + kCorner + 1;
@@ -294,19 +294,27 @@ void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* o
   filter_boundary<8>(edge, mode, out);
 }
 
-int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, uint8_t* main) {
-  return width == 16 ? prepare_rectangular_reference<16, 8>(edge, mode, main)
-                     : prepare_rectangular_reference<8, 16>(edge, mode, main);
+int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, int height,
+                                                uint8_t* main) {
+  if (width == 16) {
+    return height == 8 ? prepare_rectangular_reference<16, 8>(edge, mode, main)
+                       : prepare_rectangular_reference<16, 4>(edge, mode, main);
+  }
+  return width == 8 ? prepare_rectangular_reference<8, 16>(edge, mode, main)
+                    : prepare_rectangular_reference<4, 16>(edge, mode, main);
 }
 
-void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, uint8_t* out) {
-  if (width == 16) return filter_boundary<16, 8>(edge, mode, out);
-  filter_boundary<8, 16>(edge, mode, out);
+void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, int height, uint8_t* out) {
+  if (width == 16)
+    return height == 8 ? filter_boundary<16, 8>(edge, mode, out) : filter_boundary<16, 4>(edge, mode, out);
+  if (width == 8) return filter_boundary<8, 16>(edge, mode, out);
+  filter_boundary<4, 16>(edge, mode, out);
 }
 
-void smooth_intra_edge_rectangular(const uint8_t* edge, int width, uint8_t* out) {
-  if (width == 16) return smooth_edge<16, 8>(edge, out);
-  smooth_edge<8, 16>(edge, out);
+void smooth_intra_edge_rectangular(const uint8_t* edge, int width, int height, uint8_t* out) {
+  if (width == 16) return height == 8 ? smooth_edge<16, 8>(edge, out) : smooth_edge<16, 4>(edge, out);
+  if (width == 8) return smooth_edge<8, 16>(edge, out);
+  smooth_edge<4, 16>(edge, out);
 }
 
 void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {
@@ -324,6 +332,12 @@ void intra_predict_16x8_c(const uint8_t* edge, int mode, uint8_t* out) {
 void intra_predict_8x16_c(const uint8_t* edge, int mode, uint8_t* out) {
   predict_rectangular<8, 16>(edge, mode, out);
 }
+void intra_predict_16x4_c(const uint8_t* edge, int mode, uint8_t* out) {
+  predict_rectangular<16, 4>(edge, mode, out);
+}
+void intra_predict_4x16_c(const uint8_t* edge, int mode, uint8_t* out) {
+  predict_rectangular<4, 16>(edge, mode, out);
+}
 int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
   return satd<4>(source, source_stride, prediction);
 }
@@ -337,6 +351,8 @@ void init_intra_c(DspTable* table) {
   table->intra_predict_16x16 = intra_predict_16x16_c;
   table->intra_predict_16x8 = intra_predict_16x8_c;
   table->intra_predict_8x16 = intra_predict_8x16_c;
+  table->intra_predict_16x4 = intra_predict_16x4_c;
+  table->intra_predict_4x16 = intra_predict_4x16_c;
   table->satd_4x4 = satd_4x4_c;
   table->satd_8x8 = satd_8x8_c;
 }

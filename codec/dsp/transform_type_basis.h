@@ -73,13 +73,15 @@ inline constexpr TypeMatrix<16> kTypeDst16 = dst_matrix<16>(kDst16AngleTable);
 // ones), as the size's DCT; a DST pass shifts kDstExtraShift more. Row outputs stay
 // below 2^18 and sums below 2^30 for coefficients in [-2048, 2047]: 32-bit arithmetic.
 constexpr int type_row_shift(bool dst) { return 4 + (dst ? kDstExtraShift : 0); }
-constexpr int type_column_shift(int points, bool dst) {
-  return (points == 4 ? 10 : 11) + (dst ? kDstExtraShift : 0);
+// Rectangular blocks (docs/codec.md 7.3) shift 11 whatever their height.
+constexpr int type_column_shift(int width, int height, bool dst) {
+  return (width == 4 && height == 4 ? 10 : 11) + (dst ? kDstExtraShift : 0);
 }
 // The forward transform's output scale (16x16: half the orthonormal scale, as its DCT;
-// 16x8 and 8x16, docs/codec.md 7.3: 1/sqrt(2) of it, which the passes' 2^15 gives with
-// the 8- and 16-point matrices).
+// 16x8 and 8x16, docs/codec.md 7.3: 1/sqrt(2) of it, and 16x4 and 4x16 orthonormal,
+// which the passes' 2^15 gives with the matrices of their sides).
 constexpr float type_forward_scale(int width, int height) {
+  if (width == 4 * height || height == 4 * width) return 1.0f;
   if (width != height) return 0.70710677f;
   return width == 16 ? 0.5f : 1.0f;
 }

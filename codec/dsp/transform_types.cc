@@ -62,7 +62,7 @@ void inverse_typed(int type, const int16_t* coefficients, int16_t* samples) {
   const bool rows_dst = (type & 1) != 0, columns_dst = (type & 2) != 0;
   const TypeMatrix<W>& rows = type_matrix<W>(rows_dst);
   const TypeMatrix<H>& columns = type_matrix<H>(columns_dst);
-  const int row_shift = type_row_shift(rows_dst), column_shift = type_column_shift(H, columns_dst);
+  const int row_shift = type_row_shift(rows_dst), column_shift = type_column_shift(W, H, columns_dst);
   int32_t tmp[W * H];
   for (int v = 0; v < H; ++v) {
     for (int x = 0; x < W; ++x) {
@@ -88,11 +88,15 @@ void init_transform_types_c(DspTable* table) {
   table->forward_typed_16x16 = forward_typed<16, 16>;
   table->forward_typed_16x8 = forward_typed<16, 8>;
   table->forward_typed_8x16 = forward_typed<8, 16>;
+  table->forward_typed_16x4 = forward_typed<16, 4>;
+  table->forward_typed_4x16 = forward_typed<4, 16>;
   table->inverse_typed_4x4 = inverse_typed<4, 4>;
   table->inverse_typed_8x8 = inverse_typed<8, 8>;
   table->inverse_typed_16x16 = inverse_typed<16, 16>;
   table->inverse_typed_16x8 = inverse_typed<16, 8>;
   table->inverse_typed_8x16 = inverse_typed<8, 16>;
+  table->inverse_typed_16x4 = inverse_typed<16, 4>;
+  table->inverse_typed_4x16 = inverse_typed<4, 16>;
 }
 
 }  // namespace svc::codec::dsp

@@ -50,16 +50,18 @@ std::string check_satd(const Tables& reference, const Tables& variant, Random& r
   return {};
 }
 
-// The W x H predictor of a table: 4x4, 16x16, 16x8 or 8x16.
+// The W x H predictor of a table: 4x4, 16x16, 16x8, 8x16, 16x4 or 4x16.
 template <int W, int H>
 auto predictor_of(const Tables& t) {
-  if constexpr (W == 4) return t.intra_predict_4x4;
+  if constexpr (W == 4 && H == 4) return t.intra_predict_4x4;
+  if constexpr (W == 16 && H == 4) return t.intra_predict_16x4;
+  if constexpr (W == 4 && H == 16) return t.intra_predict_4x16;
   if constexpr (W == 16 && H == 16) return t.intra_predict_16x16;
   if constexpr (W == 16 && H == 8) return t.intra_predict_16x8;
   if constexpr (W == 8 && H == 16) return t.intra_predict_8x16;
 }
 
-// 4x4, 16x16, 16x8 and 8x16 blocks from edges of 2 (W + H) + 1 samples built the same ways.
+// 4x4, 16x16 and the rectangular blocks from edges of 2 (W + H) + 1 samples built the same ways.
 template <int N, int H = N>
 std::string check_intra_predict_n(const Tables& reference, const Tables& variant, Random& random, int iterations) {
   constexpr int W = N, kSamples = 2 * (W + H) + 1;
@@ -227,6 +229,10 @@ std::vector<Kernel> intra_kernels() {
        check_intra_predict_n<16, 8>, bench_intra_predict_n<16, 8>},
       {"intra_predict_8x16", [](const Tables& t) { return entry_of(t.intra_predict_8x16); },
        check_intra_predict_n<8, 16>, bench_intra_predict_n<8, 16>},
+      {"intra_predict_16x4", [](const Tables& t) { return entry_of(t.intra_predict_16x4); },
+       check_intra_predict_n<16, 4>, bench_intra_predict_n<16, 4>},
+      {"intra_predict_4x16", [](const Tables& t) { return entry_of(t.intra_predict_4x16); },
+       check_intra_predict_n<4, 16>, bench_intra_predict_n<4, 16>},
       {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd_4x4, bench_satd_4x4},
       {"cfl_luma_ac_8x8", [](const Tables& t) { return entry_of(t.cfl_luma_ac_8x8); }, check_cfl_luma_ac,
        bench_cfl_luma_ac},

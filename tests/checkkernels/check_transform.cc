@@ -246,16 +246,20 @@ void bench_inverse_dct_n(const Tables& table, int iterations) {
 }
 
 // The intra transform types, over the same input patterns as the DCTs of their size, each
-// type in turn: 1..3 (DST-VII in one or both directions) for squares, 0..3 for 16x8 and
-// 8x16 blocks (W x H), whose DCT_DCT is a typed kernel too.
+// type in turn: 1..3 (DST-VII in one or both directions) for squares, 0..3 for the
+// rectangular blocks (W x H), whose DCT_DCT is a typed kernel too.
 template <int W, int H>
 auto forward_typed_of(const Tables& t) {
-  if constexpr (W != H) return W == 16 ? t.forward_typed_16x8 : t.forward_typed_8x16;
+  if constexpr (W == 16 && H == 4) return t.forward_typed_16x4;
+  if constexpr (W == 4 && H == 16) return t.forward_typed_4x16;
+  if constexpr (W != H && W != 4 && H != 4) return W == 16 ? t.forward_typed_16x8 : t.forward_typed_8x16;
   return W == 4 ? t.forward_typed_4x4 : W == 8 ? t.forward_typed_8x8 : t.forward_typed_16x16;
 }
 template <int W, int H>
 auto inverse_typed_of(const Tables& t) {
-  if constexpr (W != H) return W == 16 ? t.inverse_typed_16x8 : t.inverse_typed_8x16;
+  if constexpr (W == 16 && H == 4) return t.inverse_typed_16x4;
+  if constexpr (W == 4 && H == 16) return t.inverse_typed_4x16;
+  if constexpr (W != H && W != 4 && H != 4) return W == 16 ? t.inverse_typed_16x8 : t.inverse_typed_8x16;
   return W == 4 ? t.inverse_typed_4x4 : W == 8 ? t.inverse_typed_8x8 : t.inverse_typed_16x16;
 }
 template <int W, int H>
@@ -366,6 +370,14 @@ std::vector<Kernel> transform_kernels() {
        check_forward_typed<8, 16>, bench_forward_typed<8, 16>},
       {"inverse_typed_8x16", [](const Tables& t) { return entry_of(t.inverse_typed_8x16); },
        check_inverse_typed<8, 16>, bench_inverse_typed<8, 16>},
+      {"forward_typed_16x4", [](const Tables& t) { return entry_of(t.forward_typed_16x4); },
+       check_forward_typed<16, 4>, bench_forward_typed<16, 4>},
+      {"inverse_typed_16x4", [](const Tables& t) { return entry_of(t.inverse_typed_16x4); },
+       check_inverse_typed<16, 4>, bench_inverse_typed<16, 4>},
+      {"forward_typed_4x16", [](const Tables& t) { return entry_of(t.forward_typed_4x16); },
+       check_forward_typed<4, 16>, bench_forward_typed<4, 16>},
+      {"inverse_typed_4x16", [](const Tables& t) { return entry_of(t.inverse_typed_4x16); },
+       check_inverse_typed<4, 16>, bench_inverse_typed<4, 16>},
   };
 }
 

@@ -57,23 +57,25 @@ void intra_predict_neon(const uint8_t* edge, int mode, uint8_t* out) {
   filter_intra_boundary_n(edge, mode, N, out);
 }
 
-// 16x8 and 8x16 blocks: the angular modes eight samples of a row of the bw x bh block
-// predicted along its columns at a time (transposed on the way out for horizontal modes);
-// planar and DC run the plain code.
+// Rectangular blocks (16x8, 8x16, 16x4, 4x16): the angular modes eight samples of a row
+// of the bw x bh block predicted along its columns at a time (4-wide rows keep four;
+// transposed on the way out for horizontal modes); planar and DC run the plain code.
 template <int W, int H>
 void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out) {
   if (mode < 2) {
-    if constexpr (W == 16) intra_predict_16x8_c(edge, mode, out);
+    if constexpr (W == 16 && H == 8) intra_predict_16x8_c(edge, mode, out);
     if constexpr (W == 8) intra_predict_8x16_c(edge, mode, out);
+    if constexpr (W == 16 && H == 4) intra_predict_16x4_c(edge, mode, out);
+    if constexpr (W == 4) intra_predict_4x16_c(edge, mode, out);
     return;
   }
   uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
   std::memset(main + 3 * (W + H) + 2, 0, 16);
-  const int angle = prepare_intra_angular_reference_rectangular(edge, mode, W, main);
+  const int angle = prepare_intra_angular_reference_rectangular(edge, mode, W, H, main);
   const uint8_t* ref = main + (W + H);
   const bool vertical = mode >= 18;
   const int bw = vertical ? W : H, bh = vertical ? H : W;
-  uint8_t rows[W * H];
+  uint8_t rows[W * H + 8];  // a 4-wide block's last row stores eight
   for (int y = 0; y < bh; ++y) {
     const int position = (y + 1) * angle;
     for (int x = 0; x < bw; x += 8)
@@ -86,7 +88,7 @@ void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out)
       for (int x = 0; x < bw; ++x) out[W * x + y] = rows[bw * y + x];
     }
   }
-  filter_intra_boundary_rectangular(edge, mode, W, out);
+  filter_intra_boundary_rectangular(edge, mode, W, H, out);
 }
 
 // 1-D Hadamard butterflies across N vectors (one transform per lane), in place.
@@ -149,6 +151,8 @@ void init_intra_neon(DspTable* table) {
   table->intra_predict_16x16 = intra_predict_neon<16>;
   table->intra_predict_16x8 = intra_predict_rectangular_neon<16, 8>;
   table->intra_predict_8x16 = intra_predict_rectangular_neon<8, 16>;
+  table->intra_predict_16x4 = intra_predict_rectangular_neon<16, 4>;
+  table->intra_predict_4x16 = intra_predict_rectangular_neon<4, 16>;
   table->satd_4x4 = satd_4x4_neon;
   table->satd_8x8 = satd_8x8_neon;
 }

@@ -12,7 +12,7 @@ template <int W, int H>
 void inverse_typed_neon(int type, const int16_t* coefficients, int16_t* samples) {
   const bool rows_dst = (type & 1) != 0, columns_dst = (type & 2) != 0;
   inverse_by_matrices<W, H>(type_matrix<W>(rows_dst).m, type_row_shift(rows_dst), type_matrix<H>(columns_dst).m,
-                            type_column_shift(H, columns_dst), coefficients, samples);
+                            type_column_shift(W, H, columns_dst), coefficients, samples);
 }
 
 }  // namespace
@@ -23,6 +23,8 @@ void init_transform_types_neon(DspTable* table) {
   table->inverse_typed_16x16 = inverse_typed_neon<16, 16>;
   table->inverse_typed_16x8 = inverse_typed_neon<16, 8>;
   table->inverse_typed_8x16 = inverse_typed_neon<8, 16>;
+  table->inverse_typed_16x4 = inverse_typed_neon<16, 4>;
+  table->inverse_typed_4x16 = inverse_typed_neon<4, 16>;
 }
 
 }  // namespace svc::codec::dsp

@@ -211,16 +211,28 @@ void intra_predict_16x16_sse41(const uint8_t* edge, int mode, uint8_t* out) {
   predict_angular<16>(edge, mode, out);
 }
 
-// 16x8 and 8x16 blocks. Planar: a row of eight samples per register, the vertical term
+// Stores the first `count` (at most 8) samples of a row of 16-bit lanes.
+inline void store_row(__m128i row, int count, uint8_t* out) {
+  if (count == 8) {
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out), _mm_packus_epi16(row, row));
+    return;
+  }
+  uint8_t packed[16];
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(packed), _mm_packus_epi16(row, row));
+  std::memcpy(out, packed, static_cast<size_t>(count));
+}
+
+// Rectangular blocks (16x8, 8x16, 16x4, 4x16). Planar: a row of eight samples per
+// register (a 4-wide block computes eight and keeps four), the vertical term
 // ((H - 1 - y) above[x] + (y + 1) left[H]) stepped by (left[H] - above[x]) per row and
 // the horizontal one ((W - 1 - x) left[y] + (x + 1) above[W]) formed per row, each shifted
 // up by the other side's log2; the sum is at most 2 * 16 * 255 * 8 + 128 = 65408, exact
 // in unsigned 16-bit lanes (modular steps, logical shift).
 template <int W, int H>
 void predict_rectangular_planar(const uint8_t* edge, uint8_t* out) {
-  constexpr int kCorner = W + H, kLogW = W == 16 ? 4 : 3, kLogH = H == 16 ? 4 : 3;
-  uint8_t smoothed[2 * (W + H) + 1 + 8];
-  smooth_intra_edge_rectangular(edge, W, smoothed);
+  constexpr int kCorner = W + H, kLogW = W == 16 ? 4 : W == 8 ? 3 : 2, kLogH = H == 16 ? 4 : H == 8 ? 3 : 2;
+  uint8_t smoothed[2 * (W + H) + 1 + 8];  // room for the eight-sample load of a 4-wide above row
+  smooth_intra_edge_rectangular(edge, W, H, smoothed);
   const uint8_t* above = smoothed + kCorner + 1;
   const __m128i below_left = _mm_set1_epi16(smoothed[kCorner - 1 - H]), above_right = _mm_set1_epi16(above[W]);
   const __m128i lane = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
@@ -236,26 +248,28 @@ void predict_rectangular_planar(const uint8_t* edge, uint8_t* out) {
       const __m128i horizontal = _mm_add_epi16(_mm_mullo_epi16(left_weight, left), right_term);
       __m128i sum = _mm_add_epi16(_mm_slli_epi16(vertical, kLogW), _mm_slli_epi16(horizontal, kLogH));
       sum = _mm_srli_epi16(_mm_add_epi16(sum, _mm_set1_epi16(W * H)), kLogW + kLogH + 1);
-      _mm_storel_epi64(reinterpret_cast<__m128i*>(out + W * y + x), _mm_packus_epi16(sum, sum));
+      store_row(sum, W < 8 ? W : 8, out + W * y + x);
       vertical = _mm_add_epi16(vertical, step);
     }
   }
 }
 
 // Angular: eight samples of a row of the bw x bh block predicted along its columns at a
-// time; horizontal modes transpose it on the way out in 8x8 tiles of 16-bit samples.
-// DC runs the plain code.
+// time (4-wide rows keep four); horizontal modes transpose it on the way out in 8x8
+// tiles of 16-bit samples. DC runs the plain code.
 template <int W, int H>
 void intra_predict_rectangular_sse41(const uint8_t* edge, int mode, uint8_t* out) {
   if (mode == 0) return predict_rectangular_planar<W, H>(edge, out);
   if (mode == 1) {
-    if constexpr (W == 16) intra_predict_16x8_c(edge, mode, out);
+    if constexpr (W == 16 && H == 8) intra_predict_16x8_c(edge, mode, out);
     if constexpr (W == 8) intra_predict_8x16_c(edge, mode, out);
+    if constexpr (W == 16 && H == 4) intra_predict_16x4_c(edge, mode, out);
+    if constexpr (W == 4) intra_predict_4x16_c(edge, mode, out);
     return;
   }
   uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
   std::memset(main + 3 * (W + H) + 2, 0, 16);
-  const int angle = prepare_intra_angular_reference_rectangular(edge, mode, W, main);
+  const int angle = prepare_intra_angular_reference_rectangular(edge, mode, W, H, main);
   const uint8_t* ref = main + (W + H);
   const bool vertical = mode >= 18;
   const int bw = vertical ? W : H, bh = vertical ? H : W;
@@ -266,24 +280,19 @@ void intra_predict_rectangular_sse41(const uint8_t* edge, int mode, uint8_t* out
   }
   if (vertical) {
     for (int y = 0; y < H; ++y) {
-      for (int x = 0; x < W; x += 8) {
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(out + W * y + x),
-                         _mm_packus_epi16(rows[y][x / 8], rows[y][x / 8]));
-      }
+      for (int x = 0; x < W; x += 8) store_row(rows[y][x / 8], W < 8 ? W : 8, out + W * y + x);
     }
   } else {
     for (int ty = 0; ty < bh; ty += 8) {
       for (int tx = 0; tx < bw; tx += 8) {
         __m128i tile[8];
-        for (int i = 0; i < 8; ++i) tile[i] = rows[ty + i][tx / 8];
+        for (int i = 0; i < 8; ++i) tile[i] = rows[ty + i < bh ? ty + i : 0][tx / 8];
         transpose_8x8_epi16(tile);  // tile[i]: column tx + i, rows ty..ty + 7: output row tx + i
-        for (int i = 0; i < 8; ++i) {
-          _mm_storel_epi64(reinterpret_cast<__m128i*>(out + W * (tx + i) + ty), _mm_packus_epi16(tile[i], tile[i]));
-        }
+        for (int i = 0; i < 8 && tx + i < bw; ++i) store_row(tile[i], bh < 8 ? bh : 8, out + W * (tx + i) + ty);
       }
     }
   }
-  filter_intra_boundary_rectangular(edge, mode, W, out);
+  filter_intra_boundary_rectangular(edge, mode, W, H, out);
 }
 
 }  // namespace
@@ -291,6 +300,8 @@ void intra_predict_rectangular_sse41(const uint8_t* edge, int mode, uint8_t* out
 void init_intra_sse41(DspTable* table) {
   table->intra_predict_16x8 = intra_predict_rectangular_sse41<16, 8>;
   table->intra_predict_8x16 = intra_predict_rectangular_sse41<8, 16>;
+  table->intra_predict_16x4 = intra_predict_rectangular_sse41<16, 4>;
+  table->intra_predict_4x16 = intra_predict_rectangular_sse41<4, 16>;
   table->intra_predict_4x4 = intra_predict_4x4_sse41;
   table->intra_predict_8x8 = intra_predict_8x8_sse41;
   table->intra_predict_16x16 = intra_predict_16x16_sse41;

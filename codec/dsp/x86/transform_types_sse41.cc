@@ -59,7 +59,7 @@ template <int W, int H>
 void inverse_typed(int type, const int16_t* coefficients, int16_t* samples) {
   const bool rows_dst = (type & 1) != 0, columns_dst = (type & 2) != 0;
   inverse_matrix_transform<W, H>(matrix_pairs<W>(rows_dst), type_row_shift(rows_dst), matrix_pairs<H>(columns_dst),
-                                 type_column_shift(H, columns_dst), coefficients, samples);
+                                 type_column_shift(W, H, columns_dst), coefficients, samples);
 }
 
 }  // namespace
@@ -70,11 +70,15 @@ void init_transform_types_sse41(DspTable* table) {
   table->forward_typed_16x16 = forward_typed<16, 16>;
   table->forward_typed_16x8 = forward_typed<16, 8>;
   table->forward_typed_8x16 = forward_typed<8, 16>;
+  table->forward_typed_16x4 = forward_typed<16, 4>;
+  table->forward_typed_4x16 = forward_typed<4, 16>;
   table->inverse_typed_4x4 = inverse_typed<4, 4>;
   table->inverse_typed_8x8 = inverse_typed<8, 8>;
   table->inverse_typed_16x16 = inverse_typed<16, 16>;
   table->inverse_typed_16x8 = inverse_typed<16, 8>;
   table->inverse_typed_8x16 = inverse_typed<8, 16>;
+  table->inverse_typed_16x4 = inverse_typed<16, 4>;
+  table->inverse_typed_4x16 = inverse_typed<4, 16>;
 }
 
 }  // namespace svc::codec::dsp
