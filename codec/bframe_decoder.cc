@@ -160,7 +160,7 @@ class MacroblockReader {
   Status read_intra() {
     info_.mode = MacroblockMode::kIntra;
     IntraBlockDecoder luma(s_, decoder_, 0, mx_, my_);
-    uint8_t partition = 0;
+    intra::LumaPartition partition = 0;
     if (!intra::read_luma_macroblock(decoder_, c_.intra_luma, s_.intra_planes[0], mx_, my_, luma, &partition)) {
       return fail("invalid intra levels");
     }

@@ -38,6 +38,8 @@ constexpr std::array<uint8_t, 128> kZigZag16x8 = zig_zag<16, 8>();
 constexpr std::array<uint8_t, 128> kZigZag8x16 = zig_zag<8, 16>();
 constexpr std::array<uint8_t, 64> kZigZag16x4 = zig_zag<16, 4>();
 constexpr std::array<uint8_t, 64> kZigZag4x16 = zig_zag<4, 16>();
+constexpr std::array<uint8_t, 32> kZigZag8x4 = zig_zag<8, 4>();
+constexpr std::array<uint8_t, 32> kZigZag4x8 = zig_zag<4, 8>();
 
 constexpr int diagonal_class(int row, int column) {
   const int diagonal = row + column;
@@ -64,6 +66,8 @@ constexpr std::array<PositionContext, 128> kPositions16x8 = position_contexts<16
 constexpr std::array<PositionContext, 128> kPositions8x16 = position_contexts<8, 16>();
 constexpr std::array<PositionContext, 64> kPositions16x4 = position_contexts<16, 4>();
 constexpr std::array<PositionContext, 64> kPositions4x16 = position_contexts<4, 16>();
+constexpr std::array<PositionContext, 32> kPositions8x4 = position_contexts<8, 4>();
+constexpr std::array<PositionContext, 32> kPositions4x8 = position_contexts<4, 8>();
 
 constexpr ScanOrder kScan8x8{8, 8, 64, kZigZag.data(), kPositions8x8.data()};
 constexpr ScanOrder kScan4x4{4, 4, 16, kZigZag4x4.data(), kPositions4x4.data()};
@@ -72,6 +76,8 @@ constexpr ScanOrder kScan16x8{16, 8, 128, kZigZag16x8.data(), kPositions16x8.dat
 constexpr ScanOrder kScan8x16{8, 16, 128, kZigZag8x16.data(), kPositions8x16.data()};
 constexpr ScanOrder kScan16x4{16, 4, 64, kZigZag16x4.data(), kPositions16x4.data()};
 constexpr ScanOrder kScan4x16{4, 16, 64, kZigZag4x16.data(), kPositions4x16.data()};
+constexpr ScanOrder kScan8x4{8, 4, 32, kZigZag8x4.data(), kPositions8x4.data()};
+constexpr ScanOrder kScan4x8{4, 8, 32, kZigZag4x8.data(), kPositions4x8.data()};
 
 // eob in [1, 256]: 0 for 1, 1 for 2, then c for 2^(c-1) < eob <= 2^c.
 int end_of_block_class(int eob) { return eob <= 2 ? eob - 1 : std::bit_width(static_cast<unsigned>(eob - 1)); }
@@ -249,6 +255,8 @@ const ScanOrder& scan_order(TransformSize size) {
     case TransformSize::k8x16: return kScan8x16;
     case TransformSize::k16x4: return kScan16x4;
     case TransformSize::k4x16: return kScan4x16;
+    case TransformSize::k8x4: return kScan8x4;
+    case TransformSize::k4x8: return kScan4x8;
     default: return kScan8x8;
   }
 }

@@ -116,6 +116,8 @@ void forward_transform(TransformSize size, const float* samples, float* coeffici
     case TransformSize::k8x16: dsp.forward_typed_8x16(0, samples, coefficients); break;
     case TransformSize::k16x4: dsp.forward_typed_16x4(0, samples, coefficients); break;
     case TransformSize::k4x16: dsp.forward_typed_4x16(0, samples, coefficients); break;
+    case TransformSize::k8x4: dsp.forward_typed_8x4(0, samples, coefficients); break;
+    case TransformSize::k4x8: dsp.forward_typed_4x8(0, samples, coefficients); break;
     case TransformSize::k4x4: dsp.forward_dct_4x4(samples, coefficients); break;
     case TransformSize::k16x16: dsp.forward_dct_16x16(samples, coefficients); break;
     default: dsp.forward_dct_8x8(samples, coefficients);
@@ -129,6 +131,8 @@ void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t*
     case TransformSize::k8x16: dsp.inverse_typed_8x16(0, coefficients, samples); break;
     case TransformSize::k16x4: dsp.inverse_typed_16x4(0, coefficients, samples); break;
     case TransformSize::k4x16: dsp.inverse_typed_4x16(0, coefficients, samples); break;
+    case TransformSize::k8x4: dsp.inverse_typed_8x4(0, coefficients, samples); break;
+    case TransformSize::k4x8: dsp.inverse_typed_4x8(0, coefficients, samples); break;
     case TransformSize::k4x4: dsp.inverse_dct_4x4(coefficients, samples); break;
     case TransformSize::k16x16: dsp.inverse_dct_16x16(coefficients, samples); break;
     default: dsp.inverse_dct_8x8(coefficients, samples);
@@ -170,8 +174,9 @@ void inverse_transform_reference(TransformSize size, const double* coefficients,
     return;
   }
   const int w = transform_width(size), h = transform_height(size);
-  const bool half_wide = is_rectangular(size) && !is_quarter_wide(size);  // 16x8, 8x16
-  const double scale = size == TransformSize::k16x16 ? 2.0 : half_wide ? std::sqrt(2.0) : 1.0;
+  const double scale = size == TransformSize::k16x16 ? 2.0
+                       : is_rectangular(size)        ? std::pow(std::sqrt(2.0), -rectangular_scale_log_sqrt2(size))
+                                                     : 1.0;
   auto basis = [](int n, int k, int x) {
     return dsp::hevc_dct_entry(n, k, x) / (64.0 * std::sqrt(static_cast<double>(n)));
   };
@@ -198,6 +203,8 @@ void forward_transform(TransformSize size, TransformType type, const float* samp
     case TransformSize::k8x16: dsp.forward_typed_8x16(t, samples, coefficients); break;
     case TransformSize::k16x4: dsp.forward_typed_16x4(t, samples, coefficients); break;
     case TransformSize::k4x16: dsp.forward_typed_4x16(t, samples, coefficients); break;
+    case TransformSize::k8x4: dsp.forward_typed_8x4(t, samples, coefficients); break;
+    case TransformSize::k4x8: dsp.forward_typed_4x8(t, samples, coefficients); break;
     case TransformSize::k4x4: dsp.forward_typed_4x4(t, samples, coefficients); break;
     case TransformSize::k16x16: dsp.forward_typed_16x16(t, samples, coefficients); break;
     default: dsp.forward_typed_8x8(t, samples, coefficients);
@@ -216,6 +223,8 @@ void inverse_transform(TransformSize size, TransformType type, const int16_t* co
     case TransformSize::k8x16: dsp.inverse_typed_8x16(t, coefficients, samples); break;
     case TransformSize::k16x4: dsp.inverse_typed_16x4(t, coefficients, samples); break;
     case TransformSize::k4x16: dsp.inverse_typed_4x16(t, coefficients, samples); break;
+    case TransformSize::k8x4: dsp.inverse_typed_8x4(t, coefficients, samples); break;
+    case TransformSize::k4x8: dsp.inverse_typed_4x8(t, coefficients, samples); break;
     case TransformSize::k4x4: dsp.inverse_typed_4x4(t, coefficients, samples); break;
     case TransformSize::k16x16: dsp.inverse_typed_16x16(t, coefficients, samples); break;
     default: dsp.inverse_typed_8x8(t, coefficients, samples);

@@ -58,7 +58,7 @@ struct PlaneGeometry {
   size_t padded_size() const { return static_cast<size_t>(stride()) * blocks_y * 8; }
 };
 
-int luma_block_count(uint8_t partition) {
+int luma_block_count(LumaPartition partition) {
   int count = 0;
   for_each_luma_block(partition, [&](int, int, int) { ++count; });
   return count;
@@ -99,6 +99,8 @@ void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, T
   if (size == block_shape(8, 16)) return add_residual<8, 16>(prediction, residual, out, stride);
   if (size == block_shape(16, 4)) return add_residual<16, 4>(prediction, residual, out, stride);
   if (size == block_shape(4, 16)) return add_residual<4, 16>(prediction, residual, out, stride);
+  if (size == block_shape(8, 4)) return add_residual<8, 4>(prediction, residual, out, stride);
+  if (size == block_shape(4, 8)) return add_residual<4, 8>(prediction, residual, out, stride);
   add_residual<8>(prediction, residual, out, stride);
 }
 
@@ -251,7 +253,8 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLa
   PlaneState luma_state(luma.stride(), luma.padded_height());
   for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
     for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
-      const uint8_t partition = coefficients.luma_partitions[static_cast<size_t>(mby) * (luma.blocks_x / 2) + mbx];
+      const LumaPartition partition =
+          coefficients.luma_partitions[static_cast<size_t>(mby) * (luma.blocks_x / 2) + mbx];
       for_each_luma_block(partition, [&](int x, int y, int size) {
         reconstructor.next(luma_state, frame->planes[0].data(), luma.stride(), 16 * mbx + x, 16 * mby + y, size,
                            nullptr);
@@ -650,13 +653,13 @@ class MacroblockSearch {
                        plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
     out->partition = 0;
     for (const bool vertical : {false, true}) {
-      const uint8_t halves = static_cast<uint8_t>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
+      const auto halves = static_cast<LumaPartition>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
       const auto& strips_bit = contexts.strips[vertical ? 1 : 0];
       const float bits = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +
                          plane_->split_bit_cost(contexts.vertical_halves, vertical ? 1 : 0);
       try_partition(state, x0, y0, halves, bits + plane_->split_bit_cost(strips_bit, 0), &whole_cost, out);
-      try_partition(state, x0, y0, halves | kStrips, bits + plane_->split_bit_cost(strips_bit, 1), &whole_cost,
-                    out);
+      try_partition(state, x0, y0, static_cast<LumaPartition>(halves | kStrips),
+                    bits + plane_->split_bit_cost(strips_bit, 1), &whole_cost, out);
     }
     if (whole_cost < split_cost) return whole_cost;
     plane_->restore(x0, y0, 16, saved);
@@ -670,30 +673,57 @@ class MacroblockSearch {
   // split_.blocks from index 0 on and returns the cost.
   float choose_8x8(PlaneState& state, int mb_x0, int mb_y0, int i) {
     const int x0 = mb_x0 + 8 * (i & 1), y0 = mb_y0 + 8 * (i >> 1);
-    const auto& split_bits = plane_->contexts().split_8x8[static_cast<size_t>(state.split_context(x0, y0, 8))];
+    const PlaneContexts& contexts = plane_->contexts();
+    const auto context = static_cast<size_t>(state.split_context(x0, y0, 8));
+    const float unsplit_bits = plane_->split_bit_cost(contexts.split_8x8[context], 0);
+    const float halves_bits = unsplit_bits + plane_->split_bit_cost(contexts.halves_8x8[context], 1);
     const int first = block_index(i);
     BlockChoice& whole = split_.blocks[static_cast<size_t>(first)];
-    const float whole_cost =
-        plane_->split_bit_cost(split_bits, 0) + plane_->code_block(state, x0, y0, 8, nullptr, false, &whole);
-    if (!sizes_ || !whole.coded) return whole_cost;
-    uint8_t saved[64];
-    plane_->save(x0, y0, 8, saved);
-    BlockChoice kept = whole;
-    state.clear(x0, y0, 8);
-    float quarters_cost = plane_->split_bit_cost(split_bits, 1);
-    for (int j = 0; j < 4 && quarters_cost < whole_cost; ++j) {
-      quarters_cost += plane_->code_block(state, x0 + 4 * (j & 1), y0 + 4 * (j >> 1), 4, nullptr, false,
-                                          &quarters_[static_cast<size_t>(j)]);
+    float best_cost = unsplit_bits + plane_->split_bit_cost(contexts.halves_8x8[context], 0) +
+                      plane_->code_block(state, x0, y0, 8, nullptr, false, &whole);
+    if (!sizes_ || !whole.coded) return best_cost;
+    kept_[0] = whole;
+    int kept_count = 1;
+    LumaPartition best = 0;
+    uint8_t best_samples[64];
+    plane_->save(x0, y0, 8, best_samples);
+    const std::pair<LumaPartition, float> trials[] = {
+        {split_8x8_bit(i), plane_->split_bit_cost(contexts.split_8x8[context], 1)},
+        {halves_8x8_bit(i), halves_bits + plane_->split_bit_cost(contexts.vertical_8x8, 0)},
+        {static_cast<LumaPartition>(halves_8x8_bit(i) | vertical_8x8_bit(i)),
+         halves_bits + plane_->split_bit_cost(contexts.vertical_8x8, 1)}};
+    for (const auto& [bits, flags_cost] : trials) {
+      state.clear(x0, y0, 8);
+      float cost = flags_cost;
+      int n = 0;
+      for_each_quarter_block(static_cast<LumaPartition>(kSplit16x16 | bits), i, [&](int x, int y, int shape) {
+        if (cost >= best_cost) return;
+        cost += plane_->code_block(state, mb_x0 + x, mb_y0 + y, shape, nullptr, false,
+                                   &quarters_[static_cast<size_t>(n++)]);
+      });
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = bits;
+        std::copy_n(quarters_.begin(), n, kept_.begin());
+        kept_count = n;
+        plane_->save(x0, y0, 8, best_samples);
+        continue;
+      }
+      plane_->restore(x0, y0, 8, best_samples);
+      mark_quarter(state, mb_x0, mb_y0, i, static_cast<LumaPartition>(kSplit16x16 | best));
     }
-    if (quarters_cost < whole_cost) {
-      split_.partition |= split_8x8_bit(i);
-      for (int j = 0; j < 4; ++j) split_.blocks[static_cast<size_t>(first + j)] = quarters_[static_cast<size_t>(j)];
-      return quarters_cost;
-    }
-    plane_->restore(x0, y0, 8, saved);
-    state.mark(x0, y0, 8, kept.mode, kept.coded);
-    whole = kept;
-    return whole_cost;
+    split_.partition |= best;
+    std::copy_n(kept_.begin(), kept_count, split_.blocks.begin() + first);
+    return best_cost;
+  }
+
+  // Marks the blocks of 8x8 block i of the split partition in `state` again (their modes
+  // from kept_), after a trial over them.
+  void mark_quarter(PlaneState& state, int mb_x0, int mb_y0, int i, LumaPartition partition) const {
+    for_each_quarter_block(partition, i, [&, n = 0](int x, int y, int shape) mutable {
+      const BlockChoice& b = kept_[static_cast<size_t>(n++)];
+      state.mark(mb_x0 + x, mb_y0 + y, shape, b.mode, b.coded);
+    });
   }
 
   // Marks the blocks of `choice` in `state` again, after a trial over them.
@@ -707,7 +737,7 @@ class MacroblockSearch {
   // Tries the macroblock at (x0, y0) as `partition` (halves or strips), whose flags cost
   // `bits`, and keeps it in *out when it costs less than *best_cost. Each block's
   // trial stops once the partition costs more.
-  void try_partition(PlaneState& state, int x0, int y0, uint8_t partition, float bits, float* best_cost,
+  void try_partition(PlaneState& state, int x0, int y0, LumaPartition partition, float bits, float* best_cost,
                      MacroblockChoice* out) {
     uint8_t best_samples[kMaxTransformArea];
     plane_->save(x0, y0, 16, best_samples);
@@ -751,10 +781,10 @@ class MacroblockSearch {
     return ranked;
   }
 
-  // Index in split_.blocks of the first block of 8x8 block i, given the splits before it.
+  // Index in split_.blocks of the first block of 8x8 block i, given the partitions before it.
   int block_index(int i) const {
     int index = 0;
-    for (int k = 0; k < i; ++k) index += (split_.partition & split_8x8_bit(k)) ? 4 : 1;
+    for (int k = 0; k < i; ++k) for_each_quarter_block(split_.partition, k, [&](int, int, int) { ++index; });
     return index;
   }
 
@@ -762,6 +792,7 @@ class MacroblockSearch {
   bool sizes_;
   MacroblockChoice split_;
   std::array<BlockChoice, 4> quarters_;
+  std::array<BlockChoice, 4> kept_;  // the best blocks of the 8x8 block being chosen
   std::array<BlockChoice, 4> trial_;
 };
 
@@ -801,9 +832,9 @@ class FrameBlockReader final : public BlockReader {
 };
 
 // The number of blocks a frame of this layout and these partitions holds.
-size_t expected_block_count(const BlockLayout& layout, const std::vector<uint8_t>& partitions) {
+size_t expected_block_count(const BlockLayout& layout, const std::vector<LumaPartition>& partitions) {
   size_t count = 2 * static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y;
-  for (uint8_t partition : partitions) count += static_cast<size_t>(luma_block_count(partition));
+  for (LumaPartition partition : partitions) count += static_cast<size_t>(luma_block_count(partition));
   return count;
 }
 
@@ -846,7 +877,7 @@ bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, co
 }
 
 bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
-                          BlockReader& reader, uint8_t* partition) {
+                          BlockReader& reader, LumaPartition* partition) {
   const int x0 = 16 * mbx, y0 = 16 * mby;
   *partition = 0;
   const int split_context = state.split_context(x0, y0, 16);
@@ -854,7 +885,8 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
     if (!decoder.decode(contexts.halves_16x16[static_cast<size_t>(split_context)])) return reader.read(x0, y0, 16);
     const bool vertical = decoder.decode(contexts.vertical_halves) != 0;
     const bool strips = decoder.decode(contexts.strips[vertical ? 1 : 0]) != 0;
-    *partition = static_cast<uint8_t>(kHalves16x16 | (vertical ? kVerticalHalves : 0) | (strips ? kStrips : 0));
+    *partition =
+        static_cast<LumaPartition>(kHalves16x16 | (vertical ? kVerticalHalves : 0) | (strips ? kStrips : 0));
     bool read = true;
     for_each_luma_block(*partition,
                         [&](int x, int y, int shape) { read = read && reader.read(x0 + x, y0 + y, shape); });
@@ -863,14 +895,17 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
   *partition = kSplit16x16;
   for (int i = 0; i < 4; ++i) {
     const int x = x0 + 8 * (i & 1), y = y0 + 8 * (i >> 1);
-    if (!decoder.decode(contexts.split_8x8[static_cast<size_t>(state.split_context(x, y, 8))])) {
-      if (!reader.read(x, y, 8)) return false;
-      continue;
+    const auto context = static_cast<size_t>(state.split_context(x, y, 8));
+    if (decoder.decode(contexts.split_8x8[context])) {
+      *partition |= split_8x8_bit(i);
+    } else if (decoder.decode(contexts.halves_8x8[context])) {
+      *partition |= halves_8x8_bit(i);
+      if (decoder.decode(contexts.vertical_8x8)) *partition |= vertical_8x8_bit(i);
     }
-    *partition |= split_8x8_bit(i);
-    for (int j = 0; j < 4; ++j) {
-      if (!reader.read(x + 4 * (j & 1), y + 4 * (j >> 1), 4)) return false;
-    }
+    bool read = true;
+    for_each_quarter_block(*partition, i,
+                           [&](int bx, int by, int shape) { read = read && reader.read(x0 + bx, y0 + by, shape); });
+    if (!read) return false;
   }
   return true;
 }
@@ -929,6 +964,20 @@ void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneSta
   write_levels(encoder, contexts, state, x0, y0, 8, choice);
 }
 
+namespace {
+
+// The split and halves flags of 8x8 block i of a split macroblock at (x0, y0).
+void write_quarter_flags(RangeEncoder& encoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
+                         int i, LumaPartition partition) {
+  const auto context = static_cast<size_t>(state.split_context(x0 + 8 * (i & 1), y0 + 8 * (i >> 1), 8));
+  encoder.encode(contexts.split_8x8[context], (partition & split_8x8_bit(i)) != 0);
+  if (partition & split_8x8_bit(i)) return;
+  encoder.encode(contexts.halves_8x8[context], (partition & halves_8x8_bit(i)) != 0);
+  if (partition & halves_8x8_bit(i)) encoder.encode(contexts.vertical_8x8, (partition & vertical_8x8_bit(i)) != 0);
+}
+
+}  // namespace
+
 void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
                       const MacroblockChoice& choice) {
   const int x0 = 16 * mbx, y0 = 16 * mby;
@@ -945,9 +994,8 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
   }
   int n = 0;
   for_each_luma_block(choice.partition, [&](int x, int y, int size) {
-    if ((choice.partition & kSplit16x16) && x % 8 == 0 && y % 8 == 0) {
-      encoder.encode(contexts.split_8x8[static_cast<size_t>(state.split_context(x0 + x, y0 + y, 8))], size == 4);
-    }
+    if ((choice.partition & kSplit16x16) && x % 8 == 0 && y % 8 == 0)
+      write_quarter_flags(encoder, contexts, state, x0, y0, x / 8 + 2 * (y / 8), choice.partition);
     write_block(encoder, contexts, state, x0 + x, y0 + y, size, choice.blocks[static_cast<size_t>(n++)]);
   });
 }
@@ -1023,8 +1071,9 @@ float MacroblockEncoder::choose_chroma(const PlaneContexts& contexts, PlaneState
 }  // namespace intra
 
 size_t CoefficientFrame::memory_bytes() const {
-  return sizeof(*this) + luma_partitions.capacity() + block_counts.capacity() * sizeof(uint16_t) +
-         block_modes.capacity() + levels.capacity() + cdef.memory_bytes();
+  return sizeof(*this) + luma_partitions.capacity() * sizeof(uint16_t) +
+         block_counts.capacity() * sizeof(uint16_t) + block_modes.capacity() + levels.capacity() +
+         cdef.memory_bytes();
 }
 
 namespace {
@@ -1225,7 +1274,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   auto luma_reader = std::make_unique<FrameBlockReader>(decoder, luma_contexts, luma_state, &result);
   for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
     for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
-      uint8_t partition = 0;
+      LumaPartition partition = 0;
       if (!read_luma_macroblock(decoder, luma_contexts, luma_state, mbx, mby, *luma_reader, &partition)) {
         return invalid();
       }

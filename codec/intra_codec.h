@@ -70,7 +70,7 @@ inline constexpr uint8_t kSyntaxVersionMask = 0x7F;
 inline constexpr int kQIndexByte = 1;
 inline constexpr int kIntraFlagsByte = 2;
 inline constexpr int kFrameHeaderBytes = 3;
-inline constexpr uint8_t kIntraSyntaxVersion = 14;
+inline constexpr uint8_t kIntraSyntaxVersion = 15;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 
@@ -89,7 +89,7 @@ struct CoefficientFrame {
   // Per luma macroblock in raster order: bit 0 set when it splits into four 8x8 blocks
   // (else it is one 16x16 block), bit 1 + i when 8x8 block i (Z order) splits into four
   // 4x4 blocks (docs/codec.md 3).
-  std::vector<uint8_t> luma_partitions;
+  std::vector<uint16_t> luma_partitions;
   // Per transform block, in coding order (the luma blocks of every macroblock in turn,
   // then the 8x8 blocks of Cb, then of Cr, each in raster order): the number of non-zero
   // levels, 0..256.

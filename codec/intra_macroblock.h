@@ -33,9 +33,11 @@ struct PlaneContexts {
   std::array<AdaptiveBit, 3> split_8x8{};
   std::array<AdaptiveBit, 3> halves_16x16{};  // luma only, by split_context
   AdaptiveBit vertical_halves;
-  std::array<AdaptiveBit, 2> strips{};  // luma only, by vertical_halves
-  CflContexts cfl;                      // chroma only
-  TransformTypeContexts types;          // `enabled` from the frame header
+  std::array<AdaptiveBit, 2> strips{};      // luma only, by vertical_halves
+  std::array<AdaptiveBit, 3> halves_8x8{};  // luma only, by split_context
+  AdaptiveBit vertical_8x8;
+  CflContexts cfl;              // chroma only
+  TransformTypeContexts types;  // `enabled` from the frame header
 };
 
 // Calls f on every context, in member order (docs/codec.md 4).
@@ -49,25 +51,49 @@ void for_each_context(Set& s, F&& f) {
   for_each_bit(s.halves_16x16, f);
   for_each_bit(s.vertical_halves, f);
   for_each_bit(s.strips, f);
+  for_each_bit(s.halves_8x8, f);
+  for_each_bit(s.vertical_8x8, f);
   for_each_context(s.cfl, f);
   for_each_context(s.types, f);
 }
 
-// Macroblock partition byte (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma
-// region splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four
-// 4x4 blocks; without bit 0, bit 5 makes it two 16x8 blocks (top, bottom), or with bit 6
-// two 8x16 blocks (left, right), and bit 7 with bit 5 four strips instead: 16x4 blocks
-// top to bottom, or with bit 6 4x16 blocks left to right.
-inline constexpr uint8_t kSplit16x16 = 1;
-constexpr uint8_t split_8x8_bit(int i) { return static_cast<uint8_t>(2 << i); }
-inline constexpr uint8_t kHalves16x16 = 32;
-inline constexpr uint8_t kVerticalHalves = 64;
-inline constexpr uint8_t kStrips = 128;
+// Macroblock partition (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma region
+// splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four 4x4
+// blocks, or bit 8 + i into two 8x4 blocks (top, bottom), with bit 12 + i two 4x8 blocks
+// (left, right); without bit 0, bit 5 makes it two 16x8 blocks (top, bottom), or with
+// bit 6 two 8x16 blocks (left, right), and bit 7 with bit 5 four strips instead: 16x4
+// blocks top to bottom, or with bit 6 4x16 blocks left to right.
+using LumaPartition = uint16_t;
+inline constexpr LumaPartition kSplit16x16 = 1;
+constexpr LumaPartition split_8x8_bit(int i) { return static_cast<LumaPartition>(2 << i); }
+inline constexpr LumaPartition kHalves16x16 = 32;
+inline constexpr LumaPartition kVerticalHalves = 64;
+inline constexpr LumaPartition kStrips = 128;
+constexpr LumaPartition halves_8x8_bit(int i) { return static_cast<LumaPartition>(256 << i); }
+constexpr LumaPartition vertical_8x8_bit(int i) { return static_cast<LumaPartition>(4096 << i); }
+
+// Calls visit(x, y, shape) for the transform blocks of 8x8 block i (Z order) of a split
+// macroblock, in coding order (x, y relative to the macroblock).
+template <class Visit>
+void for_each_quarter_block(LumaPartition partition, int i, Visit&& visit) {
+  const int x = 8 * (i & 1), y = 8 * (i >> 1);
+  if (partition & split_8x8_bit(i)) {
+    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), 4);
+  } else if ((partition & halves_8x8_bit(i)) == 0) {
+    visit(x, y, 8);
+  } else if (partition & vertical_8x8_bit(i)) {
+    visit(x, y, block_shape(4, 8));
+    visit(x + 4, y, block_shape(4, 8));
+  } else {
+    visit(x, y, block_shape(8, 4));
+    visit(x, y + 4, block_shape(8, 4));
+  }
+}
 
 // Calls visit(x, y, shape) for the transform blocks of a macroblock partition in coding
 // order (x, y relative to the macroblock; shape as block_shape).
 template <class Visit>
-void for_each_luma_block(uint8_t partition, Visit&& visit) {
+void for_each_luma_block(LumaPartition partition, Visit&& visit) {
   if ((partition & kSplit16x16) == 0) {
     if ((partition & kHalves16x16) == 0) {
       visit(0, 0, 16);
@@ -85,14 +111,7 @@ void for_each_luma_block(uint8_t partition, Visit&& visit) {
     }
     return;
   }
-  for (int i = 0; i < 4; ++i) {
-    const int x = 8 * (i & 1), y = 8 * (i >> 1);
-    if ((partition & split_8x8_bit(i)) == 0) {
-      visit(x, y, 8);
-      continue;
-    }
-    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), 4);
-  }
+  for (int i = 0; i < 4; ++i) for_each_quarter_block(partition, i, visit);
 }
 
 // Per 4x4 unit of the plane being coded: the mode, coded flag and transform width of the
@@ -198,10 +217,10 @@ class BlockReader {
 };
 
 // Reads the split and halves flags of luma macroblock (mbx, mby) and hands each block to
-// `reader` in coding order; `partition` receives the partition byte. False when the
+// `reader` in coding order; `partition` receives the partition. False when the
 // reader fails.
 bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
-                          BlockReader& reader, uint8_t* partition);
+                          BlockReader& reader, LumaPartition* partition);
 
 // Predicts the block of shape `size` at (x0, y0) of `plane` (stride samples a row) in `mode`
 // from its reconstructed neighbours, adds the inverse transform of type `type` of
@@ -231,7 +250,7 @@ struct BlockChoice {
 
 // Encoder only: the blocks of one luma macroblock as chosen, in coding order.
 struct MacroblockChoice {
-  uint8_t partition = kSplit16x16;
+  LumaPartition partition = kSplit16x16;
   std::array<BlockChoice, 16> blocks;
 };
 

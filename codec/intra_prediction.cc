@@ -46,6 +46,8 @@ IntraPredictor intra_predictor(int size) {
   if (size == block_shape(8, 16)) return dsp.intra_predict_8x16;
   if (size == block_shape(16, 4)) return dsp.intra_predict_16x4;
   if (size == block_shape(4, 16)) return dsp.intra_predict_4x16;
+  if (size == block_shape(8, 4)) return dsp.intra_predict_8x4;
+  if (size == block_shape(4, 8)) return dsp.intra_predict_4x8;
   return size == 4 ? dsp.intra_predict_4x4 : size == 16 ? dsp.intra_predict_16x16 : dsp.intra_predict_8x8;
 }
 

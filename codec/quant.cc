@@ -53,8 +53,11 @@ int quant_step(BlockKind kind, int qindex, int position) {
 int residual_step(TransformSize size, int qindex) {
   const int step = quant_step(BlockKind::kNonIntra, qindex, 0);
   if (size == TransformSize::k16x16) return std::max((step + 1) >> 1, 128);
-  if (is_rectangular(size) && !is_quarter_wide(size))
-    return std::max((step * 181 + 128) >> 8, 128);  // coefficients at 1/sqrt(2)
+  if (is_rectangular(size)) {  // coefficients at 1/sqrt(2), 1 or sqrt(2) of orthonormal
+    const int scale = rectangular_scale_log_sqrt2(size);
+    if (scale < 0) return std::max((step * 181 + 128) >> 8, 128);
+    if (scale > 0) return (step * 362 + 128) >> 8;
+  }
   return step;
 }
 

@@ -6,15 +6,26 @@
 namespace svc::codec {
 
 // Rectangular sizes are width x height (16x8: rows of 16 samples, 8 rows).
-enum class TransformSize : uint8_t { k8x8 = 0, k4x4 = 1, k16x16 = 2, k16x8 = 3, k8x16 = 4, k16x4 = 5, k4x16 = 6 };
-inline constexpr int kTransformSizes = 7;
+enum class TransformSize : uint8_t {
+  k8x8 = 0,
+  k4x4 = 1,
+  k16x16 = 2,
+  k16x8 = 3,
+  k8x16 = 4,
+  k16x4 = 5,
+  k4x16 = 6,
+  k8x4 = 7,
+  k4x8 = 8
+};
+inline constexpr int kTransformSizes = 9;
 inline constexpr int kMaxTransformWidth = 16;  // the largest size the tables are laid out for
 inline constexpr int kMaxTransformArea = kMaxTransformWidth * kMaxTransformWidth;
 
 constexpr int transform_width(TransformSize size) {
   switch (size) {
     case TransformSize::k4x4:
-    case TransformSize::k4x16: return 4;
+    case TransformSize::k4x16:
+    case TransformSize::k4x8: return 4;
     case TransformSize::k16x16:
     case TransformSize::k16x8:
     case TransformSize::k16x4: return 16;
@@ -24,7 +35,8 @@ constexpr int transform_width(TransformSize size) {
 constexpr int transform_height(TransformSize size) {
   switch (size) {
     case TransformSize::k4x4:
-    case TransformSize::k16x4: return 4;
+    case TransformSize::k16x4:
+    case TransformSize::k8x4: return 4;
     case TransformSize::k16x16:
     case TransformSize::k8x16:
     case TransformSize::k4x16: return 16;
@@ -33,10 +45,12 @@ constexpr int transform_height(TransformSize size) {
 }
 constexpr int transform_area(TransformSize size) { return transform_width(size) * transform_height(size); }
 constexpr bool is_rectangular(TransformSize size) { return transform_width(size) != transform_height(size); }
-// 16x4 and 4x16: sides in the ratio 1:4 (whose coefficients are orthonormal; those of
-// 16x8 and 8x16, 1:2, are at 1/sqrt(2); docs/codec.md 7.3).
-constexpr bool is_quarter_wide(TransformSize size) {
-  return size == TransformSize::k16x4 || size == TransformSize::k4x16;
+// Rectangular coefficients are on the scale 8 / sqrt(W H) of the orthonormal ones
+// (docs/codec.md 7.3): 1/sqrt(2) for 16x8 and 8x16, 1 for 16x4 and 4x16, sqrt(2) for 8x4
+// and 4x8. The scale in units of sqrt(2): -1, 0 or 1.
+constexpr int rectangular_scale_log_sqrt2(TransformSize size) {
+  const int area = transform_area(size);
+  return area == 128 ? -1 : area == 32 ? 1 : 0;
 }
 
 // A block's shape as one int: its width for a square block, else width | height << 8.
@@ -53,6 +67,8 @@ constexpr TransformSize size_of_shape(int shape) {
     case block_shape(8, 16): return TransformSize::k8x16;
     case block_shape(16, 4): return TransformSize::k16x4;
     case block_shape(4, 16): return TransformSize::k4x16;
+    case block_shape(8, 4): return TransformSize::k8x4;
+    case block_shape(4, 8): return TransformSize::k4x8;
     default: return TransformSize::k8x8;
   }
 }

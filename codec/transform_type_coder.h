@@ -19,9 +19,9 @@ namespace svc::codec {
 inline constexpr int kTransformTypeModeClasses = 5;
 int transform_type_mode_class(int mode);  // mode 0..34, or kCflMode
 
-// The sizes with transform types: every size (8x8, 4x4, 16x16, 16x8, 8x16, 16x4, 4x16
-// in TransformSize order).
-inline constexpr int kTypedTransformSizes = 7;
+// The sizes with transform types: every size (8x8, 4x4, 16x16, 16x8, 8x16, 16x4, 4x16,
+// 8x4, 4x8 in TransformSize order).
+inline constexpr int kTypedTransformSizes = 9;
 constexpr bool has_transform_types(TransformSize size) { return static_cast<int>(size) < kTypedTransformSizes; }
 
 struct TransformTypeContexts {

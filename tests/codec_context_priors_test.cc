@@ -11,8 +11,8 @@ namespace svc::codec {
 namespace {
 
 TEST(ContextPriors, TablesListEveryContextOfTheirBundle) {
-  EXPECT_EQ(context_count(ContextBundle::kIntraFrame), 836);
-  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1609);
+  EXPECT_EQ(context_count(ContextBundle::kIntraFrame), 976);
+  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1821);
   for (ContextBundle bundle : {ContextBundle::kIntraFrame, ContextBundle::kBFrame}) {
     const auto priors = context_priors(bundle);
     ASSERT_EQ(static_cast<int>(priors.size()), context_count(bundle));
@@ -33,8 +33,8 @@ TEST(ContextPriors, IntraFrameContextsStartAtTheTableInItsOrder) {
   EXPECT_EQ(luma.modes.is_most_probable.slow, priors[0]);
   EXPECT_EQ(luma.modes.is_most_probable.seen, 0);  // adapts as fast as a fresh context
   EXPECT_EQ(luma.residual.coded_block[0].fast, priors[3]);
-  EXPECT_EQ(chroma.modes.is_most_probable.fast, priors[418]);
-  EXPECT_EQ(chroma.types.bits[6][4][2].fast, priors.back());
+  EXPECT_EQ(chroma.modes.is_most_probable.fast, priors[488]);
+  EXPECT_EQ(chroma.types.bits[8][4][2].fast, priors.back());
   // Priming leaves the header-driven switch alone.
   EXPECT_FALSE(luma.types.enabled);
 }
@@ -58,7 +58,7 @@ std::atomic<int> observed_frames{0};
 std::atomic<int> observed_settled{0};
 
 void count_frame(ContextBundle bundle, std::span<const uint16_t> probabilities, std::span<const uint8_t> seen) {
-  if (bundle != ContextBundle::kIntraFrame || static_cast<int>(probabilities.size()) != 836 ||
+  if (bundle != ContextBundle::kIntraFrame || static_cast<int>(probabilities.size()) != 976 ||
       seen.size() != probabilities.size()) {
     return;
   }

@@ -8,6 +8,7 @@
 
 #include "codec/dsp/dsp.h"
 #include "codec/intra_codec.h"
+#include "codec/intra_macroblock.h"
 #include "codec/intra_prediction.h"
 #include "codec/range_coder.h"
 
@@ -210,19 +211,9 @@ std::vector<LumaBlock> luma_blocks(const CoefficientFrame& frame) {
   std::vector<LumaBlock> blocks;
   for (size_t mb = 0; mb < frame.luma_partitions.size(); ++mb) {
     const int x0 = 16 * static_cast<int>(mb % static_cast<size_t>(macroblocks_x));
-    const uint8_t partition = frame.luma_partitions[mb];
-    if ((partition & 1) == 0) {
-      blocks.push_back({x0, blocks.size()});
-      continue;
-    }
-    for (int i = 0; i < 4; ++i) {
-      const int x = x0 + 8 * (i & 1);
-      if (partition & (2 << i)) {
-        for (int j = 0; j < 4; ++j) blocks.push_back({x + 4 * (j & 1), blocks.size()});
-      } else {
-        blocks.push_back({x, blocks.size()});
-      }
-    }
+    intra::for_each_luma_block(frame.luma_partitions[mb], [&](int x, int, int) {
+      blocks.push_back({x0 + x, blocks.size()});
+    });
   }
   return blocks;
 }

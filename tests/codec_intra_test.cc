@@ -141,13 +141,14 @@ TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   EXPECT_EQ(coefficients.width, 64);
   EXPECT_EQ(coefficients.qindex, 106);
   // One partition per macroblock; blocks as the partitions count them (a 16x16 block
-  // is one, halves two, strips four, an 8x8 split into 4x4 four) plus the 8x8 chroma
-  // blocks.
+  // is one, halves two, strips four, an 8x8 split into 4x4 four or into halves two)
+  // plus the 8x8 chroma blocks.
   ASSERT_EQ(coefficients.luma_partitions.size(), 12u);
   size_t blocks = 2 * 12;
-  for (uint8_t partition : coefficients.luma_partitions) {
+  for (uint16_t partition : coefficients.luma_partitions) {
     if ((partition & intra::kSplit16x16) != 0) {
-      blocks += 4 + 3 * static_cast<size_t>(std::popcount(unsigned{partition} >> 1));
+      blocks += 4 + 3 * static_cast<size_t>(std::popcount(unsigned{partition} >> 1 & 15u)) +
+                static_cast<size_t>(std::popcount(unsigned{partition} >> 8 & 15u));
     } else {
       blocks += (partition & intra::kHalves16x16) == 0 ? 1 : (partition & intra::kStrips) != 0 ? 4 : 2;
     }

@@ -1,4 +1,4 @@
-// Transform sizes 4x4, 16x16, 16x8, 8x16, 16x4 and 4x16: the integer inverses against their
+// Transform sizes 4x4, 16x16 and the rectangular ones: the integer inverses against their
 // definitions and the exact transform, their scans and level coding, and intra frames that
 // choose them.
 #include <gtest/gtest.h>
@@ -21,7 +21,8 @@ namespace svc::codec {
 namespace {
 
 constexpr TransformSize kNewSizes[] = {TransformSize::k4x4,  TransformSize::k16x16, TransformSize::k16x8,
-                                       TransformSize::k8x16, TransformSize::k16x4,  TransformSize::k4x16};
+                                       TransformSize::k8x16, TransformSize::k16x4,  TransformSize::k4x16,
+                                       TransformSize::k8x4,  TransformSize::k4x8};
 
 using testing::random_coefficients;
 
@@ -86,7 +87,7 @@ TEST(TransformSizes, IntegerInversesStayWithinOneOfTheExactInverse) {
 TEST(TransformSizes, DcKeepsTheScaleOfEachSize) {
   // A flat block of 10: 4x4 DC = 4 x 10 (orthonormal), 16x16 DC = 8 x 10 (half of 16 x 10),
   // 16x8 and 8x16 DC = 8 x 10 (sqrt(128) x 10 / sqrt(2)), 16x4 and 4x16 DC = 8 x 10
-  // (orthonormal).
+  // (orthonormal), 8x4 and 4x8 DC = 8 x 10 (sqrt(32) x 10 x sqrt(2)).
   for (TransformSize size : kNewSizes) {
     const int area = transform_area(size);
     std::vector<float> samples(static_cast<size_t>(area), 10.0f), coefficients(static_cast<size_t>(area));
@@ -104,6 +105,8 @@ TEST(TransformSizes, DcKeepsTheScaleOfEachSize) {
   EXPECT_EQ(residual_step(TransformSize::k8x16, 100), residual_step(TransformSize::k16x8, 100));
   EXPECT_EQ(residual_step(TransformSize::k16x4, 100), residual_step(TransformSize::k8x8, 100));
   EXPECT_EQ(residual_step(TransformSize::k4x16, 100), residual_step(TransformSize::k8x8, 100));
+  EXPECT_EQ(residual_step(TransformSize::k8x4, 100), (residual_step(TransformSize::k8x8, 100) * 362 + 128) >> 8);
+  EXPECT_EQ(residual_step(TransformSize::k4x8, 100), residual_step(TransformSize::k8x4, 100));
 }
 
 TEST(TransformSizes, ScansVisitEveryPositionByAntiDiagonal) {
@@ -197,7 +200,8 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
 // above row from column x + y + 1, both smoothed: on a linear edge smoothing changes
 // nothing); pure horizontal copies the left column beyond the first row.
 TEST(TransformSizes, RectangularPredictionFollowsTheEdge) {
-  for (int shape : {block_shape(16, 8), block_shape(8, 16), block_shape(16, 4), block_shape(4, 16)}) {
+  for (int shape : {block_shape(16, 8), block_shape(8, 16), block_shape(16, 4), block_shape(4, 16),
+                    block_shape(8, 4), block_shape(4, 8)}) {
     const int w = shape_width(shape), h = shape_height(shape), corner = w + h;
     uint8_t edge[2 * 24 + 1], out[128];
     std::fill_n(edge, 2 * corner + 1, uint8_t{90});
@@ -245,7 +249,7 @@ TEST(TransformSizes, IntraFramesChooseHalvesAndDecodeExactly) {
     params.qindex = 120;
     CoefficientFrame parsed;
     ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
-    const uint8_t halves = transposed ? 32 | 64 : 32;  // 8x16 or 16x8 halves
+    const uint16_t halves = transposed ? 32 | 64 : 32;  // 8x16 or 16x8 halves
     EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), halves), 0)
         << (transposed ? "8x16" : "16x8");
   }
@@ -270,9 +274,41 @@ TEST(TransformSizes, IntraFramesChooseStripsAndDecodeExactly) {
     params.qindex = 120;
     CoefficientFrame parsed;
     ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
-    const uint8_t strips = transposed ? 32 | 64 | 128 : 32 | 128;  // 4x16 or 16x4 strips
+    const uint16_t strips = transposed ? 32 | 64 | 128 : 32 | 128;  // 4x16 or 16x4 strips
     EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), strips), 0)
         << (transposed ? "4x16" : "16x4");
+  }
+}
+
+// Each 8x8 block two different gradients, one per 4 rows, and its right neighbour two
+// others: some 8x8 blocks are coded as two 8x4 blocks, and the transposed picture's as
+// two 4x8 blocks (partition bits 8 + i, with 12 + i).
+TEST(TransformSizes, IntraFramesChooseHalvesOf8x8BlocksAndDecodeExactly) {
+  for (bool transposed : {false, true}) {
+    ImageYCbCr420 image;
+    image.width = image.height = 64;
+    constexpr int kBase[4] = {40, 200, 170, 60}, kSlope[4] = {6, -9, -7, 8};
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const int along = transposed ? y : x, across = transposed ? x : y;
+        const int region = 2 * ((along / 8) % 2) + (across % 8) / 4;
+        image.y.push_back(static_cast<uint8_t>(kBase[region] + kSlope[region] * (along % 8)));
+      }
+    }
+    image.cb.assign(32 * 32, 128);
+    image.cr.assign(32 * 32, 128);
+    CodingParams params;
+    params.qindex = 120;
+    CoefficientFrame parsed;
+    ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
+    int halves = 0;
+    for (uint16_t partition : parsed.luma_partitions) {
+      for (int i = 0; i < 4; ++i) {
+        const bool vertical = (partition & (4096 << i)) != 0;
+        halves += (partition & 1) != 0 && (partition & (256 << i)) != 0 && vertical == transposed;
+      }
+    }
+    EXPECT_GT(halves, 0) << (transposed ? "4x8" : "8x4");
   }
 }
 

@@ -21,8 +21,9 @@
 namespace svc::codec {
 namespace {
 
-constexpr TransformSize kSizes[] = {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16,
-                                    TransformSize::k16x8, TransformSize::k8x16};
+constexpr TransformSize kSizes[] = {TransformSize::k4x4,  TransformSize::k8x8,  TransformSize::k16x16,
+                                    TransformSize::k16x8, TransformSize::k8x16, TransformSize::k16x4,
+                                    TransformSize::k4x16, TransformSize::k8x4,  TransformSize::k4x8};
 constexpr TransformType kTypes[] = {TransformType::kDctDct, TransformType::kDctDst, TransformType::kDstDct,
                                     TransformType::kDstDst};
 
@@ -115,7 +116,9 @@ TEST(TransformTypes, EveryTypeKeepsTheScaleOfItsSize) {
   std::mt19937 rng(23);
   for (TransformSize size : kSizes) {
     const int area = transform_area(size);
-    const double expected_gain = size == TransformSize::k16x16 ? 0.25 : is_rectangular(size) ? 0.5 : 1.0;
+    const double expected_gain = size == TransformSize::k16x16 ? 0.25
+                                 : is_rectangular(size)        ? std::pow(2.0, rectangular_scale_log_sqrt2(size))
+                                                               : 1.0;
     std::vector<float> samples(static_cast<size_t>(area)), coefficients(static_cast<size_t>(area));
     for (float& s : samples) s = static_cast<float>(static_cast<int>(rng() % 201) - 100);
     double sample_energy = 0;
@@ -265,7 +268,7 @@ TEST(TransformTypes, RectangularBlocksUseTypes) {
   std::array<int, kTransformTypes> rectangular{};
   size_t block = 0, offset = 0;
   int positions[kMaxTransformArea], values[kMaxTransformArea];
-  for (uint8_t partition : parsed.luma_partitions) {
+  for (uint16_t partition : parsed.luma_partitions) {
     intra::for_each_luma_block(partition, [&](int, int, int shape) {
       const int count = parsed.block_counts[block++];
       if (count == 0) return;

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "d5896f074c39f2a78c55a4efa3e21b340cf152c84719625ec58f4acfc69c0c31",
-     "b702e04011b6beb039bab31be39b2cbb827b34be1891c653d37bf4461c1f1ad4"},
+     "ca6c9cda08caff12c588536651dc3a13f6aa5ad419eac16d6e524941a98cb86f",
+     "7c2b0236f0fabc87ea59e80c71a478e3640bdbb212a07a49f7ad22d7c546bde3"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "9b1c2d7d858d0761fb8f12210f0995477dc22f07078047697ac35eda7630a967",
-     "95ea0844b635672bdce0310d9c12a86fa4cf8e2add365ee4b9939346218078ac"},
+     "697645beecf859e1e940e609c17193f0af398b7aa028da771bea94f9eb610e43",
+     "cd279b7223768de8a5488d9586da5c8c474465d6f41325172d11102a7f45842e"},
 };
 
 std::string file_sha256(const fs::path& path) {

@@ -75,15 +75,19 @@ struct DspTable {
   void (*inverse_typed_16x16)(int type, const int16_t* coefficients, int16_t* samples);
   // Rectangular blocks (docs/codec.md 7.3; W x H, W samples a row): the same with
   // `type` 0..3, 0 being DCT_DCT; coefficients at 1/sqrt(2) of the orthonormal scale
-  // (16x8, 8x16) or orthonormal (16x4, 4x16).
+  // (16x8, 8x16), orthonormal (16x4, 4x16) or at sqrt(2) of it (8x4, 4x8).
   void (*forward_typed_16x8)(int type, const float* samples, float* coefficients);
   void (*forward_typed_8x16)(int type, const float* samples, float* coefficients);
   void (*forward_typed_16x4)(int type, const float* samples, float* coefficients);
   void (*forward_typed_4x16)(int type, const float* samples, float* coefficients);
+  void (*forward_typed_8x4)(int type, const float* samples, float* coefficients);
+  void (*forward_typed_4x8)(int type, const float* samples, float* coefficients);
   void (*inverse_typed_16x8)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_8x16)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_16x4)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_4x16)(int type, const int16_t* coefficients, int16_t* samples);
+  void (*inverse_typed_8x4)(int type, const int16_t* coefficients, int16_t* samples);
+  void (*inverse_typed_4x8)(int type, const int16_t* coefficients, int16_t* samples);
 
   // Quantizes 64 coefficients: level = trunc(|c| inverse_step[i] + rounding) capped at
   // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.
@@ -130,13 +134,15 @@ struct DspTable {
   // above column i.
   void (*intra_predict_4x4)(const uint8_t* edge, int mode, uint8_t* out);
   void (*intra_predict_16x16)(const uint8_t* edge, int mode, uint8_t* out);
-  // The same for 16x8, 8x16, 16x4 and 4x16 blocks (W x H samples out, W a row; 3.1):
+  // The same for the rectangular blocks (W x H samples out, W a row; 3.1):
   // edge[W + H - 1 - i] is the left neighbour of row i (i = 0..W+H-1), edge[W + H] the
   // corner, edge[W + H + 1 + i] the sample above column i.
   void (*intra_predict_16x8)(const uint8_t* edge, int mode, uint8_t* out);
   void (*intra_predict_8x16)(const uint8_t* edge, int mode, uint8_t* out);
   void (*intra_predict_16x4)(const uint8_t* edge, int mode, uint8_t* out);
   void (*intra_predict_4x16)(const uint8_t* edge, int mode, uint8_t* out);
+  void (*intra_predict_8x4)(const uint8_t* edge, int mode, uint8_t* out);
+  void (*intra_predict_4x8)(const uint8_t* edge, int mode, uint8_t* out);
   // Chroma from luma (docs/codec.md 3.3): the 8x8 chroma block's luma, `luma` pointing at
   // its 16x16 co-located samples, as 2x2 sums minus their rounded mean over the block
   // (64 values in -1020..1020, row-major); and the prediction

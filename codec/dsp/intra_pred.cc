@@ -159,7 +159,7 @@ void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
   filter_boundary<N>(edge, mode, out);
 }
 
-// Rectangular W x H blocks (16x8, 8x16, 16x4, 4x16): the modes of docs/codec.md 3.1 on an edge of
+// Rectangular W x H blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8): the modes of docs/codec.md 3.1 on an edge of
 // W + H samples each side, the corner at W + H. The edge is smoothed as for 8x8 blocks
 // (planar and the three diagonals).
 template <int W, int H>
@@ -210,7 +210,7 @@ int prepare_rectangular_reference(const uint8_t* raw_edge, int mode, uint8_t* ma
   uint8_t smoothed[2 * (W + H) + 1];
   const uint8_t* edge = rectangular_edge<W, H>(raw_edge, mode, smoothed);
   const bool vertical = mode >= 18;
-  const int angle = kAngle[mode - 2];
+  const int angle = kAngle[std::max(mode, 2) - 2];  // mode 2..34 (the bound only quiets a warning)
   const int bh = vertical ? H : W;
   uint8_t* ref = main + (W + H);
   ref[W + H + 1] = 0;  // read, with weight 0, by the steepest angle
@@ -294,27 +294,32 @@ void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* o
   filter_boundary<8>(edge, mode, out);
 }
 
+// Calls f.template operator()<W, H>() for the rectangular shape width x height.
+template <class F>
+auto with_rectangular_shape(int width, int height, F&& f) {
+  switch (width * 32 + height) {
+    case 16 * 32 + 8: return f.template operator()<16, 8>();
+    case 8 * 32 + 16: return f.template operator()<8, 16>();
+    case 16 * 32 + 4: return f.template operator()<16, 4>();
+    case 4 * 32 + 16: return f.template operator()<4, 16>();
+    case 8 * 32 + 4: return f.template operator()<8, 4>();
+    default: return f.template operator()<4, 8>();
+  }
+}
+
 int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, int height,
                                                 uint8_t* main) {
-  if (width == 16) {
-    return height == 8 ? prepare_rectangular_reference<16, 8>(edge, mode, main)
-                       : prepare_rectangular_reference<16, 4>(edge, mode, main);
-  }
-  return width == 8 ? prepare_rectangular_reference<8, 16>(edge, mode, main)
-                    : prepare_rectangular_reference<4, 16>(edge, mode, main);
+  return with_rectangular_shape(width, height, [&]<int W, int H>() {
+    return prepare_rectangular_reference<W, H>(edge, mode, main);
+  });
 }
 
 void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, int height, uint8_t* out) {
-  if (width == 16)
-    return height == 8 ? filter_boundary<16, 8>(edge, mode, out) : filter_boundary<16, 4>(edge, mode, out);
-  if (width == 8) return filter_boundary<8, 16>(edge, mode, out);
-  filter_boundary<4, 16>(edge, mode, out);
+  with_rectangular_shape(width, height, [&]<int W, int H>() { filter_boundary<W, H>(edge, mode, out); });
 }
 
 void smooth_intra_edge_rectangular(const uint8_t* edge, int width, int height, uint8_t* out) {
-  if (width == 16) return height == 8 ? smooth_edge<16, 8>(edge, out) : smooth_edge<16, 4>(edge, out);
-  if (width == 8) return smooth_edge<8, 16>(edge, out);
-  smooth_edge<4, 16>(edge, out);
+  with_rectangular_shape(width, height, [&]<int W, int H>() { smooth_edge<W, H>(edge, out); });
 }
 
 void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {
@@ -338,6 +343,12 @@ void intra_predict_16x4_c(const uint8_t* edge, int mode, uint8_t* out) {
 void intra_predict_4x16_c(const uint8_t* edge, int mode, uint8_t* out) {
   predict_rectangular<4, 16>(edge, mode, out);
 }
+void intra_predict_8x4_c(const uint8_t* edge, int mode, uint8_t* out) {
+  predict_rectangular<8, 4>(edge, mode, out);
+}
+void intra_predict_4x8_c(const uint8_t* edge, int mode, uint8_t* out) {
+  predict_rectangular<4, 8>(edge, mode, out);
+}
 int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
   return satd<4>(source, source_stride, prediction);
 }
@@ -353,6 +364,8 @@ void init_intra_c(DspTable* table) {
   table->intra_predict_8x16 = intra_predict_8x16_c;
   table->intra_predict_16x4 = intra_predict_16x4_c;
   table->intra_predict_4x16 = intra_predict_4x16_c;
+  table->intra_predict_8x4 = intra_predict_8x4_c;
+  table->intra_predict_4x8 = intra_predict_4x8_c;
   table->satd_4x4 = satd_4x4_c;
   table->satd_8x8 = satd_8x8_c;
 }

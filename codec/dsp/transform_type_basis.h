@@ -78,12 +78,13 @@ constexpr int type_column_shift(int width, int height, bool dst) {
   return (width == 4 && height == 4 ? 10 : 11) + (dst ? kDstExtraShift : 0);
 }
 // The forward transform's output scale (16x16: half the orthonormal scale, as its DCT;
-// 16x8 and 8x16, docs/codec.md 7.3: 1/sqrt(2) of it, and 16x4 and 4x16 orthonormal,
-// which the passes' 2^15 gives with the matrices of their sides).
+// rectangular blocks, docs/codec.md 7.3: 8 / sqrt(W H) of it, which the passes' 2^15
+// gives with the matrices of their sides: 1/sqrt(2) for 16x8 and 8x16, 1 for 16x4 and
+// 4x16, sqrt(2) for 8x4 and 4x8).
 constexpr float type_forward_scale(int width, int height) {
-  if (width == 4 * height || height == 4 * width) return 1.0f;
-  if (width != height) return 0.70710677f;
-  return width == 16 ? 0.5f : 1.0f;
+  if (width == height) return width == 16 ? 0.5f : 1.0f;
+  const int area = width * height;
+  return area == 128 ? 0.70710677f : area == 32 ? 1.41421354f : 1.0f;
 }
 
 // The integer matrix of a direction: DST-VII when `dst`, else HEVC's DCT.

@@ -90,6 +90,8 @@ void init_transform_types_c(DspTable* table) {
   table->forward_typed_8x16 = forward_typed<8, 16>;
   table->forward_typed_16x4 = forward_typed<16, 4>;
   table->forward_typed_4x16 = forward_typed<4, 16>;
+  table->forward_typed_8x4 = forward_typed<8, 4>;
+  table->forward_typed_4x8 = forward_typed<4, 8>;
   table->inverse_typed_4x4 = inverse_typed<4, 4>;
   table->inverse_typed_8x8 = inverse_typed<8, 8>;
   table->inverse_typed_16x16 = inverse_typed<16, 16>;
@@ -97,6 +99,8 @@ void init_transform_types_c(DspTable* table) {
   table->inverse_typed_8x16 = inverse_typed<8, 16>;
   table->inverse_typed_16x4 = inverse_typed<16, 4>;
   table->inverse_typed_4x16 = inverse_typed<4, 16>;
+  table->inverse_typed_8x4 = inverse_typed<8, 4>;
+  table->inverse_typed_4x8 = inverse_typed<4, 8>;
 }
 
 }  // namespace svc::codec::dsp

@@ -50,12 +50,14 @@ std::string check_satd(const Tables& reference, const Tables& variant, Random& r
   return {};
 }
 
-// The W x H predictor of a table: 4x4, 16x16, 16x8, 8x16, 16x4 or 4x16.
+// The W x H predictor of a table: 4x4, 16x16 or a rectangular shape.
 template <int W, int H>
 auto predictor_of(const Tables& t) {
   if constexpr (W == 4 && H == 4) return t.intra_predict_4x4;
   if constexpr (W == 16 && H == 4) return t.intra_predict_16x4;
   if constexpr (W == 4 && H == 16) return t.intra_predict_4x16;
+  if constexpr (W == 8 && H == 4) return t.intra_predict_8x4;
+  if constexpr (W == 4 && H == 8) return t.intra_predict_4x8;
   if constexpr (W == 16 && H == 16) return t.intra_predict_16x16;
   if constexpr (W == 16 && H == 8) return t.intra_predict_16x8;
   if constexpr (W == 8 && H == 16) return t.intra_predict_8x16;
@@ -233,6 +235,10 @@ std::vector<Kernel> intra_kernels() {
        check_intra_predict_n<16, 4>, bench_intra_predict_n<16, 4>},
       {"intra_predict_4x16", [](const Tables& t) { return entry_of(t.intra_predict_4x16); },
        check_intra_predict_n<4, 16>, bench_intra_predict_n<4, 16>},
+      {"intra_predict_8x4", [](const Tables& t) { return entry_of(t.intra_predict_8x4); },
+       check_intra_predict_n<8, 4>, bench_intra_predict_n<8, 4>},
+      {"intra_predict_4x8", [](const Tables& t) { return entry_of(t.intra_predict_4x8); },
+       check_intra_predict_n<4, 8>, bench_intra_predict_n<4, 8>},
       {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd_4x4, bench_satd_4x4},
       {"cfl_luma_ac_8x8", [](const Tables& t) { return entry_of(t.cfl_luma_ac_8x8); }, check_cfl_luma_ac,
        bench_cfl_luma_ac},

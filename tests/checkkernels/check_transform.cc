@@ -252,6 +252,8 @@ template <int W, int H>
 auto forward_typed_of(const Tables& t) {
   if constexpr (W == 16 && H == 4) return t.forward_typed_16x4;
   if constexpr (W == 4 && H == 16) return t.forward_typed_4x16;
+  if constexpr (W == 8 && H == 4) return t.forward_typed_8x4;
+  if constexpr (W == 4 && H == 8) return t.forward_typed_4x8;
   if constexpr (W != H && W != 4 && H != 4) return W == 16 ? t.forward_typed_16x8 : t.forward_typed_8x16;
   return W == 4 ? t.forward_typed_4x4 : W == 8 ? t.forward_typed_8x8 : t.forward_typed_16x16;
 }
@@ -259,6 +261,8 @@ template <int W, int H>
 auto inverse_typed_of(const Tables& t) {
   if constexpr (W == 16 && H == 4) return t.inverse_typed_16x4;
   if constexpr (W == 4 && H == 16) return t.inverse_typed_4x16;
+  if constexpr (W == 8 && H == 4) return t.inverse_typed_8x4;
+  if constexpr (W == 4 && H == 8) return t.inverse_typed_4x8;
   if constexpr (W != H && W != 4 && H != 4) return W == 16 ? t.inverse_typed_16x8 : t.inverse_typed_8x16;
   return W == 4 ? t.inverse_typed_4x4 : W == 8 ? t.inverse_typed_8x8 : t.inverse_typed_16x16;
 }
@@ -378,6 +382,14 @@ std::vector<Kernel> transform_kernels() {
        check_forward_typed<4, 16>, bench_forward_typed<4, 16>},
       {"inverse_typed_4x16", [](const Tables& t) { return entry_of(t.inverse_typed_4x16); },
        check_inverse_typed<4, 16>, bench_inverse_typed<4, 16>},
+      {"forward_typed_8x4", [](const Tables& t) { return entry_of(t.forward_typed_8x4); },
+       check_forward_typed<8, 4>, bench_forward_typed<8, 4>},
+      {"inverse_typed_8x4", [](const Tables& t) { return entry_of(t.inverse_typed_8x4); },
+       check_inverse_typed<8, 4>, bench_inverse_typed<8, 4>},
+      {"forward_typed_4x8", [](const Tables& t) { return entry_of(t.forward_typed_4x8); },
+       check_forward_typed<4, 8>, bench_forward_typed<4, 8>},
+      {"inverse_typed_4x8", [](const Tables& t) { return entry_of(t.inverse_typed_4x8); },
+       check_inverse_typed<4, 8>, bench_inverse_typed<4, 8>},
   };
 }
 

@@ -57,16 +57,13 @@ void intra_predict_neon(const uint8_t* edge, int mode, uint8_t* out) {
   filter_intra_boundary_n(edge, mode, N, out);
 }
 
-// Rectangular blocks (16x8, 8x16, 16x4, 4x16): the angular modes eight samples of a row
+// Rectangular blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8): the angular modes eight samples of a row
 // of the bw x bh block predicted along its columns at a time (4-wide rows keep four;
 // transposed on the way out for horizontal modes); planar and DC run the plain code.
 template <int W, int H>
 void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out) {
   if (mode < 2) {
-    if constexpr (W == 16 && H == 8) intra_predict_16x8_c(edge, mode, out);
-    if constexpr (W == 8) intra_predict_8x16_c(edge, mode, out);
-    if constexpr (W == 16 && H == 4) intra_predict_16x4_c(edge, mode, out);
-    if constexpr (W == 4) intra_predict_4x16_c(edge, mode, out);
+    plain_rectangular_predictor<W, H>()(edge, mode, out);
     return;
   }
   uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
@@ -153,6 +150,8 @@ void init_intra_neon(DspTable* table) {
   table->intra_predict_8x16 = intra_predict_rectangular_neon<8, 16>;
   table->intra_predict_16x4 = intra_predict_rectangular_neon<16, 4>;
   table->intra_predict_4x16 = intra_predict_rectangular_neon<4, 16>;
+  table->intra_predict_8x4 = intra_predict_rectangular_neon<8, 4>;
+  table->intra_predict_4x8 = intra_predict_rectangular_neon<4, 8>;
   table->satd_4x4 = satd_4x4_neon;
   table->satd_8x8 = satd_8x8_neon;
 }

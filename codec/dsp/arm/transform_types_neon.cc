@@ -25,6 +25,8 @@ void init_transform_types_neon(DspTable* table) {
   table->inverse_typed_8x16 = inverse_typed_neon<8, 16>;
   table->inverse_typed_16x4 = inverse_typed_neon<16, 4>;
   table->inverse_typed_4x16 = inverse_typed_neon<4, 16>;
+  table->inverse_typed_8x4 = inverse_typed_neon<8, 4>;
+  table->inverse_typed_4x8 = inverse_typed_neon<4, 8>;
 }
 
 }  // namespace svc::codec::dsp

@@ -5,6 +5,7 @@
 // the plain code. The 4x4 SATD transforms two rows per register.
 #include <smmintrin.h>
 
+#include <bit>
 #include <cstring>
 
 #include "codec/dsp/dsp_init.h"
@@ -230,7 +231,7 @@ inline void store_row(__m128i row, int count, uint8_t* out) {
 // in unsigned 16-bit lanes (modular steps, logical shift).
 template <int W, int H>
 void predict_rectangular_planar(const uint8_t* edge, uint8_t* out) {
-  constexpr int kCorner = W + H, kLogW = W == 16 ? 4 : W == 8 ? 3 : 2, kLogH = H == 16 ? 4 : H == 8 ? 3 : 2;
+  constexpr int kCorner = W + H, kLogW = std::bit_width(unsigned{W}) - 1, kLogH = std::bit_width(unsigned{H}) - 1;
   uint8_t smoothed[2 * (W + H) + 1 + 8];  // room for the eight-sample load of a 4-wide above row
   smooth_intra_edge_rectangular(edge, W, H, smoothed);
   const uint8_t* above = smoothed + kCorner + 1;
@@ -261,10 +262,7 @@ template <int W, int H>
 void intra_predict_rectangular_sse41(const uint8_t* edge, int mode, uint8_t* out) {
   if (mode == 0) return predict_rectangular_planar<W, H>(edge, out);
   if (mode == 1) {
-    if constexpr (W == 16 && H == 8) intra_predict_16x8_c(edge, mode, out);
-    if constexpr (W == 8) intra_predict_8x16_c(edge, mode, out);
-    if constexpr (W == 16 && H == 4) intra_predict_16x4_c(edge, mode, out);
-    if constexpr (W == 4) intra_predict_4x16_c(edge, mode, out);
+    plain_rectangular_predictor<W, H>()(edge, mode, out);
     return;
   }
   uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
@@ -302,6 +300,8 @@ void init_intra_sse41(DspTable* table) {
   table->intra_predict_8x16 = intra_predict_rectangular_sse41<8, 16>;
   table->intra_predict_16x4 = intra_predict_rectangular_sse41<16, 4>;
   table->intra_predict_4x16 = intra_predict_rectangular_sse41<4, 16>;
+  table->intra_predict_8x4 = intra_predict_rectangular_sse41<8, 4>;
+  table->intra_predict_4x8 = intra_predict_rectangular_sse41<4, 8>;
   table->intra_predict_4x4 = intra_predict_4x4_sse41;
   table->intra_predict_8x8 = intra_predict_8x8_sse41;
   table->intra_predict_16x16 = intra_predict_16x16_sse41;
