@@ -229,29 +229,37 @@ TEST(TransformSizes, RectangularPredictionFollowsTheEdge) {
   }
 }
 
+// A 64x64 picture whose luma is luma(along, across), along the rows (across the columns
+// when transposed), flat chroma, coded at qindex 120 and decoded exactly; returns the
+// number of macroblock partitions `partition` (or its transposed counterpart) matches.
+template <class Luma, class Matches>
+int partitions_chosen(bool transposed, Luma luma, Matches matches) {
+  ImageYCbCr420 image;
+  image.width = image.height = 64;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x)
+      image.y.push_back(static_cast<uint8_t>(transposed ? luma(y, x) : luma(x, y)));
+  }
+  image.cb.assign(32 * 32, 128);
+  image.cr.assign(32 * 32, 128);
+  CodingParams params;
+  params.qindex = 120;
+  CoefficientFrame parsed;
+  encode_and_decode_exactly(image, params, &parsed);
+  return static_cast<int>(std::count_if(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), matches));
+}
+
 // Macroblocks whose top and bottom halves hold different gradients along their rows: the
 // encoder codes some as two 16x8 blocks, and the transposed picture's as two 8x16 blocks;
 // the decoder follows.
 TEST(TransformSizes, IntraFramesChooseHalvesAndDecodeExactly) {
   for (bool transposed : {false, true}) {
-    ImageYCbCr420 image;
-    image.width = image.height = 64;
-    for (int y = 0; y < image.height; ++y) {
-      for (int x = 0; x < image.width; ++x) {
-        const int along = transposed ? y : x, across = transposed ? x : y;
-        const bool first = (across % 16) < 8;
-        image.y.push_back(static_cast<uint8_t>(first ? 40 + 3 * (along % 16) : 200 - 5 * (along % 16)));
-      }
-    }
-    image.cb.assign(32 * 32, 128);
-    image.cr.assign(32 * 32, 128);
-    CodingParams params;
-    params.qindex = 120;
-    CoefficientFrame parsed;
-    ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
     const uint16_t halves = transposed ? 32 | 64 : 32;  // 8x16 or 16x8 halves
-    EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), halves), 0)
-        << (transposed ? "8x16" : "16x8");
+    const int chosen = partitions_chosen(
+        transposed,
+        [](int along, int across) { return (across % 16) < 8 ? 40 + 3 * (along % 16) : 200 - 5 * (along % 16); },
+        [&](uint16_t partition) { return partition == halves; });
+    EXPECT_GT(chosen, 0) << (transposed ? "8x16" : "16x8");
   }
 }
 
@@ -259,24 +267,16 @@ TEST(TransformSizes, IntraFramesChooseHalvesAndDecodeExactly) {
 // macroblocks are coded as four 16x4 strips, and the transposed picture's as four 4x16.
 TEST(TransformSizes, IntraFramesChooseStripsAndDecodeExactly) {
   for (bool transposed : {false, true}) {
-    ImageYCbCr420 image;
-    image.width = image.height = 64;
-    constexpr int kBase[4] = {40, 200, 70, 170}, kSlope[4] = {3, -5, 4, -3};
-    for (int y = 0; y < image.height; ++y) {
-      for (int x = 0; x < image.width; ++x) {
-        const int along = transposed ? y : x, strip = ((transposed ? x : y) % 16) / 4;
-        image.y.push_back(static_cast<uint8_t>(kBase[strip] + kSlope[strip] * (along % 16)));
-      }
-    }
-    image.cb.assign(32 * 32, 128);
-    image.cr.assign(32 * 32, 128);
-    CodingParams params;
-    params.qindex = 120;
-    CoefficientFrame parsed;
-    ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
     const uint16_t strips = transposed ? 32 | 64 | 128 : 32 | 128;  // 4x16 or 16x4 strips
-    EXPECT_GT(std::count(parsed.luma_partitions.begin(), parsed.luma_partitions.end(), strips), 0)
-        << (transposed ? "4x16" : "16x4");
+    const int chosen = partitions_chosen(
+        transposed,
+        [](int along, int across) {
+          constexpr int kBase[4] = {40, 200, 70, 170}, kSlope[4] = {3, -5, 4, -3};
+          const int strip = (across % 16) / 4;
+          return kBase[strip] + kSlope[strip] * (along % 16);
+        },
+        [&](uint16_t partition) { return partition == strips; });
+    EXPECT_GT(chosen, 0) << (transposed ? "4x16" : "16x4");
   }
 }
 
@@ -285,30 +285,22 @@ TEST(TransformSizes, IntraFramesChooseStripsAndDecodeExactly) {
 // two 4x8 blocks (partition bits 8 + i, with 12 + i).
 TEST(TransformSizes, IntraFramesChooseHalvesOf8x8BlocksAndDecodeExactly) {
   for (bool transposed : {false, true}) {
-    ImageYCbCr420 image;
-    image.width = image.height = 64;
-    constexpr int kBase[4] = {40, 200, 170, 60}, kSlope[4] = {6, -9, -7, 8};
-    for (int y = 0; y < image.height; ++y) {
-      for (int x = 0; x < image.width; ++x) {
-        const int along = transposed ? y : x, across = transposed ? x : y;
-        const int region = 2 * ((along / 8) % 2) + (across % 8) / 4;
-        image.y.push_back(static_cast<uint8_t>(kBase[region] + kSlope[region] * (along % 8)));
-      }
-    }
-    image.cb.assign(32 * 32, 128);
-    image.cr.assign(32 * 32, 128);
-    CodingParams params;
-    params.qindex = 120;
-    CoefficientFrame parsed;
-    ASSERT_NO_FATAL_FAILURE(encode_and_decode_exactly(image, params, &parsed));
-    int halves = 0;
-    for (uint16_t partition : parsed.luma_partitions) {
-      for (int i = 0; i < 4; ++i) {
-        const bool vertical = (partition & (4096 << i)) != 0;
-        halves += (partition & 1) != 0 && (partition & (256 << i)) != 0 && vertical == transposed;
-      }
-    }
-    EXPECT_GT(halves, 0) << (transposed ? "4x8" : "8x4");
+    const int chosen = partitions_chosen(
+        transposed,
+        [](int along, int across) {
+          constexpr int kBase[4] = {40, 200, 170, 60}, kSlope[4] = {6, -9, -7, 8};
+          const int region = 2 * ((along / 8) % 2) + (across % 8) / 4;
+          return kBase[region] + kSlope[region] * (along % 8);
+        },
+        [&](uint16_t partition) {
+          bool any = false;
+          for (int i = 0; i < 4; ++i) {
+            const bool vertical = (partition & (4096 << i)) != 0;
+            any = any || ((partition & 1) != 0 && (partition & (256 << i)) != 0 && vertical == transposed);
+          }
+          return any;
+        });
+    EXPECT_GT(chosen, 0) << (transposed ? "4x8" : "8x4");
   }
 }
 
