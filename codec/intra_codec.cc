@@ -67,8 +67,9 @@ int luma_block_count(LumaPartition partition) {
 // The quantiser scale of an index as the MPEG-2 quantiser_scale it replaces.
 double scale_of(int qindex) { return quantizer_scale_q8(qindex) / 256.0; }
 
-// SSE per bit of an intra frame's decisions, tuned on the photographic scenes.
-float intra_frame_lambda(int qindex) { return static_cast<float>(0.1 * scale_of(qindex) * scale_of(qindex)); }
+// SSE per bit of an intra frame's decisions, tuned on the photographic scenes (0.085
+// since the strips and 8x8 halves; 0.1 and 0.12 measured worse, docs/codec.md 3.2).
+float intra_frame_lambda(int qindex) { return static_cast<float>(0.085 * scale_of(qindex) * scale_of(qindex)); }
 
 // out = clip(prediction + inverse transform of type `type` of `coefficients`), or the
 // prediction alone when there are none.

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "ca6c9cda08caff12c588536651dc3a13f6aa5ad419eac16d6e524941a98cb86f",
-     "7c2b0236f0fabc87ea59e80c71a478e3640bdbb212a07a49f7ad22d7c546bde3"},
+     "2833c16fc1f70ad61a6d056729efe2d99ba527dc42b8eeab5795f4edcf2adcfc",
+     "f07c5289655ffe5ed9bbe0d2587c753d79f324a8d6c81d2d070ded902c00b331"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "697645beecf859e1e940e609c17193f0af398b7aa028da771bea94f9eb610e43",
-     "cd279b7223768de8a5488d9586da5c8c474465d6f41325172d11102a7f45842e"},
+     "849ae58866728305eadab2192c7b23a7b029e283b9c8652cd48b2e87c454c5b0",
+     "3373ab347d6282b42ce412bfa1c2e8ef042846e0fba5c0d4e2bffae05276076d"},
 };
 
 std::string file_sha256(const fs::path& path) {
