@@ -107,35 +107,57 @@ int type_matrix_entry(int points, bool dst, int k, int n) {
   return dsp::type_matrix<16>(dst).m[k][n];
 }
 
+// The typed kernels of a size (docs/codec.md 7.2, 7.3): types 1..3 for squares, whose
+// DCT_DCT has kernels of its own, and 0..3 for rectangular sizes.
+void forward_typed(const dsp::DspTable& dsp, TransformSize size, int type, const float* samples,
+                   float* coefficients) {
+  switch (size) {
+    case TransformSize::k16x8: return dsp.forward_typed_16x8(type, samples, coefficients);
+    case TransformSize::k8x16: return dsp.forward_typed_8x16(type, samples, coefficients);
+    case TransformSize::k16x4: return dsp.forward_typed_16x4(type, samples, coefficients);
+    case TransformSize::k4x16: return dsp.forward_typed_4x16(type, samples, coefficients);
+    case TransformSize::k8x4: return dsp.forward_typed_8x4(type, samples, coefficients);
+    case TransformSize::k4x8: return dsp.forward_typed_4x8(type, samples, coefficients);
+    case TransformSize::k4x4: return dsp.forward_typed_4x4(type, samples, coefficients);
+    case TransformSize::k16x16: return dsp.forward_typed_16x16(type, samples, coefficients);
+    default: return dsp.forward_typed_8x8(type, samples, coefficients);
+  }
+}
+
+void inverse_typed(const dsp::DspTable& dsp, TransformSize size, int type, const int16_t* coefficients,
+                   int16_t* samples) {
+  switch (size) {
+    case TransformSize::k16x8: return dsp.inverse_typed_16x8(type, coefficients, samples);
+    case TransformSize::k8x16: return dsp.inverse_typed_8x16(type, coefficients, samples);
+    case TransformSize::k16x4: return dsp.inverse_typed_16x4(type, coefficients, samples);
+    case TransformSize::k4x16: return dsp.inverse_typed_4x16(type, coefficients, samples);
+    case TransformSize::k8x4: return dsp.inverse_typed_8x4(type, coefficients, samples);
+    case TransformSize::k4x8: return dsp.inverse_typed_4x8(type, coefficients, samples);
+    case TransformSize::k4x4: return dsp.inverse_typed_4x4(type, coefficients, samples);
+    case TransformSize::k16x16: return dsp.inverse_typed_16x16(type, coefficients, samples);
+    default: return dsp.inverse_typed_8x8(type, coefficients, samples);
+  }
+}
+
 }  // namespace
 
 void forward_transform(TransformSize size, const float* samples, float* coefficients) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
-    case TransformSize::k16x8: dsp.forward_typed_16x8(0, samples, coefficients); break;
-    case TransformSize::k8x16: dsp.forward_typed_8x16(0, samples, coefficients); break;
-    case TransformSize::k16x4: dsp.forward_typed_16x4(0, samples, coefficients); break;
-    case TransformSize::k4x16: dsp.forward_typed_4x16(0, samples, coefficients); break;
-    case TransformSize::k8x4: dsp.forward_typed_8x4(0, samples, coefficients); break;
-    case TransformSize::k4x8: dsp.forward_typed_4x8(0, samples, coefficients); break;
-    case TransformSize::k4x4: dsp.forward_dct_4x4(samples, coefficients); break;
-    case TransformSize::k16x16: dsp.forward_dct_16x16(samples, coefficients); break;
-    default: dsp.forward_dct_8x8(samples, coefficients);
+    case TransformSize::k8x8: return dsp.forward_dct_8x8(samples, coefficients);
+    case TransformSize::k4x4: return dsp.forward_dct_4x4(samples, coefficients);
+    case TransformSize::k16x16: return dsp.forward_dct_16x16(samples, coefficients);
+    default: return forward_typed(dsp, size, 0, samples, coefficients);
   }
 }
 
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   switch (size) {
-    case TransformSize::k16x8: dsp.inverse_typed_16x8(0, coefficients, samples); break;
-    case TransformSize::k8x16: dsp.inverse_typed_8x16(0, coefficients, samples); break;
-    case TransformSize::k16x4: dsp.inverse_typed_16x4(0, coefficients, samples); break;
-    case TransformSize::k4x16: dsp.inverse_typed_4x16(0, coefficients, samples); break;
-    case TransformSize::k8x4: dsp.inverse_typed_8x4(0, coefficients, samples); break;
-    case TransformSize::k4x8: dsp.inverse_typed_4x8(0, coefficients, samples); break;
-    case TransformSize::k4x4: dsp.inverse_dct_4x4(coefficients, samples); break;
-    case TransformSize::k16x16: dsp.inverse_dct_16x16(coefficients, samples); break;
-    default: dsp.inverse_dct_8x8(coefficients, samples);
+    case TransformSize::k8x8: return dsp.inverse_dct_8x8(coefficients, samples);
+    case TransformSize::k4x4: return dsp.inverse_dct_4x4(coefficients, samples);
+    case TransformSize::k16x16: return dsp.inverse_dct_16x16(coefficients, samples);
+    default: return inverse_typed(dsp, size, 0, coefficients, samples);
   }
 }
 
@@ -192,43 +214,13 @@ void inverse_transform_reference(TransformSize size, const double* coefficients,
 }
 
 void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients) {
-  if (type == TransformType::kDctDct) {
-    forward_transform(size, samples, coefficients);
-    return;
-  }
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  const int t = static_cast<int>(type);
-  switch (size) {
-    case TransformSize::k16x8: dsp.forward_typed_16x8(t, samples, coefficients); break;
-    case TransformSize::k8x16: dsp.forward_typed_8x16(t, samples, coefficients); break;
-    case TransformSize::k16x4: dsp.forward_typed_16x4(t, samples, coefficients); break;
-    case TransformSize::k4x16: dsp.forward_typed_4x16(t, samples, coefficients); break;
-    case TransformSize::k8x4: dsp.forward_typed_8x4(t, samples, coefficients); break;
-    case TransformSize::k4x8: dsp.forward_typed_4x8(t, samples, coefficients); break;
-    case TransformSize::k4x4: dsp.forward_typed_4x4(t, samples, coefficients); break;
-    case TransformSize::k16x16: dsp.forward_typed_16x16(t, samples, coefficients); break;
-    default: dsp.forward_typed_8x8(t, samples, coefficients);
-  }
+  if (type == TransformType::kDctDct) return forward_transform(size, samples, coefficients);
+  forward_typed(dsp::get_dsp(), size, static_cast<int>(type), samples, coefficients);
 }
 
 void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples) {
-  if (type == TransformType::kDctDct) {
-    inverse_transform(size, coefficients, samples);
-    return;
-  }
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  const int t = static_cast<int>(type);
-  switch (size) {
-    case TransformSize::k16x8: dsp.inverse_typed_16x8(t, coefficients, samples); break;
-    case TransformSize::k8x16: dsp.inverse_typed_8x16(t, coefficients, samples); break;
-    case TransformSize::k16x4: dsp.inverse_typed_16x4(t, coefficients, samples); break;
-    case TransformSize::k4x16: dsp.inverse_typed_4x16(t, coefficients, samples); break;
-    case TransformSize::k8x4: dsp.inverse_typed_8x4(t, coefficients, samples); break;
-    case TransformSize::k4x8: dsp.inverse_typed_4x8(t, coefficients, samples); break;
-    case TransformSize::k4x4: dsp.inverse_typed_4x4(t, coefficients, samples); break;
-    case TransformSize::k16x16: dsp.inverse_typed_16x16(t, coefficients, samples); break;
-    default: dsp.inverse_typed_8x8(t, coefficients, samples);
-  }
+  if (type == TransformType::kDctDct) return inverse_transform(size, coefficients, samples);
+  inverse_typed(dsp::get_dsp(), size, static_cast<int>(type), coefficients, samples);
 }
 
 void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,

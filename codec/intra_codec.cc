@@ -466,7 +466,7 @@ class BlockSearch {
   // types and the block has levels; the mode stays), by the same cost. Returns the cost.
   float choose_transform_type(const uint8_t* source, int stride, int size, const PlaneContexts& contexts,
                               int cbf_context, float mode_bits, BlockChoice* best, float best_cost) const {
-    if (!contexts.types.enabled || !best->coded || !has_transform_types(size_of_shape(size))) return best_cost;
+    if (!contexts.types.enabled || !best->coded) return best_cost;
     trial_.mode = best->mode;
     trial_.cfl_alpha = best->cfl_alpha;
     std::copy_n(best->prediction, shape_area(size), trial_.prediction);
@@ -700,12 +700,12 @@ class MacroblockSearch {
       for_each_quarter_block(static_cast<LumaPartition>(kSplit16x16 | bits), i, [&](int x, int y, int shape) {
         if (cost >= best_cost) return;
         cost += plane_->code_block(state, mb_x0 + x, mb_y0 + y, shape, nullptr, false,
-                                   &quarters_[static_cast<size_t>(n++)]);
+                                   &trial_[static_cast<size_t>(n++)]);
       });
       if (cost < best_cost) {
         best_cost = cost;
         best = bits;
-        std::copy_n(quarters_.begin(), n, kept_.begin());
+        std::copy_n(trial_.begin(), n, kept_.begin());
         kept_count = n;
         plane_->save(x0, y0, 8, best_samples);
         continue;
@@ -792,9 +792,8 @@ class MacroblockSearch {
   const PlaneSearch* plane_ = nullptr;
   bool sizes_;
   MacroblockChoice split_;
-  std::array<BlockChoice, 4> quarters_;
-  std::array<BlockChoice, 4> kept_;  // the best blocks of the 8x8 block being chosen
-  std::array<BlockChoice, 4> trial_;
+  std::array<BlockChoice, 4> trial_;  // the blocks of the partition being tried
+  std::array<BlockChoice, 4> kept_;   // the best blocks of the 8x8 block being chosen
 };
 
 // Parse stage of an intra frame: reads each block's syntax into `frame` and marks it.

@@ -86,9 +86,9 @@ struct CoefficientFrame {
   uint8_t loop_filters = 0;                                // kLoopFilter* bits of the header
   ResidualMatrix residual_matrix = ResidualMatrix::kFlat;  // header bit kIntraWeightedMatrix
   CdefParams cdef;                                         // when loop_filters has kLoopFilterCdef
-  // Per luma macroblock in raster order: bit 0 set when it splits into four 8x8 blocks
-  // (else it is one 16x16 block), bit 1 + i when 8x8 block i (Z order) splits into four
-  // 4x4 blocks (docs/codec.md 3).
+  // Per luma macroblock in raster order: its partition (intra_macroblock.h,
+  // LumaPartition: bit 0 set when it splits into four 8x8 blocks, else one 16x16 block,
+  // two halves or four strips; docs/codec.md 3 and 8).
   std::vector<uint16_t> luma_partitions;
   // Per transform block, in coding order (the luma blocks of every macroblock in turn,
   // then the 8x8 blocks of Cb, then of Cr, each in raster order): the number of non-zero

@@ -114,8 +114,8 @@ void for_each_luma_block(LumaPartition partition, Visit&& visit) {
   for (int i = 0; i < 4; ++i) for_each_quarter_block(partition, i, visit);
 }
 
-// Per 4x4 unit of the plane being coded: the mode, coded flag and transform width of the
-// block covering it (width 0: not reconstructed yet). Source of the neighbour
+// Per 4x4 unit of the plane being coded: the mode, coded flag and transform width (the
+// shorter side) of the block covering it (width 0: not reconstructed yet). Source of the neighbour
 // derivations of docs/codec.md 3 and 3.1.
 class PlaneState {
  public:

@@ -25,7 +25,7 @@ int transform_type_mode_class(int mode) {
 
 void encode_transform_type(RangeEncoder& encoder, TransformTypeContexts& contexts, TransformSize size, int mode,
                            TransformType type) {
-  if (!contexts.enabled || !has_transform_types(size)) return;
+  if (!contexts.enabled) return;
   auto& bits = bits_of(contexts, size, mode);
   const bool vertical = vertical_dst(type);
   encoder.encode(bits[0], vertical);
@@ -34,7 +34,7 @@ void encode_transform_type(RangeEncoder& encoder, TransformTypeContexts& context
 
 TransformType decode_transform_type(RangeDecoder& decoder, TransformTypeContexts& contexts, TransformSize size,
                                     int mode) {
-  if (!contexts.enabled || !has_transform_types(size)) return TransformType::kDctDct;
+  if (!contexts.enabled) return TransformType::kDctDct;
   auto& bits = bits_of(contexts, size, mode);
   const bool vertical = decoder.decode(bits[0]) != 0;
   const bool horizontal = decoder.decode(bits[1 + (vertical ? 1 : 0)]) != 0;
@@ -42,7 +42,7 @@ TransformType decode_transform_type(RangeDecoder& decoder, TransformTypeContexts
 }
 
 float transform_type_bits(const TransformTypeContexts& contexts, TransformSize size, int mode, TransformType type) {
-  if (!contexts.enabled || !has_transform_types(size)) return 0;
+  if (!contexts.enabled) return 0;
   const auto& bits = contexts.bits[static_cast<size_t>(size)][static_cast<size_t>(transform_type_mode_class(mode))];
   const bool vertical = vertical_dst(type);
   return bframe::bit_cost(bits[0], vertical) + bframe::bit_cost(bits[1 + (vertical ? 1 : 0)], horizontal_dst(type));

@@ -19,17 +19,12 @@ namespace svc::codec {
 inline constexpr int kTransformTypeModeClasses = 5;
 int transform_type_mode_class(int mode);  // mode 0..34, or kCflMode
 
-// The sizes with transform types: every size (8x8, 4x4, 16x16, 16x8, 8x16, 16x4, 4x16,
-// 8x4, 4x8 in TransformSize order).
-inline constexpr int kTypedTransformSizes = 9;
-constexpr bool has_transform_types(TransformSize size) { return static_cast<int>(size) < kTypedTransformSizes; }
-
 struct TransformTypeContexts {
   // Whether the frame codes transform types (header flag); when false every block is
   // DCT_DCT and nothing is coded.
   bool enabled = false;
-  // [size][mode class][0: vertical, 1 + vertical: horizontal]
-  std::array<std::array<std::array<AdaptiveBit, 3>, kTransformTypeModeClasses>, kTypedTransformSizes> bits{};
+  // [size][mode class][0: vertical, 1 + vertical: horizontal]; every size codes types.
+  std::array<std::array<std::array<AdaptiveBit, 3>, kTransformTypeModeClasses>, kTransformSizes> bits{};
 };
 
 // Calls f on every context, in index order (docs/codec.md 4).

@@ -66,7 +66,7 @@ void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out);
 // an N x N block's unfiltered prediction `out`, from its unsmoothed edge; other modes
 // are left alone (docs/codec.md 3.1). Every variant of the angular modes calls it.
 void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* out);
-// The same three for W x H blocks 16x8, 8x16, 16x4 and 4x16, whose edge holds
+// The same three for the rectangular W x H blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8), whose edge holds
 // 2 (W + H) + 1 samples: the angular reference main[W + H + k], k = -(W + H)..W + H + 1
 // (main holds 3 (W + H) + 2 samples), of a block predicted along its columns (W x H for
 // vertical modes, H x W, to be transposed, for horizontal ones); the boundary filters;

@@ -1,6 +1,7 @@
-// Plain intra prediction kernels: the 35 modes of a 4x4, 8x8, 16x16, 16x8, 8x16, 16x4 or 4x16 block from its
-// reference edge (planar, DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is
-// the definition) and the encoder's 4x4 and 8x8 Hadamard SATD.
+// Plain intra prediction kernels: the 35 modes of a square (4x4, 8x8, 16x16) or
+// rectangular (16x8, 8x16, 16x4, 4x16, 8x4, 4x8) block from its reference edge (planar,
+// DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is the definition) and the
+// encoder's 4x4 and 8x8 Hadamard SATD.
 #include <algorithm>
 #include <cstdlib>
 
@@ -159,9 +160,9 @@ void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
   filter_boundary<N>(edge, mode, out);
 }
 
-// Rectangular W x H blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8): the modes of docs/codec.md 3.1 on an edge of
-// W + H samples each side, the corner at W + H. The edge is smoothed as for 8x8 blocks
-// (planar and the three diagonals).
+// Rectangular W x H blocks: the modes of docs/codec.md 3.1 on an edge of W + H samples
+// each side, the corner at W + H. The edge is smoothed as for 8x8 blocks (planar and the
+// three diagonals).
 template <int W, int H>
 const uint8_t* rectangular_edge(const uint8_t* edge, int mode, uint8_t* smoothed) {
   if (mode == 1 || !edge_is_smoothed<8>(mode)) return edge;
@@ -189,21 +190,17 @@ void predict_rectangular_planar(const uint8_t* raw_edge, uint8_t* out) {
 // DC averages the longer side.
 template <int W, int H>
 void predict_rectangular_dc(const uint8_t* edge, uint8_t* out) {
-  constexpr int kCorner = W + H;
+  constexpr int kCorner = W + H, kCount = std::max(W, H);
   int sum = 0;
-  if (W >= H)
-    for (int x = 0; x < W; ++x) sum += edge[kCorner + 1 + x];
-  if (H >= W)
-    for (int y = 0; y < H; ++y) sum += edge[kCorner - 1 - y];
-  const int count = W == H ? 2 * W : std::max(W, H);
-  std::fill_n(out, W * H, static_cast<uint8_t>((sum + count / 2) / count));
+  for (int i = 0; i < kCount; ++i) sum += W > H ? edge[kCorner + 1 + i] : edge[kCorner - 1 - i];
+  std::fill_n(out, W * H, static_cast<uint8_t>((sum + kCount / 2) / kCount));
 }
 
 // The reference row of an angular mode: main[W + H + k], k = -(W + H)..W + H + 1, is
 // sample k of the projected (and, where the mode asks, smoothed) edge; of the negative k
-// only those the mode reads are set. Angular modes
-// predict a bw x bh block along its columns from it (above for vertical modes, W x H;
-// else the left column, H x W, transposed on the way out). Returns the angle.
+// only those the mode reads are set. Angular modes predict a bw x bh block along its
+// columns from it (above for vertical modes, W x H; else the left column, H x W,
+// transposed on the way out). Returns the angle.
 template <int W, int H>
 int prepare_rectangular_reference(const uint8_t* raw_edge, int mode, uint8_t* main) {
   constexpr int kCorner = W + H;
