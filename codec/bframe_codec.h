@@ -31,7 +31,7 @@
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 23;
+inline constexpr uint8_t kBFrameSyntaxVersion = 24;
 // Flags byte bit 4: coded inter macroblocks code whether their luma residual is one
 // 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
 // it is four 4x4 blocks (docs/codec.md 10.4).

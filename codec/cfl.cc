@@ -45,8 +45,8 @@ int decode_alpha(RangeDecoder& decoder, CflContexts& cfl, ChromaPlane plane, int
 }  // namespace
 
 void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
-                        const std::array<int, kMostProbableModes>& candidates, ChromaPlane plane,
-                        const ChromaMode& cb, const ChromaMode& mode) {
+                        const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb,
+                        const ChromaMode& mode) {
   if (plane == ChromaPlane::kCr) {
     if (cb.cfl()) encode_alpha(encoder, cfl, plane, cb.alpha, mode.alpha);
     return;
@@ -55,13 +55,12 @@ void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContex
   if (mode.cfl()) {
     encode_alpha(encoder, cfl, plane, 0, mode.alpha);
   } else {
-    encode_intra_mode(encoder, modes, candidates, mode.mode);
+    encode_intra_mode(encoder, modes, 8, candidates, mode.mode);
   }
 }
 
 ChromaMode decode_chroma_mode(RangeDecoder& decoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
-                              const std::array<int, kMostProbableModes>& candidates, ChromaPlane plane,
-                              const ChromaMode& cb) {
+                              const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb) {
   ChromaMode mode;
   if (plane == ChromaPlane::kCr) {
     mode.mode = cb.mode;
@@ -72,7 +71,7 @@ ChromaMode decode_chroma_mode(RangeDecoder& decoder, CflContexts& cfl, IntraMode
     mode.mode = kCflMode;
     mode.alpha = decode_alpha(decoder, cfl, plane, 0);
   } else {
-    mode.mode = decode_intra_mode(decoder, modes, candidates);
+    mode.mode = decode_intra_mode(decoder, modes, 8, candidates);
   }
   return mode;
 }

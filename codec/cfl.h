@@ -61,11 +61,10 @@ void for_each_context(Set& s, F&& f) {
 // its Cb block's mode, is CfL; then Cr's alpha (possibly 0). The decoder returns `cb`'s
 // mode for a Cr block.
 void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
-                        const std::array<int, kMostProbableModes>& candidates, ChromaPlane plane,
-                        const ChromaMode& cb, const ChromaMode& mode);
+                        const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb,
+                        const ChromaMode& mode);
 ChromaMode decode_chroma_mode(RangeDecoder& decoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
-                              const std::array<int, kMostProbableModes>& candidates, ChromaPlane plane,
-                              const ChromaMode& cb);
+                              const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb);
 
 // Encoder only: bits of the CfL flag, and of an alpha, at the contexts' current
 // probabilities.

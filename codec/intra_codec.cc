@@ -284,12 +284,22 @@ struct ModeSet {
   }
 };
 
-float intra_mode_cost(const IntraModeContexts& c, const std::array<int, kMostProbableModes>& candidates, int mode) {
+// The bits encode_intra_mode spends on `mode` at the contexts' current state.
+float intra_mode_cost(const IntraModeContexts& c, int shape, const ModeCandidates& candidates, int mode) {
+  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+  const auto context = static_cast<size_t>(candidates.context);
   const auto found = std::find(candidates.begin(), candidates.end(), mode);
+  if (found == candidates.end()) {
+    float bits = bframe::bit_cost(c.is_most_probable[size_class][context], 0);
+    for_each_remainder_bit(rank_among_others(candidates, mode),
+                           [&](size_t node, int bit) { bits += bframe::bit_cost(c.remainder[node], bit); });
+    return bits;
+  }
   const int index = static_cast<int>(found - candidates.begin());
-  if (found == candidates.end()) return bframe::bit_cost(c.is_most_probable, 0) + 5;
-  float bits = bframe::bit_cost(c.is_most_probable, 1) + bframe::bit_cost(c.most_probable_index[0], index > 0);
-  return index > 0 ? bits + bframe::bit_cost(c.most_probable_index[1], index > 1) : bits;
+  const auto& index_bits = c.most_probable_index[size_class][context];
+  float bits =
+      bframe::bit_cost(c.is_most_probable[size_class][context], 1) + bframe::bit_cost(index_bits[0], index > 0);
+  return index > 0 ? bits + bframe::bit_cost(index_bits[1], index > 1) : bits;
 }
 
 int block_sse(const uint8_t* source, int stride, const uint8_t* block, int shape) {
@@ -345,19 +355,20 @@ class BlockSearch {
   // modes to rank, else every allowed one. `prefix_bits`: bits coded before the mode (a
   // Cb block's CfL flag).
   float choose(const uint8_t* source, int stride, const uint8_t* edge, int size, const PlaneContexts& contexts,
-               const std::array<int, kMostProbableModes>* candidates, int cbf_context, const ModeSet* ranked,
-               BlockChoice* best, float prefix_bits = 0) const {
+               const ModeCandidates* candidates, int cbf_context, const ModeSet* ranked, BlockChoice* best,
+               float prefix_bits = 0) const {
     std::array<int, kSearchedModes> searched;
     searched.fill(-1);
     searched[0] = best->mode;  // a fixed mode is the only one searched
-    if (candidates != nullptr) searched = preselect(source, stride, edge, size, *candidates, ranked);
+    if (candidates != nullptr)
+      searched = preselect(source, stride, edge, size, contexts.modes, *candidates, ranked);
     float best_cost = std::numeric_limits<float>::max(), best_bits = 0;
     for (int mode : searched) {
       if (mode < 0) continue;
       trial_.mode = mode;
       trial_.cfl_alpha = 0;
       const float mode_bits =
-          prefix_bits + (candidates != nullptr ? intra_mode_cost(contexts.modes, *candidates, mode) : 0);
+          prefix_bits + (candidates != nullptr ? intra_mode_cost(contexts.modes, size, *candidates, mode) : 0);
       intra_predictor(size)(edge, mode, trial_.prediction);
       const float cost =
           evaluate(source, stride, size, contexts, cbf_context, mode_bits, TransformType::kDctDct, &trial_);
@@ -407,7 +418,7 @@ class BlockSearch {
   static constexpr int kSearchedModes = 3;
 
   std::array<int, kSearchedModes> preselect(const uint8_t* source, int stride, const uint8_t* edge, int size,
-                                            const std::array<int, kMostProbableModes>& candidates,
+                                            const IntraModeContexts& contexts, const ModeCandidates& candidates,
                                             const ModeSet* ranked) const {
     const IntraPredictor predict = intra_predictor(size);
     std::array<std::pair<int, int>, kIntraModes> costs;
@@ -415,9 +426,10 @@ class BlockSearch {
     int count = 0;
     auto score = [&](int mode) {
       predict(edge, mode, prediction);
-      costs[static_cast<size_t>(count++)] = {block_satd(source, stride, prediction, size) +
-                                                 satd_lambda_ * intra_mode_bits(candidates, mode),
-                                             mode};
+      costs[static_cast<size_t>(count++)] = {
+          block_satd(source, stride, prediction, size) +
+              static_cast<int>(satd_lambda_ * intra_mode_cost(contexts, size, candidates, mode) + 0.5f),
+          mode};
     };
     if (ranked != nullptr) {
       for (int i = 0; i < ranked->count; ++i) score(ranked->modes[static_cast<size_t>(i)]);
@@ -440,7 +452,7 @@ class BlockSearch {
   // Scores planar, DC, the most probable modes and every fourth angular mode, then the
   // two angular neighbours on each side of the best angular one.
   template <class Score>
-  static void score_coarse(const std::array<int, kMostProbableModes>& candidates, Score& score,
+  static void score_coarse(const ModeCandidates& candidates, Score& score,
                            const std::array<std::pair<int, int>, kIntraModes>& costs, const int& count) {
     ModeSet scored;
     auto once = [&](int mode) {
@@ -861,7 +873,7 @@ bool read_levels_and_type(RangeDecoder& decoder, PlaneContexts& contexts, const 
 
 bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
                        int size, BlockSyntax* out) {
-  out->mode = decode_intra_mode(decoder, contexts.modes, state.candidates(x0, y0));
+  out->mode = decode_intra_mode(decoder, contexts.modes, size, state.candidates(x0, y0));
   out->cfl_alpha = 0;
   return read_levels_and_type(decoder, contexts, state, x0, y0, size_of_shape(size), out);
 }
@@ -953,7 +965,7 @@ void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& st
 
 void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
                  const BlockChoice& choice) {
-  encode_intra_mode(encoder, contexts.modes, state.candidates(x0, y0), choice.mode);
+  encode_intra_mode(encoder, contexts.modes, size, state.candidates(x0, y0), choice.mode);
   write_levels(encoder, contexts, state, x0, y0, size, choice);
 }
 

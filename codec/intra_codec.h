@@ -70,7 +70,7 @@ inline constexpr uint8_t kSyntaxVersionMask = 0x7F;
 inline constexpr int kQIndexByte = 1;
 inline constexpr int kIntraFlagsByte = 2;
 inline constexpr int kFrameHeaderBytes = 3;
-inline constexpr uint8_t kIntraSyntaxVersion = 15;
+inline constexpr uint8_t kIntraSyntaxVersion = 16;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 

@@ -122,7 +122,7 @@ class PlaneState {
   PlaneState(int width, int height)
       : units_x_(width / 4), units_y_(height / 4), units_(static_cast<size_t>(units_x_) * units_y_) {}
 
-  std::array<int, kMostProbableModes> candidates(int x0, int y0) const {
+  ModeCandidates candidates(int x0, int y0) const {
     return most_probable_modes(x0 > 0 ? regular_mode(at(x0 - 4, y0).mode) : kDcMode,
                                y0 > 0 ? regular_mode(at(x0, y0 - 4).mode) : kDcMode);
   }

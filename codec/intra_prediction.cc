@@ -6,12 +6,6 @@
 #include "codec/transform_size.h"
 
 namespace svc::codec {
-namespace {
-
-constexpr int kRemainderBits = 5;
-
-}  // namespace
-
 void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int shape,
                       const EdgeAvailability& available, uint8_t* edge) {
   const int w = shape_width(shape), h = shape_height(shape);
@@ -51,11 +45,12 @@ IntraPredictor intra_predictor(int size) {
   return size == 4 ? dsp.intra_predict_4x4 : size == 16 ? dsp.intra_predict_16x16 : dsp.intra_predict_8x8;
 }
 
-std::array<int, kMostProbableModes> most_probable_modes(int left_mode, int above_mode) {
+ModeCandidates most_probable_modes(int left_mode, int above_mode) {
+  const int left_class = std::min(left_mode, 2);  // planar, DC, angular
   if (left_mode == above_mode) {
-    if (left_mode < 2) return {kPlanarMode, kDcMode, kVerticalMode};
+    if (left_mode < 2) return {{kPlanarMode, kDcMode, kVerticalMode}, left_class};
     // The mode and its two angular neighbours (wrapping within 2..33).
-    return {left_mode, 2 + (left_mode + 29) % 32, 2 + (left_mode - 2 + 1) % 32};
+    return {{left_mode, 2 + (left_mode + 29) % 32, 2 + (left_mode - 2 + 1) % 32}, left_class};
   }
   int third = kVerticalMode;
   if (left_mode != kPlanarMode && above_mode != kPlanarMode) {
@@ -63,42 +58,54 @@ std::array<int, kMostProbableModes> most_probable_modes(int left_mode, int above
   } else if (left_mode != kDcMode && above_mode != kDcMode) {
     third = kDcMode;
   }
-  return {left_mode, above_mode, third};
+  return {{left_mode, above_mode, third}, 3 + left_class};
 }
 
-void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts,
-                       const std::array<int, kMostProbableModes>& candidates, int mode) {
-  const auto found = std::find(candidates.begin(), candidates.end(), mode);
-  encoder.encode(contexts.is_most_probable, found != candidates.end());
-  if (found != candidates.end()) {
-    const int index = static_cast<int>(found - candidates.begin());
-    encoder.encode(contexts.most_probable_index[0], index > 0);
-    if (index > 0) encoder.encode(contexts.most_probable_index[1], index > 1);
-    return;
-  }
+int mode_size_class(int shape) {
+  const int area = shape_area(shape);
+  return area < 64 ? 0 : area == 64 ? 1 : 2;
+}
+
+int rank_among_others(const ModeCandidates& candidates, int mode) {
   int rank = mode;
   for (int candidate : candidates) rank -= candidate < mode;
-  for (int bit = kRemainderBits - 1; bit >= 0; --bit) encoder.encode_bypass((rank >> bit) & 1);
+  return rank;
 }
 
-int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts,
-                      const std::array<int, kMostProbableModes>& candidates) {
-  if (decoder.decode(contexts.is_most_probable)) {
-    if (!decoder.decode(contexts.most_probable_index[0])) return candidates[0];
-    return candidates[decoder.decode(contexts.most_probable_index[1]) ? 2 : 1];
+void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
+                       const ModeCandidates& candidates, int mode) {
+  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+  const auto context = static_cast<size_t>(candidates.context);
+  const auto found = std::find(candidates.begin(), candidates.end(), mode);
+  encoder.encode(contexts.is_most_probable[size_class][context], found != candidates.end());
+  if (found != candidates.end()) {
+    const int index = static_cast<int>(found - candidates.begin());
+    auto& index_bits = contexts.most_probable_index[size_class][context];
+    encoder.encode(index_bits[0], index > 0);
+    if (index > 0) encoder.encode(index_bits[1], index > 1);
+    return;
   }
-  int mode = 0;
-  for (int bit = 0; bit < kRemainderBits; ++bit) mode = (mode << 1) | decoder.decode_bypass();
-  std::array<int, kMostProbableModes> sorted = candidates;
+  for_each_remainder_bit(rank_among_others(candidates, mode),
+                         [&](size_t node, int bit) { encoder.encode(contexts.remainder[node], bit); });
+}
+
+int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
+                      const ModeCandidates& candidates) {
+  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+  const auto context = static_cast<size_t>(candidates.context);
+  if (decoder.decode(contexts.is_most_probable[size_class][context])) {
+    auto& index_bits = contexts.most_probable_index[size_class][context];
+    if (!decoder.decode(index_bits[0])) return candidates[0];
+    return candidates[decoder.decode(index_bits[1]) ? 2 : 1];
+  }
+  size_t node = 1;
+  for (int bit = 0; bit < kRemainderBits; ++bit)
+    node = 2 * node + static_cast<size_t>(decoder.decode(contexts.remainder[node - 1]));
+  int mode = static_cast<int>(node) - (1 << kRemainderBits);
+  std::array<int, kMostProbableModes> sorted = candidates.modes;
   std::sort(sorted.begin(), sorted.end());
   for (int candidate : sorted) mode += candidate <= mode;
   return mode;
-}
-
-int intra_mode_bits(const std::array<int, kMostProbableModes>& candidates, int mode) {
-  if (mode == candidates[0]) return 2;
-  if (mode == candidates[1] || mode == candidates[2]) return 3;
-  return 1 + kRemainderBits;
 }
 
 }  // namespace svc::codec

@@ -41,13 +41,34 @@ void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, in
 using IntraPredictor = void (*)(const uint8_t* edge, int mode, uint8_t* out);
 IntraPredictor intra_predictor(int shape);
 
-// The three most probable modes for a block whose left and above neighbours use
-// left_mode and above_mode (kDcMode where a neighbour is missing); all different.
-std::array<int, kMostProbableModes> most_probable_modes(int left_mode, int above_mode);
+// The mode flags' contexts by block size (fewer than 64 samples, 64, more) and by the
+// neighbours' modes (docs/codec.md 3.2).
+inline constexpr int kModeSizeClasses = 3;
+inline constexpr int kModeNeighbourContexts = 6;
+int mode_size_class(int shape);
+
+// The three most probable modes of a block, all different, and the neighbour context of
+// its mode flags.
+struct ModeCandidates {
+  std::array<int, kMostProbableModes> modes;
+  int context;
+  int operator[](size_t i) const { return modes[i]; }
+  auto begin() const { return modes.begin(); }
+  auto end() const { return modes.end(); }
+};
+
+// The candidates of a block whose left and above neighbours use left_mode and above_mode
+// (kDcMode where a neighbour is missing).
+ModeCandidates most_probable_modes(int left_mode, int above_mode);
 
 struct IntraModeContexts {
-  AdaptiveBit is_most_probable;
-  std::array<AdaptiveBit, 2> most_probable_index;
+  template <class T>
+  using BySize = std::array<std::array<T, kModeNeighbourContexts>, kModeSizeClasses>;
+  BySize<AdaptiveBit> is_most_probable{};
+  BySize<std::array<AdaptiveBit, 2>> most_probable_index{};
+  // A binary tree over the 32 ranks of the other modes, most significant bit first
+  // (node n's children 2n and 2n + 1; node 1 is element 0).
+  std::array<AdaptiveBit, 31> remainder{};
 };
 
 // Calls f on every context, in member order (docs/codec.md 4).
@@ -56,16 +77,30 @@ requires std::same_as<std::remove_const_t<Set>, IntraModeContexts>
 void for_each_context(Set& s, F&& f) {
   for_each_bit(s.is_most_probable, f);
   for_each_bit(s.most_probable_index, f);
+  for_each_bit(s.remainder, f);
 }
 
-// Mode coding: a flag, then the index among the most probable modes (truncated unary)
-// or the 5-bit rank of the mode among the other 32 (bypass bits).
-void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts,
-                       const std::array<int, kMostProbableModes>& candidates, int mode);
-int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts,
-                      const std::array<int, kMostProbableModes>& candidates);
-// Bits encode_intra_mode spends on `mode`, counting the flag and index as one bit each
-// (encoder only: mode pre-selection).
-int intra_mode_bits(const std::array<int, kMostProbableModes>& candidates, int mode);
+// Mode coding of a block of `shape` (block_shape): a flag, then the index among the most
+// probable modes (truncated unary) or the rank of the mode among the other 32 (5 bits
+// through the remainder tree).
+void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
+                       const ModeCandidates& candidates, int mode);
+int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
+                      const ModeCandidates& candidates);
+// The rank of a mode that is not among the candidates, among the other 32 in increasing
+// order.
+inline constexpr int kRemainderBits = 5;
+int rank_among_others(const ModeCandidates& candidates, int mode);
+// Calls f(index into IntraModeContexts::remainder, bit) for each bit of `rank`, in coding
+// order.
+template <class F>
+void for_each_remainder_bit(int rank, F&& f) {
+  size_t node = 1;
+  for (int bit = kRemainderBits - 1; bit >= 0; --bit) {
+    const int value = (rank >> bit) & 1;
+    f(node - 1, value);
+    node = 2 * node + static_cast<size_t>(value);
+  }
+}
 
 }  // namespace svc::codec

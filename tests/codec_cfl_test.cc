@@ -62,7 +62,7 @@ TEST(Cfl, ChromaModesRoundTrip) {
     if (cb == 0) continue;
     for (int cr = -kCflMaxAlpha; cr <= kCflMaxAlpha; cr += 3) blocks.push_back({{kCflMode, cb}, {kCflMode, cr}});
   }
-  const std::array<int, kMostProbableModes> candidates = {kPlanarMode, kDcMode, kVerticalMode};
+  const ModeCandidates candidates = most_probable_modes(kPlanarMode, kPlanarMode);
   std::vector<uint8_t> bytes;
   RangeEncoder encoder(&bytes);
   CflContexts cfl;

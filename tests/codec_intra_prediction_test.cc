@@ -189,15 +189,36 @@ TEST(IntraPrediction, EveryModeRoundTripsThroughModeCoding) {
       std::vector<uint8_t> bytes;
       RangeEncoder encoder(&bytes);
       IntraModeContexts contexts;
-      for (int mode = 0; mode < kIntraModes; ++mode) encode_intra_mode(encoder, contexts, candidates, mode);
+      // Each mode at each size class (shapes 4x4, 8x8, 16x16).
+      for (int mode = 0; mode < kIntraModes; ++mode) {
+        for (int shape : {4, 8, 16}) encode_intra_mode(encoder, contexts, shape, candidates, mode);
+      }
       encoder.finish();
       RangeDecoder decoder(bytes);
       IntraModeContexts decoding;
       for (int mode = 0; mode < kIntraModes; ++mode) {
-        ASSERT_EQ(decode_intra_mode(decoder, decoding, candidates), mode) << left << " " << above;
+        for (int shape : {4, 8, 16}) {
+          ASSERT_EQ(decode_intra_mode(decoder, decoding, shape, candidates), mode) << left << " " << above;
+        }
       }
     }
   }
+}
+
+TEST(IntraPrediction, RemainderTreeLearnsFrequentModes) {
+  // A mode outside the candidates, coded again and again: the tree's contexts learn it,
+  // far below the 6 bits of a flag and a plain 5-bit rank.
+  const auto candidates = most_probable_modes(kDcMode, kDcMode);
+  std::vector<uint8_t> bytes;
+  RangeEncoder encoder(&bytes);
+  IntraModeContexts contexts;
+  constexpr int kBlocks = 2000;
+  for (int i = 0; i < kBlocks; ++i) encode_intra_mode(encoder, contexts, 8, candidates, 18);
+  encoder.finish();
+  EXPECT_LT(bytes.size() * 8, static_cast<size_t>(kBlocks));
+  RangeDecoder decoder(bytes);
+  IntraModeContexts decoding;
+  for (int i = 0; i < kBlocks; ++i) ASSERT_EQ(decode_intra_mode(decoder, decoding, 8, candidates), 18);
 }
 
 struct LumaBlock {

@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "2833c16fc1f70ad61a6d056729efe2d99ba527dc42b8eeab5795f4edcf2adcfc",
-     "f07c5289655ffe5ed9bbe0d2587c753d79f324a8d6c81d2d070ded902c00b331"},
+     "b2c033a12eab0dc0d9db769d013473fc2c5b3135bea80c2542695a51698654f0",
+     "9b5f90c7468c511cde09b64f50c1d79419af858a78f7b9288c39f849c52abbc0"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "849ae58866728305eadab2192c7b23a7b029e283b9c8652cd48b2e87c454c5b0",
-     "3373ab347d6282b42ce412bfa1c2e8ef042846e0fba5c0d4e2bffae05276076d"},
+     "7cda7b47a9b65e32e1c4f51ab9f0556365f3418c74e9883dfe2cede3a15051db",
+     "ad0833e82b82043a4ca23b1911c0f28ee4d5ada24f63ff21609b64c1a1508783"},
 };
 
 std::string file_sha256(const fs::path& path) {
