@@ -51,6 +51,8 @@ int mode_size_class(int shape);
 // its mode flags.
 struct ModeCandidates {
   std::array<int, kMostProbableModes> modes;
+  // min(left, 2) (planar, DC, angular) where both neighbours use the same mode, else
+  // 3 + min(left, 2).
   int context;
   int operator[](size_t i) const { return modes[i]; }
   auto begin() const { return modes.begin(); }
@@ -63,9 +65,9 @@ ModeCandidates most_probable_modes(int left_mode, int above_mode);
 
 struct IntraModeContexts {
   template <class T>
-  using BySize = std::array<std::array<T, kModeNeighbourContexts>, kModeSizeClasses>;
-  BySize<AdaptiveBit> is_most_probable{};
-  BySize<std::array<AdaptiveBit, 2>> most_probable_index{};
+  using BySizeAndNeighbours = std::array<std::array<T, kModeNeighbourContexts>, kModeSizeClasses>;
+  BySizeAndNeighbours<AdaptiveBit> is_most_probable{};
+  BySizeAndNeighbours<std::array<AdaptiveBit, 2>> most_probable_index{};
   // A binary tree over the 32 ranks of the other modes, most significant bit first
   // (node n's children 2n and 2n + 1; node 1 is element 0).
   std::array<AdaptiveBit, 31> remainder{};
