@@ -66,12 +66,13 @@ double pchip_integral(const std::vector<double>& x, const std::vector<double>& y
   return total;
 }
 
-std::optional<BdRate> bd_rate(std::vector<RatePoint> anchor, std::vector<RatePoint> test) {
+std::optional<BdRate> bd_rate(std::vector<RatePoint> anchor, std::vector<RatePoint> test, double window_low,
+                              double window_high) {
   std::vector<double> xa, ya, xt, yt;
   if (!to_knots(std::move(anchor), &xa, &ya) || !to_knots(std::move(test), &xt, &yt)) return std::nullopt;
   BdRate result;
-  result.psnr_low = std::max(xa.front(), xt.front());
-  result.psnr_high = std::min(xa.back(), xt.back());
+  result.psnr_low = std::max({xa.front(), xt.front(), window_low});
+  result.psnr_high = std::min({xa.back(), xt.back(), window_high});
   if (!(result.psnr_high > result.psnr_low)) return std::nullopt;
   const double mean_log_ratio = (pchip_integral(xt, yt, result.psnr_low, result.psnr_high) -
                                  pchip_integral(xa, ya, result.psnr_low, result.psnr_high)) /

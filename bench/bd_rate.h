@@ -21,9 +21,10 @@ struct BdRate {
 };
 
 // nullopt when either curve has fewer than two distinct PSNR values, a rate <= 0, or the
-// curves share no PSNR range. Points may come in any order; of points with equal PSNR
-// the smallest rate is kept.
-std::optional<BdRate> bd_rate(std::vector<RatePoint> anchor, std::vector<RatePoint> test);
+// curves share no PSNR range (within [window_low, window_high] dB when given). Points may
+// come in any order; of points with equal PSNR the smallest rate is kept.
+std::optional<BdRate> bd_rate(std::vector<RatePoint> anchor, std::vector<RatePoint> test, double window_low = -1e9,
+                              double window_high = 1e9);
 
 // Integral of the PCHIP through (x[i], y[i]) (x strictly increasing, at least two
 // points) from a to b, x.front() <= a <= b <= x.back().

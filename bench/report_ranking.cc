@@ -29,12 +29,12 @@ std::string access_text(const AccessStats& a) {
   return buffer;
 }
 
-// Codecs with a BD-rate, most efficient first: svc's BD-rate against a codec is larger
-// the better that codec compresses.
+// Codecs with a BD-rate, most efficient first: the reference's BD-rate against a codec is
+// larger the better that codec compresses.
 std::vector<const CodecResult*> ranked(const BenchResults& r) {
   std::vector<const CodecResult*> rows;
   for (const CodecResult& c : r.codecs) {
-    if (c.name == "svc" || c.bd_rate_svc) rows.push_back(&c);
+    if (c.name == r.bd_reference || c.bd_rate_svc) rows.push_back(&c);
   }
   auto key = [](const CodecResult* c) { return c->bd_rate_svc.value_or(0.0); };
   std::stable_sort(rows.begin(), rows.end(),
@@ -53,14 +53,17 @@ std::string verdict(const BenchResults& r) {
     for (size_t i = 0; i < items.size(); ++i) text += (i ? ", " : "") + items[i];
     return text;
   };
+  const std::string& svc = r.bd_reference;
+  if (svc.empty()) return "No svc layout ran (svc, svc-regular or svc-intra with two points): no BD-rate.\n";
+  if (losses.empty() && wins.empty()) return "No codec's curve overlaps " + svc + "'s in PSNR-Y: no BD-rate.\n";
   std::string text;
-  if (losses.empty() && wins.empty()) return "No codec's curve overlaps svc's in PSNR-Y: no BD-rate.\n";
   if (losses.empty()) {
-    text = "svc needs fewer bytes than every anchor here at equal PSNR-Y.";
+    text = svc + " needs fewer bytes than every anchor here at equal PSNR-Y.";
   } else {
-    text = "**svc loses to " + join(losses) + "**: at equal PSNR-Y it needs that many more bytes than each.";
+    text =
+        "**" + svc + " loses to " + join(losses) + "**: at equal PSNR-Y it needs that many more bytes than each.";
   }
-  if (!wins.empty()) text += " svc is smaller than " + join(wins) + ".";
+  if (!wins.empty()) text += " " + svc + " is smaller than " + join(wins) + ".";
   return text + "\n";
 }
 
@@ -68,14 +71,20 @@ std::string verdict(const BenchResults& r) {
 
 std::string ranking_markdown(const BenchResults& r) {
   std::ostringstream md;
-  md << "| rank | codec | BD-rate of svc, PSNR-Y (range) | BD-rate of svc, PSNR-RGB (range) | settings |"
-        " frames per random face | points |\n";
-  md << "|---:|---|---:|---:|---|---:|---:|\n";
+  const std::string& svc_name = r.bd_reference.empty() ? std::string("svc") : r.bd_reference;
+  md << "| rank | codec | BD-rate of " << svc_name << ", PSNR-Y (range) | PSNR-Y " << range_text(kTargetPsnrRange)
+     << " (range) | BD-rate of " << svc_name
+     << ", PSNR-RGB (range) | settings | frames per random face | points |\n";
+  md << "|---:|---|---:|---:|---:|---|---:|---:|\n";
   int rank = 0;
   for (const CodecResult* c : ranked(r)) {
-    const bool svc = c->name == "svc";
+    const bool svc = c->name == r.bd_reference;
     md << "| " << ++rank << " | " << c->name << " | "
        << (svc ? std::string("0 (reference)") : percent(c->bd_rate_svc) + " (" + range_text(c->bd_range_y) + ")")
+       << " | "
+       << (svc ? std::string("0 (reference)")
+               : percent(c->bd_rate_svc_target) +
+                     (c->bd_rate_svc_target ? " (" + range_text(c->bd_range_target) + ")" : ""))
        << " | "
        << (svc ? std::string("0 (reference)")
                : percent(c->bd_rate_svc_rgb) + (c->bd_rate_svc_rgb ? " (" + range_text(c->bd_range_rgb) + ")" : ""))

@@ -19,20 +19,34 @@ std::vector<RatePoint> rate_points(const CodecResult& c, bool rgb) {
   return points;
 }
 
-// BD-rate of svc against each other codec, on PSNR-Y and PSNR-RGB.
-void compute_bd_rates(std::vector<CodecResult>* codecs) {
-  const CodecResult* svc = nullptr;
-  for (const CodecResult& c : *codecs) {
-    if (c.name == "svc") svc = &c;
+// The codec the BD-rates are against: svc, else the first svc layout that ran.
+const CodecResult* bd_reference(const std::vector<CodecResult>& codecs) {
+  for (const char* name : {"svc", "svc-regular", "svc-intra"}) {
+    for (const CodecResult& c : codecs) {
+      if (c.name == name && !c.skipped && c.points.size() >= 2) return &c;
+    }
   }
-  if (!svc || svc->points.size() < 2) return;
-  for (CodecResult& c : *codecs) {
-    if (c.skipped || c.points.size() < 2 || &c == svc) continue;
-    if (auto bd = bd_rate(rate_points(c, false), rate_points(*svc, false))) {
+  return nullptr;
+}
+
+// BD-rate of the reference against each other codec, on PSNR-Y (over the whole overlap
+// and over kTargetPsnrRange) and PSNR-RGB.
+void compute_bd_rates(BenchResults* results) {
+  const CodecResult* reference = bd_reference(results->codecs);
+  if (!reference) return;
+  results->bd_reference = reference->name;
+  for (CodecResult& c : results->codecs) {
+    if (c.skipped || c.points.size() < 2 || &c == reference) continue;
+    if (auto bd = bd_rate(rate_points(c, false), rate_points(*reference, false))) {
       c.bd_rate_svc = bd->ratio - 1;
       c.bd_range_y = {bd->psnr_low, bd->psnr_high};
     }
-    if (auto bd = bd_rate(rate_points(c, true), rate_points(*svc, true))) {
+    if (auto bd = bd_rate(rate_points(c, false), rate_points(*reference, false), kTargetPsnrRange[0],
+                          kTargetPsnrRange[1])) {
+      c.bd_rate_svc_target = bd->ratio - 1;
+      c.bd_range_target = {bd->psnr_low, bd->psnr_high};
+    }
+    if (auto bd = bd_rate(rate_points(c, true), rate_points(*reference, true))) {
       c.bd_rate_svc_rgb = bd->ratio - 1;
       c.bd_range_rgb = {bd->psnr_low, bd->psnr_high};
     }
@@ -152,7 +166,7 @@ Result<BenchResults> run_bench(const BenchOptions& options) {
             options.db_dir.string());
 
   Status status = run_codecs(bench, ordered, options, &results);
-  if (status.ok()) compute_bd_rates(&results.codecs);
+  if (status.ok()) compute_bd_rates(&results);
   const bool has_svc = std::find(ordered.begin(), ordered.end(), "svc") != ordered.end();
   if (status.ok() && options.experiments && has_svc) {
     bench.log("dissertation experiments: table 7.5, figure 7.16, table 7.4");

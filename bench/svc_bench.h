@@ -129,6 +129,10 @@ struct CodecResult {
   // equal quality, averaged over the overlapping PSNR range (negative: svc smaller).
   std::optional<double> bd_rate_svc;
   std::array<double, 2> bd_range_y{0, 0};  // PSNR-Y range it was averaged over (dB)
+  // The same over PSNR-Y 32-40 dB only (kTargetPsnrRange), the range the project's
+  // targets are stated over; nullopt where the curves do not both cover part of it.
+  std::optional<double> bd_rate_svc_target;
+  std::array<double, 2> bd_range_target{0, 0};
   // The same on PSNR-RGB.
   std::optional<double> bd_rate_svc_rgb;
   std::array<double, 2> bd_range_rgb{0, 0};
@@ -199,8 +203,13 @@ struct PartTiming {
   double seconds = 0;
 };
 
+inline constexpr std::array<double, 2> kTargetPsnrRange{32, 40};
+
 struct BenchResults {
   std::string database;  // db_dir as given
+  // The codec every BD-rate is against: svc, else the first of svc-regular and svc-intra
+  // that ran (empty: none ran, no BD-rate). The fields named bd_rate_svc hold its BD-rate.
+  std::string bd_reference;
   std::array<int, 3> grid{1, 1, 1};
   uint64_t cells = 0;
   uint64_t faces = 0;

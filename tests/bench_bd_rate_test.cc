@@ -51,6 +51,30 @@ TEST(BenchBdRate, UniformScaleIsExactAndSwappingInvertsIt) {
   EXPECT_NEAR(bd_rate(anchor, anchor)->ratio, 1.0, 1e-15);
 }
 
+TEST(BenchBdRate, WindowAveragesOverItsPartOfTheOverlapOnly) {
+  // The test curve is 20 % smaller up to 36 dB and the same above: over 32-35 dB (whose
+  // knots' PCHIP slopes see only the smaller part) the BD-rate is exactly -20 %, over the
+  // whole overlap less.
+  std::vector<RatePoint> anchor, test;
+  for (int q = 0; q < 9; ++q) {
+    const double psnr = 30.0 + q, bytes = 1000.0 * std::pow(1.5, q);
+    anchor.push_back({bytes, psnr});
+    test.push_back({psnr <= 36 ? bytes * 0.8 : bytes, psnr});
+  }
+  const auto low = bd_rate(anchor, test, 32, 35);
+  ASSERT_TRUE(low.has_value());
+  EXPECT_NEAR(low->ratio, 0.8, 1e-12);
+  EXPECT_DOUBLE_EQ(low->psnr_low, 32);
+  EXPECT_DOUBLE_EQ(low->psnr_high, 35);
+  const auto whole = bd_rate(anchor, test);
+  ASSERT_TRUE(whole.has_value());
+  EXPECT_GT(whole->ratio, low->ratio + 0.02);
+  EXPECT_DOUBLE_EQ(whole->psnr_low, 30);
+  EXPECT_DOUBLE_EQ(whole->psnr_high, 38);
+  // A window the curves do not reach: no BD-rate.
+  EXPECT_FALSE(bd_rate(anchor, test, 40, 44).has_value());
+}
+
 TEST(BenchBdRate, PchipIntegralIsExactOnSegmentsAndMonotone) {
   // Two points: a straight line.
   EXPECT_NEAR(pchip_integral({0, 2}, {1, 5}, 0, 2), 6.0, 1e-12);

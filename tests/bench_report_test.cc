@@ -136,6 +136,7 @@ BenchResults sample_results() {
   r.face_width = r.face_height = 32;
   r.raw_bytes = 54 * 32 * 32 * 3;
   r.threads = 2;
+  r.bd_reference = "svc";
   CodecResult svc;
   svc.name = "svc";
   svc.encoder = "svc";
@@ -175,6 +176,7 @@ TEST(BenchWriters, JsonHoldsEveryCodecAndPoint) {
   EXPECT_EQ(j["codecs"][0]["points"][1]["bytes"], 8000);
   EXPECT_DOUBLE_EQ(j["codecs"][0]["points"][1]["psnr_y"].get<double>(), 41.5);
   EXPECT_DOUBLE_EQ(j["codecs"][0]["random_access"]["cold"]["mean_frames_decoded"].get<double>(), 1.9);
+  EXPECT_EQ(j["bd_reference"], "svc");
   EXPECT_TRUE(j["codecs"][0]["bd_rate_svc"].is_null());
   EXPECT_TRUE(j["codecs"][1]["skipped"].get<bool>());
   EXPECT_EQ(j["codecs"][1]["skip_reason"], "no AV1 encoder in this build of libavcodec");
@@ -204,13 +206,16 @@ TEST(BenchWriters, RankingPutsTheBetterCodecsFirstAndNamesWhereSvcLoses) {
   x265.description = "GOP 9, 2 B-frames, open GOP, preset medium";
   x265.points = r.codecs[2].points;
   x265.bd_rate_svc = 0.15;
-  x265.bd_range_y = {32.0, 40.0};
+  x265.bd_range_y = {31.0, 41.0};
+  x265.bd_rate_svc_target = 0.14;
+  x265.bd_range_target = {32.0, 40.0};
   x265.bd_rate_svc_rgb = 0.12;
   x265.bd_range_rgb = {31.5, 36.0};
   x265.access_cold = {10, 1.0, 2.0, 4.36, 10};
   r.codecs.push_back(x265);
   const std::string md = ranking_markdown(r);
-  const size_t x265_row = md.find("| 1 | x265 | +15.0% (32.0-40.0 dB) | +12.0% (31.5-36.0 dB) |");
+  const size_t x265_row =
+      md.find("| 1 | x265 | +15.0% (31.0-41.0 dB) | +14.0% (32.0-40.0 dB) | +12.0% (31.5-36.0 dB) |");
   const size_t svc_row = md.find("| 2 | svc | 0 (reference)");
   const size_t jpeg_row = md.find("| 3 | jpeg | -25.0%");
   EXPECT_NE(x265_row, std::string::npos) << md;
@@ -223,6 +228,18 @@ TEST(BenchWriters, RankingPutsTheBetterCodecsFirstAndNamesWhereSvcLoses) {
   EXPECT_NE(md.find("**svc loses to x265 (+15.0%)**"), std::string::npos) << md;
   EXPECT_NE(md.find("svc is smaller than jpeg (-25.0%)"), std::string::npos) << md;
   EXPECT_EQ(md.find("| av1 |"), std::string::npos) << "a skipped codec has no rank";
+}
+
+TEST(BenchWriters, RankingIsAgainstTheSvcLayoutThatRanWhenSvcDidNot) {
+  BenchResults r = sample_results();
+  r.codecs[0].name = "svc-intra";
+  r.bd_reference = "svc-intra";
+  const std::string md = ranking_markdown(r);
+  EXPECT_NE(md.find("BD-rate of svc-intra, PSNR-Y (range)"), std::string::npos) << md;
+  EXPECT_NE(md.find("| svc-intra | 0 (reference)"), std::string::npos) << md;
+  EXPECT_NE(md.find("svc-intra needs fewer bytes than every anchor here"), std::string::npos) << md;
+  r.bd_reference.clear();
+  EXPECT_NE(ranking_markdown(r).find("No svc layout ran"), std::string::npos);
 }
 
 TEST(BenchWriters, SummaryTableShowsBdRateAndSkips) {

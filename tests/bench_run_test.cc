@@ -145,6 +145,7 @@ TEST_F(BenchRun, BdRateMatchesTheCurvesInTheResults) {
     }
     ASSERT_TRUE(c.bd_rate_svc.has_value()) << c.name;
     EXPECT_NEAR(*c.bd_rate_svc, *expected - 1, 1e-12) << c.name;
+    EXPECT_EQ(results_->bd_reference, "svc");
     // The same on PSNR-RGB, with the overlap it was averaged over.
     auto rgb_points = [](const CodecResult& r) {
       std::vector<RatePoint> points;
