@@ -32,22 +32,10 @@ void rgb_to_chroma_row_c(const uint8_t* row0, const uint8_t* row1, int width, ui
 void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out);
 void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out);
-void intra_predict_16x8_c(const uint8_t* edge, int mode, uint8_t* out);
-void intra_predict_8x16_c(const uint8_t* edge, int mode, uint8_t* out);
-void intra_predict_16x4_c(const uint8_t* edge, int mode, uint8_t* out);
-void intra_predict_4x16_c(const uint8_t* edge, int mode, uint8_t* out);
-void intra_predict_8x4_c(const uint8_t* edge, int mode, uint8_t* out);
-void intra_predict_4x8_c(const uint8_t* edge, int mode, uint8_t* out);
-// The plain kernel of a rectangular shape (the SIMD variants' DC, and planar on NEON).
+// The plain kernels of the rectangular W x H blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8;
+// also the SIMD variants' DC, and planar on NEON).
 template <int W, int H>
-constexpr auto plain_rectangular_predictor() {
-  if constexpr (W == 16 && H == 8) return intra_predict_16x8_c;
-  if constexpr (W == 8 && H == 16) return intra_predict_8x16_c;
-  if constexpr (W == 16 && H == 4) return intra_predict_16x4_c;
-  if constexpr (W == 4 && H == 16) return intra_predict_4x16_c;
-  if constexpr (W == 8 && H == 4) return intra_predict_8x4_c;
-  if constexpr (W == 4 && H == 8) return intra_predict_4x8_c;
-}
+void intra_predict_rectangular_c(const uint8_t* edge, int mode, uint8_t* out);
 // The reference row of an angular mode (2..34), smoothed where the mode asks:
 // main[kIntraAngularReferenceOffset + k], k = -8..17, is sample k of the projected edge.
 inline constexpr int kIntraAngularReferenceOffset = 8;

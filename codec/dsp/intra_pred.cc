@@ -328,24 +328,16 @@ void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {
 void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<4>(edge, mode, out); }
 void intra_predict_8x8_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<8>(edge, mode, out); }
 void intra_predict_16x16_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<16>(edge, mode, out); }
-void intra_predict_16x8_c(const uint8_t* edge, int mode, uint8_t* out) {
-  predict_rectangular<16, 8>(edge, mode, out);
+template <int W, int H>
+void intra_predict_rectangular_c(const uint8_t* edge, int mode, uint8_t* out) {
+  predict_rectangular<W, H>(edge, mode, out);
 }
-void intra_predict_8x16_c(const uint8_t* edge, int mode, uint8_t* out) {
-  predict_rectangular<8, 16>(edge, mode, out);
-}
-void intra_predict_16x4_c(const uint8_t* edge, int mode, uint8_t* out) {
-  predict_rectangular<16, 4>(edge, mode, out);
-}
-void intra_predict_4x16_c(const uint8_t* edge, int mode, uint8_t* out) {
-  predict_rectangular<4, 16>(edge, mode, out);
-}
-void intra_predict_8x4_c(const uint8_t* edge, int mode, uint8_t* out) {
-  predict_rectangular<8, 4>(edge, mode, out);
-}
-void intra_predict_4x8_c(const uint8_t* edge, int mode, uint8_t* out) {
-  predict_rectangular<4, 8>(edge, mode, out);
-}
+template void intra_predict_rectangular_c<16, 8>(const uint8_t*, int, uint8_t*);
+template void intra_predict_rectangular_c<8, 16>(const uint8_t*, int, uint8_t*);
+template void intra_predict_rectangular_c<16, 4>(const uint8_t*, int, uint8_t*);
+template void intra_predict_rectangular_c<4, 16>(const uint8_t*, int, uint8_t*);
+template void intra_predict_rectangular_c<8, 4>(const uint8_t*, int, uint8_t*);
+template void intra_predict_rectangular_c<4, 8>(const uint8_t*, int, uint8_t*);
 int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
   return satd<4>(source, source_stride, prediction);
 }
@@ -357,12 +349,12 @@ void init_intra_c(DspTable* table) {
   table->intra_predict_4x4 = intra_predict_4x4_c;
   table->intra_predict_8x8 = intra_predict_8x8_c;
   table->intra_predict_16x16 = intra_predict_16x16_c;
-  table->intra_predict_16x8 = intra_predict_16x8_c;
-  table->intra_predict_8x16 = intra_predict_8x16_c;
-  table->intra_predict_16x4 = intra_predict_16x4_c;
-  table->intra_predict_4x16 = intra_predict_4x16_c;
-  table->intra_predict_8x4 = intra_predict_8x4_c;
-  table->intra_predict_4x8 = intra_predict_4x8_c;
+  table->intra_predict_16x8 = intra_predict_rectangular_c<16, 8>;
+  table->intra_predict_8x16 = intra_predict_rectangular_c<8, 16>;
+  table->intra_predict_16x4 = intra_predict_rectangular_c<16, 4>;
+  table->intra_predict_4x16 = intra_predict_rectangular_c<4, 16>;
+  table->intra_predict_8x4 = intra_predict_rectangular_c<8, 4>;
+  table->intra_predict_4x8 = intra_predict_rectangular_c<4, 8>;
   table->satd_4x4 = satd_4x4_c;
   table->satd_8x8 = satd_8x8_c;
 }

@@ -63,7 +63,7 @@ void intra_predict_neon(const uint8_t* edge, int mode, uint8_t* out) {
 template <int W, int H>
 void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out) {
   if (mode < 2) {
-    plain_rectangular_predictor<W, H>()(edge, mode, out);
+    intra_predict_rectangular_c<W, H>(edge, mode, out);
     return;
   }
   uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
