@@ -1,0 +1,173 @@
+// Decoding speed of one .svc file, measured as `svc bench` measures svc's (docs/bench.md):
+// every face through a fresh Reader in cell order on one thread (faces/s), the same on
+// all threads, and cold access to one whole cell (a fresh reader, one decode thread, the
+// cell's reference I-faces and its six faces).
+//
+//   build/bin/svc-bench-decode FILE.svc [--repeat 5] [--threads 0] [--cells 12]
+//                              [--mode all|sequential|parallel|cells|checksum]
+//
+// Each figure is the median over --repeat passes; the one-thread pass is the one to
+// profile (`perf record build/bin/svc-bench-decode FILE --mode sequential`). The
+// checksum (FNV-1a over every decoded face's RGB, in cell order) shows that a change to
+// the decoder left its output as it was.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "svc/reader.h"
+
+namespace {
+
+using namespace svc;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+uint64_t fnv1a(uint64_t hash, const std::vector<uint8_t>& bytes) {
+  for (uint8_t b : bytes) hash = (hash ^ b) * 0x100000001b3ull;
+  return hash;
+}
+
+// Every face of the file in cell order, RGB out, as `svc bench` times it. Returns seconds.
+Result<double> decode_all(const std::string& file, int threads) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  settings.decode_threads = threads;
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
+  const auto& cells = reader->cells();
+  const size_t faces = cells.size() * kFaceCount;
+  const auto t0 = Clock::now();
+  if (threads == 1) {
+    for (size_t k = 0; k < faces; ++k) {
+      SVC_RETURN_IF_ERROR(reader->decode_face(cells[k / kFaceCount].index, kAllFaces[k % kFaceCount]).status());
+    }
+    return seconds_since(t0);
+  }
+  std::vector<std::thread> workers;
+  std::vector<Status> failures(static_cast<size_t>(threads), Status::Ok());
+  for (int t = 0; t < threads; ++t) {
+    workers.emplace_back([&, t] {
+      for (size_t k = static_cast<size_t>(t); k < faces; k += static_cast<size_t>(threads)) {
+        Status s = reader->decode_face(cells[k / kFaceCount].index, kAllFaces[k % kFaceCount]).status();
+        if (!s.ok()) {
+          failures[static_cast<size_t>(t)] = s;
+          return;
+        }
+      }
+    });
+  }
+  for (auto& w : workers) w.join();
+  for (const Status& s : failures) SVC_RETURN_IF_ERROR(s);
+  return seconds_since(t0);
+}
+
+// Cold access to `count` cells spread over the file: a fresh one-thread reader each.
+// Returns the mean milliseconds and the mean faces decoded.
+Result<std::pair<double, double>> cold_cells(const std::string& file, int count) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  settings.decode_threads = 1;
+  std::vector<CellIndex> picks;
+  {
+    SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
+    const auto& cells = reader->cells();
+    for (int i = 0; i < count && !cells.empty(); ++i) {
+      picks.push_back(cells[(static_cast<size_t>(i) * 7919 + 13) % cells.size()].index);
+    }
+  }
+  double ms = 0, faces = 0;
+  for (const CellIndex& cell : picks) {
+    const auto t0 = Clock::now();
+    SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
+    SVC_RETURN_IF_ERROR(reader->decode_cube(cell).status());
+    ms += seconds_since(t0) * 1e3;
+    const ReaderStats stats = reader->stats();
+    faces += static_cast<double>(stats.intra_faces_parsed + stats.predicted_faces_decoded);
+  }
+  const double n = std::max<double>(1, static_cast<double>(picks.size()));
+  return std::pair{ms / n, faces / n};
+}
+
+Result<uint64_t> checksum(const std::string& file) {
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file));
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (const auto& cell : reader->cells()) {
+    for (Face f : kAllFaces) {
+      SVC_ASSIGN_OR_RETURN(ImageRGB8 image, reader->decode_face(cell.index, f));
+      hash = fnv1a(hash, image.pixels);
+    }
+  }
+  return hash;
+}
+
+int run(const std::string& file, int repeat, int threads, int cells, const std::string& mode) {
+  auto fail = [&](const Status& s) {
+    std::fprintf(stderr, "svc-bench-decode: %s\n", s.message().c_str());
+    return 1;
+  };
+  auto opened = Reader::open(file);
+  if (!opened.ok()) return fail(opened.status());
+  const double faces = static_cast<double>((*opened)->cells().size() * kFaceCount);
+  opened->reset();
+  if (mode == "checksum") {
+    auto hash = checksum(file);
+    if (!hash.ok()) return fail(hash.status());
+    std::printf("%s: %.0f faces, checksum %016llx\n", file.c_str(), faces, static_cast<unsigned long long>(*hash));
+    return 0;
+  }
+  std::vector<double> one, all, cold;
+  double cold_faces = 0;
+  for (int r = 0; r < repeat; ++r) {
+    if (mode != "parallel" && mode != "cells") {
+      auto s = decode_all(file, 1);
+      if (!s.ok()) return fail(s.status());
+      one.push_back(faces / *s);
+    }
+    if (mode == "all" || mode == "parallel") {
+      auto s = decode_all(file, threads);
+      if (!s.ok()) return fail(s.status());
+      all.push_back(faces / *s);
+    }
+    if (mode == "all" || mode == "cells") {
+      auto c = cold_cells(file, cells);
+      if (!c.ok()) return fail(c.status());
+      cold.push_back(c->first);
+      cold_faces = c->second;
+    }
+  }
+  std::printf("%s: %.0f faces\n", file.c_str(), faces);
+  if (!one.empty()) std::printf("  decode, 1 thread      %8.1f faces/s (median of %d)\n", median(one), repeat);
+  if (!all.empty()) std::printf("  decode, %2d threads    %8.1f faces/s\n", threads, median(all));
+  if (!cold.empty()) {
+    std::printf("  cold cell, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d cells)\n", median(cold),
+                cold_faces, cells);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Decoding speed of an .svc file: faces/s on one thread and on all, cold cell access"};
+  std::string file, mode = "all";
+  int repeat = 5, threads = 0, cells = 12;
+  app.add_option("file", file, ".svc file")->required()->check(CLI::ExistingFile);
+  app.add_option("--repeat", repeat, "passes; each figure is their median")->check(CLI::Range(1, 1000));
+  app.add_option("--threads", threads, "threads of the parallel pass (0: all cores)")->check(CLI::Range(0, 1024));
+  app.add_option("--cells", cells, "cells of the cold-access pass")->check(CLI::Range(1, 100000));
+  app.add_option("--mode", mode, "what to measure")
+      ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "checksum"}));
+  CLI11_PARSE(app, argc, argv);
+  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return run(file, repeat, threads, cells, mode);
+}
