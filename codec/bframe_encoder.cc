@@ -875,13 +875,14 @@ class BFrameEncoder {
     const int visible_w = visible_w_[0] + visible_w_[1], visible_h = visible_h_[0] + visible_h_[2];
     const int64_t uncoded_error = squared_error(src, source_stride, prediction.y.data(), 16, visible_w, visible_h);
     int16_t* levels = out->luma_levels.data();
+    float levels_bits = 0;
     const int nonzero = transform_quantize_block_rd(s_.inter_quantizer_16x16, residual, quantize_rd_, c.inter_luma,
-                                                    0, kNoCodedBlockFlag, static_cast<float>(lambda_), levels);
+                                                    0, kNoCodedBlockFlag, static_cast<float>(lambda_), levels,
+                                                    TransformType::kDctDct, &levels_bits);
     if (nonzero > 0) {
       reconstruct_residual_block(s_.inter_quantizer_16x16, levels, prediction.y.data(), 16, reconstruction, 16);
       const int64_t coded_error = squared_error(src, source_stride, reconstruction, 16, visible_w, visible_h);
-      const float coded_bits = bit_cost(cbp_model, 1) +
-                               block_levels_bits(c.inter_luma, levels, 0, kNoCodedBlockFlag, TransformSize::k16x16);
+      const float coded_bits = bit_cost(cbp_model, 1) + levels_bits;
       if (coded_error + lambda_ * coded_bits < uncoded_error + lambda_ * bit_cost(cbp_model, 0)) {
         *distortion += coded_error;
         *bits += coded_bits;
@@ -907,13 +908,15 @@ class BFrameEncoder {
       int16_t* quarter_levels = levels + 16 * k;
       const uint8_t* quarter_pred = pred + row * stride + column;
       uint8_t* out = reconstruction + 8 * row + column;
+      float levels_bits = 0;
       if (transform_quantize_block_rd(s_.inter_quantizer_4x4, quarter, quantize_rd_, contexts, 0, 0,
-                                      static_cast<float>(lambda_), quarter_levels) > 0) {
+                                      static_cast<float>(lambda_), quarter_levels, TransformType::kDctDct,
+                                      &levels_bits) > 0) {
         reconstruct_residual_block(s_.inter_quantizer_4x4, quarter_levels, quarter_pred, stride, out, 8);
       } else {
         for (int y = 0; y < 4; ++y) std::copy_n(quarter_pred + y * stride, 4, out + 8 * y);
       }
-      *bits += block_levels_bits(contexts, quarter_levels, 0, 0, TransformSize::k4x4);
+      *bits += levels_bits;
     }
     return squared_error(source_block(b), source_.strides[0], reconstruction, 8, visible_w_[b], visible_h_[b]);
   }
@@ -943,12 +946,13 @@ class BFrameEncoder {
     if (plane == 0) out->split[b] = false;
     int16_t* levels = out->levels[b].data();
     uint8_t trial[64];
+    float levels_bits = 0;
     if (transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_, contexts, 0, kNoCodedBlockFlag,
-                                    static_cast<float>(lambda_), levels) > 0) {
+                                    static_cast<float>(lambda_), levels, TransformType::kDctDct,
+                                    &levels_bits) > 0) {
       reconstruct_residual_block(s_.inter_quantizer, levels, pred, stride, trial, 8);
       const int64_t error = squared_error(src, source_stride, trial, 8, visible_w_[b], visible_h_[b]);
-      const float coded_bits = bit_cost(cbp_model, 1) + (sizes ? bit_cost(c.luma_4x4, 0) : 0.0f) +
-                               block_levels_bits(contexts, levels, 0, kNoCodedBlockFlag);
+      const float coded_bits = bit_cost(cbp_model, 1) + (sizes ? bit_cost(c.luma_4x4, 0) : 0.0f) + levels_bits;
       if (error + lambda_ * coded_bits < best_error + lambda_ * best_bits) {
         best_error = error;
         best_bits = coded_bits;

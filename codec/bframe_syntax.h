@@ -15,10 +15,9 @@ namespace svc::codec::bframe {
 // -log2 of a probability in steps of 8/32768, built once; inline so the per-bit cost
 // of the encoder's estimates is a table read, not a call.
 std::array<float, 4097> make_cost_table();
-inline const std::array<float, 4097>& cost_table() {
-  static const std::array<float, 4097> table = make_cost_table();
-  return table;
-}
+// A namespace-scope table, not a function's static: no guard check on every bit.
+inline const std::array<float, 4097> kCostTable = make_cost_table();
+inline const std::array<float, 4097>& cost_table() { return kCostTable; }
 
 inline float bit_cost(const AdaptiveBit& model, int bit) {
   uint32_t p = model.probability_of_zero();

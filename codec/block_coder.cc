@@ -301,10 +301,31 @@ float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, 
   return sink.bits;
 }
 
-float end_of_block_bits(const BlockContextSet& contexts, int first_scan, int last_scan, TransformSize size) {
+float uncoded_block_bits(const BlockContextSet& contexts, int coded_block_context) {
   CostSink sink;
-  write_end_of_block(sink, contexts, scan_order(size), size, first_scan, last_scan);
+  if (coded_block_context >= 0) sink.bit(contexts.coded_block[coded_block_context], 0);
   return sink.bits;
+}
+
+EndOfBlockPricer::EndOfBlockPricer(const BlockContextSet& contexts, int first_scan, TransformSize size)
+    : extra_(contexts.eob_extra[static_cast<size_t>(size)].data()), first_scan_(first_scan) {
+  const auto& classes = contexts.eob_class[static_cast<size_t>(size)];
+  const int max_class = end_of_block_class(scan_order(size).count - first_scan);
+  float unary = 0;  // the sum CostSink forms over the leading 1 bits
+  for (int c = 0; c <= max_class; ++c) {
+    class_bits_[static_cast<size_t>(c)] = c < max_class ? unary + bframe::bit_cost(classes[c], 0) : unary;
+    if (c < max_class) unary += bframe::bit_cost(classes[c], 1);
+  }
+}
+
+float EndOfBlockPricer::bits(int last_scan) const {
+  const int eob = last_scan - first_scan_ + 1, eob_class = end_of_block_class(eob);
+  float bits = class_bits_[static_cast<size_t>(eob_class)];
+  if (eob_class < 2) return bits;
+  const int extra_bits = eob_class - 1, offset = eob - class_first_eob(eob_class);
+  bits += bframe::bit_cost(extra_[eob_class], (offset >> (extra_bits - 1)) & 1);
+  for (int b = extra_bits - 2; b >= 0; --b) bits += 1;
+  return bits;
 }
 
 float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours, int position,

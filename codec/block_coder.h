@@ -154,12 +154,27 @@ bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int f
 // probabilities (unchanged).
 float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int first_scan,
                         int coded_block_context, TransformSize size = TransformSize::k8x8);
+// block_levels_bits of a block without levels: its coded-block flag (0), if coded.
+float uncoded_block_bits(const BlockContextSet& contexts, int coded_block_context);
 
 // Encoder only, for rate-distortion quantization: bits of the end-of-block position
-// `last_scan`, and of one non-zero magnitude with its sign at natural `position`, given
+// `last_scan` (first_scan .. the size's count - 1), the sum write_end_of_block forms,
+// from per-class partial sums taken once for the many positions a search prices.
+class EndOfBlockPricer {
+ public:
+  EndOfBlockPricer(const BlockContextSet& contexts, int first_scan, TransformSize size);
+  float bits(int last_scan) const;
+
+ private:
+  const AdaptiveBit* extra_;  // eob_extra of the size
+  int first_scan_;
+  // Per end-of-block class: its unary bits and terminating bit (if any), summed in order.
+  std::array<float, kMaxEobClasses + 1> class_bits_{};
+};
+
+// Encoder only: bits of one non-zero magnitude with its sign at natural `position`, given
 // the magnitudes coded before it and its `base_context` (significance context, or
-// last_level_context at the end of block); neither includes the significance flag.
-float end_of_block_bits(const BlockContextSet& contexts, int first_scan, int last_scan, TransformSize size);
+// last_level_context at the end of block), without the significance flag.
 float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours, int position,
                      int base_context, int magnitude);
 

@@ -504,20 +504,19 @@ class BlockSearch {
       for (int x = 0; x < w; ++x)
         residual[w * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[w * y + x]);
     }
+    float levels_bits = 0;
     trial->coded = transform_quantize_block_rd(quantizer, residual, rdoq_, contexts, 0, cbf_context, lambda_,
-                                               trial->levels, type) > 0;
+                                               trial->levels, type, &levels_bits) > 0;
     trial->transform_type = trial->coded ? type : TransformType::kDctDct;
-    const int16_t zero[kMaxTransformArea] = {};
-    const float uncoded_cost =
-        static_cast<float>(block_sse(source, stride, trial->prediction, size)) +
-        lambda_ * (mode_bits + block_levels_bits(contexts, zero, 0, cbf_context, quantizer.size));
+    const float uncoded_cost = static_cast<float>(block_sse(source, stride, trial->prediction, size)) +
+                               lambda_ * (mode_bits + uncoded_block_bits(contexts, cbf_context));
     if (!trial->coded) return uncoded_cost;
     uint8_t reconstructed[kMaxTransformArea];
     dequantize_block(quantizer, trial->levels, coefficients);
     reconstruct_block(trial->prediction, coefficients, type, size, reconstructed, w);
     const float coded_cost =
         static_cast<float>(block_sse(source, stride, reconstructed, size)) +
-        lambda_ * (mode_bits + block_levels_bits(contexts, trial->levels, 0, cbf_context, quantizer.size) +
+        lambda_ * (mode_bits + levels_bits +
                    transform_type_bits(plane_contexts.types, quantizer.size, trial->mode, type));
     if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;
     trial->coded = false;

@@ -125,12 +125,6 @@ int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_
   return count;
 }
 
-int dequantize_level(const Quantizer& quantizer, int index, int level) {
-  const int magnitude =
-      (std::min(std::abs(level), kMaxLevel + 1) * quantizer.scale[index] + (1 << (kStepBits - 1))) >> kStepBits;
-  return level < 0 ? std::max(-magnitude, kMinCoefficient) : std::min(magnitude, kMaxCoefficient);
-}
-
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int area = transform_area(quantizer.size);

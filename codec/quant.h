@@ -6,9 +6,12 @@
 // make_quantizer() and may be shared between threads.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 
+#include "codec/dct.h"
 #include "codec/transform_size.h"
 #include "codec/transform_type.h"
 
@@ -89,8 +92,13 @@ Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix
 int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
 
 // Exact integer dequantization of one level at natural position `index`, saturated to
-// [kMinCoefficient, kMaxCoefficient].
-int dequantize_level(const Quantizer& quantizer, int index, int level);
+// [kMinCoefficient, kMaxCoefficient]. Inline: the encoder's rate-distortion loops call
+// it per coefficient and trial.
+inline int dequantize_level(const Quantizer& quantizer, int index, int level) {
+  const int magnitude =
+      (std::min(std::abs(level), kMaxLevel + 1) * quantizer.scale[index] + (1 << (kStepBits - 1))) >> kStepBits;
+  return level < 0 ? std::max(-magnitude, kMinCoefficient) : std::min(magnitude, kMaxCoefficient);
+}
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients);
 
 // Forward transform (the DCT, or an intra transform type) + quantization of one block

@@ -85,11 +85,12 @@ class RdoqSearch {
     }
     const float coded_bits =
         coded_block_context >= 0 ? bframe::bit_cost(contexts_.coded_block[coded_block_context], 1) : 0.0f;
+    const EndOfBlockPricer end_of_block(contexts_, first_scan, size);
     for (int k = last_scan; k >= first_scan; --k) {
       const Decision& d = decisions_[static_cast<size_t>(k)];
       if (d.last_cost < kInfinity) {
         const float cost = zero_tail + d.last_cost + below_cost[static_cast<size_t>(k)] +
-                           lambda_ * (coded_bits + end_of_block_bits(contexts_, first_scan, k, size));
+                           lambda_ * (coded_bits + end_of_block.bits(k));
         if (cost < best_cost) {
           best_cost = cost;
           best_last = k;
@@ -115,21 +116,36 @@ int count_nonzero(const int16_t* levels, int count) {
   return static_cast<int>(std::count_if(levels, levels + count, [](int16_t v) { return v != 0; }));
 }
 
-}  // namespace
-
-double quantization_rd_cost(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
-                            const BlockContextSet& contexts, int first_scan, int coded_block_context,
-                            float lambda) {
+// quantization_rd_cost, with the bits it priced in *bits.
+double rd_cost_and_bits(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
+                        const BlockContextSet& contexts, int first_scan, int coded_block_context, float lambda,
+                        float* bits) {
   const ScanOrder& order = scan_order(quantizer.size);
   double error = 0;
   for (int i = first_scan; i < order.count; ++i) {
     error += squared_error(quantizer, coefficients, order.scan[i], levels[order.scan[i]]);
   }
-  return error + lambda * block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size);
+  *bits = block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size);
+  return error + lambda * *bits;
+}
+
+}  // namespace
+
+double quantization_rd_cost(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
+                            const BlockContextSet& contexts, int first_scan, int coded_block_context,
+                            float lambda) {
+  float bits = 0;
+  return rd_cost_and_bits(quantizer, coefficients, levels, contexts, first_scan, coded_block_context, lambda,
+                          &bits);
 }
 
 int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, const BlockContextSet& contexts,
-                        int first_scan, int coded_block_context, float lambda, int16_t* levels) {
+                        int first_scan, int coded_block_context, float lambda, int16_t* levels,
+                        float* levels_bits) {
+  auto priced = [&](const int16_t* chosen) {
+    if (levels_bits != nullptr)
+      *levels_bits = block_levels_bits(contexts, chosen, first_scan, coded_block_context, quantizer.size);
+  };
   const TransformSize size = quantizer.size;
   const ScanOrder& order = scan_order(size);
   const int area = order.count;
@@ -143,7 +159,10 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   for (int i = order.count - 1; i >= first_scan && last_scan < 0; --i) {
     if (rounded[order.scan[i]] != 0) last_scan = i;
   }
-  if (last_scan < 0) return count_nonzero(levels, area);
+  if (last_scan < 0) {
+    priced(levels);
+    return count_nonzero(levels, area);
+  }
 
   RdoqSearch search(quantizer, coefficients, contexts, lambda);
   search.decide(order, rounded, first_scan, last_scan);
@@ -158,22 +177,37 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   }
   // The search's rates are estimates (contexts of neighbours it later dropped); keep
   // plain quantization where it is cheaper by the exact measure.
-  if (quantization_rd_cost(quantizer, coefficients, optimized, contexts, first_scan, coded_block_context, lambda) <
-      quantization_rd_cost(quantizer, coefficients, plain, contexts, first_scan, coded_block_context, lambda)) {
+  if (std::equal(optimized, optimized + area, plain)) {
+    priced(levels);
+    return count_nonzero(levels, area);
+  }
+  float optimized_bits = 0, plain_bits = 0;
+  if (rd_cost_and_bits(quantizer, coefficients, optimized, contexts, first_scan, coded_block_context, lambda,
+                       &optimized_bits) < rd_cost_and_bits(quantizer, coefficients, plain, contexts, first_scan,
+                                                           coded_block_context, lambda, &plain_bits)) {
     std::copy_n(optimized, area, levels);
+    if (levels_bits != nullptr) *levels_bits = optimized_bits;
+  } else if (levels_bits != nullptr) {
+    *levels_bits = plain_bits;
   }
   return count_nonzero(levels, area);
 }
 
 int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
                                 const BlockContextSet& contexts, int first_scan, int coded_block_context,
-                                float lambda, int16_t* levels, TransformType type) {
-  if (!rdoq) return transform_quantize_block(quantizer, samples, levels, type);
+                                float lambda, int16_t* levels, TransformType type, float* levels_bits) {
+  if (!rdoq) {
+    const int nonzero = transform_quantize_block(quantizer, samples, levels, type);
+    if (levels_bits != nullptr)
+      *levels_bits = block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size);
+    return nonzero;
+  }
   const int area = transform_area(quantizer.size);
   float input[kMaxCoefficients], coefficients[kMaxCoefficients];
   for (int i = 0; i < area; ++i) input[i] = samples[i];
   forward_transform(quantizer.size, type, input, coefficients);
-  return rdoq_quantize_block(quantizer, coefficients, contexts, first_scan, coded_block_context, lambda, levels);
+  return rdoq_quantize_block(quantizer, coefficients, contexts, first_scan, coded_block_context, lambda, levels,
+                             levels_bits);
 }
 
 }  // namespace svc::codec
