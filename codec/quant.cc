@@ -104,25 +104,37 @@ Quantizer make_quantizer(BlockKind kind, int qindex) {
 
 // The 8x8 kernels serve every size: 16x16 blocks as four runs of 64 values, 4x4 blocks
 // padded to 64.
-int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
+namespace {
+
+int quantize_with_rounding(const Quantizer& quantizer, const float* coefficients, float rounding_dc,
+                           float rounding_ac, int16_t* levels) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int area = transform_area(quantizer.size);
   if (area == 16) {
     float padded[64] = {};
     int16_t padded_levels[64];
     std::copy_n(coefficients, 16, padded);
-    const int count = dsp.quantize_8x8(padded, quantizer.inverse_step.data(), quantizer.rounding_dc,
-                                       quantizer.rounding_ac, padded_levels);
+    const int count =
+        dsp.quantize_8x8(padded, quantizer.inverse_step.data(), rounding_dc, rounding_ac, padded_levels);
     std::copy_n(padded_levels, 16, levels);
     return count;
   }
   int count = 0;
   for (int i = 0; i < area; i += 64) {
     count += dsp.quantize_8x8(coefficients + i, quantizer.inverse_step.data() + i,
-                              i == 0 ? quantizer.rounding_dc : quantizer.rounding_ac, quantizer.rounding_ac,
-                              levels + i);
+                              i == 0 ? rounding_dc : rounding_ac, rounding_ac, levels + i);
   }
   return count;
+}
+
+}  // namespace
+
+int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
+  return quantize_with_rounding(quantizer, coefficients, quantizer.rounding_dc, quantizer.rounding_ac, levels);
+}
+
+int quantize_block_nearest(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
+  return quantize_with_rounding(quantizer, coefficients, 0.5f, 0.5f, levels);
 }
 
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {

@@ -90,6 +90,8 @@ Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix
 // Quantizes DCT coefficients (natural order, quantizer.size) to levels in
 // [-kMaxLevel, kMaxLevel]. Returns the number of non-zero levels.
 int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
+// The same with rounding 0.5 for every level, whatever the quantizer's (RDOQ's start).
+int quantize_block_nearest(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
 
 // Exact integer dequantization of one level at natural position `index`, saturated to
 // [kMinCoefficient, kMaxCoefficient]. Inline: the encoder's rate-distortion loops call

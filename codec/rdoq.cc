@@ -19,13 +19,14 @@ float squared_error(const Quantizer& quantizer, const float* coefficients, int p
 }
 
 // Per scan index: the best level and its cost when the coefficient lies before the end of
-// block (with its significance flag) and when it is the last one.
+// block (with its significance flag) and when it is the last one. Trivial, so that the
+// search's table of 256 is not cleared for every block: decide() sets what is read.
 struct Decision {
-  int level = 0;
-  float cost = 0;
-  int last_level = 0;
-  float last_cost = 0;
-  float zero_cost = 0;  // squared error of level 0
+  int level;
+  float cost;
+  int last_level;
+  float last_cost;
+  float zero_cost;  // squared error of level 0
 };
 
 class RdoqSearch {
@@ -46,6 +47,7 @@ class RdoqSearch {
       d.level = 0;
       d.cost = d.zero_cost + lambda_ * bframe::bit_cost(contexts_.significant[context], 0);
       d.last_cost = kInfinity;
+      d.last_level = 0;
       const float significant_bits = bframe::bit_cost(contexts_.significant[context], 1);
       const int sign = upper < 0 ? -1 : 1;
       for (int magnitude = std::abs(upper); magnitude >= std::max(1, std::abs(upper) - 1); --magnitude) {
@@ -69,9 +71,9 @@ class RdoqSearch {
 
   // The end of block of least total cost (-1: no level at all), given decide()'s results.
   int choose_last(int first_scan, int last_scan, int coded_block_context, TransformSize size) const {
-    float zero_tail = 0;  // squared error of the positions after the candidate last
-    float below = 0;      // cost of the positions before it, as decided
-    std::array<float, kMaxCoefficients> below_cost{};
+    float zero_tail = 0;                             // squared error of the positions after the candidate last
+    float below = 0;                                 // cost of the positions before it, as decided
+    std::array<float, kMaxCoefficients> below_cost;  // set for first_scan .. last_scan
     for (int i = first_scan; i <= last_scan; ++i) {
       below_cost[static_cast<size_t>(i)] = below;
       below += decisions_[static_cast<size_t>(i)].cost;
@@ -109,7 +111,7 @@ class RdoqSearch {
   const float* coefficients_;
   const BlockContextSet& contexts_;
   float lambda_;
-  std::array<Decision, kMaxCoefficients> decisions_{};
+  std::array<Decision, kMaxCoefficients> decisions_;  // set by decide() for its range
 };
 
 int count_nonzero(const int16_t* levels, int count) {
@@ -151,9 +153,7 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   const int area = order.count;
   int16_t plain[kMaxCoefficients], rounded[kMaxCoefficients];
   quantize_block(quantizer, coefficients, plain);
-  Quantizer nearest = quantizer;
-  nearest.rounding_dc = nearest.rounding_ac = 0.5f;
-  quantize_block(nearest, coefficients, rounded);
+  quantize_block_nearest(quantizer, coefficients, rounded);
   std::copy_n(plain, area, levels);
   int last_scan = -1;
   for (int i = order.count - 1; i >= first_scan && last_scan < 0; --i) {
