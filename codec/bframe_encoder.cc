@@ -195,47 +195,6 @@ int sad_rect(const uint8_t* source, int source_stride, const uint8_t* prediction
   return sum;
 }
 
-// The first `limit` candidates of a partition: the lists of the 8x8 blocks it covers,
-// interleaved by rank without duplicates, so each block's best vectors come first.
-CandidateList partition_candidates(const MacroblockHints& hints, const PartitionRect& rect, size_t limit) {
-  std::array<const CandidateList*, 4> lists{};
-  int count = 0;
-  for (int b = 0; b < 4; ++b) {
-    const int x = 8 * (b & 1), y = 8 * (b >> 1);
-    if (x < rect.x || y < rect.y || x >= rect.x + rect.width || y >= rect.y + rect.height) continue;
-    if (hints.blocks[b] != nullptr) lists[count++] = hints.blocks[b];
-  }
-  if (count == 0) {
-    if (hints.macroblock == nullptr) return {};
-    const CandidateList& list = *hints.macroblock;
-    return CandidateList(list.begin(), list.begin() + static_cast<ptrdiff_t>(std::min(limit, list.size())));
-  }
-  CandidateList merged;
-  for (size_t rank = 0;; ++rank) {
-    bool any = false;
-    for (int l = 0; l < count; ++l) {
-      if (rank >= lists[l]->size()) continue;
-      any = true;
-      const MotionVector v = (*lists[l])[rank];
-      if (std::find(merged.begin(), merged.end(), v) == merged.end()) merged.push_back(v);
-      if (merged.size() >= limit) return merged;
-    }
-    if (!any) return merged;
-  }
-}
-
-// Whether the depth-derived motion differs across the macroblock's 8x8 blocks (their most
-// frequent vectors differ), or, without block lists, the macroblock has several vectors.
-bool motion_varies(const MacroblockHints& hints) {
-  const CandidateList* first = nullptr;
-  for (const CandidateList* list : hints.blocks) {
-    if (list == nullptr || list->empty()) continue;
-    if (first != nullptr && list->front() != first->front()) return true;
-    first = list;
-  }
-  return first == nullptr && hints.macroblock != nullptr && hints.macroblock->size() > 1;
-}
-
 // The vectors a search has priced: a small open-addressed set emptied in O(1) by moving
 // to the next generation.
 class VectorSet {
@@ -265,6 +224,61 @@ class VectorSet {
   std::array<uint32_t, kSlots> keys_{};
   std::array<uint32_t, kSlots> stamps_{};
   uint32_t generation_ = 1;
+};
+
+// The first `limit` candidates of a partition: the lists of the 8x8 blocks it covers,
+// interleaved by rank without duplicates, so each block's best vectors come first.
+// `listed` is cleared and left holding the candidates returned.
+CandidateList partition_candidates(const MacroblockHints& hints, const PartitionRect& rect, size_t limit,
+                                   VectorSet& listed) {
+  listed.clear();
+  std::array<const CandidateList*, 4> lists{};
+  int count = 0;
+  for (int b = 0; b < 4; ++b) {
+    const int x = 8 * (b & 1), y = 8 * (b >> 1);
+    if (x < rect.x || y < rect.y || x >= rect.x + rect.width || y >= rect.y + rect.height) continue;
+    if (hints.blocks[b] != nullptr) lists[count++] = hints.blocks[b];
+  }
+  if (count == 0) {
+    if (hints.macroblock == nullptr) return {};
+    const CandidateList& list = *hints.macroblock;
+    CandidateList first(list.begin(), list.begin() + static_cast<ptrdiff_t>(std::min(limit, list.size())));
+    for (const MotionVector& v : first) listed.insert(v);
+    return first;
+  }
+  CandidateList merged;
+  for (size_t rank = 0;; ++rank) {
+    bool any = false;
+    for (int l = 0; l < count; ++l) {
+      if (rank >= lists[l]->size()) continue;
+      any = true;
+      const MotionVector v = (*lists[l])[rank];
+      if (listed.insert(v)) merged.push_back(v);
+      if (merged.size() >= limit) return merged;
+    }
+    if (!any) return merged;
+  }
+}
+
+// Whether the depth-derived motion differs across the macroblock's 8x8 blocks (their most
+// frequent vectors differ), or, without block lists, the macroblock has several vectors.
+bool motion_varies(const MacroblockHints& hints) {
+  const CandidateList* first = nullptr;
+  for (const CandidateList* list : hints.blocks) {
+    if (list == nullptr || list->empty()) continue;
+    if (first != nullptr && list->front() != first->front()) return true;
+    first = list;
+  }
+  return first == nullptr && hints.macroblock != nullptr && hints.macroblock->size() > 1;
+}
+
+// A macroblock's vector predictors towards one reference in the line coordinates of its
+// epipolar line there (docs/codec.md 10.3), for pricing vectors against them.
+struct LinePredictors {
+  int count = 0;   // listed, as the predictor index is coded
+  int usable = 0;  // those the encoder may choose
+  LineDirection line;
+  std::array<LineCoordinates, kMaxVectorPredictors> coordinates{};
 };
 
 // Candidates priced per list at most, whatever BFrameParams::max_candidates says (the
@@ -621,21 +635,43 @@ class BFrameEncoder {
   }
 
   float vector_bits(int reference, MotionVector vector, const VectorPredictors& predictors) const {
+    return vector_bits(vector, line_predictors(reference, predictors));
+  }
+
+  float vector_bits(MotionVector vector, const LinePredictors& predictors) const {
     float bits = 0;
-    cheapest_predictor(reference, vector, predictors, &bits);
+    cheapest_predictor(vector, predictors, &bits);
     return bits;
+  }
+
+  // The usable predictors in the line coordinates of this macroblock's line towards
+  // `reference`: worked out once for the many vectors a search prices against them.
+  LinePredictors line_predictors(int reference, const VectorPredictors& predictors) const {
+    LinePredictors out;
+    out.count = predictors.count;
+    out.usable = usable_predictors(predictors.count);
+    out.line = macroblock_direction(s_, reference, mx_, my_);
+    for (int i = 0; i < out.usable; ++i) {
+      const MotionVector p = predictors.vectors[static_cast<size_t>(i)];
+      out.coordinates[static_cast<size_t>(i)] = to_line_coordinates(p.x, p.y, out.line);
+    }
+    return out;
+  }
+
+  int cheapest_predictor(int reference, MotionVector vector, const VectorPredictors& predictors,
+                         float* bits) const {
+    return cheapest_predictor(vector, line_predictors(reference, predictors), bits);
   }
 
   // The index of the predictor that codes `vector` in the fewest bits (the first of
   // equal ones), and those bits, index included.
-  int cheapest_predictor(int reference, MotionVector vector, const VectorPredictors& predictors,
-                         float* bits) const {
+  int cheapest_predictor(MotionVector vector, const LinePredictors& predictors, float* bits) const {
     int best = 0;
-    const LineDirection line = macroblock_direction(s_, reference, mx_, my_);
+    const LineDirection line = predictors.line;
     const LineCoordinates coordinates = to_line_coordinates(vector.x, vector.y, line);
-    for (int i = 0; i < usable_predictors(predictors.count); ++i) {
-      const MotionVector p = predictors.vectors[static_cast<size_t>(i)];
-      const std::array<int64_t, 2> d = line_difference(line, coordinates, to_line_coordinates(p.x, p.y, line));
+    for (int i = 0; i < predictors.usable; ++i) {
+      const std::array<int64_t, 2> d =
+          line_difference(line, coordinates, predictors.coordinates[static_cast<size_t>(i)]);
       const float candidate = predictor_index_bits(s_.contexts.predictor_index, predictors.count, i) +
                               mvd_costs_[0].bits(static_cast<int>(d[0])) +
                               mvd_costs_[1].bits(static_cast<int>(d[1]));
@@ -704,10 +740,11 @@ class BFrameEncoder {
     tried_.clear();
     MotionVector best = predictors.vectors[0];
     double best_cost = 1e300;
+    const LinePredictors priced = line_predictors(reference, predictors);
     auto try_vector = [&](MotionVector v) {
       v = clamp_vector(v);
       if (!tried_.insert(v)) return false;
-      const double rate = lambda_sad_ * vector_bits(reference, v, predictors);
+      const double rate = lambda_sad_ * vector_bits(v, priced);
       if (rate >= best_cost) return true;  // cannot win whatever its SAD
       const int sad = rect_sad(reference, rect, v);
       if (stats != nullptr) ++stats->sad_evaluations;
@@ -1006,9 +1043,9 @@ class BFrameEncoder {
       for (int r = 0; r < s_.reference_count; ++r) {
         part_predictors[r] = partition_predictors(motion, k, r, predictor_lists_[r]);
         // The 16x16 choice is tried too, within the max_candidates a search prices.
-        CandidateList list = partition_candidates(hints[r], rect, static_cast<size_t>(max_candidates_ - 1));
-        if (std::find(list.begin(), list.end(), macroblock_best[r]) == list.end())
-          list.push_back(macroblock_best[r]);
+        CandidateList list =
+            partition_candidates(hints[r], rect, static_cast<size_t>(max_candidates_ - 1), partition_listed_);
+        if (partition_listed_.insert(macroblock_best[r])) list.push_back(macroblock_best[r]);
         vectors[r] = search_reference(r, rect, part_predictors[r], list, stats);
         const ImageYCbCr420& ref = *s_.references[r];
         predict_block(ref.y.data(), ref.width, ref.height, PlaneKind::kLuma, 16 * reference_mb(s_, mx_) + rect.x,
@@ -1102,6 +1139,7 @@ class BFrameEncoder {
   std::array<VectorPredictors, 2> predictor_lists_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
   VectorSet tried_;
+  VectorSet partition_listed_;             // partition_candidates' duplicates check
   std::array<MvdCostTable, 2> mvd_costs_;  // per component, for the current macroblock
   std::array<WarpCache, 2> warp_cache_;
   // The intra frame's macroblock search at the frame's qindex and lambda: plain
