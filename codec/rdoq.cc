@@ -198,8 +198,11 @@ int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* sampl
                                 float lambda, int16_t* levels, TransformType type, float* levels_bits) {
   if (!rdoq) {
     const int nonzero = transform_quantize_block(quantizer, samples, levels, type);
-    if (levels_bits != nullptr)
-      *levels_bits = block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size);
+    if (levels_bits != nullptr) {
+      *levels_bits = nonzero > 0
+                         ? block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size)
+                         : uncoded_block_bits(contexts, coded_block_context);
+    }
     return nonzero;
   }
   const int area = transform_area(quantizer.size);
