@@ -134,6 +134,42 @@ TEST_F(RoundTrip, EveryCodingToolCanBeSwitchedOff) {
   for (const std::string& name : names) EXPECT_NE(unknown.message().find(name), std::string::npos) << name;
 }
 
+// Each speed setting switches off its documented tools, and only those; its stream
+// verifies and decodes to the encoder's quality. Settings outside the range change
+// nothing and say what is allowed.
+TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
+  EXPECT_TRUE(speed_disabled_tools(0).empty());
+  CodingTools previous;
+  for (int speed = 0; speed <= kMaxEncoderSpeed; ++speed) {
+    EncoderSettings settings;
+    ASSERT_TRUE(apply_encoder_speed(&settings.tools, speed).ok()) << speed;
+    CodingTools expected;
+    for (const std::string& name : speed_disabled_tools(speed))
+      ASSERT_TRUE(disable_coding_tool(&expected, name).ok());
+    EXPECT_EQ(settings.tools, expected) << speed;
+    if (speed > 0) {
+      EXPECT_FALSE(settings.tools == previous) << "speed " << speed << " adds no tool to the one below";
+      EXPECT_GT(speed_disabled_tools(speed).size(), speed_disabled_tools(speed - 1).size());
+    }
+    previous = settings.tools;
+    const fs::path file = out("speed-" + std::to_string(speed) + ".svc");
+    auto summary = encode_database(db(), file, settings);
+    ASSERT_TRUE(summary.ok()) << speed << ": " << summary.status().to_string();
+    auto reader = Reader::open(file);
+    ASSERT_TRUE(reader.ok()) << speed;
+    EXPECT_TRUE((*reader)->verify().ok()) << speed;
+    EXPECT_GE(database_psnr_y(file), 36.0) << speed;
+  }
+  EXPECT_NE(file_bytes(out("speed-0.svc")), file_bytes(out("speed-" + std::to_string(kMaxEncoderSpeed) + ".svc")));
+  for (int speed : {-1, kMaxEncoderSpeed + 1}) {
+    CodingTools tools;
+    const Status status = apply_encoder_speed(&tools, speed);
+    EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(status.message().find("0.." + std::to_string(kMaxEncoderSpeed)), std::string::npos);
+    EXPECT_EQ(tools, CodingTools{});
+  }
+}
+
 TEST_F(RoundTrip, PsnrRisesWithQuality) {
   double previous = 0;
   for (int quality : {10, 30, 50, 75, 95}) {

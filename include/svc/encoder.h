@@ -107,6 +107,15 @@ std::vector<std::string> coding_tool_names();
 // when `name` is not one of coding_tool_names().
 Status disable_coding_tool(CodingTools* tools, std::string_view name);
 
+// Encoder speed settings, 0 (the default: every tool) to kMaxEncoderSpeed. Each step
+// switches off more of the coding tools that cost the most encode time for the bytes
+// they save; docs/codec.md 6.2 lists them with their BD-rate and time.
+// Thread-safe (a fixed table). Errors: kInvalidArgument outside 0..kMaxEncoderSpeed;
+// `tools` is unchanged then.
+inline constexpr int kMaxEncoderSpeed = 2;
+std::vector<std::string> speed_disabled_tools(int speed);
+Status apply_encoder_speed(CodingTools* tools, int speed);
+
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best), spread evenly over the quantiser indices
   // (qindex_for_quality): 100 -> 0 (the finest step, not lossless), 75 -> 64, 50 -> 129,

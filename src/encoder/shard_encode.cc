@@ -24,8 +24,8 @@ Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const st
   // go unnoticed by the merge.
   if (!(settings.tools == CodingTools{})) {
     return Status(ErrorCode::kInvalidArgument,
-                  "a sharded encode uses the default coding tools; --disable-tool and --quant-matrix are "
-                  "for single encodes");
+                  "a sharded encode uses the default coding tools; --disable-tool, --speed and --quant-matrix "
+                  "are for single encodes");
   }
   SVC_ASSIGN_OR_RETURN(EncodePlan plan, plan_encode(db_dir, settings));
   SVC_ASSIGN_OR_RETURN(const uint64_t fingerprint, database_fingerprint(db_dir, plan.manifest));

@@ -28,6 +28,7 @@ struct EncoderOptionText {
   std::string layout = "visibility";
   std::string quant_matrix = "flat";
   std::vector<std::string> disabled_tools;
+  int speed = 0;
 };
 
 void add_threads_option(CLI::App* cmd, int* threads) {
@@ -69,6 +70,16 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   for (const std::string& name : coding_tool_names()) tools += (tools.empty() ? "" : ", ") + name;
   cmd->add_option("--disable-tool", text->disabled_tools,
                   "Do not use this coding tool (repeatable; to measure its gain): " + tools);
+  std::string speeds;
+  for (int speed = 1; speed <= kMaxEncoderSpeed; ++speed) {
+    std::string names;
+    for (const std::string& name : speed_disabled_tools(speed)) names += (names.empty() ? "" : ", ") + name;
+    speeds += "; " + std::to_string(speed) + ": without " + names;
+  }
+  cmd->add_option("--speed", text->speed,
+                  "Encoder speed: 0 every coding tool (smallest files)" + speeds + " (docs/codec.md 6.2)")
+      ->check(integer_in(0, kMaxEncoderSpeed))
+      ->capture_default_str();
 }
 
 // "K/N" with 1 <= K <= N <= kMaxShards.
@@ -91,6 +102,10 @@ bool apply_encoder_options(EncoderSettings* settings, const EncoderOptionText& t
   settings->motion = text.motion == "log" ? MotionSearch::kLogarithmic : MotionSearch::kDepth;
   settings->layout = text.layout == "regular" ? CubeLayout::kRegular : CubeLayout::kVisibility;
   settings->tools.weighted_quant_matrix = text.quant_matrix == "weighted";
+  if (Status status = apply_encoder_speed(&settings->tools, text.speed); !status.ok()) {
+    std::fprintf(stderr, "svc: --speed: %s\n", status.message().c_str());
+    return false;
+  }
   for (const std::string& name : text.disabled_tools) {
     if (Status status = disable_coding_tool(&settings->tools, name); !status.ok()) {
       std::fprintf(stderr, "svc: --disable-tool: %s\n", status.message().c_str());
