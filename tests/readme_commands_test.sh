@@ -26,5 +26,6 @@ grep -q "PSNR-Y" commands.log || fail "encode --psnr printed no PSNR"
 cells=$(build/bin/svc info --json scene.svc | grep -c '"face_bytes"')
 [[ $cells -eq 35 ]] || fail "after svc add the file holds $cells cells, not 35 (5x1x7)"
 build/bin/svc verify --quiet scene.svc || fail "the extended file does not verify"
+build/bin/svc verify --quiet fast.svc || fail "the --speed 1 file does not verify"
 build/bin/svc encode --quiet scene/ -o whole.svc || fail "the one-process encode for the shard check failed"
 cmp -s sharded.svc whole.svc || fail "the merged parts differ from the one-process encode"
