@@ -43,6 +43,7 @@ CodecPlan svc_plan(const std::string& name) {
   plan.is_svc = true;
   plan.svc_intra = name == "svc-intra";
   plan.svc_regular = name == "svc-regular";
+  plan.svc_speed = name == "svc-fast" ? 1 : 0;
   plan.encoder = "svc";
   plan.setting_name = "quality";
   plan.description =
@@ -50,6 +51,7 @@ CodecPlan svc_plan(const std::string& name) {
       : plan.svc_regular
           ? "I-cubes every 3x1x3 cells, nearest references, depth motion"
           : "I-cubes every 3x1x3 cells and where references see too little, references by visibility, depth motion";
+  if (plan.svc_speed > 0) plan.description += ", encoder speed " + std::to_string(plan.svc_speed);
   plan.range = {5, 100, true, {75}};
   return plan;
 }
@@ -192,7 +194,7 @@ Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& option
   if (options.gop < 1)
     return Status(ErrorCode::kInvalidArgument, "GOP must be at least 1, not " + std::to_string(options.gop));
   CodecPlan plan;
-  if (name == "svc" || name == "svc-intra" || name == "svc-regular") {
+  if (name == "svc" || name == "svc-intra" || name == "svc-regular" || name == "svc-fast") {
     plan = svc_plan(name);
   } else if (name == "mpeg2" || name == "mpeg2-hilbert") {
     plan = mpeg2_plan(name);

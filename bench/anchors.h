@@ -49,6 +49,7 @@ struct CodecPlan {
   bool is_svc = false;
   bool svc_intra = false;
   bool svc_regular = false;       // the i_spacing lattice alone, nearest references
+  int svc_speed = 0;              // svc encode --speed (svc-fast: 1)
   bool intra = false;             // every face coded on its own
   bool force_row_starts = false;  // the dissertation's I-frame at every row start
   baseline::CellOrder order = baseline::CellOrder::kRowMajor;
