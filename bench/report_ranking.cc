@@ -54,7 +54,8 @@ std::string verdict(const BenchResults& r) {
     return text;
   };
   const std::string& svc = r.bd_reference;
-  if (svc.empty()) return "No svc layout ran (svc, svc-regular or svc-intra with two points): no BD-rate.\n";
+  if (svc.empty())
+    return "No svc layout ran (svc, svc-regular, svc-intra or svc-fast with two points): no BD-rate.\n";
   if (losses.empty() && wins.empty()) return "No codec's curve overlaps " + svc + "'s in PSNR-Y: no BD-rate.\n";
   std::string text;
   if (losses.empty()) {

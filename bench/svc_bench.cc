@@ -21,7 +21,7 @@ std::vector<RatePoint> rate_points(const CodecResult& c, bool rgb) {
 
 // The codec the BD-rates are against: svc, else the first svc layout that ran.
 const CodecResult* bd_reference(const std::vector<CodecResult>& codecs) {
-  for (const char* name : {"svc", "svc-regular", "svc-intra"}) {
+  for (const char* name : {"svc", "svc-regular", "svc-intra", "svc-fast"}) {
     for (const CodecResult& c : codecs) {
       if (c.name == name && !c.skipped && c.points.size() >= 2) return &c;
     }

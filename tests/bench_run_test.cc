@@ -262,6 +262,21 @@ TEST_F(BenchRun, SvcFastEncodesAtSpeedOne) {
     }
   }
   EXPECT_GT(compared, 0);
+
+  // Alone, svc-fast is what the anchors are ranked and measured against.
+  options.codecs = {"jpeg", "svc-fast"};
+  options.out_dir = dir_->path() / "fast-alone";
+  auto alone = run_bench(options);
+  ASSERT_TRUE(alone.ok()) << alone.status().to_string();
+  EXPECT_EQ(alone->bd_reference, "svc-fast");
+  const CodecResult& jpeg = alone->codecs[1];
+  ASSERT_EQ(jpeg.name, "jpeg");
+  ASSERT_GE(jpeg.reference_point, 0);
+  const double target = alone->codecs[0].points[static_cast<size_t>(alone->codecs[0].reference_point)].psnr_y;
+  for (const QualityPoint& p : jpeg.points) {
+    EXPECT_LE(std::abs(jpeg.points[static_cast<size_t>(jpeg.reference_point)].psnr_y - target),
+              std::abs(p.psnr_y - target) + 1e-9);
+  }
 }
 
 TEST_F(BenchRun, ExperimentsCoverTheDissertationTables) {
