@@ -190,11 +190,15 @@ Status apply_codec_options(const AnchorOptions& options, CodecPlan* plan) {
 
 }  // namespace
 
+bool is_svc_layout(const std::string& name) {
+  return name == "svc" || name == "svc-regular" || name == "svc-intra" || name == "svc-fast";
+}
+
 Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& options, int width, int height) {
   if (options.gop < 1)
     return Status(ErrorCode::kInvalidArgument, "GOP must be at least 1, not " + std::to_string(options.gop));
   CodecPlan plan;
-  if (name == "svc" || name == "svc-intra" || name == "svc-regular" || name == "svc-fast") {
+  if (is_svc_layout(name)) {
     plan = svc_plan(name);
   } else if (name == "mpeg2" || name == "mpeg2-hilbert") {
     plan = mpeg2_plan(name);

@@ -59,6 +59,10 @@ struct CodecPlan {
   bool parallel_faces = true;
 };
 
+// Whether `name` (of all_codec_names) is one of svc's own layouts: svc, svc-regular,
+// svc-intra, svc-fast.
+bool is_svc_layout(const std::string& name);
+
 // kInvalidArgument for a preset that the codec does not take, or encoder options for svc;
 // names the codec.
 Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& options, int width, int height);

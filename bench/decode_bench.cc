@@ -14,11 +14,11 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "common/parallel.h"
 #include "svc/reader.h"
 
 namespace {
@@ -47,27 +47,10 @@ Result<double> decode_all(const std::string& file, int threads) {
   const auto& cells = reader->cells();
   const size_t faces = cells.size() * kFaceCount;
   const auto t0 = Clock::now();
-  if (threads == 1) {
-    for (size_t k = 0; k < faces; ++k) {
-      SVC_RETURN_IF_ERROR(reader->decode_face(cells[k / kFaceCount].index, kAllFaces[k % kFaceCount]).status());
-    }
-    return seconds_since(t0);
-  }
-  std::vector<std::thread> workers;
-  std::vector<Status> failures(static_cast<size_t>(threads), Status::Ok());
-  for (int t = 0; t < threads; ++t) {
-    workers.emplace_back([&, t] {
-      for (size_t k = static_cast<size_t>(t); k < faces; k += static_cast<size_t>(threads)) {
-        Status s = reader->decode_face(cells[k / kFaceCount].index, kAllFaces[k % kFaceCount]).status();
-        if (!s.ok()) {
-          failures[static_cast<size_t>(t)] = s;
-          return;
-        }
-      }
-    });
-  }
-  for (auto& w : workers) w.join();
-  for (const Status& s : failures) SVC_RETURN_IF_ERROR(s);
+  // One thread decodes in cell order, as `svc bench` does; more take the faces side by side.
+  SVC_RETURN_IF_ERROR(parallel_for(faces, threads, [&](size_t k) {
+    return reader->decode_face(cells[k / kFaceCount].index, kAllFaces[k % kFaceCount]).status();
+  }));
   return seconds_since(t0);
 }
 
@@ -168,6 +151,6 @@ int main(int argc, char** argv) {
   app.add_option("--mode", mode, "what to measure")
       ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "checksum"}));
   CLI11_PARSE(app, argc, argv);
-  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = resolve_thread_count(threads);
   return run(file, repeat, threads, cells, mode);
 }

@@ -19,12 +19,11 @@ std::vector<RatePoint> rate_points(const CodecResult& c, bool rgb) {
   return points;
 }
 
-// The codec the BD-rates are against: svc, else the first svc layout that ran.
+// The codec the BD-rates are against: the first svc layout that ran, in report order
+// (all_codec_names: svc first).
 const CodecResult* bd_reference(const std::vector<CodecResult>& codecs) {
-  for (const char* name : {"svc", "svc-regular", "svc-intra", "svc-fast"}) {
-    for (const CodecResult& c : codecs) {
-      if (c.name == name && !c.skipped && c.points.size() >= 2) return &c;
-    }
+  for (const CodecResult& c : codecs) {
+    if (is_svc_layout(c.name) && !c.skipped && c.points.size() >= 2) return &c;
   }
   return nullptr;
 }

@@ -658,11 +658,6 @@ class BFrameEncoder {
     return out;
   }
 
-  int cheapest_predictor(int reference, MotionVector vector, const VectorPredictors& predictors,
-                         float* bits) const {
-    return cheapest_predictor(vector, line_predictors(reference, predictors), bits);
-  }
-
   // The index of the predictor that codes `vector` in the fewest bits (the first of
   // equal ones), and those bits, index included.
   int cheapest_predictor(MotionVector vector, const LinePredictors& predictors, float* bits) const {
@@ -690,7 +685,7 @@ class BFrameEncoder {
   MotionVector write_predictor_index(RangeEncoder& encoder, int reference, MotionVector vector,
                                      const VectorPredictors& predictors) {
     float bits = 0;
-    const int index = cheapest_predictor(reference, vector, predictors, &bits);
+    const int index = cheapest_predictor(vector, line_predictors(reference, predictors), &bits);
     encode_predictor_index(encoder, s_.contexts.predictor_index, predictors.count, index);
     return predictors.vectors[static_cast<size_t>(index)];
   }

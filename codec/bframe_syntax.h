@@ -17,12 +17,11 @@ namespace svc::codec::bframe {
 std::array<float, 4097> make_cost_table();
 // A namespace-scope table, not a function's static: no guard check on every bit.
 inline const std::array<float, 4097> kCostTable = make_cost_table();
-inline const std::array<float, 4097>& cost_table() { return kCostTable; }
 
 inline float bit_cost(const AdaptiveBit& model, int bit) {
   uint32_t p = model.probability_of_zero();
   if (bit) p = kProbabilityOne - p;
-  return cost_table()[std::min<uint32_t>(p >> 3, 4096)];
+  return kCostTable[std::min<uint32_t>(p >> 3, 4096)];
 }
 
 inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1); }

@@ -286,20 +286,10 @@ struct ModeSet {
 
 // The bits encode_intra_mode spends on `mode` at the contexts' current state.
 float intra_mode_cost(const IntraModeContexts& c, int shape, const ModeCandidates& candidates, int mode) {
-  const auto size_class = static_cast<size_t>(mode_size_class(shape));
-  const auto context = static_cast<size_t>(candidates.context);
-  const auto found = std::find(candidates.begin(), candidates.end(), mode);
-  if (found == candidates.end()) {
-    float bits = bframe::bit_cost(c.is_most_probable[size_class][context], 0);
-    for_each_remainder_bit(rank_among_others(candidates, mode),
-                           [&](size_t node, int bit) { bits += bframe::bit_cost(c.remainder[node], bit); });
-    return bits;
-  }
-  const int index = static_cast<int>(found - candidates.begin());
-  const auto& index_bits = c.most_probable_index[size_class][context];
-  float bits =
-      bframe::bit_cost(c.is_most_probable[size_class][context], 1) + bframe::bit_cost(index_bits[0], index > 0);
-  return index > 0 ? bits + bframe::bit_cost(index_bits[1], index > 1) : bits;
+  float bits = 0;
+  for_each_mode_bit(c, shape, candidates, mode,
+                    [&](const AdaptiveBit& model, int bit) { bits += bframe::bit_cost(model, bit); });
+  return bits;
 }
 
 int block_sse(const uint8_t* source, int stride, const uint8_t* block, int shape) {

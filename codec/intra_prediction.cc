@@ -74,19 +74,8 @@ int rank_among_others(const ModeCandidates& candidates, int mode) {
 
 void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
                        const ModeCandidates& candidates, int mode) {
-  const auto size_class = static_cast<size_t>(mode_size_class(shape));
-  const auto context = static_cast<size_t>(candidates.context);
-  const auto found = std::find(candidates.begin(), candidates.end(), mode);
-  encoder.encode(contexts.is_most_probable[size_class][context], found != candidates.end());
-  if (found != candidates.end()) {
-    const int index = static_cast<int>(found - candidates.begin());
-    auto& index_bits = contexts.most_probable_index[size_class][context];
-    encoder.encode(index_bits[0], index > 0);
-    if (index > 0) encoder.encode(index_bits[1], index > 1);
-    return;
-  }
-  for_each_remainder_bit(rank_among_others(candidates, mode),
-                         [&](size_t node, int bit) { encoder.encode(contexts.remainder[node], bit); });
+  for_each_mode_bit(contexts, shape, candidates, mode,
+                    [&](AdaptiveBit& model, int bit) { encoder.encode(model, bit); });
 }
 
 int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,

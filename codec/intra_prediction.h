@@ -8,9 +8,12 @@
 // Errors: decode_intra_mode never fails (every bit pattern is a valid mode).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "codec/dsp/dsp.h"
 #include "codec/range_coder.h"
@@ -93,14 +96,28 @@ int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int sh
 // order.
 inline constexpr int kRemainderBits = 5;
 int rank_among_others(const ModeCandidates& candidates, int mode);
-// Calls f(index into IntraModeContexts::remainder, bit) for each bit of `rank`, in coding
-// order.
-template <class F>
-void for_each_remainder_bit(int rank, F&& f) {
+// Calls bit(context, value) for each bin encode_intra_mode codes for `mode`, in coding
+// order: the one walk the encoder and its bit estimates share. The remainder's contexts
+// are a tree: node n's children 2n and 2n + 1, node 1 at remainder[0].
+template <class Contexts, class Bit>
+requires std::same_as<std::remove_const_t<Contexts>, IntraModeContexts>
+void for_each_mode_bit(Contexts& contexts, int shape, const ModeCandidates& candidates, int mode, Bit&& bit) {
+  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+  const auto context = static_cast<size_t>(candidates.context);
+  const auto found = std::find(candidates.begin(), candidates.end(), mode);
+  bit(contexts.is_most_probable[size_class][context], found != candidates.end() ? 1 : 0);
+  if (found != candidates.end()) {
+    const int index = static_cast<int>(found - candidates.begin());
+    auto& index_bits = contexts.most_probable_index[size_class][context];
+    bit(index_bits[0], index > 0 ? 1 : 0);
+    if (index > 0) bit(index_bits[1], index > 1 ? 1 : 0);
+    return;
+  }
+  const int rank = rank_among_others(candidates, mode);
   size_t node = 1;
-  for (int bit = kRemainderBits - 1; bit >= 0; --bit) {
-    const int value = (rank >> bit) & 1;
-    f(node - 1, value);
+  for (int b = kRemainderBits - 1; b >= 0; --b) {
+    const int value = (rank >> b) & 1;
+    bit(contexts.remainder[node - 1], value);
     node = 2 * node + static_cast<size_t>(value);
   }
 }

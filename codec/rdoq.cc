@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 #include "codec/bframe_syntax.h"
 #include "codec/dct.h"
@@ -118,6 +119,14 @@ int count_nonzero(const int16_t* levels, int count) {
   return static_cast<int>(std::count_if(levels, levels + count, [](int16_t v) { return v != 0; }));
 }
 
+// block_levels_bits of levels with `nonzero` non-zero values: without a pass over an
+// empty block.
+float levels_bits_of(const BlockContextSet& contexts, const int16_t* levels, int nonzero, int first_scan,
+                     int coded_block_context, TransformSize size) {
+  return nonzero > 0 ? block_levels_bits(contexts, levels, first_scan, coded_block_context, size)
+                     : uncoded_block_bits(contexts, coded_block_context);
+}
+
 // quantization_rd_cost, with the bits it priced in *bits.
 double rd_cost_and_bits(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
                         const BlockContextSet& contexts, int first_scan, int coded_block_context, float lambda,
@@ -144,13 +153,17 @@ double quantization_rd_cost(const Quantizer& quantizer, const float* coefficient
 int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, const BlockContextSet& contexts,
                         int first_scan, int coded_block_context, float lambda, int16_t* levels,
                         float* levels_bits) {
-  auto priced = [&](const int16_t* chosen) {
-    if (levels_bits != nullptr)
-      *levels_bits = block_levels_bits(contexts, chosen, first_scan, coded_block_context, quantizer.size);
-  };
   const TransformSize size = quantizer.size;
   const ScanOrder& order = scan_order(size);
   const int area = order.count;
+  // The levels' count, and their bits where asked for (`known`: already priced).
+  auto finish = [&](std::optional<float> known = std::nullopt) {
+    const int nonzero = count_nonzero(levels, area);
+    if (levels_bits != nullptr)
+      *levels_bits = known ? *known
+                           : levels_bits_of(contexts, levels, nonzero, first_scan, coded_block_context, size);
+    return nonzero;
+  };
   int16_t plain[kMaxCoefficients], rounded[kMaxCoefficients];
   quantize_block(quantizer, coefficients, plain);
   quantize_block_nearest(quantizer, coefficients, rounded);
@@ -159,10 +172,7 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   for (int i = order.count - 1; i >= first_scan && last_scan < 0; --i) {
     if (rounded[order.scan[i]] != 0) last_scan = i;
   }
-  if (last_scan < 0) {
-    priced(levels);
-    return count_nonzero(levels, area);
-  }
+  if (last_scan < 0) return finish();
 
   RdoqSearch search(quantizer, coefficients, contexts, lambda);
   search.decide(order, rounded, first_scan, last_scan);
@@ -177,20 +187,15 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   }
   // The search's rates are estimates (contexts of neighbours it later dropped); keep
   // plain quantization where it is cheaper by the exact measure.
-  if (std::equal(optimized, optimized + area, plain)) {
-    priced(levels);
-    return count_nonzero(levels, area);
-  }
+  if (std::equal(optimized, optimized + area, plain)) return finish();
   float optimized_bits = 0, plain_bits = 0;
   if (rd_cost_and_bits(quantizer, coefficients, optimized, contexts, first_scan, coded_block_context, lambda,
                        &optimized_bits) < rd_cost_and_bits(quantizer, coefficients, plain, contexts, first_scan,
                                                            coded_block_context, lambda, &plain_bits)) {
     std::copy_n(optimized, area, levels);
-    if (levels_bits != nullptr) *levels_bits = optimized_bits;
-  } else if (levels_bits != nullptr) {
-    *levels_bits = plain_bits;
+    return finish(optimized_bits);
   }
-  return count_nonzero(levels, area);
+  return finish(plain_bits);
 }
 
 int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
@@ -198,11 +203,8 @@ int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* sampl
                                 float lambda, int16_t* levels, TransformType type, float* levels_bits) {
   if (!rdoq) {
     const int nonzero = transform_quantize_block(quantizer, samples, levels, type);
-    if (levels_bits != nullptr) {
-      *levels_bits = nonzero > 0
-                         ? block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size)
-                         : uncoded_block_bits(contexts, coded_block_context);
-    }
+    if (levels_bits != nullptr)
+      *levels_bits = levels_bits_of(contexts, levels, nonzero, first_scan, coded_block_context, quantizer.size);
     return nonzero;
   }
   const int area = transform_area(quantizer.size);
