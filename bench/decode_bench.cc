@@ -39,7 +39,7 @@ uint64_t fnv1a(uint64_t hash, const std::vector<uint8_t>& bytes) {
 }
 
 // Every face of the file in cell order, RGB out, as `svc bench` times it. Returns seconds.
-Result<double> decode_all(const std::string& file, int threads) {
+Result<double> decode_all(const std::string& file, int threads, ReaderStats* stats) {
   ReaderSettings settings;
   settings.prefetch_threads = 0;
   settings.decode_threads = threads;
@@ -51,7 +51,9 @@ Result<double> decode_all(const std::string& file, int threads) {
   SVC_RETURN_IF_ERROR(parallel_for(faces, threads, [&](size_t k) {
     return reader->decode_face(cells[k / kFaceCount].index, kAllFaces[k % kFaceCount]).status();
   }));
-  return seconds_since(t0);
+  const double seconds = seconds_since(t0);
+  *stats = reader->stats();
+  return seconds;
 }
 
 // Cold access to `count` cells spread over the file: a fresh one-thread reader each.
@@ -110,14 +112,16 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
   }
   std::vector<double> one, all, cold;
   double cold_faces = 0;
+  ReaderStats one_stats;
   for (int r = 0; r < repeat; ++r) {
     if (mode != "parallel" && mode != "cells") {
-      auto s = decode_all(file, 1);
+      auto s = decode_all(file, 1, &one_stats);
       if (!s.ok()) return fail(s.status());
       one.push_back(faces / *s);
     }
     if (mode == "all" || mode == "parallel") {
-      auto s = decode_all(file, threads);
+      ReaderStats stats;
+      auto s = decode_all(file, threads, &stats);
       if (!s.ok()) return fail(s.status());
       all.push_back(faces / *s);
     }
@@ -129,7 +133,14 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     }
   }
   std::printf("%s: %.0f faces\n", file.c_str(), faces);
-  if (!one.empty()) std::printf("  decode, 1 thread      %8.1f faces/s (median of %d)\n", median(one), repeat);
+  if (!one.empty()) {
+    std::printf("  decode, 1 thread      %8.1f faces/s (median of %d)\n", median(one), repeat);
+    // Work behind that figure: I-face parses and B-face decodes, reference cache misses.
+    std::printf("    %llu I-face parses, %llu B-face decodes, %llu reference I-faces rebuilt\n",
+                static_cast<unsigned long long>(one_stats.intra_faces_parsed),
+                static_cast<unsigned long long>(one_stats.predicted_faces_decoded),
+                static_cast<unsigned long long>(one_stats.reference_cache.misses));
+  }
   if (!all.empty()) std::printf("  decode, %2d threads    %8.1f faces/s\n", threads, median(all));
   if (!cold.empty()) {
     std::printf("  cold cell, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d cells)\n", median(cold),

@@ -205,11 +205,13 @@ int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
          plane_error(frame.planes[2], frame.widths[2], source.cr, cw, ch);
 }
 
-// Predicts and reconstructs, in coding order, the blocks a CoefficientFrame lists.
+// Predicts and reconstructs, in coding order, the blocks a CoefficientFrame lists, with
+// their levels unpacked from it or, when given, from the parse's DecodedLevels.
 class BlockReconstructor {
  public:
-  explicit BlockReconstructor(const CoefficientFrame& coefficients)
+  BlockReconstructor(const CoefficientFrame& coefficients, const DecodedLevels* decoded)
       : coefficients_(coefficients),
+        decoded_(decoded),
         quantizers_(residual_quantizers(coefficients.qindex, coefficients.residual_matrix)) {}
 
   // The next block: size x size at (x0, y0) of `recon` (stride samples per row); `luma`,
@@ -218,11 +220,10 @@ class BlockReconstructor {
     const int area = shape_area(size);
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
-    int values[kMaxTransformArea];
     TransformType type = TransformType::kDctDct;
-    const int decoded = coefficients_.read_levels(&offset_, count, size_of_shape(size), positions_, values, &type);
+    const int decoded = read_levels(count, size_of_shape(size), &type);
     for (int i = 0; i < decoded; ++i) {
-      block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values[i]));
+      block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values_[i]));
     }
     const int mode_byte = coefficients_.block_modes[block_number_];
     const int16_t* residual = decoded > 0 ? block_ : nullptr;
@@ -237,19 +238,37 @@ class BlockReconstructor {
   }
 
  private:
+  // The next block's `count` levels into positions_ and values_; returns how many.
+  int read_levels(int count, TransformSize size, TransformType* type) {
+    if (decoded_ == nullptr) return coefficients_.read_levels(&offset_, count, size, positions_, values_, type);
+    if (count == 0) return 0;
+    *type = decoded_->types[typed_blocks_++];
+    const BlockLevel* levels = decoded_->levels.data() + offset_;
+    for (int i = 0; i < count; ++i) {
+      positions_[i] = levels[i].position;
+      values_[i] = levels[i].level;
+    }
+    offset_ += static_cast<size_t>(count);
+    return count;
+  }
+
   const CoefficientFrame& coefficients_;
+  const DecodedLevels* decoded_;  // null: unpack coefficients_.levels
   SizedQuantizers quantizers_;
-  size_t block_number_ = 0, offset_ = 0;
+  // offset_: into coefficients_.levels' bytes, or decoded_'s levels.
+  size_t block_number_ = 0, offset_ = 0, typed_blocks_ = 0;
   int16_t block_[kMaxTransformArea] = {};
   int positions_[kMaxTransformArea];
+  int values_[kMaxTransformArea];
 };
 
 // Predicts and reconstructs every block of `coefficients` into `frame` (padding
 // included: the filters read across it). The caller checked the block and partition
-// counts.
-void predict_and_reconstruct(const CoefficientFrame& coefficients, const BlockLayout& layout, PaddedFrame* frame) {
+// counts, and `decoded`'s against them.
+void predict_and_reconstruct(const CoefficientFrame& coefficients, const DecodedLevels* decoded,
+                             const BlockLayout& layout, PaddedFrame* frame) {
   const auto planes = planes_of(layout, coefficients.width, coefficients.height);
-  BlockReconstructor reconstructor(coefficients);
+  BlockReconstructor reconstructor(coefficients, decoded);
   const PlaneGeometry& luma = planes[0];
   PlaneState luma_state(luma.stride(), luma.padded_height());
   for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
@@ -800,8 +819,9 @@ class MacroblockSearch {
 // Parse stage of an intra frame: reads each block's syntax into `frame` and marks it.
 class FrameBlockReader final : public BlockReader {
  public:
-  FrameBlockReader(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, CoefficientFrame* frame)
-      : decoder_(decoder), contexts_(contexts), state_(state), frame_(frame) {}
+  FrameBlockReader(RangeDecoder& decoder, PlaneContexts& contexts, PlaneState& state, CoefficientFrame* frame,
+                   DecodedLevels* decoded)
+      : decoder_(decoder), contexts_(contexts), state_(state), frame_(frame), decoded_(decoded) {}
 
   bool read(int x0, int y0, int size) override {
     if (!read_block_syntax(decoder_, contexts_, state_, x0, y0, size, &block_)) return false;
@@ -823,12 +843,17 @@ class FrameBlockReader final : public BlockReader {
     frame_->append_levels(block_.levels, block_.count, size_of_shape(size), block_.transform_type);
     frame_->block_counts.push_back(static_cast<uint16_t>(block_.count));
     frame_->block_modes.push_back(mode_byte);
+    if (decoded_ != nullptr && block_.count > 0) {
+      decoded_->levels.insert(decoded_->levels.end(), block_.levels, block_.levels + block_.count);
+      decoded_->types.push_back(block_.transform_type);
+    }
   }
 
   RangeDecoder& decoder_;
   PlaneContexts& contexts_;
   PlaneState& state_;
   CoefficientFrame* frame_;
+  DecodedLevels* decoded_;  // optional
   BlockSyntax block_;
 };
 
@@ -1221,7 +1246,8 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   return bytes;
 }
 
-Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out) {
+Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out,
+                         DecodedLevels* decoded) {
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
     return Status(ErrorCode::kInvalidArgument, "intra frame: size " + std::to_string(width) + "x" +
                                                    std::to_string(height) + " outside 1.." +
@@ -1260,6 +1286,11 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   result.luma_partitions.reserve(static_cast<size_t>(layout.chroma_blocks_x) * layout.chroma_blocks_y);
   // The packed levels take about as many bytes as the payload that codes them.
   result.levels.reserve(bytes.size() * 5 / 4);
+  if (decoded != nullptr) {
+    decoded->levels.clear();
+    decoded->types.clear();
+    decoded->levels.reserve(bytes.size() * 2);  // about 5 bits a level
+  }
 
   // A complete payload is never read past its end; stopping at the first row that does
   // bounds the work garbage can cause.
@@ -1272,7 +1303,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   };
   const PlaneGeometry& luma = planes[0];
   PlaneState luma_state(luma.stride(), luma.padded_height());
-  auto luma_reader = std::make_unique<FrameBlockReader>(decoder, luma_contexts, luma_state, &result);
+  auto luma_reader = std::make_unique<FrameBlockReader>(decoder, luma_contexts, luma_state, &result, decoded);
   for (int mby = 0; mby < luma.blocks_y / 2; ++mby) {
     for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
       LumaPartition partition = 0;
@@ -1288,7 +1319,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   for (int p = 1; p < 3; ++p) {
     const ChromaPlane plane = p == 1 ? ChromaPlane::kCb : ChromaPlane::kCr;
     PlaneState state(chroma.stride(), chroma.padded_height());
-    auto reader = std::make_unique<FrameBlockReader>(decoder, chroma_contexts, state, &result);
+    auto reader = std::make_unique<FrameBlockReader>(decoder, chroma_contexts, state, &result, decoded);
     for (int by = 0; by < chroma.blocks_y; ++by) {
       for (int bx = 0; bx < chroma.blocks_x; ++bx) {
         ChromaMode& cb = cb_modes[static_cast<size_t>(by) * chroma.blocks_x + bx];
@@ -1314,7 +1345,22 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   return Status::Ok();
 }
 
-void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out) {
+namespace {
+
+// Whether `decoded` holds as many levels and transform types as `coefficients` counts.
+bool decoded_levels_match(const CoefficientFrame& coefficients, const DecodedLevels& decoded) {
+  size_t levels = 0, typed = 0;
+  for (uint16_t count : coefficients.block_counts) {
+    levels += count;
+    typed += count > 0;
+  }
+  return decoded.levels.size() == levels && decoded.types.size() == typed;
+}
+
+}  // namespace
+
+void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out,
+                             const DecodedLevels* decoded) {
   const int width = coefficients.width, height = coefficients.height;
   const BlockLayout layout = block_layout(width, height);
   const bool partitions_match = coefficients.luma_partitions.size() ==
@@ -1331,8 +1377,9 @@ void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420
     out->cr.assign(out->cb.size(), 0);
     return;
   }
+  if (decoded != nullptr && !decoded_levels_match(coefficients, *decoded)) decoded = nullptr;
   PaddedFrame frame = padded_frame(layout);
-  predict_and_reconstruct(coefficients, layout, &frame);
+  predict_and_reconstruct(coefficients, decoded, layout, &frame);
   if (coefficients.loop_filters & kLoopFilterDeblocking) deblock_intra(&frame, coefficients.qindex);
   if (coefficients.loop_filters & kLoopFilterCdef) cdef_intra(&frame, coefficients.cdef, coefficients.qindex);
   crop(frame, width, height, out);
@@ -1340,8 +1387,9 @@ void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420
 
 Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out) {
   CoefficientFrame coefficients;
-  SVC_RETURN_IF_ERROR(parse_intra_frame(bytes, width, height, &coefficients));
-  reconstruct_intra_frame(coefficients, out);
+  DecodedLevels decoded;
+  SVC_RETURN_IF_ERROR(parse_intra_frame(bytes, width, height, &coefficients, &decoded));
+  reconstruct_intra_frame(coefficients, out, &decoded);
   return Status::Ok();
 }
 

@@ -118,6 +118,18 @@ struct CoefficientFrame {
                   TransformType* type) const;
 };
 
+// The levels of a CoefficientFrame as parsing decoded them, before packing: the caller
+// that parses a frame and reconstructs it at once hands them to reconstruct_intra_frame,
+// which then skips unpacking CoefficientFrame::levels (the packed form stays what a cache
+// keeps). Only valid with the frame parsed alongside it.
+struct DecodedLevels {
+  // Every block's non-zero levels, block after block in coding order, each block's in
+  // increasing scan order (natural positions).
+  std::vector<BlockLevel> levels;
+  // Per block with levels, in the same order: its transform type.
+  std::vector<TransformType> types;
+};
+
 // 8x8 block grid of a frame of the given size (macroblock-padded planes): chroma blocks
 // are 8x8; luma macroblocks hold 2 x 2 of these units, coded as their partitions say.
 struct BlockLayout {
@@ -139,13 +151,18 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
 // kInvalidArgument for a size outside [1, kMaxFrameDimension]; kCorruptData for a bad
 // header, invalid syntax, truncated payload or trailing bytes (message names the byte
 // offset or block). Never reads outside `bytes`.
-Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out);
+// `decoded` (optional) receives the levels unpacked as well; on error it is unspecified.
+Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out,
+                         DecodedLevels* decoded = nullptr);
 
 // Prediction plus inverse transforms of parsed coefficients into pixels, then the in-loop
 // filters the frame header asks for (bit-exact). `out` is resized; a frame not built by
 // parse_intra_frame or encode_intra_frame gives some pixels of the right size, never a
-// crash.
-void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out);
+// crash. `decoded` (optional): the levels parse_intra_frame unpacked while building
+// `coefficients`, read instead of the packed ones (same pixels); ignored when its counts
+// do not match the frame's.
+void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out,
+                             const DecodedLevels* decoded = nullptr);
 
 // parse_intra_frame followed by reconstruct_intra_frame.
 Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out);

@@ -158,6 +158,42 @@ TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   expect_same_image(from_coefficients, reconstruction);
 }
 
+
+// The parse's unpacked levels give the packed levels' pixels; levels that do not match
+// the frame are ignored, not read past.
+TEST(CodecFrame, DecodedLevelsReconstructLikeThePackedOnes) {
+  const ImageYCbCr420 source = synthetic_image(80, 64);
+  ImageYCbCr420 reconstruction, from_packed, from_decoded, from_mismatched;
+  const std::vector<uint8_t> bytes = encode_intra_frame(source, {60}, &reconstruction);
+  CoefficientFrame coefficients;
+  DecodedLevels decoded;
+  ASSERT_TRUE(parse_intra_frame(bytes, 80, 64, &coefficients, &decoded).ok());
+  size_t levels = 0, blocks_with_levels = 0;
+  for (uint16_t count : coefficients.block_counts) {
+    levels += count;
+    blocks_with_levels += count > 0;
+  }
+  ASSERT_GT(levels, 100u);
+  EXPECT_EQ(decoded.levels.size(), levels);
+  EXPECT_EQ(decoded.types.size(), blocks_with_levels);
+  reconstruct_intra_frame(coefficients, &from_packed);
+  reconstruct_intra_frame(coefficients, &from_decoded, &decoded);
+  expect_same_image(from_decoded, reconstruction);
+  expect_same_image(from_packed, reconstruction);
+
+  // They are what is read: altered levels of the right count change the pixels.
+  DecodedLevels altered = decoded;
+  for (BlockLevel& level : altered.levels) level.level = static_cast<int16_t>(-level.level);
+  ImageYCbCr420 from_altered;
+  reconstruct_intra_frame(coefficients, &from_altered, &altered);
+  EXPECT_NE(from_altered.y, reconstruction.y);
+
+  DecodedLevels mismatched = decoded;
+  mismatched.levels.pop_back();
+  for (BlockLevel& level : mismatched.levels) level.level = static_cast<int16_t>(level.level * 3);
+  reconstruct_intra_frame(coefficients, &from_mismatched, &mismatched);
+  expect_same_image(from_mismatched, reconstruction);
+}
 TEST(CodecFrame, PackedLevelsRoundTripAtEveryRunAndMagnitude) {
   std::mt19937 rng(5);
   for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16}) {

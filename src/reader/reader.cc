@@ -141,12 +141,13 @@ struct Reader::Impl {
   // --- The cached path -------------------------------------------------------------
 
   // The semi-decoded form of I-face `frame`: read and entropy-decoded once, then shared.
-  Result<CoefficientPointer> coefficients_of(uint32_t frame, Origin origin) {
+  // When this call parses it, `decoded` (optional) receives its levels unpacked too.
+  Result<CoefficientPointer> coefficients_of(uint32_t frame, Origin origin, codec::DecodedLevels* decoded = nullptr) {
     return coefficients.get(frame, origin, [&]() -> Result<CoefficientPointer> {
       SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
       auto parsed = std::make_shared<codec::CoefficientFrame>();
       Status status = codec::parse_intra_frame(payload, static_cast<int>(index.face_width),
-                                               static_cast<int>(index.face_height), parsed.get());
+                                               static_cast<int>(index.face_height), parsed.get(), decoded);
       if (!status.ok()) return frame_error(status, frame);
       // Parsing grows the vectors by doubling; the cache is charged for what is held.
       parsed->levels.shrink_to_fit();
@@ -167,9 +168,14 @@ struct Reader::Impl {
   Result<ImagePointer> intra_image(uint32_t frame, Origin origin) {
     if (ImagePointer cached = faces.peek(frame)) return cached;
     auto reconstruct = [&]() -> Result<ImagePointer> {
-      SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin));
+      // A frame parsed just now is reconstructed from its levels as decoded, not unpacked
+      // again from the cached form.
+      codec::DecodedLevels decoded;
+      SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin, &decoded));
       auto image = std::make_shared<ImageYCbCr420>();
-      codec::reconstruct_intra_frame(*coefficients, image.get());
+      codec::reconstruct_intra_frame(*coefficients, image.get(), decoded.types.empty() && decoded.levels.empty()
+                                                                      ? nullptr
+                                                                      : &decoded);
       return ImagePointer(std::move(image));
     };
     if (!reference_keys_fit) return reconstruct();
