@@ -171,15 +171,13 @@ class RangeDecoder {
     return bit;
   }
 
+  // Without a branch on the bit: bypass bits (signs above all) are unpredictable.
   int decode_bypass() {
     range_ >>= 1;
-    int bit = 0;
-    if (code_ >= range_) {
-      code_ -= range_;
-      bit = 1;
-    }
+    const uint32_t bit = code_ >= range_;
+    code_ -= range_ & (0u - bit);
     normalize();
-    return bit;
+    return static_cast<int>(bit);
   }
 
   // Bytes requested beyond the end of the input (at most kImplicitZeroBytes for any
