@@ -102,21 +102,22 @@ Quantizer make_quantizer(BlockKind kind, int qindex) {
   return q;
 }
 
-// The 8x8 kernels serve every size: 16x16 blocks as four runs of 64 values, 4x4 blocks
-// padded to 64.
+// The 8x8 kernels serve every size: areas of 64 and more as runs of 64 values, smaller
+// ones (4x4, 8x4, 4x8) padded with zeros to 64, so that nothing past the block is read,
+// written or counted.
 namespace {
 
 int quantize_with_rounding(const Quantizer& quantizer, const float* coefficients, float rounding_dc,
                            float rounding_ac, int16_t* levels) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int area = transform_area(quantizer.size);
-  if (area == 16) {
+  if (area < 64) {
     float padded[64] = {};
     int16_t padded_levels[64];
-    std::copy_n(coefficients, 16, padded);
+    std::copy_n(coefficients, area, padded);
     const int count =
         dsp.quantize_8x8(padded, quantizer.inverse_step.data(), rounding_dc, rounding_ac, padded_levels);
-    std::copy_n(padded_levels, 16, levels);
+    std::copy_n(padded_levels, area, levels);
     return count;
   }
   int count = 0;
@@ -140,11 +141,11 @@ int quantize_block_nearest(const Quantizer& quantizer, const float* coefficients
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int area = transform_area(quantizer.size);
-  if (area == 16) {
+  if (area < 64) {
     int16_t padded[64] = {}, padded_coefficients[64];
-    std::copy_n(levels, 16, padded);
+    std::copy_n(levels, area, padded);
     dsp.dequantize_8x8(padded, quantizer.scale.data(), padded_coefficients);
-    std::copy_n(padded_coefficients, 16, coefficients);
+    std::copy_n(padded_coefficients, area, coefficients);
     return;
   }
   for (int i = 0; i < area; i += 64) dsp.dequantize_8x8(levels + i, quantizer.scale.data() + i, coefficients + i);

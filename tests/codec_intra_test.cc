@@ -87,6 +87,30 @@ TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
   }
 }
 
+// Every search setting writes what the decoder reads: without rate-distortion
+// quantization the block's levels come as quantized, and without the mode search's
+// rate-distortion step (or without transform types) a block is kept coded as chosen,
+// so a wrong count of levels in any block size would put encoder and decoder out of step.
+TEST(CodecFrame, DecodeEqualsEncoderReconstructionWithEverySearchSetting) {
+  const ImageYCbCr420 source = synthetic_image(96, 80, 5);
+  for (int setting = 0; setting < 8; ++setting) {
+    CodingParams params{60};
+    params.rdoq = (setting & 1) != 0;
+    params.rd_intra_search = (setting & 2) != 0;
+    params.transform_types = (setting & 4) != 0;
+    SCOPED_TRACE("setting " + std::to_string(setting));
+    for (int qs : {40, 100, 160}) {
+      params.qindex = qs;
+      ImageYCbCr420 reconstruction, decoded;
+      const std::vector<uint8_t> bytes = encode_intra_frame(source, params, &reconstruction);
+      const Status status = decode_intra_frame(bytes, 96, 80, &decoded);
+      ASSERT_TRUE(status.ok()) << "qindex " << qs << ": " << status.to_string();
+      expect_same_image(decoded, reconstruction);
+      EXPECT_EQ(encode_intra_frame(source, params, nullptr), bytes);
+    }
+  }
+}
+
 TEST(CodecFrame, QualityRisesAndSizeGrowsAsQIndexFalls) {
   const ImageYCbCr420 source = synthetic_image(256, 256);
   double previous_psnr = 0;

@@ -108,6 +108,33 @@ TEST(CodecQuant, NonIntraDeadZoneDropsSmallResiduals) {
   EXPECT_EQ(levels[9], 1);
 }
 
+// Blocks smaller than the 8x8 kernels quantize and dequantize their own samples only:
+// what lies past them in the caller's arrays is neither read, written nor counted.
+TEST(CodecQuant, BlocksSmallerThan8x8StayInsideTheirArea) {
+  for (TransformSize size : {TransformSize::k4x4, TransformSize::k8x4, TransformSize::k4x8}) {
+    const int area = transform_area(size);
+    SCOPED_TRACE(area);
+    const Quantizer q = make_residual_quantizer(size, 100);
+    float coefficients[64];
+    std::fill_n(coefficients, 64, 5000.0f);  // past the block: would quantize to large levels
+    std::fill_n(coefficients, area, 0.0f);
+    coefficients[1] = 300.0f;
+    int16_t levels[64];
+    std::fill_n(levels, 64, int16_t{-7});
+    EXPECT_EQ(quantize_block(q, coefficients, levels), 1);
+    EXPECT_EQ(quantize_block_nearest(q, coefficients, levels), 1);
+    EXPECT_GT(levels[1], 0);
+    EXPECT_TRUE(std::all_of(levels + area, levels + 64, [](int16_t v) { return v == -7; }));
+    std::fill_n(levels + area, 64 - area, int16_t{1000});
+    int16_t dequantized[64];
+    std::fill_n(dequantized, 64, int16_t{-9});
+    dequantize_block(q, levels, dequantized);
+    EXPECT_EQ(dequantized[0], 0);
+    EXPECT_GT(dequantized[1], 0);
+    EXPECT_TRUE(std::all_of(dequantized + area, dequantized + 64, [](int16_t v) { return v == -9; }));
+  }
+}
+
 TEST(CodecQuant, BlockTransformRoundTripAtMpeg2sFinestScaleIsNearLossless) {
   std::mt19937 rng(9);
   for (BlockKind kind : {BlockKind::kIntra, BlockKind::kNonIntra}) {

@@ -132,7 +132,9 @@ TEST_F(RoundTrip, EveryCodingToolCanBeSwitchedOff) {
     ASSERT_TRUE(disable_coding_tool(&all_off.tools, name).ok()) << name;
     ASSERT_NO_FATAL_FAILURE(expect_sound_encode(one_off, "tool-off-" + name + ".svc", name));
   }
-  ASSERT_TRUE(encode_database(db(), out("tools-off.svc"), all_off).ok());
+  // All off together too: switches that interact (quantization without its
+  // rate-distortion step under a mode search without one) still write what decodes.
+  ASSERT_NO_FATAL_FAILURE(expect_sound_encode(all_off, "tools-off.svc", "every tool off"));
   EXPECT_NE(file_bytes(out("tools-on.svc")), file_bytes(out("tools-off.svc")));
 
   const Status unknown = disable_coding_tool(&all_off.tools, "no-such-tool");
@@ -161,6 +163,10 @@ TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
     previous = settings.tools;
     ASSERT_NO_FATAL_FAILURE(
         expect_sound_encode(settings, "speed-" + std::to_string(speed) + ".svc", "speed " + std::to_string(speed)));
+    // With a tool switched off besides: levels as quantized under the speed's searches.
+    ASSERT_TRUE(disable_coding_tool(&settings.tools, "rdoq").ok());
+    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, "speed-" + std::to_string(speed) + "-no-rdoq.svc",
+                                                "speed " + std::to_string(speed) + " without rdoq"));
   }
   EXPECT_NE(file_bytes(out("speed-0.svc")), file_bytes(out("speed-" + std::to_string(kMaxEncoderSpeed) + ".svc")));
   for (int speed : {-1, kMaxEncoderSpeed + 1}) {
