@@ -112,7 +112,7 @@ Status disable_coding_tool(CodingTools* tools, std::string_view name);
 // they save; docs/codec.md 6.2 lists them with their BD-rate and time.
 // Thread-safe (a fixed table). Errors: kInvalidArgument outside 0..kMaxEncoderSpeed;
 // `tools` is unchanged then.
-inline constexpr int kMaxEncoderSpeed = 2;
+inline constexpr int kMaxEncoderSpeed = 3;
 std::vector<std::string> speed_disabled_tools(int speed);
 Status apply_encoder_speed(CodingTools* tools, int speed);
 

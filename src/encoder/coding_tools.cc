@@ -63,11 +63,13 @@ std::vector<std::string> speed_disabled_tools(int speed) {
   // Measured on the photographic scenes (docs/codec.md 6.2): the intra searches'
   // rate-distortion step over modes and transform types and the B-frames' second pass
   // with another filter bank first (about half the time for 3-4 % more bytes), then the
-  // B-frames' partitions.
+  // B-frames' partitions, then rate-distortion optimized quantization (levels as
+  // quantized).
   static const std::array<std::vector<std::string>, kMaxEncoderSpeed + 1> kSpeeds = {{
       {},
       {"intra-rd-search", "transform-types", "switchable-filter"},
       {"intra-rd-search", "transform-types", "switchable-filter", "partitions"},
+      {"intra-rd-search", "transform-types", "switchable-filter", "partitions", "rdoq"},
   }};
   if (speed < 0 || speed > kMaxEncoderSpeed) return {};
   return kSpeeds[static_cast<size_t>(speed)];
