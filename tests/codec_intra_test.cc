@@ -182,7 +182,6 @@ TEST(CodecFrame, ParsedCoefficientsReconstructTheSameImage) {
   expect_same_image(from_coefficients, reconstruction);
 }
 
-
 // The parse's unpacked levels give the packed levels' pixels; levels that do not match
 // the frame are ignored, not read past.
 TEST(CodecFrame, DecodedLevelsReconstructLikeThePackedOnes) {

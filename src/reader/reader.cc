@@ -142,7 +142,8 @@ struct Reader::Impl {
 
   // The semi-decoded form of I-face `frame`: read and entropy-decoded once, then shared.
   // When this call parses it, `decoded` (optional) receives its levels unpacked too.
-  Result<CoefficientPointer> coefficients_of(uint32_t frame, Origin origin, codec::DecodedLevels* decoded = nullptr) {
+  Result<CoefficientPointer> coefficients_of(uint32_t frame, Origin origin,
+                                             codec::DecodedLevels* decoded = nullptr) {
     return coefficients.get(frame, origin, [&]() -> Result<CoefficientPointer> {
       SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
       auto parsed = std::make_shared<codec::CoefficientFrame>();
@@ -173,9 +174,8 @@ struct Reader::Impl {
       codec::DecodedLevels decoded;
       SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin, &decoded));
       auto image = std::make_shared<ImageYCbCr420>();
-      codec::reconstruct_intra_frame(*coefficients, image.get(), decoded.types.empty() && decoded.levels.empty()
-                                                                      ? nullptr
-                                                                      : &decoded);
+      codec::reconstruct_intra_frame(*coefficients, image.get(),
+                                     decoded.types.empty() && decoded.levels.empty() ? nullptr : &decoded);
       return ImagePointer(std::move(image));
     };
     if (!reference_keys_fit) return reconstruct();
