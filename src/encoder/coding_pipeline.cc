@@ -80,6 +80,7 @@ class Pipeline {
     const ImageYCbCr420 ycc = codec::rgb_to_ycbcr420(data.color.pixels.data(), data.color.width, data.color.height);
     CodedIntra coded;
     coded.payload = codec::encode_intra_frame(ycc, intra_params_, &coded.reconstruction);
+    SVC_RETURN_IF_ERROR(check_intra_payload(coded.payload, coded.reconstruction, frame_name(frame)));
     return coded;
   }
 

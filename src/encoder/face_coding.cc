@@ -1,10 +1,37 @@
 #include "encoder/face_coding.h"
 
 #include "codec/color.h"
+#include "codec/intra_codec.h"
 #include "codec/log_search.h"
 #include "spatial/epipolar_lines.h"
 
 namespace svc {
+
+namespace {
+
+// What check_intra_payload reports for a decode that gave `status` and `decoded`.
+Status compare_with_reconstruction(const Status& status, const ImageYCbCr420& decoded,
+                                   const ImageYCbCr420& reconstruction, const std::string& what) {
+  if (!status.ok()) {
+    return Status(ErrorCode::kInternal, what + ": the encoder coded a payload its decoder rejects (" +
+                                            status.message() + "); this is a bug in svc, nothing was written");
+  }
+  if (decoded.y != reconstruction.y || decoded.cb != reconstruction.cb || decoded.cr != reconstruction.cr) {
+    return Status(ErrorCode::kInternal, what +
+                                            ": the coded payload decodes to other pixels than the encoder's "
+                                            "reconstruction; this is a bug in svc, nothing was written");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status check_intra_payload(const std::vector<uint8_t>& payload, const ImageYCbCr420& reconstruction,
+                           const std::string& what) {
+  ImageYCbCr420 decoded;
+  const Status status = codec::decode_intra_frame(payload, reconstruction.width, reconstruction.height, &decoded);
+  return compare_with_reconstruction(status, decoded, reconstruction, what);
+}
 
 Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camera& camera,
                                                const std::vector<FaceReference>& references, bool motion_from_depth,
@@ -36,8 +63,13 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
   for (size_t r = 0; r < references.size(); ++r) {
     hints[r].lines = epipolar_lines(camera, *references[r].camera, data.color.width, data.color.height);
   }
-  coded.payload = codec::encode_b_frame(ycc, *references[0].image, second, hints, params, nullptr, &coded.stats);
+  ImageYCbCr420 reconstruction, decoded;
+  coded.payload =
+      codec::encode_b_frame(ycc, *references[0].image, second, hints, params, &reconstruction, &coded.stats);
   if (coded.payload.empty()) return Status(ErrorCode::kInternal, what + ": B-frame coding failed");
+  const Status status =
+      codec::decode_b_frame(coded.payload, ycc.width, ycc.height, *references[0].image, second, &decoded);
+  SVC_RETURN_IF_ERROR(compare_with_reconstruction(status, decoded, reconstruction, what));
   return coded;
 }
 
