@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "svc/encoder.h"
+
 namespace svc::bench {
 
 namespace {
@@ -43,7 +45,7 @@ CodecPlan svc_plan(const std::string& name) {
   plan.is_svc = true;
   plan.svc_intra = name == "svc-intra";
   plan.svc_regular = name == "svc-regular";
-  plan.svc_speed = name == "svc-fast" ? 1 : 0;
+  plan.svc_speed = name == "svc-fast" ? 1 : name == "svc-fastest" ? kMaxEncoderSpeed : 0;
   plan.encoder = "svc";
   plan.setting_name = "quality";
   plan.description =
@@ -191,7 +193,8 @@ Status apply_codec_options(const AnchorOptions& options, CodecPlan* plan) {
 }  // namespace
 
 bool is_svc_layout(const std::string& name) {
-  return name == "svc" || name == "svc-regular" || name == "svc-intra" || name == "svc-fast";
+  return name == "svc" || name == "svc-regular" || name == "svc-intra" || name == "svc-fast" ||
+         name == "svc-fastest";
 }
 
 Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& options, int width, int height) {

@@ -49,7 +49,7 @@ struct CodecPlan {
   bool is_svc = false;
   bool svc_intra = false;
   bool svc_regular = false;       // the i_spacing lattice alone, nearest references
-  int svc_speed = 0;              // svc encode --speed (svc-fast: 1)
+  int svc_speed = 0;              // svc encode --speed (svc-fast: 1, svc-fastest: the highest)
   bool intra = false;             // every face coded on its own
   bool force_row_starts = false;  // the dissertation's I-frame at every row start
   baseline::CellOrder order = baseline::CellOrder::kRowMajor;
@@ -60,7 +60,7 @@ struct CodecPlan {
 };
 
 // Whether `name` (of all_codec_names) is one of svc's own layouts: svc, svc-regular,
-// svc-intra, svc-fast.
+// svc-intra, svc-fast, svc-fastest.
 bool is_svc_layout(const std::string& name);
 
 // kInvalidArgument for a preset that the codec does not take, or encoder options for svc;

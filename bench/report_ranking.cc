@@ -55,7 +55,8 @@ std::string verdict(const BenchResults& r) {
   };
   const std::string& svc = r.bd_reference;
   if (svc.empty())
-    return "No svc layout ran (svc, svc-regular, svc-intra or svc-fast with two points): no BD-rate.\n";
+    return "No svc layout ran (svc, svc-regular, svc-intra, svc-fast or svc-fastest with two points): no "
+           "BD-rate.\n";
   if (losses.empty() && wins.empty()) return "No codec's curve overlaps " + svc + "'s in PSNR-Y: no BD-rate.\n";
   std::string text;
   if (losses.empty()) {

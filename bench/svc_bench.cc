@@ -122,10 +122,11 @@ Status run_codecs(Bench& bench, const std::vector<std::string>& names, const Ben
 }  // namespace
 
 const std::vector<std::string>& all_codec_names() {
-  static const std::vector<std::string> kNames = {"svc",     "svc-regular",   "svc-intra",  "svc-fast",
-                                                  "mpeg2",   "mpeg2-hilbert", "x264",       "x265",
-                                                  "x265-ra", "av1",           "jpeg",       "webp",
-                                                  "jxl",     "avif",          "x265-intra", "png"};
+  static const std::vector<std::string> kNames = {"svc",         "svc-regular", "svc-intra",     "svc-fast",
+                                                  "svc-fastest", "mpeg2",       "mpeg2-hilbert", "x264",
+                                                  "x265",        "x265-ra",     "av1",           "jpeg",
+                                                  "webp",        "jxl",         "avif",          "x265-intra",
+                                                  "png"};
   return kNames;
 }
 

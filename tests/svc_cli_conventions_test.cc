@@ -250,7 +250,8 @@ TEST_F(CliConventions, BenchNamesTheValidCodecsAndLeavesNothingOnFailure) {
   if (svc("bench --help").exit_code != 0) GTEST_SKIP() << "svc built without the benchmark";
   const CliRun unknown = svc("bench " + quoted(db()) + " --codecs svc,foo --out " + quoted(work("bench-foo")));
   EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
-  EXPECT_NE(unknown.output.find("'foo' (valid: svc, svc-regular, svc-intra, svc-fast, mpeg2"), std::string::npos)
+  EXPECT_NE(unknown.output.find("'foo' (valid: svc, svc-regular, svc-intra, svc-fast, svc-fastest, mpeg2"),
+            std::string::npos)
       << unknown.output;
   for (const char* option : {"avif", "avif=aom-params", "=aom-params=x", "avif==1"}) {
     const CliRun malformed =
