@@ -1289,7 +1289,9 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
   if (decoded != nullptr) {
     decoded->levels.clear();
     decoded->types.clear();
-    decoded->levels.reserve(bytes.size() * 2);  // about 5 bits a level
+    // About 5 bits a level, and never more levels than the frame has samples.
+    const size_t samples = static_cast<size_t>(width) * height * 3 / 2;
+    decoded->levels.reserve(std::min(bytes.size() * 2, samples));
   }
 
   // A complete payload is never read past its end; stopping at the first row that does
