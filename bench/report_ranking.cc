@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "anchors.h"
 #include "svc_bench.h"
 
 namespace svc::bench {
@@ -54,9 +55,13 @@ std::string verdict(const BenchResults& r) {
     return text;
   };
   const std::string& svc = r.bd_reference;
-  if (svc.empty())
-    return "No svc layout ran (svc, svc-regular, svc-intra, svc-fast or svc-fastest with two points): no "
-           "BD-rate.\n";
+  if (svc.empty()) {
+    std::vector<std::string> layouts;
+    for (const std::string& name : all_codec_names()) {
+      if (is_svc_layout(name)) layouts.push_back(name);
+    }
+    return "No svc layout ran (" + join(layouts) + ", with two points): no BD-rate.\n";
+  }
   if (losses.empty() && wins.empty()) return "No codec's curve overlaps " + svc + "'s in PSNR-Y: no BD-rate.\n";
   std::string text;
   if (losses.empty()) {

@@ -207,9 +207,9 @@ inline constexpr std::array<double, 2> kTargetPsnrRange{32, 40};
 
 struct BenchResults {
   std::string database;  // db_dir as given
-  // The codec every BD-rate is against: svc, else the first of svc-regular, svc-intra, svc-fast
-  // and svc-fastest
-  // that ran (empty: none ran, no BD-rate). The fields named bd_rate_svc hold its BD-rate.
+  // The codec every BD-rate is against: the first svc layout (is_svc_layout) that ran, in
+  // report order, so svc when it ran (empty: none ran, no BD-rate). The fields named
+  // bd_rate_svc hold its BD-rate.
   std::string bd_reference;
   std::array<int, 3> grid{1, 1, 1};
   uint64_t cells = 0;

@@ -170,12 +170,12 @@ struct Reader::Impl {
     if (ImagePointer cached = faces.peek(frame)) return cached;
     auto reconstruct = [&]() -> Result<ImagePointer> {
       // A frame parsed just now is reconstructed from its levels as decoded, not unpacked
-      // again from the cached form.
+      // again from the cached form; after a cache hit `decoded` is empty, does not match
+      // the frame and is ignored.
       codec::DecodedLevels decoded;
       SVC_ASSIGN_OR_RETURN(CoefficientPointer coefficients, coefficients_of(frame, origin, &decoded));
       auto image = std::make_shared<ImageYCbCr420>();
-      codec::reconstruct_intra_frame(*coefficients, image.get(),
-                                     decoded.types.empty() && decoded.levels.empty() ? nullptr : &decoded);
+      codec::reconstruct_intra_frame(*coefficients, image.get(), &decoded);
       return ImagePointer(std::move(image));
     };
     if (!reference_keys_fit) return reconstruct();
