@@ -24,14 +24,17 @@ std::string in_quotes(const std::string& text) { return "\"" + text + "\""; }
 // The image library's first line: the rest repeats it in other words.
 std::string first_line(const std::string& message) { return message.substr(0, message.find('\n')); }
 
-// All channels of an image as float (integer types normalised to [0,1] by OpenImageIO).
+// All channels of an image: as stored when every channel is 8-bit (most colour files),
+// else as float (integer types normalised to [0,1] by OpenImageIO).
 struct FloatImage {
   int width = 0;
   int height = 0;
   int channels = 0;
   std::vector<std::string> channel_names;
   std::vector<OIIO::TypeDesc> channel_types;
-  std::vector<float> pixels;  // width * height * channels, interleaved
+  std::vector<float> pixels;   // width * height * channels, interleaved; empty when eight_bit
+  std::vector<uint8_t> bytes;  // the same when every channel is UINT8
+  bool eight_bit = false;
 };
 
 // `what` is the prefix naming cell, face, role and file.
@@ -75,8 +78,20 @@ Result<FloatImage> read_float_image(const fs::path& resolved, const std::string&
                                                                                  : std::string());
     image.channel_types.push_back(spec.channelformat(c));
   }
-  image.pixels.resize(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
+  const size_t values = static_cast<size_t>(spec.width) * spec.height * spec.nchannels;
+  // Reading 8-bit files as bytes skips a float copy four times their size; to_rgb8 gets
+  // the same values either way.
+  image.eight_bit = std::all_of(image.channel_types.begin(), image.channel_types.end(),
+                                [](const OIIO::TypeDesc& type) { return type == OIIO::TypeDesc::UINT8; });
+  bool read = false;
+  if (image.eight_bit) {
+    image.bytes.resize(values);
+    read = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, image.bytes.data());
+  } else {
+    image.pixels.resize(values);
+    read = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data());
+  }
+  if (!read) {
     return Status(ErrorCode::kBadInput, what + ": cannot decode the image: " + first_line(input->geterror()));
   }
   return image;
@@ -143,6 +158,13 @@ ImageRGB8 to_rgb8(const FloatImage& image) {
   out.height = image.height;
   const size_t pixel_count = static_cast<size_t>(image.width) * image.height;
   out.pixels.resize(pixel_count * 3);
+  if (image.eight_bit) {
+    for (size_t i = 0; i < pixel_count; ++i) {
+      const uint8_t* px = &image.bytes[i * image.channels];
+      for (int k = 0; k < 3; ++k) out.pixels[i * 3 + k] = px[channels[k]];
+    }
+    return out;
+  }
   for (size_t i = 0; i < pixel_count; ++i) {
     const float* px = &image.pixels[i * image.channels];
     for (int k = 0; k < 3; ++k) {
