@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -204,6 +205,13 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     const WarpField* warp1, const BFrameParams& params,
                                     ImageYCbCr420* reconstruction, BFrameStats* stats);
 
+class SearchPlanes;
+
+// Encoder only: the motion search's planes of a reference face, as encode_b_frame builds
+// them when ReferenceHints::search is null. B-faces that share a reference can share
+// them (built once instead of per face: same output). Thread-safe to read.
+std::shared_ptr<const SearchPlanes> b_frame_search_planes(const ImageYCbCr420& reference);
+
 // What the caller knows about the motion towards one reference; every pointer may be null
 // and is read only during the call.
 struct ReferenceHints {
@@ -218,6 +226,9 @@ struct ReferenceHints {
   // The epipolar lines of the reference's camera seen from the current one (same
   // orientation); absent, vectors are coded in x and y (docs/codec.md 10.3).
   EpipolarLines lines;
+  // The reference's search planes from b_frame_search_planes; null, or built from a
+  // face of another size: encode_b_frame builds them.
+  const SearchPlanes* search = nullptr;
 };
 
 // The same with per-reference hints (reference 1's ignored when ref1 is null).

@@ -1348,6 +1348,10 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
   return encode_b_frame(source, ref0, ref1, hints, params, reconstruction, stats);
 }
 
+std::shared_ptr<const SearchPlanes> b_frame_search_planes(const ImageYCbCr420& reference) {
+  return std::make_shared<const SearchPlanes>(reference, kSearchMargin);
+}
+
 std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
                                     const ImageYCbCr420* ref1, const std::array<ReferenceHints, 2>& hints,
                                     const BFrameParams& params, ImageYCbCr420* reconstruction, BFrameStats* stats) {
@@ -1359,10 +1363,18 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       (ref1 != nullptr && !consistent_image(*ref1, padded_width, padded_height))) {
     return {};
   }
-  const SearchPlanes search0(ref0, kSearchMargin);
-  const std::optional<SearchPlanes> search1 =
-      ref1 != nullptr ? std::optional<SearchPlanes>(std::in_place, *ref1, kSearchMargin) : std::nullopt;
-  const std::array<const SearchPlanes*, 2> search = {&search0, search1 ? &*search1 : nullptr};
+  std::array<std::optional<SearchPlanes>, 2> built;
+  std::array<const SearchPlanes*, 2> search = {nullptr, nullptr};
+  const std::array<const ImageYCbCr420*, 2> refs = {&ref0, ref1};
+  for (size_t r = 0; r < 2 && refs[r] != nullptr; ++r) {
+    const SearchPlanes* given = hints[r].search;
+    if (given != nullptr && given->width() == refs[r]->width && given->height() == refs[r]->height &&
+        given->margin() == kSearchMargin) {
+      search[r] = given;
+    } else {
+      search[r] = &built[r].emplace(*refs[r], kSearchMargin);
+    }
+  }
   auto code = [&](InterpolationFilter filter) {
     return code_macroblocks(source, ref0, ref1, hints, params, search, filter, stats != nullptr);
   };

@@ -30,6 +30,12 @@ SearchPlanes::SearchPlanes(const ImageYCbCr420& reference, int margin)
   }
 }
 
+uint64_t SearchPlanes::bytes() const {
+  uint64_t total = sizeof(*this);
+  for (const std::vector<uint8_t>& plane : phases_) total += plane.capacity();
+  return total;
+}
+
 const uint8_t* SearchPlanes::at(int hx, int hy, int width, int height) const {
   const int x = (hx >> 1) + margin_, y = (hy >> 1) + margin_;
   // Rows are stride_ long but only width_ + 2 margin_ samples of them are filtered.

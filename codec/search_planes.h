@@ -27,6 +27,13 @@ class SearchPlanes {
   // displaced by the quarter-pel `vector`; -1 when the block leaves the planes.
   int sad(const uint8_t* source, int source_stride, int x, int y, int width, int height, MotionVector vector) const;
 
+  // The reference's luma size and the margin the planes were built with.
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int margin() const { return margin_; }
+  // Bytes held, for callers that cache planes.
+  uint64_t bytes() const;
+
  private:
   // The sample at half-pel coordinates (hx, hy) (2 per luma sample), or null when a
   // block of this size starting there leaves the planes.

@@ -713,6 +713,43 @@ TEST(BFramePartitions, PartitionsChooseTheirOwnReferenceAndDecodeExactly) {
   }
 }
 
+TEST(BFrameSearchPlanes, SharedPlanesGiveTheBytesOfPlanesBuiltPerFace) {
+  const int w = 77, h = 45;
+  const ImageYCbCr420 ref0 = decoded_intra(textured_crop(w, h, 40, 40), 115);
+  const ImageYCbCr420 ref1 = decoded_intra(textured_crop(w, h, 60, 70, 99), 115);
+  const ImageYCbCr420 source = column_mix(textured_crop(w, h, 43, 42), textured_crop(w, h, 61, 69, 99));
+  const FaceCandidates lists0 = uniform_candidates(w, h, {MotionVector{12, 8}, MotionVector{-3, 5}});
+  const FaceCandidates lists1 = uniform_candidates(w, h, {MotionVector{4, -4}, MotionVector{1, 7}});
+  BFrameParams params;
+  params.qindex = 138;
+  const auto encode = [&](const SearchPlanes* search0, const SearchPlanes* search1) {
+    std::array<ReferenceHints, 2> hints = {ReferenceHints{&lists0, nullptr, nullptr},
+                                           ReferenceHints{&lists1, nullptr, nullptr}};
+    hints[0].search = search0;
+    hints[1].search = search1;
+    return encode_b_frame(source, ref0, &ref1, hints, params, nullptr, nullptr);
+  };
+  const std::vector<uint8_t> own = encode(nullptr, nullptr);
+  ASSERT_FALSE(own.empty());
+  const auto planes0 = b_frame_search_planes(ref0), planes1 = b_frame_search_planes(ref1);
+  EXPECT_EQ(encode(planes0.get(), planes1.get()), own);
+  // Planes of a face of another size are not used: the encoder builds its own.
+  const auto other_size = b_frame_search_planes(decoded_intra(textured_crop(w + 16, h, 40, 40), 115));
+  EXPECT_EQ(encode(other_size.get(), other_size.get()), own);
+  // Planes of another face of the same size rank the vectors differently, and the frame
+  // still decodes to the encoder's reconstruction.
+  ImageYCbCr420 reconstruction, decoded;
+  std::array<ReferenceHints, 2> swapped = {ReferenceHints{&lists0, nullptr, nullptr},
+                                           ReferenceHints{&lists1, nullptr, nullptr}};
+  swapped[0].search = planes1.get();
+  swapped[1].search = planes0.get();
+  const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, &ref1, swapped, params, &reconstruction, nullptr);
+  ASSERT_FALSE(bytes.empty());
+  EXPECT_NE(bytes, own);  // the planes given are the ones searched
+  ASSERT_TRUE(decode_b_frame(bytes, w, h, ref0, &ref1, &decoded).ok());
+  expect_same_image(decoded, reconstruction);
+}
+
 TEST(BFramePartitions, DamagedPartitionedPayloadsAreRejectedOrDecoded) {
   const int w = 48, h = 32;
   const ImageYCbCr420 reference = textured_crop(w, h, 40, 40);

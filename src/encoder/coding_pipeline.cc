@@ -7,6 +7,7 @@
 #include "codec/color.h"
 #include "codec/cube_padding.h"
 #include "codec/intra_codec.h"
+#include "codec/search_planes.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"
 #include "reader/face_decode.h"
@@ -24,6 +25,9 @@ struct CodedIntra {
 uint64_t image_bytes(const ImageYCbCr420& image) { return image.y.size() + image.cb.size() + image.cr.size(); }
 
 using ReferenceCache = reader_internal::SharedCache<ImageYCbCr420>;
+using SearchPlanesCache = reader_internal::SharedCache<codec::SearchPlanes>;
+
+uint64_t search_planes_bytes(const codec::SearchPlanes& planes) { return planes.bytes(); }
 
 class Pipeline {
  public:
@@ -31,7 +35,8 @@ class Pipeline {
       : job_(job),
         index_(*job.index),
         references_(reference_cache_bytes(), &image_bytes),
-        padded_(reference_cache_bytes(), &image_bytes) {
+        padded_(reference_cache_bytes(), &image_bytes),
+        search_planes_(reference_cache_bytes(), &search_planes_bytes) {
     for (uint32_t frame : job.frames) {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
@@ -124,11 +129,23 @@ class Pipeline {
     });
   }
 
+  // The motion search's planes of a reference as `code_predicted` uses it (padded or
+  // bare), built once for all the B-faces that predict from it.
+  Result<std::shared_ptr<const codec::SearchPlanes>> search_planes(const FrameRecord& record, uint32_t ref,
+                                                                   const ImageYCbCr420& image) {
+    const uint32_t key = 2 * ref + (record.cube_references ? 1 : 0);
+    return search_planes_.get(key, reader_internal::Origin::kCaller,
+                              [&]() -> Result<std::shared_ptr<const codec::SearchPlanes>> {
+                                return codec::b_frame_search_planes(image);
+                              });
+  }
+
   Result<CodedPredictedFace> code_predicted(uint32_t frame) {
     const FrameRecord& record = index_.frames[frame];
     SVC_ASSIGN_OR_RETURN(FaceData data, job_.load(frame));
     SVC_ASSIGN_OR_RETURN(const Camera camera, job_.camera(frame));
     std::vector<FacePointer> held;  // keeps the references alive while the cache may evict them
+    std::vector<std::shared_ptr<const codec::SearchPlanes>> held_planes;
     std::array<Camera, FrameReferences::kCapacity> ref_cameras;
     std::vector<FaceReference> refs;
     for (size_t r = 0; r < record.references.size(); ++r) {
@@ -136,8 +153,10 @@ class Pipeline {
       SVC_ASSIGN_OR_RETURN(FacePointer image,
                            record.cube_references ? padded_reference(record, ref) : reference(ref));
       SVC_ASSIGN_OR_RETURN(ref_cameras[r], job_.camera(ref));
+      SVC_ASSIGN_OR_RETURN(std::shared_ptr<const codec::SearchPlanes> planes, search_planes(record, ref, *image));
       held.push_back(image);
-      refs.push_back({image.get(), &ref_cameras[r]});
+      held_planes.push_back(planes);
+      refs.push_back({image.get(), &ref_cameras[r], planes.get()});
     }
     return code_predicted_face(data, camera, refs, index_.coding.motion == MotionSearch::kDepth, b_params_,
                                frame_name(frame));
@@ -183,7 +202,8 @@ class Pipeline {
   ReferenceCache references_;
   std::unique_ptr<ReadOnlyFile> written_;
   std::vector<uint32_t> intra_, predicted_;
-  ReferenceCache padded_;  // padded reference I-faces, by frame
+  ReferenceCache padded_;            // padded reference I-faces, by frame
+  SearchPlanesCache search_planes_;  // by 2 frame + (1 when padded)
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;
   uint64_t done_ = 0;

@@ -20,10 +20,10 @@ namespace svc {
 // the faces in flight (4 per thread) and the index. docs/format.md, "Memory".
 inline constexpr uint64_t kReferenceCacheBytes = 64ull << 20;
 
-// The budget each of a coding run's two reference caches gets: kReferenceCacheBytes, or
-// the environment's SVC_REFERENCE_CACHE_BYTES when that is a whole number of bytes from
-// 1 to kReferenceCacheBytes (a smaller budget makes a small database reach it, as the
-// memory test does). The coded bytes do not depend on it.
+// The budget each of a coding run's three reference caches (decoded, padded, search planes) gets:
+// kReferenceCacheBytes, or the environment's SVC_REFERENCE_CACHE_BYTES when that is a whole number of bytes from 1
+// to kReferenceCacheBytes (a smaller budget makes a small database reach it, as the memory test does). The coded
+// bytes do not depend on it.
 uint64_t reference_cache_bytes();
 
 struct CodingJob {

@@ -62,6 +62,7 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
       codec::ReferenceHints{&candidates[1], &block_lists[1], &warps[1], {}}};
   for (size_t r = 0; r < references.size(); ++r) {
     hints[r].lines = epipolar_lines(camera, *references[r].camera, data.color.width, data.color.height);
+    hints[r].search = references[r].search;
   }
   ImageYCbCr420 reconstruction, decoded;
   coded.payload =

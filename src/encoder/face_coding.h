@@ -19,11 +19,13 @@ struct CodedPredictedFace {
   CandidateStats candidates;  // unique depth candidates before any cap, over references
 };
 
-// One reference of a B-face: its reconstructed I-face (as the decoder will see it) and
-// the camera that took it.
+// One reference of a B-face: its reconstructed I-face (as the decoder will see it), the
+// camera that took it and, optionally, its search planes (codec::b_frame_search_planes
+// of `image`, shared by the B-faces of one reference; null: built for this face).
 struct FaceReference {
   const ImageYCbCr420* image = nullptr;
   const Camera* camera = nullptr;
+  const codec::SearchPlanes* search = nullptr;
 };
 
 // The encoder's guard against writing what no decoder reads: decodes the I-face
