@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include <OpenImageIO/imageio.h>
 #include <CLI/CLI.hpp>
 
 #include "cli/cli_util.h"
@@ -131,6 +132,10 @@ bool parse_face_option(const std::string& text, Face* face) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // svc reads and writes one image per face on its own worker threads; OpenEXR's thread
+  // pool would only add hand-offs for faces this small (7 % of the CPU time of loading
+  // the photographic hall's 486 faces, `svc check --threads 1`).
+  OIIO::attribute("exr_threads", -1);
   CLI::App app{"svc: spatial video codec for image-based impostor databases"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "svc 0.1.0");
