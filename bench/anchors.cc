@@ -48,9 +48,10 @@ CodecPlan svc_plan(const std::string& name) {
   plan.svc_speed = name == "svc-fast" ? 1 : name == "svc-fastest" ? kMaxEncoderSpeed : 0;
   plan.encoder = "svc";
   plan.setting_name = "quality";
+  const bool regular = plan.svc_regular || speed_layout(plan.svc_speed) == CubeLayout::kRegular;
   plan.description =
       plan.svc_intra ? "every cell an I-cube"
-      : plan.svc_regular
+      : regular
           ? "I-cubes every 3x1x3 cells, nearest references, depth motion"
           : "I-cubes every 3x1x3 cells and where references see too little, references by visibility, depth motion";
   if (plan.svc_speed > 0) plan.description += ", encoder speed " + std::to_string(plan.svc_speed);

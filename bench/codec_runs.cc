@@ -113,11 +113,11 @@ Status Bench::run_svc_codec(const CodecPlan& plan, CodecResult* result) {
     settings.quality = quality;
     settings.intra_only = plan.svc_intra;
     if (plan.svc_intra) settings.i_spacing = {1, 1, 1};
+    SVC_RETURN_IF_ERROR(apply_encoder_speed(&settings, plan.svc_speed));
     if (plan.svc_regular) {
       settings.layout = CubeLayout::kRegular;
       settings.tools.visibility_references = false;
     }
-    SVC_RETURN_IF_ERROR(apply_encoder_speed(&settings.tools, plan.svc_speed));
     std::unique_ptr<Reader> reader;
     SVC_ASSIGN_OR_RETURN(SvcRun run, run_svc(settings, 1, plan.name + "-q" + std::to_string(quality), &reader));
     log_point(plan.name, run.point);

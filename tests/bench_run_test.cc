@@ -254,6 +254,8 @@ TEST_F(BenchRun, SvcFastEncodesAtSpeedOne) {
     ASSERT_EQ(fast.name, name);
     EXPECT_NE(fast.description.find("encoder speed " + std::to_string(speed)), std::string::npos)
         << fast.description;
+    const bool regular = speed_layout(speed) == CubeLayout::kRegular;
+    EXPECT_EQ(fast.description.find("nearest references") != std::string::npos, regular) << fast.description;
     EXPECT_GT(fast.encode_faces_per_second, 0.0);
     EXPECT_GT(fast.decode_faces_per_second, 0.0);
     int compared = 0;

@@ -62,6 +62,31 @@ TEST_F(Cli, InfoOfAQindexFileShowsTheIndexAndNoQuality) {
       << quality_info.output;
 }
 
+// The highest speed takes the regular layout unless --layout says otherwise; -v names
+// the layout and the tools switched off.
+TEST_F(Cli, SpeedSetsTheLayoutAndAnExplicitLayoutWins) {
+  const fs::path file = work("speed.svc");
+  const std::string encode = "encode -v -y " + quoted(db()) + " -o " + quoted(file);
+  const std::string fastest = " --speed " + std::to_string(kMaxEncoderSpeed);
+  const CliRun by_speed = run_svc(encode + fastest);
+  ASSERT_EQ(by_speed.exit_code, 0) << by_speed.output;
+  EXPECT_NE(by_speed.output.find(", regular layout,"), std::string::npos) << by_speed.output;
+  EXPECT_NE(by_speed.output.find("tools off: "), std::string::npos) << by_speed.output;
+  for (const std::string& name : speed_disabled_tools(kMaxEncoderSpeed))
+    EXPECT_NE(by_speed.output.find(name), std::string::npos) << name << "\n" << by_speed.output;
+  const CliRun overridden = run_svc(encode + fastest + " --layout visibility");
+  ASSERT_EQ(overridden.exit_code, 0) << overridden.output;
+  EXPECT_NE(overridden.output.find(", visibility layout,"), std::string::npos) << overridden.output;
+  const CliRun plain = run_svc(encode);
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_NE(plain.output.find(", visibility layout,"), std::string::npos) << plain.output;
+  EXPECT_EQ(plain.output.find("tools off"), std::string::npos) << plain.output;
+  const CliRun regular = run_svc(encode + " --layout regular --disable-tool cdef");
+  ASSERT_EQ(regular.exit_code, 0) << regular.output;
+  EXPECT_NE(regular.output.find(", regular layout,"), std::string::npos) << regular.output;
+  EXPECT_NE(regular.output.find("tools off: cdef"), std::string::npos) << regular.output;
+}
+
 TEST_F(Cli, OutputToStandardOutputIsRefused) {
   const fs::path cwd = work("stdout");
   fs::create_directories(cwd);

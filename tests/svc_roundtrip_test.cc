@@ -165,19 +165,25 @@ TEST_F(RoundTrip, EveryPairOfCodingToolsCanBeSwitchedOff) {
   }
 }
 
-// Each speed setting switches off its documented tools, and only those; its stream
-// verifies and decodes to the encoder's quality. Settings outside the range change
-// nothing and say what is allowed.
+// Each speed setting switches off its documented tools, and only those, and sets its
+// layout; its stream verifies and decodes to the encoder's quality. Settings outside the
+// range change nothing and say what is allowed.
 TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
   EXPECT_TRUE(speed_disabled_tools(0).empty());
+  EXPECT_EQ(speed_layout(0), CubeLayout::kVisibility);
+  EXPECT_EQ(speed_layout(kMaxEncoderSpeed), CubeLayout::kRegular);
   CodingTools previous;
   for (int speed = 0; speed <= kMaxEncoderSpeed; ++speed) {
     EncoderSettings settings;
-    ASSERT_TRUE(apply_encoder_speed(&settings.tools, speed).ok()) << speed;
+    settings.tools.cfl = false;  // a tool already off stays off
+    ASSERT_TRUE(apply_encoder_speed(&settings, speed).ok()) << speed;
     CodingTools expected;
+    expected.cfl = false;
     for (const std::string& name : speed_disabled_tools(speed))
       ASSERT_TRUE(disable_coding_tool(&expected, name).ok());
     EXPECT_EQ(settings.tools, expected) << speed;
+    EXPECT_EQ(settings.layout, speed_layout(speed)) << speed;
+    settings.tools.cfl = true;
     if (speed > 0) {
       EXPECT_FALSE(settings.tools == previous) << "speed " << speed << " adds no tool to the one below";
       EXPECT_GT(speed_disabled_tools(speed).size(), speed_disabled_tools(speed - 1).size());
@@ -192,11 +198,13 @@ TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
   }
   EXPECT_NE(file_bytes(out("speed-0.svc")), file_bytes(out("speed-" + std::to_string(kMaxEncoderSpeed) + ".svc")));
   for (int speed : {-1, kMaxEncoderSpeed + 1}) {
-    CodingTools tools;
-    const Status status = apply_encoder_speed(&tools, speed);
+    EncoderSettings settings;
+    settings.layout = CubeLayout::kRegular;
+    const Status status = apply_encoder_speed(&settings, speed);
     EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
     EXPECT_NE(status.message().find("0.." + std::to_string(kMaxEncoderSpeed)), std::string::npos);
-    EXPECT_EQ(tools, CodingTools{});
+    EXPECT_EQ(settings.tools, CodingTools{});
+    EXPECT_EQ(settings.layout, CubeLayout::kRegular);
   }
 }
 

@@ -109,12 +109,12 @@ Status disable_coding_tool(CodingTools* tools, std::string_view name);
 
 // Encoder speed settings, 0 (the default: every tool) to kMaxEncoderSpeed. Each step
 // switches off more of the coding tools that cost the most encode time for the bytes
-// they save; docs/codec.md 6.2 lists them with their BD-rate and time.
-// Thread-safe (a fixed table). Errors: kInvalidArgument outside 0..kMaxEncoderSpeed;
-// `tools` is unchanged then.
-inline constexpr int kMaxEncoderSpeed = 3;
+// they save, and the highest also the visibility layout's planning; docs/codec.md 6.2
+// lists them with their BD-rate and time. Thread-safe (fixed tables); outside
+// 0..kMaxEncoderSpeed the tools list is empty and the layout kVisibility.
+inline constexpr int kMaxEncoderSpeed = 4;
 std::vector<std::string> speed_disabled_tools(int speed);
-Status apply_encoder_speed(CodingTools* tools, int speed);
+CubeLayout speed_layout(int speed);
 
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best), spread evenly over the quantiser indices
@@ -142,6 +142,12 @@ struct EncoderSettings {
 
 // Fills settings with the defaults documented on each field.
 EncoderSettings default_encoder_settings();
+
+// Applies encoder speed `speed`: switches speed_disabled_tools(speed) off in
+// settings->tools (on top of any already off) and sets settings->layout to
+// speed_layout(speed). Thread-safe. Errors: kInvalidArgument outside
+// 0..kMaxEncoderSpeed; `settings` is unchanged then.
+Status apply_encoder_speed(EncoderSettings* settings, int speed);
 
 struct EncodeSummary {
   uint64_t cells = 0;

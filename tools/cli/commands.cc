@@ -97,13 +97,22 @@ void print_settings(const EncodeOptions& options) {
   const EncoderSettings& s = options.settings;
   const bool explicit_index = s.qindex >= 0;
   const int qindex = explicit_index ? s.qindex : qindex_for_quality(s.quality);
-  std::fprintf(
-      stderr,
-      "svc: encoding %s: %s%d (quantiser index %d), I-cube spacing %d,%d,%d%s, motion from %s, %d threads\n",
-      options.db_dir.string().c_str(), explicit_index ? "qindex " : "quality ",
-      explicit_index ? s.qindex : s.quality, qindex, s.i_spacing[0], s.i_spacing[1], s.i_spacing[2],
-      s.intra_only ? " (intra only)" : "", s.motion == MotionSearch::kLogarithmic ? "log search" : "depth",
-      resolve_thread_count(s.threads));
+  std::string tools_off;  // a tool is off where switching it off changes nothing
+  for (const std::string& name : coding_tool_names()) {
+    CodingTools probe = s.tools;
+    if (disable_coding_tool(&probe, name).ok() && probe == s.tools)
+      tools_off += (tools_off.empty() ? "" : ", ") + name;
+  }
+  const char* layout = s.intra_only                       ? " (intra only)"
+                       : s.layout == CubeLayout::kRegular ? ", regular layout"
+                                                          : ", visibility layout";
+  std::fprintf(stderr,
+               "svc: encoding %s: %s%d (quantiser index %d), I-cube spacing %d,%d,%d%s, motion from %s, %d "
+               "threads%s%s\n",
+               options.db_dir.string().c_str(), explicit_index ? "qindex " : "quality ",
+               explicit_index ? s.qindex : s.quality, qindex, s.i_spacing[0], s.i_spacing[1], s.i_spacing[2],
+               layout, s.motion == MotionSearch::kLogarithmic ? "log search" : "depth",
+               resolve_thread_count(s.threads), tools_off.empty() ? "" : ", tools off: ", tools_off.c_str());
 }
 
 }  // namespace

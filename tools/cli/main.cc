@@ -27,6 +27,7 @@ struct EncoderOptionText {
   std::string i_spacing = "3,1,3";
   std::string motion = "depth";
   std::string layout = "visibility";
+  CLI::Option* layout_option = nullptr;  // given on the command line: wins over --speed's layout
   std::string quant_matrix = "flat";
   std::vector<std::string> disabled_tools;
   int speed = 0;
@@ -54,11 +55,12 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
   cmd->add_option("--i-spacing", text->i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")
       ->capture_default_str();
-  cmd->add_option("--layout", text->layout,
-                  "I-cube layout: visibility (the --i-spacing lattice plus I-cubes where references see too "
-                  "little) or regular (the lattice alone)")
-      ->check(CLI::IsMember({"visibility", "regular"}))
-      ->capture_default_str();
+  text->layout_option =
+      cmd->add_option("--layout", text->layout,
+                      "I-cube layout: visibility (the --i-spacing lattice plus I-cubes where references see too "
+                      "little) or regular (the lattice alone; the default at --speed 4)")
+          ->check(CLI::IsMember({"visibility", "regular"}))
+          ->capture_default_str();
   cmd->add_option("--motion", text->motion, "Motion source: depth (reprojection) or log (logarithmic search)")
       ->check(CLI::IsMember({"depth", "log"}))
       ->capture_default_str();
@@ -76,6 +78,7 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
     std::string names;
     for (const std::string& name : speed_disabled_tools(speed)) names += (names.empty() ? "" : ", ") + name;
     speeds += "; " + std::to_string(speed) + ": without " + names;
+    if (speed_layout(speed) == CubeLayout::kRegular) speeds += ", regular layout";
   }
   cmd->add_option("--speed", text->speed,
                   "Encoder speed: 0 every coding tool (smallest files)" + speeds + " (docs/codec.md 6.2)")
@@ -101,11 +104,13 @@ bool apply_encoder_options(EncoderSettings* settings, const EncoderOptionText& t
     return false;
   }
   settings->motion = text.motion == "log" ? MotionSearch::kLogarithmic : MotionSearch::kDepth;
-  settings->layout = text.layout == "regular" ? CubeLayout::kRegular : CubeLayout::kVisibility;
   settings->tools.weighted_quant_matrix = text.quant_matrix == "weighted";
-  if (Status status = apply_encoder_speed(&settings->tools, text.speed); !status.ok()) {
+  if (Status status = apply_encoder_speed(settings, text.speed); !status.ok()) {
     std::fprintf(stderr, "svc: --speed: %s\n", status.message().c_str());
     return false;
+  }
+  if (text.layout_option == nullptr || text.layout_option->count() > 0) {
+    settings->layout = text.layout == "regular" ? CubeLayout::kRegular : CubeLayout::kVisibility;
   }
   for (const std::string& name : text.disabled_tools) {
     if (Status status = disable_coding_tool(&settings->tools, name); !status.ok()) {
