@@ -145,7 +145,7 @@ class Pipeline {
     SVC_ASSIGN_OR_RETURN(FaceData data, job_.load(frame));
     SVC_ASSIGN_OR_RETURN(const Camera camera, job_.camera(frame));
     std::vector<FacePointer> held;  // keeps the references alive while the cache may evict them
-    std::vector<std::shared_ptr<const codec::SearchPlanes>> held_planes;
+    std::vector<std::shared_ptr<const codec::SearchPlanes>> held_planes;  // and their search planes
     std::array<Camera, FrameReferences::kCapacity> ref_cameras;
     std::vector<FaceReference> refs;
     for (size_t r = 0; r < record.references.size(); ++r) {

@@ -55,10 +55,14 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
   cmd->add_option("--i-spacing", text->i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")
       ->capture_default_str();
+  int first_regular_speed = 0;
+  while (first_regular_speed < kMaxEncoderSpeed && speed_layout(first_regular_speed) != CubeLayout::kRegular)
+    ++first_regular_speed;
   text->layout_option =
       cmd->add_option("--layout", text->layout,
                       "I-cube layout: visibility (the --i-spacing lattice plus I-cubes where references see too "
-                      "little) or regular (the lattice alone; the default at --speed 4)")
+                      "little) or regular (the lattice alone; the default from --speed " +
+                          std::to_string(first_regular_speed) + " on)")
           ->check(CLI::IsMember({"visibility", "regular"}))
           ->capture_default_str();
   cmd->add_option("--motion", text->motion, "Motion source: depth (reprojection) or log (logarithmic search)")
