@@ -183,6 +183,7 @@ TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
       ASSERT_TRUE(disable_coding_tool(&expected, name).ok());
     EXPECT_EQ(settings.tools, expected) << speed;
     EXPECT_EQ(settings.layout, speed_layout(speed)) << speed;
+    EXPECT_EQ(disabled_coding_tools(settings.tools).size(), speed_disabled_tools(speed).size() + 1) << speed;
     settings.tools.cfl = true;
     if (speed > 0) {
       EXPECT_FALSE(settings.tools == previous) << "speed " << speed << " adds no tool to the one below";

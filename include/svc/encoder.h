@@ -103,6 +103,9 @@ enum class CubeLayout : uint8_t {
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.
 std::vector<std::string> coding_tool_names();
 
+// Names of the coding tools switched off in `tools`, in the order of coding_tool_names().
+std::vector<std::string> disabled_coding_tools(const CodingTools& tools);
+
 // Switches the tool called `name` off. Errors: kInvalidArgument naming the valid tools
 // when `name` is not one of coding_tool_names().
 Status disable_coding_tool(CodingTools* tools, std::string_view name);

@@ -26,20 +26,20 @@ std::string first_line(const std::string& message) { return message.substr(0, me
 
 // All channels of an image: as stored when every channel is 8-bit (most colour files),
 // else as float (integer types normalised to [0,1] by OpenImageIO).
-struct FloatImage {
+struct DecodedImage {
   int width = 0;
   int height = 0;
   int channels = 0;
   std::vector<std::string> channel_names;
   std::vector<OIIO::TypeDesc> channel_types;
-  std::vector<float> pixels;   // width * height * channels, interleaved; empty when eight_bit
-  std::vector<uint8_t> bytes;  // the same when every channel is UINT8
-  bool eight_bit = false;
+  std::vector<float> pixels;   // width * height * channels, interleaved; empty when eight_bit()
+  std::vector<uint8_t> bytes;  // the same when every channel is UINT8, else empty
+  bool eight_bit() const { return !bytes.empty(); }
 };
 
 // `what` is the prefix naming cell, face, role and file.
-Result<FloatImage> read_float_image(const fs::path& resolved, const std::string& what, int expected_width,
-                                    int expected_height) {
+Result<DecodedImage> read_face_image(const fs::path& resolved, const std::string& what, int expected_width,
+                                     int expected_height) {
   std::error_code ec;
   const fs::file_status status = fs::status(resolved, ec);
   if (!fs::exists(status)) return Status(ErrorCode::kNotFound, what + ": file not found");
@@ -69,7 +69,7 @@ Result<FloatImage> read_float_image(const fs::path& resolved, const std::string&
   if (spec.nchannels <= 0 || spec.nchannels > kMaxImageChannels) {
     return Status(ErrorCode::kBadInput, what + ": image has " + std::to_string(spec.nchannels) + " channels");
   }
-  FloatImage image;
+  DecodedImage image;
   image.width = spec.width;
   image.height = spec.height;
   image.channels = spec.nchannels;
@@ -81,10 +81,10 @@ Result<FloatImage> read_float_image(const fs::path& resolved, const std::string&
   const size_t values = static_cast<size_t>(spec.width) * spec.height * spec.nchannels;
   // Reading 8-bit files as bytes skips a float copy four times their size; to_rgb8 gets
   // the same values either way.
-  image.eight_bit = std::all_of(image.channel_types.begin(), image.channel_types.end(),
-                                [](const OIIO::TypeDesc& type) { return type == OIIO::TypeDesc::UINT8; });
+  const bool eight_bit = std::all_of(image.channel_types.begin(), image.channel_types.end(),
+                                     [](const OIIO::TypeDesc& type) { return type == OIIO::TypeDesc::UINT8; });
   bool read = false;
-  if (image.eight_bit) {
+  if (eight_bit) {
     image.bytes.resize(values);
     read = input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, image.bytes.data());
   } else {
@@ -102,7 +102,7 @@ bool is_float_type(const OIIO::TypeDesc& type) {
          type.basetype == OIIO::TypeDesc::DOUBLE;
 }
 
-int find_channel(const FloatImage& image, const std::string& name) {
+int find_channel(const DecodedImage& image, const std::string& name) {
   for (int c = 0; c < image.channels; ++c) {
     if (image.channel_names[c] == name) return c;
   }
@@ -115,7 +115,7 @@ bool ends_with(const std::string& text, const std::string& suffix) {
 
 // R, G, B by name, else "<layer>.R/G/B" of the first layer that has all three, else the
 // first three channels, else grey (channel 0) for one- and two-channel images.
-std::array<int, 3> colour_channels(const FloatImage& image) {
+std::array<int, 3> colour_channels(const DecodedImage& image) {
   const int r = find_channel(image, "R"), g = find_channel(image, "G"), b = find_channel(image, "B");
   if (r >= 0 && g >= 0 && b >= 0) return {r, g, b};
   for (int c = 0; c < image.channels; ++c) {
@@ -130,7 +130,7 @@ std::array<int, 3> colour_channels(const FloatImage& image) {
 }
 
 // Z, any *.Z, depth, Y, else the only channel; -1 when none fits.
-int depth_channel(const FloatImage& image) {
+int depth_channel(const DecodedImage& image) {
   if (const int c = find_channel(image, "Z"); c >= 0) return c;
   for (int c = 0; c < image.channels; ++c) {
     if (ends_with(image.channel_names[c], ".Z")) return c;
@@ -141,7 +141,7 @@ int depth_channel(const FloatImage& image) {
   return -1;
 }
 
-std::string channel_list(const FloatImage& image) {
+std::string channel_list(const DecodedImage& image) {
   std::string list;
   for (int c = 0; c < image.channels; ++c) {
     if (c) list += ", ";
@@ -150,7 +150,7 @@ std::string channel_list(const FloatImage& image) {
   return list;
 }
 
-ImageRGB8 to_rgb8(const FloatImage& image) {
+ImageRGB8 to_rgb8(const DecodedImage& image) {
   const std::array<int, 3> channels = colour_channels(image);
   const bool linear = is_float_type(image.channel_types[channels[0]]);
   ImageRGB8 out;
@@ -158,7 +158,7 @@ ImageRGB8 to_rgb8(const FloatImage& image) {
   out.height = image.height;
   const size_t pixel_count = static_cast<size_t>(image.width) * image.height;
   out.pixels.resize(pixel_count * 3);
-  if (image.eight_bit) {
+  if (image.eight_bit()) {
     for (size_t i = 0; i < pixel_count; ++i) {
       const uint8_t* px = &image.bytes[i * image.channels];
       for (int k = 0; k < 3; ++k) out.pixels[i * 3 + k] = px[channels[k]];
@@ -184,7 +184,7 @@ ImageRGB8 to_rgb8(const FloatImage& image) {
   return out;
 }
 
-std::vector<float> to_eye_depth(const FloatImage& image, int channel, DepthMode mode, const Frustum& frustum) {
+std::vector<float> to_eye_depth(const DecodedImage& image, int channel, DepthMode mode, const Frustum& frustum) {
   const int w = image.width, h = image.height;
   std::vector<float> depth(static_cast<size_t>(w) * h);
   constexpr float kBackground = std::numeric_limits<float>::infinity();
@@ -265,7 +265,7 @@ Result<FaceFiles> face_files(const DatabaseManifest& manifest, const CellSource&
 
 // Eye-space depth from the face's depth image (read already).
 Result<std::vector<float>> eye_depth(const DatabaseManifest& manifest, const FaceFiles& files,
-                                     const FloatImage& depth_image) {
+                                     const DecodedImage& depth_image) {
   const int channel = depth_channel(depth_image);
   if (channel < 0) {
     return Status(ErrorCode::kBadInput, files.depth_what +
@@ -286,14 +286,14 @@ Result<std::vector<float>> eye_depth(const DatabaseManifest& manifest, const Fac
 
 Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face) {
   SVC_ASSIGN_OR_RETURN(const FaceFiles files, face_files(manifest, cell, face));
-  SVC_ASSIGN_OR_RETURN(const FloatImage color_image, read_float_image(files.color_path, files.color_what,
-                                                                      manifest.face_width, manifest.face_height));
+  SVC_ASSIGN_OR_RETURN(const DecodedImage color_image, read_face_image(files.color_path, files.color_what,
+                                                                       manifest.face_width, manifest.face_height));
   // Colour and depth often share one EXR; read it once then.
   const bool shared_file = files.depth_path == files.color_path;
-  FloatImage depth_storage;
+  DecodedImage depth_storage;
   if (!shared_file) {
-    SVC_ASSIGN_OR_RETURN(depth_storage, read_float_image(files.depth_path, files.depth_what, manifest.face_width,
-                                                         manifest.face_height));
+    SVC_ASSIGN_OR_RETURN(depth_storage, read_face_image(files.depth_path, files.depth_what, manifest.face_width,
+                                                        manifest.face_height));
   }
   FaceData data;
   SVC_ASSIGN_OR_RETURN(data.depth, eye_depth(manifest, files, shared_file ? color_image : depth_storage));
@@ -303,8 +303,8 @@ Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& c
 
 Result<std::vector<float>> load_face_depth(const DatabaseManifest& manifest, const CellSource& cell, Face face) {
   SVC_ASSIGN_OR_RETURN(const FaceFiles files, face_files(manifest, cell, face));
-  SVC_ASSIGN_OR_RETURN(const FloatImage depth_image, read_float_image(files.depth_path, files.depth_what,
-                                                                      manifest.face_width, manifest.face_height));
+  SVC_ASSIGN_OR_RETURN(const DecodedImage depth_image, read_face_image(files.depth_path, files.depth_what,
+                                                                       manifest.face_width, manifest.face_height));
   return eye_depth(manifest, files, depth_image);
 }
 

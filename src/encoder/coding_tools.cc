@@ -39,6 +39,14 @@ constexpr std::array kCodingTools{
 
 }  // namespace
 
+std::vector<std::string> disabled_coding_tools(const CodingTools& tools) {
+  std::vector<std::string> names;
+  for (const CodingToolEntry& tool : kCodingTools) {
+    if (!(tools.*tool.enabled)) names.emplace_back(tool.name);
+  }
+  return names;
+}
+
 std::vector<std::string> coding_tool_names() {
   std::vector<std::string> names;
   for (const CodingToolEntry& tool : kCodingTools) names.emplace_back(tool.name);
@@ -59,28 +67,42 @@ Status disable_coding_tool(CodingTools* tools, std::string_view name) {
                 "unknown coding tool '" + std::string(name) + "' (tools: " + valid + ")");
 }
 
-std::vector<std::string> speed_disabled_tools(int speed) {
-  // Measured on the photographic scenes (docs/codec.md 6.2): the intra searches'
-  // rate-distortion step over modes and transform types and the B-frames' second pass
-  // with another filter bank first (about half the time for 3-4 % more bytes), then the
-  // B-frames' partitions, then rate-distortion optimized quantization (levels as
-  // quantized), then references chosen by visibility (with the regular layout below).
-  static const std::array<std::vector<std::string>, kMaxEncoderSpeed + 1> kSpeeds = {{
-      {},
-      {"intra-rd-search", "transform-types", "switchable-filter"},
-      {"intra-rd-search", "transform-types", "switchable-filter", "partitions"},
-      {"intra-rd-search", "transform-types", "switchable-filter", "partitions", "rdoq"},
-      {"intra-rd-search", "transform-types", "switchable-filter", "partitions", "rdoq", "visibility-references"},
+namespace {
+
+struct EncoderSpeed {
+  std::vector<std::string> disabled_tools;
+  CubeLayout layout;
+};
+
+// Measured on the photographic scenes (docs/codec.md 6.2): the intra searches'
+// rate-distortion step over modes and transform types and the B-frames' second pass with
+// another filter bank first (about half the time for 3-4 % more bytes), then the
+// B-frames' partitions, then rate-distortion optimized quantization (levels as
+// quantized), then the visibility layout's planning, which reads every depth file before
+// coding (about 9 % of speed 3's time for 0.2-0.4 % of the bytes), with the references it
+// chooses.
+const std::array<EncoderSpeed, kMaxEncoderSpeed + 1>& encoder_speeds() {
+  static const std::array<EncoderSpeed, kMaxEncoderSpeed + 1> kSpeeds = {{
+      {{}, CubeLayout::kVisibility},
+      {{"intra-rd-search", "transform-types", "switchable-filter"}, CubeLayout::kVisibility},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "partitions"}, CubeLayout::kVisibility},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "partitions", "rdoq"}, CubeLayout::kVisibility},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "partitions", "rdoq", "visibility-references"},
+       CubeLayout::kRegular},
   }};
+  return kSpeeds;
+}
+
+}  // namespace
+
+std::vector<std::string> speed_disabled_tools(int speed) {
   if (speed < 0 || speed > kMaxEncoderSpeed) return {};
-  return kSpeeds[static_cast<size_t>(speed)];
+  return encoder_speeds()[static_cast<size_t>(speed)].disabled_tools;
 }
 
 CubeLayout speed_layout(int speed) {
-  // The visibility layout's planning reads every depth file before coding and measures
-  // what the references see: about 9 % of speed 3's processor time, for 0.2-0.3 % of the
-  // bytes with the references it chooses (docs/codec.md 6.2).
-  return speed >= 4 && speed <= kMaxEncoderSpeed ? CubeLayout::kRegular : CubeLayout::kVisibility;
+  if (speed < 0 || speed > kMaxEncoderSpeed) return CubeLayout::kVisibility;
+  return encoder_speeds()[static_cast<size_t>(speed)].layout;
 }
 
 Status apply_encoder_speed(EncoderSettings* settings, int speed) {

@@ -97,12 +97,9 @@ void print_settings(const EncodeOptions& options) {
   const EncoderSettings& s = options.settings;
   const bool explicit_index = s.qindex >= 0;
   const int qindex = explicit_index ? s.qindex : qindex_for_quality(s.quality);
-  std::string tools_off;  // a tool is off where switching it off changes nothing
-  for (const std::string& name : coding_tool_names()) {
-    CodingTools probe = s.tools;
-    if (disable_coding_tool(&probe, name).ok() && probe == s.tools)
-      tools_off += (tools_off.empty() ? "" : ", ") + name;
-  }
+  std::string tools_off;
+  for (const std::string& name : disabled_coding_tools(s.tools))
+    tools_off += (tools_off.empty() ? "" : ", ") + name;
   const char* layout = s.intra_only                       ? " (intra only)"
                        : s.layout == CubeLayout::kRegular ? ", regular layout"
                                                           : ", visibility layout";
