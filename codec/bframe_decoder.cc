@@ -404,7 +404,9 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
     return Status(ErrorCode::kInvalidArgument, "B-frame: coded with " + std::to_string(header.reference_count) +
                                                    " reference(s) but " + std::to_string(given) + " given");
   }
-  FrameState s;
+  // The calling thread's state, reset for each frame: its buffers outlive the call, so
+  // that decoding face after face allocates (and page-faults) nothing for them.
+  thread_local FrameState s;
   init_state(s, width, height, header.qindex, &ref0, ref1, header.border_units);
   s.warp_mask = header.warp_mask;
   s.filter = header.filter;

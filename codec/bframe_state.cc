@@ -24,6 +24,16 @@ namespace svc::codec::bframe {
 
 void init_state(FrameState& s, int width, int height, int qindex, const ImageYCbCr420* ref0,
                 const ImageYCbCr420* ref1, int border_mbs) {
+  // Every field as in a fresh state; the buffers keep their capacity, so that a state
+  // reused frame after frame allocates nothing.
+  FrameState fresh;
+  fresh.nodes.swap(s.nodes);
+  fresh.node_known.swap(s.node_known);
+  fresh.planes.swap(s.planes);
+  fresh.coded.swap(s.coded);
+  fresh.intra_planes.swap(s.intra_planes);
+  fresh.macroblocks.swap(s.macroblocks);
+  s = std::move(fresh);
   s.width = width;
   s.border_mbs = border_mbs;
   s.height = height;
@@ -39,7 +49,6 @@ void init_state(FrameState& s, int width, int height, int qindex, const ImageYCb
   s.intra_quantizers = intra::residual_quantizers(qindex);
   s.vector_limit = max_vector_component(width, height);
   s.node_limit = max_warp_node_component(width, height);
-  s.contexts = bframe::SyntaxContexts{};
   prime_bframe_contexts(s.contexts);
   s.nodes_x = s.mbs_x + 1;
   s.nodes_y = s.mbs_y + 1;

@@ -4,6 +4,7 @@
 #include <bit>
 #include <limits>
 #include <memory>
+#include <vector>
 
 #include "codec/dsp/dsp.h"
 
@@ -51,21 +52,30 @@ bool planes_fit(const std::array<PlaneView, 3>& planes) {
 
 // The planes widened to 16 bits inside a kBorder frame of kCdefUnavailable, so that
 // every block's taps read in place, at the plane's edge as well. Each sample is written
-// once (the buffers are not value-initialised first).
+// once per frame. The buffers are the calling thread's, kept from frame to frame: a
+// fresh allocation of this size costs page faults on every frame.
 class WidenedPlanes {
  public:
   explicit WidenedPlanes(const std::array<PlaneView, 3>& planes) {
     for (int p = 0; p < 3; ++p) widen(planes[p], p);
   }
-  const uint16_t* at(int p, int x, int y) const { return samples_[p].get() + index(p, x, y); }
+  WidenedPlanes(const WidenedPlanes&) = delete;
+  WidenedPlanes& operator=(const WidenedPlanes&) = delete;
+  const uint16_t* at(int p, int x, int y) const { return buffers()[p].data() + index(p, x, y); }
   int stride(int p) const { return strides_[p]; }
 
  private:
+  // One set per thread; a thread holds one WidenedPlanes at a time.
+  static std::array<std::vector<uint16_t>, 3>& buffers() {
+    thread_local std::array<std::vector<uint16_t>, 3> samples;
+    return samples;
+  }
   void widen(const PlaneView& plane, int p) {
     const int stride = plane.width + 2 * kBorder, rows = plane.height + 2 * kBorder;
     strides_[p] = stride;
-    samples_[p] = std::make_unique_for_overwrite<uint16_t[]>(static_cast<size_t>(stride) * rows);
-    uint16_t* data = samples_[p].get();
+    std::vector<uint16_t>& buffer = buffers()[p];
+    if (buffer.size() < static_cast<size_t>(stride) * rows) buffer.resize(static_cast<size_t>(stride) * rows);
+    uint16_t* data = buffer.data();
     std::fill_n(data, static_cast<size_t>(stride) * kBorder, dsp::kCdefUnavailable);
     std::fill_n(data + static_cast<size_t>(stride) * (rows - kBorder), static_cast<size_t>(stride) * kBorder,
                 dsp::kCdefUnavailable);
@@ -80,7 +90,6 @@ class WidenedPlanes {
     return static_cast<size_t>(y + kBorder) * static_cast<size_t>(strides_[p]) + static_cast<size_t>(x + kBorder);
   }
 
-  std::array<std::unique_ptr<uint16_t[]>, 3> samples_;
   std::array<int, 3> strides_{};
 };
 
