@@ -348,7 +348,7 @@ class BFrameEncoder {
     evaluate_skip(skip_mode, predicted_warp(s_, mx, my), &winner);
     auto consider = [&](MacroblockMode mode, bool warp) {
       if (mode == MacroblockMode::kIntra) {
-        evaluate_intra(&option);
+        evaluate_intra(&option, winner.cost);
       } else {
         evaluate_inter(mode, warp, best, &option);
       }
@@ -1090,7 +1090,10 @@ class BFrameEncoder {
   // and Cr block, predicting from the reconstructed neighbours; the choice is
   // reconstructed in place in the frame's planes (the only option that writes there
   // before the commit) and marked in the intra neighbour state.
-  void evaluate_intra(MacroblockChoice* out) {
+  // `budget`: the cost to beat (the best option so far). Past it the luma search skips
+  // part of its partitions (MacroblockEncoder::choose_luma), and a luma costing that
+  // much alone leaves chroma unsearched and out->cost infinite.
+  void evaluate_intra(MacroblockChoice* out, double budget = std::numeric_limits<double>::infinity()) {
     const SyntaxContexts& c = s_.contexts;
     out->mode = MacroblockMode::kIntra;
     out->warp = false;
@@ -1104,7 +1107,11 @@ class BFrameEncoder {
     intra::MacroblockEncoder& search = quantize_rd_ ? *intra_rd_search_ : *intra_search_;
     double cost = lambda_ * mode_bits(s_, mx_, my_, MacroblockMode::kIntra);
     cost += search.choose_luma(c.intra_luma, s_.intra_planes[0], source[0], recon[0], s_.strides[0], mx_, my_,
-                               &choice.luma);
+                               &choice.luma, static_cast<float>(budget - cost));
+    if (cost >= budget) {
+      out->cost = std::numeric_limits<double>::infinity();
+      return;
+    }
     // Chroma may use CfL from the luma just reconstructed in place.
     cost += search.choose_chroma(c.intra_chroma, s_.intra_planes[1], s_.intra_planes[2], source[1], source[2],
                                  recon[1], recon[2], s_.strides[1], recon[0], s_.strides[0], 8 * mx_, 8 * my_,

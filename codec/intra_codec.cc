@@ -644,7 +644,7 @@ class MacroblockSearch {
   explicit MacroblockSearch(bool transform_sizes) : sizes_(transform_sizes) {}
 
   // Chooses the blocks of macroblock (mbx, mby) of `plane`; returns their cost.
-  float choose(const PlaneSearch& plane, PlaneState& state, int mbx, int mby, MacroblockChoice* out) {
+  float choose(const PlaneSearch& plane, PlaneState& state, int mbx, int mby, MacroblockChoice* out, float budget) {
     plane_ = &plane;
     const int x0 = 16 * mbx, y0 = 16 * mby;
     const PlaneContexts& contexts = plane_->contexts();
@@ -652,7 +652,16 @@ class MacroblockSearch {
     state.clear(x0, y0, 16);
     split_.partition = kSplit16x16;
     float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
-    for (int i = 0; i < 4; ++i) split_cost += choose_8x8(state, x0, y0, i);
+    for (int i = 0; i < 4; ++i) {
+      split_cost += choose_8x8(state, x0, y0, i);
+      if (i < 3 && split_cost >= budget) {
+        // The split cannot beat the budget: its other 8x8 blocks are not searched (DC
+        // stands in for them in the modes the whole macroblock ranks).
+        for (int k = i + 1; k < 4; ++k) split_.blocks[static_cast<size_t>(block_index(k))].mode = kDcMode;
+        split_cost = std::numeric_limits<float>::infinity();
+        break;
+      }
+    }
     if (!sizes_) {
       *out = split_;
       return split_cost;
@@ -673,7 +682,9 @@ class MacroblockSearch {
     float whole_cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 0) +
                        plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
     out->partition = 0;
+    // Past the budget, the halves and strips are not tried either.
     for (const bool vertical : {false, true}) {
+      if (split_cost == std::numeric_limits<float>::infinity()) break;
       const auto halves = static_cast<LumaPartition>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
       const auto& strips_bit = contexts.strips[vertical ? 1 : 0];
       const float bits = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +
@@ -1058,9 +1069,10 @@ MacroblockEncoder::MacroblockEncoder(const CodingParams& params, int qindex, flo
 MacroblockEncoder::~MacroblockEncoder() = default;
 
 float MacroblockEncoder::choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source,
-                                     uint8_t* recon, int stride, int mbx, int mby, MacroblockChoice* out) {
+                                     uint8_t* recon, int stride, int mbx, int mby, MacroblockChoice* out,
+                                     float budget) {
   const PlaneSearch plane(impl_->search, impl_->quantizers, contexts, source, recon, stride);
-  return impl_->macroblocks.choose(plane, state, mbx, mby, out);
+  return impl_->macroblocks.choose(plane, state, mbx, mby, out, budget);
 }
 
 float MacroblockEncoder::choose_chroma(const PlaneContexts& contexts, PlaneState& cb_state, PlaneState& cr_state,

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -281,8 +282,14 @@ class MacroblockEncoder {
   MacroblockEncoder(const MacroblockEncoder&) = delete;
   MacroblockEncoder& operator=(const MacroblockEncoder&) = delete;
 
+  // The luma blocks of macroblock (mbx, mby) and their cost. `budget`: the cost the
+  // macroblock must beat to be chosen at all (a B-face's best inter option). Once the
+  // four 8x8 blocks' running cost reaches it, the rest of them, the halves and the strips
+  // are not searched: only the 16x16 block may still come in under it (mode ranking as
+  // with the whole split, DC for the blocks not searched). Infinite: the full search.
   float choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
-                    int stride, int mbx, int mby, MacroblockChoice* out);
+                    int stride, int mbx, int mby, MacroblockChoice* out,
+                    float budget = std::numeric_limits<float>::infinity());
   // The Cb and the Cr block at (x0, y0) of the chroma planes (`cb_*`, `cr_*`, each with
   // its own neighbour state; same stride). A Cb block's mode is chosen with its Cr
   // block's cost under it: the best regular mode with Cr in that mode, against CfL (when

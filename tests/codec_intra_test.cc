@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -63,6 +64,66 @@ void expect_same_image(const ImageYCbCr420& a, const ImageYCbCr420& b) {
   EXPECT_TRUE(a.y == b.y);
   EXPECT_TRUE(a.cb == b.cb);
   EXPECT_TRUE(a.cr == b.cr);
+}
+
+// A B-face's intra search gets the cost of its best inter option as a budget (only a
+// cheaper macroblock can be chosen): once the split's running cost reaches it, only the
+// 16x16 block is searched further.
+TEST(IntraMacroblockSearch, BudgetStopsTheSplitAndLeavesTheWholeBlock) {
+  using namespace intra;
+  // Macroblock (1, 1) of a 32x32 plane: four 8x8 quadrants of unlike texture (vertical
+  // and horizontal stripes, a diagonal ramp, flat), which split blocks predict best.
+  constexpr int kStride = 32;
+  std::vector<uint8_t> plane(kStride * kStride, 128);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      const int quadrant = (y / 8) * 2 + x / 8;
+      const int value = quadrant == 0   ? (x % 4 < 2 ? 40 : 210)
+                        : quadrant == 1 ? (y % 4 < 2 ? 60 : 190)
+                        : quadrant == 2 ? 30 + 12 * (x + y)
+                                        : 100;
+      plane[static_cast<size_t>(16 + y) * kStride + 16 + x] = static_cast<uint8_t>(value);
+    }
+  }
+  CodingParams params;
+  params.qindex = 60;
+  params.coarse_mode_search = true;
+  MacroblockEncoder search(params, params.qindex, 20.0f);
+  struct Searched {
+    float cost = 0;
+    MacroblockChoice choice;
+    std::vector<uint8_t> recon;
+  };
+  auto run = [&](float budget) {
+    PlaneContexts contexts;
+    PlaneState state(kStride, kStride);
+    Searched out;
+    out.recon.assign(plane.size(), 128);
+    out.cost =
+        search.choose_luma(contexts, state, plane.data(), out.recon.data(), kStride, 1, 1, &out.choice, budget);
+    return out;
+  };
+  const Searched full = run(std::numeric_limits<float>::infinity());
+  ASSERT_NE(full.choice.partition & kSplit16x16, 0) << "the test needs a macroblock whose split wins";
+
+  // A budget above every partition's cost changes nothing.
+  const Searched roomy = run(1e30f);
+  EXPECT_EQ(roomy.cost, full.cost);
+  EXPECT_EQ(roomy.choice.partition, full.choice.partition);
+  EXPECT_EQ(roomy.recon, full.recon);
+
+  // A budget the first 8x8 block already exceeds: the 16x16 block, reconstructed in place,
+  // costing at least what the full search found.
+  const Searched tight = run(1.0f);
+  EXPECT_EQ(tight.choice.partition, 0);
+  EXPECT_GE(tight.cost, full.cost);
+  EXPECT_LT(tight.cost, std::numeric_limits<float>::infinity());
+  EXPECT_NE(tight.recon, full.recon);
+  int changed = 0;
+  for (int y = 16; y < 32; ++y) {
+    for (int x = 16; x < 32; ++x) changed += tight.recon[static_cast<size_t>(y) * kStride + x] != 128;
+  }
+  EXPECT_GT(changed, 128);
 }
 
 TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
