@@ -91,7 +91,8 @@ class FaceTest : public ::testing::Test {
     return load_face(manifest, 0, face);
   }
 
-  void expect_error(const Result<FaceData>& result, ErrorCode code, const std::vector<std::string>& needles) {
+  template <class T>
+  void expect_error(const Result<T>& result, ErrorCode code, const std::vector<std::string>& needles) {
     ASSERT_FALSE(result.ok());
     EXPECT_EQ(result.status().code(), code) << result.status().to_string();
     for (const std::string& needle : needles) {
@@ -425,6 +426,31 @@ TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColour) {
   for (const char* needle : {"cell (0,0,0)", "face pz", "depth", "d.exr"}) {
     EXPECT_NE(missing.status().message().find(needle), std::string::npos) << missing.status().message();
   }
+}
+
+TEST_F(FaceTest, ColourAloneEqualsTheFacesColourAndSkipsTheDepth) {
+  write_rgb_png("rgb.png");
+  write_float_exr(at("d.exr"), {"Z"}, constant(kPixels, 3.0f));
+  const DatabaseManifest manifest = make_database("rgb.png", "d.exr");
+  const auto face = load(manifest, Face::kPY);
+  const auto alone = load_face_color(manifest, 0, Face::kPY);
+  ASSERT_TRUE(face.ok() && alone.ok());
+  EXPECT_EQ(alone->width, face->color.width);
+  EXPECT_EQ(alone->height, face->color.height);
+  EXPECT_EQ(alone->pixels, face->color.pixels);
+
+  // The depth file is not read: damaged, it fails the face but not its colour.
+  std::ofstream(at("d.exr"), std::ios::binary | std::ios::trunc) << "not an image";
+  EXPECT_FALSE(load(manifest, Face::kPY).ok());
+  const auto still = load_face_color(manifest, 0, Face::kPY);
+  ASSERT_TRUE(still.ok()) << still.status().to_string();
+  EXPECT_EQ(still->pixels, face->color.pixels);
+
+  // A missing colour file is named as for the whole face; a bad ordinal is refused.
+  fs::remove(at("rgb.png"));
+  expect_error(load_face_color(manifest, 0, Face::kNZ), ErrorCode::kNotFound,
+               {"cell (0,0,0)", "face nz", "color", "rgb.png"});
+  expect_error(load_face_color(manifest, 1, Face::kPX), ErrorCode::kInvalidArgument, {"ordinal 1"});
 }
 
 TEST_F(FaceTest, OutOfRangeArgumentsAreRejected) {

@@ -125,6 +125,10 @@ Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& c
 // file. Thread-safe.
 Result<std::vector<float>> load_face_depth(const DatabaseManifest& manifest, const CellSource& cell, Face face);
 
+// The colour of load_face alone, without reading the depth (unless the two share a
+// file): what a colour-only codec reads. Same errors for the colour file. Thread-safe.
+Result<ImageRGB8> load_face_color(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
+
 // Where a manifest path lives on disk: absolute paths as they are, relative paths under
 // manifest.root.
 std::filesystem::path resolve_database_path(const DatabaseManifest& manifest, const std::string& manifest_path);

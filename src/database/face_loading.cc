@@ -308,4 +308,12 @@ Result<std::vector<float>> load_face_depth(const DatabaseManifest& manifest, con
   return eye_depth(manifest, files, depth_image);
 }
 
+Result<ImageRGB8> load_face_color(const DatabaseManifest& manifest, size_t cell_ordinal, Face face) {
+  SVC_ASSIGN_OR_RETURN(const CellSource cell, read_cell(manifest, cell_ordinal));
+  SVC_ASSIGN_OR_RETURN(const FaceFiles files, face_files(manifest, cell, face));
+  SVC_ASSIGN_OR_RETURN(const DecodedImage color_image, read_face_image(files.color_path, files.color_what,
+                                                                       manifest.face_width, manifest.face_height));
+  return to_rgb8(color_image);
+}
+
 }  // namespace svc
