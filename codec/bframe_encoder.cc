@@ -285,6 +285,11 @@ struct LinePredictors {
 // VectorSet's room).
 constexpr int kMaxCandidates = 128;
 
+// A split partition whose screening cost (luma SAD + sqrt(lambda) x side bits) exceeds
+// the best 16x16 option's by this factor is not coded: it practically never wins
+// (docs/codec.md 10.5, "Partitions").
+constexpr double kPartitionScreenMargin = 1.2;
+
 // The intra frame's tools an intra macroblock uses (docs/codec.md 10.5).
 CodingParams intra_tools(const BFrameParams& params) {
   CodingParams tools;
@@ -416,6 +421,7 @@ class BFrameEncoder {
     }
     std::stable_sort(screened.begin(), screened.begin() + screened_count,
                      [](const Screened& a, const Screened& b) { return a.cost < b.cost; });
+    best_screened_ = screened[0].cost;
     for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k)
       consider(screened[k].mode, screened[k].warp);
     // Where skipping wins over the inter options, intra rarely wins (28 of 7,012 such
@@ -1030,6 +1036,7 @@ class BFrameEncoder {
                  partition_bits(s_, mx_, my_, partition);
     const uint8_t* source =
         source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
+    double sad = 0;
     for (int k = 0; k < partition_count(partition); ++k) {
       const PartitionRect rect = partition_rect(partition, k);
       std::array<MotionVector, 2> vectors{};
@@ -1075,12 +1082,17 @@ class BFrameEncoder {
         }
       }
       bits += best_bits;
+      sad += best_cost - lambda_sad_ * best_bits;
       motion.vectors[k] = vectors;
       for (int r = 0; r < s_.reference_count; ++r) {
         if (uses_reference(motion.modes[k], r)) out->vectors[r] = vectors[r];
       }
     }
     out->mode = motion.modes[partition_count(partition) - 1];
+    if (sad + lambda_sad_ * bits > kPartitionScreenMargin * best_screened_) {
+      out->cost = std::numeric_limits<double>::infinity();
+      return;
+    }
     MacroblockPrediction prediction;
     build_partition_prediction(s_, mx_, my_, motion, &prediction);
     code_residual(prediction, bits, out);
@@ -1135,6 +1147,7 @@ class BFrameEncoder {
   // mode decision (made with plain quantization) is over.
   bool quantize_rd_ = false;
   const bool partitions_;
+  double best_screened_ = 0;  // the best 16x16 inter option's screening cost, this macroblock
   const bool vector_predictors_;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};  // the first of each list

@@ -54,8 +54,8 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "b2c033a12eab0dc0d9db769d013473fc2c5b3135bea80c2542695a51698654f0",
-     "9b5f90c7468c511cde09b64f50c1d79419af858a78f7b9288c39f849c52abbc0"},
+     "bd118c1161be112be04ec3c2828847bab0d2c5a603620775dc94be0ae1ed2461",
+     "70bbe0c3cff4b7669f745d679ea58f50e4c56aeb5c4671a11eb32e9801325be4"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
      "7cda7b47a9b65e32e1c4f51ab9f0556365f3418c74e9883dfe2cede3a15051db",
      "ad0833e82b82043a4ca23b1911c0f28ee4d5ada24f63ff21609b64c1a1508783"},
