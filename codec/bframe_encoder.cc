@@ -421,7 +421,6 @@ class BFrameEncoder {
     }
     std::stable_sort(screened.begin(), screened.begin() + screened_count,
                      [](const Screened& a, const Screened& b) { return a.cost < b.cost; });
-    best_screened_ = screened[0].cost;
     for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k)
       consider(screened[k].mode, screened[k].warp);
     // Where skipping wins over the inter options, intra rarely wins (28 of 7,012 such
@@ -432,7 +431,7 @@ class BFrameEncoder {
     if (partitions_ && (winner.mode == MacroblockMode::kIntra || motion_varies(hints[0]) ||
                         (s_.reference_count == 2 && motion_varies(hints[1])))) {
       for (const Partition partition : {Partition::k16x8, Partition::k8x16, Partition::k8x8}) {
-        evaluate_partitioned(partition, hints, best, stats, &option);
+        evaluate_partitioned(partition, hints, best, screened[0].cost, stats, &option);
         if (option.cost < winner.cost) std::swap(winner, option);
       }
     }
@@ -1023,9 +1022,10 @@ class BFrameEncoder {
   // A split macroblock: per partition in coding order, the best vector per reference
   // from the partition's own candidates (and the 16x16 choice), then the direction by
   // SAD + side bits; the whole then by rate-distortion cost.
+  // `best_screened`: the best 16x16 inter option's screening cost (kPartitionScreenMargin).
   void evaluate_partitioned(Partition partition, const std::array<MacroblockHints, 2>& hints,
-                            const std::array<MotionVector, 2>& macroblock_best, BFrameStats* stats,
-                            MacroblockChoice* out) {
+                            const std::array<MotionVector, 2>& macroblock_best, double best_screened,
+                            BFrameStats* stats, MacroblockChoice* out) {
     PartitionMotion& motion = out->motion;
     motion = PartitionMotion{};
     motion.partition = partition;
@@ -1089,7 +1089,7 @@ class BFrameEncoder {
       }
     }
     out->mode = motion.modes[partition_count(partition) - 1];
-    if (sad + lambda_sad_ * bits > kPartitionScreenMargin * best_screened_) {
+    if (sad + lambda_sad_ * bits > kPartitionScreenMargin * best_screened) {
       out->cost = std::numeric_limits<double>::infinity();
       return;
     }
@@ -1147,7 +1147,6 @@ class BFrameEncoder {
   // mode decision (made with plain quantization) is over.
   bool quantize_rd_ = false;
   const bool partitions_;
-  double best_screened_ = 0;  // the best 16x16 inter option's screening cost, this macroblock
   const bool vector_predictors_;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};  // the first of each list

@@ -652,14 +652,15 @@ class MacroblockSearch {
     state.clear(x0, y0, 16);
     split_.partition = kSplit16x16;
     float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
-    for (int i = 0; i < 4; ++i) {
+    bool over_budget = false;
+    for (int i = 0; i < 4 && !over_budget; ++i) {
       split_cost += choose_8x8(state, x0, y0, i);
       if (i < 3 && split_cost >= budget) {
         // The split cannot beat the budget: its other 8x8 blocks are not searched (DC
         // stands in for them in the modes the whole macroblock ranks).
         for (int k = i + 1; k < 4; ++k) split_.blocks[static_cast<size_t>(block_index(k))].mode = kDcMode;
         split_cost = std::numeric_limits<float>::infinity();
-        break;
+        over_budget = true;
       }
     }
     if (!sizes_) {
@@ -684,7 +685,7 @@ class MacroblockSearch {
     out->partition = 0;
     // Past the budget, the halves and strips are not tried either.
     for (const bool vertical : {false, true}) {
-      if (split_cost == std::numeric_limits<float>::infinity()) break;
+      if (over_budget) break;
       const auto halves = static_cast<LumaPartition>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
       const auto& strips_bit = contexts.strips[vertical ? 1 : 0];
       const float bits = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +

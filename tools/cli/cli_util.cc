@@ -78,6 +78,12 @@ std::string cell_folder(const CellIndex& cell) {
   return "cells/" + std::to_string(cell.x) + "_" + std::to_string(cell.y) + "_" + std::to_string(cell.z);
 }
 
+std::string comma_list(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
+
 std::string human_bytes(uint64_t bytes) {
   char buf[64];
   if (bytes >= (1ull << 30)) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -42,6 +43,9 @@ bool parse_triple(const std::string& text, std::array<int32_t, 3>* out);
 std::string cell_folder(const CellIndex& cell);
 
 std::string human_bytes(uint64_t bytes);
+
+// "a, b, c" (empty for no names).
+std::string comma_list(const std::vector<std::string>& names);
 
 // Writes an 8-bit RGB PNG.
 Status write_png(const std::filesystem::path& path, const ImageRGB8& image);

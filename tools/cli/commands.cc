@@ -97,9 +97,7 @@ void print_settings(const EncodeOptions& options) {
   const EncoderSettings& s = options.settings;
   const bool explicit_index = s.qindex >= 0;
   const int qindex = explicit_index ? s.qindex : qindex_for_quality(s.quality);
-  std::string tools_off;
-  for (const std::string& name : disabled_coding_tools(s.tools))
-    tools_off += (tools_off.empty() ? "" : ", ") + name;
+  const std::string tools_off = comma_list(disabled_coding_tools(s.tools));
   const char* layout = s.intra_only                       ? " (intra only)"
                        : s.layout == CubeLayout::kRegular ? ", regular layout"
                                                           : ", visibility layout";

@@ -73,15 +73,12 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
                   "(coarser high frequencies)")
       ->check(CLI::IsMember({"flat", "weighted"}))
       ->capture_default_str();
-  std::string tools;
-  for (const std::string& name : coding_tool_names()) tools += (tools.empty() ? "" : ", ") + name;
   cmd->add_option("--disable-tool", text->disabled_tools,
-                  "Do not use this coding tool (repeatable; to measure its gain): " + tools);
+                  "Do not use this coding tool (repeatable; to measure its gain): " +
+                      comma_list(coding_tool_names()));
   std::string speeds;
   for (int speed = 1; speed <= kMaxEncoderSpeed; ++speed) {
-    std::string names;
-    for (const std::string& name : speed_disabled_tools(speed)) names += (names.empty() ? "" : ", ") + name;
-    speeds += "; " + std::to_string(speed) + ": without " + names;
+    speeds += "; " + std::to_string(speed) + ": without " + comma_list(speed_disabled_tools(speed));
     if (speed_layout(speed) == CubeLayout::kRegular) speeds += ", regular layout";
   }
   cmd->add_option("--speed", text->speed,
