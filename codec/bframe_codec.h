@@ -144,6 +144,9 @@ struct BFrameParams {
   bool intra_prediction = true;
   bool intra_rd_search = true;
   bool intra_transform_sizes = true;
+  // Intra 8x8 luma blocks may be split into 4x4, 8x4 or 4x8 blocks (with
+  // intra_transform_sizes); off, the encoder never tries it.
+  bool intra_small_blocks = true;
   // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
   bool intra_cfl = true;
   // Intra blocks with levels code their transform type (docs/codec.md 5.4; header byte 3

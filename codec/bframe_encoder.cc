@@ -299,6 +299,7 @@ CodingParams intra_tools(const BFrameParams& params) {
   tools.cfl = params.intra_cfl;
   tools.rdoq = params.rdoq;
   tools.coarse_mode_search = true;
+  tools.small_blocks = params.intra_small_blocks;
   return tools;
 }
 

@@ -635,13 +635,15 @@ class PlaneSearch {
 };
 
 // Encoder only: the partition of a luma macroblock by rate-distortion cost. Four 8x8
-// blocks come first, each also tried as four 4x4 blocks when it has levels (a block the
-// prediction alone serves gains nothing from splitting); then one 16x16 block whose
+// blocks come first, each also tried as four 4x4, two 8x4 and two 4x8 blocks when it has
+// levels (a block the prediction alone serves gains nothing from splitting) and small
+// blocks are allowed; then one 16x16 block whose
 // modes are ranked among those blocks' and the most probable ones, two 16x8, two 8x16,
 // four 16x4 and four 4x16 blocks (try_partition), the cheapest kept.
 class MacroblockSearch {
  public:
-  explicit MacroblockSearch(bool transform_sizes) : sizes_(transform_sizes) {}
+  MacroblockSearch(bool transform_sizes, bool small_blocks)
+      : sizes_(transform_sizes), small_blocks_(small_blocks) {}
 
   // Chooses the blocks of macroblock (mbx, mby) of `plane`; returns their cost.
   float choose(const PlaneSearch& plane, PlaneState& state, int mbx, int mby, MacroblockChoice* out, float budget) {
@@ -714,7 +716,7 @@ class MacroblockSearch {
     BlockChoice& whole = split_.blocks[static_cast<size_t>(first)];
     float best_cost = unsplit_bits + plane_->split_bit_cost(contexts.halves_8x8[context], 0) +
                       plane_->code_block(state, x0, y0, 8, nullptr, false, &whole);
-    if (!sizes_ || !whole.coded) return best_cost;
+    if (!sizes_ || !small_blocks_ || !whole.coded) return best_cost;
     kept_[0] = whole;
     int kept_count = 1;
     LumaPartition best = 0;
@@ -823,6 +825,7 @@ class MacroblockSearch {
 
   const PlaneSearch* plane_ = nullptr;
   bool sizes_;
+  bool small_blocks_;  // 8x8 blocks also tried as 4x4, 8x4 and 4x8 ones
   MacroblockChoice split_;
   std::array<BlockChoice, 4> trial_;  // the blocks of the partition being tried
   std::array<BlockChoice, 4> kept_;   // the best blocks of the 8x8 block being chosen
@@ -1054,7 +1057,7 @@ struct MacroblockEncoder::Impl {
   Impl(const CodingParams& params, int qindex, float lambda)
       : quantizers(encoder_quantizers(qindex, params.residual_matrix)),
         search(quantizers, params, lambda),
-        macroblocks(params.transform_sizes),
+        macroblocks(params.transform_sizes, params.small_blocks),
         cfl(params.cfl) {}
 
   SizedQuantizers quantizers;

@@ -26,8 +26,12 @@ struct CodingParams {
   // Encoder choice: with every mode allowed, rank by SATD only planar, DC, the most
   // probable modes, every fourth angular mode and the two on each side of the best of
   // those (at most 18 modes instead of 35): for B-frame intra macroblocks, where the
-  // search runs on every macroblock (docs/codec.md 10.5).
+  // search runs on every macroblock (docs/codec.md 10.5), and for intra frames at encoder
+  // speeds from 1 on (6.2).
   bool coarse_mode_search = false;
+  // Encoder restriction: when false, 8x8 luma blocks are never split into 4x4, 8x4 or
+  // 4x8 blocks (the split flags are still coded).
+  bool small_blocks = true;
   // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
   // the squared error against the source (the flag costs nothing else).
   bool deblocking = true;

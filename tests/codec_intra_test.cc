@@ -126,6 +126,43 @@ TEST(IntraMacroblockSearch, BudgetStopsTheSplitAndLeavesTheWholeBlock) {
   EXPECT_GT(changed, 128);
 }
 
+// Without small blocks (B-faces at the highest encoder speed) no 8x8 block of the
+// macroblock is split into 4x4, 8x4 or 4x8 blocks, where the full search splits one.
+TEST(IntraMacroblockSearch, WithoutSmallBlocksNoEightByEightIsSplit) {
+  using namespace intra;
+  // Macroblock (1, 1) of a 32x32 plane: each 8x8 quadrant holds four flat 4x4 squares
+  // of unlike values, which 4x4 blocks predict best.
+  constexpr int kStride = 32;
+  std::vector<uint8_t> plane(kStride * kStride, 128);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      const int square = (y / 4) * 4 + x / 4;
+      plane[static_cast<size_t>(16 + y) * kStride + 16 + x] = static_cast<uint8_t>(20 + (square * 97) % 220);
+    }
+  }
+  constexpr LumaPartition kSmallBlocks =
+      static_cast<LumaPartition>(split_8x8_bit(0) | split_8x8_bit(1) | split_8x8_bit(2) | split_8x8_bit(3) |
+                                 halves_8x8_bit(0) | halves_8x8_bit(1) | halves_8x8_bit(2) | halves_8x8_bit(3));
+  auto run = [&](bool small_blocks) {
+    CodingParams params;
+    params.qindex = 40;
+    params.coarse_mode_search = true;
+    params.small_blocks = small_blocks;
+    MacroblockEncoder search(params, params.qindex, 20.0f);
+    PlaneContexts contexts;
+    PlaneState state(kStride, kStride);
+    std::vector<uint8_t> recon(plane.size(), 128);
+    MacroblockChoice choice;
+    const float cost = search.choose_luma(contexts, state, plane.data(), recon.data(), kStride, 1, 1, &choice);
+    return std::pair{cost, choice.partition};
+  };
+  const auto [full_cost, full_partition] = run(true);
+  ASSERT_NE(full_partition & kSmallBlocks, 0) << "the test needs a macroblock whose 8x8 blocks split";
+  const auto [restricted_cost, restricted_partition] = run(false);
+  EXPECT_EQ(restricted_partition & kSmallBlocks, 0);
+  EXPECT_GT(restricted_cost, full_cost);
+}
+
 TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
   for (auto [width, height] : {std::pair{256, 256}, {17, 9}, {1, 1}, {250, 130}, {16, 16}, {33, 70}}) {
     const ImageYCbCr420 source = synthetic_image(width, height, static_cast<uint32_t>(width + height));

@@ -87,6 +87,15 @@ struct CodingTools {
   // of each reference (from the cameras; docs/codec.md 10.3), predictors and candidates
   // taken onto the line. Off: in x and y.
   bool epipolar_lines = true;
+  // I-faces: every block ranks all 35 prediction modes by SATD. Off: planar, DC, the most
+  // probable modes and every fourth angular mode, then the two on each side of the best
+  // of those (at most 18 modes), as B-face intra macroblocks always rank them
+  // (docs/codec.md 6.2). Encoder only.
+  bool full_intra_mode_search = true;
+  // B-faces: an intra macroblock's 8x8 luma blocks are also tried as four 4x4, two 8x4
+  // or two 4x8 blocks. Off: its blocks are 16x16, 16x8, 8x16, 16x4, 4x16 or 8x8 only
+  // (docs/codec.md 6.2). Encoder only.
+  bool b_intra_small_blocks = true;
 
   bool operator==(const CodingTools&) const = default;
 };
@@ -112,10 +121,10 @@ Status disable_coding_tool(CodingTools* tools, std::string_view name);
 
 // Encoder speed settings, 0 (the default: every tool) to kMaxEncoderSpeed. Each step
 // switches off more of the coding tools that cost the most encode time for the bytes
-// they save, and the highest also the visibility layout's planning; docs/codec.md 6.2
+// they save, and the two highest also the visibility layout's planning; docs/codec.md 6.2
 // lists them with their BD-rate and time. Thread-safe (fixed tables); outside
 // 0..kMaxEncoderSpeed the tools list is empty and the layout kVisibility.
-inline constexpr int kMaxEncoderSpeed = 4;
+inline constexpr int kMaxEncoderSpeed = 5;
 std::vector<std::string> speed_disabled_tools(int speed);
 CubeLayout speed_layout(int speed);
 

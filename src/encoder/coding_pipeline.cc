@@ -44,6 +44,7 @@ class Pipeline {
     intra_params_.directional_intra = job.tools.intra_directional;
     intra_params_.rd_intra_search = job.tools.intra_rd_search;
     intra_params_.rdoq = job.tools.rdoq;
+    intra_params_.coarse_mode_search = !job.tools.full_intra_mode_search;
     intra_params_.transform_sizes = job.tools.transform_sizes;
     intra_params_.cfl = job.tools.cfl;
     intra_params_.transform_types = job.tools.transform_types;
@@ -64,6 +65,7 @@ class Pipeline {
     b_params_.intra_prediction = job.tools.b_intra_prediction && job.tools.intra_directional;
     b_params_.intra_rd_search = job.tools.intra_rd_search;
     b_params_.intra_transform_sizes = job.tools.transform_sizes;
+    b_params_.intra_small_blocks = job.tools.b_intra_small_blocks;
     b_params_.intra_cfl = job.tools.cfl;
     b_params_.intra_transform_types = job.tools.transform_types;
   }

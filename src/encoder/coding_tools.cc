@@ -35,6 +35,8 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"b-intra-prediction", &CodingTools::b_intra_prediction},
     CodingToolEntry{"vector-predictors", &CodingTools::vector_predictors},
     CodingToolEntry{"epipolar-lines", &CodingTools::epipolar_lines},
+    CodingToolEntry{"full-intra-mode-search", &CodingTools::full_intra_mode_search},
+    CodingToolEntry{"b-intra-small-blocks", &CodingTools::b_intra_small_blocks},
 };
 
 }  // namespace
@@ -75,19 +77,27 @@ struct EncoderSpeed {
 };
 
 // Measured on the photographic scenes (docs/codec.md 6.2): the intra searches'
-// rate-distortion step over modes and transform types and the B-frames' second pass with
-// another filter bank first (about half the time for 3-4 % more bytes), then the
+// rate-distortion step over modes and transform types, the B-frames' second pass with
+// another filter bank and the I-faces' ranking of all 35 modes first (about half the
+// time for 3-4 % more bytes), then the
 // B-frames' partitions, then rate-distortion optimized quantization (levels as
 // quantized), then the visibility layout's planning, which reads every depth file before
 // coding (about 9 % of speed 3's time for 0.2-0.4 % of the bytes), with the references it
-// chooses.
+// chooses; last the B-faces' intra blocks under 8x8.
 const std::array<EncoderSpeed, kMaxEncoderSpeed + 1>& encoder_speeds() {
   static const std::array<EncoderSpeed, kMaxEncoderSpeed + 1> kSpeeds = {{
       {{}, CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter"}, CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "partitions"}, CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "partitions", "rdoq"}, CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "partitions", "rdoq", "visibility-references"},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search"},
+       CubeLayout::kVisibility},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions"},
+       CubeLayout::kVisibility},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions", "rdoq"},
+       CubeLayout::kVisibility},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions", "rdoq",
+        "visibility-references"},
+       CubeLayout::kRegular},
+      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions", "rdoq",
+        "visibility-references", "b-intra-small-blocks"},
        CubeLayout::kRegular},
   }};
   return kSpeeds;
