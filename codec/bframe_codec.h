@@ -112,6 +112,9 @@ struct BFrameParams {
   bool deblocking = true;
   // Offers CDEF (cdef.h), chosen by squared error plus bits (lambda as above).
   bool cdef = true;
+  // Encoder choice: CDEF presets from all 14 candidate strengths; off, from every other
+  // one (choose_cdef's every_candidate).
+  bool full_cdef_search = true;
   // Inter options (forward, backward, bidirectional, each translational or warped) are
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.

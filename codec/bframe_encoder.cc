@@ -157,7 +157,7 @@ uint8_t apply_cdef_choice(RangeEncoder& encoder, FrameState& s, const PaddedSour
   visible.width = s.width;
   visible.height = s.height;
   const CdefParams cdef = choose_cdef(plane_views(s), visible, s.inter_quantizer.qindex, cdef_skip_map(s),
-                                      std::max(0.0, params.lambda_factor) * scale * scale);
+                                      std::max(0.0, params.lambda_factor) * scale * scale, params.full_cdef_search);
   if (cdef.presets.empty()) return 0;
   write_cdef_syntax(encoder, cdef, cdef_units(16 * s.mbs_x), cdef_units(16 * s.mbs_y));
   cdef_planes(s, cdef);

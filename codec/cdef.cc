@@ -231,7 +231,7 @@ int64_t block_error(const uint8_t* block, int size, const CdefSource& source, in
 // frame with each candidate.
 std::vector<std::vector<int64_t>> candidate_errors(const std::array<PlaneView, 3>& planes, const CdefSource& source,
                                                    int qindex, std::span<const uint8_t> skip,
-                                                   const std::vector<int64_t>& unfiltered) {
+                                                   const std::vector<int64_t>& unfiltered, int candidate_step) {
   std::vector<std::vector<int64_t>> errors(kCandidateCount, unfiltered);
   const int blocks_x = planes[0].width / 8, blocks_y = planes[0].height / 8;
   const int units_x = cdef_units(planes[0].width);
@@ -258,7 +258,7 @@ std::vector<std::vector<int64_t>> candidate_errors(const std::array<PlaneView, 3
       for (int p = 0; p < 3; ++p)
         before += block_error(original[p], p == 0 ? 8 : 4, source, p, p ? 4 * bx : 8 * bx, p ? 4 * by : 8 * by);
       const size_t unit = static_cast<size_t>(by / 8) * units_x + bx / 8;
-      for (int c = 0; c < kCandidateCount; ++c) {
+      for (int c = 0; c < kCandidateCount; c += candidate_step) {
         const CdefStrength& strength = kCandidates[c];
         const int secondary = secondary_of(strength.secondary_code);
         const int luma_direction = strength.primary == 0 ? 0 : direction;
@@ -343,21 +343,23 @@ void cdef_frame(const CdefParams& params, int qindex, std::span<const uint8_t> s
 }
 
 CdefParams choose_cdef(const std::array<PlaneView, 3>& planes, const CdefSource& source, int qindex,
-                       std::span<const uint8_t> skip, double lambda) {
+                       std::span<const uint8_t> skip, double lambda, bool every_candidate) {
   if (!planes_fit(planes) || source.width <= 0 || source.width > planes[0].width || source.height <= 0 ||
       source.height > planes[0].height) {
     return {};
   }
   const int units = cdef_units(planes[0].width) * cdef_units(planes[0].height);
   const std::vector<int64_t> unfiltered = unit_errors(planes, source);
-  const std::vector<std::vector<int64_t>> errors = candidate_errors(planes, source, qindex, skip, unfiltered);
+  const int candidate_step = every_candidate ? 1 : 2;
+  const std::vector<std::vector<int64_t>> errors =
+      candidate_errors(planes, source, qindex, skip, unfiltered, candidate_step);
   // Greedy: add the candidate that lowers the cost most, while one does.
   std::vector<int> set;
   double best_cost = 0;
   for (int64_t e : unfiltered) best_cost += static_cast<double>(e);  // filter off: no bits
   while (set.size() < kCdefMaxPresets) {
     int best_candidate = -1;
-    for (int c = 0; c < kCandidateCount; ++c) {
+    for (int c = 0; c < kCandidateCount; c += candidate_step) {
       if (std::find(set.begin(), set.end(), c) != set.end()) continue;
       std::vector<int> trial = set;
       trial.push_back(c);

@@ -53,13 +53,15 @@ void cdef_frame(const CdefParams& params, int qindex, std::span<const uint8_t> s
 
 // Encoder only: the presets and unit choices that minimise squared error against
 // `source` (visible planes, stride = width) plus lambda per estimated bit; no presets
-// when the filter does not pay. `planes` is left unchanged.
+// when the filter does not pay. `planes` is left unchanged. `every_candidate` false: the
+// presets come from every other one of the candidate strengths (7 of 14), in half the
+// time.
 struct CdefSource {
   std::array<const uint8_t*, 3> planes{};
   std::array<int, 3> strides{};
   int width = 0, height = 0;  // visible luma size
 };
 CdefParams choose_cdef(const std::array<PlaneView, 3>& planes, const CdefSource& source, int qindex,
-                       std::span<const uint8_t> skip, double lambda);
+                       std::span<const uint8_t> skip, double lambda, bool every_candidate = true);
 
 }  // namespace svc::codec

@@ -158,14 +158,15 @@ void cdef_intra(PaddedFrame* frame, const CdefParams& params, int qindex) {
 // Encoder only: chooses CDEF for the deblocked frame, filters it and writes the syntax
 // when the filter pays. lambda as the B-frame encoder's default (0.12 scale^2 per bit).
 // Returns whether it did.
-bool apply_cdef_choice(RangeEncoder& encoder, PaddedFrame* frame, const ImageYCbCr420& source, int qindex) {
+bool apply_cdef_choice(RangeEncoder& encoder, PaddedFrame* frame, const ImageYCbCr420& source, int qindex,
+                       bool every_candidate) {
   const double scale = quantizer_scale_q8(qindex) / 256.0;
   CdefSource visible;
   visible.planes = {source.y.data(), source.cb.data(), source.cr.data()};
   visible.strides = {source.width, (source.width + 1) / 2, (source.width + 1) / 2};
   visible.width = source.width;
   visible.height = source.height;
-  const CdefParams params = choose_cdef(frame->views(), visible, qindex, {}, 0.12 * scale * scale);
+  const CdefParams params = choose_cdef(frame->views(), visible, qindex, {}, 0.12 * scale * scale, every_candidate);
   if (params.presets.empty()) return false;
   write_cdef_syntax(encoder, params, cdef_units(frame->widths[0]), cdef_units(frame->heights[0]));
   cdef_intra(frame, params, qindex);
@@ -1255,7 +1256,8 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
       frame = std::move(filtered);
     }
   }
-  if (params.cdef && apply_cdef_choice(encoder, &frame, source, qindex)) bytes[kIntraFlagsByte] |= kLoopFilterCdef;
+  if (params.cdef && apply_cdef_choice(encoder, &frame, source, qindex, params.full_cdef_search))
+    bytes[kIntraFlagsByte] |= kLoopFilterCdef;
   observe_intra_frame_contexts(luma_contexts, chroma_contexts);
   encoder.finish();
   if (reconstruction != nullptr) crop(frame, width, height, reconstruction);

@@ -38,6 +38,9 @@ struct CodingParams {
   // Offers CDEF (cdef.h); the encoder chooses its presets and units by squared error
   // plus their bits, and leaves it off where it does not pay.
   bool cdef = true;
+  // Encoder choice: CDEF presets from all 14 candidate strengths; off, from every other
+  // one (choose_cdef's every_candidate).
+  bool full_cdef_search = true;
   // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h)
   // rather than by rounding with a dead zone.
   bool rdoq = true;

@@ -2,6 +2,7 @@
 // syntax, and its use by the frame codecs (signalled, bit-exact, robust to damage).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -138,6 +139,31 @@ TEST(Cdef, IntraFramesSignalChooseAndDecodeExactly) {
   reconstruct_intra_frame(coefficients, &from_coefficients);
   EXPECT_EQ(from_coefficients.y, filtered.y);
   EXPECT_EQ(from_coefficients.cr, filtered.cr);
+}
+
+// The half search (encoder speed 5) picks its presets among every other candidate
+// strength only, and its frames decode to the encoder's reconstruction as any other.
+TEST(Cdef, HalfSearchKeepsToEveryOtherCandidateAndDecodesExactly) {
+  const ImageYCbCr420 source = ringing_source(136, 72, 0);
+  const std::vector<std::pair<int, int>> allowed = {{0, 1}, {1, 0}, {1, 1}, {3, 1}, {4, 1}, {6, 2}, {10, 3}};
+  for (int qindex : {120, 170, 220}) {
+    CodingParams half;
+    half.qindex = qindex;
+    half.full_cdef_search = false;
+    ImageYCbCr420 filtered, decoded;
+    const std::vector<uint8_t> bytes = encode_intra_frame(source, half, &filtered);
+    ASSERT_TRUE(decode_intra_frame(bytes, 136, 72, &decoded).ok());
+    EXPECT_EQ(decoded.y, filtered.y) << qindex;
+    EXPECT_EQ(decoded.cb, filtered.cb) << qindex;
+    CoefficientFrame coefficients;
+    ASSERT_TRUE(parse_intra_frame(bytes, 136, 72, &coefficients).ok());
+    if (qindex == 170) EXPECT_FALSE(coefficients.cdef.presets.empty());
+    for (const CdefStrength& preset : coefficients.cdef.presets) {
+      const std::pair<int, int> strength{preset.primary, preset.secondary_code};
+      EXPECT_NE(std::find(allowed.begin(), allowed.end(), strength), allowed.end())
+          << qindex << ": " << strength.first << "," << strength.second;
+    }
+  }
 }
 
 TEST(Cdef, DamagedSyntaxIsRejectedOrDecodes) {

@@ -96,6 +96,9 @@ struct CodingTools {
   // or two 4x8 blocks. Off: its blocks are 16x16, 16x8, 8x16, 16x4, 4x16 or 8x8 only
   // (docs/codec.md 6.2). Encoder only.
   bool b_intra_small_blocks = true;
+  // Every face: CDEF presets chosen among 14 candidate strengths. Off: among every other
+  // one of them, in half the search time (docs/codec.md 6.2). Encoder only.
+  bool full_cdef_search = true;
 
   bool operator==(const CodingTools&) const = default;
 };

@@ -57,6 +57,7 @@ class Pipeline {
     b_params_.rdoq = job.tools.rdoq;
     intra_params_.deblocking = b_params_.deblocking = job.tools.deblocking;
     intra_params_.cdef = b_params_.cdef = job.tools.cdef;
+    intra_params_.full_cdef_search = b_params_.full_cdef_search = job.tools.full_cdef_search;
     b_params_.switchable_filter = job.tools.switchable_filter;
     b_params_.partitions = job.tools.partitions;
     b_params_.vector_predictors = job.tools.vector_predictors;

@@ -37,6 +37,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"epipolar-lines", &CodingTools::epipolar_lines},
     CodingToolEntry{"full-intra-mode-search", &CodingTools::full_intra_mode_search},
     CodingToolEntry{"b-intra-small-blocks", &CodingTools::b_intra_small_blocks},
+    CodingToolEntry{"full-cdef-search", &CodingTools::full_cdef_search},
 };
 
 }  // namespace
@@ -83,7 +84,7 @@ struct EncoderSpeed {
 // B-frames' partitions, then rate-distortion optimized quantization (levels as
 // quantized), then the visibility layout's planning, which reads every depth file before
 // coding (about 9 % of speed 3's time for 0.2-0.4 % of the bytes), with the references it
-// chooses; last the B-faces' intra blocks under 8x8.
+// chooses; last the B-faces' intra blocks under 8x8 and half the CDEF search.
 const std::array<EncoderSpeed, kMaxEncoderSpeed + 1>& encoder_speeds() {
   static const std::array<EncoderSpeed, kMaxEncoderSpeed + 1> kSpeeds = {{
       {{}, CubeLayout::kVisibility},
@@ -97,7 +98,7 @@ const std::array<EncoderSpeed, kMaxEncoderSpeed + 1>& encoder_speeds() {
         "visibility-references"},
        CubeLayout::kRegular},
       {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions", "rdoq",
-        "visibility-references", "b-intra-small-blocks"},
+        "visibility-references", "b-intra-small-blocks", "full-cdef-search"},
        CubeLayout::kRegular},
   }};
   return kSpeeds;
