@@ -66,6 +66,19 @@ void expect_same_image(const ImageYCbCr420& a, const ImageYCbCr420& b) {
   EXPECT_TRUE(a.cr == b.cr);
 }
 
+// A kStride x kStride plane of grey 128 whose macroblock (1, 1) takes value(x, y) at
+// (16 + x, 16 + y).
+constexpr int kStride = 32;
+template <class Value>
+std::vector<uint8_t> plane_around_macroblock(Value value) {
+  std::vector<uint8_t> plane(kStride * kStride, 128);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x)
+      plane[static_cast<size_t>(16 + y) * kStride + 16 + x] = static_cast<uint8_t>(value(x, y));
+  }
+  return plane;
+}
+
 // A B-face's intra search gets the cost of its best inter option as a budget (only a
 // cheaper macroblock can be chosen): once the split's running cost reaches it, only the
 // 16x16 block is searched further.
@@ -73,18 +86,13 @@ TEST(IntraMacroblockSearch, BudgetStopsTheSplitAndLeavesTheWholeBlock) {
   using namespace intra;
   // Macroblock (1, 1) of a 32x32 plane: four 8x8 quadrants of unlike texture (vertical
   // and horizontal stripes, a diagonal ramp, flat), which split blocks predict best.
-  constexpr int kStride = 32;
-  std::vector<uint8_t> plane(kStride * kStride, 128);
-  for (int y = 0; y < 16; ++y) {
-    for (int x = 0; x < 16; ++x) {
-      const int quadrant = (y / 8) * 2 + x / 8;
-      const int value = quadrant == 0   ? (x % 4 < 2 ? 40 : 210)
-                        : quadrant == 1 ? (y % 4 < 2 ? 60 : 190)
-                        : quadrant == 2 ? 30 + 12 * (x + y)
-                                        : 100;
-      plane[static_cast<size_t>(16 + y) * kStride + 16 + x] = static_cast<uint8_t>(value);
-    }
-  }
+  const std::vector<uint8_t> plane = plane_around_macroblock([](int x, int y) {
+    const int quadrant = (y / 8) * 2 + x / 8;
+    return quadrant == 0   ? (x % 4 < 2 ? 40 : 210)
+           : quadrant == 1 ? (y % 4 < 2 ? 60 : 190)
+           : quadrant == 2 ? 30 + 12 * (x + y)
+                           : 100;
+  });
   CodingParams params;
   params.qindex = 60;
   params.coarse_mode_search = true;
@@ -132,14 +140,8 @@ TEST(IntraMacroblockSearch, WithoutSmallBlocksNoEightByEightIsSplit) {
   using namespace intra;
   // Macroblock (1, 1) of a 32x32 plane: each 8x8 quadrant holds four flat 4x4 squares
   // of unlike values, which 4x4 blocks predict best.
-  constexpr int kStride = 32;
-  std::vector<uint8_t> plane(kStride * kStride, 128);
-  for (int y = 0; y < 16; ++y) {
-    for (int x = 0; x < 16; ++x) {
-      const int square = (y / 4) * 4 + x / 4;
-      plane[static_cast<size_t>(16 + y) * kStride + 16 + x] = static_cast<uint8_t>(20 + (square * 97) % 220);
-    }
-  }
+  const std::vector<uint8_t> plane =
+      plane_around_macroblock([](int x, int y) { return 20 + (((y / 4) * 4 + x / 4) * 97) % 220; });
   constexpr LumaPartition kSmallBlocks =
       static_cast<LumaPartition>(split_8x8_bit(0) | split_8x8_bit(1) | split_8x8_bit(2) | split_8x8_bit(3) |
                                  halves_8x8_bit(0) | halves_8x8_bit(1) | halves_8x8_bit(2) | halves_8x8_bit(3));
