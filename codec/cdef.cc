@@ -189,10 +189,8 @@ double set_cost(const std::vector<int>& set, const std::vector<std::vector<int64
   return cost;
 }
 
-// Squared error of the visible part of a size x size block (row stride `size`) against
-// the source at (x0, y0) of plane p.
-// A whole N x N block in a fixed-size loop the compiler vectorizes (64 squared 8-bit
-// differences fit an int).
+// A whole N x N block's squared error in a fixed-size loop the compiler vectorizes (64
+// squared 8-bit differences fit an int).
 template <int N>
 int whole_block_error(const uint8_t* block, const uint8_t* source, ptrdiff_t stride) {
   int sum = 0;
@@ -205,11 +203,13 @@ int whole_block_error(const uint8_t* block, const uint8_t* source, ptrdiff_t str
   return sum;
 }
 
+// Squared error of the visible part of a size x size block (size 8 or 4, row stride
+// `size`) against the source at (x0, y0) of plane p.
 int64_t block_error(const uint8_t* block, int size, const CdefSource& source, int p, int x0, int y0) {
   const int width = p == 0 ? source.width : (source.width + 1) / 2;
   const int height = p == 0 ? source.height : (source.height + 1) / 2;
   const int w = std::min(size, width - x0), h = std::min(size, height - y0);
-  if (w == size && h == size && (size == 8 || size == 4)) {
+  if (w == size && h == size) {
     const uint8_t* s = source.planes[p] + static_cast<ptrdiff_t>(y0) * source.strides[p] + x0;
     return size == 8 ? whole_block_error<8>(block, s, source.strides[p])
                      : whole_block_error<4>(block, s, source.strides[p]);

@@ -638,9 +638,9 @@ class PlaneSearch {
 // Encoder only: the partition of a luma macroblock by rate-distortion cost. Four 8x8
 // blocks come first, each also tried as four 4x4, two 8x4 and two 4x8 blocks when it has
 // levels (a block the prediction alone serves gains nothing from splitting) and small
-// blocks are allowed; then one 16x16 block whose
-// modes are ranked among those blocks' and the most probable ones, two 16x8, two 8x16,
-// four 16x4 and four 4x16 blocks (try_partition), the cheapest kept.
+// blocks are allowed; then one 16x16 block whose modes are ranked among those blocks'
+// and the most probable ones, two 16x8, two 8x16, four 16x4 and four 4x16 blocks
+// (try_partition), the cheapest kept.
 class MacroblockSearch {
  public:
   MacroblockSearch(bool transform_sizes, bool small_blocks)

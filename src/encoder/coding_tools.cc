@@ -72,48 +72,44 @@ Status disable_coding_tool(CodingTools* tools, std::string_view name) {
 
 namespace {
 
-struct EncoderSpeed {
-  std::vector<std::string> disabled_tools;
+// What each speed switches off on top of the speed below it, and its layout.
+struct EncoderSpeedStep {
+  std::vector<const char*> added_tools;
   CubeLayout layout;
 };
 
 // Measured on the photographic scenes (docs/codec.md 6.2): the intra searches'
 // rate-distortion step over modes and transform types, the B-frames' second pass with
 // another filter bank and the I-faces' ranking of all 35 modes first (about half the
-// time for 3-4 % more bytes), then the
-// B-frames' partitions, then rate-distortion optimized quantization (levels as
-// quantized), then the visibility layout's planning, which reads every depth file before
-// coding (about 9 % of speed 3's time for 0.2-0.4 % of the bytes), with the references it
-// chooses; last the B-faces' intra blocks under 8x8 and half the CDEF search.
-const std::array<EncoderSpeed, kMaxEncoderSpeed + 1>& encoder_speeds() {
-  static const std::array<EncoderSpeed, kMaxEncoderSpeed + 1> kSpeeds = {{
-      {{}, CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search"},
-       CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions"},
-       CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions", "rdoq"},
-       CubeLayout::kVisibility},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions", "rdoq",
-        "visibility-references"},
-       CubeLayout::kRegular},
-      {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search", "partitions", "rdoq",
-        "visibility-references", "b-intra-small-blocks", "full-cdef-search"},
-       CubeLayout::kRegular},
-  }};
-  return kSpeeds;
-}
+// time for 3-4 % more bytes), then the B-frames' partitions, then rate-distortion
+// optimized quantization (levels as quantized), then the visibility layout's planning,
+// which reads every depth file before coding (about 9 % of speed 3's time for 0.2-0.4 %
+// of the bytes), with the references it chooses; last the B-faces' intra blocks under
+// 8x8 and half the CDEF search.
+const std::array<EncoderSpeedStep, kMaxEncoderSpeed + 1> kSpeedSteps = {{
+    {{}, CubeLayout::kVisibility},
+    {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search"},
+     CubeLayout::kVisibility},
+    {{"partitions"}, CubeLayout::kVisibility},
+    {{"rdoq"}, CubeLayout::kVisibility},
+    {{"visibility-references"}, CubeLayout::kRegular},
+    {{"b-intra-small-blocks", "full-cdef-search"}, CubeLayout::kRegular},
+}};
 
 }  // namespace
 
 std::vector<std::string> speed_disabled_tools(int speed) {
   if (speed < 0 || speed > kMaxEncoderSpeed) return {};
-  return encoder_speeds()[static_cast<size_t>(speed)].disabled_tools;
+  std::vector<std::string> names;
+  for (int step = 1; step <= speed; ++step) {
+    for (const char* name : kSpeedSteps[static_cast<size_t>(step)].added_tools) names.emplace_back(name);
+  }
+  return names;
 }
 
 CubeLayout speed_layout(int speed) {
   if (speed < 0 || speed > kMaxEncoderSpeed) return CubeLayout::kVisibility;
-  return encoder_speeds()[static_cast<size_t>(speed)].layout;
+  return kSpeedSteps[static_cast<size_t>(speed)].layout;
 }
 
 Status apply_encoder_speed(EncoderSettings* settings, int speed) {
