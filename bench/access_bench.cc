@@ -21,6 +21,7 @@
 #include "baseline/baseline.h"
 #include "scene/scene.h"
 #include "support/scene_cache.h"
+#include "support/statistics.h"
 #include "svc/encoder.h"
 #include "svc/reader.h"
 #include "walkthrough/replay.h"
@@ -28,16 +29,11 @@
 namespace {
 
 using namespace svc;
+using bench::median;
 using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 double mean(const std::vector<double>& v) {

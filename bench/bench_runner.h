@@ -4,6 +4,7 @@
 #pragma once
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,7 +47,7 @@ class Bench {
  private:
   void fill_rates(QualityPoint* p, uint64_t faces) const;
   void log_point(const std::string& codec, const QualityPoint& p) const;
-  void finish_speed(CodecResult* result) const;
+  void log_speed(const CodecResult& result) const;
 
   Result<SvcRun> run_svc(const EncoderSettings& settings, int sample_spacing, const std::string& tag,
                          std::unique_ptr<Reader>* reader_out = nullptr);
@@ -57,16 +58,21 @@ class Bench {
   Result<QualityPoint> measure_baseline(const CodecPlan& plan, int setting, baseline::EncodedDatabase* keep);
   static int reference_index(const std::vector<QualityPoint>& points, std::optional<double> target);
 
+  // Faces/s of the reference point's encode: the median of kEncodeSpeedPasses encodes,
+  // the sweep's (`first_seconds`) and encode_again()'s, each returning its seconds.
+  Result<double> encode_speed(double first_seconds, const std::function<Result<double>()>& encode_again);
+
   // access_measure.cc
   Status svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* result);
   Status baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded, CodecResult* result);
-  // Parts of the two above: whole cells at random on one thread, and every face on all
-  // threads (svc_bench.h, CodecResult).
+  // Parts of the two above: whole cells at random on one thread, and the decoding speed
+  // (svc_bench.h, CodecResult): every face on one thread, then on all threads, the
+  // median of kDecodeSpeedPasses passes of each.
   Status svc_cell_access(const SvcRun& run, CodecResult* result);
-  Status svc_parallel_decode(const SvcRun& run, CodecResult* result);
+  Status svc_decode_speed(const SvcRun& run, CodecResult* result);
   Status baseline_cell_access(const baseline::EncodedDatabase& encoded,
                               const std::array<std::filesystem::path, kFaceCount>& paths, CodecResult* result);
-  Status baseline_parallel_decode(const baseline::EncodedDatabase& encoded, CodecResult* result);
+  Status baseline_decode_speed(const baseline::EncodedDatabase& encoded, CodecResult* result);
   // The distinct cells of picks_, in pick order.
   std::vector<size_t> pick_cells() const;
 

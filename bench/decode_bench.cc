@@ -19,19 +19,16 @@
 #include <CLI/CLI.hpp>
 
 #include "common/parallel.h"
+#include "support/statistics.h"
 #include "svc/reader.h"
 
 namespace {
 
 using namespace svc;
+using bench::median;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 uint64_t fnv1a(uint64_t hash, const std::vector<uint8_t>& bytes) {
   for (uint8_t b : bytes) hash = (hash ^ b) * 0x100000001b3ull;

@@ -49,6 +49,13 @@ namespace svc::bench {
 // quality comparison needs.
 inline constexpr double kReferencePsnrY = 38.0;
 
+// Passes behind each decoding speed: one pass of a few hundred faces takes well under a
+// second, and on a shared machine one pass can be a fifth off the next.
+inline constexpr int kDecodeSpeedPasses = 5;
+// Encodes behind each encoding speed (the sweep's at the reference point and two more):
+// an encode takes seconds, so fewer passes.
+inline constexpr int kEncodeSpeedPasses = 3;
+
 // Every codec name `svc bench` knows, in report order.
 const std::vector<std::string>& all_codec_names();
 
@@ -115,9 +122,11 @@ struct CodecResult {
   int reference_point = -1;          // index in points where speed and access were measured
   int threads = 1;
   double encode_faces_per_second = 0;
-  double decode_faces_per_second = 0;  // one thread
-  // Every face decoded once at the reference point on all `threads`: svc's faces side by
-  // side through one reader, an anchor's six face streams side by side.
+  // Every face decoded once at the reference point on one thread (svc: in cell order
+  // through a new reader; an anchor: its six face streams one after another), and on all
+  // `threads` (svc's faces side by side through one reader, an anchor's six streams side
+  // by side). Each the median of kDecodeSpeedPasses passes, one of each in turn.
+  double decode_faces_per_second = 0;
   double decode_faces_per_second_all_threads = 0;
   AccessStats access_cold;
   AccessStats access_warm;
