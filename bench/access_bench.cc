@@ -19,6 +19,7 @@
 #include <CLI/CLI.hpp>
 
 #include "baseline/baseline.h"
+#include "database/database.h"
 #include "scene/scene.h"
 #include "support/scene_cache.h"
 #include "support/statistics.h"
@@ -250,6 +251,7 @@ int run(const samples::SceneOptions& options, int sample_count, int quality, dou
 }  // namespace
 
 int main(int argc, char** argv) {
+  svc::configure_image_loading();
   CLI::App app{"Random access cost of svc against the MPEG-2 baseline, side by side."};
   std::string kind = "hall";
   std::vector<int> grid{9, 1, 9};

@@ -113,6 +113,7 @@ int run_scene(samples::SceneKind kind, const samples::SceneOptions& base, bool* 
 }  // namespace
 
 int main(int argc, char** argv) {
+  svc::configure_image_loading();
   CLI::App app{"svc intra coding against MPEG-2 intra-only (libavcodec) at equal PSNR-Y"};
   std::string kind = "both";
   samples::SceneOptions options;

@@ -151,6 +151,7 @@ int run(const std::filesystem::path& db, const std::vector<int>& qualities, int 
 }  // namespace
 
 int main(int argc, char** argv) {
+  svc::configure_image_loading();
   CLI::App app{"svc-bench-placement: what references see of B-cubes, and what it costs"};
   std::filesystem::path db, work = std::filesystem::temp_directory_path() / "svc-bench-placement";
   std::string qualities_text = "55,65,75";

@@ -279,6 +279,7 @@ bool run_scene(samples::SceneKind kind, samples::SceneOptions options, double ta
 }  // namespace
 
 int main(int argc, char** argv) {
+  svc::configure_image_loading();
   CLI::App app{"svc spatial prediction against intra-only and against logarithmic search"};
   std::string kind = "both", grid = "9,1,9";
   samples::SceneOptions options;

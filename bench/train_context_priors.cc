@@ -22,6 +22,7 @@
 #include <CLI/CLI.hpp>
 
 #include "codec/context_priors.h"
+#include "database/database.h"
 #include "svc/encoder.h"
 
 namespace {
@@ -77,6 +78,7 @@ std::string table_source(const std::string& name, const std::vector<uint16_t>& v
 }  // namespace
 
 int main(int argc, char** argv) {
+  svc::configure_image_loading();
   CLI::App app{"Train the initial probabilities of svc's adaptive contexts"};
   std::vector<std::filesystem::path> databases;
   std::vector<int> qualities = {20, 35, 50, 65};

@@ -486,5 +486,47 @@ TEST_F(FaceTest, ConcurrentLoadsAgree) {
   for (int t = 0; t < kThreads; ++t) EXPECT_EQ(matches[t], 4) << "thread " << t;
 }
 
+// configure_image_loading switches OpenImageIO to OpenEXR's core library: every EXR
+// the loaders accept decodes to the same values, and damaged ones still fail cleanly.
+TEST_F(FaceTest, ConfiguredLoadingReadsTheSameValues) {
+  std::vector<float> rgbz(kPixels * 4);
+  for (size_t i = 0; i < rgbz.size(); ++i) rgbz[i] = static_cast<float>((i * 29) % 101) / 16.0f + 0.0625f;
+  rgbz[7] = kInf;
+  write_float_exr(at("float.exr"), {"R", "G", "B", "Z"}, rgbz);
+  write_float_exr(at("half.exr"), {"R", "G", "B", "Z"}, rgbz, OIIO::TypeDesc::HALF);
+  write_float_exr(at("layer.exr"),
+                  {"ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B", "ViewLayer.Depth.Z"},
+                  rgbz);
+  {
+    // A valid header and its line offsets, then nothing: the pixel data is missing.
+    std::ifstream whole(at("float.exr"), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(whole)), std::istreambuf_iterator<char>());
+    std::ofstream(at("cut.exr"), std::ios::binary) << bytes.substr(0, bytes.size() / 3);
+  }
+  const std::vector<std::string> names = {"float.exr", "half.exr", "layer.exr"};
+  std::vector<FaceData> classic;
+  for (const std::string& name : names) {
+    const auto face = load(make_database(name, name));
+    ASSERT_TRUE(face.ok()) << face.status().to_string();
+    classic.push_back(*face);
+  }
+  int core_before = 0, threads_before = 0;
+  OIIO::getattribute("openexr:core", core_before);
+  OIIO::getattribute("exr_threads", threads_before);
+  configure_image_loading();
+  for (size_t n = 0; n < names.size(); ++n) {
+    const auto face = load(make_database(names[n], names[n]));
+    ASSERT_TRUE(face.ok()) << names[n] << ": " << face.status().to_string();
+    EXPECT_EQ(face->color.pixels, classic[n].color.pixels) << names[n];
+    EXPECT_TRUE(
+        std::equal(face->depth.begin(), face->depth.end(), classic[n].depth.begin(), classic[n].depth.end()))
+        << names[n];
+  }
+  expect_error(load(make_database("cut.exr", "cut.exr")), ErrorCode::kBadInput,
+               {"cell (0,0,0)", "face px", "cut.exr"});
+  OIIO::attribute("openexr:core", core_before);
+  OIIO::attribute("exr_threads", threads_before);
+}
+
 }  // namespace
 }  // namespace svc

@@ -129,6 +129,15 @@ Result<std::vector<float>> load_face_depth(const DatabaseManifest& manifest, con
 // file): what a colour-only codec reads. Same errors for the colour file. Thread-safe.
 Result<ImageRGB8> load_face_color(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
 
+// Sets OpenImageIO's process-wide reading options that suit load_face: OpenEXR files
+// decoded on the calling thread (the loaders run on the caller's workers; OpenEXR's
+// pool only adds hand-offs for faces this small) and through OpenEXR's core library
+// (the same values, float depth in less than half the time). Loading works without it;
+// the svc tools call it once at start-up. It changes every OpenImageIO reader of the
+// process, so an application embedding the loaders decides whether to call it.
+// Not thread-safe against reads running at the same time.
+void configure_image_loading();
+
 // Where a manifest path lives on disk: absolute paths as they are, relative paths under
 // manifest.root.
 std::filesystem::path resolve_database_path(const DatabaseManifest& manifest, const std::string& manifest_path);

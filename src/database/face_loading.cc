@@ -231,6 +231,15 @@ uint8_t linear_to_srgb8(float linear) noexcept {
   return static_cast<uint8_t>(std::lround(std::clamp(encoded, 0.0, 1.0) * 255.0));
 }
 
+void configure_image_loading() {
+  // Measured on the photographic hall's 486 faces: the pool cost 7 % of the loading time
+  // (`svc check --threads 1`); the core library read a depth file in 0.9 ms instead of
+  // 1.9 ms, one after another on one thread, to the same bytes on both photographic
+  // scenes.
+  OIIO::attribute("exr_threads", -1);
+  OIIO::attribute("openexr:core", 1);
+}
+
 Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face) {
   SVC_ASSIGN_OR_RETURN(const CellSource cell, read_cell(manifest, cell_ordinal));
   return load_face(manifest, cell, face);

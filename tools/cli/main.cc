@@ -4,7 +4,6 @@
 #include <string>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
 #include <CLI/CLI.hpp>
 
 #include "cli/cli_util.h"
@@ -12,6 +11,7 @@
 #include "command_line/command_line.h"
 #include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
+#include "database/database.h"
 #ifdef SVC_WITH_BENCH
 #include "cli/bench_command.h"
 #endif
@@ -138,10 +138,7 @@ bool parse_face_option(const std::string& text, Face* face) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // svc reads and writes one image per face on its own worker threads; OpenEXR's thread
-  // pool would only add hand-offs for faces this small (7 % of the CPU time of loading
-  // the photographic hall's 486 faces, `svc check --threads 1`).
-  OIIO::attribute("exr_threads", -1);
+  configure_image_loading();
   CLI::App app{"svc: spatial video codec for image-based impostor databases"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "svc 0.1.0");
