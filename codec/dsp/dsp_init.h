@@ -84,6 +84,7 @@ void init_mc_avx2(DspTable* table);
 void init_cdef_avx2(DspTable* table);
 void init_color_avx2(DspTable* table);
 void init_pad_avx2(DspTable* table);
+void init_transform_4_16_avx2(DspTable* table);
 #endif
 
 #if defined(__aarch64__)
