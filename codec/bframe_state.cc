@@ -9,6 +9,7 @@
 
 #include "codec/context_priors.h"
 #include "codec/cube_padding.h"
+#include "codec/image_planes.h"
 
 namespace svc::codec {
 
@@ -466,20 +467,8 @@ bool consistent_image(const ImageYCbCr420& image, int width, int height) {
 }
 
 void crop_output(const FrameState& s, ImageYCbCr420* out) {
-  out->width = s.width;
-  out->height = s.height;
-  out->y.resize(static_cast<size_t>(s.width) * s.height);
-  out->cb.resize(static_cast<size_t>(s.chroma_width) * s.chroma_height);
-  out->cr.resize(out->cb.size());
-  for (int y = 0; y < s.height; ++y) {
-    std::copy_n(s.planes[0].data() + static_cast<size_t>(y) * s.strides[0], s.width,
-                out->y.data() + static_cast<size_t>(y) * s.width);
-  }
-  for (int y = 0; y < s.chroma_height; ++y) {
-    const size_t from = static_cast<size_t>(y) * s.strides[1], to = static_cast<size_t>(y) * s.chroma_width;
-    std::copy_n(s.planes[1].data() + from, s.chroma_width, out->cb.data() + to);
-    std::copy_n(s.planes[2].data() + from, s.chroma_width, out->cr.data() + to);
-  }
+  copy_planes_to_image({s.planes[0].data(), s.planes[1].data(), s.planes[2].data()}, s.strides, s.width, s.height,
+                       out);
 }
 
 }  // namespace svc::codec::bframe

@@ -20,6 +20,7 @@
 #include "codec/context_priors.h"
 #include "codec/dct.h"
 #include "codec/dsp/dsp.h"
+#include "codec/image_planes.h"
 #include "codec/intra_macroblock.h"
 #include "codec/intra_prediction.h"
 #include "codec/level_stream.h"
@@ -174,17 +175,8 @@ bool apply_cdef_choice(RangeEncoder& encoder, PaddedFrame* frame, const ImageYCb
 }
 
 void crop(const PaddedFrame& frame, int width, int height, ImageYCbCr420* out) {
-  out->width = width;
-  out->height = height;
-  std::vector<uint8_t>* outputs[3] = {&out->y, &out->cb, &out->cr};
-  for (int p = 0; p < 3; ++p) {
-    const int w = p == 0 ? width : (width + 1) / 2, h = p == 0 ? height : (height + 1) / 2;
-    outputs[p]->resize(static_cast<size_t>(w) * h);
-    for (int y = 0; y < h; ++y) {
-      const uint8_t* row = frame.planes[p].data() + static_cast<size_t>(y) * frame.widths[p];
-      std::copy_n(row, w, outputs[p]->data() + static_cast<size_t>(y) * w);
-    }
-  }
+  copy_planes_to_image({frame.planes[0].data(), frame.planes[1].data(), frame.planes[2].data()}, frame.widths,
+                       width, height, out);
 }
 
 // Sum of squared differences of the visible part of a padded plane against a source plane.
