@@ -19,8 +19,8 @@ void copy_rows(const uint8_t* plane, int stride, int width, int height, std::vec
 
 }  // namespace
 
-void copy_planes_to_image(const std::array<const uint8_t*, 3>& planes, const std::array<int, 3>& strides,
-                          int width, int height, ImageYCbCr420* out) {
+void copy_planes_to_image(const std::array<const uint8_t*, 3>& planes, const std::array<int, 3>& strides, int width,
+                          int height, ImageYCbCr420* out) {
   out->width = width;
   out->height = height;
   const int chroma_width = (width + 1) / 2, chroma_height = (height + 1) / 2;

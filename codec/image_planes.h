@@ -14,7 +14,7 @@ namespace svc::codec {
 // ((width + 1) / 2) x ((height + 1) / 2) chroma samples of planes[1] and planes[2],
 // each plane read with its stride. Keeps the capacity `out` already has and never
 // zeroes what it is about to overwrite.
-void copy_planes_to_image(const std::array<const uint8_t*, 3>& planes, const std::array<int, 3>& strides,
-                          int width, int height, ImageYCbCr420* out);
+void copy_planes_to_image(const std::array<const uint8_t*, 3>& planes, const std::array<int, 3>& strides, int width,
+                          int height, ImageYCbCr420* out);
 
 }  // namespace svc::codec
