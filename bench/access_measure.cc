@@ -61,20 +61,16 @@ Status Bench::svc_cell_access(const SvcRun& run, CodecResult* result) {
 Status Bench::svc_decode_speed(const SvcRun& run, CodecResult* result) {
   std::vector<double> one_thread, all_threads;
   for (int pass = 0; pass < kDecodeSpeedPasses; ++pass) {
-    // One thread: as run_svc decodes, every face in cell order through a new reader.
+    // One thread: as run_svc decodes, through a new reader.
     SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> sequential, Reader::open(run.file));
-    const auto& cells = sequential->cells();
-    std::vector<ImageRGB8> decoded(cells.size() * kFaceCount);
     const auto t0 = Clock::now();
-    for (size_t frame = 0; frame < decoded.size(); ++frame) {
-      SVC_ASSIGN_OR_RETURN(decoded[frame],
-                           sequential->decode_face(cells[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]));
-    }
+    SVC_ASSIGN_OR_RETURN(const std::vector<ImageRGB8> decoded, decode_every_face(*sequential));
     one_thread.push_back(static_cast<double>(decoded.size()) / seconds_since(t0));
 
     ReaderSettings settings;
     settings.prefetch_threads = 0;
     SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> parallel, Reader::open(run.file, settings));
+    const auto& cells = parallel->cells();
     const auto t1 = Clock::now();
     SVC_RETURN_IF_ERROR(parallel_for(decoded.size(), threads_, [&](size_t frame) -> Status {
       return parallel->decode_face(cells[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]).status();
@@ -158,11 +154,8 @@ Status Bench::baseline_decode_speed(const baseline::EncodedDatabase& encoded, Co
   std::vector<double> one_thread, all_threads;
   for (int pass = 0; pass < kDecodeSpeedPasses; ++pass) {
     // One thread: as measure_baseline decodes, the six face streams one after another.
-    std::array<std::vector<ImageRGB8>, kFaceCount> decoded;
     const auto t0 = Clock::now();
-    for (Face f : kAllFaces) {
-      SVC_ASSIGN_OR_RETURN(decoded[static_cast<int>(f)], baseline::decode_all(encoded.faces[static_cast<int>(f)]));
-    }
+    SVC_RETURN_IF_ERROR(decode_every_face(encoded).status());
     one_thread.push_back(faces / seconds_since(t0));
 
     const auto t1 = Clock::now();

@@ -58,6 +58,11 @@ class Bench {
   Result<QualityPoint> measure_baseline(const CodecPlan& plan, int setting, baseline::EncodedDatabase* keep);
   static int reference_index(const std::vector<QualityPoint>& points, std::optional<double> target);
 
+  // Every face decoded on the calling thread: an .svc file's in cell order (index
+  // 6 cell + face), an anchor's six face streams one after another.
+  static Result<std::vector<ImageRGB8>> decode_every_face(Reader& reader);
+  static Result<std::array<std::vector<ImageRGB8>, kFaceCount>> decode_every_face(
+      const baseline::EncodedDatabase& encoded);
   // Faces/s of the reference point's encode: the median of kEncodeSpeedPasses encodes,
   // the sweep's (`first_seconds`) and encode_again()'s, each returning its seconds.
   Result<double> encode_speed(double first_seconds, const std::function<Result<double>()>& encode_again);

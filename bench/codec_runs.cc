@@ -67,14 +67,8 @@ Result<SvcRun> Bench::run_svc(const EncoderSettings& settings, int sample_spacin
 
   SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(run.file));
   const auto& cells = reader->cells();
-  std::vector<ImageRGB8> decoded(cells.size() * kFaceCount);
   const auto t0 = Clock::now();
-  for (size_t c = 0; c < cells.size(); ++c) {
-    for (Face f : kAllFaces) {
-      SVC_ASSIGN_OR_RETURN(decoded[c * kFaceCount + static_cast<size_t>(f)],
-                           reader->decode_face(cells[c].index, f));
-    }
-  }
+  SVC_ASSIGN_OR_RETURN(const std::vector<ImageRGB8> decoded, decode_every_face(*reader));
   run.point.decode_seconds = seconds_since(t0);
   std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs, b_face_pairs;
   for (size_t c = 0; c < cells.size(); ++c) {
@@ -195,11 +189,8 @@ Result<QualityPoint> Bench::measure_baseline(const CodecPlan& plan, int setting,
   point.bytes = encoded.total_bytes();
   fill_rates(&point, source_.faces.size());
 
-  std::array<std::vector<ImageRGB8>, kFaceCount> decoded;
   const auto t1 = Clock::now();
-  for (Face f : kAllFaces) {
-    SVC_ASSIGN_OR_RETURN(decoded[static_cast<int>(f)], baseline::decode_all(encoded.faces[static_cast<int>(f)]));
-  }
+  SVC_ASSIGN_OR_RETURN(const auto decoded, decode_every_face(encoded));
   point.decode_seconds = seconds_since(t1);
   std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs;
   for (Face f : kAllFaces) {
@@ -261,14 +252,30 @@ Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
   return baseline_access(plan, encoded.at(setting), result);
 }
 
+Result<std::vector<ImageRGB8>> Bench::decode_every_face(Reader& reader) {
+  const auto& cells = reader.cells();
+  std::vector<ImageRGB8> decoded(cells.size() * kFaceCount);
+  for (size_t frame = 0; frame < decoded.size(); ++frame) {
+    SVC_ASSIGN_OR_RETURN(decoded[frame],
+                         reader.decode_face(cells[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]));
+  }
+  return decoded;
+}
+
+Result<std::array<std::vector<ImageRGB8>, kFaceCount>> Bench::decode_every_face(
+    const baseline::EncodedDatabase& encoded) {
+  std::array<std::vector<ImageRGB8>, kFaceCount> decoded;
+  for (size_t f = 0; f < kFaceCount; ++f) {
+    SVC_ASSIGN_OR_RETURN(decoded[f], baseline::decode_all(encoded.faces[f]));
+  }
+  return decoded;
+}
+
 Result<double> Bench::encode_speed(double first_seconds, const std::function<Result<double>()>& encode_again) {
-  std::vector<double> faces_per_second;
   const double faces = static_cast<double>(source_.faces.size());
-  double seconds = first_seconds;
-  for (int pass = 0; pass < kEncodeSpeedPasses; ++pass) {
-    if (pass > 0) {
-      SVC_ASSIGN_OR_RETURN(seconds, encode_again());
-    }
+  std::vector<double> faces_per_second{first_seconds > 0 ? faces / first_seconds : 0};
+  while (faces_per_second.size() < kEncodeSpeedPasses) {
+    SVC_ASSIGN_OR_RETURN(const double seconds, encode_again());
     faces_per_second.push_back(seconds > 0 ? faces / seconds : 0);
   }
   return median(faces_per_second);
