@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include "bench_runner.h"
-#include "support/statistics.h"
 
 namespace svc::bench {
 
@@ -30,8 +29,7 @@ Status Bench::svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* re
   }
   result->access_cold = summarize_access(cold_ms, frames);
   result->access_warm = summarize_access(warm_ms, frames);
-  SVC_RETURN_IF_ERROR(svc_cell_access(run, result));
-  return svc_decode_speed(run, result);
+  return svc_cell_access(run, result);
 }
 
 Status Bench::svc_cell_access(const SvcRun& run, CodecResult* result) {
@@ -55,30 +53,6 @@ Status Bench::svc_cell_access(const SvcRun& run, CodecResult* result) {
   }
   result->cell_cold = summarize_access(cold_ms, frames);
   result->cell_warm = summarize_access(warm_ms, frames);
-  return Status::Ok();
-}
-
-Status Bench::svc_decode_speed(const SvcRun& run, CodecResult* result) {
-  std::vector<double> one_thread, all_threads;
-  for (int pass = 0; pass < kDecodeSpeedPasses; ++pass) {
-    // One thread: as run_svc decodes, through a new reader.
-    SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> sequential, Reader::open(run.file));
-    const auto t0 = Clock::now();
-    SVC_ASSIGN_OR_RETURN(const std::vector<ImageRGB8> decoded, decode_every_face(*sequential));
-    one_thread.push_back(static_cast<double>(decoded.size()) / seconds_since(t0));
-
-    ReaderSettings settings;
-    settings.prefetch_threads = 0;
-    SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> parallel, Reader::open(run.file, settings));
-    const auto& cells = parallel->cells();
-    const auto t1 = Clock::now();
-    SVC_RETURN_IF_ERROR(parallel_for(decoded.size(), threads_, [&](size_t frame) -> Status {
-      return parallel->decode_face(cells[frame / kFaceCount].index, kAllFaces[frame % kFaceCount]).status();
-    }));
-    all_threads.push_back(static_cast<double>(decoded.size()) / seconds_since(t1));
-  }
-  result->decode_faces_per_second = median(one_thread);
-  result->decode_faces_per_second_all_threads = median(all_threads);
   return Status::Ok();
 }
 
@@ -117,8 +91,7 @@ Status Bench::baseline_access(const CodecPlan& plan, const baseline::EncodedData
   const Status cells = baseline_cell_access(encoded, paths, result);
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
-  SVC_RETURN_IF_ERROR(cells);
-  return baseline_decode_speed(encoded, result);
+  return cells;
 }
 
 Status Bench::baseline_cell_access(const baseline::EncodedDatabase& encoded,
@@ -146,26 +119,6 @@ Status Bench::baseline_cell_access(const baseline::EncodedDatabase& encoded,
   }
   result->cell_cold = summarize_access(cold_ms, frames);
   result->cell_warm = summarize_access(warm_ms, frames);
-  return Status::Ok();
-}
-
-Status Bench::baseline_decode_speed(const baseline::EncodedDatabase& encoded, CodecResult* result) {
-  const double faces = static_cast<double>(encoded.layout.cells.size() * kFaceCount);
-  std::vector<double> one_thread, all_threads;
-  for (int pass = 0; pass < kDecodeSpeedPasses; ++pass) {
-    // One thread: as measure_baseline decodes, the six face streams one after another.
-    const auto t0 = Clock::now();
-    SVC_RETURN_IF_ERROR(decode_every_face(encoded).status());
-    one_thread.push_back(faces / seconds_since(t0));
-
-    const auto t1 = Clock::now();
-    SVC_RETURN_IF_ERROR(parallel_for(kFaceCount, threads_, [&](size_t f) -> Status {
-      return baseline::decode_all(encoded.faces[f]).status();
-    }));
-    all_threads.push_back(faces / seconds_since(t1));
-  }
-  result->decode_faces_per_second = median(one_thread);
-  result->decode_faces_per_second_all_threads = median(all_threads);
   return Status::Ok();
 }
 

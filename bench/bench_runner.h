@@ -30,6 +30,15 @@ struct SvcRun {
   QualityPoint point;
 };
 
+// One codec's speed passes at its reference point, registered by its sweep and run by
+// Bench::measure_speeds in turns with every other codec's. Each call runs one pass.
+struct SpeedJob {
+  std::string codec;                                   // CodecResult::name
+  std::function<Result<double>()> encode_seconds;      // one encode from the database on disk
+  std::function<Result<double>()> decode_one_thread;   // faces/s, every face on the caller's thread
+  std::function<Result<double>()> decode_all_threads;  // faces/s, every face on all threads
+};
+
 class Bench {
  public:
   Bench(const BenchOptions& options, SourceFaces source, int threads, Clock::time_point start);
@@ -38,8 +47,14 @@ class Bench {
   void log(const std::string& line) const;
   void remove_work_dir() const;
 
-  // The quality search, speed and random access of one codec.
+  // The quality search and random access of one codec; its speed passes wait for
+  // measure_speeds().
   Result<CodecResult> run_codec(const CodecPlan& plan);
+  // The encoding and decoding speeds of every codec run so far (svc_bench.h,
+  // CodecResult), measured in rounds: each round runs one pass of every codec, starting
+  // one codec later than the round before, so that a shared machine's slow minutes fall
+  // on all of them alike. Fills `codecs`' speeds by name and frees the kept streams.
+  Status measure_speeds(std::vector<CodecResult>* codecs);
   Result<Experiments> run_experiments(const std::vector<CodecResult>& codecs, std::vector<PartTiming>* timings);
   // ablation.cc
   Result<std::vector<AblationRow>> run_ablation(const CodecResult& svc);
@@ -63,21 +78,18 @@ class Bench {
   static Result<std::vector<ImageRGB8>> decode_every_face(Reader& reader);
   static Result<std::array<std::vector<ImageRGB8>, kFaceCount>> decode_every_face(
       const baseline::EncodedDatabase& encoded);
-  // Faces/s of the reference point's encode: the median of kEncodeSpeedPasses encodes,
-  // the sweep's (`first_seconds`) and encode_again()'s, each returning its seconds.
-  Result<double> encode_speed(double first_seconds, const std::function<Result<double>()>& encode_again);
 
   // access_measure.cc
   Status svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* result);
   Status baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded, CodecResult* result);
-  // Parts of the two above: whole cells at random on one thread, and the decoding speed
-  // (svc_bench.h, CodecResult): every face on one thread, then on all threads, the
-  // median of kDecodeSpeedPasses passes of each.
+  // Part of the two above: whole cells at random on one thread.
   Status svc_cell_access(const SvcRun& run, CodecResult* result);
-  Status svc_decode_speed(const SvcRun& run, CodecResult* result);
   Status baseline_cell_access(const baseline::EncodedDatabase& encoded,
                               const std::array<std::filesystem::path, kFaceCount>& paths, CodecResult* result);
-  Status baseline_decode_speed(const baseline::EncodedDatabase& encoded, CodecResult* result);
+  // The speed passes of an svc layout at `run` and of an anchor at `encoded` (its streams
+  // kept until measure_speeds() ends).
+  SpeedJob svc_speed_job(const std::string& codec, const SvcRun& run);
+  SpeedJob baseline_speed_job(const CodecPlan& plan, int setting, baseline::EncodedDatabase encoded);
   // The distinct cells of picks_, in pick order.
   std::vector<size_t> pick_cells() const;
 
@@ -98,6 +110,7 @@ class Bench {
   uint64_t raw_bytes_ = 0;
   Clock::time_point start_;
   std::deque<SvcRun> svc_runs_;
+  std::vector<SpeedJob> speed_jobs_;
   std::optional<double> svc_reference_psnr_;
   int experiments_quality_ = 75;
 };

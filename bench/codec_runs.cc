@@ -132,16 +132,8 @@ Status Bench::run_svc_codec(const CodecPlan& plan, CodecResult* result) {
   for (size_t i = 0; i < result->points.size(); ++i) {
     if (result->points[i].setting == reference_run->point.setting) result->reference_point = static_cast<int>(i);
   }
-  SVC_ASSIGN_OR_RETURN(result->encode_faces_per_second,
-                       encode_speed(reference_run->point.encode_seconds, [&]() -> Result<double> {
-                         const std::filesystem::path file = work_dir_ / (plan.name + "-speed.svc");
-                         const auto again = encode_database(options_.db_dir, file, reference_run->settings);
-                         std::error_code ec;
-                         std::filesystem::remove(file, ec);
-                         if (!again.ok()) return again.status();
-                         return again->seconds;
-                       }));
   SVC_RETURN_IF_ERROR(svc_access(*reference_run, *reference_reader, result));
+  speed_jobs_.push_back(svc_speed_job(plan.name, *reference_run));
   // The svc layouts run first, svc before the others: the first to run sets the PSNR-Y
   // at which the anchors' speed and access are measured.
   if (!svc_reference_psnr_) svc_reference_psnr_ = reference_run->point.psnr_y;
@@ -237,19 +229,12 @@ Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
             [](const QualityPoint& a, const QualityPoint& b) { return a.setting < b.setting; });
   result->reference_point = reference_index(result->points, svc_reference_psnr_);
   const int setting = result->points[result->reference_point].setting;
-  SVC_ASSIGN_OR_RETURN(result->encode_faces_per_second,
-                       encode_speed(result->points[result->reference_point].encode_seconds,
-                                    [&]() -> Result<double> {
-                                      baseline::EncodeSettings settings = plan.base;
-                                      settings.quantizer = setting;
-                                      const auto t0 = Clock::now();
-                                      SVC_RETURN_IF_ERROR(encode_baseline(plan, settings).status());
-                                      return seconds_since(t0);
-                                    }));
   result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png",
                                           "out." + baseline::stream_extension(plan.encoder),
                                           source_.manifest.grid.dims[0]);
-  return baseline_access(plan, encoded.at(setting), result);
+  SVC_RETURN_IF_ERROR(baseline_access(plan, encoded.at(setting), result));
+  speed_jobs_.push_back(baseline_speed_job(plan, setting, std::move(encoded.at(setting))));
+  return Status::Ok();
 }
 
 Result<std::vector<ImageRGB8>> Bench::decode_every_face(Reader& reader) {
@@ -269,16 +254,6 @@ Result<std::array<std::vector<ImageRGB8>, kFaceCount>> Bench::decode_every_face(
     SVC_ASSIGN_OR_RETURN(decoded[f], baseline::decode_all(encoded.faces[f]));
   }
   return decoded;
-}
-
-Result<double> Bench::encode_speed(double first_seconds, const std::function<Result<double>()>& encode_again) {
-  const double faces = static_cast<double>(source_.faces.size());
-  std::vector<double> faces_per_second{first_seconds > 0 ? faces / first_seconds : 0};
-  while (faces_per_second.size() < kEncodeSpeedPasses) {
-    SVC_ASSIGN_OR_RETURN(const double seconds, encode_again());
-    faces_per_second.push_back(seconds > 0 ? faces / seconds : 0);
-  }
-  return median(faces_per_second);
 }
 
 void Bench::log_speed(const CodecResult& result) const {
@@ -307,7 +282,6 @@ Result<CodecResult> Bench::run_codec(const CodecPlan& plan) {
     return result;
   }
   SVC_RETURN_IF_ERROR(plan.is_svc ? run_svc_codec(plan, &result) : run_baseline_codec(plan, &result));
-  log_speed(result);
   return result;
 }
 

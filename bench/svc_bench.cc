@@ -116,6 +116,9 @@ Status run_codecs(Bench& bench, const std::vector<std::string>& names, const Ben
     results->codecs.push_back(std::move(result).value());
     results->timings.push_back({name, seconds_since(t0)});
   }
+  const auto t0 = Clock::now();
+  SVC_RETURN_IF_ERROR(bench.measure_speeds(&results->codecs).with_context("svc bench: speed"));
+  results->timings.push_back({"speed", seconds_since(t0)});
   return Status::Ok();
 }
 

@@ -52,8 +52,8 @@ inline constexpr double kReferencePsnrY = 38.0;
 // Passes behind each decoding speed: one pass of a few hundred faces takes well under a
 // second, and on a shared machine one pass can be a fifth off the next.
 inline constexpr int kDecodeSpeedPasses = 5;
-// Encodes behind each encoding speed (the sweep's at the reference point and two more):
-// an encode takes seconds, so fewer passes.
+// Encodes behind each encoding speed, at the reference point: an encode takes seconds,
+// so fewer passes. Both counts are run in rounds across the codecs (Bench::measure_speeds).
 inline constexpr int kEncodeSpeedPasses = 3;
 
 // Every codec name `svc bench` knows, in report order.
@@ -121,11 +121,14 @@ struct CodecResult {
   std::vector<QualityPoint> points;  // ascending setting order as run
   int reference_point = -1;          // index in points where speed and access were measured
   int threads = 1;
+  // Faces over the wall time of an encode at the reference point from the database on
+  // disk, the median of kEncodeSpeedPasses encodes.
   double encode_faces_per_second = 0;
   // Every face decoded once at the reference point on one thread (svc: in cell order
   // through a new reader; an anchor: its six face streams one after another), and on all
   // `threads` (svc's faces side by side through one reader, an anchor's six streams side
-  // by side). Each the median of kDecodeSpeedPasses passes, one of each in turn.
+  // by side). Each the median of kDecodeSpeedPasses passes, one of each in turn. The
+  // passes of all codecs run in rounds, one pass of each codec a round.
   double decode_faces_per_second = 0;
   double decode_faces_per_second_all_threads = 0;
   AccessStats access_cold;
