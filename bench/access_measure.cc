@@ -29,35 +29,31 @@ Status Bench::svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* re
   }
   result->access_cold = summarize_access(cold_ms, frames);
   result->access_warm = summarize_access(warm_ms, frames);
-  return svc_cell_access(run, result);
+  return Status::Ok();
 }
 
-Status Bench::svc_cell_access(const SvcRun& run, CodecResult* result) {
+Status Bench::svc_cell_access(const SvcRun& run, CellAccessSamples* samples) {
   ReaderSettings one_thread;
   one_thread.decode_threads = 1;
   one_thread.prefetch_threads = 0;
-  std::vector<double> cold_ms, warm_ms;
-  std::vector<int> frames;
   for (size_t cell : pick_cells()) {
     const CellIndex& index = source_.manifest.cells[cell].index;
     const auto t0 = Clock::now();
     SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(run.file, one_thread));
     if (!reader->find_cell(index)) continue;
     SVC_ASSIGN_OR_RETURN(auto cold, reader->decode_cube(index));
-    cold_ms.push_back(seconds_since(t0) * 1e3);
+    samples->cold_ms.push_back(seconds_since(t0) * 1e3);
     const ReaderStats stats = reader->stats();
-    frames.push_back(static_cast<int>(stats.intra_faces_parsed + stats.predicted_faces_decoded));
+    samples->frames.push_back(static_cast<int>(stats.intra_faces_parsed + stats.predicted_faces_decoded));
     const auto t1 = Clock::now();
     SVC_ASSIGN_OR_RETURN(auto warm, reader->decode_cube(index));
-    warm_ms.push_back(seconds_since(t1) * 1e3);
+    samples->warm_ms.push_back(seconds_since(t1) * 1e3);
   }
-  result->cell_cold = summarize_access(cold_ms, frames);
-  result->cell_warm = summarize_access(warm_ms, frames);
   return Status::Ok();
 }
 
-Status Bench::baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded,
-                              CodecResult* result) {
+Result<std::array<std::filesystem::path, kFaceCount>> Bench::baseline_access(
+    const CodecPlan& plan, const baseline::EncodedDatabase& encoded, CodecResult* result) {
   // Stored as the baseline stores it: one elementary stream and index per face.
   const auto dir = work_dir_ / (plan.name + "-access");
   std::filesystem::create_directories(dir);
@@ -88,17 +84,12 @@ Status Bench::baseline_access(const CodecPlan& plan, const baseline::EncodedData
   }
   result->access_cold = summarize_access(cold_ms, cold_frames);
   result->access_warm = summarize_access(warm_ms, warm_frames);
-  const Status cells = baseline_cell_access(encoded, paths, result);
-  std::error_code ec;
-  std::filesystem::remove_all(dir, ec);
-  return cells;
+  return paths;
 }
 
 Status Bench::baseline_cell_access(const baseline::EncodedDatabase& encoded,
                                    const std::array<std::filesystem::path, kFaceCount>& paths,
-                                   CodecResult* result) {
-  std::vector<double> cold_ms, warm_ms;
-  std::vector<int> frames;
+                                   CellAccessSamples* samples) {
   for (size_t cell : pick_cells()) {
     const int frame = encoded.layout.frame_of(source_.manifest.cells[cell].index);
     int decoded_frames = 0;
@@ -108,17 +99,15 @@ Status Bench::baseline_cell_access(const baseline::EncodedDatabase& encoded,
       SVC_ASSIGN_OR_RETURN(baseline::DecodedFrame decoded, baseline::decode_frame(sequence, frame));
       decoded_frames += decoded.frames_decoded;
     }
-    cold_ms.push_back(seconds_since(t0) * 1e3);
-    frames.push_back(decoded_frames);
+    samples->cold_ms.push_back(seconds_since(t0) * 1e3);
+    samples->frames.push_back(decoded_frames);
     const auto t1 = Clock::now();
     for (Face f : kAllFaces) {
       SVC_ASSIGN_OR_RETURN(baseline::DecodedFrame decoded,
                            baseline::decode_frame(encoded.faces[static_cast<int>(f)], frame));
     }
-    warm_ms.push_back(seconds_since(t1) * 1e3);
+    samples->warm_ms.push_back(seconds_since(t1) * 1e3);
   }
-  result->cell_cold = summarize_access(cold_ms, frames);
-  result->cell_warm = summarize_access(warm_ms, frames);
   return Status::Ok();
 }
 

@@ -30,13 +30,20 @@ struct SvcRun {
   QualityPoint point;
 };
 
+// Whole cells at random on one thread, one sample per cell and pass.
+struct CellAccessSamples {
+  std::vector<double> cold_ms, warm_ms;
+  std::vector<int> frames;  // faces decoded for the cell, cold
+};
+
 // One codec's speed passes at its reference point, registered by its sweep and run by
 // Bench::measure_speeds in turns with every other codec's. Each call runs one pass.
 struct SpeedJob {
-  std::string codec;                                   // CodecResult::name
-  std::function<Result<double>()> encode_seconds;      // one encode from the database on disk
-  std::function<Result<double>()> decode_one_thread;   // faces/s, every face on the caller's thread
-  std::function<Result<double>()> decode_all_threads;  // faces/s, every face on all threads
+  std::string codec;                                      // CodecResult::name
+  std::function<Result<double>()> encode_seconds;         // one encode from the database on disk
+  std::function<Result<double>()> decode_one_thread;      // faces/s, every face on the caller's thread
+  std::function<Result<double>()> decode_all_threads;     // faces/s, every face on all threads
+  std::function<Status(CellAccessSamples*)> cell_access;  // every picked cell, cold then warm
 };
 
 class Bench {
@@ -50,8 +57,8 @@ class Bench {
   // The quality search and random access of one codec; its speed passes wait for
   // measure_speeds().
   Result<CodecResult> run_codec(const CodecPlan& plan);
-  // The encoding and decoding speeds of every codec run so far (svc_bench.h,
-  // CodecResult), measured in rounds: each round runs one pass of every codec, starting
+  // The encoding and decoding speeds and the random access to a cell of every codec run
+  // so far (svc_bench.h, CodecResult), measured in rounds: each round runs one pass of every codec, starting
   // one codec later than the round before, so that a shared machine's slow minutes fall
   // on all of them alike. Fills `codecs`' speeds by name and frees the kept streams.
   Status measure_speeds(std::vector<CodecResult>* codecs);
@@ -80,16 +87,22 @@ class Bench {
       const baseline::EncodedDatabase& encoded);
 
   // access_measure.cc
+  // Random faces; an anchor's streams are written as the baseline stores them, one file
+  // a face, and their paths returned for its cell access.
   Status svc_access(const SvcRun& run, Reader& warm_reader, CodecResult* result);
-  Status baseline_access(const CodecPlan& plan, const baseline::EncodedDatabase& encoded, CodecResult* result);
-  // Part of the two above: whole cells at random on one thread.
-  Status svc_cell_access(const SvcRun& run, CodecResult* result);
+  Result<std::array<std::filesystem::path, kFaceCount>> baseline_access(const CodecPlan& plan,
+                                                                        const baseline::EncodedDatabase& encoded,
+                                                                        CodecResult* result);
+  // One pass of whole cells at random on one thread (a SpeedJob's cell_access).
+  Status svc_cell_access(const SvcRun& run, CellAccessSamples* samples);
   Status baseline_cell_access(const baseline::EncodedDatabase& encoded,
-                              const std::array<std::filesystem::path, kFaceCount>& paths, CodecResult* result);
+                              const std::array<std::filesystem::path, kFaceCount>& paths,
+                              CellAccessSamples* samples);
   // The speed passes of an svc layout at `run` and of an anchor at `encoded` (its streams
   // kept until measure_speeds() ends).
   SpeedJob svc_speed_job(const std::string& codec, const SvcRun& run);
-  SpeedJob baseline_speed_job(const CodecPlan& plan, int setting, baseline::EncodedDatabase encoded);
+  SpeedJob baseline_speed_job(const CodecPlan& plan, int setting, baseline::EncodedDatabase encoded,
+                              const std::array<std::filesystem::path, kFaceCount>& paths);
   // The distinct cells of picks_, in pick order.
   std::vector<size_t> pick_cells() const;
 

@@ -232,8 +232,8 @@ Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
   result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png",
                                           "out." + baseline::stream_extension(plan.encoder),
                                           source_.manifest.grid.dims[0]);
-  SVC_RETURN_IF_ERROR(baseline_access(plan, encoded.at(setting), result));
-  speed_jobs_.push_back(baseline_speed_job(plan, setting, std::move(encoded.at(setting))));
+  SVC_ASSIGN_OR_RETURN(const auto paths, baseline_access(plan, encoded.at(setting), result));
+  speed_jobs_.push_back(baseline_speed_job(plan, setting, std::move(encoded.at(setting)), paths));
   return Status::Ok();
 }
 

@@ -1,6 +1,7 @@
-// Encoding and decoding speed of every codec at its reference point (see svc_bench.h,
-// CodecResult), measured in rounds across the codecs.
+// Encoding and decoding speed and random access to a cell of every codec at its
+// reference point (see svc_bench.h, CodecResult), measured in rounds across the codecs.
 #include <algorithm>
+#include <functional>
 #include <memory>
 
 #include "bench_runner.h"
@@ -17,7 +18,18 @@ double faces_per_second(size_t faces, double seconds) {
 // Speed samples of one codec, one per round that ran its pass.
 struct SpeedSamples {
   std::vector<double> encode, one_thread, all_threads;
+  CellAccessSamples cells;
 };
+
+// Calls pass(k) `rounds` times for each of `count` codecs: each round once per codec,
+// starting one codec later than the round before.
+Status in_rounds(int rounds, size_t count, const std::function<Status(size_t)>& pass) {
+  for (int round = 0; round < rounds; ++round) {
+    for (size_t turn = 0; turn < count; ++turn)
+      SVC_RETURN_IF_ERROR(pass((static_cast<size_t>(round) + turn) % count));
+  }
+  return Status::Ok();
+}
 
 }  // namespace
 
@@ -53,10 +65,12 @@ SpeedJob Bench::svc_speed_job(const std::string& codec, const SvcRun& run) {
     }));
     return faces_per_second(faces, seconds_since(t0));
   };
+  job.cell_access = [this, &run](CellAccessSamples* samples) { return svc_cell_access(run, samples); };
   return job;
 }
 
-SpeedJob Bench::baseline_speed_job(const CodecPlan& plan, int setting, baseline::EncodedDatabase encoded) {
+SpeedJob Bench::baseline_speed_job(const CodecPlan& plan, int setting, baseline::EncodedDatabase encoded,
+                                   const std::array<std::filesystem::path, kFaceCount>& paths) {
   auto streams = std::make_shared<const baseline::EncodedDatabase>(std::move(encoded));
   const size_t faces = streams->layout.cells.size() * kFaceCount;
   SpeedJob job;
@@ -82,32 +96,33 @@ SpeedJob Bench::baseline_speed_job(const CodecPlan& plan, int setting, baseline:
     }));
     return faces_per_second(faces, seconds_since(t0));
   };
+  job.cell_access = [this, streams, paths](CellAccessSamples* samples) {
+    return baseline_cell_access(*streams, paths, samples);
+  };
   return job;
 }
 
 Status Bench::measure_speeds(std::vector<CodecResult>* codecs) {
   const size_t count = speed_jobs_.size();
   if (count == 0) return Status::Ok();
-  log("speed: " + std::to_string(kEncodeSpeedPasses) + " encodes and " + std::to_string(kDecodeSpeedPasses) +
-      " decoding passes of each codec, in rounds");
+  log("speed: " + std::to_string(kEncodeSpeedPasses) + " encodes, then " + std::to_string(kDecodeSpeedPasses) +
+      " passes of decoding and random cells, of each codec in rounds");
   std::vector<SpeedSamples> samples(count);
   const double faces = static_cast<double>(source_.faces.size());
-  for (int round = 0; round < std::max(kEncodeSpeedPasses, kDecodeSpeedPasses); ++round) {
-    for (size_t turn = 0; turn < count; ++turn) {
-      const size_t k = (static_cast<size_t>(round) + turn) % count;
-      SpeedJob& job = speed_jobs_[k];
-      if (round < kEncodeSpeedPasses) {
-        SVC_ASSIGN_OR_RETURN(const double seconds, job.encode_seconds());
-        samples[k].encode.push_back(seconds > 0 ? faces / seconds : 0);
-      }
-      if (round < kDecodeSpeedPasses) {
-        SVC_ASSIGN_OR_RETURN(const double one, job.decode_one_thread());
-        SVC_ASSIGN_OR_RETURN(const double all, job.decode_all_threads());
-        samples[k].one_thread.push_back(one);
-        samples[k].all_threads.push_back(all);
-      }
-    }
-  }
+  // All the encodes first, then the decoding: no decoding pass follows an encode of its
+  // own codec where the others' follow another codec's.
+  SVC_RETURN_IF_ERROR(in_rounds(kEncodeSpeedPasses, count, [&](size_t k) -> Status {
+    SVC_ASSIGN_OR_RETURN(const double seconds, speed_jobs_[k].encode_seconds());
+    samples[k].encode.push_back(seconds > 0 ? faces / seconds : 0);
+    return Status::Ok();
+  }));
+  SVC_RETURN_IF_ERROR(in_rounds(kDecodeSpeedPasses, count, [&](size_t k) -> Status {
+    SVC_ASSIGN_OR_RETURN(const double one, speed_jobs_[k].decode_one_thread());
+    SVC_ASSIGN_OR_RETURN(const double all, speed_jobs_[k].decode_all_threads());
+    samples[k].one_thread.push_back(one);
+    samples[k].all_threads.push_back(all);
+    return speed_jobs_[k].cell_access(&samples[k].cells);
+  }));
   for (size_t k = 0; k < count; ++k) {
     auto result = std::find_if(codecs->begin(), codecs->end(),
                                [&](const CodecResult& c) { return c.name == speed_jobs_[k].codec; });
@@ -115,6 +130,9 @@ Status Bench::measure_speeds(std::vector<CodecResult>* codecs) {
     result->encode_faces_per_second = median(samples[k].encode);
     result->decode_faces_per_second = median(samples[k].one_thread);
     result->decode_faces_per_second_all_threads = median(samples[k].all_threads);
+    const CellAccessSamples& cells = samples[k].cells;
+    result->cell_cold = summarize_access(cells.cold_ms, cells.frames);
+    result->cell_warm = summarize_access(cells.warm_ms, cells.frames);
     log_speed(*result);
   }
   speed_jobs_.clear();
