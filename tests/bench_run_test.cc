@@ -98,8 +98,11 @@ TEST_F(BenchRun, ResultsJsonHasEveryCodecWithConsistentNumbers) {
     EXPECT_GT(c["speed"]["decode_faces_per_second"].get<double>(), 0);
     EXPECT_GT(c["speed"]["decode_faces_per_second_all_threads"].get<double>(), 0);
     for (const char* mode : {"cold", "warm"}) {
+      // One sample per picked cell in each of the kDecodeSpeedPasses rounds.
       const auto& a = c["random_cell_access"][mode];
-      EXPECT_GE(a["samples"].get<int>(), 1);
+      EXPECT_GE(a["samples"].get<int>(), kDecodeSpeedPasses);
+      EXPECT_LE(a["samples"].get<int>(), 12 * kDecodeSpeedPasses);
+      EXPECT_EQ(a["samples"].get<int>() % kDecodeSpeedPasses, 0);
       EXPECT_GE(a["mean_frames_decoded"].get<double>(), 6.0);  // a cell is six faces
       EXPECT_GT(a["mean_ms"].get<double>(), 0);
     }
