@@ -134,7 +134,8 @@ struct CodecResult {
   AccessStats access_cold;
   AccessStats access_warm;
   // A whole cell (its six faces) at random, on one thread: cold from a newly opened file,
-  // warm the same cell again. Frames: faces decoded for the cell.
+  // warm the same cell again. Frames: faces decoded for the cell. One sample per picked
+  // cell in each of the kDecodeSpeedPasses rounds of decoding passes.
   AccessStats cell_cold;
   AccessStats cell_warm;
   // Bjontegaard rate of svc against this codec on PSNR-Y: svc bytes / these bytes - 1 at
