@@ -58,9 +58,10 @@ class Bench {
   // measure_speeds().
   Result<CodecResult> run_codec(const CodecPlan& plan);
   // The encoding and decoding speeds and the random access to a cell of every codec run
-  // so far (svc_bench.h, CodecResult), measured in rounds: each round runs one pass of every codec, starting
-  // one codec later than the round before, so that a shared machine's slow minutes fall
-  // on all of them alike. Fills `codecs`' speeds by name and frees the kept streams.
+  // so far (svc_bench.h, CodecResult), measured in rounds, the encodes first: each round
+  // runs one pass of every codec, starting one codec later than the round before, so
+  // that a shared machine's slow minutes fall on all of them alike. Fills `codecs`'
+  // speeds by name and frees the kept streams.
   Status measure_speeds(std::vector<CodecResult>* codecs);
   Result<Experiments> run_experiments(const std::vector<CodecResult>& codecs, std::vector<PartTiming>* timings);
   // ablation.cc

@@ -6,7 +6,6 @@
 
 #include "bench_runner.h"
 #include "settings_search.h"
-#include "support/statistics.h"
 
 namespace svc::bench {
 

@@ -108,12 +108,11 @@ Status Bench::measure_speeds(std::vector<CodecResult>* codecs) {
   log("speed: " + std::to_string(kEncodeSpeedPasses) + " encodes, then " + std::to_string(kDecodeSpeedPasses) +
       " passes of decoding and random cells, of each codec in rounds");
   std::vector<SpeedSamples> samples(count);
-  const double faces = static_cast<double>(source_.faces.size());
   // All the encodes first, then the decoding: no decoding pass follows an encode of its
   // own codec where the others' follow another codec's.
   SVC_RETURN_IF_ERROR(in_rounds(kEncodeSpeedPasses, count, [&](size_t k) -> Status {
     SVC_ASSIGN_OR_RETURN(const double seconds, speed_jobs_[k].encode_seconds());
-    samples[k].encode.push_back(seconds > 0 ? faces / seconds : 0);
+    samples[k].encode.push_back(faces_per_second(source_.faces.size(), seconds));
     return Status::Ok();
   }));
   SVC_RETURN_IF_ERROR(in_rounds(kDecodeSpeedPasses, count, [&](size_t k) -> Status {
