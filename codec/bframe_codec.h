@@ -115,6 +115,9 @@ struct BFrameParams {
   // Encoder choice: CDEF presets from all 14 candidate strengths; off, from every other
   // one (choose_cdef's every_candidate).
   bool full_cdef_search = true;
+  // Encoder choice: every inter luma 8x8 residual block also tried as four 4x4 blocks;
+  // off, only where its 8x8 transform keeps a level (inter_transform_sizes on).
+  bool full_inter_split_search = true;
   // Inter options (forward, backward, bidirectional, each translational or warped) are
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.

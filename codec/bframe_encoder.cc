@@ -316,6 +316,7 @@ class BFrameEncoder {
         max_candidates_(std::clamp(params.max_candidates, 1, kMaxCandidates)),
         rdoq_(params.rdoq),
         partitions_(params.partitions),
+        full_split_search_(params.full_inter_split_search),
         vector_predictors_(params.vector_predictors) {
     const double scale = quantizer_scale_q8(s_.inter_quantizer.qindex) / 256.0;
     lambda_ = std::max(0.0, params.lambda_factor) * scale * scale;
@@ -985,9 +986,10 @@ class BFrameEncoder {
     int16_t* levels = out->levels[b].data();
     uint8_t trial[64];
     float levels_bits = 0;
-    if (transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_, contexts, 0, kNoCodedBlockFlag,
-                                    static_cast<float>(lambda_), levels, TransformType::kDctDct,
-                                    &levels_bits) > 0) {
+    const bool whole_has_levels = transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_, contexts,
+                                                              0, kNoCodedBlockFlag, static_cast<float>(lambda_),
+                                                              levels, TransformType::kDctDct, &levels_bits) > 0;
+    if (whole_has_levels) {
       reconstruct_residual_block(s_.inter_quantizer, levels, pred, stride, trial, 8);
       const int64_t error = squared_error(src, source_stride, trial, 8, visible_w_[b], visible_h_[b]);
       const float coded_bits = bit_cost(cbp_model, 1) + (sizes ? bit_cost(c.luma_4x4, 0) : 0.0f) + levels_bits;
@@ -1000,7 +1002,7 @@ class BFrameEncoder {
     }
     uint8_t split_trial[64];
     int16_t split_levels[64];
-    if (sizes) {
+    if (sizes && (full_split_search_ || whole_has_levels)) {
       float split_bits = bit_cost(cbp_model, 1) + bit_cost(c.luma_4x4, 1);
       const int64_t error = code_quarters(residual, pred, stride, b, split_levels, split_trial, &split_bits);
       if (error + lambda_ * split_bits < best_error + lambda_ * best_bits) {
@@ -1148,6 +1150,7 @@ class BFrameEncoder {
   // mode decision (made with plain quantization) is over.
   bool quantize_rd_ = false;
   const bool partitions_;
+  const bool full_split_search_;  // 4x4 trials also where the 8x8 transform keeps no level
   const bool vector_predictors_;
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};  // the first of each list

@@ -63,6 +63,7 @@ class Pipeline {
     b_params_.vector_predictors = job.tools.vector_predictors;
     b_params_.epipolar_lines = job.tools.epipolar_lines;
     b_params_.inter_transform_sizes = job.tools.inter_transform_sizes;
+    b_params_.full_inter_split_search = job.tools.full_inter_split_search;
     b_params_.intra_prediction = job.tools.b_intra_prediction && job.tools.intra_directional;
     b_params_.intra_rd_search = job.tools.intra_rd_search;
     b_params_.intra_transform_sizes = job.tools.transform_sizes;

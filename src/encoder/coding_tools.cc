@@ -38,6 +38,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"full-intra-mode-search", &CodingTools::full_intra_mode_search},
     CodingToolEntry{"b-intra-small-blocks", &CodingTools::b_intra_small_blocks},
     CodingToolEntry{"full-cdef-search", &CodingTools::full_cdef_search},
+    CodingToolEntry{"full-inter-split-search", &CodingTools::full_inter_split_search},
 };
 
 }  // namespace
@@ -85,7 +86,7 @@ struct EncoderSpeedStep {
 // optimized quantization (levels as quantized), then the visibility layout's planning,
 // which reads every depth file before coding (about 9 % of speed 3's time for 0.2-0.4 %
 // of the bytes), with the references it chooses; last the B-faces' intra blocks under
-// 8x8 and half the CDEF search.
+// 8x8, half the CDEF search and the inter 4x4 trials of blocks without levels.
 const std::array<EncoderSpeedStep, kMaxEncoderSpeed + 1> kSpeedSteps = {{
     {{}, CubeLayout::kVisibility},
     {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search"},
@@ -93,7 +94,7 @@ const std::array<EncoderSpeedStep, kMaxEncoderSpeed + 1> kSpeedSteps = {{
     {{"partitions"}, CubeLayout::kVisibility},
     {{"rdoq"}, CubeLayout::kVisibility},
     {{"visibility-references"}, CubeLayout::kRegular},
-    {{"b-intra-small-blocks", "full-cdef-search"}, CubeLayout::kRegular},
+    {{"b-intra-small-blocks", "full-cdef-search", "full-inter-split-search"}, CubeLayout::kRegular},
 }};
 
 }  // namespace
