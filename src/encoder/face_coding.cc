@@ -44,7 +44,9 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
   // Depth also gives each reference a warp node field (per-pixel flow, sent compactly).
   std::array<codec::WarpField, 2> warps;
   CodedPredictedFace coded;
-  FlowField flow;  // one field for both references
+  // One field for both references, kept by the thread from face to face: compute_flow
+  // reuses its storage, which spares the pages a fresh field would fault in.
+  thread_local FlowField flow;
   for (size_t r = 0; r < references.size(); ++r) {
     if (motion_from_depth) {
       compute_flow(camera, *references[r].camera, data.color.width, data.color.height, data.depth, &flow);
