@@ -96,14 +96,14 @@ struct CodingTools {
   // or two 4x8 blocks. Off: its blocks are 16x16, 16x8, 8x16, 16x4, 4x16 or 8x8 only
   // (docs/codec.md 6.2). Encoder only.
   bool b_intra_small_blocks = true;
+  // Every face: CDEF presets chosen among 14 candidate strengths. Off: among every other
+  // one of them, in half the search time (docs/codec.md 6.2). Encoder only.
+  bool full_cdef_search = true;
   // B-faces: every luma 8x8 residual block of an inter macroblock is also tried as four
   // 4x4 transform blocks. Off: only where its 8x8 transform keeps a level, since a block
   // that quantizes to nothing as a whole rarely pays for four (docs/codec.md 6.2).
   // Encoder only.
   bool full_inter_split_search = true;
-  // Every face: CDEF presets chosen among 14 candidate strengths. Off: among every other
-  // one of them, in half the search time (docs/codec.md 6.2). Encoder only.
-  bool full_cdef_search = true;
 
   bool operator==(const CodingTools&) const = default;
 };
