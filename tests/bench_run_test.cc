@@ -32,6 +32,8 @@ std::string read_text(const fs::path& path) {
 
 class BenchRun : public ::testing::Test {
  protected:
+  static constexpr int kRandomAccesses = 12;  // random (cell, face) picks of the suite's run
+
   static void SetUpTestSuite() {
     dir_ = new testing::TempDir("svc-bench-run");
     samples::SceneOptions scene;
@@ -44,7 +46,7 @@ class BenchRun : public ::testing::Test {
     options.codecs = {"png", "svc", "mpeg2", "jpeg"};  // run in report order whatever the order here
     options.quick = true;
     options.ablation = true;
-    options.random_accesses = 12;
+    options.random_accesses = kRandomAccesses;
     options.threads = 2;
     options.progress = [](const std::string& line) { progress_lines_.push_back(line); };
     auto results = run_bench(options);
@@ -101,14 +103,14 @@ TEST_F(BenchRun, ResultsJsonHasEveryCodecWithConsistentNumbers) {
       // One sample per picked cell in each of the kDecodeSpeedPasses rounds.
       const auto& a = c["random_cell_access"][mode];
       EXPECT_GE(a["samples"].get<int>(), kDecodeSpeedPasses);
-      EXPECT_LE(a["samples"].get<int>(), 12 * kDecodeSpeedPasses);
+      EXPECT_LE(a["samples"].get<int>(), kRandomAccesses * kDecodeSpeedPasses);
       EXPECT_EQ(a["samples"].get<int>() % kDecodeSpeedPasses, 0);
       EXPECT_GE(a["mean_frames_decoded"].get<double>(), 6.0);  // a cell is six faces
       EXPECT_GT(a["mean_ms"].get<double>(), 0);
     }
     for (const char* mode : {"cold", "warm"}) {
       const auto& a = c["random_access"][mode];
-      EXPECT_EQ(a["samples"], 12);
+      EXPECT_EQ(a["samples"], kRandomAccesses);
       EXPECT_GE(a["mean_frames_decoded"].get<double>(), 1.0);
       EXPECT_GT(a["mean_ms"].get<double>(), 0);
       EXPECT_GE(a["p99_ms"].get<double>(), a["mean_ms"].get<double>() * 0.999);

@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <mutex>
+#include <memory>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -21,6 +20,7 @@
 #include "encoder/cell_visibility.h"
 #include "encoder/coding_pipeline.h"
 #include "encoder/encode_plan.h"
+#include "reader/shared_cache.h"
 #include "spatial/placement.h"
 
 namespace svc {
@@ -138,41 +138,15 @@ void return_freed_memory() {
 #endif
 }
 
-// The cameras of the cells coded lately. A B-face needs its own camera and its
-// references', and each is a parse of the cell's manifest entry: reading them again for
-// every request parsed each cell's entry some 18 times an encode. Any thread may call.
-class RecentCameras {
- public:
-  explicit RecentCameras(const DatabaseManifest& manifest) : manifest_(manifest) {}
+// The cameras of the cells coded lately, in the pipeline's cache type. A B-face needs
+// its own camera and its references', and each is a parse of the cell's manifest entry:
+// reading them again for every request parsed each cell's entry some 18 times an
+// encode. 32 cells hold a B-cube and its two reference cubes for a few cubes coded side
+// by side.
+using CameraCache = reader_internal::SharedCache<CellCameras>;
+constexpr uint64_t kCachedCameraCells = 32;
 
-  Result<Camera> camera(uint32_t frame) {
-    const size_t cell = frame / kFaceCount, face = frame % kFaceCount;
-    {
-      std::lock_guard lock(mutex_);
-      for (const Entry& entry : entries_) {
-        if (entry.cell == cell) return entry.cameras[face];
-      }
-    }
-    SVC_ASSIGN_OR_RETURN(const CellCameras cameras, cell_cameras(manifest_, cell));
-    std::lock_guard lock(mutex_);
-    entries_[next_] = {cell, cameras};
-    next_ = (next_ + 1) % entries_.size();
-    return cameras[face];
-  }
-
- private:
-  struct Entry {
-    size_t cell = std::numeric_limits<size_t>::max();
-    CellCameras cameras{};
-  };
-  // A B-cube and its two reference cubes, for a few cubes coded side by side.
-  static constexpr size_t kCells = 32;
-
-  const DatabaseManifest& manifest_;
-  std::mutex mutex_;
-  std::array<Entry, kCells> entries_{};
-  size_t next_ = 0;
-};
+uint64_t cell_cameras_bytes(const CellCameras&) { return sizeof(CellCameras); }
 
 }  // namespace
 
@@ -226,8 +200,17 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   job.load = [&](uint32_t frame) {
     return load_face(plan.manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
   };
-  RecentCameras cameras(plan.manifest);
-  job.camera = [&](uint32_t frame) { return cameras.camera(frame); };
+  CameraCache cameras(kCachedCameraCells * (sizeof(CellCameras) + CameraCache::kEntryOverhead),
+                      &cell_cameras_bytes);
+  job.camera = [&](uint32_t frame) -> Result<Camera> {
+    const uint32_t cell = frame / kFaceCount;
+    SVC_ASSIGN_OR_RETURN(const CameraCache::Pointer cached,
+                         cameras.get(cell, reader_internal::Origin::kCaller, [&]() -> Result<CameraCache::Pointer> {
+                           SVC_ASSIGN_OR_RETURN(CellCameras parsed, cell_cameras(plan.manifest, cell));
+                           return std::make_shared<const CellCameras>(parsed);
+                         }));
+    return (*cached)[frame % kFaceCount];
+  };
   job.tools = settings.tools;
   job.append = sink.append;
   job.open_written = sink.open_written;
