@@ -6,10 +6,10 @@
 #include <random>
 #include <vector>
 
-#include "codec/bframe_codec.h"
-#include "codec/intra_codec.h"
-#include "codec/log_search.h"
-#include "codec/motion_compensation.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/intra_codec.h"
+#include "codec/encoder/log_search.h"
+#include "codec/common/motion_compensation.h"
 
 namespace svc::codec {
 namespace {

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <vector>
 
-#include "codec/bframe_codec.h"
-#include "codec/cdef.h"
-#include "codec/dsp/dsp.h"
-#include "codec/intra_codec.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/cdef.h"
+#include "codec/common/dsp/dsp.h"
+#include "codec/common/intra_codec.h"
 
 namespace svc::codec {
 namespace {

@@ -7,9 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "codec/cfl.h"
-#include "codec/intra_codec.h"
-#include "codec/range_coder.h"
+#include "codec/common/cfl.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/range_coder.h"
 
 namespace svc::codec {
 namespace {

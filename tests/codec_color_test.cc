@@ -5,7 +5,7 @@
 #include <random>
 #include <vector>
 
-#include "codec/color.h"
+#include "codec/common/color.h"
 
 namespace svc::codec {
 namespace {

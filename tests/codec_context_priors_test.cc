@@ -4,8 +4,8 @@
 #include <atomic>
 #include <vector>
 
-#include "codec/context_priors.h"
-#include "codec/intra_codec.h"
+#include "codec/common/context_priors.h"
+#include "codec/common/intra_codec.h"
 
 namespace svc::codec {
 namespace {

@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "codec/bframe_codec.h"
-#include "codec/cube_padding.h"
-#include "codec/cube_padding_map.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/cube_padding.h"
+#include "codec/common/cube_padding_map.h"
 
 namespace svc::codec {
 namespace {

@@ -3,7 +3,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "codec/dsp/dsp.h"
+#include "codec/common/dsp/dsp.h"
 
 namespace svc::codec::dsp {
 namespace {

@@ -6,9 +6,9 @@
 #include <span>
 #include <vector>
 
-#include "codec/block_coder.h"
-#include "codec/quant.h"
-#include "codec/range_coder.h"
+#include "codec/common/block_coder.h"
+#include "codec/common/quant.h"
+#include "codec/common/range_coder.h"
 
 namespace svc::codec {
 namespace {

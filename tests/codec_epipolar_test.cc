@@ -1,4 +1,4 @@
-#include "codec/epipolar.h"
+#include "codec/common/epipolar.h"
 
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include "codec/bframe_codec.h"
-#include "codec/bframe_syntax.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/bframe_syntax.h"
 
 namespace svc::codec {
 namespace {

@@ -6,11 +6,11 @@
 #include <random>
 #include <vector>
 
-#include "codec/dsp/dsp.h"
-#include "codec/intra_codec.h"
-#include "codec/intra_macroblock.h"
-#include "codec/intra_prediction.h"
-#include "codec/range_coder.h"
+#include "codec/common/dsp/dsp.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/intra_macroblock.h"
+#include "codec/common/intra_prediction.h"
+#include "codec/common/range_coder.h"
 
 namespace svc::codec {
 namespace {

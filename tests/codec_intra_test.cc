@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "codec/intra_codec.h"
-#include "codec/intra_macroblock.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/intra_macroblock.h"
 
 namespace svc::codec {
 namespace {

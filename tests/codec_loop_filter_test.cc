@@ -6,10 +6,10 @@
 #include <cmath>
 #include <vector>
 
-#include "codec/bframe_loop_filter.h"
-#include "codec/intra_codec.h"
-#include "codec/loop_filter.h"
-#include "codec/quant.h"
+#include "codec/common/bframe_loop_filter.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/loop_filter.h"
+#include "codec/common/quant.h"
 
 namespace svc::codec {
 namespace {

@@ -5,9 +5,9 @@
 #include <random>
 #include <vector>
 
-#include "codec/log_search.h"
-#include "codec/motion_compensation.h"
-#include "codec/search_planes.h"
+#include "codec/encoder/log_search.h"
+#include "codec/common/motion_compensation.h"
+#include "codec/encoder/search_planes.h"
 
 namespace svc::codec {
 namespace {

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <random>
 
-#include "codec/dct.h"
-#include "codec/quant.h"
+#include "codec/common/dct.h"
+#include "codec/common/quant.h"
 
 namespace svc::codec {
 namespace {

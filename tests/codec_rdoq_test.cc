@@ -4,11 +4,11 @@
 #include <cmath>
 #include <random>
 
-#include "codec/block_coder.h"
-#include "codec/dct.h"
-#include "codec/intra_codec.h"
-#include "codec/quant.h"
-#include "codec/rdoq.h"
+#include "codec/common/block_coder.h"
+#include "codec/common/dct.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/quant.h"
+#include "codec/encoder/rdoq.h"
 
 namespace svc::codec {
 namespace {

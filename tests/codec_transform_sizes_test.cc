@@ -9,12 +9,12 @@
 #include <set>
 #include <vector>
 
-#include "codec/block_coder.h"
-#include "codec/dct.h"
-#include "codec/intra_codec.h"
-#include "codec/intra_prediction.h"
-#include "codec/quant.h"
-#include "codec/range_coder.h"
+#include "codec/common/block_coder.h"
+#include "codec/common/dct.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/intra_prediction.h"
+#include "codec/common/quant.h"
+#include "codec/common/range_coder.h"
 #include "support/random_coefficients.h"
 
 namespace svc::codec {

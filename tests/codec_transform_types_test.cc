@@ -10,12 +10,12 @@
 #include <random>
 #include <vector>
 
-#include "codec/dct.h"
-#include "codec/dsp/transform_type_basis.h"
-#include "codec/intra_codec.h"
-#include "codec/intra_macroblock.h"
-#include "codec/range_coder.h"
-#include "codec/transform_type_coder.h"
+#include "codec/common/dct.h"
+#include "codec/common/dsp/transform_type_basis.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/intra_macroblock.h"
+#include "codec/common/range_coder.h"
+#include "codec/common/transform_type_coder.h"
 #include "support/random_coefficients.h"
 
 namespace svc::codec {

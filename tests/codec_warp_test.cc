@@ -4,9 +4,9 @@
 #include <random>
 #include <vector>
 
-#include "codec/bframe_codec.h"
-#include "codec/intra_codec.h"
-#include "codec/warp_prediction.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/warp_prediction.h"
 
 namespace svc::codec {
 namespace {

@@ -8,7 +8,7 @@
 #include <random>
 #include <set>
 
-#include "codec/intra_codec.h"
+#include "codec/common/intra_codec.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "reader/face_decode.h"
@@ -287,7 +287,7 @@ TEST_F(ReaderAccess, BorderAndCubeReferencesBitMustAgree) {
         : FileCodedFaceSource(file, index), frame_(frame), border_(border) {}
     Result<std::vector<uint8_t>> payload(uint32_t frame) override {
       SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, FileCodedFaceSource::payload(frame));
-      // Header byte 2, bits 0-2 (codec/bframe_codec.h).
+      // Header byte 2, bits 0-2 (codec/common/bframe_codec.h).
       if (frame == frame_) {
         bytes[codec::kBFrameReferencesByte] =
             static_cast<uint8_t>((bytes[codec::kBFrameReferencesByte] & ~0x07) | border_);

@@ -8,7 +8,7 @@
 #include <set>
 #include <thread>
 
-#include "codec/color.h"
+#include "codec/common/color.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "codec/intra_codec.h"
+#include "codec/common/intra_codec.h"
 #include "encoder/face_coding.h"
 
 namespace svc {

@@ -115,7 +115,7 @@ inline uint64_t chunk_bytes(const FrameRecord& frame) {
 }
 
 // Every frame `frame` needs decoded before it can be: its references, then, with cube
-// references, the four adjacent faces of each reference cube (codec/cube_padding.h
+// references, the four adjacent faces of each reference cube (codec/common/cube_padding.h
 // order). Frames lie cell-major, six per cell, so the cube's faces are found by
 // position.
 std::vector<uint32_t> frame_dependencies(const FrameRecord& frame);

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "codec/cube_padding.h"
+#include "codec/common/cube_padding.h"
 #include "common/bytes.h"
 #include "container/container.h"
 

@@ -3,11 +3,11 @@
 #include <cstdlib>
 #include <string>
 
-#include "codec/bframe_codec.h"
-#include "codec/color.h"
-#include "codec/cube_padding.h"
-#include "codec/intra_codec.h"
-#include "codec/search_planes.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/color.h"
+#include "codec/common/cube_padding.h"
+#include "codec/common/intra_codec.h"
+#include "codec/encoder/search_planes.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"
 #include "reader/face_decode.h"

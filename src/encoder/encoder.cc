@@ -12,8 +12,8 @@
 #include <malloc.h>
 #endif
 
-#include "codec/bframe_codec.h"
-#include "codec/intra_codec.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/intra_codec.h"
 #include "common/parallel.h"
 #include "container/writer.h"
 #include "database/database.h"

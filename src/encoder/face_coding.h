@@ -5,7 +5,7 @@
 #include <array>
 #include <vector>
 
-#include "codec/bframe_codec.h"
+#include "codec/common/bframe_codec.h"
 #include "database/database.h"
 #include "spatial/reprojection.h"
 #include "svc/status.h"

@@ -1,6 +1,6 @@
 #include "svc/metrics.h"
 
-#include "codec/color.h"
+#include "codec/common/color.h"
 
 #include <cmath>
 #include <string>

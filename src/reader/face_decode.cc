@@ -2,8 +2,8 @@
 
 #include <array>
 
-#include "codec/cube_padding.h"
-#include "codec/intra_codec.h"
+#include "codec/common/cube_padding.h"
+#include "codec/common/intra_codec.h"
 
 namespace svc {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "codec/bframe_codec.h"
+#include "codec/common/bframe_codec.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "svc/status.h"

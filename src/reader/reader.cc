@@ -14,10 +14,10 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
-#include "codec/bframe_codec.h"
-#include "codec/color.h"
-#include "codec/cube_padding.h"
-#include "codec/intra_codec.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/color.h"
+#include "codec/common/cube_padding.h"
+#include "codec/common/intra_codec.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
 #include "container/container.h"

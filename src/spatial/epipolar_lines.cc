@@ -55,7 +55,7 @@ codec::EpipolarLines epipolar_lines(const Camera& current, const Camera& referen
   const glm::dvec3 t(combined[3]);
   const ProjectionTerms p = projection_terms(current.frustum);
   // The flow of a point at eye depth z is (tz X + w (p00 tx + p02 tz), tz Y - h (p11 ty +
-  // p12 tz)) / (2 (z - tz)) pixels, X and Y as in codec/epipolar.h.
+  // p12 tz)) / (2 (z - tz)) pixels, X and Y as in codec/common/epipolar.h.
   const std::array<double, 3> direction = {t.z, p.p00 * t.x + p.p02 * t.z, -(p.p11 * t.y + p.p12 * t.z)};
   if (std::max({std::abs(direction[0]), std::abs(direction[1]), std::abs(direction[2])}) < kSameOrientation)
     return {};

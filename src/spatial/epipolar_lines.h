@@ -1,10 +1,10 @@
 // The epipolar lines of a reference camera seen from the current one, as the B-frame
-// coder carries them (codec/epipolar.h): from the cameras alone, no depth.
+// coder carries them (codec/common/epipolar.h): from the cameras alone, no depth.
 //
 // Threading: a pure function; safe to call concurrently.
 #pragma once
 
-#include "codec/epipolar.h"
+#include "codec/common/epipolar.h"
 #include "svc/types.h"
 
 namespace svc {

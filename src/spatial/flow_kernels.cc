@@ -1,7 +1,7 @@
 // The plain flow kernels and the table that picks a variant per CPU.
 #include "spatial/flow_kernels.h"
 
-#include "codec/dsp/dsp.h"
+#include "codec/common/dsp/dsp.h"
 #include "spatial/flow_kernels_init.h"
 
 namespace svc {

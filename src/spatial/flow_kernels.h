@@ -1,5 +1,5 @@
 // The encoder's per-pixel flow kernels behind one table of function pointers, chosen
-// once by CPU features as codec/dsp/dsp.h does for the codec's kernels (the same
+// once by CPU features as codec/common/dsp/dsp.h does for the codec's kernels (the same
 // detected flags and SVC_CPU_MASK): a plain C++ reference, always compiled, and x86
 // variants that must match it bit for bit. docs/kernels.md describes the pattern;
 // svc-checkkernels compares every variant with its reference.

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/motion.h"
+#include "codec/common/motion.h"
 #include "svc/types.h"
 
 namespace svc {
@@ -88,7 +88,7 @@ codec::FaceCandidates macroblock_candidates(const FlowField& flow);
 // 2 ceil(h/16) lists in row-major block order, same ranking, rules and limit.
 codec::FaceCandidates block_candidates(const FlowField& flow);
 
-// The warp node field of a face (codec/motion.h, WarpField): per macroblock corner, the
+// The warp node field of a face (codec/common/motion.h, WarpField): per macroblock corner, the
 // flow at the corner point (16 i - 0.5, 16 j - 0.5) in 1/8 pel, rounded to nearest. Where
 // the 2x2 pixels around the corner agree within half a pixel the node is their mean (the
 // bilinear flow at the corner, exact for planes); across a depth discontinuity it is the

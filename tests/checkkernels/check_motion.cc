@@ -8,7 +8,7 @@
 #include <array>
 
 #include "checkkernels/harness.h"
-#include "codec/motion_compensation.h"
+#include "codec/common/motion_compensation.h"
 
 namespace svc::checkkernels {
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "checkkernels/harness.h"
-#include "codec/cube_padding_map.h"
+#include "codec/common/cube_padding_map.h"
 
 namespace svc::checkkernels {
 namespace {

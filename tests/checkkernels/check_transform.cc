@@ -3,8 +3,8 @@
 #include <string>
 
 #include "checkkernels/harness.h"
-#include "codec/dct.h"
-#include "codec/quant.h"
+#include "codec/common/dct.h"
+#include "codec/common/quant.h"
 
 namespace svc::checkkernels {
 namespace {

@@ -11,7 +11,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "codec/dsp/dsp.h"
+#include "codec/common/dsp/dsp.h"
 #include "spatial/flow_kernels.h"
 
 namespace svc::checkkernels {

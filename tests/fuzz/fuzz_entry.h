@@ -19,8 +19,8 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include "codec/bframe_codec.h"
-#include "codec/intra_codec.h"
+#include "codec/common/bframe_codec.h"
+#include "codec/common/intra_codec.h"
 #include "common/bytes.h"
 #include "common/file_io.h"
 #include "container/container.h"

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "codec/dct.h"
+#include "codec/common/dct.h"
 
 namespace svc::testing {
 

@@ -1,0 +1,280 @@
+// B-frame coding of one face: each 16x16 macroblock is intra-coded (as in intra frames,
+// from its reconstructed neighbours), predicted from one of up to two reference faces
+// (forward = reference 0, backward = reference 1) or from the average of both, or
+// skipped (predicted with the neighbours' vectors, no residual).
+// Each prediction is either a translation (one vector per macroblock and reference) or a
+// warp (a vector per pixel, interpolated from node vectors at the macroblock corners:
+// warp_prediction.h). Motion is not searched here: the caller supplies candidate vectors
+// per macroblock and reference (from depth reprojection, or from log_search.h) and,
+// optionally, node fields (from depth); the encoder picks vectors by SAD, screens the
+// options by SAD and chooses the macroblock mode by rate-distortion cost. Bitstream
+// syntax: docs/codec.md, section 10.
+//
+// Threading: every function is reentrant (no shared state); encode different faces on
+// different threads. Errors: the encoder returns an empty vector for unusable arguments
+// (which no decoder accepts); the decoder returns kInvalidArgument for a bad size or
+// reference set and kCorruptData for bytes that are not a valid B-frame. It never reads
+// outside its inputs, whatever the bytes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "codec/common/epipolar.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/motion.h"
+#include "codec/common/motion_compensation.h"
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc::codec {
+
+inline constexpr uint8_t kBFrameSyntaxVersion = 24;
+// Flags byte bit 4: coded inter macroblocks code whether their luma residual is one
+// 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
+// it is four 4x4 blocks (docs/codec.md 10.4).
+inline constexpr uint8_t kInterTransformSizesFlag = 16;
+// Byte 3 bit 2: each reference's epipolar lines open the range-coded data and vector
+// differences are coded along and across them (docs/codec.md 10.3).
+inline constexpr uint8_t kEpipolarLinesFlag = 4;
+// Frame type and syntax version (byte 0, intra_codec.h), qindex, the references' byte
+// (border units, interpolation filter, reference count, warp mask), flags (docs/codec.md 10).
+inline constexpr int kBFrameReferencesByte = 2;
+inline constexpr int kBFrameFlagsByte = 3;
+inline constexpr int kBFrameHeaderBytes = 4;
+
+// The border units (codec/cube_padding.h) of references `extra` samples wider and taller
+// than the face (a border of extra / 2 on each side), or -1 when `extra` is not a valid
+// border: 0 or an even multiple of 16 up to 2 x 16 x kMaxCubeBorderUnits.
+int reference_border_units(int extra);
+
+// The coding of one macroblock, as the decoder reports it (svc inspect draws intra red,
+// forward/backward/bidirectional green, skipped blue).
+enum class MacroblockMode : uint8_t {
+  kIntra = 0,
+  kForward = 1,        // predicted from reference 0
+  kBackward = 2,       // predicted from reference 1
+  kBidirectional = 3,  // rounded mean of both predictions
+  kSkipped = 4,        // predicted mode and vectors inherited, no residual
+};
+
+// How an inter macroblock is split for prediction: each partition has its own mode
+// (forward, backward or bidirectional) and vectors; the residual stays in 8x8 blocks.
+enum class Partition : uint8_t {
+  k16x16 = 0,
+  k16x8 = 1,  // two 16x8 halves, top then bottom
+  k8x16 = 2,  // two 8x16 halves, left then right
+  k8x8 = 3,   // four 8x8 quarters in raster order
+};
+
+// The qindex this library suggests for B-frames next to I-frames coded at
+// `intra_qindex`: 42 indices coarser (a step 2^(42/32) = 2.48 times larger), clamped to
+// the valid range. References of good
+// quality help every face predicted from them, so B-frames can afford a coarser step:
+// on the sample hall at 38 dB, ratios 1.75, 2 and 2.5 gave 1.94x, 2.00x and 2.02x smaller
+// databases than intra-only, and the house is flat across them (1.39x); see docs/codec.md,
+// section 10.5. The frame header stores the index used.
+inline constexpr int kBQIndexOffset = 42;
+int suggested_b_qindex(int intra_qindex);
+
+struct BFrameParams {
+  // qindex of the whole B-frame (residual and intra macroblocks), 0..255.
+  int qindex = 138;
+  // Tries the 8 half-pel neighbours of each reference's best candidate, then the 8
+  // quarter-pel neighbours of the best of those (16 SADs per macroblock and reference).
+  // Depth-derived candidates are already at quarter-pel precision, but the best one for
+  // a whole macroblock often lies between them (docs/codec.md, section 10.5).
+  bool sub_pel_refinement = true;
+  // Quarter-pel vectors; off, the encoder picks only half-pel positions (candidates
+  // rounded away from zero, no quarter-pel refinement), for ablation.
+  bool quarter_pel = true;
+  // Rate-distortion trade-off: lambda = lambda_factor * scale^2 squared-error units, with
+  // scale = quantizer_scale_q8(qindex) / 256 (the MPEG-2 quantiser_scale it replaces),
+  // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice). Tuned on
+  // the photographic scenes by the whole database's bytes against its PSNR-Y: 0.08 beat
+  // 0.25 by 9.3 % (hall) and 6.9 % (house) BD-rate over 33-40 dB (docs/codec.md, 10.5).
+  double lambda_factor = 0.08;
+  // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h).
+  bool rdoq = true;
+  // Offers warped prediction (warp_prediction.h) for references whose node field is
+  // given to encode_b_frame.
+  bool warp = true;
+  // Candidates tried per macroblock and reference: the first max_candidates of each
+  // supplied list (lists come ranked, most pixels first), plus the predictor. Quarter-pel
+  // depth lists hold more distinct vectors than half-pel ones did; 32 instead of 16
+  // saved 1.3 % of the B-face bytes on the photographic hall (docs/codec.md, 10.5).
+  int max_candidates = 32;
+  // Offers the deblocking filter (loop_filter.h); the encoder switches it on for the frame
+  // where it lowers the squared error against the source.
+  bool deblocking = true;
+  // Offers CDEF (cdef.h), chosen by squared error plus bits (lambda as above).
+  bool cdef = true;
+  // Encoder choice: CDEF presets from all 14 candidate strengths; off, from every other
+  // one (choose_cdef's every_candidate).
+  bool full_cdef_search = true;
+  // Encoder choice: every inter luma 8x8 residual block also tried as four 4x4 blocks;
+  // off, only where its 8x8 transform keeps a level (inter_transform_sizes on).
+  bool full_inter_split_search = true;
+  // Inter options (forward, backward, bidirectional, each translational or warped) are
+  // screened by luma SAD plus side bits; this many of the best get the full
+  // rate-distortion evaluation beside skip and intra.
+  int inter_evaluations = 2;
+  // Offers the smooth and bilinear interpolation filter banks besides the regular one:
+  // the frame is coded with the regular bank, and again with the bank whose predictions
+  // of the same motion come clearly closer to the source, keeping the one of least
+  // SSD + lambda * bits; off, the regular bank only. The sharp regular filter loses to
+  // smoother ones on noisy references seen at other scales (docs/codec.md, 10.5).
+  bool switchable_filter = true;
+  // Lets each coded inter macroblock code its luma residual as one 16x16 transform block,
+  // and each coded luma 8x8 block as four 4x4 ones, where that lowers the
+  // rate-distortion cost (header flag kInterTransformSizesFlag); off, every residual
+  // block is 8x8.
+  bool inter_transform_sizes = true;
+  // Splits inter macroblocks into 16x8, 8x16 or 8x8 partitions, each with its own
+  // direction and vectors, where that lowers the rate-distortion cost; off, every inter
+  // macroblock is one 16x16 partition (for ablation).
+  bool partitions = true;
+  // Codes vector differences along and across each reference's epipolar lines where the
+  // hints give them (docs/codec.md 10.3); off, in x and y, for ablation.
+  bool epipolar_lines = true;
+  // Each coded vector and skip takes the cheapest of its vector predictors (docs/codec.md
+  // 10.3); off, the first (the median) always, for ablation.
+  bool vector_predictors = true;
+  // Intra macroblocks are coded as in intra frames (docs/codec.md 10.4), searched with
+  // the intra frame's tools: every prediction mode (off: planar and DC only, for
+  // ablation), the rate-distortion mode search and the 16x16 / 8x8 / 4x4 transform
+  // sizes (off: four 8x8 blocks).
+  bool intra_prediction = true;
+  bool intra_rd_search = true;
+  bool intra_transform_sizes = true;
+  // Intra 8x8 luma blocks may be split into 4x4, 8x4 or 4x8 blocks (with
+  // intra_transform_sizes); off, the encoder never tries it.
+  bool intra_small_blocks = true;
+  // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
+  bool intra_cfl = true;
+  // Intra blocks with levels code their transform type (docs/codec.md 5.4; header byte 3
+  // bit 3); off, every intra block is DCT_DCT and no type is coded.
+  bool intra_transform_types = true;
+};
+
+struct BFrameStats {
+  int macroblocks = 0;
+  int mb_intra = 0;
+  int mb_forward = 0;
+  int mb_backward = 0;
+  int mb_bidirectional = 0;
+  int mb_skipped = 0;
+  // Inter and skipped macroblocks among the above predicted by warping.
+  int mb_warp = 0;
+  // Inter macroblocks split into partitions (16x8, 8x16 or 8x8).
+  int mb_partitioned = 0;
+  // Inter macroblocks whose luma residual is one 16x16 transform block.
+  int mb_luma_16x16 = 0;
+  // Coded luma 8x8 blocks of inter macroblocks split into four 4x4 transform blocks.
+  int luma_blocks_4x4 = 0;
+  // Inter and skipped macroblocks whose luma prediction reads reference samples outside
+  // the face (the cube-map border when the references are padded).
+  int mb_leaving_face = 0;
+  // Warp nodes transmitted, over both references.
+  int64_t warp_nodes_coded = 0;
+  // Distinct in-range candidate vectors tried for whole macroblocks (at most
+  // max_candidates per list), summed over macroblocks and references; partitions'
+  // searches are not counted.
+  int64_t candidates_evaluated = 0;
+  // Every luma SAD computed for vector choice (candidates, predictors, refinement).
+  int64_t sad_evaluations = 0;
+  // Per macroblock, row-major (the encoder's choice; the decoder returns the same map).
+  std::vector<MacroblockMode> modes;
+};
+
+// Encodes `source` as a B-frame predicted from ref0 and, when not null, ref1 (decoded
+// references: pass what the decoder will have). All images must have the same size and
+// consistent plane sizes, except that both references may instead be padded faces
+// (cube_padding.h: the face plus the same border of 16, 32, ... 64 samples on each side),
+// whose border the header then records and whose border samples vectors may reach. candidates0/candidates1 hold one
+// list per macroblock (ceil(w/16) x ceil(h/16), row-major); missing or empty lists fall back to the zero vector and
+// the neighbours' vector; out-of-range vectors are clamped (max_vector_component). `reconstruction` (optional)
+// receives exactly what decode_b_frame produces; `stats` (optional) the macroblock decisions. Deterministic.
+// Returns an empty vector when an image is missing, empty or inconsistent.
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                    const FaceCandidates& candidates1, const BFrameParams& params,
+                                    ImageYCbCr420* reconstruction, BFrameStats* stats);
+
+// The same with a warp node field per reference (warp0 for ref0, warp1 for ref1; null or
+// of the wrong size (ceil(w/16) + 1) x (ceil(h/16) + 1): no warped prediction from that
+// reference). Node components are clamped to max_warp_node_component. Only the nodes some
+// warped macroblock uses are transmitted.
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
+                                    const FaceCandidates& candidates1, const WarpField* warp0,
+                                    const WarpField* warp1, const BFrameParams& params,
+                                    ImageYCbCr420* reconstruction, BFrameStats* stats);
+
+class SearchPlanes;
+
+// Encoder only: the motion search's planes of a reference face, as encode_b_frame builds
+// them when ReferenceHints::search is null. B-faces that share a reference can share
+// them (built once instead of per face: same output). Thread-safe to read.
+std::shared_ptr<const SearchPlanes> b_frame_search_planes(const ImageYCbCr420& reference);
+
+// What the caller knows about the motion towards one reference; every pointer may be null
+// and is read only during the call.
+struct ReferenceHints {
+  // One candidate list per macroblock (ceil(w/16) x ceil(h/16), row-major).
+  const FaceCandidates* macroblocks = nullptr;
+  // One list per 8x8 luma block (2 ceil(w/16) x 2 ceil(h/16), row-major), the candidates
+  // of the partitions; ignored when of another size. Without them partitions search the
+  // macroblock's list.
+  const FaceCandidates* blocks = nullptr;
+  // The warp node field, as in the overload above.
+  const WarpField* warp = nullptr;
+  // The epipolar lines of the reference's camera seen from the current one (same
+  // orientation); absent, vectors are coded in x and y (docs/codec.md 10.3).
+  EpipolarLines lines;
+  // The reference's search planes from b_frame_search_planes; null, or built from a
+  // face of another size: encode_b_frame builds them.
+  const SearchPlanes* search = nullptr;
+};
+
+// The same with per-reference hints (reference 1's ignored when ref1 is null).
+std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
+                                    const ImageYCbCr420* ref1, const std::array<ReferenceHints, 2>& hints,
+                                    const BFrameParams& params, ImageYCbCr420* reconstruction, BFrameStats* stats);
+
+struct BFrameHeader {
+  int qindex = 0;
+  // Cube-map border of the references in units of 16 luma samples a side (0: the
+  // references are the bare faces; codec/cube_padding.h builds padded ones).
+  int border_units = 0;
+  int loop_filters = 0;                // kLoopFilter* bits (intra_codec.h)
+  bool transform_types = false;        // byte 3 kTransformTypesFlag: intra blocks code their type
+  bool inter_transform_sizes = false;  // byte 3 kInterTransformSizesFlag
+  bool epipolar_lines = false;         // byte 3 kEpipolarLinesFlag
+  int reference_count = 0;             // 1 or 2
+  int warp_mask = 0;                   // bit r: reference r may be warped
+  InterpolationFilter filter = InterpolationFilter::kRegular;
+};
+
+// Validates and reads the header of a B-frame payload (kCorruptData / kUnsupported).
+Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
+// The header bytes of `header` (this build's syntax version), which must hold values
+// parse_b_frame_header accepts.
+std::array<uint8_t, kBFrameHeaderBytes> serialize_b_frame_header(const BFrameHeader& header);
+
+// Decodes a B-frame of width x height. ref1 must be null exactly when the frame was coded
+// with one reference; references must be width x height with consistent planes, or
+// padded by the border the header names (parse_b_frame_header; kInvalidArgument
+// otherwise). `modes` (optional) receives the per-macroblock modes (a partitioned
+// macroblock reports its last partition's), `partitions` (optional) the partitions
+// (16x16 for intra and skipped macroblocks), `warped` (optional) 1 for each coded inter
+// macroblock predicted by warping (10.1), else 0, all row-major. On error `out`, `modes`,
+// `partitions` and `warped` are left in an unspecified but valid state.
+Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
+                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr,
+                      std::vector<Partition>* partitions = nullptr, std::vector<uint8_t>* warped = nullptr);
+
+}  // namespace svc::codec

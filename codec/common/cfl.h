@@ -1,0 +1,87 @@
+// Chroma from luma (CfL), a chroma intra mode: an 8x8 chroma block predicted as its DC
+// prediction plus alpha times the variation of the co-located reconstructed luma
+// (averaged 2x2 to chroma resolution, less its mean). docs/codec.md 3.3 defines the
+// prediction and the syntax: a CfL flag before the regular mode of a Cb block, then Cb's
+// alpha; a Cr block of a CfL Cb block codes its own alpha. The functions here are the
+// whole mode, so every path that codes chroma intra blocks can call them.
+//
+// Threading: pure functions; CflContexts is plain mutable data owned by one coder.
+// Errors: decoding never fails (every bit pattern gives a valid mode and alpha).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "codec/common/intra_prediction.h"
+#include "codec/common/range_coder.h"
+
+namespace svc::codec {
+
+// The chroma mode after the 35 regular ones.
+inline constexpr int kCflMode = kIntraModes;
+// Alpha is in 1/8 and lies in -kCflMaxAlpha..kCflMaxAlpha (-2..2).
+inline constexpr int kCflMaxAlpha = 16;
+
+// The CoefficientFrame::block_modes byte of a CfL chroma block carries its alpha:
+// kCflMode + kCflMaxAlpha + alpha (35..67). Regular modes are 0..34.
+inline constexpr uint8_t cfl_mode_byte(int alpha) { return static_cast<uint8_t>(kCflMode + kCflMaxAlpha + alpha); }
+inline constexpr bool is_cfl_mode_byte(int byte) { return byte >= kCflMode && byte <= kCflMode + 2 * kCflMaxAlpha; }
+inline constexpr int cfl_alpha_of_mode_byte(int byte) { return byte - kCflMode - kCflMaxAlpha; }
+
+enum class ChromaPlane { kCb, kCr };
+
+// A chroma block's mode: a regular one (0..34), or kCflMode with its alpha.
+struct ChromaMode {
+  int mode = kDcMode;
+  int alpha = 0;
+  bool cfl() const { return mode == kCflMode; }
+  uint8_t mode_byte() const { return cfl() ? cfl_mode_byte(alpha) : static_cast<uint8_t>(mode); }
+};
+
+struct CflContexts {
+  std::array<AdaptiveBit, 3> flag{};                                     // by cfl_context
+  AdaptiveBit cr_nonzero;                                                // Cr's alpha is not 0
+  std::array<AdaptiveBit, 3> sign{};                                     // Cb; Cr after Cb > 0; Cr after Cb < 0
+  std::array<std::array<AdaptiveBit, kCflMaxAlpha - 1>, 2> magnitude{};  // per plane, by bin
+};
+
+// Calls f on every context, in member order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, CflContexts>
+void for_each_context(Set& s, F&& f) {
+  for_each_bit(s.flag, f);
+  for_each_bit(s.cr_nonzero, f);
+  for_each_bit(s.sign, f);
+  for_each_bit(s.magnitude, f);
+}
+
+// Cb: the CfL flag (context `cfl_context`, the left and above Cb blocks using CfL), then
+// Cb's alpha (never 0) or the regular mode with `candidates`. Cr: nothing unless `cb`,
+// its Cb block's mode, is CfL; then Cr's alpha (possibly 0). The decoder returns `cb`'s
+// mode for a Cr block.
+void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
+                        const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb,
+                        const ChromaMode& mode);
+ChromaMode decode_chroma_mode(RangeDecoder& decoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
+                              const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb);
+
+// Encoder only: bits of the CfL flag, and of an alpha, at the contexts' current
+// probabilities.
+float cfl_flag_bits(const CflContexts& cfl, int cfl_context, bool set);
+float cfl_alpha_bits(const CflContexts& cfl, ChromaPlane plane, int cb_alpha, int alpha);
+
+// The 64 luma AC values of the 8x8 chroma block at chroma sample (x0, y0), from the
+// reconstructed luma plane (stride samples per row, holding at least (2 x0 + 16) x
+// (2 y0 + 16) samples).
+void cfl_luma_ac(const uint8_t* luma, ptrdiff_t stride, int x0, int y0, int16_t* ac);
+// The DC prediction of an 8x8 block from its edge (docs/codec.md 3.1, mode 1).
+int dc_prediction_8x8(const uint8_t* edge);
+// The CfL prediction: clip(dc + ((alpha * ac + 16) >> 5), 0, 255).
+void predict_cfl(const int16_t* ac, int dc, int alpha, uint8_t* out);
+
+// Encoder only: the alpha of least squared error between `source` and the prediction,
+// rounded and clamped to the alpha range.
+int cfl_least_squares_alpha(const int16_t* ac, const uint8_t* source, ptrdiff_t stride, int dc);
+
+}  // namespace svc::codec

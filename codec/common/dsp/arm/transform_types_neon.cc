@@ -1,0 +1,32 @@
+// NEON integer inverses of the intra transform types (for 16x8 and 8x16 blocks DCT_DCT too; arithmetic in
+// matrix_transform_neon.h). The float forward transforms have no NEON variant, for the
+// reason transform_4_16_neon.cc gives.
+#include "codec/common/dsp/arm/matrix_transform_neon.h"
+#include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/transform_type_basis.h"
+
+namespace svc::codec::dsp {
+namespace {
+
+template <int W, int H>
+void inverse_typed_neon(int type, const int16_t* coefficients, int16_t* samples) {
+  const bool rows_dst = (type & 1) != 0, columns_dst = (type & 2) != 0;
+  inverse_by_matrices<W, H>(type_matrix<W>(rows_dst).m, type_row_shift(rows_dst), type_matrix<H>(columns_dst).m,
+                            type_column_shift(W, H, columns_dst), coefficients, samples);
+}
+
+}  // namespace
+
+void init_transform_types_neon(DspTable* table) {
+  table->inverse_typed_4x4 = inverse_typed_neon<4, 4>;
+  table->inverse_typed_8x8 = inverse_typed_neon<8, 8>;
+  table->inverse_typed_16x16 = inverse_typed_neon<16, 16>;
+  table->inverse_typed_16x8 = inverse_typed_neon<16, 8>;
+  table->inverse_typed_8x16 = inverse_typed_neon<8, 16>;
+  table->inverse_typed_16x4 = inverse_typed_neon<16, 4>;
+  table->inverse_typed_4x16 = inverse_typed_neon<4, 16>;
+  table->inverse_typed_8x4 = inverse_typed_neon<8, 4>;
+  table->inverse_typed_4x8 = inverse_typed_neon<4, 8>;
+}
+
+}  // namespace svc::codec::dsp

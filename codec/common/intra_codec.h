@@ -1,0 +1,177 @@
+// Coding of one face (a "frame") into bytes and back. Pure computation: no files.
+// Bitstream syntax and entropy coding are documented in docs/codec.md.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/common/block_coder.h"
+#include "codec/common/cdef.h"
+#include "codec/common/quant.h"
+#include "codec/common/transform_type.h"
+#include "svc/status.h"
+#include "svc/types.h"
+
+namespace svc::codec {
+
+struct CodingParams {
+  int qindex = 96;  // quantiser index, kMinQIndex..kMaxQIndex (codec/quant.h)
+  // Encoder restriction: when false, every block uses the planar or DC mode only.
+  bool directional_intra = true;
+  // Encoder choice: when false, each block takes the mode of least SATD (plus a rate
+  // term) and its levels as quantized, without the rate-distortion comparison of a
+  // few modes and of dropping the levels.
+  bool rd_intra_search = true;
+  // Encoder choice: with every mode allowed, rank by SATD only planar, DC, the most
+  // probable modes, every fourth angular mode and the two on each side of the best of
+  // those (at most 18 modes instead of 35): for B-frame intra macroblocks, where the
+  // search runs on every macroblock (docs/codec.md 10.5), and for intra frames at encoder
+  // speeds from 1 on (6.2).
+  bool coarse_mode_search = false;
+  // Encoder restriction: when false, 8x8 luma blocks are never split into 4x4, 8x4 or
+  // 4x8 blocks (the split flags are still coded).
+  bool small_blocks = true;
+  // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
+  // the squared error against the source (the flag costs nothing else).
+  bool deblocking = true;
+  // Offers CDEF (cdef.h); the encoder chooses its presets and units by squared error
+  // plus their bits, and leaves it off where it does not pay.
+  bool cdef = true;
+  // Encoder choice: CDEF presets from all 14 candidate strengths; off, from every other
+  // one (choose_cdef's every_candidate).
+  bool full_cdef_search = true;
+  // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h)
+  // rather than by rounding with a dead zone.
+  bool rdoq = true;
+  // Encoder restriction: when false, every luma macroblock is coded as four 8x8 blocks
+  // (no 16x16 or 4x4 transform blocks; the partition flags are still coded).
+  bool transform_sizes = true;
+  // Encoder restriction: when false, no chroma block uses CfL (chroma from luma,
+  // codec/cfl.h; the CfL flags are still coded).
+  bool cfl = true;
+  // Offers the intra transform types (DST-VII per direction, docs/codec.md 7.2),
+  // signalled in the header (kTransformTypesFlag): the encoder picks each coded block's
+  // type by rate-distortion cost. When false, every block is DCT_DCT and no type is coded.
+  bool transform_types = true;
+  // The residual quantization matrix (quant.h), signalled in the header (byte 2 bit 2).
+  ResidualMatrix residual_matrix = ResidualMatrix::kFlat;
+};
+
+// Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
+// section 11). A decoder rejects other bits.
+inline constexpr uint8_t kLoopFilterDeblocking = 1;
+inline constexpr uint8_t kLoopFilterCdef = 2;
+inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
+// Flags byte bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
+inline constexpr uint8_t kIntraWeightedMatrix = 4;
+// Flags byte bit 3, intra frames and B-frames: intra blocks with levels code their
+// transform type (docs/codec.md 5.4); without it every block is DCT_DCT.
+inline constexpr uint8_t kTransformTypesFlag = 8;
+
+// Byte 0 of every frame payload: the frame type in bit 7 (0 intra, 1 bidirectional) and
+// the syntax version in bits 0-6. An intra payload goes on with its qindex and its flags
+// byte (loop filters, matrix, transform types).
+inline constexpr uint8_t kBidirectionalTypeBit = 0x80;
+inline constexpr uint8_t kSyntaxVersionMask = 0x7F;
+inline constexpr int kQIndexByte = 1;
+inline constexpr int kIntraFlagsByte = 2;
+inline constexpr int kFrameHeaderBytes = 3;
+inline constexpr uint8_t kIntraSyntaxVersion = 16;
+// Largest width or height parse_intra_frame accepts (a cap for untrusted input).
+inline constexpr int kMaxFrameDimension = 16384;
+
+// The partitions, prediction modes and quantized DCT levels of an intra frame in a
+// compact sparse form: the state after entropy decoding ("semi-decoded"), cached by the
+// runtime. Dequantization (quant.h, dequantize_level), prediction and the inverse
+// transforms are deferred to reconstruct_intra_frame.
+// Immutable once built, so it may be shared between threads.
+struct CoefficientFrame {
+  int width = 0;
+  int height = 0;
+  int qindex = 0;
+  uint8_t loop_filters = 0;                                // kLoopFilter* bits of the header
+  ResidualMatrix residual_matrix = ResidualMatrix::kFlat;  // header bit kIntraWeightedMatrix
+  CdefParams cdef;                                         // when loop_filters has kLoopFilterCdef
+  // Per luma macroblock in raster order: its partition (intra_macroblock.h,
+  // LumaPartition: bit 0 set when it splits into four 8x8 blocks, else one 16x16 block,
+  // two halves or four strips; docs/codec.md 3 and 8).
+  std::vector<uint16_t> luma_partitions;
+  // Per transform block, in coding order (the luma blocks of every macroblock in turn,
+  // then the 8x8 blocks of Cb, then of Cr, each in raster order): the number of non-zero
+  // levels, 0..256.
+  std::vector<uint16_t> block_counts;
+  // Per block in the same order: its intra prediction mode, 0..kIntraModes - 1
+  // (codec/intra_prediction.h; a Cr block repeats its Cb block's mode), or for a chroma
+  // block using CfL its alpha as cfl_mode_byte(alpha) (codec/cfl.h: 35..67; a Cr block
+  // holds its own alpha).
+  std::vector<uint8_t> block_modes;
+  // The transform type and non-zero levels of each block with levels in turn, each
+  // block's as a whole-byte stream (codec/level_stream.h, docs/codec.md 8).
+  std::vector<uint8_t> levels;
+
+  // Heap and object bytes held.
+  size_t memory_bytes() const;
+
+  // Appends a block's transform type and non-zero levels (natural positions, in
+  // increasing scan order of `size`; |level| 1..4095); nothing when count is 0.
+  void append_levels(const BlockLevel* block_levels, int count, TransformSize size,
+                     TransformType type = TransformType::kDctDct);
+  // Reads the transform type into *type and the `count` levels of a block of `size`
+  // stored at byte *offset into positions (natural) and values, and moves *offset past
+  // them. Returns how many it read: fewer than `count` only for frames not built by this
+  // codec (never reads outside `levels`). *type is kDctDct when none was read.
+  int read_levels(size_t* offset, int count, TransformSize size, int* positions, int* values,
+                  TransformType* type) const;
+};
+
+// The levels of a CoefficientFrame as parsing decoded them, before packing: the caller
+// that parses a frame and reconstructs it at once hands them to reconstruct_intra_frame,
+// which then skips unpacking CoefficientFrame::levels (the packed form stays what a cache
+// keeps). Only valid with the frame parsed alongside it.
+struct DecodedLevels {
+  // Every block's non-zero levels, block after block in coding order, each block's in
+  // increasing scan order (natural positions).
+  std::vector<BlockLevel> levels;
+  // Per block with levels, in the same order: its transform type.
+  std::vector<TransformType> types;
+};
+
+// 8x8 block grid of a frame of the given size (macroblock-padded planes): chroma blocks
+// are 8x8; luma macroblocks hold 2 x 2 of these units, coded as their partitions say.
+struct BlockLayout {
+  int luma_blocks_x = 0, luma_blocks_y = 0;      // padded luma width / 8, height / 8
+  int chroma_blocks_x = 0, chroma_blocks_y = 0;  // half of the above
+  // The blocks of a frame of 8x8 luma blocks only (a capacity hint).
+  int block_count() const { return luma_blocks_x * luma_blocks_y + 2 * chroma_blocks_x * chroma_blocks_y; }
+};
+BlockLayout block_layout(int width, int height);
+
+// Encodes an intra frame. `reconstruction` (optional) receives exactly what the
+// decoder will produce. `source` must have positive size and planes of the sizes
+// ImageYCbCr420 documents; otherwise the result is empty (which no decoder accepts).
+// qindex is clamped to [kMinQIndex, kMaxQIndex]. Thread-safe (no shared state).
+std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const CodingParams& params,
+                                        ImageYCbCr420* reconstruction);
+
+// Entropy-decodes and dequantizes an intra frame of the given size. Errors:
+// kInvalidArgument for a size outside [1, kMaxFrameDimension]; kCorruptData for a bad
+// header, invalid syntax, truncated payload or trailing bytes (message names the byte
+// offset or block). Never reads outside `bytes`.
+// `decoded` (optional) receives the levels unpacked as well; on error it is unspecified.
+Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out,
+                         DecodedLevels* decoded = nullptr);
+
+// Prediction plus inverse transforms of parsed coefficients into pixels, then the in-loop
+// filters the frame header asks for (bit-exact). `out` is resized; a frame not built by
+// parse_intra_frame or encode_intra_frame gives some pixels of the right size, never a
+// crash. `decoded` (optional): the levels parse_intra_frame unpacked while building
+// `coefficients`, read instead of the packed ones (same pixels); ignored when its counts
+// do not match the frame's.
+void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out,
+                             const DecodedLevels* decoded = nullptr);
+
+// parse_intra_frame followed by reconstruct_intra_frame.
+Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out);
+
+}  // namespace svc::codec

@@ -1,0 +1,308 @@
+// The intra frame's block coding of one macroblock, shared by intra frames
+// (intra_codec.cc) and the intra macroblocks of B-frames (bframe_*.cc): the neighbour
+// state and contexts, the syntax of one luma macroblock (split flags, per block its mode
+// and levels) and of one chroma block, the prediction and reconstruction of a block from
+// its reconstructed neighbours, and the encoder's rate-distortion search
+// (docs/codec.md 3, 3.1, 3.2 and 10.4). Implemented in intra_codec.cc. Not part of the
+// codec's interface.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "codec/common/block_coder.h"
+#include "codec/common/cfl.h"
+#include "codec/common/intra_codec.h"
+#include "codec/common/intra_prediction.h"
+#include "codec/common/quant.h"
+#include "codec/common/range_coder.h"
+#include "codec/common/transform_size.h"
+#include "codec/common/transform_type.h"
+#include "codec/common/transform_type_coder.h"
+
+namespace svc::codec::intra {
+
+// Entropy-coding state of one plane class (luma, chroma).
+struct PlaneContexts {
+  IntraModeContexts modes;
+  BlockContextSet residual;
+  std::array<AdaptiveBit, 3> split_16x16{};  // luma only, by split_context
+  std::array<AdaptiveBit, 3> split_8x8{};
+  std::array<AdaptiveBit, 3> halves_16x16{};  // luma only, by split_context
+  AdaptiveBit vertical_halves;
+  std::array<AdaptiveBit, 2> strips{};      // luma only, by vertical_halves
+  std::array<AdaptiveBit, 3> halves_8x8{};  // luma only, by split_context
+  AdaptiveBit vertical_8x8;
+  CflContexts cfl;              // chroma only
+  TransformTypeContexts types;  // `enabled` from the frame header
+};
+
+// Calls f on every context, in member order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, PlaneContexts>
+void for_each_context(Set& s, F&& f) {
+  for_each_context(s.modes, f);
+  for_each_context(s.residual, f);
+  for_each_bit(s.split_16x16, f);
+  for_each_bit(s.split_8x8, f);
+  for_each_bit(s.halves_16x16, f);
+  for_each_bit(s.vertical_halves, f);
+  for_each_bit(s.strips, f);
+  for_each_bit(s.halves_8x8, f);
+  for_each_bit(s.vertical_8x8, f);
+  for_each_context(s.cfl, f);
+  for_each_context(s.types, f);
+}
+
+// Macroblock partition (CoefficientFrame::luma_partitions): bit 0, the 16x16 luma region
+// splits into four 8x8 blocks; bit 1 + i, 8x8 block i (Z order) splits into four 4x4
+// blocks, or bit 8 + i into two 8x4 blocks (top, bottom), with bit 12 + i two 4x8 blocks
+// (left, right); without bit 0, bit 5 makes it two 16x8 blocks (top, bottom), or with
+// bit 6 two 8x16 blocks (left, right), and bit 7 with bit 5 four strips instead: 16x4
+// blocks top to bottom, or with bit 6 4x16 blocks left to right.
+using LumaPartition = uint16_t;
+inline constexpr LumaPartition kSplit16x16 = 1;
+constexpr LumaPartition split_8x8_bit(int i) { return static_cast<LumaPartition>(2 << i); }
+inline constexpr LumaPartition kHalves16x16 = 32;
+inline constexpr LumaPartition kVerticalHalves = 64;
+inline constexpr LumaPartition kStrips = 128;
+constexpr LumaPartition halves_8x8_bit(int i) { return static_cast<LumaPartition>(256 << i); }
+constexpr LumaPartition vertical_8x8_bit(int i) { return static_cast<LumaPartition>(4096 << i); }
+
+// Calls visit(x, y, shape) for the transform blocks of 8x8 block i (Z order) of a split
+// macroblock, in coding order (x, y relative to the macroblock).
+template <class Visit>
+void for_each_quarter_block(LumaPartition partition, int i, Visit&& visit) {
+  const int x = 8 * (i & 1), y = 8 * (i >> 1);
+  if (partition & split_8x8_bit(i)) {
+    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), 4);
+  } else if ((partition & halves_8x8_bit(i)) == 0) {
+    visit(x, y, 8);
+  } else if (partition & vertical_8x8_bit(i)) {
+    visit(x, y, block_shape(4, 8));
+    visit(x + 4, y, block_shape(4, 8));
+  } else {
+    visit(x, y, block_shape(8, 4));
+    visit(x, y + 4, block_shape(8, 4));
+  }
+}
+
+// Calls visit(x, y, shape) for the transform blocks of a macroblock partition in coding
+// order (x, y relative to the macroblock; shape as block_shape).
+template <class Visit>
+void for_each_luma_block(LumaPartition partition, Visit&& visit) {
+  if ((partition & kSplit16x16) == 0) {
+    if ((partition & kHalves16x16) == 0) {
+      visit(0, 0, 16);
+    } else if (partition & kStrips) {
+      const bool vertical = (partition & kVerticalHalves) != 0;
+      for (int k = 0; k < 4; ++k) {
+        visit(vertical ? 4 * k : 0, vertical ? 0 : 4 * k, vertical ? block_shape(4, 16) : block_shape(16, 4));
+      }
+    } else if (partition & kVerticalHalves) {
+      visit(0, 0, block_shape(8, 16));
+      visit(8, 0, block_shape(8, 16));
+    } else {
+      visit(0, 0, block_shape(16, 8));
+      visit(0, 8, block_shape(16, 8));
+    }
+    return;
+  }
+  for (int i = 0; i < 4; ++i) for_each_quarter_block(partition, i, visit);
+}
+
+// Per 4x4 unit of the plane being coded: the mode, coded flag and transform width (the
+// shorter side) of the block covering it (width 0: not reconstructed yet). Source of the neighbour
+// derivations of docs/codec.md 3 and 3.1.
+class PlaneState {
+ public:
+  PlaneState(int width, int height)
+      : units_x_(width / 4), units_y_(height / 4), units_(static_cast<size_t>(units_x_) * units_y_) {}
+
+  ModeCandidates candidates(int x0, int y0) const {
+    return most_probable_modes(x0 > 0 ? regular_mode(at(x0 - 4, y0).mode) : kDcMode,
+                               y0 > 0 ? regular_mode(at(x0, y0 - 4).mode) : kDcMode);
+  }
+  // Left and above neighbours coded with CfL (chroma).
+  int cfl_context(int x0, int y0) const {
+    return (x0 > 0 && at(x0 - 4, y0).mode == kCflMode) + (y0 > 0 && at(x0, y0 - 4).mode == kCflMode);
+  }
+  int coded_block_context(int x0, int y0) const {
+    return (x0 > 0 ? at(x0 - 4, y0).coded : 0) + (y0 > 0 ? at(x0, y0 - 4).coded : 0);
+  }
+  // Left and above neighbours coded with transforms narrower than `width`.
+  int split_context(int x0, int y0, int width) const {
+    return (x0 > 0 && at(x0 - 4, y0).width < width) + (y0 > 0 && at(x0, y0 - 4).width < width);
+  }
+  // `shape` as block_shape (transform_size.h). Below-left and above-right count when
+  // the whole segment (the other side's length) lies in the plane, reconstructed.
+  EdgeAvailability availability(int x0, int y0, int shape) const {
+    const int w = shape_width(shape), h = shape_height(shape);
+    EdgeAvailability a;
+    a.left = x0 > 0;
+    a.above = y0 > 0;
+    a.below_left = a.left && (y0 + h + w) / 4 <= units_y_ && at(x0 - 4, y0 + h).width != 0 &&
+                   at(x0 - 4, y0 + h + w - 4).width != 0;
+    a.above_right = a.above && (x0 + w + h) / 4 <= units_x_ && at(x0 + w, y0 - 4).width != 0 &&
+                    at(x0 + w + h - 4, y0 - 4).width != 0;
+    return a;
+  }
+  void mark(int x0, int y0, int shape, int mode, bool coded) {
+    const int narrow = std::min(shape_width(shape), shape_height(shape));
+    fill(x0, y0, shape, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(narrow)});
+  }
+  // Forgets a region, as before it was reconstructed (encoder: trying another partition).
+  void clear(int x0, int y0, int shape) { fill(x0, y0, shape, Unit{}); }
+
+ private:
+  struct Unit {
+    uint8_t mode = kDcMode;
+    bool coded = false;
+    uint8_t width = 0;
+  };
+  // A CfL block counts as DC for the most probable modes (its prediction's base).
+  static int regular_mode(int mode) { return mode == kCflMode ? kDcMode : mode; }
+  const Unit& at(int x, int y) const { return units_[static_cast<size_t>(y / 4) * units_x_ + x / 4]; }
+  void fill(int x0, int y0, int shape, const Unit& unit) {
+    for (int y = y0 / 4; y < (y0 + shape_height(shape)) / 4; ++y) {
+      std::fill_n(units_.begin() + static_cast<ptrdiff_t>(static_cast<size_t>(y) * units_x_ + x0 / 4),
+                  shape_width(shape) / 4, unit);
+    }
+  }
+  int units_x_, units_y_;
+  std::vector<Unit> units_;
+};
+
+// The residual quantizers of every transform size at one index, indexed by TransformSize.
+using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
+// The residual quantizers of one index (B-frame intra macroblocks: flat).
+SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
+const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size);
+
+// ---- Decoding ----
+
+// A block's syntax as read: its mode (chroma: kCflMode with `cfl_alpha`), its
+// non-zero levels in scan order and its transform type (DCT_DCT without levels).
+struct BlockSyntax {
+  int mode = kDcMode;
+  int cfl_alpha = 0;
+  TransformType transform_type = TransformType::kDctDct;
+  int count = 0;
+  BlockLevel levels[kMaxTransformArea];
+};
+
+// Reads a luma block's mode and levels at (x0, y0) of a plane whose neighbours `state`
+// describes (`size` a block shape, transform_size.h block_shape, as in every call below
+// that takes one); the caller marks the block. Returns false on invalid levels.
+bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
+                       int size, BlockSyntax* out);
+// Reads an 8x8 chroma block's mode (codec/cfl.h: the CfL flag and alpha, or the regular
+// mode) and levels; a Cb block's mode goes to `cb`, which the Cr block at the same place
+// reads. The caller marks the block. Returns false on invalid levels.
+bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0,
+                              int y0, ChromaPlane plane, ChromaMode* cb, BlockSyntax* out);
+
+// Receives each block of a luma macroblock as its syntax comes up; must read the block
+// and mark it in the plane state before returning (the next split flag's context looks
+// at it). Returns false on invalid syntax.
+class BlockReader {
+ public:
+  virtual bool read(int x0, int y0, int size) = 0;
+
+ protected:
+  ~BlockReader() = default;
+};
+
+// Reads the split and halves flags of luma macroblock (mbx, mby) and hands each block to
+// `reader` in coding order; `partition` receives the partition. False when the
+// reader fails.
+bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
+                          BlockReader& reader, LumaPartition* partition);
+
+// Predicts the block of shape `size` at (x0, y0) of `plane` (stride samples a row) in `mode`
+// from its reconstructed neighbours, adds the inverse transform of type `type` of
+// `coefficients` (dequantized, natural order; null when the block has no levels),
+// writes the clipped result into the plane and marks the block in `state`.
+void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
+                                const int16_t* coefficients, TransformType type);
+// The same for an 8x8 chroma block in `mode`; CfL predicts from `luma`, the plane's
+// reconstructed luma (luma_stride samples a row, luma sample (2 x0, 2 y0) co-located).
+void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0,
+                                       const ChromaMode& mode, const uint8_t* luma, int luma_stride,
+                                       const int16_t* coefficients, TransformType type);
+
+// ---- Encoding ----
+
+// Encoder only: a block's mode, prediction, residual levels and transform type.
+struct BlockChoice {
+  int mode = kDcMode;  // kCflMode for chroma from luma
+  int cfl_alpha = 0;
+  bool coded = false;
+  TransformType transform_type = TransformType::kDctDct;  // DCT_DCT when not coded
+  uint8_t prediction[kMaxTransformArea];
+  int16_t levels[kMaxTransformArea];
+
+  ChromaMode chroma_mode() const { return {mode, mode == kCflMode ? cfl_alpha : 0}; }
+};
+
+// Encoder only: the blocks of one luma macroblock as chosen, in coding order.
+struct MacroblockChoice {
+  LumaPartition partition = kSplit16x16;
+  std::array<BlockChoice, 16> blocks;
+};
+
+// Writes a luma block's mode and levels, and marks it.
+void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
+                 const BlockChoice& choice);
+// Writes an 8x8 chroma block's mode (codec/cfl.h; `cb` is a Cr block's Cb block's mode)
+// and levels, and marks it.
+void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
+                        ChromaPlane plane, const ChromaMode& cb, const BlockChoice& choice);
+
+// Writes luma macroblock (mbx, mby): split flags and blocks.
+void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
+                      const MacroblockChoice& choice);
+
+// Encoder only: the intra frame's rate-distortion search (docs/codec.md 3.2) for the
+// blocks of one macroblock at one qindex. Each call chooses, reconstructs the choice
+// into `recon` (a padded plane whose reconstructed neighbours it predicts from; `source`
+// the padded source plane, same stride), marks it in `state` and returns its cost,
+// SSE + lambda * bits. Contexts are read, not updated (write_* does that).
+class MacroblockEncoder {
+ public:
+  // `params` supplies the tools (modes, RD search, RDOQ, transform sizes); `lambda` the
+  // squared error per bit of every decision. Transform types are searched where the
+  // contexts enable them (PlaneContexts::types).
+  MacroblockEncoder(const CodingParams& params, int qindex, float lambda);
+  ~MacroblockEncoder();
+  MacroblockEncoder(const MacroblockEncoder&) = delete;
+  MacroblockEncoder& operator=(const MacroblockEncoder&) = delete;
+
+  // The luma blocks of macroblock (mbx, mby) and their cost. `budget`: the cost the
+  // macroblock must beat to be chosen at all (a B-face's best inter option). Once the
+  // four 8x8 blocks' running cost reaches it, the rest of them, the halves and the strips
+  // are not searched: only the 16x16 block may still come in under it (mode ranking as
+  // with the whole split, DC for the blocks not searched). Infinite: the full search.
+  float choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
+                    int stride, int mbx, int mby, MacroblockChoice* out,
+                    float budget = std::numeric_limits<float>::infinity());
+  // The Cb and the Cr block at (x0, y0) of the chroma planes (`cb_*`, `cr_*`, each with
+  // its own neighbour state; same stride). A Cb block's mode is chosen with its Cr
+  // block's cost under it: the best regular mode with Cr in that mode, against CfL (when
+  // `luma`, the reconstructed luma, luma_stride samples a row, is given and the params
+  // allow it) with each plane's own alpha. Returns the pair's cost.
+  float choose_chroma(const PlaneContexts& contexts, PlaneState& cb_state, PlaneState& cr_state,
+                      const uint8_t* cb_source, const uint8_t* cr_source, uint8_t* cb_recon, uint8_t* cr_recon,
+                      int stride, const uint8_t* luma, int luma_stride, int x0, int y0, BlockChoice* cb,
+                      BlockChoice* cr);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace svc::codec::intra

@@ -1,0 +1,100 @@
+#include "codec/common/intra_prediction.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "codec/common/transform_size.h"
+
+namespace svc::codec {
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int shape,
+                      const EdgeAvailability& available, uint8_t* edge) {
+  const int w = shape_width(shape), h = shape_height(shape);
+  const int corner = w + h, samples = 2 * (w + h) + 1;
+  if (!available.left && !available.above) {
+    std::memset(edge, 128, static_cast<size_t>(samples));
+    return;
+  }
+  const uint8_t* origin = plane + static_cast<ptrdiff_t>(y0) * stride + x0;
+  if (available.left) {
+    const int rows = available.below_left ? w + h : h;
+    for (int i = 0; i < rows; ++i) edge[corner - 1 - i] = origin[i * stride - 1];
+    if (!available.below_left) std::memset(edge, edge[corner - h], static_cast<size_t>(w));
+  }
+  if (available.above) {
+    const int columns = available.above_right ? w + h : w;
+    std::memcpy(edge + corner + 1, origin - stride, static_cast<size_t>(columns));
+    if (!available.above_right) std::memset(edge + corner + 1 + w, edge[corner + w], static_cast<size_t>(h));
+  }
+  if (available.left && available.above) {
+    edge[corner] = origin[-stride - 1];
+  } else if (available.left) {
+    std::memset(edge + corner, edge[corner - 1], static_cast<size_t>(w + h + 1));
+  } else {
+    std::memset(edge, edge[corner + 1], static_cast<size_t>(w + h + 1));
+  }
+}
+
+IntraPredictor intra_predictor(int size) {
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  if (size == block_shape(16, 8)) return dsp.intra_predict_16x8;
+  if (size == block_shape(8, 16)) return dsp.intra_predict_8x16;
+  if (size == block_shape(16, 4)) return dsp.intra_predict_16x4;
+  if (size == block_shape(4, 16)) return dsp.intra_predict_4x16;
+  if (size == block_shape(8, 4)) return dsp.intra_predict_8x4;
+  if (size == block_shape(4, 8)) return dsp.intra_predict_4x8;
+  return size == 4 ? dsp.intra_predict_4x4 : size == 16 ? dsp.intra_predict_16x16 : dsp.intra_predict_8x8;
+}
+
+ModeCandidates most_probable_modes(int left_mode, int above_mode) {
+  const int left_class = std::min(left_mode, 2);  // planar, DC, angular
+  if (left_mode == above_mode) {
+    if (left_mode < 2) return {{kPlanarMode, kDcMode, kVerticalMode}, left_class};
+    // The mode and its two angular neighbours (wrapping within 2..33).
+    return {{left_mode, 2 + (left_mode + 29) % 32, 2 + (left_mode - 2 + 1) % 32}, left_class};
+  }
+  int third = kVerticalMode;
+  if (left_mode != kPlanarMode && above_mode != kPlanarMode) {
+    third = kPlanarMode;
+  } else if (left_mode != kDcMode && above_mode != kDcMode) {
+    third = kDcMode;
+  }
+  return {{left_mode, above_mode, third}, 3 + left_class};
+}
+
+int mode_size_class(int shape) {
+  const int area = shape_area(shape);
+  return area < 64 ? 0 : area == 64 ? 1 : 2;
+}
+
+int rank_among_others(const ModeCandidates& candidates, int mode) {
+  int rank = mode;
+  for (int candidate : candidates) rank -= candidate < mode;
+  return rank;
+}
+
+void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
+                       const ModeCandidates& candidates, int mode) {
+  for_each_mode_bit(contexts, shape, candidates, mode,
+                    [&](AdaptiveBit& model, int bit) { encoder.encode(model, bit); });
+}
+
+int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
+                      const ModeCandidates& candidates) {
+  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+  const auto context = static_cast<size_t>(candidates.context);
+  if (decoder.decode(contexts.is_most_probable[size_class][context])) {
+    auto& index_bits = contexts.most_probable_index[size_class][context];
+    if (!decoder.decode(index_bits[0])) return candidates[0];
+    return candidates[decoder.decode(index_bits[1]) ? 2 : 1];
+  }
+  size_t node = 1;
+  for (int bit = 0; bit < kRemainderBits; ++bit)
+    node = 2 * node + static_cast<size_t>(decoder.decode(contexts.remainder[node - 1]));
+  int mode = static_cast<int>(node) - (1 << kRemainderBits);
+  std::array<int, kMostProbableModes> sorted = candidates.modes;
+  std::sort(sorted.begin(), sorted.end());
+  for (int candidate : sorted) mode += candidate <= mode;
+  return mode;
+}
+
+}  // namespace svc::codec

@@ -1,0 +1,125 @@
+// Spatial intra prediction of 4x4, 8x8, 16x16, 16x8 and 8x16 blocks from reconstructed
+// neighbours:
+// the reference edge of a block, the most probable modes derived from its left and above
+// neighbours, and the coding of a block's mode. The predictors themselves are kernels
+// (dsp::DspTable::intra_predict_*). Exact definitions in docs/codec.md 3.1-3.2.
+//
+// Threading: pure functions; IntraModeContexts is plain mutable data owned by one coder.
+// Errors: decode_intra_mode never fails (every bit pattern is a valid mode).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+
+#include "codec/common/dsp/dsp.h"
+#include "codec/common/range_coder.h"
+
+namespace svc::codec {
+
+inline constexpr int kIntraModes = 35;
+inline constexpr int kPlanarMode = 0;
+inline constexpr int kDcMode = 1;
+inline constexpr int kHorizontalMode = 10;
+inline constexpr int kVerticalMode = 26;
+inline constexpr int kMostProbableModes = 3;
+
+// Which neighbours of a block are reconstructed: the N samples left and above, the N
+// below-left and the N above-right (docs/codec.md 3.1 derives them from coding order).
+struct EdgeAvailability {
+  bool left = false, above = false, below_left = false, above_right = false;
+};
+
+// Fills edge[2 (W + H) + 1] (the corner at W + H) for the W x H block of `shape`
+// (block_shape of transform_size.h: 4, 8, 16, or 16x8 and 8x16) at sample (x0, y0) of
+// `plane` (stride samples per row), reading only the neighbours `available` names.
+// Missing neighbours are substituted as docs/codec.md 3.1 defines.
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int shape,
+                      const EdgeAvailability& available, uint8_t* edge);
+
+// The intra prediction kernel of a block shape (as build_intra_edge's).
+using IntraPredictor = void (*)(const uint8_t* edge, int mode, uint8_t* out);
+IntraPredictor intra_predictor(int shape);
+
+// The mode flags' contexts by block size (fewer than 64 samples, 64, more) and by the
+// neighbours' modes (docs/codec.md 3.2).
+inline constexpr int kModeSizeClasses = 3;
+inline constexpr int kModeNeighbourContexts = 6;
+int mode_size_class(int shape);
+
+// The three most probable modes of a block, all different, and the neighbour context of
+// its mode flags.
+struct ModeCandidates {
+  std::array<int, kMostProbableModes> modes;
+  // min(left, 2) (planar, DC, angular) where both neighbours use the same mode, else
+  // 3 + min(left, 2).
+  int context;
+  int operator[](size_t i) const { return modes[i]; }
+  auto begin() const { return modes.begin(); }
+  auto end() const { return modes.end(); }
+};
+
+// The candidates of a block whose left and above neighbours use left_mode and above_mode
+// (kDcMode where a neighbour is missing).
+ModeCandidates most_probable_modes(int left_mode, int above_mode);
+
+struct IntraModeContexts {
+  template <class T>
+  using BySizeAndNeighbours = std::array<std::array<T, kModeNeighbourContexts>, kModeSizeClasses>;
+  BySizeAndNeighbours<AdaptiveBit> is_most_probable{};
+  BySizeAndNeighbours<std::array<AdaptiveBit, 2>> most_probable_index{};
+  // A binary tree over the 32 ranks of the other modes, most significant bit first
+  // (node n's children 2n and 2n + 1; node 1 is element 0).
+  std::array<AdaptiveBit, 31> remainder{};
+};
+
+// Calls f on every context, in member order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, IntraModeContexts>
+void for_each_context(Set& s, F&& f) {
+  for_each_bit(s.is_most_probable, f);
+  for_each_bit(s.most_probable_index, f);
+  for_each_bit(s.remainder, f);
+}
+
+// Mode coding of a block of `shape` (block_shape): a flag, then the index among the most
+// probable modes (truncated unary) or the rank of the mode among the other 32 (5 bits
+// through the remainder tree).
+void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
+                       const ModeCandidates& candidates, int mode);
+int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
+                      const ModeCandidates& candidates);
+// The rank of a mode that is not among the candidates, among the other 32 in increasing
+// order.
+inline constexpr int kRemainderBits = 5;
+int rank_among_others(const ModeCandidates& candidates, int mode);
+// Calls bit(context, value) for each bin encode_intra_mode codes for `mode`, in coding
+// order: the one walk the encoder and its bit estimates share. The remainder's contexts
+// are a tree: node n's children 2n and 2n + 1, node 1 at remainder[0].
+template <class Contexts, class Bit>
+requires std::same_as<std::remove_const_t<Contexts>, IntraModeContexts>
+void for_each_mode_bit(Contexts& contexts, int shape, const ModeCandidates& candidates, int mode, Bit&& bit) {
+  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+  const auto context = static_cast<size_t>(candidates.context);
+  const auto found = std::find(candidates.begin(), candidates.end(), mode);
+  bit(contexts.is_most_probable[size_class][context], found != candidates.end() ? 1 : 0);
+  if (found != candidates.end()) {
+    const int index = static_cast<int>(found - candidates.begin());
+    auto& index_bits = contexts.most_probable_index[size_class][context];
+    bit(index_bits[0], index > 0 ? 1 : 0);
+    if (index > 0) bit(index_bits[1], index > 1 ? 1 : 0);
+    return;
+  }
+  const int rank = rank_among_others(candidates, mode);
+  size_t node = 1;
+  for (int b = kRemainderBits - 1; b >= 0; --b) {
+    const int value = (rank >> b) & 1;
+    bit(contexts.remainder[node - 1], value);
+    node = 2 * node + static_cast<size_t>(value);
+  }
+}
+
+}  // namespace svc::codec

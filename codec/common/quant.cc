@@ -1,0 +1,169 @@
+#include "codec/common/quant.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "codec/common/dct.h"
+#include "codec/common/dsp/dsp.h"
+
+namespace svc::codec {
+
+const std::array<uint8_t, 64> kDefaultIntraMatrix = {
+    8,  16, 19, 22, 26, 27, 29, 34,  //
+    16, 16, 22, 24, 27, 29, 34, 37,  //
+    19, 22, 26, 27, 29, 34, 34, 38,  //
+    22, 22, 26, 27, 29, 34, 37, 40,  //
+    22, 26, 27, 29, 32, 35, 40, 48,  //
+    26, 27, 29, 32, 35, 40, 48, 58,  //
+    26, 27, 29, 34, 38, 46, 56, 69,  //
+    27, 29, 35, 38, 46, 56, 69, 83,  //
+};
+
+const std::array<uint8_t, 64> kDefaultNonIntraMatrix = [] {
+  std::array<uint8_t, 64> m{};
+  m.fill(16);
+  return m;
+}();
+
+namespace {
+
+// round(128 * 2^(k / 32)): one octave of quantiser scales.
+constexpr std::array<int, kQIndexPerOctave> kScaleOctave = {
+    128, 131, 134, 137, 140, 143, 146, 149, 152, 156, 159, 162, 166, 170, 173, 177,  //
+    181, 185, 189, 193, 197, 202, 206, 211, 215, 220, 225, 230, 235, 240, 245, 251,  //
+};
+
+}  // namespace
+
+int quantizer_scale_q8(int qindex) {
+  qindex = std::clamp(qindex, kMinQIndex, kMaxQIndex);
+  return kScaleOctave[qindex % kQIndexPerOctave] << (qindex / kQIndexPerOctave);
+}
+
+int quant_step(BlockKind kind, int qindex, int position) {
+  const int scale = quantizer_scale_q8(qindex);
+  if (kind == BlockKind::kIntra && position == 0) {
+    return scale <= 4096 ? std::min(scale, 2048) : std::min(scale / 2, 4096);
+  }
+  const auto& matrix = kind == BlockKind::kIntra ? kDefaultIntraMatrix : kDefaultNonIntraMatrix;
+  return (static_cast<int>(matrix[position & 63]) * scale + 8) >> 4;
+}
+
+int residual_step(TransformSize size, int qindex) {
+  const int step = quant_step(BlockKind::kNonIntra, qindex, 0);
+  if (size == TransformSize::k16x16) return std::max((step + 1) >> 1, 128);
+  if (is_rectangular(size)) {  // coefficients at 1/sqrt(2), 1 or sqrt(2) of orthonormal
+    const int scale = rectangular_scale_log_sqrt2(size);
+    if (scale < 0) return std::max((step * 181 + 128) >> 8, 128);
+    if (scale > 0) return (step * 362 + 128) >> 8;
+  }
+  return step;
+}
+
+int residual_weight(TransformSize size, int position) {
+  const int width = transform_width(size), height = transform_height(size);
+  const int row = position / width, column = position % width;
+  const int r = row * 8 / height, c = column * 8 / width;  // the 8x8 entry standing for the same frequency
+  return r == 0 && c == 0 ? 16 : kDefaultIntraMatrix[static_cast<size_t>(8 * r + c)];
+}
+
+int residual_step(TransformSize size, int qindex, ResidualMatrix matrix, int position) {
+  const int step = residual_step(size, qindex);
+  if (matrix == ResidualMatrix::kFlat) return step;
+  return std::max((step * residual_weight(size, position) + 8) >> 4, 128);
+}
+
+Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix matrix) {
+  Quantizer q = make_quantizer(BlockKind::kNonIntra, qindex);
+  q.size = size;
+  for (int i = 0; i < transform_area(size); ++i) {
+    q.scale[static_cast<size_t>(i)] = residual_step(size, q.qindex, matrix, i);
+    q.inverse_step[static_cast<size_t>(i)] =
+        static_cast<float>(1 << kStepBits) / static_cast<float>(q.scale[static_cast<size_t>(i)]);
+  }
+  return q;
+}
+
+Quantizer make_quantizer(BlockKind kind, int qindex) {
+  Quantizer q;
+  q.kind = kind;
+  q.qindex = std::clamp(qindex, kMinQIndex, kMaxQIndex);
+  for (int i = 0; i < 64; ++i) q.scale[i] = quant_step(kind, q.qindex, i);
+  if (kind == BlockKind::kIntra) {
+    q.rounding_dc = 0.5f;
+    q.rounding_ac = 0.34f;  // intra: MPEG-style bias towards smaller levels
+  } else {
+    q.rounding_dc = 0.2f;  // residuals: wider dead zone, most blocks become empty
+    q.rounding_ac = 0.2f;
+  }
+  for (int i = 0; i < 64; ++i)
+    q.inverse_step[i] = static_cast<float>(1 << kStepBits) / static_cast<float>(q.scale[i]);
+  return q;
+}
+
+// The 8x8 kernels serve every size: areas of 64 and more as runs of 64 values, smaller
+// ones (4x4, 8x4, 4x8) padded with zeros to 64, so that nothing past the block is read,
+// written or counted.
+namespace {
+
+int quantize_with_rounding(const Quantizer& quantizer, const float* coefficients, float rounding_dc,
+                           float rounding_ac, int16_t* levels) {
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  const int area = transform_area(quantizer.size);
+  if (area < 64) {
+    float padded[64] = {};
+    int16_t padded_levels[64];
+    std::copy_n(coefficients, area, padded);
+    const int count =
+        dsp.quantize_8x8(padded, quantizer.inverse_step.data(), rounding_dc, rounding_ac, padded_levels);
+    std::copy_n(padded_levels, area, levels);
+    return count;
+  }
+  int count = 0;
+  for (int i = 0; i < area; i += 64) {
+    count += dsp.quantize_8x8(coefficients + i, quantizer.inverse_step.data() + i,
+                              i == 0 ? rounding_dc : rounding_ac, rounding_ac, levels + i);
+  }
+  return count;
+}
+
+}  // namespace
+
+int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
+  return quantize_with_rounding(quantizer, coefficients, quantizer.rounding_dc, quantizer.rounding_ac, levels);
+}
+
+int quantize_block_nearest(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
+  return quantize_with_rounding(quantizer, coefficients, 0.5f, 0.5f, levels);
+}
+
+void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {
+  const dsp::DspTable& dsp = dsp::get_dsp();
+  const int area = transform_area(quantizer.size);
+  if (area < 64) {
+    int16_t padded[64] = {}, padded_coefficients[64];
+    std::copy_n(levels, area, padded);
+    dsp.dequantize_8x8(padded, quantizer.scale.data(), padded_coefficients);
+    std::copy_n(padded_coefficients, area, coefficients);
+    return;
+  }
+  for (int i = 0; i < area; i += 64) dsp.dequantize_8x8(levels + i, quantizer.scale.data() + i, coefficients + i);
+}
+
+int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels,
+                             TransformType type) {
+  const int area = transform_area(quantizer.size);
+  float input[kMaxTransformArea], coefficients[kMaxTransformArea];
+  for (int i = 0; i < area; ++i) input[i] = samples[i];
+  forward_transform(quantizer.size, type, input, coefficients);
+  return quantize_block(quantizer, coefficients, levels);
+}
+
+void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels, int16_t* samples) {
+  int16_t coefficients[kMaxTransformArea];
+  dequantize_block(quantizer, levels, coefficients);
+  inverse_transform(quantizer.size, coefficients, samples);
+}
+
+}  // namespace svc::codec

@@ -1,0 +1,115 @@
+// Quantization of 8x8 DCT blocks with MPEG-2's weighting matrices and a logarithmic
+// quantiser index (qindex 0..255, the step doubling every 32 indices), shared by intra frames and the residual
+// blocks of B-frames. Dequantization is exact integer arithmetic and part of the
+// bitstream contract (docs/codec.md); quantization runs only in the encoder and may use
+// float with rate-distortion rounding offsets. Quantizer objects are immutable after
+// make_quantizer() and may be shared between threads.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdlib>
+
+#include "codec/common/dct.h"
+#include "codec/common/transform_size.h"
+#include "codec/common/transform_type.h"
+
+namespace svc::codec {
+
+enum class BlockKind : uint8_t {
+  kIntra = 0,     // pixels, default intra matrix, DC with its own step
+  kNonIntra = 1,  // prediction residuals, default non-intra matrix (flat 16)
+};
+
+// MPEG-2 default matrices in natural (row-major) order.
+extern const std::array<uint8_t, 64> kDefaultIntraMatrix;
+extern const std::array<uint8_t, 64> kDefaultNonIntraMatrix;
+
+// Largest |level| the quantizer produces and the bitstream allows.
+inline constexpr int kMaxLevel = 4095;
+
+inline constexpr int kMinQIndex = 0;
+inline constexpr int kMaxQIndex = 255;
+// Indices per doubling of the step.
+inline constexpr int kQIndexPerOctave = 32;
+// Dequantization multipliers are in units of 1 / 2^kStepBits of a coefficient.
+inline constexpr int kStepBits = 8;
+
+// The quantiser scale of an index in 1/256 units: T[qindex % 32] << (qindex / 32) with
+// T[k] = round(128 * 2^(k / 32)); 128 (an MPEG-2 quantiser_scale of 0.5) at index 0,
+// 512 (scale 2) at 64, 32128 (125.5) at 255. Part of the bitstream contract.
+int quantizer_scale_q8(int qindex);
+
+// The dequantization step at natural position `position` (0..63) of a block of `kind`
+// for `qindex` (clamped to 0..255), in 1/256 coefficient units: (W[i] * scale + 8) >> 4,
+// except the intra DC, which keeps 8-bit precision or finer at fine indices:
+// min(scale, 2048) while scale <= 4096, then min(scale / 2, 4096). Every transform size
+// derives its steps from this function. Part of the bitstream contract.
+int quant_step(BlockKind kind, int qindex, int position);
+
+// The flat residual step of a transform size, in 1/256 coefficient units:
+// quant_step(kNonIntra, qindex, 0) for 4x4 and 8x8 (orthonormal coefficients);
+// max((step + 1) >> 1, 128) for 16x16, whose coefficients are half the orthonormal
+// ones. Part of the bitstream contract.
+int residual_step(TransformSize size, int qindex);
+
+// Quantization matrices of intra-frame residual blocks (docs/codec.md 6, "Weighted
+// matrices"): flat (one step per size, the default: it measures better in PSNR) or
+// weighted by frequency, coarser towards the high frequencies the eye sees least.
+enum class ResidualMatrix : uint8_t { kFlat = 0, kWeighted = 1 };
+
+// The weight, in 1/16, of natural position `position` of a residual block of `size`
+// under kWeighted: MPEG-2's intra matrix with its DC entry 16, sampled at the
+// frequency the position stands for (16x16: entry (r/2, c/2); 4x4: entry (2r, 2c)).
+int residual_weight(TransformSize size, int position);
+
+// The step at `position` of a residual block: residual_step under kFlat, else
+// max((residual_step * residual_weight + 8) >> 4, 128). Part of the bitstream contract.
+int residual_step(TransformSize size, int qindex, ResidualMatrix matrix, int position);
+
+struct Quantizer {
+  BlockKind kind = BlockKind::kIntra;
+  int qindex = 0;
+  TransformSize size = TransformSize::k8x8;  // blocks of transform_area(size) values
+  // coefficient = sign(level) * ((|level| * scale[i] + 128) >> 8), i in natural order;
+  // scale[i] = quant_step(kind, qindex, i) for 8x8 blocks, residual_step otherwise.
+  std::array<int32_t, kMaxTransformArea> scale{};
+  // Encoder only: 256 / scale[i] and the rounding offsets (fractions of a step added
+  // before truncation; 0.5 is plain rounding, smaller values widen the dead zone).
+  std::array<float, kMaxTransformArea> inverse_step{};
+  float rounding_dc = 0.5f;
+  float rounding_ac = 0.5f;
+};
+
+// qindex is clamped to [kMinQIndex, kMaxQIndex]. make_quantizer serves 8x8 blocks;
+// make_residual_quantizer the residual blocks of any size (flat unless `matrix` says).
+Quantizer make_quantizer(BlockKind kind, int qindex);
+Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
+
+// Quantizes DCT coefficients (natural order, quantizer.size) to levels in
+// [-kMaxLevel, kMaxLevel]. Returns the number of non-zero levels.
+int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
+// The same with rounding 0.5 for every level, whatever the quantizer's (RDOQ's start).
+int quantize_block_nearest(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
+
+// Exact integer dequantization of one level at natural position `index`, saturated to
+// [kMinCoefficient, kMaxCoefficient]. Inline: the encoder's rate-distortion loops call
+// it per coefficient and trial.
+inline int dequantize_level(const Quantizer& quantizer, int index, int level) {
+  const int magnitude =
+      (std::min(std::abs(level), kMaxLevel + 1) * quantizer.scale[index] + (1 << (kStepBits - 1))) >> kStepBits;
+  return level < 0 ? std::max(-magnitude, kMinCoefficient) : std::min(magnitude, kMaxCoefficient);
+}
+void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients);
+
+// Forward transform (the DCT, or an intra transform type) + quantization of one block
+// of samples (intra: pixel - 128; non-intra: residual). Returns the number of non-zero levels.
+int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels,
+                             TransformType type = TransformType::kDctDct);
+
+// Dequantization + integer inverse DCT: what the decoder reconstructs, before the caller
+// adds 128 (intra) or the prediction (non-intra) and clips to [0, 255].
+void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels, int16_t* samples);
+
+}  // namespace svc::codec

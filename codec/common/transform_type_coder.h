@@ -1,0 +1,42 @@
+// Entropy coding of an intra block's transform type (docs/codec.md 5.4): two adaptive
+// bits after the block's levels, the vertical direction's DST flag then the horizontal
+// one's, with contexts by transform size, by the class of the block's prediction mode
+// (the direction the residual grows along depends on it) and, for the second bit, by
+// the first. Coded only for blocks with levels, and only in frames whose header enables
+// transform types.
+#pragma once
+
+#include <array>
+
+#include "codec/common/range_coder.h"
+#include "codec/common/transform_size.h"
+#include "codec/common/transform_type.h"
+
+namespace svc::codec {
+
+// Prediction mode classes: planar and DC; near-horizontal (modes 6..14); near-vertical
+// (22..30); the other angles (diagonals); chroma from luma.
+inline constexpr int kTransformTypeModeClasses = 5;
+int transform_type_mode_class(int mode);  // mode 0..34, or kCflMode
+
+struct TransformTypeContexts {
+  // Whether the frame codes transform types (header flag); when false every block is
+  // DCT_DCT and nothing is coded.
+  bool enabled = false;
+  // [size][mode class][0: vertical, 1 + vertical: horizontal]; every size codes types.
+  std::array<std::array<std::array<AdaptiveBit, 3>, kTransformTypeModeClasses>, kTransformSizes> bits{};
+};
+
+// Calls f on every context, in index order (docs/codec.md 4).
+template <class Set, class F>
+requires std::same_as<std::remove_const_t<Set>, TransformTypeContexts>
+void for_each_context(Set& s, F&& f) { for_each_bit(s.bits, f); }
+
+void encode_transform_type(RangeEncoder& encoder, TransformTypeContexts& contexts, TransformSize size, int mode,
+                           TransformType type);
+TransformType decode_transform_type(RangeDecoder& decoder, TransformTypeContexts& contexts, TransformSize size,
+                                    int mode);
+// Encoder only: the bits encode_transform_type would write (0 when disabled).
+float transform_type_bits(const TransformTypeContexts& contexts, TransformSize size, int mode, TransformType type);
+
+}  // namespace svc::codec
