@@ -2,7 +2,7 @@
 # Fails when an `#include "..."` points up a layer. Layers, lowest first; a file may
 # include from its own layer and those below:
 #   0 decoder API   include/svc (status.h, types.h, limits.h, reader.h)
-#   1 codec         codec/
+#   1 codec         codec/: codec/common, then codec/decoder, then codec/encoder
 #   2 decoder       src/common, src/container, src/reader (libsvc_decoder)
 #   3 full library  src/database, src/spatial, src/encoder, src/metrics and the public
 #                   encoder.h, metrics.h (libsvc)
@@ -13,6 +13,9 @@
 #   6 bench         bench/
 #   7 tools         tools/
 #   8 tests         tests/
+# Within the codec, common includes neither decoder nor encoder, and nothing that goes
+# into the decoder library (decoder API, codec/common, codec/decoder, layer 2) includes
+# an encoder header (codec/encoder/).
 # An include is resolved as the compiler would: beside the including file, then under
 # the include roots the build uses (include, the tree's root, src, samples, tools, bench,
 # tests). An include that resolves nowhere is an error too.
@@ -36,6 +39,25 @@ layer_of() {
     tools/*) echo 7 ;;
     tests/*) echo 8 ;;
     *) echo 9 ;;
+  esac
+}
+
+# The codec's parts in order: 0 common, 1 decoder, 2 encoder; -1 outside the codec.
+codec_part_of() {
+  case $1 in
+    codec/common/*) echo 0 ;;
+    codec/decoder/*) echo 1 ;;
+    codec/encoder/*) echo 2 ;;
+    *) echo -1 ;;
+  esac
+}
+
+# Whether a file goes into the decoder library, which holds no encoder code.
+decoder_side() {
+  case $1 in
+    include/svc/encoder.h | include/svc/metrics.h) return 1 ;;
+    include/* | codec/common/* | codec/decoder/* | src/common/* | src/container/* | src/reader/*) return 0 ;;
+    *) return 1 ;;
   esac
 }
 
@@ -67,6 +89,17 @@ while IFS= read -r file; do
     checked=$((checked + 1))
     if ! target=$(resolve "$(dirname "$file")" "$name"); then
       echo "$file:$line: #include \"$name\" resolves to no file in the tree"
+      violations=$((violations + 1))
+      continue
+    fi
+    from_part=$(codec_part_of "$file") to_part=$(codec_part_of "$target")
+    if ((from_part >= 0 && to_part > from_part)); then
+      echo "$file:$line: #include \"$name\" ($target) points from one codec part into a later one (common, decoder, encoder)"
+      violations=$((violations + 1))
+      continue
+    fi
+    if [[ $target == codec/encoder/* ]] && decoder_side "$file"; then
+      echo "$file:$line: #include \"$name\" ($target): the decoder library includes no encoder header"
       violations=$((violations + 1))
       continue
     fi

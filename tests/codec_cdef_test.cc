@@ -7,10 +7,18 @@
 #include <cmath>
 #include <vector>
 
-#include "codec/common/bframe_codec.h"
+#include "codec/common/bframe.h"
 #include "codec/common/cdef.h"
 #include "codec/common/dsp/dsp.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/cdef_syntax.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/decoder/range_decoder.h"
+#include "codec/encoder/bframe_encoder.h"
+#include "codec/encoder/cdef_search.h"
+#include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/range_encoder.h"
 
 namespace svc::codec {
 namespace {

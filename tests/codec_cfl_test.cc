@@ -8,8 +8,13 @@
 #include <vector>
 
 #include "codec/common/cfl.h"
-#include "codec/common/intra_codec.h"
-#include "codec/common/range_coder.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/decoder/intra_syntax_reader.h"
+#include "codec/decoder/range_decoder.h"
+#include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/intra_syntax_writer.h"
+#include "codec/encoder/range_encoder.h"
 
 namespace svc::codec {
 namespace {

@@ -5,14 +5,16 @@
 #include <vector>
 
 #include "codec/common/context_priors.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/intra_encoder.h"
 
 namespace svc::codec {
 namespace {
 
 TEST(ContextPriors, TablesListEveryContextOfTheirBundle) {
-  EXPECT_EQ(context_count(ContextBundle::kIntraFrame), 1140);
-  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1985);
+  EXPECT_EQ(context_count(ContextBundle::kIntraFrame), 1056);
+  EXPECT_EQ(context_count(ContextBundle::kBFrame), 1817);
   for (ContextBundle bundle : {ContextBundle::kIntraFrame, ContextBundle::kBFrame}) {
     const auto priors = context_priors(bundle);
     ASSERT_EQ(static_cast<int>(priors.size()), context_count(bundle));
@@ -33,7 +35,7 @@ TEST(ContextPriors, IntraFrameContextsStartAtTheTableInItsOrder) {
   EXPECT_EQ(luma.modes.is_most_probable[0][0].slow, priors[0]);
   EXPECT_EQ(luma.modes.is_most_probable[0][0].seen, 0);  // adapts as fast as a fresh context
   EXPECT_EQ(luma.residual.coded_block[0].fast, priors[85]);
-  EXPECT_EQ(chroma.modes.is_most_probable[0][0].fast, priors[570]);
+  EXPECT_EQ(chroma.modes.is_most_probable[0][0].fast, priors[528]);
   EXPECT_EQ(chroma.types.bits[8][4][2].fast, priors.back());
   // Priming leaves the header-driven switch alone.
   EXPECT_FALSE(luma.types.enabled);
@@ -49,7 +51,7 @@ TEST(ContextPriors, BFrameContextsStartAtTheTableInItsOrder) {
   EXPECT_EQ(contexts.warp[0].fast, priors[86]);
   EXPECT_EQ(contexts.intra_luma.modes.is_most_probable[0][0].fast, priors[243]);
   // Then luma_16x16[3], luma_4x4, predictor_index[2] and skip_predictor_index[2].
-  EXPECT_EQ(contexts.inter_chroma.dc_category[2][13].fast, priors[priors.size() - 9]);
+  EXPECT_EQ(contexts.inter_chroma.level_range[20].fast, priors[priors.size() - 9]);
   EXPECT_EQ(contexts.skip_predictor_index[1].fast, priors.back());
   EXPECT_EQ(contexts.skip_predictor_index[1].seen, 0);
 }
@@ -58,7 +60,7 @@ std::atomic<int> observed_frames{0};
 std::atomic<int> observed_settled{0};
 
 void count_frame(ContextBundle bundle, std::span<const uint16_t> probabilities, std::span<const uint8_t> seen) {
-  if (bundle != ContextBundle::kIntraFrame || static_cast<int>(probabilities.size()) != 1140 ||
+  if (bundle != ContextBundle::kIntraFrame || static_cast<int>(probabilities.size()) != 1056 ||
       seen.size() != probabilities.size()) {
     return;
   }

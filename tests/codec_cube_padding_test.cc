@@ -10,9 +10,11 @@
 #include <utility>
 #include <vector>
 
-#include "codec/common/bframe_codec.h"
+#include "codec/common/bframe.h"
 #include "codec/common/cube_padding.h"
 #include "codec/common/cube_padding_map.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/encoder/bframe_encoder.h"
 
 namespace svc::codec {
 namespace {

@@ -6,9 +6,12 @@
 #include <span>
 #include <vector>
 
-#include "codec/common/block_coder.h"
+#include "codec/common/coefficient_contexts.h"
 #include "codec/common/quant.h"
-#include "codec/common/range_coder.h"
+#include "codec/decoder/coefficient_reader.h"
+#include "codec/decoder/range_decoder.h"
+#include "codec/encoder/coefficient_writer.h"
+#include "codec/encoder/range_encoder.h"
 
 namespace svc::codec {
 namespace {
@@ -156,13 +159,12 @@ void random_block(std::mt19937& rng, int first_scan, int16_t* levels) {
   if (style == 4) levels[kZigZag[63]] = kMaxLevel;  // the implied last position
 }
 
-TEST(CodecBlockCoder, RoundTripsRandomBlocksAndDcDifferences) {
+TEST(CodecBlockCoder, RoundTripsRandomBlocks) {
   std::mt19937 rng(23);
   struct Coded {
     int16_t levels[64];
     int first_scan;
     int cbf_context;
-    int dc_difference;
   };
   std::vector<Coded> blocks(3000);
   for (Coded& b : blocks) {
@@ -171,8 +173,6 @@ TEST(CodecBlockCoder, RoundTripsRandomBlocksAndDcDifferences) {
     bool any = false;
     for (int i = b.first_scan; i < 64; ++i) any = any || b.levels[kZigZag[i]] != 0;
     b.cbf_context = any && rng() % 4 == 0 ? kNoCodedBlockFlag : static_cast<int>(rng() % kCodedBlockContexts);
-    b.dc_difference = static_cast<int>(rng() % 41) - 20;
-    if (rng() % 50 == 0) b.dc_difference = (rng() & 1 ? 1 : -1) * static_cast<int>(rng() % (2 * kMaxLevel + 1));
   }
   std::vector<uint8_t> bytes;
   {
@@ -180,7 +180,6 @@ TEST(CodecBlockCoder, RoundTripsRandomBlocksAndDcDifferences) {
     BlockContextSet a, b;
     for (size_t n = 0; n < blocks.size(); ++n) {
       BlockContextSet& set = n % 3 == 0 ? a : b;
-      encode_dc_difference(encoder, set, blocks[n].dc_difference);
       encode_block_levels(encoder, set, blocks[n].levels, blocks[n].first_scan, blocks[n].cbf_context);
     }
     encoder.finish();
@@ -189,9 +188,6 @@ TEST(CodecBlockCoder, RoundTripsRandomBlocksAndDcDifferences) {
   BlockContextSet a, b;
   for (size_t n = 0; n < blocks.size(); ++n) {
     BlockContextSet& set = n % 3 == 0 ? a : b;
-    int dc = 0;
-    ASSERT_TRUE(decode_dc_difference(decoder, set, &dc));
-    ASSERT_EQ(dc, blocks[n].dc_difference) << "block " << n;
     BlockLevel out[64];
     int count = -1;
     ASSERT_TRUE(decode_block_levels(decoder, set, blocks[n].first_scan, blocks[n].cbf_context, out, &count));
@@ -219,9 +215,6 @@ TEST(CodecBlockCoder, GarbageInputYieldsBoundedLevelsOrErrors) {
     RangeDecoder decoder(garbage);
     BlockContextSet set;
     for (int n = 0; n < 100; ++n) {
-      int dc = 0;
-      ASSERT_TRUE(decode_dc_difference(decoder, set, &dc));
-      ASSERT_LT(std::abs(dc), 1 << kMaxDcCategory);
       BlockLevel out[64];
       int count = 0;
       if (!decode_block_levels(decoder, set, static_cast<int>(n % 2), static_cast<int>(n % 3), out, &count)) break;

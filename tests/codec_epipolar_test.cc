@@ -6,8 +6,14 @@
 #include <random>
 #include <vector>
 
-#include "codec/common/bframe_codec.h"
-#include "codec/common/bframe_syntax.h"
+#include "codec/common/bframe.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/bframe_syntax_reader.h"
+#include "codec/decoder/range_decoder.h"
+#include "codec/encoder/bframe_encoder.h"
+#include "codec/encoder/bframe_syntax_writer.h"
+#include "codec/encoder/coefficient_writer.h"
+#include "codec/encoder/range_encoder.h"
 
 namespace svc::codec {
 namespace {

@@ -7,10 +7,15 @@
 #include <vector>
 
 #include "codec/common/dsp/dsp.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/intra_macroblock.h"
 #include "codec/common/intra_prediction.h"
-#include "codec/common/range_coder.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/decoder/intra_syntax_reader.h"
+#include "codec/decoder/range_decoder.h"
+#include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/intra_syntax_writer.h"
+#include "codec/encoder/range_encoder.h"
 
 namespace svc::codec {
 namespace {

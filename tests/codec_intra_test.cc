@@ -7,8 +7,12 @@
 #include <random>
 #include <vector>
 
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/intra_macroblock.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/intra_search.h"
+#include "codec/encoder/intra_syntax_writer.h"
 
 namespace svc::codec {
 namespace {

@@ -7,9 +7,11 @@
 #include <vector>
 
 #include "codec/common/bframe_loop_filter.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/loop_filter.h"
 #include "codec/common/quant.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/intra_encoder.h"
 
 namespace svc::codec {
 namespace {

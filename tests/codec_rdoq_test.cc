@@ -4,10 +4,15 @@
 #include <cmath>
 #include <random>
 
-#include "codec/common/block_coder.h"
+#include "codec/common/coefficient_contexts.h"
 #include "codec/common/dct.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/quant.h"
+#include "codec/decoder/coefficient_reader.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/coefficient_writer.h"
+#include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/range_encoder.h"
 #include "codec/encoder/rdoq.h"
 
 namespace svc::codec {

@@ -9,12 +9,17 @@
 #include <set>
 #include <vector>
 
-#include "codec/common/block_coder.h"
+#include "codec/common/coefficient_contexts.h"
 #include "codec/common/dct.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/intra_prediction.h"
 #include "codec/common/quant.h"
-#include "codec/common/range_coder.h"
+#include "codec/decoder/coefficient_reader.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/decoder/range_decoder.h"
+#include "codec/encoder/coefficient_writer.h"
+#include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/range_encoder.h"
 #include "support/random_coefficients.h"
 
 namespace svc::codec {

@@ -12,10 +12,15 @@
 
 #include "codec/common/dct.h"
 #include "codec/common/dsp/transform_type_basis.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/intra_macroblock.h"
-#include "codec/common/range_coder.h"
-#include "codec/common/transform_type_coder.h"
+#include "codec/common/transform_type_contexts.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/decoder/intra_syntax_reader.h"
+#include "codec/decoder/range_decoder.h"
+#include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/intra_syntax_writer.h"
+#include "codec/encoder/range_encoder.h"
 #include "support/random_coefficients.h"
 
 namespace svc::codec {

@@ -4,9 +4,13 @@
 #include <random>
 #include <vector>
 
-#include "codec/common/bframe_codec.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/bframe.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/warp_prediction.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/bframe_encoder.h"
+#include "codec/encoder/intra_encoder.h"
 
 namespace svc::codec {
 namespace {
@@ -366,7 +370,7 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   EXPECT_EQ(decode_b_frame(changed, w, h, ref0, nullptr, &out).code(), ErrorCode::kCorruptData);
 
   std::mt19937 rng(9);
-  int accepted = 0;
+  int accepted = 0, rejected = 0;
   for (int trial = 0; trial < 400; ++trial) {
     std::vector<uint8_t> bytes = valid;
     for (int f = 0; f <= trial % 3; ++f) {
@@ -389,9 +393,24 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
     random_header.warp_mask = 3;
     const auto header_bytes = serialize_b_frame_header(random_header);
     std::copy(header_bytes.begin(), header_bytes.end(), bytes.begin());
-    accepted += decode_b_frame(bytes, w, h, ref0, &ref1, &out).ok();
+    const Status first = decode_b_frame(bytes, w, h, ref0, &ref1, &out);
+    ImageYCbCr420 again;
+    const Status second = decode_b_frame(bytes, w, h, ref0, &ref1, &again);
+    ASSERT_EQ(first.code(), second.code()) << "trial " << trial;
+    if (first.ok()) {
+      ++accepted;
+      ASSERT_EQ(out.y.size(), static_cast<size_t>(w * h));
+      ASSERT_EQ(out.cb.size(), static_cast<size_t>((w + 1) / 2 * ((h + 1) / 2)));
+      EXPECT_TRUE(out.y == again.y && out.cb == again.cb && out.cr == again.cr) << "trial " << trial;
+    } else {
+      ++rejected;
+      EXPECT_EQ(first.code(), ErrorCode::kCorruptData) << first.message();
+      EXPECT_FALSE(first.message().empty());
+    }
   }
-  SUCCEED() << accepted << " damaged payloads decoded to some image";
+  // Random payloads behind a valid header: most are refused (trailing bytes, invalid
+  // levels), and every one decodes the same way twice.
+  EXPECT_GT(rejected, 0) << accepted << " accepted";
 }
 
 }  // namespace

@@ -17,6 +17,8 @@
 #include <fstream>
 #include <map>
 
+#include "codec/encoder/bframe_encoder.h"
+#include "codec/encoder/intra_encoder.h"
 #include "container/container.h"
 #include "fuzz/fuzz_entry.h"
 #include "scene/scene.h"

@@ -8,7 +8,9 @@
 #include <random>
 #include <set>
 
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/intra_encoder.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "reader/face_decode.h"

@@ -4,7 +4,9 @@
 
 #include <vector>
 
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/intra_encoder.h"
 #include "encoder/face_coding.h"
 
 namespace svc {

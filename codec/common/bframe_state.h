@@ -11,12 +11,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "codec/common/bframe_codec.h"
-#include "codec/common/block_coder.h"
+#include "codec/common/adaptive_bit.h"
+#include "codec/common/bframe.h"
+#include "codec/common/coefficient_contexts.h"
 #include "codec/common/intra_macroblock.h"
 #include "codec/common/motion_compensation.h"
 #include "codec/common/quant.h"
-#include "codec/common/range_coder.h"
 #include "codec/common/warp_prediction.h"
 
 namespace svc::codec::bframe {
@@ -40,6 +40,9 @@ void for_each_bit(M& magnitude, F&& f) {
   for_each_bit(magnitude.above, f);
   for_each_bit(magnitude.below, f);
 }
+
+// The bits of a vector predictor's index: index > 0, then (three predictors) index 2.
+using PredictorIndexBits = std::array<AdaptiveBit, 2>;
 
 struct SyntaxContexts {
   std::array<AdaptiveBit, kNeighbourContexts> skip{};
@@ -65,9 +68,9 @@ struct SyntaxContexts {
   AdaptiveBit luma_4x4{};
   // Which vector predictor a coded vector's difference is taken from: [0] the first or a
   // later one, [1] the second or the third (docs/codec.md 10.3).
-  std::array<AdaptiveBit, 2> predictor_index{};
+  PredictorIndexBits predictor_index{};
   // The same for the vectors of a skipped macroblock (one index for both references).
-  std::array<AdaptiveBit, 2> skip_predictor_index{};
+  PredictorIndexBits skip_predictor_index{};
   // Intra macroblocks: the intra frame's luma and chroma contexts (docs/codec.md 3).
   intra::PlaneContexts intra_luma, intra_chroma;
   BlockContextSet inter_luma, inter_chroma;

@@ -8,13 +8,17 @@
 // Threading: every function is reentrant; filter different frames on different threads.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "codec/common/adaptive_bit.h"
+#include "codec/common/dsp/dsp.h"
 #include "codec/common/loop_filter.h"
-#include "codec/common/range_coder.h"
 
 namespace svc::codec {
 
@@ -37,12 +41,8 @@ struct CdefParams {
 // Filter units along a padded luma side of `samples` samples: ceil(samples / 64).
 int cdef_units(int samples);
 
-// Writes / reads the filter's syntax (section 11.2) at the end of a frame's range-coded
-// data. Every bit pattern reads as valid parameters; truncation shows in the decoder's
-// truncated().
-// `params` must hold units_x x units_y unit entries, each at most its preset count.
-void write_cdef_syntax(RangeEncoder& encoder, const CdefParams& params, int units_x, int units_y);
-void read_cdef_syntax(RangeDecoder& decoder, int units_x, int units_y, CdefParams* params);
+// The filter's syntax (section 11.2) at the end of a frame's range-coded data is read by
+// codec/decoder/cdef_syntax.h and written by codec/encoder/cdef_search.h.
 
 // Filters the macroblock-padded planes of a 4:2:0 frame in place (luma multiple of 16 on
 // each side, chroma half). `skip` is empty or holds one entry per luma 8x8 block, row-
@@ -51,17 +51,92 @@ void read_cdef_syntax(RangeDecoder& decoder, int units_x, int units_y, CdefParam
 void cdef_frame(const CdefParams& params, int qindex, std::span<const uint8_t> skip,
                 const std::array<PlaneView, 3>& planes);
 
-// Encoder only: the presets and unit choices that minimise squared error against
-// `source` (visible planes, stride = width) plus lambda per estimated bit; no presets
-// when the filter does not pay. `planes` is left unchanged. `every_candidate` false: the
-// presets come from every other one of the candidate strengths (7 of 14), in half the
-// time.
-struct CdefSource {
-  std::array<const uint8_t*, 3> planes{};
-  std::array<int, 3> strides{};
-  int width = 0, height = 0;  // visible luma size
+// The pieces of the filter and its syntax that the filter, the syntax reader and writer
+// and the encoder's search share (internal to codec/).
+namespace cdef {
+
+inline constexpr int kBorder = 2;  // samples read beyond a block on each side
+
+// Contexts of the unit syntax, fresh for every frame.
+struct CdefContexts {
+  AdaptiveBit unit_on[3];                        // by left + above units on
+  AdaptiveBit preset_more[kCdefMaxPresets - 1];  // truncated unary, per position
 };
-CdefParams choose_cdef(const std::array<PlaneView, 3>& planes, const CdefSource& source, int qindex,
-                       std::span<const uint8_t> skip, double lambda, bool every_candidate = true);
+
+inline int unit_on_context(const std::vector<uint8_t>& units, int units_x, int ux, int uy) {
+  const size_t index = static_cast<size_t>(uy) * units_x + ux;
+  return (ux > 0 && units[index - 1] != 0) + (uy > 0 && units[index - units_x] != 0);
+}
+
+inline int damping_of(int qindex) { return 3 + (std::clamp(qindex, 0, 255) >> 6); }
+inline int secondary_of(int code) { return code == 3 ? 4 : code; }
+
+// Primary strength scaled by the block's directional contrast (none on flat blocks).
+inline int adjusted_primary(int primary, int32_t variance) {
+  if (variance == 0) return 0;
+  const int scale = (variance >> 6) != 0
+                        ? std::min(static_cast<int>(std::bit_width(static_cast<uint32_t>(variance >> 6))) - 1, 12)
+                        : 0;
+  return (primary * (4 + scale) + 8) >> 4;
+}
+
+inline bool planes_fit(const std::array<PlaneView, 3>& planes) {
+  const int w = planes[0].width, h = planes[0].height;
+  if (planes[0].data == nullptr || w <= 0 || h <= 0 || w % 16 != 0 || h % 16 != 0 || planes[0].stride < w) {
+    return false;
+  }
+  for (int p = 1; p < 3; ++p) {
+    if (planes[p].data == nullptr || planes[p].width != w / 2 || planes[p].height != h / 2 ||
+        planes[p].stride < w / 2) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The planes widened to 16 bits inside a kBorder frame of kCdefUnavailable, so that
+// every block's taps read in place, at the plane's edge as well. Each sample is written
+// once per frame. The buffers are the calling thread's, kept from frame to frame: a
+// fresh allocation of this size costs page faults on every frame.
+class WidenedPlanes {
+ public:
+  explicit WidenedPlanes(const std::array<PlaneView, 3>& planes) {
+    for (int p = 0; p < 3; ++p) widen(planes[p], p);
+  }
+  WidenedPlanes(const WidenedPlanes&) = delete;
+  WidenedPlanes& operator=(const WidenedPlanes&) = delete;
+  const uint16_t* at(int p, int x, int y) const { return buffers()[p].data() + index(p, x, y); }
+  int stride(int p) const { return strides_[p]; }
+
+ private:
+  // One set per thread; a thread holds one WidenedPlanes at a time.
+  static std::array<std::vector<uint16_t>, 3>& buffers() {
+    thread_local std::array<std::vector<uint16_t>, 3> samples;
+    return samples;
+  }
+  void widen(const PlaneView& plane, int p) {
+    const int stride = plane.width + 2 * kBorder, rows = plane.height + 2 * kBorder;
+    strides_[p] = stride;
+    std::vector<uint16_t>& buffer = buffers()[p];
+    if (buffer.size() < static_cast<size_t>(stride) * rows) buffer.resize(static_cast<size_t>(stride) * rows);
+    uint16_t* data = buffer.data();
+    std::fill_n(data, static_cast<size_t>(stride) * kBorder, dsp::kCdefUnavailable);
+    std::fill_n(data + static_cast<size_t>(stride) * (rows - kBorder), static_cast<size_t>(stride) * kBorder,
+                dsp::kCdefUnavailable);
+    for (int y = 0; y < plane.height; ++y) {
+      uint16_t* row = data + index(p, 0, y);
+      std::fill_n(row - kBorder, kBorder, dsp::kCdefUnavailable);
+      std::copy_n(plane.data + static_cast<ptrdiff_t>(y) * plane.stride, plane.width, row);
+      std::fill_n(row + plane.width, kBorder, dsp::kCdefUnavailable);
+    }
+  }
+  size_t index(int p, int x, int y) const {
+    return static_cast<size_t>(y + kBorder) * static_cast<size_t>(strides_[p]) + static_cast<size_t>(x + kBorder);
+  }
+
+  std::array<int, 3> strides_{};
+};
+
+}  // namespace cdef
 
 }  // namespace svc::codec

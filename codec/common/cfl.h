@@ -2,19 +2,18 @@
 // prediction plus alpha times the variation of the co-located reconstructed luma
 // (averaged 2x2 to chroma resolution, less its mean). docs/codec.md 3.3 defines the
 // prediction and the syntax: a CfL flag before the regular mode of a Cb block, then Cb's
-// alpha; a Cr block of a CfL Cb block codes its own alpha. The functions here are the
-// whole mode, so every path that codes chroma intra blocks can call them.
+// alpha; a Cr block of a CfL Cb block codes its own alpha. The syntax is read by
+// codec/decoder/intra_syntax_reader.h and written by codec/encoder/intra_syntax_writer.h.
 //
 // Threading: pure functions; CflContexts is plain mutable data owned by one coder.
-// Errors: decoding never fails (every bit pattern gives a valid mode and alpha).
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 
+#include "codec/common/adaptive_bit.h"
 #include "codec/common/intra_prediction.h"
-#include "codec/common/range_coder.h"
 
 namespace svc::codec {
 
@@ -56,20 +55,13 @@ void for_each_context(Set& s, F&& f) {
   for_each_bit(s.magnitude, f);
 }
 
-// Cb: the CfL flag (context `cfl_context`, the left and above Cb blocks using CfL), then
-// Cb's alpha (never 0) or the regular mode with `candidates`. Cr: nothing unless `cb`,
-// its Cb block's mode, is CfL; then Cr's alpha (possibly 0). The decoder returns `cb`'s
-// mode for a Cr block.
-void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
-                        const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb,
-                        const ChromaMode& mode);
-ChromaMode decode_chroma_mode(RangeDecoder& decoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
-                              const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb);
-
-// Encoder only: bits of the CfL flag, and of an alpha, at the contexts' current
-// probabilities.
-float cfl_flag_bits(const CflContexts& cfl, int cfl_context, bool set);
-float cfl_alpha_bits(const CflContexts& cfl, ChromaPlane plane, int cb_alpha, int alpha);
+// The contexts of an alpha's sign (Cb; Cr after Cb > 0; Cr after Cb < 0) and of its
+// magnitude bins (per plane).
+inline size_t cfl_sign_context(ChromaPlane plane, int cb_alpha) {
+  if (plane == ChromaPlane::kCb) return 0;
+  return cb_alpha < 0 ? 2 : 1;
+}
+inline size_t cfl_plane_index(ChromaPlane plane) { return plane == ChromaPlane::kCb ? 0 : 1; }
 
 // The 64 luma AC values of the 8x8 chroma block at chroma sample (x0, y0), from the
 // reconstructed luma plane (stride samples per row, holding at least (2 x0 + 16) x
@@ -79,9 +71,5 @@ void cfl_luma_ac(const uint8_t* luma, ptrdiff_t stride, int x0, int y0, int16_t*
 int dc_prediction_8x8(const uint8_t* edge);
 // The CfL prediction: clip(dc + ((alpha * ac + 16) >> 5), 0, 255).
 void predict_cfl(const int16_t* ac, int dc, int alpha, uint8_t* out);
-
-// Encoder only: the alpha of least squared error between `source` and the prediction,
-// rounded and clamped to the alpha range.
-int cfl_least_squares_alpha(const int16_t* ac, const uint8_t* source, ptrdiff_t stride, int dc);
 
 }  // namespace svc::codec

@@ -1,28 +1,25 @@
-// The intra frame's block coding of one macroblock, shared by intra frames
-// (intra_codec.cc) and the intra macroblocks of B-frames (bframe_*.cc): the neighbour
-// state and contexts, the syntax of one luma macroblock (split flags, per block its mode
-// and levels) and of one chroma block, the prediction and reconstruction of a block from
-// its reconstructed neighbours, and the encoder's rate-distortion search
-// (docs/codec.md 3, 3.1, 3.2 and 10.4). Implemented in intra_codec.cc. Not part of the
-// codec's interface.
+// The block coding of one intra macroblock that both sides share, for intra frames and
+// the intra macroblocks of B-frames: the neighbour state and contexts, the partitions of
+// a luma macroblock, and the prediction and reconstruction of a block from its
+// reconstructed neighbours (docs/codec.md 3, 3.1 and 10.4). Its syntax is read by
+// codec/decoder/intra_syntax_reader.h and written by codec/encoder/intra_syntax_writer.h;
+// the encoder's search is codec/encoder/intra_search.h. Not part of the codec's
+// interface.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <limits>
-#include <memory>
 #include <vector>
 
-#include "codec/common/block_coder.h"
 #include "codec/common/cfl.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/coefficient_contexts.h"
+#include "codec/common/intra_frame.h"
 #include "codec/common/intra_prediction.h"
 #include "codec/common/quant.h"
-#include "codec/common/range_coder.h"
 #include "codec/common/transform_size.h"
 #include "codec/common/transform_type.h"
-#include "codec/common/transform_type_coder.h"
+#include "codec/common/transform_type_contexts.h"
 
 namespace svc::codec::intra {
 
@@ -183,46 +180,6 @@ using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
 SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
 const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size);
 
-// ---- Decoding ----
-
-// A block's syntax as read: its mode (chroma: kCflMode with `cfl_alpha`), its
-// non-zero levels in scan order and its transform type (DCT_DCT without levels).
-struct BlockSyntax {
-  int mode = kDcMode;
-  int cfl_alpha = 0;
-  TransformType transform_type = TransformType::kDctDct;
-  int count = 0;
-  BlockLevel levels[kMaxTransformArea];
-};
-
-// Reads a luma block's mode and levels at (x0, y0) of a plane whose neighbours `state`
-// describes (`size` a block shape, transform_size.h block_shape, as in every call below
-// that takes one); the caller marks the block. Returns false on invalid levels.
-bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
-                       int size, BlockSyntax* out);
-// Reads an 8x8 chroma block's mode (codec/cfl.h: the CfL flag and alpha, or the regular
-// mode) and levels; a Cb block's mode goes to `cb`, which the Cr block at the same place
-// reads. The caller marks the block. Returns false on invalid levels.
-bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0,
-                              int y0, ChromaPlane plane, ChromaMode* cb, BlockSyntax* out);
-
-// Receives each block of a luma macroblock as its syntax comes up; must read the block
-// and mark it in the plane state before returning (the next split flag's context looks
-// at it). Returns false on invalid syntax.
-class BlockReader {
- public:
-  virtual bool read(int x0, int y0, int size) = 0;
-
- protected:
-  ~BlockReader() = default;
-};
-
-// Reads the split and halves flags of luma macroblock (mbx, mby) and hands each block to
-// `reader` in coding order; `partition` receives the partition. False when the
-// reader fails.
-bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
-                          BlockReader& reader, LumaPartition* partition);
-
 // Predicts the block of shape `size` at (x0, y0) of `plane` (stride samples a row) in `mode`
 // from its reconstructed neighbours, adds the inverse transform of type `type` of
 // `coefficients` (dequantized, natural order; null when the block has no levels),
@@ -234,75 +191,5 @@ void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, i
 void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0,
                                        const ChromaMode& mode, const uint8_t* luma, int luma_stride,
                                        const int16_t* coefficients, TransformType type);
-
-// ---- Encoding ----
-
-// Encoder only: a block's mode, prediction, residual levels and transform type.
-struct BlockChoice {
-  int mode = kDcMode;  // kCflMode for chroma from luma
-  int cfl_alpha = 0;
-  bool coded = false;
-  TransformType transform_type = TransformType::kDctDct;  // DCT_DCT when not coded
-  uint8_t prediction[kMaxTransformArea];
-  int16_t levels[kMaxTransformArea];
-
-  ChromaMode chroma_mode() const { return {mode, mode == kCflMode ? cfl_alpha : 0}; }
-};
-
-// Encoder only: the blocks of one luma macroblock as chosen, in coding order.
-struct MacroblockChoice {
-  LumaPartition partition = kSplit16x16;
-  std::array<BlockChoice, 16> blocks;
-};
-
-// Writes a luma block's mode and levels, and marks it.
-void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                 const BlockChoice& choice);
-// Writes an 8x8 chroma block's mode (codec/cfl.h; `cb` is a Cr block's Cb block's mode)
-// and levels, and marks it.
-void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
-                        ChromaPlane plane, const ChromaMode& cb, const BlockChoice& choice);
-
-// Writes luma macroblock (mbx, mby): split flags and blocks.
-void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int mbx, int mby,
-                      const MacroblockChoice& choice);
-
-// Encoder only: the intra frame's rate-distortion search (docs/codec.md 3.2) for the
-// blocks of one macroblock at one qindex. Each call chooses, reconstructs the choice
-// into `recon` (a padded plane whose reconstructed neighbours it predicts from; `source`
-// the padded source plane, same stride), marks it in `state` and returns its cost,
-// SSE + lambda * bits. Contexts are read, not updated (write_* does that).
-class MacroblockEncoder {
- public:
-  // `params` supplies the tools (modes, RD search, RDOQ, transform sizes); `lambda` the
-  // squared error per bit of every decision. Transform types are searched where the
-  // contexts enable them (PlaneContexts::types).
-  MacroblockEncoder(const CodingParams& params, int qindex, float lambda);
-  ~MacroblockEncoder();
-  MacroblockEncoder(const MacroblockEncoder&) = delete;
-  MacroblockEncoder& operator=(const MacroblockEncoder&) = delete;
-
-  // The luma blocks of macroblock (mbx, mby) and their cost. `budget`: the cost the
-  // macroblock must beat to be chosen at all (a B-face's best inter option). Once the
-  // four 8x8 blocks' running cost reaches it, the rest of them, the halves and the strips
-  // are not searched: only the 16x16 block may still come in under it (mode ranking as
-  // with the whole split, DC for the blocks not searched). Infinite: the full search.
-  float choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
-                    int stride, int mbx, int mby, MacroblockChoice* out,
-                    float budget = std::numeric_limits<float>::infinity());
-  // The Cb and the Cr block at (x0, y0) of the chroma planes (`cb_*`, `cr_*`, each with
-  // its own neighbour state; same stride). A Cb block's mode is chosen with its Cr
-  // block's cost under it: the best regular mode with Cr in that mode, against CfL (when
-  // `luma`, the reconstructed luma, luma_stride samples a row, is given and the params
-  // allow it) with each plane's own alpha. Returns the pair's cost.
-  float choose_chroma(const PlaneContexts& contexts, PlaneState& cb_state, PlaneState& cr_state,
-                      const uint8_t* cb_source, const uint8_t* cr_source, uint8_t* cb_recon, uint8_t* cr_recon,
-                      int stride, const uint8_t* luma, int luma_stride, int x0, int y0, BlockChoice* cb,
-                      BlockChoice* cr);
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
 
 }  // namespace svc::codec::intra

@@ -66,35 +66,4 @@ int mode_size_class(int shape) {
   return area < 64 ? 0 : area == 64 ? 1 : 2;
 }
 
-int rank_among_others(const ModeCandidates& candidates, int mode) {
-  int rank = mode;
-  for (int candidate : candidates) rank -= candidate < mode;
-  return rank;
-}
-
-void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
-                       const ModeCandidates& candidates, int mode) {
-  for_each_mode_bit(contexts, shape, candidates, mode,
-                    [&](AdaptiveBit& model, int bit) { encoder.encode(model, bit); });
-}
-
-int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
-                      const ModeCandidates& candidates) {
-  const auto size_class = static_cast<size_t>(mode_size_class(shape));
-  const auto context = static_cast<size_t>(candidates.context);
-  if (decoder.decode(contexts.is_most_probable[size_class][context])) {
-    auto& index_bits = contexts.most_probable_index[size_class][context];
-    if (!decoder.decode(index_bits[0])) return candidates[0];
-    return candidates[decoder.decode(index_bits[1]) ? 2 : 1];
-  }
-  size_t node = 1;
-  for (int bit = 0; bit < kRemainderBits; ++bit)
-    node = 2 * node + static_cast<size_t>(decoder.decode(contexts.remainder[node - 1]));
-  int mode = static_cast<int>(node) - (1 << kRemainderBits);
-  std::array<int, kMostProbableModes> sorted = candidates.modes;
-  std::sort(sorted.begin(), sorted.end());
-  for (int candidate : sorted) mode += candidate <= mode;
-  return mode;
-}
-
 }  // namespace svc::codec

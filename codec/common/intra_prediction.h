@@ -5,7 +5,6 @@
 // (dsp::DspTable::intra_predict_*). Exact definitions in docs/codec.md 3.1-3.2.
 //
 // Threading: pure functions; IntraModeContexts is plain mutable data owned by one coder.
-// Errors: decode_intra_mode never fails (every bit pattern is a valid mode).
 #pragma once
 
 #include <algorithm>
@@ -15,8 +14,8 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "codec/common/adaptive_bit.h"
 #include "codec/common/dsp/dsp.h"
-#include "codec/common/range_coder.h"
 
 namespace svc::codec {
 
@@ -86,40 +85,10 @@ void for_each_context(Set& s, F&& f) {
 }
 
 // Mode coding of a block of `shape` (block_shape): a flag, then the index among the most
-// probable modes (truncated unary) or the rank of the mode among the other 32 (5 bits
-// through the remainder tree).
-void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
-                       const ModeCandidates& candidates, int mode);
-int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
-                      const ModeCandidates& candidates);
-// The rank of a mode that is not among the candidates, among the other 32 in increasing
-// order.
+// probable modes (truncated unary) or the rank of the mode among the other 32 in
+// increasing order, in kRemainderBits bits through the remainder tree (node n's
+// children 2n and 2n + 1, node 1 at remainder[0]). Read by
+// codec/decoder/intra_syntax_reader.h, written by codec/encoder/intra_syntax_writer.h.
 inline constexpr int kRemainderBits = 5;
-int rank_among_others(const ModeCandidates& candidates, int mode);
-// Calls bit(context, value) for each bin encode_intra_mode codes for `mode`, in coding
-// order: the one walk the encoder and its bit estimates share. The remainder's contexts
-// are a tree: node n's children 2n and 2n + 1, node 1 at remainder[0].
-template <class Contexts, class Bit>
-requires std::same_as<std::remove_const_t<Contexts>, IntraModeContexts>
-void for_each_mode_bit(Contexts& contexts, int shape, const ModeCandidates& candidates, int mode, Bit&& bit) {
-  const auto size_class = static_cast<size_t>(mode_size_class(shape));
-  const auto context = static_cast<size_t>(candidates.context);
-  const auto found = std::find(candidates.begin(), candidates.end(), mode);
-  bit(contexts.is_most_probable[size_class][context], found != candidates.end() ? 1 : 0);
-  if (found != candidates.end()) {
-    const int index = static_cast<int>(found - candidates.begin());
-    auto& index_bits = contexts.most_probable_index[size_class][context];
-    bit(index_bits[0], index > 0 ? 1 : 0);
-    if (index > 0) bit(index_bits[1], index > 1 ? 1 : 0);
-    return;
-  }
-  const int rank = rank_among_others(candidates, mode);
-  size_t node = 1;
-  for (int b = kRemainderBits - 1; b >= 0; --b) {
-    const int value = (rank >> b) & 1;
-    bit(contexts.remainder[node - 1], value);
-    node = 2 * node + static_cast<size_t>(value);
-  }
-}
 
 }  // namespace svc::codec

@@ -1,6 +1,6 @@
 // B-frame decoder: reads each macroblock's mode, vectors or nodes and residual, and
 // reconstructs it with the encoder's own routines (bframe_state.h).
-#include "codec/common/bframe_codec.h"
+#include "codec/decoder/bframe_decoder.h"
 
 #include <algorithm>
 #include <array>
@@ -10,8 +10,12 @@
 
 #include "codec/common/bframe_loop_filter.h"
 #include "codec/common/bframe_state.h"
-#include "codec/common/bframe_syntax.h"
 #include "codec/common/cube_padding.h"
+#include "codec/decoder/bframe_syntax_reader.h"
+#include "codec/decoder/cdef_syntax.h"
+#include "codec/decoder/coefficient_reader.h"
+#include "codec/decoder/intra_syntax_reader.h"
+#include "codec/decoder/range_decoder.h"
 
 namespace svc::codec {
 namespace {

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <optional>
 
-#include "codec/common/bframe_syntax.h"
 #include "codec/common/dct.h"
+#include "codec/encoder/bit_cost.h"
 
 namespace svc::codec {
 namespace {
@@ -46,10 +46,10 @@ class RdoqSearch {
       d.zero_cost = squared_error(quantizer_, coefficients_, position, 0);
       const int context = neighbours.significance_context(position);
       d.level = 0;
-      d.cost = d.zero_cost + lambda_ * bframe::bit_cost(contexts_.significant[context], 0);
+      d.cost = d.zero_cost + lambda_ * bit_cost(contexts_.significant[context], 0);
       d.last_cost = kInfinity;
       d.last_level = 0;
-      const float significant_bits = bframe::bit_cost(contexts_.significant[context], 1);
+      const float significant_bits = bit_cost(contexts_.significant[context], 1);
       const int sign = upper < 0 ? -1 : 1;
       for (int magnitude = std::abs(upper); magnitude >= std::max(1, std::abs(upper) - 1); --magnitude) {
         const float error = squared_error(quantizer_, coefficients_, position, sign * magnitude);
@@ -84,10 +84,10 @@ class RdoqSearch {
     if (coded_block_context >= 0) {
       float all_zero = 0;
       for (int i = first_scan; i <= last_scan; ++i) all_zero += decisions_[static_cast<size_t>(i)].zero_cost;
-      best_cost = all_zero + lambda_ * bframe::bit_cost(contexts_.coded_block[coded_block_context], 0);
+      best_cost = all_zero + lambda_ * bit_cost(contexts_.coded_block[coded_block_context], 0);
     }
-    const float coded_bits =
-        coded_block_context >= 0 ? bframe::bit_cost(contexts_.coded_block[coded_block_context], 1) : 0.0f;
+    const float coded_bits = coded_block_context >= 0 ? bit_cost(contexts_.coded_block[coded_block_context], 1)
+                                                      : 0.0f;
     const EndOfBlockPricer end_of_block(contexts_, first_scan, size);
     for (int k = last_scan; k >= first_scan; --k) {
       const Decision& d = decisions_[static_cast<size_t>(k)];

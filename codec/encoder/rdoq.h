@@ -10,9 +10,9 @@
 
 #include <cstdint>
 
-#include "codec/common/block_coder.h"
 #include "codec/common/quant.h"
 #include "codec/common/transform_type.h"
+#include "codec/encoder/coefficient_writer.h"
 
 namespace svc::codec {
 

@@ -214,13 +214,6 @@ std::vector<int> EncodedSequence::frames_needed(int display_index) const {
 
 bool encoder_available(const std::string& name) { return avcodec_find_encoder_by_name(name.c_str()) != nullptr; }
 
-std::string first_available_av1_encoder() {
-  for (const char* name : {"libaom-av1", "libsvtav1", "librav1e"}) {
-    if (encoder_available(name)) return name;
-  }
-  return "";
-}
-
 std::vector<CodecProbe> probe_codecs() {
   std::vector<CodecProbe> probes;
   for (const char* name : {"mpeg2video", "libx264", "libx265", "libaom-av1", "libsvtav1", "librav1e", "mjpeg",

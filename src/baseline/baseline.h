@@ -185,8 +185,6 @@ struct EncodedSequence {
 
 // True when this build of libavcodec has an encoder of that name.
 bool encoder_available(const std::string& name);
-// The first of libaom-av1, libsvtav1, librav1e that exists, or "" when none does.
-std::string first_available_av1_encoder();
 
 struct CodecProbe {
   std::string name;

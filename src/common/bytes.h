@@ -26,10 +26,6 @@ class ByteWriter {
     put(bits, 8);
   }
   void raw(std::span<const uint8_t> data) { bytes_.insert(bytes_.end(), data.begin(), data.end()); }
-  // Overwrites 4 bytes at `offset` (already written).
-  void patch_u32(size_t offset, uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes_[offset + i] = static_cast<uint8_t>(v >> (8 * i));
-  }
   size_t size() const { return bytes_.size(); }
   const std::vector<uint8_t>& bytes() const { return bytes_; }
   std::vector<uint8_t> take() { return std::move(bytes_); }

@@ -12,8 +12,12 @@
 #include <malloc.h>
 #endif
 
-#include "codec/common/bframe_codec.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/bframe.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/bframe_encoder.h"
+#include "codec/encoder/intra_encoder.h"
 #include "common/parallel.h"
 #include "container/writer.h"
 #include "database/database.h"

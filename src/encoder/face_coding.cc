@@ -1,7 +1,9 @@
 #include "encoder/face_coding.h"
 
 #include "codec/common/color.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/intra_decoder.h"
+#include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/log_search.h"
 #include "spatial/epipolar_lines.h"
 

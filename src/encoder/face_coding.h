@@ -5,7 +5,9 @@
 #include <array>
 #include <vector>
 
-#include "codec/common/bframe_codec.h"
+#include "codec/common/bframe.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/encoder/bframe_encoder.h"
 #include "database/database.h"
 #include "spatial/reprojection.h"
 #include "svc/status.h"

@@ -3,7 +3,8 @@
 #include <array>
 
 #include "codec/common/cube_padding.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/intra_decoder.h"
 
 namespace svc {
 

@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "codec/common/bframe_codec.h"
+#include "codec/common/bframe.h"
+#include "codec/decoder/bframe_decoder.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "svc/status.h"

@@ -14,10 +14,12 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
-#include "codec/common/bframe_codec.h"
+#include "codec/common/bframe.h"
 #include "codec/common/color.h"
 #include "codec/common/cube_padding.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/intra_decoder.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
 #include "container/container.h"

@@ -19,8 +19,10 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include "codec/common/bframe_codec.h"
-#include "codec/common/intra_codec.h"
+#include "codec/common/bframe.h"
+#include "codec/common/intra_frame.h"
+#include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/intra_decoder.h"
 #include "common/bytes.h"
 #include "common/file_io.h"
 #include "container/container.h"

@@ -1,25 +1,23 @@
-// Entropy coding of quantized transform blocks with the adaptive range coder, in the
-// manner of HEVC/AV1: coded-block flag, end-of-block position (class + offset), then in
-// reverse scan order each coefficient's significance, greater-than-1/2 flags, adaptive
-// level-range bins and an Exp-Golomb-k remainder, with contexts from the already coded
-// neighbours to the right and below and from the position. A category-coded DC difference
-// serves blocks whose DC is predicted. Block sizes (4x4, 8x8, 16x16) are a parameter:
-// scan and end-of-block contexts per size. Each block class (intra luma, intra chroma,
-// non-intra luma, ...) owns a BlockContextSet; encoder and decoder must feed the same
-// sequence of calls with the same context sets to stay in step. Exact syntax in
-// docs/codec.md section 5.
+// The contexts and scans of the coefficient syntax (docs/codec.md section 5), shared by
+// its reader (codec/decoder/coefficient_reader.h) and writer
+// (codec/encoder/coefficient_writer.h): coded-block flag, end-of-block position (class +
+// offset), then in reverse scan order each coefficient's significance, greater-than-1/2
+// flags, adaptive level-range bins and an Exp-Golomb-k remainder, with contexts from the
+// already coded neighbours to the right and below and from the position, in the manner
+// of HEVC/AV1. Block sizes are a parameter: scan and end-of-block contexts per size. Each
+// block class (intra luma, intra chroma, non-intra luma, ...) owns a BlockContextSet;
+// reader and writer must feed the same sequence of calls with the same context sets to
+// stay in step.
 //
 // Threading: context sets are plain mutable data owned by one coder at a time.
-// Errors: decode functions return false on syntax that no encoder produces (an end of
-// block past the block, a level beyond kMaxLevel, an over-long escape code); they never
-// read outside their inputs and always terminate.
 #pragma once
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 
-#include "codec/common/range_coder.h"
+#include "codec/common/adaptive_bit.h"
 #include "codec/common/transform_size.h"
 
 namespace svc::codec {
@@ -61,9 +59,6 @@ inline constexpr int kRangeContexts = 3 * 7;  // level-range bins: 3 position gr
 inline constexpr int kRangeLevel = 15;        // magnitudes from here take a remainder
 inline constexpr int kMaxRiceParameter = 4;
 
-inline constexpr int kDcCategoryContexts = 3;
-inline constexpr int kMaxDcCategory = 14;  // |difference| < 2^14
-
 struct BlockContextSet {
   std::array<AdaptiveBit, kCodedBlockContexts> coded_block{};
   std::array<std::array<AdaptiveBit, kMaxEobClasses>, kTransformSizes> eob_class{};
@@ -72,9 +67,6 @@ struct BlockContextSet {
   std::array<AdaptiveBit, kBaseLevelContexts> greater_than_one{};
   std::array<AdaptiveBit, kBaseLevelContexts> greater_than_two{};
   std::array<AdaptiveBit, kRangeContexts> level_range{};
-  std::array<std::array<AdaptiveBit, kMaxDcCategory>, kDcCategoryContexts> dc_category{};
-  // Category of the previous DC difference coded with this set (selects dc_category row).
-  int previous_dc_category = 0;
 };
 
 // Calls f on every context of the set, in the order of the members above (arrays in
@@ -89,7 +81,6 @@ void for_each_context(Set& s, F&& f) {
   for_each_bit(s.greater_than_one, f);
   for_each_bit(s.greater_than_two, f);
   for_each_bit(s.level_range, f);
-  for_each_bit(s.dc_category, f);
 }
 
 // One decoded non-zero level: natural position and value.
@@ -137,53 +128,11 @@ inline int last_level_context(const ScanOrder& order, int position) {
   return kSignificanceContexts + order.positions[position].position_class;
 }
 
-// Codes scan positions [first_scan, count) of `levels` (natural order, |level| <=
-// kMaxLevel): with first_scan = 1 for intra AC after a separate DC, 0 otherwise.
-// coded_block_context in [0, kCodedBlockContexts) selects the coded-block flag's
-// context, or kNoCodedBlockFlag (then the block must contain a non-zero level).
-void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
-                         int coded_block_context, TransformSize size = TransformSize::k8x8);
-
-// Decodes what encode_block_levels wrote. Writes the non-zero levels in scan order to
-// out[0..count) (out must hold the size's count) and sets *count. Returns false on
-// invalid syntax.
-bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan, int coded_block_context,
-                         BlockLevel* out, int* count, TransformSize size = TransformSize::k8x8);
-
-// Encoder only: the bits encode_block_levels would write, from the contexts' current
-// probabilities (unchanged).
-float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int first_scan,
-                        int coded_block_context, TransformSize size = TransformSize::k8x8);
-// block_levels_bits of a block without levels: its coded-block flag (0), if coded.
-float uncoded_block_bits(const BlockContextSet& contexts, int coded_block_context);
-
-// Encoder only, for rate-distortion quantization: bits of the end-of-block position
-// `last_scan` (first_scan .. the size's count - 1), the sum write_end_of_block forms,
-// from per-class partial sums taken once for the many positions a search prices.
-class EndOfBlockPricer {
- public:
-  EndOfBlockPricer(const BlockContextSet& contexts, int first_scan, TransformSize size);
-  float bits(int last_scan) const;
-
- private:
-  const AdaptiveBit* extra_;  // eob_extra of the size
-  int first_scan_;
-  // Per end-of-block class: its unary bits and terminating bit (if any), summed in order.
-  std::array<float, kMaxEobClasses + 1> class_bits_{};
-};
-
-// Encoder only: bits of one non-zero magnitude with its sign at natural `position`, given
-// the magnitudes coded before it and its `base_context` (significance context, or
-// last_level_context at the end of block), without the significance flag.
-float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours, int position,
-                     int base_context, int magnitude);
-
-// DC difference (intra DC level minus its prediction), |difference| < 2^kMaxDcCategory.
-void encode_dc_difference(RangeEncoder& encoder, BlockContextSet& contexts, int difference);
-bool decode_dc_difference(RangeDecoder& decoder, BlockContextSet& contexts, int* difference);
-
-// Exp-Golomb order 0 with bypass bits, for values below 2^17 - 1 (prefix <= 16).
-void encode_exp_golomb_bypass(RangeEncoder& encoder, uint32_t value);
-bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value);
+// The end-of-block class of eob in [1, 256]: 0 for 1, 1 for 2, then c for
+// 2^(c-1) < eob <= 2^c; and the first eob of a class.
+inline int end_of_block_class(int eob) {
+  return eob <= 2 ? eob - 1 : std::bit_width(static_cast<unsigned>(eob - 1));
+}
+inline int class_first_eob(int eob_class) { return eob_class < 2 ? eob_class + 1 : (1 << (eob_class - 1)) + 1; }
 
 }  // namespace svc::codec

@@ -1,12 +1,13 @@
-#include "codec/common/bframe_syntax.h"
+#include "codec/encoder/bframe_syntax_writer.h"
 
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
-#include <string>
 
-namespace svc::codec::bframe {
+#include "codec/encoder/coefficient_writer.h"
+
+namespace svc::codec {
 
 std::array<float, 4097> make_cost_table() {
   std::array<float, 4097> t{};
@@ -17,21 +18,16 @@ std::array<float, 4097> make_cost_table() {
   return t;
 }
 
+}  // namespace svc::codec
+
+namespace svc::codec::bframe {
+
 void encode_magnitude(RangeEncoder& encoder, MagnitudeBits& bits, unsigned magnitude) {
   const int k = static_cast<int>(std::bit_width(magnitude)) - 1;
   for (int j = 0; j < k; ++j) encoder.encode(bits.above[static_cast<size_t>(j)], 1);
   if (k + 1 < kMagnitudeClasses) encoder.encode(bits.above[static_cast<size_t>(k)], 0);
   if (k > 0) encoder.encode(bits.below[static_cast<size_t>(k - 1)], static_cast<int>((magnitude >> (k - 1)) & 1));
   for (int b = k - 2; b >= 0; --b) encoder.encode_bypass(static_cast<int>((magnitude >> b) & 1));
-}
-
-unsigned decode_magnitude(RangeDecoder& decoder, MagnitudeBits& bits) {
-  int k = 0;
-  while (k + 1 < kMagnitudeClasses && decoder.decode(bits.above[static_cast<size_t>(k)])) ++k;
-  if (k == 0) return 1;
-  auto magnitude = static_cast<unsigned>(2 + decoder.decode(bits.below[static_cast<size_t>(k - 1)]));
-  for (int b = k - 2; b >= 0; --b) magnitude = 2 * magnitude + static_cast<unsigned>(decoder.decode_bypass());
-  return magnitude;
 }
 
 float magnitude_bits(const MagnitudeBits& bits, unsigned magnitude) {
@@ -92,13 +88,6 @@ void encode_partition(RangeEncoder& encoder, FrameState& s, int mx, int my, Part
   if (partition != Partition::k8x8) encoder.encode(c.partition_vertical, partition == Partition::k8x16);
 }
 
-Partition decode_partition(RangeDecoder& decoder, FrameState& s, int mx, int my) {
-  SyntaxContexts& c = s.contexts;
-  if (!decoder.decode(c.partition_split[partition_context(s, mx, my)])) return Partition::k16x16;
-  if (decoder.decode(c.partition_quad)) return Partition::k8x8;
-  return decoder.decode(c.partition_vertical) ? Partition::k8x16 : Partition::k16x8;
-}
-
 void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, MacroblockMode mode) {
   if (s.reference_count == 1) return;
   SyntaxContexts& c = s.contexts;
@@ -106,14 +95,6 @@ void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, Macr
   if (mode != MacroblockMode::kBidirectional) {
     encoder.encode(c.backward[backward_context(s, mx, my)], mode == MacroblockMode::kBackward);
   }
-}
-
-MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, int my) {
-  if (s.reference_count == 1) return MacroblockMode::kForward;
-  SyntaxContexts& c = s.contexts;
-  if (decoder.decode(c.bidirectional[bidirectional_context(s, mx, my)])) return MacroblockMode::kBidirectional;
-  return decoder.decode(c.backward[backward_context(s, mx, my)]) ? MacroblockMode::kBackward
-                                                                 : MacroblockMode::kForward;
 }
 
 namespace {
@@ -128,28 +109,11 @@ void encode_epipolar_lines(RangeEncoder& encoder, const EpipolarLines& lines) {
   for (const int32_t value : {lines.a, lines.bx, lines.by}) encode_exp_golomb_bypass(encoder, signed_code(value));
 }
 
-bool decode_epipolar_lines(RangeDecoder& decoder, EpipolarLines* lines) {
-  for (int32_t* value : {&lines->a, &lines->bx, &lines->by}) {
-    uint32_t code = 0;
-    if (!decode_exp_golomb_bypass(decoder, &code) || code > 2 * static_cast<uint32_t>(kMaxEpipolarCoefficient)) {
-      return false;
-    }
-    *value = (code & 1) ? static_cast<int32_t>((code + 1) / 2) : -static_cast<int32_t>(code / 2);
-  }
-  return true;
-}
-
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value) {
   encoder.encode(c.mvd_zero[component][context], value != 0);
   if (value == 0) return;
   encode_magnitude(encoder, c.mvd_magnitude[component], static_cast<unsigned>(std::abs(value)));
   encoder.encode_bypass(value < 0);
-}
-
-int decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context) {
-  if (!decoder.decode(c.mvd_zero[component][context])) return 0;
-  const auto magnitude = static_cast<int>(decode_magnitude(decoder, c.mvd_magnitude[component]));
-  return decoder.decode_bypass() ? -magnitude : magnitude;
 }
 
 float predictor_index_bits(const PredictorIndexBits& bits, int count, int index) {
@@ -165,11 +129,6 @@ void encode_predictor_index(RangeEncoder& encoder, PredictorIndexBits& bits, int
   if (index > 0 && count > 2) encoder.encode(bits[1], index > 1);
 }
 
-int decode_predictor_index(RangeDecoder& decoder, PredictorIndexBits& bits, int count) {
-  if (count < 2 || !decoder.decode(bits[0])) return 0;
-  return count > 2 && decoder.decode(bits[1]) ? 2 : 1;
-}
-
 float node_component_bits(const SyntaxContexts& c, int component, int kind, int value) {
   const float bits = bit_cost(c.node_zero[component][kind], value != 0);
   if (value == 0) return bits;
@@ -181,13 +140,6 @@ void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int compone
   if (value == 0) return;
   encoder.encode_bypass(value < 0);
   encode_magnitude(encoder, c.node_magnitude[component][kind], static_cast<unsigned>(std::abs(value)));
-}
-
-int decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind) {
-  if (!decoder.decode(c.node_zero[component][kind])) return 0;
-  const bool negative = decoder.decode_bypass() != 0;
-  const auto magnitude = static_cast<int>(decode_magnitude(decoder, c.node_magnitude[component][kind]));
-  return negative ? -magnitude : magnitude;
 }
 
 namespace {
@@ -234,24 +186,6 @@ float missing_nodes_bits(FrameState& s, int reference, int mx, int my, MotionVec
   }
   for (int m = 0; m < marked_count; ++m) s.node_known[reference][marked[static_cast<size_t>(m)]] = 0;
   return bits;
-}
-
-bool decode_missing_nodes(RangeDecoder& decoder, FrameState& s, int reference, int mx, int my,
-                          MotionVector vector_predictor) {
-  for (int k = 0; k < 4; ++k) {
-    const int i = corner_i(mx, k), j = corner_j(my, k);
-    if (s.known(reference, i, j)) continue;
-    int kind = 0;
-    const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, &kind);
-    const int d0 = decode_node_component(decoder, s.contexts, 0, kind);
-    const int d1 = decode_node_component(decoder, s.contexts, 1, kind);
-    int64_t x = 0, y = 0;
-    add_line_difference(node_direction(s, reference, i, j), prediction.x, prediction.y, {d0, d1}, &x, &y);
-    if (std::abs(x) > s.node_limit || std::abs(y) > s.node_limit) return false;
-    s.nodes[reference][s.node_index(i, j)] = WarpNode{static_cast<int32_t>(x), static_cast<int32_t>(y)};
-    s.node_known[reference][s.node_index(i, j)] = 1;
-  }
-  return true;
 }
 
 }  // namespace svc::codec::bframe

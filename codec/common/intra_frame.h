@@ -1,62 +1,20 @@
-// Coding of one face (a "frame") into bytes and back. Pure computation: no files.
-// Bitstream syntax and entropy coding are documented in docs/codec.md.
+// An intra frame (an I-face) as both sides see it: its header constants, its packed
+// semi-decoded form (CoefficientFrame) and the reconstruction of that form into pixels.
+// The syntax is specified in docs/codec.md; reading it is codec/decoder/intra_decoder.h,
+// writing it codec/encoder/intra_encoder.h. Pure computation: no files.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
-#include <span>
 #include <vector>
 
-#include "codec/common/block_coder.h"
 #include "codec/common/cdef.h"
+#include "codec/common/coefficient_contexts.h"
 #include "codec/common/quant.h"
 #include "codec/common/transform_type.h"
-#include "svc/status.h"
 #include "svc/types.h"
 
 namespace svc::codec {
-
-struct CodingParams {
-  int qindex = 96;  // quantiser index, kMinQIndex..kMaxQIndex (codec/quant.h)
-  // Encoder restriction: when false, every block uses the planar or DC mode only.
-  bool directional_intra = true;
-  // Encoder choice: when false, each block takes the mode of least SATD (plus a rate
-  // term) and its levels as quantized, without the rate-distortion comparison of a
-  // few modes and of dropping the levels.
-  bool rd_intra_search = true;
-  // Encoder choice: with every mode allowed, rank by SATD only planar, DC, the most
-  // probable modes, every fourth angular mode and the two on each side of the best of
-  // those (at most 18 modes instead of 35): for B-frame intra macroblocks, where the
-  // search runs on every macroblock (docs/codec.md 10.5), and for intra frames at encoder
-  // speeds from 1 on (6.2).
-  bool coarse_mode_search = false;
-  // Encoder restriction: when false, 8x8 luma blocks are never split into 4x4, 8x4 or
-  // 4x8 blocks (the split flags are still coded).
-  bool small_blocks = true;
-  // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
-  // the squared error against the source (the flag costs nothing else).
-  bool deblocking = true;
-  // Offers CDEF (cdef.h); the encoder chooses its presets and units by squared error
-  // plus their bits, and leaves it off where it does not pay.
-  bool cdef = true;
-  // Encoder choice: CDEF presets from all 14 candidate strengths; off, from every other
-  // one (choose_cdef's every_candidate).
-  bool full_cdef_search = true;
-  // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h)
-  // rather than by rounding with a dead zone.
-  bool rdoq = true;
-  // Encoder restriction: when false, every luma macroblock is coded as four 8x8 blocks
-  // (no 16x16 or 4x4 transform blocks; the partition flags are still coded).
-  bool transform_sizes = true;
-  // Encoder restriction: when false, no chroma block uses CfL (chroma from luma,
-  // codec/cfl.h; the CfL flags are still coded).
-  bool cfl = true;
-  // Offers the intra transform types (DST-VII per direction, docs/codec.md 7.2),
-  // signalled in the header (kTransformTypesFlag): the encoder picks each coded block's
-  // type by rate-distortion cost. When false, every block is DCT_DCT and no type is coded.
-  bool transform_types = true;
-  // The residual quantization matrix (quant.h), signalled in the header (byte 2 bit 2).
-  ResidualMatrix residual_matrix = ResidualMatrix::kFlat;
-};
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
 // section 11). A decoder rejects other bits.
@@ -147,21 +105,6 @@ struct BlockLayout {
 };
 BlockLayout block_layout(int width, int height);
 
-// Encodes an intra frame. `reconstruction` (optional) receives exactly what the
-// decoder will produce. `source` must have positive size and planes of the sizes
-// ImageYCbCr420 documents; otherwise the result is empty (which no decoder accepts).
-// qindex is clamped to [kMinQIndex, kMaxQIndex]. Thread-safe (no shared state).
-std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const CodingParams& params,
-                                        ImageYCbCr420* reconstruction);
-
-// Entropy-decodes and dequantizes an intra frame of the given size. Errors:
-// kInvalidArgument for a size outside [1, kMaxFrameDimension]; kCorruptData for a bad
-// header, invalid syntax, truncated payload or trailing bytes (message names the byte
-// offset or block). Never reads outside `bytes`.
-// `decoded` (optional) receives the levels unpacked as well; on error it is unspecified.
-Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, CoefficientFrame* out,
-                         DecodedLevels* decoded = nullptr);
-
 // Prediction plus inverse transforms of parsed coefficients into pixels, then the in-loop
 // filters the frame header asks for (bit-exact). `out` is resized; a frame not built by
 // parse_intra_frame or encode_intra_frame gives some pixels of the right size, never a
@@ -170,8 +113,5 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
 // do not match the frame's.
 void reconstruct_intra_frame(const CoefficientFrame& coefficients, ImageYCbCr420* out,
                              const DecodedLevels* decoded = nullptr);
-
-// parse_intra_frame followed by reconstruct_intra_frame.
-Status decode_intra_frame(std::span<const uint8_t> bytes, int width, int height, ImageYCbCr420* out);
 
 }  // namespace svc::codec

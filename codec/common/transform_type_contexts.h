@@ -1,4 +1,4 @@
-// Entropy coding of an intra block's transform type (docs/codec.md 5.4): two adaptive
+// The contexts of an intra block's transform type (docs/codec.md 5.4): two adaptive
 // bits after the block's levels, the vertical direction's DST flag then the horizontal
 // one's, with contexts by transform size, by the class of the block's prediction mode
 // (the direction the residual grows along depends on it) and, for the second bit, by
@@ -7,8 +7,11 @@
 #pragma once
 
 #include <array>
+#include <concepts>
+#include <cstddef>
+#include <type_traits>
 
-#include "codec/common/range_coder.h"
+#include "codec/common/adaptive_bit.h"
 #include "codec/common/transform_size.h"
 #include "codec/common/transform_type.h"
 
@@ -32,11 +35,11 @@ template <class Set, class F>
 requires std::same_as<std::remove_const_t<Set>, TransformTypeContexts>
 void for_each_context(Set& s, F&& f) { for_each_bit(s.bits, f); }
 
-void encode_transform_type(RangeEncoder& encoder, TransformTypeContexts& contexts, TransformSize size, int mode,
-                           TransformType type);
-TransformType decode_transform_type(RangeDecoder& decoder, TransformTypeContexts& contexts, TransformSize size,
-                                    int mode);
-// Encoder only: the bits encode_transform_type would write (0 when disabled).
-float transform_type_bits(const TransformTypeContexts& contexts, TransformSize size, int mode, TransformType type);
+// The contexts of a block's two bits, by size and the class of its mode.
+template <class Contexts>
+requires std::same_as<std::remove_const_t<Contexts>, TransformTypeContexts>
+auto& transform_type_bits_of(Contexts& contexts, TransformSize size, int mode) {
+  return contexts.bits[static_cast<size_t>(size)][static_cast<size_t>(transform_type_mode_class(mode))];
+}
 
 }  // namespace svc::codec

@@ -1,76 +1,24 @@
-// B-frame coding of one face: each 16x16 macroblock is intra-coded (as in intra frames,
-// from its reconstructed neighbours), predicted from one of up to two reference faces
-// (forward = reference 0, backward = reference 1) or from the average of both, or
-// skipped (predicted with the neighbours' vectors, no residual).
-// Each prediction is either a translation (one vector per macroblock and reference) or a
-// warp (a vector per pixel, interpolated from node vectors at the macroblock corners:
-// warp_prediction.h). Motion is not searched here: the caller supplies candidate vectors
-// per macroblock and reference (from depth reprojection, or from log_search.h) and,
-// optionally, node fields (from depth); the encoder picks vectors by SAD, screens the
-// options by SAD and chooses the macroblock mode by rate-distortion cost. Bitstream
-// syntax: docs/codec.md, section 10.
+// Encoding of a B-frame (codec/common/bframe.h). Motion is not searched from scratch
+// here: the caller supplies candidate vectors per macroblock and reference (from depth
+// reprojection, or from log_search.h) and, optionally, node fields (from depth); the
+// encoder picks vectors by SAD, screens the options by SAD and chooses the macroblock
+// mode by rate-distortion cost (docs/encoder.md).
 //
 // Threading: every function is reentrant (no shared state); encode different faces on
 // different threads. Errors: the encoder returns an empty vector for unusable arguments
-// (which no decoder accepts); the decoder returns kInvalidArgument for a bad size or
-// reference set and kCorruptData for bytes that are not a valid B-frame. It never reads
-// outside its inputs, whatever the bytes.
+// (which no decoder accepts).
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <memory>
-#include <span>
 #include <vector>
 
-#include "codec/common/epipolar.h"
-#include "codec/common/intra_codec.h"
-#include "codec/common/motion.h"
-#include "codec/common/motion_compensation.h"
-#include "svc/status.h"
+#include "codec/common/bframe.h"
 #include "svc/types.h"
 
 namespace svc::codec {
 
-inline constexpr uint8_t kBFrameSyntaxVersion = 24;
-// Flags byte bit 4: coded inter macroblocks code whether their luma residual is one
-// 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
-// it is four 4x4 blocks (docs/codec.md 10.4).
-inline constexpr uint8_t kInterTransformSizesFlag = 16;
-// Byte 3 bit 2: each reference's epipolar lines open the range-coded data and vector
-// differences are coded along and across them (docs/codec.md 10.3).
-inline constexpr uint8_t kEpipolarLinesFlag = 4;
-// Frame type and syntax version (byte 0, intra_codec.h), qindex, the references' byte
-// (border units, interpolation filter, reference count, warp mask), flags (docs/codec.md 10).
-inline constexpr int kBFrameReferencesByte = 2;
-inline constexpr int kBFrameFlagsByte = 3;
-inline constexpr int kBFrameHeaderBytes = 4;
-
-// The border units (codec/cube_padding.h) of references `extra` samples wider and taller
-// than the face (a border of extra / 2 on each side), or -1 when `extra` is not a valid
-// border: 0 or an even multiple of 16 up to 2 x 16 x kMaxCubeBorderUnits.
-int reference_border_units(int extra);
-
-// The coding of one macroblock, as the decoder reports it (svc inspect draws intra red,
-// forward/backward/bidirectional green, skipped blue).
-enum class MacroblockMode : uint8_t {
-  kIntra = 0,
-  kForward = 1,        // predicted from reference 0
-  kBackward = 2,       // predicted from reference 1
-  kBidirectional = 3,  // rounded mean of both predictions
-  kSkipped = 4,        // predicted mode and vectors inherited, no residual
-};
-
-// How an inter macroblock is split for prediction: each partition has its own mode
-// (forward, backward or bidirectional) and vectors; the residual stays in 8x8 blocks.
-enum class Partition : uint8_t {
-  k16x16 = 0,
-  k16x8 = 1,  // two 16x8 halves, top then bottom
-  k8x16 = 2,  // two 8x16 halves, left then right
-  k8x8 = 3,   // four 8x8 quarters in raster order
-};
-
-// The qindex this library suggests for B-frames next to I-frames coded at
 // `intra_qindex`: 42 indices coarser (a step 2^(42/32) = 2.48 times larger), clamped to
 // the valid range. References of good
 // quality help every face predicted from them, so B-frames can afford a coarser step:
@@ -245,36 +193,8 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
                                     const ImageYCbCr420* ref1, const std::array<ReferenceHints, 2>& hints,
                                     const BFrameParams& params, ImageYCbCr420* reconstruction, BFrameStats* stats);
 
-struct BFrameHeader {
-  int qindex = 0;
-  // Cube-map border of the references in units of 16 luma samples a side (0: the
-  // references are the bare faces; codec/cube_padding.h builds padded ones).
-  int border_units = 0;
-  int loop_filters = 0;                // kLoopFilter* bits (intra_codec.h)
-  bool transform_types = false;        // byte 3 kTransformTypesFlag: intra blocks code their type
-  bool inter_transform_sizes = false;  // byte 3 kInterTransformSizesFlag
-  bool epipolar_lines = false;         // byte 3 kEpipolarLinesFlag
-  int reference_count = 0;             // 1 or 2
-  int warp_mask = 0;                   // bit r: reference r may be warped
-  InterpolationFilter filter = InterpolationFilter::kRegular;
-};
-
-// Validates and reads the header of a B-frame payload (kCorruptData / kUnsupported).
-Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 // The header bytes of `header` (this build's syntax version), which must hold values
 // parse_b_frame_header accepts.
 std::array<uint8_t, kBFrameHeaderBytes> serialize_b_frame_header(const BFrameHeader& header);
-
-// Decodes a B-frame of width x height. ref1 must be null exactly when the frame was coded
-// with one reference; references must be width x height with consistent planes, or
-// padded by the border the header names (parse_b_frame_header; kInvalidArgument
-// otherwise). `modes` (optional) receives the per-macroblock modes (a partitioned
-// macroblock reports its last partition's), `partitions` (optional) the partitions
-// (16x16 for intra and skipped macroblocks), `warped` (optional) 1 for each coded inter
-// macroblock predicted by warping (10.1), else 0, all row-major. On error `out`, `modes`,
-// `partitions` and `warped` are left in an unspecified but valid state.
-Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
-                      const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr,
-                      std::vector<Partition>* partitions = nullptr, std::vector<uint8_t>* warped = nullptr);
 
 }  // namespace svc::codec

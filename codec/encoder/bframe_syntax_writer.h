@@ -1,5 +1,7 @@
-// B-frame syntax: the writers and readers of motion vector differences and warp nodes,
-// and the encoder's bit estimates from the current adaptive probabilities.
+// B-frame syntax writing and its bit estimates from the current adaptive probabilities:
+// macroblock modes, partitions and directions, motion vector differences, predictor
+// indices, epipolar lines and warp nodes (docs/codec.md 10.3), mirrored by
+// codec/decoder/bframe_syntax_reader.h.
 #pragma once
 
 #include <algorithm>
@@ -9,27 +11,14 @@
 #include <cstdlib>
 
 #include "codec/common/bframe_state.h"
+#include "codec/encoder/bit_cost.h"
+#include "codec/encoder/range_encoder.h"
 
 namespace svc::codec::bframe {
-
-// -log2 of a probability in steps of 8/32768, built once; inline so the per-bit cost
-// of the encoder's estimates is a table read, not a call.
-std::array<float, 4097> make_cost_table();
-// A namespace-scope table, not a function's static: no guard check on every bit.
-inline const std::array<float, 4097> kCostTable = make_cost_table();
-
-inline float bit_cost(const AdaptiveBit& model, int bit) {
-  uint32_t p = model.probability_of_zero();
-  if (bit) p = kProbabilityOne - p;
-  return kCostTable[std::min<uint32_t>(p >> 3, 4096)];
-}
-
-inline float exp_golomb_bits(uint32_t value) { return static_cast<float>(2 * (std::bit_width(value + 1) - 1) + 1); }
 
 // A magnitude of 1 .. 2^kMagnitudeClasses - 1 by class (docs/codec.md 10.3): the class
 // in unary, the bit below the leading one, then the rest as bypass bits.
 void encode_magnitude(RangeEncoder& encoder, MagnitudeBits& bits, unsigned magnitude);
-unsigned decode_magnitude(RangeDecoder& decoder, MagnitudeBits& bits);
 float magnitude_bits(const MagnitudeBits& bits, unsigned magnitude);
 
 // The bits of one vector difference component under one context, as tables over the
@@ -65,37 +54,22 @@ float partition_bits(const FrameState& s, int mx, int my, Partition partition);
 // The partition element: split flag, then quad flag, then (two halves) vertical flag.
 void encode_partition(RangeEncoder& encoder, FrameState& s, int mx, int my, Partition partition);
 
-Partition decode_partition(RangeDecoder& decoder, FrameState& s, int mx, int my);
-
 void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, MacroblockMode mode);
 
-MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, int my);
-
 // A reference's epipolar lines (docs/codec.md 10.3): a, bx, by, each a signed value as
-// an Exp-Golomb code in bypass bits. The reader refuses magnitudes above
-// kMaxEpipolarCoefficient.
+// an Exp-Golomb code in bypass bits.
 void encode_epipolar_lines(RangeEncoder& encoder, const EpipolarLines& lines);
-bool decode_epipolar_lines(RangeDecoder& decoder, EpipolarLines* lines);
 
-// ---- Syntax writers (mirrored by the readers below). ----
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value);
 
-// Which of `count` vector predictors a coded vector uses (nothing when count is 1):
-// a bit for index > 0, then with three predictors a bit for index 2.
-// `bits` is SyntaxContexts::predictor_index or skip_predictor_index.
-using PredictorIndexBits = std::array<AdaptiveBit, 2>;
+// Which of `count` vector predictors a coded vector uses (nothing when count is 1).
 float predictor_index_bits(const PredictorIndexBits& bits, int count, int index);
 void encode_predictor_index(RangeEncoder& encoder, PredictorIndexBits& bits, int count, int index);
-int decode_predictor_index(RangeDecoder& decoder, PredictorIndexBits& bits, int count);
-
-int decode_mvd_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int context);
 
 // A node difference component: zero flag, sign, then the magnitude by class.
 float node_component_bits(const SyntaxContexts& c, int component, int kind, int value);
 
 void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int kind, int value);
-
-int decode_node_component(RangeDecoder& decoder, SyntaxContexts& c, int component, int kind);
 
 // Codes (encoder) the corner nodes of macroblock (mx, my) towards `reference` that the
 // decoder does not know yet, in corner order, and marks them known.
@@ -104,10 +78,5 @@ void encode_missing_nodes(RangeEncoder& encoder, FrameState& s, int reference, i
 
 // Estimated bits of encode_missing_nodes, leaving the state unchanged.
 float missing_nodes_bits(FrameState& s, int reference, int mx, int my, MotionVector vector_predictor);
-
-// Decodes the missing corner nodes of macroblock (mx, my); false on a syntax error or a
-// node beyond the range.
-bool decode_missing_nodes(RangeDecoder& decoder, FrameState& s, int reference, int mx, int my,
-                          MotionVector vector_predictor);
 
 }  // namespace svc::codec::bframe
