@@ -5,8 +5,9 @@
 #include <random>
 #include <vector>
 
-#include "codec/encoder/log_search.h"
 #include "codec/common/motion_compensation.h"
+#include "codec/encoder/log_search.h"
+#include "codec/encoder/sad.h"
 #include "codec/encoder/search_planes.h"
 
 namespace svc::codec {

@@ -8,6 +8,8 @@
 #include "codec/common/dct.h"
 #include "codec/common/intra_codec.h"
 #include "codec/common/quant.h"
+#include "codec/encoder/forward_transform.h"
+#include "codec/encoder/quantize.h"
 #include "codec/encoder/rdoq.h"
 
 namespace svc::codec {

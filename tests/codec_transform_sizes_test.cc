@@ -15,6 +15,7 @@
 #include "codec/common/intra_prediction.h"
 #include "codec/common/quant.h"
 #include "codec/common/range_coder.h"
+#include "codec/encoder/forward_transform.h"
 #include "support/random_coefficients.h"
 
 namespace svc::codec {

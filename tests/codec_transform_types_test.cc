@@ -16,6 +16,7 @@
 #include "codec/common/intra_macroblock.h"
 #include "codec/common/range_coder.h"
 #include "codec/common/transform_type_coder.h"
+#include "codec/encoder/forward_transform.h"
 #include "support/random_coefficients.h"
 
 namespace svc::codec {

@@ -17,6 +17,7 @@
 #include "codec/common/bframe_syntax.h"
 #include "codec/common/context_priors.h"
 #include "codec/encoder/rdoq.h"
+#include "codec/encoder/sad.h"
 #include "codec/encoder/search_planes.h"
 
 namespace svc::codec {
