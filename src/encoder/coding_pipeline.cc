@@ -4,9 +4,9 @@
 #include <string>
 
 #include "codec/common/bframe_codec.h"
-#include "codec/common/color.h"
 #include "codec/common/cube_padding.h"
 #include "codec/common/intra_codec.h"
+#include "codec/encoder/rgb_to_ycbcr.h"
 #include "codec/encoder/search_planes.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"

@@ -1,8 +1,8 @@
 #include "encoder/face_coding.h"
 
-#include "codec/common/color.h"
 #include "codec/common/intra_codec.h"
 #include "codec/encoder/log_search.h"
+#include "codec/encoder/rgb_to_ycbcr.h"
 #include "spatial/epipolar_lines.h"
 
 namespace svc {
