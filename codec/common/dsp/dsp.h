@@ -75,12 +75,13 @@ struct DspTable {
   void (*inverse_typed_4x8)(int type, const int16_t* coefficients, int16_t* samples);
 
   // coefficient = sign(level) ((min(|level|, 4096) scale[i] + 128) >> 8) saturated to
-  // [-2048, 2047]; scale[i] in 128..2^18 (codec/quant.h).
+  // [-2048, 2047]; scale[i] in 128..2^18 (codec/common/quant.h).
   void (*dequantize_8x8)(const int16_t* levels, const int32_t* scale, int16_t* coefficients);
 
-  // Colour conversion (codec/color.h): one row of luma from packed RGB; one row of 4:2:0
-  // chroma from two RGB rows (row1 may equal row0; odd widths replicate the last pixel);
-  // one RGB row from luma and a half-width chroma row.
+  // Colour conversion (codec/encoder/rgb_to_ycbcr.h, codec/common/color.h): one row of
+  // luma from packed RGB; one row of 4:2:0 chroma from two RGB rows (row1 may equal row0;
+  // odd widths replicate the last pixel); one RGB row from luma and a half-width chroma
+  // row.
   void (*rgb_to_luma_row)(const uint8_t* rgb, int width, uint8_t* y);
   void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
   void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
