@@ -24,8 +24,8 @@
 #include <CLI/CLI.hpp>
 
 #include "baseline/baseline.h"
-#include "codec/common/color.h"
 #include "codec/encoder/log_search.h"
+#include "codec/encoder/rgb_to_ycbcr.h"
 #include "database/database.h"
 #include "rd_curve.h"
 #include "spatial/placement.h"

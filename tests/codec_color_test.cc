@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "codec/common/color.h"
+#include "codec/encoder/rgb_to_ycbcr.h"
 
 namespace svc::codec {
 namespace {

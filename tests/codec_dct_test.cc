@@ -7,6 +7,7 @@
 
 #include "codec/common/dct.h"
 #include "codec/common/quant.h"
+#include "codec/encoder/forward_transform.h"
 
 namespace svc::codec {
 namespace {

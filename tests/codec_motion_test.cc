@@ -7,6 +7,7 @@
 
 #include "codec/common/motion_compensation.h"
 #include "codec/encoder/log_search.h"
+#include "codec/encoder/sad.h"
 #include "codec/encoder/search_planes.h"
 
 namespace svc::codec {

@@ -11,7 +11,9 @@
 #include "codec/decoder/coefficient_reader.h"
 #include "codec/decoder/intra_decoder.h"
 #include "codec/encoder/coefficient_writer.h"
+#include "codec/encoder/forward_transform.h"
 #include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/quantize.h"
 #include "codec/encoder/range_encoder.h"
 #include "codec/encoder/rdoq.h"
 

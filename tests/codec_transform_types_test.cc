@@ -18,6 +18,7 @@
 #include "codec/decoder/intra_decoder.h"
 #include "codec/decoder/intra_syntax_reader.h"
 #include "codec/decoder/range_decoder.h"
+#include "codec/encoder/forward_transform.h"
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/intra_syntax_writer.h"
 #include "codec/encoder/range_encoder.h"

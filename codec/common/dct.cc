@@ -1,5 +1,5 @@
-// Forward and inverse DCTs (8x8 here, 4x4 and 16x16 through the kernel table). The
-// integer inverses are the contract of the bitstream:
+// The inverse transforms through the kernel table and their definitional references.
+// The integer inverses are the contract of the bitstream:
 // docs/codec.md defines it step by step and any change breaks decoding of existing files.
 #include "codec/common/dct.h"
 
@@ -37,24 +37,6 @@ struct DoubleBasis {
 const DoubleBasis kDoubleBasis;
 
 }  // namespace
-
-void forward_dct_8x8(const float* samples, float* coefficients) {
-  dsp::get_dsp().forward_dct_8x8(samples, coefficients);
-}
-
-void forward_dct_8x8_reference(const double* samples, double* coefficients) {
-  for (int v = 0; v < 8; ++v) {
-    for (int u = 0; u < 8; ++u) {
-      double sum = 0;
-      for (int y = 0; y < 8; ++y) {
-        for (int x = 0; x < 8; ++x) {
-          sum += kDoubleBasis.value[v][y] * kDoubleBasis.value[u][x] * samples[8 * y + x];
-        }
-      }
-      coefficients[8 * v + u] = sum;
-    }
-  }
-}
 
 void inverse_dct_8x8(const int16_t* coefficients, int16_t* samples) {
   dsp::get_dsp().inverse_dct_8x8(coefficients, samples);
@@ -107,23 +89,8 @@ int type_matrix_entry(int points, bool dst, int k, int n) {
   return dsp::type_matrix<16>(dst).m[k][n];
 }
 
-// The typed kernels of a size (docs/codec.md 7.2, 7.3): types 1..3 for squares, whose
-// DCT_DCT has kernels of its own, and 0..3 for rectangular sizes.
-void forward_typed(const dsp::DspTable& dsp, TransformSize size, int type, const float* samples,
-                   float* coefficients) {
-  switch (size) {
-    case TransformSize::k16x8: return dsp.forward_typed_16x8(type, samples, coefficients);
-    case TransformSize::k8x16: return dsp.forward_typed_8x16(type, samples, coefficients);
-    case TransformSize::k16x4: return dsp.forward_typed_16x4(type, samples, coefficients);
-    case TransformSize::k4x16: return dsp.forward_typed_4x16(type, samples, coefficients);
-    case TransformSize::k8x4: return dsp.forward_typed_8x4(type, samples, coefficients);
-    case TransformSize::k4x8: return dsp.forward_typed_4x8(type, samples, coefficients);
-    case TransformSize::k4x4: return dsp.forward_typed_4x4(type, samples, coefficients);
-    case TransformSize::k16x16: return dsp.forward_typed_16x16(type, samples, coefficients);
-    default: return dsp.forward_typed_8x8(type, samples, coefficients);
-  }
-}
-
+// The typed inverse kernels of a size (docs/codec.md 7.2, 7.3): types 1..3 for squares,
+// whose DCT_DCT has kernels of its own, and 0..3 for rectangular sizes.
 void inverse_typed(const dsp::DspTable& dsp, TransformSize size, int type, const int16_t* coefficients,
                    int16_t* samples) {
   switch (size) {
@@ -140,16 +107,6 @@ void inverse_typed(const dsp::DspTable& dsp, TransformSize size, int type, const
 }
 
 }  // namespace
-
-void forward_transform(TransformSize size, const float* samples, float* coefficients) {
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  switch (size) {
-    case TransformSize::k8x8: return dsp.forward_dct_8x8(samples, coefficients);
-    case TransformSize::k4x4: return dsp.forward_dct_4x4(samples, coefficients);
-    case TransformSize::k16x16: return dsp.forward_dct_16x16(samples, coefficients);
-    default: return forward_typed(dsp, size, 0, samples, coefficients);
-  }
-}
 
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples) {
   const dsp::DspTable& dsp = dsp::get_dsp();
@@ -211,11 +168,6 @@ void inverse_transform_reference(TransformSize size, const double* coefficients,
       samples[w * y + x] = scale * sum;
     }
   }
-}
-
-void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients) {
-  if (type == TransformType::kDctDct) return forward_transform(size, samples, coefficients);
-  forward_typed(dsp::get_dsp(), size, static_cast<int>(type), samples, coefficients);
 }
 
 void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples) {

@@ -1,7 +1,8 @@
-// 8x8 two-dimensional DCT-II (orthonormal scaling: DC = 8 x block mean) and its inverse.
-// The forward transform runs only in the encoder and may be float; the inverse is a
-// bit-exact 32-bit integer transform that encoder and decoder share, so both reconstruct
-// identical pixels on every platform. Double-precision references are kept for tests.
+// The inverse of the 8x8 two-dimensional DCT-II (orthonormal scaling: DC = 8 x block
+// mean) and of the other transform sizes and types: bit-exact 32-bit integer transforms
+// that encoder and decoder share, so both reconstruct identical pixels on every
+// platform. The forward transforms run only in the encoder and may be float
+// (codec/encoder/forward_transform.h). Double-precision references are kept for tests.
 // All functions are pure and thread-safe. Blocks are 64 values, row-major (index y*8+x
 // for samples, v*8+u for coefficients, u = horizontal frequency).
 #pragma once
@@ -20,11 +21,6 @@ inline constexpr int kBlockArea = 64;
 inline constexpr int kMinCoefficient = -2048;
 inline constexpr int kMaxCoefficient = 2047;
 
-// Fast separable forward DCT (even/odd butterfly per 1-D pass).
-void forward_dct_8x8(const float* samples, float* coefficients);
-// Textbook O(n^4) forward DCT in double precision.
-void forward_dct_8x8_reference(const double* samples, double* coefficients);
-
 // Integer inverse DCT; coefficients must lie in [kMinCoefficient, kMaxCoefficient].
 // Output is not clipped (the caller adds a prediction or level shift and clips).
 // Accuracy meets IEEE 1180-1990 (peak error <= 1 against the exact inverse).
@@ -36,11 +32,9 @@ void inverse_dct_8x8_integer_reference(const int16_t* coefficients, int16_t* sam
 void inverse_dct_8x8_reference(const double* coefficients, double* samples);
 
 // Any transform size (blocks of transform_area(size) values, row-major). 4x4 and 16x16
-// use HEVC's integer DCT matrices (codec/dsp/dct_4_16_basis.h, docs/codec.md section 7)
-// scaled to near-orthonormal: the forward transform is their transpose in float, at
-// half scale for 16x16 (so that coefficients of 8-bit residuals fit [kMinCoefficient,
-// kMaxCoefficient]); the inverses undo exactly that scale.
-void forward_transform(TransformSize size, const float* samples, float* coefficients);
+// use HEVC's integer DCT matrices (codec/common/dsp/dct_4_16_basis.h, docs/codec.md
+// section 7) scaled to near-orthonormal; the inverses undo exactly the scale of the
+// encoder's forward transforms (codec/encoder/forward_transform.h).
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples);
 // The integer inverse as a plain matrix product: bit-identical to inverse_transform.
 void inverse_transform_integer_reference(TransformSize size, const int16_t* coefficients, int16_t* samples);
@@ -48,10 +42,9 @@ void inverse_transform_integer_reference(TransformSize size, const int16_t* coef
 // rounding), of the same scale as inverse_transform.
 void inverse_transform_reference(TransformSize size, const double* coefficients, double* samples);
 
-// The intra transform types (codec/transform_type.h, docs/codec.md 7.2): DCT_DCT is the
-// transforms above; the others take per direction HEVC's integer DCT of the size or an
-// integer DST-VII at the same scale, so quantization treats every type alike.
-void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients);
+// The intra transform types (codec/common/transform_type.h, docs/codec.md 7.2): DCT_DCT
+// is the transforms above; the others take per direction HEVC's integer DCT of the size
+// or an integer DST-VII at the same scale, so quantization treats every type alike.
 void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples);
 // The integer inverse as a plain matrix product: bit-identical to inverse_transform.
 void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,

@@ -1,7 +1,6 @@
 #include "codec/common/quant.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 
 #include "codec/common/dct.h"
@@ -102,42 +101,9 @@ Quantizer make_quantizer(BlockKind kind, int qindex) {
   return q;
 }
 
-// The 8x8 kernels serve every size: areas of 64 and more as runs of 64 values, smaller
-// ones (4x4, 8x4, 4x8) padded with zeros to 64, so that nothing past the block is read,
-// written or counted.
-namespace {
-
-int quantize_with_rounding(const Quantizer& quantizer, const float* coefficients, float rounding_dc,
-                           float rounding_ac, int16_t* levels) {
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  const int area = transform_area(quantizer.size);
-  if (area < 64) {
-    float padded[64] = {};
-    int16_t padded_levels[64];
-    std::copy_n(coefficients, area, padded);
-    const int count =
-        dsp.quantize_8x8(padded, quantizer.inverse_step.data(), rounding_dc, rounding_ac, padded_levels);
-    std::copy_n(padded_levels, area, levels);
-    return count;
-  }
-  int count = 0;
-  for (int i = 0; i < area; i += 64) {
-    count += dsp.quantize_8x8(coefficients + i, quantizer.inverse_step.data() + i,
-                              i == 0 ? rounding_dc : rounding_ac, rounding_ac, levels + i);
-  }
-  return count;
-}
-
-}  // namespace
-
-int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
-  return quantize_with_rounding(quantizer, coefficients, quantizer.rounding_dc, quantizer.rounding_ac, levels);
-}
-
-int quantize_block_nearest(const Quantizer& quantizer, const float* coefficients, int16_t* levels) {
-  return quantize_with_rounding(quantizer, coefficients, 0.5f, 0.5f, levels);
-}
-
+// The 8x8 kernel serves every size: areas of 64 and more as runs of 64 values, smaller
+// ones (4x4, 8x4, 4x8) padded with zeros to 64, so that nothing past the block is read
+// or written.
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients) {
   const dsp::DspTable& dsp = dsp::get_dsp();
   const int area = transform_area(quantizer.size);
@@ -149,15 +115,6 @@ void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t
     return;
   }
   for (int i = 0; i < area; i += 64) dsp.dequantize_8x8(levels + i, quantizer.scale.data() + i, coefficients + i);
-}
-
-int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels,
-                             TransformType type) {
-  const int area = transform_area(quantizer.size);
-  float input[kMaxTransformArea], coefficients[kMaxTransformArea];
-  for (int i = 0; i < area; ++i) input[i] = samples[i];
-  forward_transform(quantizer.size, type, input, coefficients);
-  return quantize_block(quantizer, coefficients, levels);
 }
 
 void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels, int16_t* samples) {

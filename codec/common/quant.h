@@ -2,8 +2,8 @@
 // quantiser index (qindex 0..255, the step doubling every 32 indices), shared by intra frames and the residual
 // blocks of B-frames. Dequantization is exact integer arithmetic and part of the
 // bitstream contract (docs/codec.md); quantization runs only in the encoder and may use
-// float with rate-distortion rounding offsets. Quantizer objects are immutable after
-// make_quantizer() and may be shared between threads.
+// float with rate-distortion rounding offsets (codec/encoder/quantize.h). Quantizer
+// objects are immutable after make_quantizer() and may be shared between threads.
 #pragma once
 
 #include <algorithm>
@@ -87,12 +87,6 @@ struct Quantizer {
 Quantizer make_quantizer(BlockKind kind, int qindex);
 Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
 
-// Quantizes DCT coefficients (natural order, quantizer.size) to levels in
-// [-kMaxLevel, kMaxLevel]. Returns the number of non-zero levels.
-int quantize_block(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
-// The same with rounding 0.5 for every level, whatever the quantizer's (RDOQ's start).
-int quantize_block_nearest(const Quantizer& quantizer, const float* coefficients, int16_t* levels);
-
 // Exact integer dequantization of one level at natural position `index`, saturated to
 // [kMinCoefficient, kMaxCoefficient]. Inline: the encoder's rate-distortion loops call
 // it per coefficient and trial.
@@ -102,11 +96,6 @@ inline int dequantize_level(const Quantizer& quantizer, int index, int level) {
   return level < 0 ? std::max(-magnitude, kMinCoefficient) : std::min(magnitude, kMaxCoefficient);
 }
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients);
-
-// Forward transform (the DCT, or an intra transform type) + quantization of one block
-// of samples (intra: pixel - 128; non-intra: residual). Returns the number of non-zero levels.
-int transform_quantize_block(const Quantizer& quantizer, const int16_t* samples, int16_t* levels,
-                             TransformType type = TransformType::kDctDct);
 
 // Dequantization + integer inverse DCT: what the decoder reconstructs, before the caller
 // adds 128 (intra) or the prediction (non-intra) and clips to [0, 255].

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "codec/encoder/rate_distortion.h"
+#include "codec/encoder/sad.h"
 
 namespace svc::codec::bframe {
 

@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "codec/common/dsp/dsp.h"
+#include "codec/encoder/sad.h"
 
 namespace svc::codec::bframe {
 

@@ -13,6 +13,7 @@
 #include "codec/common/intra_planes.h"
 #include "codec/encoder/bit_cost.h"
 #include "codec/encoder/coefficient_writer.h"
+#include "codec/encoder/dsp/encoder_dsp.h"
 #include "codec/encoder/intra_syntax_writer.h"
 #include "codec/encoder/rate_distortion.h"
 #include "codec/encoder/rdoq.h"
@@ -62,7 +63,7 @@ int block_sse(const uint8_t* source, int stride, const uint8_t* block, int shape
 // Hadamard SATD of a block of `shape`: the 4x4 or 8x8 kernel, a larger block as the sum
 // over its 8x8 tiles, or its 4x4 tiles when a side is 4.
 int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, int shape) {
-  const dsp::DspTable& dsp = dsp::get_dsp();
+  const dsp::EncoderDspTable& dsp = dsp::get_encoder_dsp();
   if (shape == 4) return dsp.satd_4x4(source, stride, prediction);
   if (shape == 8) return dsp.satd_8x8(source, stride, prediction);
   const int w = shape_width(shape), h = shape_height(shape), t = std::min({w, h, 8});

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "codec/common/motion_compensation.h"
+#include "codec/encoder/sad.h"
 
 namespace svc::codec {
 namespace {

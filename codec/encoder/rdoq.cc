@@ -8,6 +8,8 @@
 
 #include "codec/common/dct.h"
 #include "codec/encoder/bit_cost.h"
+#include "codec/encoder/forward_transform.h"
+#include "codec/encoder/quantize.h"
 
 namespace svc::codec {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "codec/common/dsp/dsp.h"
 #include "codec/common/motion_compensation.h"
+#include "codec/encoder/dsp/encoder_dsp.h"
 
 namespace svc::codec {
 
@@ -53,7 +53,7 @@ int SearchPlanes::sad(const uint8_t* source, int source_stride, int x, int y, in
   const uint8_t* a = at(ax, ay, width, height);
   const uint8_t* b = at(bx, by, width, height);
   if (a == nullptr || b == nullptr) return -1;
-  return dsp::get_dsp().sad_average(source, source_stride, a, b, stride_, width, height);
+  return dsp::get_encoder_dsp().sad_average(source, source_stride, a, b, stride_, width, height);
 }
 
 }  // namespace svc::codec

@@ -4,13 +4,13 @@
 #include <string>
 
 #include "codec/common/bframe.h"
-#include "codec/common/color.h"
 #include "codec/common/cube_padding.h"
 #include "codec/common/intra_frame.h"
 #include "codec/decoder/bframe_decoder.h"
 #include "codec/decoder/intra_decoder.h"
 #include "codec/encoder/bframe_encoder.h"
 #include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/rgb_to_ycbcr.h"
 #include "codec/encoder/search_planes.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"

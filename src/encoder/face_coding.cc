@@ -1,10 +1,10 @@
 #include "encoder/face_coding.h"
 
-#include "codec/common/color.h"
 #include "codec/common/intra_frame.h"
 #include "codec/decoder/intra_decoder.h"
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/log_search.h"
+#include "codec/encoder/rgb_to_ycbcr.h"
 #include "spatial/epipolar_lines.h"
 
 namespace svc {

@@ -1,6 +1,6 @@
 #include "svc/metrics.h"
 
-#include "codec/common/color.h"
+#include "codec/encoder/rgb_to_ycbcr.h"
 
 #include <cmath>
 #include <string>

@@ -12,12 +12,15 @@
 #include <vector>
 
 #include "codec/common/dsp/dsp.h"
+#include "codec/encoder/dsp/encoder_dsp.h"
 #include "spatial/flow_kernels.h"
 
 namespace svc::checkkernels {
 
-// The codec's kernels and the encoder's flow kernels, built for one feature set.
-struct Tables : codec::dsp::DspTable {
+// The shared kernels, the encoder's codec kernels and its flow kernels, built for one
+// feature set. The two codec tables name no entry alike, so a check reads either's
+// entries as members of Tables.
+struct Tables : codec::dsp::DspTable, codec::dsp::EncoderDspTable {
   FlowKernels flow;
 };
 

@@ -1,6 +1,6 @@
-// svc-checkkernels: every variant of every pixel kernel this machine supports, compared
-// bit for bit with the plain reference on seeded random inputs and edge cases (in the
-// spirit of dav1d's checkasm). --bench times each variant beside its reference.
+// svc-checkkernels: every variant of every pixel kernel this machine supports, of the
+// shared table and of the encoder's, compared bit for bit with the plain reference on seeded random inputs and edge
+// cases (in the spirit of dav1d's checkasm). --bench times each variant beside its reference.
 //
 //   svc-checkkernels [--seed N] [--iterations N] [--kernel NAME] [--bench]
 #include <chrono>
@@ -31,7 +31,9 @@ struct Variant {
 std::vector<Variant> variants_of_this_machine() {
   const unsigned detected = codec::dsp::detected_cpu_flags();
   auto tables_for = [](unsigned flags) {
-    return Tables{{codec::dsp::make_dsp_table(flags)}, make_flow_kernels(flags)};
+    return Tables{{codec::dsp::make_dsp_table(flags)},
+                  {codec::dsp::make_encoder_dsp_table(flags)},
+                  make_flow_kernels(flags)};
   };
   std::vector<Variant> variants = {{"c", tables_for(0)}};
   const struct {

@@ -1,7 +1,7 @@
 // The integer inverse DCTs of 4x4 and 16x16 blocks: HEVC's integer DCT matrices and the
 // shifts of their two passes, part of the bitstream contract (docs/codec.md section 7),
-// shared by the kernels and the matrix-product definitions in codec/dct.cc. The forward
-// transforms' float bases live here too, so every variant multiplies by the same numbers.
+// shared by the kernels and the matrix-product definitions in codec/common/dct.cc. The
+// encoder's float forward bases are in codec/encoder/dsp/fdct_4_16_basis.h.
 #pragma once
 
 #include <array>
@@ -50,15 +50,5 @@ inline constexpr int kIdct4RowShift = 4;
 inline constexpr int kIdct4ColumnShift = 10;
 inline constexpr int kIdct16RowShift = 4;
 inline constexpr int kIdct16ColumnShift = 11;
-
-// The forward transforms' basis in float, [k][n]: the matrix above / (64 sqrt(N)), the
-// transpose of the inverse (HEVC's matrices are orthogonal to within 0.1 %).
-template <int N>
-struct ForwardDctFloatBasis {
-  float b[N][N];
-  ForwardDctFloatBasis();
-};
-extern const ForwardDctFloatBasis<4> kForwardDct4Basis;
-extern const ForwardDctFloatBasis<16> kForwardDct16Basis;
 
 }  // namespace svc::codec::dsp

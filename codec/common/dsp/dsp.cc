@@ -69,7 +69,6 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_cdef_avx2(&table);
     init_color_avx2(&table);
     init_pad_avx2(&table);
-    init_transform_4_16_avx2(&table);
   }
 #elif defined(__aarch64__)
   if (cpu_flags & kCpuNeon) {

@@ -1,9 +1,12 @@
-// The pixel kernels of the codec behind one table of function pointers, filled once by
-// CPU features (the pattern of dav1d's mc.h and libwebp's dsp/): every kernel has a plain
-// C++ reference, always compiled, and optional x86 or AArch64 NEON variants that must
-// match it bit for bit. The codec calls kernels only through get_dsp(); tests and the kernel checker build
-// tables for chosen feature sets with make_dsp_table(). docs/kernels.md describes how to
-// add a kernel or a variant.
+// The pixel kernels that encoder and decoder share behind one table of function pointers,
+// filled once by CPU features (the pattern of dav1d's mc.h and libwebp's dsp/): every
+// kernel has a plain C++ reference, always compiled, and optional x86 or AArch64 NEON
+// variants that must match it bit for bit. The codec calls kernels only through
+// get_dsp(); tests and the kernel checker build tables for chosen feature sets with
+// make_dsp_table(). The encoder's own kernels (forward transforms, quantization, SAD,
+// SATD) have a table of their own built by the same rules
+// (codec/encoder/dsp/encoder_dsp.h). docs/kernels.md describes how to add a kernel or a
+// variant.
 #pragma once
 
 #include <cstddef>
@@ -51,37 +54,19 @@ struct BilinearWeights {
 };
 
 struct DspTable {
-  // 8x8 forward DCT (float, encoder only) and the bit-exact integer inverse; blocks are
-  // 64 values, row-major.
-  void (*forward_dct_8x8)(const float* samples, float* coefficients);
+  // The bit-exact integer inverse transforms (docs/codec.md 7), coefficients in
+  // [-2048, 2047], blocks row-major: the 8x8 DCT; the 4x4 and 16x16 DCTs with HEVC's
+  // matrices; the intra transform types with a DST-VII in at least one direction (7.2),
+  // `type` 1..3 (bit 0: rows use the DST, bit 1: columns; the other direction takes
+  // HEVC's integer DCT of the size, at 8x8 too); and the rectangular blocks (7.3; W x H,
+  // W samples a row), `type` 0..3, 0 being DCT_DCT. The encoder's float forward
+  // transforms are in its own table (codec/encoder/dsp/encoder_dsp.h).
   void (*inverse_dct_8x8)(const int16_t* coefficients, int16_t* samples);
-  // 4x4 and 16x16 (docs/codec.md 7): float forward transforms (encoder only; 4x4
-  // orthonormal, 16x16 half the orthonormal scale) and the bit-exact integer inverses
-  // with HEVC's matrices; coefficients in [-2048, 2047], blocks row-major.
-  void (*forward_dct_4x4)(const float* samples, float* coefficients);
-  void (*forward_dct_16x16)(const float* samples, float* coefficients);
   void (*inverse_dct_4x4)(const int16_t* coefficients, int16_t* samples);
   void (*inverse_dct_16x16)(const int16_t* coefficients, int16_t* samples);
-  // The intra transform types with a DST-VII in at least one direction (docs/codec.md
-  // 7.2), `type` 1..3 (bit 0: rows use the DST, bit 1: columns; the other direction
-  // takes HEVC's integer DCT of the size, at 8x8 too): float forward transforms (encoder
-  // only; the scale of the size's DCT) and the bit-exact integer inverses, coefficients
-  // in [-2048, 2047], blocks row-major.
-  void (*forward_typed_4x4)(int type, const float* samples, float* coefficients);
-  void (*forward_typed_8x8)(int type, const float* samples, float* coefficients);
-  void (*forward_typed_16x16)(int type, const float* samples, float* coefficients);
   void (*inverse_typed_4x4)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_8x8)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_16x16)(int type, const int16_t* coefficients, int16_t* samples);
-  // Rectangular blocks (docs/codec.md 7.3; W x H, W samples a row): the same with
-  // `type` 0..3, 0 being DCT_DCT; coefficients at 1/sqrt(2) of the orthonormal scale
-  // (16x8, 8x16), orthonormal (16x4, 4x16) or at sqrt(2) of it (8x4, 4x8).
-  void (*forward_typed_16x8)(int type, const float* samples, float* coefficients);
-  void (*forward_typed_8x16)(int type, const float* samples, float* coefficients);
-  void (*forward_typed_16x4)(int type, const float* samples, float* coefficients);
-  void (*forward_typed_4x16)(int type, const float* samples, float* coefficients);
-  void (*forward_typed_8x4)(int type, const float* samples, float* coefficients);
-  void (*forward_typed_4x8)(int type, const float* samples, float* coefficients);
   void (*inverse_typed_16x8)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_8x16)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_16x4)(int type, const int16_t* coefficients, int16_t* samples);
@@ -89,17 +74,14 @@ struct DspTable {
   void (*inverse_typed_8x4)(int type, const int16_t* coefficients, int16_t* samples);
   void (*inverse_typed_4x8)(int type, const int16_t* coefficients, int16_t* samples);
 
-  // Quantizes 64 coefficients: level = trunc(|c| inverse_step[i] + rounding) capped at
-  // 4095, sign of c; rounding is rounding_dc at i = 0. Returns the non-zero count.
-  int (*quantize_8x8)(const float* coefficients, const float* inverse_step, float rounding_dc, float rounding_ac,
-                      int16_t* levels);
   // coefficient = sign(level) ((min(|level|, 4096) scale[i] + 128) >> 8) saturated to
-  // [-2048, 2047]; scale[i] in 128..2^18 (codec/quant.h).
+  // [-2048, 2047]; scale[i] in 128..2^18 (codec/common/quant.h).
   void (*dequantize_8x8)(const int16_t* levels, const int32_t* scale, int16_t* coefficients);
 
-  // Colour conversion (codec/color.h): one row of luma from packed RGB; one row of 4:2:0
-  // chroma from two RGB rows (row1 may equal row0; odd widths replicate the last pixel);
-  // one RGB row from luma and a half-width chroma row.
+  // Colour conversion (codec/encoder/rgb_to_ycbcr.h, codec/common/color.h): one row of
+  // luma from packed RGB; one row of 4:2:0 chroma from two RGB rows (row1 may equal row0;
+  // odd widths replicate the last pixel); one RGB row from luma and a half-width chroma
+  // row.
   void (*rgb_to_luma_row)(const uint8_t* rgb, int width, uint8_t* y);
   void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
   void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
@@ -117,13 +99,6 @@ struct DspTable {
   void (*put_intermediate)(const int16_t* in, int count, uint8_t* out);
   // Bidirectional prediction: clip((a + b + 2 * 8192 + 64) >> 7, 0, 255).
   void (*average_intermediate)(const int16_t* a, const int16_t* b, int count, uint8_t* out);
-  // SAD of a 16x16 block against 256 packed samples.
-  int (*sad_16x16)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
-  // SAD of a width x height block (width 8 or 16, height 1 to 16) against the rounded-up
-  // average (a + b + 1) >> 1 of two reference blocks sharing one stride (b may equal a)
-  // (encoder only: motion search on half-pel planes).
-  int (*sad_average)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* a, const uint8_t* b,
-                     ptrdiff_t reference_stride, int width, int height);
   // Intra prediction of an 8x8 block (64 samples, row-major) in mode 0..34 (planar, DC,
   // angles; docs/codec.md 3.1) from its edge: edge[15 - i] is the left neighbour of row
   // i (i = 0..15, rows 8..15 below the block), edge[16] the top-left corner, edge[17 + i]
@@ -149,10 +124,6 @@ struct DspTable {
   // clip(dc + ((alpha * ac + 16) >> 5), 0, 255) for dc in 0..255, alpha in -16..16.
   void (*cfl_luma_ac_8x8)(const uint8_t* luma, ptrdiff_t stride, int16_t* ac);
   void (*cfl_predict_8x8)(const int16_t* ac, int dc, int alpha, uint8_t* out);
-  // Sum of absolute 8x8 (4x4) Hadamard coefficients (unnormalised) of source - prediction
-  // (encoder only: mode pre-selection).
-  int (*satd_8x8)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
-  int (*satd_4x4)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 
   // Deblocking of `segments` consecutive 4-sample segments of one edge (docs/codec.md,
   // section 11): `pixels` is q0 of the first line, p_i lies at pixels - (i + 1) across,

@@ -63,8 +63,6 @@ int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, i
                                                 uint8_t* main);
 void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, int height, uint8_t* out);
 void smooth_intra_edge_rectangular(const uint8_t* edge, int width, int height, uint8_t* out);
-int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
-int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -84,7 +82,6 @@ void init_mc_avx2(DspTable* table);
 void init_cdef_avx2(DspTable* table);
 void init_color_avx2(DspTable* table);
 void init_pad_avx2(DspTable* table);
-void init_transform_4_16_avx2(DspTable* table);
 #endif
 
 #if defined(__aarch64__)

@@ -1,7 +1,6 @@
 // Plain intra prediction kernels: the 35 modes of a square (4x4, 8x8, 16x16) or
 // rectangular (16x8, 8x16, 16x4, 4x16, 8x4, 4x8) block from its reference edge (planar,
-// DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is the definition) and the
-// encoder's 4x4 and 8x8 Hadamard SATD.
+// DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is the definition).
 #include <algorithm>
 #include <cstdlib>
 
@@ -246,33 +245,6 @@ void predict_rectangular(const uint8_t* edge, int mode, uint8_t* out) {
   filter_boundary<W, H>(edge, mode, out);
 }
 
-// 1-D N-point Hadamard butterflies in place.
-template <int N>
-void hadamard(int* v, int stride) {
-  for (int span = 1; span < N; span *= 2) {
-    for (int i = 0; i < N; i += 2 * span) {
-      for (int j = i; j < i + span; ++j) {
-        const int a = v[j * stride], b = v[(j + span) * stride];
-        v[j * stride] = a + b;
-        v[(j + span) * stride] = a - b;
-      }
-    }
-  }
-}
-
-template <int N>
-int satd(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  int d[N * N];
-  for (int y = 0; y < N; ++y) {
-    for (int x = 0; x < N; ++x) d[N * y + x] = source[y * source_stride + x] - prediction[N * y + x];
-  }
-  for (int y = 0; y < N; ++y) hadamard<N>(d + N * y, 1);
-  for (int x = 0; x < N; ++x) hadamard<N>(d + x, N);
-  int sum = 0;
-  for (int i = 0; i < N * N; ++i) sum += std::abs(d[i]);
-  return sum;
-}
-
 }  // namespace
 
 void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngularReference* out) {
@@ -338,12 +310,6 @@ template void intra_predict_rectangular_c<16, 4>(const uint8_t*, int, uint8_t*);
 template void intra_predict_rectangular_c<4, 16>(const uint8_t*, int, uint8_t*);
 template void intra_predict_rectangular_c<8, 4>(const uint8_t*, int, uint8_t*);
 template void intra_predict_rectangular_c<4, 8>(const uint8_t*, int, uint8_t*);
-int satd_4x4_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  return satd<4>(source, source_stride, prediction);
-}
-int satd_8x8_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  return satd<8>(source, source_stride, prediction);
-}
 
 void init_intra_c(DspTable* table) {
   table->intra_predict_4x4 = intra_predict_4x4_c;
@@ -355,8 +321,6 @@ void init_intra_c(DspTable* table) {
   table->intra_predict_4x16 = intra_predict_rectangular_c<4, 16>;
   table->intra_predict_8x4 = intra_predict_rectangular_c<8, 4>;
   table->intra_predict_4x8 = intra_predict_rectangular_c<4, 8>;
-  table->satd_4x4 = satd_4x4_c;
-  table->satd_8x8 = satd_8x8_c;
 }
 
 }  // namespace svc::codec::dsp

@@ -1,8 +1,8 @@
 // Plain motion-compensation kernels: the separable 8-tap interpolation to 14-bit
-// intermediates, their rounding to samples (single and bidirectional) and the SADs
-// (docs/codec.md, section 10.1, defines the arithmetic).
+// intermediates and their rounding to samples (single and bidirectional) (docs/codec.md,
+// section 10.1, defines the arithmetic). The encoder's SADs are in
+// codec/encoder/dsp/sad.cc.
 #include <algorithm>
-#include <cstdlib>
 
 #include "codec/common/dsp/dsp_init.h"
 
@@ -40,38 +40,10 @@ void average_intermediate_c(const int16_t* a, const int16_t* b, int count, uint8
   }
 }
 
-namespace {
-
-int sad_16x16_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  int sum = 0;
-  for (int y = 0; y < 16; ++y) {
-    const uint8_t* row = source + y * source_stride;
-    const uint8_t* pred = prediction + 16 * y;
-    for (int x = 0; x < 16; ++x) sum += std::abs(row[x] - pred[x]);
-  }
-  return sum;
-}
-
-int sad_average_c(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* a, const uint8_t* b,
-                  ptrdiff_t reference_stride, int width, int height) {
-  int sum = 0;
-  for (int y = 0; y < height; ++y) {
-    const uint8_t* row = source + y * source_stride;
-    const uint8_t* first = a + y * reference_stride;
-    const uint8_t* second = b + y * reference_stride;
-    for (int x = 0; x < width; ++x) sum += std::abs(row[x] - ((first[x] + second[x] + 1) >> 1));
-  }
-  return sum;
-}
-
-}  // namespace
-
 void init_mc_c(DspTable* table) {
-  table->sad_average = sad_average_c;
   table->interpolate_8tap = interpolate_8tap_c;
   table->put_intermediate = put_intermediate_c;
   table->average_intermediate = average_intermediate_c;
-  table->sad_16x16 = sad_16x16_c;
 }
 
 }  // namespace svc::codec::dsp

@@ -1,28 +1,12 @@
-// Plain quantization kernels (codec/quant.h defines the arithmetic).
+// The plain dequantization kernel (codec/common/quant.h defines the arithmetic; the
+// encoder's quantization is codec/encoder/dsp/quantize.cc).
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 
 #include "codec/common/dsp/dsp_init.h"
 
 namespace svc::codec::dsp {
 namespace {
-
-constexpr int kMaxLevel = 4095;
-
-int quantize_8x8_c(const float* coefficients, const float* inverse_step, float rounding_dc, float rounding_ac,
-                   int16_t* levels) {
-  int nonzero = 0;
-  for (int i = 0; i < 64; ++i) {
-    const float rounding = i == 0 ? rounding_dc : rounding_ac;
-    const float magnitude = std::fabs(coefficients[i]) * inverse_step[i] + rounding;
-    int level = magnitude >= static_cast<float>(kMaxLevel) ? kMaxLevel : static_cast<int>(magnitude);
-    if (coefficients[i] < 0) level = -level;
-    levels[i] = static_cast<int16_t>(level);
-    nonzero += level != 0;
-  }
-  return nonzero;
-}
 
 void dequantize_8x8_c(const int16_t* levels, const int32_t* scale, int16_t* coefficients) {
   for (int i = 0; i < 64; ++i) {
@@ -36,9 +20,6 @@ void dequantize_8x8_c(const int16_t* levels, const int32_t* scale, int16_t* coef
 
 }  // namespace
 
-void init_quant_c(DspTable* table) {
-  table->quantize_8x8 = quantize_8x8_c;
-  table->dequantize_8x8 = dequantize_8x8_c;
-}
+void init_quant_c(DspTable* table) { table->dequantize_8x8 = dequantize_8x8_c; }
 
 }  // namespace svc::codec::dsp

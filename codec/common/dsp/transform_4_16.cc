@@ -1,52 +1,14 @@
-// Plain 4x4 and 16x16 DCT kernels: separable float forward transforms with HEVC's
-// integer matrices scaled to (near) orthonormal (for 16x16, half that scale so that
-// coefficients fit 12 bits) and the integer inverses with the same matrices. The inverses are the bitstream's
-// contract: their output must equal codec/dct.cc's matrix products.
+// Plain 4x4 and 16x16 integer inverse DCTs with HEVC's matrices, the bitstream's
+// contract: their output must equal codec/common/dct.cc's matrix products. The float
+// forward transforms are the encoder's (codec/encoder/dsp/forward_transform_4_16.cc).
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 
 #include "codec/common/dsp/dct_4_16_basis.h"
 #include "codec/common/dsp/dsp_init.h"
 
 namespace svc::codec::dsp {
-
-// The integer matrix / (64 sqrt(N)): HEVC's near-orthonormal approximation of the DCT,
-// so that the forward transform is the transpose of the integer inverse.
-template <int N>
-ForwardDctFloatBasis<N>::ForwardDctFloatBasis() {
-  const double scale = 64.0 * std::sqrt(static_cast<double>(N));
-  for (int k = 0; k < N; ++k) {
-    for (int n = 0; n < N; ++n) b[k][n] = static_cast<float>(hevc_dct_entry(N, k, n) / scale);
-  }
-}
-template struct ForwardDctFloatBasis<4>;
-template struct ForwardDctFloatBasis<16>;
-const ForwardDctFloatBasis<4> kForwardDct4Basis;
-const ForwardDctFloatBasis<16> kForwardDct16Basis;
-
 namespace {
-
-// Rows then columns; each sum accumulates in increasing sample order (the SIMD variants
-// keep this order so that every float rounds alike). `scale` is a power of two (exact).
-template <int N>
-void forward_dct(const ForwardDctFloatBasis<N>& basis, float scale, const float* samples, float* coefficients) {
-  float tmp[N * N];
-  for (int y = 0; y < N; ++y) {
-    for (int u = 0; u < N; ++u) {
-      float sum = 0;
-      for (int x = 0; x < N; ++x) sum += basis.b[u][x] * samples[N * y + x];
-      tmp[N * y + u] = sum;
-    }
-  }
-  for (int u = 0; u < N; ++u) {
-    for (int v = 0; v < N; ++v) {
-      float sum = 0;
-      for (int y = 0; y < N; ++y) sum += basis.b[v][y] * tmp[N * y + u];
-      coefficients[N * v + u] = sum * scale;
-    }
-  }
-}
 
 template <int N>
 void inverse_dct(const HevcDctMatrix<N>& matrix, int row_shift, int column_shift, const int16_t* coefficients,
@@ -70,12 +32,6 @@ void inverse_dct(const HevcDctMatrix<N>& matrix, int row_shift, int column_shift
 
 }  // namespace
 
-void forward_dct_4x4_c(const float* samples, float* coefficients) {
-  forward_dct(kForwardDct4Basis, 1.0f, samples, coefficients);
-}
-void forward_dct_16x16_c(const float* samples, float* coefficients) {
-  forward_dct(kForwardDct16Basis, 0.5f, samples, coefficients);
-}
 void inverse_dct_4x4_c(const int16_t* coefficients, int16_t* samples) {
   inverse_dct(kDct4Matrix, kIdct4RowShift, kIdct4ColumnShift, coefficients, samples);
 }
@@ -84,8 +40,6 @@ void inverse_dct_16x16_c(const int16_t* coefficients, int16_t* samples) {
 }
 
 void init_transform_4_16_c(DspTable* table) {
-  table->forward_dct_4x4 = forward_dct_4x4_c;
-  table->forward_dct_16x16 = forward_dct_16x16_c;
   table->inverse_dct_4x4 = inverse_dct_4x4_c;
   table->inverse_dct_16x16 = inverse_dct_16x16_c;
 }

@@ -2,7 +2,8 @@
 // 7.2): HEVC's DCT matrix of each size and an integer DST-VII at the same scale,
 // 64 sqrt(N) times orthonormal, so that either may serve either direction of a block.
 // Part of the bitstream contract, shared by the kernels and the matrix-product
-// definition in codec/dct.cc. The forward transforms' float bases live here too.
+// definition in codec/common/dct.cc. The encoder's float forward bases are in
+// codec/encoder/dsp/forward_type_basis.h.
 #pragma once
 
 #include <array>
@@ -77,15 +78,6 @@ constexpr int type_row_shift(bool dst) { return 4 + (dst ? kDstExtraShift : 0); 
 constexpr int type_column_shift(int width, int height, bool dst) {
   return (width == 4 && height == 4 ? 10 : 11) + (dst ? kDstExtraShift : 0);
 }
-// The forward transform's output scale (16x16: half the orthonormal scale, as its DCT;
-// rectangular blocks, docs/codec.md 7.3: 8 / sqrt(W H) of it, which the passes' 2^15
-// gives with the matrices of their sides: 1/sqrt(2) for 16x8 and 8x16, 1 for 16x4 and
-// 4x16, sqrt(2) for 8x4 and 4x8).
-constexpr float type_forward_scale(int width, int height) {
-  if (width == height) return width == 16 ? 0.5f : 1.0f;
-  const int area = width * height;
-  return area == 128 ? 0.70710677f : area == 32 ? 1.41421354f : 1.0f;
-}
 
 // The integer matrix of a direction: DST-VII when `dst`, else HEVC's DCT.
 template <int N>
@@ -94,16 +86,5 @@ constexpr const TypeMatrix<N>& type_matrix(bool dst) {
   if constexpr (N == 8) return dst ? kTypeDst8 : kTypeDct8;
   if constexpr (N == 16) return dst ? kTypeDst16 : kTypeDct16;
 }
-
-// The forward transforms' bases in float, b[k][n] = matrix / (64 sqrt(N)) (DST: / (256
-// sqrt(N))): the transpose of the integer inverse.
-template <int N>
-struct TypeFloatBasis {
-  float b[N][N];
-  explicit TypeFloatBasis(bool dst);
-};
-// The float basis of a direction (built once; thread-safe).
-template <int N>
-const TypeFloatBasis<N>& type_float_basis(bool dst);
 
 }  // namespace svc::codec::dsp

@@ -1,5 +1,5 @@
-// An 8x8 transpose of 16-bit lanes, shared by the NEON transform and intra kernels
-// (internal linkage).
+// An 8x8 transpose of 16-bit lanes, shared by the NEON inverse DCT and the encoder's
+// SATD (internal linkage).
 #pragma once
 
 #include <arm_neon.h>

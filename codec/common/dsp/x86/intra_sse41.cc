@@ -1,8 +1,6 @@
-// SSE4.1 intra kernels (every block shape). The Hadamard SATD keeps every value in 16 bits (residuals of
-// at most 255 grow by 8 per 1-D pass: |value| <= 16320), so it equals the plain sum.
-// Angular prediction interpolates a whole row at once with the plain kernel's integer
-// formula and planar a row of eight samples at once; DC and the edge preparation run
-// the plain code. The 4x4 SATD transforms two rows per register.
+// SSE4.1 intra kernels (every block shape). Angular prediction interpolates a whole row
+// at once with the plain kernel's integer formula and planar a row of eight samples at
+// once; DC and the edge preparation run the plain code.
 #include <smmintrin.h>
 
 #include <bit>
@@ -12,57 +10,10 @@
 
 #pragma GCC target("sse4.1")
 
+#include "codec/common/dsp/x86/transpose_sse2.h"
+
 namespace svc::codec::dsp {
 namespace {
-
-void butterflies(__m128i* v) {
-  for (int span = 1; span < 8; span *= 2) {
-    for (int i = 0; i < 8; i += 2 * span) {
-      for (int j = i; j < i + span; ++j) {
-        const __m128i a = v[j], b = v[j + span];
-        v[j] = _mm_add_epi16(a, b);
-        v[j + span] = _mm_sub_epi16(a, b);
-      }
-    }
-  }
-}
-
-void transpose_8x8_epi16(__m128i* v) {
-  __m128i a[8], b[8];
-  for (int i = 0; i < 4; ++i) {
-    a[2 * i] = _mm_unpacklo_epi16(v[2 * i], v[2 * i + 1]);
-    a[2 * i + 1] = _mm_unpackhi_epi16(v[2 * i], v[2 * i + 1]);
-  }
-  for (int i = 0; i < 2; ++i) {
-    for (int h = 0; h < 2; ++h) {
-      b[4 * i + 2 * h] = _mm_unpacklo_epi32(a[4 * i + h], a[4 * i + 2 + h]);
-      b[4 * i + 2 * h + 1] = _mm_unpackhi_epi32(a[4 * i + h], a[4 * i + 2 + h]);
-    }
-  }
-  for (int i = 0; i < 4; ++i) {
-    v[2 * i] = _mm_unpacklo_epi64(b[i], b[4 + i]);
-    v[2 * i + 1] = _mm_unpackhi_epi64(b[i], b[4 + i]);
-  }
-}
-
-int satd_8x8_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  __m128i v[8];
-  for (int y = 0; y < 8; ++y) {
-    const __m128i s =
-        _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(source + y * source_stride)));
-    const __m128i p = _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(prediction + 8 * y)));
-    v[y] = _mm_sub_epi16(s, p);
-  }
-  butterflies(v);
-  transpose_8x8_epi16(v);
-  butterflies(v);
-  __m128i sum = _mm_setzero_si128();
-  const __m128i ones = _mm_set1_epi16(1);
-  for (int y = 0; y < 8; ++y) sum = _mm_add_epi32(sum, _mm_madd_epi16(_mm_abs_epi16(v[y]), ones));
-  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(1, 0, 3, 2)));
-  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(2, 3, 0, 1)));
-  return _mm_cvtsi128_si32(sum);
-}
 
 // One row of eight interpolated samples ((32 - f) a + f b + 16) >> 5 from ref[0..8].
 __m128i interpolate_row(const uint8_t* ref, int fraction) {
@@ -128,38 +79,6 @@ void intra_predict_8x8_sse41(const uint8_t* edge, int mode, uint8_t* out) {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 8 * y), _mm_packus_epi16(rows[y], rows[y + 1]));
   }
   filter_intra_boundary_n(edge, mode, 8, out);
-}
-
-// 4x4 Hadamard on two rows per register. The SATD sums the magnitudes of all sixteen
-// coefficients, so the butterflies may produce them in any order.
-inline void hadamard_pairs(__m128i* a, __m128i* b) {
-  const __m128i sum = _mm_add_epi16(*a, *b), difference = _mm_sub_epi16(*a, *b);
-  const __m128i low = _mm_unpacklo_epi64(sum, difference), high = _mm_unpackhi_epi64(sum, difference);
-  *a = _mm_add_epi16(low, high);
-  *b = _mm_sub_epi16(low, high);
-}
-
-int satd_4x4_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  auto row_pair = [&](int y) {
-    int s0, s1, p0, p1;
-    std::memcpy(&s0, source + y * source_stride, 4);
-    std::memcpy(&s1, source + (y + 1) * source_stride, 4);
-    std::memcpy(&p0, prediction + 4 * y, 4);
-    std::memcpy(&p1, prediction + 4 * y + 4, 4);
-    const __m128i s = _mm_cvtepu8_epi16(_mm_unpacklo_epi32(_mm_cvtsi32_si128(s0), _mm_cvtsi32_si128(s1)));
-    const __m128i p = _mm_cvtepu8_epi16(_mm_unpacklo_epi32(_mm_cvtsi32_si128(p0), _mm_cvtsi32_si128(p1)));
-    return _mm_sub_epi16(s, p);
-  };
-  __m128i a = row_pair(0), b = row_pair(2);  // rows 0 | 1 and 2 | 3
-  hadamard_pairs(&a, &b);                    // four transformed rows, two per register
-  const __m128i x = _mm_unpacklo_epi16(a, _mm_srli_si128(a, 8)), y = _mm_unpacklo_epi16(b, _mm_srli_si128(b, 8));
-  __m128i c = _mm_unpacklo_epi32(x, y), d = _mm_unpackhi_epi32(x, y);  // columns 0 | 1 and 2 | 3
-  hadamard_pairs(&c, &d);
-  const __m128i ones = _mm_set1_epi16(1);
-  __m128i sum = _mm_add_epi32(_mm_madd_epi16(_mm_abs_epi16(c), ones), _mm_madd_epi16(_mm_abs_epi16(d), ones));
-  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(1, 0, 3, 2)));
-  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(2, 3, 0, 1)));
-  return _mm_cvtsi128_si32(sum);
 }
 
 // Angular prediction of a 16x16 block, eight samples of a row at a time; horizontal
@@ -305,8 +224,6 @@ void init_intra_sse41(DspTable* table) {
   table->intra_predict_4x4 = intra_predict_4x4_sse41;
   table->intra_predict_8x8 = intra_predict_8x8_sse41;
   table->intra_predict_16x16 = intra_predict_16x16_sse41;
-  table->satd_4x4 = satd_4x4_sse41;
-  table->satd_8x8 = satd_8x8_sse41;
 }
 
 }  // namespace svc::codec::dsp

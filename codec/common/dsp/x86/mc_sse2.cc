@@ -1,6 +1,5 @@
 // SSE2 motion-compensation kernels: the rounding of 14-bit intermediates to samples
-// (single and bidirectional) and psadbw SADs (also against the average of two blocks), each equal to its plain
-// kernel in mc.cc bit for bit.
+// (single and bidirectional), each equal to its plain kernel in mc.cc bit for bit.
 #include <emmintrin.h>
 
 #include <cstring>
@@ -12,7 +11,6 @@
 namespace svc::codec::dsp {
 namespace {
 
-inline __m128i load16(const uint8_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
 inline __m128i load_int16x8(const int16_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); }
 
 // (in + 8192 + 32) >> 6 is ((in + 32) >> 6) + 128 (8192 = 128 * 64), which cannot
@@ -65,43 +63,11 @@ void average_intermediate_sse2(const int16_t* a, const int16_t* b, int count, ui
   if (i < count) average_intermediate_c(a + i, b + i, count - i, out + i);
 }
 
-inline int horizontal_sum(__m128i sad) {
-  return _mm_cvtsi128_si32(sad) + _mm_cvtsi128_si32(_mm_srli_si128(sad, 8));
-}
-
-int sad_16x16_sse2(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
-  __m128i sum = _mm_setzero_si128();
-  for (int y = 0; y < 16; ++y) {
-    sum = _mm_add_epi64(sum, _mm_sad_epu8(load16(source + y * source_stride), load16(prediction + 16 * y)));
-  }
-  return horizontal_sum(sum);
-}
-
-int sad_average_sse2(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* a, const uint8_t* b,
-                     ptrdiff_t reference_stride, int width, int height) {
-  __m128i sum = _mm_setzero_si128();
-  if (width == 16) {
-    for (int y = 0; y < height; ++y) {
-      const __m128i average = _mm_avg_epu8(load16(a + y * reference_stride), load16(b + y * reference_stride));
-      sum = _mm_add_epi64(sum, _mm_sad_epu8(load16(source + y * source_stride), average));
-    }
-    return horizontal_sum(sum);
-  }
-  auto load8 = [](const uint8_t* p) { return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)); };
-  for (int y = 0; y < height; ++y) {
-    const __m128i average = _mm_avg_epu8(load8(a + y * reference_stride), load8(b + y * reference_stride));
-    sum = _mm_add_epi64(sum, _mm_sad_epu8(load8(source + y * source_stride), average));
-  }
-  return _mm_cvtsi128_si32(sum);
-}
-
 }  // namespace
 
 void init_mc_sse2(DspTable* table) {
-  table->sad_average = sad_average_sse2;
   table->put_intermediate = put_intermediate_sse2;
   table->average_intermediate = average_intermediate_sse2;
-  table->sad_16x16 = sad_16x16_sse2;
 }
 
 }  // namespace svc::codec::dsp

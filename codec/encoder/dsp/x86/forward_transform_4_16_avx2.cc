@@ -1,12 +1,12 @@
 // AVX2 16x16 forward DCT: each pass computes a whole row of 16 outputs in two registers
 // (lanes over the frequency u), with every sum in the plain kernel's order and no fused
-// multiply-add, so it rounds exactly as the plain and SSE4.1 code do. The 4x4 and the
-// integer inverses stay SSE4.1: at eight lanes they would gain little.
+// multiply-add, so it rounds exactly as the plain and SSE4.1 code do. The 4x4 stays
+// SSE4.1: at eight lanes it would gain little.
 #include <immintrin.h>
 
-#include "codec/common/dsp/dct_4_16_basis.h"
-#include "codec/common/dsp/dsp_init.h"
-#include "codec/common/dsp/x86/transposed_basis.h"
+#include "codec/encoder/dsp/encoder_dsp_init.h"
+#include "codec/encoder/dsp/fdct_4_16_basis.h"
+#include "codec/encoder/dsp/x86/transposed_basis.h"
 
 #pragma GCC target("avx2")
 
@@ -43,6 +43,6 @@ void forward_dct_16x16_avx2(const float* samples, float* coefficients) {
 
 }  // namespace
 
-void init_transform_4_16_avx2(DspTable* table) { table->forward_dct_16x16 = forward_dct_16x16_avx2; }
+void init_forward_transform_4_16_avx2(EncoderDspTable* table) { table->forward_dct_16x16 = forward_dct_16x16_avx2; }
 
 }  // namespace svc::codec::dsp
