@@ -8,6 +8,7 @@
 #include <csignal>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include <OpenImageIO/imageio.h>
@@ -200,6 +201,61 @@ TEST_F(CliConventions, CheckReportsWhatTheEncoderWouldRefuse) {
   EXPECT_NE(error.find("cell (1,0,1), face nz"), std::string::npos) << error;
   EXPECT_NE(check.output.find(error), std::string::npos) << check.output;
   EXPECT_FALSE(fs::exists(work("bad.svc")));
+}
+
+// check reports every missing file, not the first alone, and still fails.
+TEST_F(CliConventions, CheckReportsEveryMissingFile) {
+  const fs::path bad = copy_of_db("two-missing");
+  fs::remove(bad / "cells" / "0_0_0" / "px.png");
+  fs::remove(bad / "cells" / "2_0_2" / "nz.png");
+  const CliRun check = svc("check " + quoted(bad));
+  EXPECT_EQ(check.exit_code, 1) << check.output;
+  const size_t first = check.output.find("cell (0,0,0), face px");
+  const size_t second = check.output.find("cell (2,0,2), face nz");
+  EXPECT_NE(first, std::string::npos) << check.output;
+  EXPECT_NE(second, std::string::npos) << check.output;
+  EXPECT_LT(first, second) << check.output;
+  EXPECT_NE(check.output.find("faces     52 of 54 listed load"), std::string::npos) << check.output;
+  const CliRun json_run = svc("check --json " + quoted(bad) + " 2>/dev/null");
+  EXPECT_EQ(json_run.exit_code, 1);
+  const json report = parse_json(json_run);
+  EXPECT_EQ(report["ok"], false);
+  ASSERT_EQ(report["problems"].size(), 2u) << report.dump(2);
+  EXPECT_NE(report["problems"][0].get<std::string>().find("px.png"), std::string::npos) << report.dump(2);
+  EXPECT_NE(report["problems"][1].get<std::string>().find("nz.png"), std::string::npos) << report.dump(2);
+}
+
+// decode --face writes a database of those faces that check accepts (saying that the
+// encoder needs whole cubes); decode of whole cells writes one that encodes again.
+TEST_F(CliConventions, DecodedFacesMakeADatabaseCheckAccepts) {
+  const fs::path one = work("one-face");
+  ASSERT_EQ(svc("decode --quiet " + quoted(file()) + " --cell 1,0,1 --face pz -o " + quoted(one)).exit_code, 0);
+  const json manifest = json::parse(testing::read_file_bytes(one / "manifest.json"));
+  ASSERT_EQ(manifest["cells"].size(), 1u) << manifest.dump(2);
+  EXPECT_EQ(manifest["cells"][0]["index"], json::array({1, 0, 1}));
+  EXPECT_EQ(manifest["cells"][0]["faces"].size(), 1u);
+  EXPECT_TRUE(manifest["cells"][0]["faces"].contains("pz"));
+  const CliRun check = svc("check --json " + quoted(one));
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+  const json report = parse_json(check);
+  EXPECT_EQ(report["ok"], true);
+  EXPECT_EQ(report["encodable"], false);
+  EXPECT_EQ(report["cells"], 1);
+  EXPECT_EQ(report["partial_cells"], 1);
+  EXPECT_EQ(report["faces"], 1);
+  EXPECT_EQ(report["problems"].size(), 0u);
+  const CliRun summary = svc("check " + quoted(one));
+  EXPECT_NE(summary.output.find("svc encode needs all six faces of a cell"), std::string::npos) << summary.output;
+  const CliRun encode = svc("encode " + quoted(one) + " -o " + quoted(work("one-face.svc")));
+  EXPECT_EQ(encode.exit_code, 1) << encode.output;
+  EXPECT_NE(encode.output.find("missing face \"px\""), std::string::npos) << encode.output;
+
+  const fs::path cube = work("one-cell");
+  ASSERT_EQ(svc("decode --quiet " + quoted(file()) + " --cell 1,0,1 -o " + quoted(cube)).exit_code, 0);
+  const json whole = parse_json(svc("check --json " + quoted(cube)));
+  EXPECT_EQ(whole["encodable"], true) << whole.dump(2);
+  EXPECT_EQ(whole["faces"], 6);
+  EXPECT_EQ(svc("encode --quiet " + quoted(cube) + " -o " + quoted(work("one-cell.svc"))).exit_code, 0);
 }
 
 // A damaged PNG is reported by svc alone: one line, no image library chatter.
