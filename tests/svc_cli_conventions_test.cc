@@ -258,6 +258,61 @@ TEST_F(CliConventions, DecodedFacesMakeADatabaseCheckAccepts) {
   EXPECT_EQ(svc("encode --quiet " + quoted(cube) + " -o " + quoted(work("one-cell.svc"))).exit_code, 0);
 }
 
+// verify names the damaged chunk first, before the faces that need it; --json lists
+// every problem; a file too short to open still gives JSON.
+TEST_F(CliConventions, VerifyNamesTheDamagedChunkFirst) {
+  auto reader = Reader::open(file());
+  ASSERT_TRUE(reader.ok());
+  const auto& cells = (*reader)->cells();
+  // An I-face that a B-face earlier in the file needs.
+  std::optional<std::pair<size_t, Face>> target;
+  for (size_t c = 0; c < cells.size() && !target; ++c) {
+    for (Face face : kAllFaces) {
+      for (const auto& [ref_cell, ref_face] : cells[c].faces[static_cast<int>(face)].references) {
+        if (ref_cell * kFaceCount + static_cast<size_t>(ref_face) > c * kFaceCount + static_cast<size_t>(face)) {
+          target.emplace(ref_cell, ref_face);
+        }
+      }
+      if (target) break;
+    }
+  }
+  ASSERT_TRUE(target) << "no B-face comes before one of its references";
+  const FaceEntry& entry = cells[target->first].faces[static_cast<int>(target->second)];
+  std::string bytes = testing::read_file_bytes(file());
+  bytes[entry.offset + entry.coded_bytes / 2 + 8] ^= 0x5a;
+  std::ofstream(work("chunk-damaged.svc"), std::ios::binary) << bytes;
+  const std::string damaged = face_label(cells[target->first].index, target->second);
+
+  const CliRun text = svc("verify " + quoted(work("chunk-damaged.svc")));
+  EXPECT_EQ(text.exit_code, 3) << text.output;
+  const size_t header = text.output.find("is damaged:\n");
+  ASSERT_NE(header, std::string::npos) << text.output;
+  const std::string first_line = text.output.substr(header + 12, text.output.find('\n', header + 12) - header - 12);
+  EXPECT_NE(first_line.find(damaged), std::string::npos) << text.output;
+  EXPECT_EQ(first_line.find("cannot be decoded: its reference"), std::string::npos) << text.output;
+
+  const CliRun json_run = svc("verify --json " + quoted(work("chunk-damaged.svc")) + " 2>/dev/null");
+  EXPECT_EQ(json_run.exit_code, 3);
+  const json report = parse_json(json_run);
+  EXPECT_EQ(report["ok"], false);
+  ASSERT_TRUE(report["problems"].is_array());
+  ASSERT_GE(report["problems"].size(), 2u) << report.dump(2);
+  EXPECT_EQ(report["problems"][0], first_line);
+  for (size_t i = 1; i < report["problems"].size(); ++i) {
+    EXPECT_NE(report["problems"][i].get<std::string>().find("cannot be decoded: its reference"), std::string::npos)
+        << report["problems"][i];
+  }
+
+  std::ofstream(work("truncated.svc"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  const CliRun truncated = svc("verify --json " + quoted(work("truncated.svc")) + " 2>/dev/null");
+  EXPECT_NE(truncated.exit_code, 0);
+  const json short_report = parse_json(truncated);
+  EXPECT_EQ(short_report["command"], "verify");
+  EXPECT_EQ(short_report["ok"], false);
+  ASSERT_EQ(short_report["problems"].size(), 1u) << short_report.dump(2);
+  EXPECT_FALSE(short_report["problems"][0].get<std::string>().empty());
+}
+
 // A damaged PNG is reported by svc alone: one line, no image library chatter.
 TEST_F(CliConventions, DamagedImagesGiveOnlySvcsMessage) {
   const fs::path broken = copy_of_db("broken-png");

@@ -49,6 +49,11 @@ struct VerifySettings {
   // Called after each face, one call at a time (from any of the threads): (faces
   // checked, faces total). Return false to stop; verify then returns kCancelled.
   std::function<bool(uint64_t done, uint64_t total)> progress;
+  // When given, receives every problem found, one message each, in the order of
+  // verify's report (which its Status holds the first 20 of); cleared first. The
+  // caller owns the vector; verify writes it from the calling thread once the checks
+  // are done, and leaves it empty on kCancelled.
+  std::vector<std::string>* problems = nullptr;
 };
 
 struct ReaderSettings {
@@ -266,9 +271,12 @@ class Reader {
 
   // Checks the CRC of every chunk and decodes every face: each I-face on its own, each
   // B-face from its references through the reference and semi-decoded caches. Returns
-  // the first problems found, naming the damaged chunk (offset, cell, face); ok when the
-  // file is intact. The problems reported, and their order, do not depend on
-  // settings.threads.
+  // ok when the file is intact, else kCorruptData with the first 20 problems, one a
+  // line: damaged commit slots, then the damaged faces themselves (each naming its
+  // chunk: offset, cell, face) in file order, then the faces that cannot be decoded only
+  // because a reference is damaged; then a count of the rest. The problems reported, and
+  // their order, do not depend on settings.threads. kCancelled when settings.progress
+  // stops it.
   Status verify(const VerifySettings& settings = VerifySettings{});
 
   struct Impl;
