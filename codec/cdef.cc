@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "codec/dsp/dsp.h"
+#include "codec/thread_buffers.h"
 
 namespace svc::codec {
 namespace {
@@ -58,6 +59,8 @@ class WidenedPlanes {
  public:
   explicit WidenedPlanes(const std::array<PlaneView, 3>& planes) {
     for (int p = 0; p < 3; ++p) widen(planes[p], p);
+    thread_local ThreadBufferShare share;  // codec/thread_buffers.h
+    share.set(capacity_bytes(buffers()[0]) + capacity_bytes(buffers()[1]) + capacity_bytes(buffers()[2]));
   }
   WidenedPlanes(const WidenedPlanes&) = delete;
   WidenedPlanes& operator=(const WidenedPlanes&) = delete;

@@ -18,6 +18,7 @@
 #include "codec/color.h"
 #include "codec/cube_padding.h"
 #include "codec/intra_codec.h"
+#include "codec/thread_buffers.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
 #include "container/container.h"
@@ -505,6 +506,7 @@ ReaderStats Reader::stats() const {
   s.predicted_faces_decoded = impl_->predicted_decoded.load(std::memory_order_relaxed);
   s.prefetch_faces = impl_->prefetch_faces.load(std::memory_order_relaxed);
   s.prefetch_dropped = impl_->prefetch_dropped.load(std::memory_order_relaxed);
+  s.thread_buffer_bytes = codec::thread_buffer_bytes();
   return s;
 }
 
