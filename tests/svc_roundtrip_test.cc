@@ -28,16 +28,20 @@ class RoundTrip : public ::testing::Test {
     options.grid = {3, 1, 3};
     options.face_size = 64;
     ASSERT_TRUE(samples::generate_scene(options, db()).ok());
+    // The same scene at 32x32 for the tests that encode it many times (tools, speeds).
+    options.face_size = 32;
+    ASSERT_TRUE(samples::generate_scene(options, small_db()).ok());
   }
   static void TearDownTestSuite() {
     delete dir_;
     dir_ = nullptr;
   }
   static fs::path db() { return dir_->path() / "db"; }
+  static fs::path small_db() { return dir_->path() / "small-db"; }
   static fs::path out(const std::string& name) { return dir_->path() / name; }
 
-  static ImageRGB8 source_face(const CellIndex& c, Face face) {
-    const fs::path path = db() / "cells" /
+  static ImageRGB8 source_face(const fs::path& database, const CellIndex& c, Face face) {
+    const fs::path path = database / "cells" /
                           (std::to_string(c.x) + "_" + std::to_string(c.y) + "_" + std::to_string(c.z)) /
                           (std::string(face_name(face)) + ".png");
     auto in = OIIO::ImageInput::open(path.string());
@@ -53,17 +57,17 @@ class RoundTrip : public ::testing::Test {
   // Encodes the scene with `settings` into out(name): the file verifies and decodes to
   // the encoder's quality. `label` names the case in failures.
   static void expect_sound_encode(const EncoderSettings& settings, const std::string& name,
-                                  const std::string& label) {
+                                  const std::string& label, const fs::path& database = db()) {
     const fs::path file = out(name);
-    auto summary = encode_database(db(), file, settings);
+    auto summary = encode_database(database, file, settings);
     ASSERT_TRUE(summary.ok()) << label << ": " << summary.status().to_string();
     auto reader = Reader::open(file);
     ASSERT_TRUE(reader.ok()) << label;
     EXPECT_TRUE((*reader)->verify().ok()) << label;
-    EXPECT_GE(database_psnr_y(file), 36.0) << label;
+    EXPECT_GE(database_psnr_y(file, database), 36.0) << label;
   }
 
-  static double database_psnr_y(const fs::path& svc_file) {
+  static double database_psnr_y(const fs::path& svc_file, const fs::path& database = db()) {
     auto reader = Reader::open(svc_file);
     EXPECT_TRUE(reader.ok()) << reader.status().to_string();
     SquaredError total;
@@ -71,7 +75,7 @@ class RoundTrip : public ::testing::Test {
       for (Face face : kAllFaces) {
         auto decoded = (*reader)->decode_face(cell.index, face);
         EXPECT_TRUE(decoded.ok()) << decoded.status().to_string();
-        total.add(*luma_squared_error(source_face(cell.index, face), *decoded));
+        total.add(*luma_squared_error(source_face(database, cell.index, face), *decoded));
       }
     }
     return total.psnr();
@@ -125,17 +129,17 @@ TEST_F(RoundTrip, EncodesVerifiesAndDecodesEveryFace) {
 TEST_F(RoundTrip, EveryCodingToolCanBeSwitchedOff) {
   const std::vector<std::string> names = coding_tool_names();
   ASSERT_FALSE(names.empty());
-  ASSERT_TRUE(encode_database(db(), out("tools-on.svc"), EncoderSettings{}).ok());
+  ASSERT_TRUE(encode_database(small_db(), out("tools-on.svc"), EncoderSettings{}).ok());
   EncoderSettings all_off;
   for (const std::string& name : names) {
     EncoderSettings one_off;
     ASSERT_TRUE(disable_coding_tool(&one_off.tools, name).ok()) << name;
     ASSERT_TRUE(disable_coding_tool(&all_off.tools, name).ok()) << name;
-    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(one_off, "tool-off-" + name + ".svc", name));
+    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(one_off, "tool-off-" + name + ".svc", name, small_db()));
   }
   // All off together too: switches that interact (quantization without its
   // rate-distortion step under a mode search without one) still write what decodes.
-  ASSERT_NO_FATAL_FAILURE(expect_sound_encode(all_off, "tools-off.svc", "every tool off"));
+  ASSERT_NO_FATAL_FAILURE(expect_sound_encode(all_off, "tools-off.svc", "every tool off", small_db()));
   EXPECT_NE(file_bytes(out("tools-on.svc")), file_bytes(out("tools-off.svc")));
 
   const Status unknown = disable_coding_tool(&all_off.tools, "no-such-tool");
@@ -179,7 +183,7 @@ TEST_F(RoundTrip, PairsOfCodingToolsCanBeSwitchedOff) {
     ASSERT_TRUE(disable_coding_tool(&settings.tools, names[j]).ok());
     const std::string label = names[i] + " and " + names[j] + " off";
     const fs::path file = out("pair.svc");
-    auto summary = encode_database(db(), file, settings);
+    auto summary = encode_database(small_db(), file, settings);
     ASSERT_TRUE(summary.ok()) << label << ": " << summary.status().to_string();
     auto reader = Reader::open(file);
     ASSERT_TRUE(reader.ok()) << label;
@@ -213,12 +217,12 @@ TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
       EXPECT_GT(speed_disabled_tools(speed).size(), speed_disabled_tools(speed - 1).size());
     }
     previous = settings.tools;
-    ASSERT_NO_FATAL_FAILURE(
-        expect_sound_encode(settings, "speed-" + std::to_string(speed) + ".svc", "speed " + std::to_string(speed)));
+    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, "speed-" + std::to_string(speed) + ".svc",
+                                                "speed " + std::to_string(speed), small_db()));
     // With a tool switched off besides: levels as quantized under the speed's searches.
     ASSERT_TRUE(disable_coding_tool(&settings.tools, "rdoq").ok());
     ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, "speed-" + std::to_string(speed) + "-no-rdoq.svc",
-                                                "speed " + std::to_string(speed) + " without rdoq"));
+                                                "speed " + std::to_string(speed) + " without rdoq", small_db()));
   }
   EXPECT_NE(file_bytes(out("speed-0.svc")), file_bytes(out("speed-" + std::to_string(kMaxEncoderSpeed) + ".svc")));
   for (int speed : {-1, kMaxEncoderSpeed + 1}) {
@@ -299,7 +303,7 @@ TEST_F(RoundTrip, FindsCellsByIndexAndWorldPosition) {
 
 TEST_F(RoundTrip, FlippedBytesAreReportedAndNeverCrashTheDecoder) {
   const fs::path file = out("flip.svc");
-  ASSERT_TRUE(encode_database(db(), file, intra_settings(60)).ok());
+  ASSERT_TRUE(encode_database(small_db(), file, intra_settings(60)).ok());
   const std::vector<uint8_t> original = file_bytes(file);
   auto clean_reader = Reader::open(file);
   ASSERT_TRUE(clean_reader.ok());
