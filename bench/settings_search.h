@@ -7,7 +7,10 @@
 // brackets it between measured settings and narrows the bracket by secant steps, or
 // steps outwards from the nearest measurements when no bracket exists, until a
 // measurement lies within `tolerance` of the target, the bracket has no setting left
-// inside, the range ends, or `max_runs` measurements were made.
+// inside, the range ends, or `max_runs` measurements were made. The lowest and highest
+// targets also need a measurement at or beyond them: each curve spans the targets where
+// the codec can reach them, so the curves of any two codecs overlap over that span and
+// a BD-rate between them exists.
 #pragma once
 
 #include <functional>
@@ -25,7 +28,7 @@ struct SearchTargets {
   int max_runs = 10;           // measurements per codec, seeds included
 };
 
-// 30..42 dB in 2 dB steps (seven targets); quick: 32 and 38 dB, three runs.
+// 30..42 dB in 2 dB steps (seven targets); quick: 32 and 38 dB, four runs.
 SearchTargets default_targets(bool quick);
 
 // Measures one setting and returns its PSNR-Y.
@@ -36,8 +39,10 @@ Result<std::map<int, double>> search_settings(const SettingRange& range, const S
                                               const MeasureSetting& measure);
 
 // The next setting to try for `target` given the measurements so far; nullopt when the
-// target is met, cannot be bracketed any closer, or lies beyond the range.
+// target is met, cannot be bracketed any closer, or lies beyond the range. A target is
+// met by a point within `tolerance` of it; an end target (side -1: the lowest, +1: the
+// highest) also needs a point at or beyond it (below the lowest, above the highest).
 std::optional<int> next_setting(const SettingRange& range, const std::map<int, double>& measured, double target,
-                                double tolerance);
+                                double tolerance, int side = 0);
 
 }  // namespace svc::bench

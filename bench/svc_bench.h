@@ -75,7 +75,7 @@ struct BenchOptions {
   // results.json of an earlier run on the same database: svc's curve (and its B-faces')
   // is compared with that run's by BD-rate. Empty: no comparison.
   std::filesystem::path before_results;
-  // Two PSNR targets and at most three encodes per codec: for tests and quick looks.
+  // Two PSNR targets and at most four encodes per codec: for tests and quick looks.
   bool quick = false;
   // GOP of x264, x265 and AV1, presets replacing the defaults and private encoder
   // options per codec (see anchors.h, AnchorOptions).

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Quick start, step two: build if needed and run the test suite.
+# Quick start, step two: build if needed and run the test suite. Arguments go to ctest;
+# the tests too long for the default run: scripts/test.sh -C long -L long
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh

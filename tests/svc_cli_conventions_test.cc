@@ -8,6 +8,7 @@
 #include <csignal>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include <OpenImageIO/imageio.h>
@@ -67,6 +68,14 @@ class CliConventions : public ::testing::Test {
     const json parsed = json::parse(run.output, nullptr, false);
     EXPECT_FALSE(parsed.is_discarded()) << run.output;
     return parsed;
+  }
+
+  // The JSON in the output of a run that also wrote errors (stderr comes with stdout).
+  static json parse_json_after_errors(const CliRun& run) {
+    const size_t start = run.output.find("{\n"), end = run.output.find("\n}");
+    EXPECT_TRUE(start != std::string::npos && end != std::string::npos && start < end) << run.output;
+    if (start == std::string::npos || end == std::string::npos || start > end) return json();
+    return parse_json(CliRun{run.exit_code, run.output.substr(start, end + 2 - start)});
   }
 
   static testing::TempDir* dir_;
@@ -200,6 +209,116 @@ TEST_F(CliConventions, CheckReportsWhatTheEncoderWouldRefuse) {
   EXPECT_NE(error.find("cell (1,0,1), face nz"), std::string::npos) << error;
   EXPECT_NE(check.output.find(error), std::string::npos) << check.output;
   EXPECT_FALSE(fs::exists(work("bad.svc")));
+}
+
+// check reports every missing file, not the first alone, and still fails.
+TEST_F(CliConventions, CheckReportsEveryMissingFile) {
+  const fs::path bad = copy_of_db("two-missing");
+  fs::remove(bad / "cells" / "0_0_0" / "px.png");
+  fs::remove(bad / "cells" / "2_0_2" / "nz.png");
+  const CliRun check = svc("check " + quoted(bad));
+  EXPECT_EQ(check.exit_code, 1) << check.output;
+  const size_t first = check.output.find("cell (0,0,0), face px");
+  const size_t second = check.output.find("cell (2,0,2), face nz");
+  EXPECT_NE(first, std::string::npos) << check.output;
+  EXPECT_NE(second, std::string::npos) << check.output;
+  EXPECT_LT(first, second) << check.output;
+  EXPECT_NE(check.output.find("faces     52 of 54 listed load"), std::string::npos) << check.output;
+  const CliRun json_run = svc("check --json " + quoted(bad));
+  EXPECT_EQ(json_run.exit_code, 1);
+  const json report = parse_json_after_errors(json_run);
+  EXPECT_EQ(report["ok"], false);
+  ASSERT_EQ(report["problems"].size(), 2u) << report.dump(2);
+  EXPECT_NE(report["problems"][0].get<std::string>().find("px.png"), std::string::npos) << report.dump(2);
+  EXPECT_NE(report["problems"][1].get<std::string>().find("nz.png"), std::string::npos) << report.dump(2);
+}
+
+// decode --face writes a database of those faces that check accepts (saying that the
+// encoder needs whole cubes); decode of whole cells writes one that encodes again.
+TEST_F(CliConventions, DecodedFacesMakeADatabaseCheckAccepts) {
+  const fs::path one = work("one-face");
+  ASSERT_EQ(svc("decode --quiet " + quoted(file()) + " --cell 1,0,1 --face pz -o " + quoted(one)).exit_code, 0);
+  const json manifest = json::parse(testing::read_file_bytes(one / "manifest.json"));
+  ASSERT_EQ(manifest["cells"].size(), 1u) << manifest.dump(2);
+  EXPECT_EQ(manifest["cells"][0]["index"], json::array({1, 0, 1}));
+  EXPECT_EQ(manifest["cells"][0]["faces"].size(), 1u);
+  EXPECT_TRUE(manifest["cells"][0]["faces"].contains("pz"));
+  const CliRun check = svc("check --json " + quoted(one));
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+  const json report = parse_json(check);
+  EXPECT_EQ(report["ok"], true);
+  EXPECT_EQ(report["encodable"], false);
+  EXPECT_EQ(report["cells"], 1);
+  EXPECT_EQ(report["partial_cells"], 1);
+  EXPECT_EQ(report["faces"], 1);
+  EXPECT_EQ(report["problems"].size(), 0u);
+  const CliRun summary = svc("check " + quoted(one));
+  EXPECT_NE(summary.output.find("svc encode needs all six faces of a cell"), std::string::npos) << summary.output;
+  const CliRun encode = svc("encode " + quoted(one) + " -o " + quoted(work("one-face.svc")));
+  EXPECT_EQ(encode.exit_code, 1) << encode.output;
+  EXPECT_NE(encode.output.find("missing face \"px\""), std::string::npos) << encode.output;
+
+  const fs::path cube = work("one-cell");
+  ASSERT_EQ(svc("decode --quiet " + quoted(file()) + " --cell 1,0,1 -o " + quoted(cube)).exit_code, 0);
+  const json whole = parse_json(svc("check --json " + quoted(cube)));
+  EXPECT_EQ(whole["encodable"], true) << whole.dump(2);
+  EXPECT_EQ(whole["faces"], 6);
+  EXPECT_EQ(svc("encode --quiet " + quoted(cube) + " -o " + quoted(work("one-cell.svc"))).exit_code, 0);
+}
+
+// verify names the damaged chunk first, before the faces that need it; --json lists
+// every problem; a file too short to open still gives JSON.
+TEST_F(CliConventions, VerifyNamesTheDamagedChunkFirst) {
+  auto reader = Reader::open(file());
+  ASSERT_TRUE(reader.ok());
+  const auto& cells = (*reader)->cells();
+  // An I-face that a B-face earlier in the file needs.
+  std::optional<std::pair<size_t, Face>> target;
+  for (size_t c = 0; c < cells.size() && !target; ++c) {
+    for (Face face : kAllFaces) {
+      for (const auto& [ref_cell, ref_face] : cells[c].faces[static_cast<int>(face)].references) {
+        if (ref_cell * kFaceCount + static_cast<size_t>(ref_face) > c * kFaceCount + static_cast<size_t>(face)) {
+          target.emplace(ref_cell, ref_face);
+        }
+      }
+      if (target) break;
+    }
+  }
+  ASSERT_TRUE(target) << "no B-face comes before one of its references";
+  const FaceEntry& entry = cells[target->first].faces[static_cast<int>(target->second)];
+  std::string bytes = testing::read_file_bytes(file());
+  bytes[entry.offset + entry.coded_bytes / 2 + 8] ^= 0x5a;
+  std::ofstream(work("chunk-damaged.svc"), std::ios::binary) << bytes;
+  const std::string damaged = face_label(cells[target->first].index, target->second);
+
+  const CliRun text = svc("verify " + quoted(work("chunk-damaged.svc")));
+  EXPECT_EQ(text.exit_code, 3) << text.output;
+  const size_t header = text.output.find("is damaged:\n");
+  ASSERT_NE(header, std::string::npos) << text.output;
+  const std::string first_line = text.output.substr(header + 12, text.output.find('\n', header + 12) - header - 12);
+  EXPECT_NE(first_line.find(damaged), std::string::npos) << text.output;
+  EXPECT_EQ(first_line.find("cannot be decoded: its reference"), std::string::npos) << text.output;
+
+  const CliRun json_run = svc("verify --json " + quoted(work("chunk-damaged.svc")));
+  EXPECT_EQ(json_run.exit_code, 3);
+  const json report = parse_json_after_errors(json_run);
+  EXPECT_EQ(report["ok"], false);
+  ASSERT_TRUE(report["problems"].is_array());
+  ASSERT_GE(report["problems"].size(), 2u) << report.dump(2);
+  EXPECT_EQ(report["problems"][0], first_line);
+  for (size_t i = 1; i < report["problems"].size(); ++i) {
+    EXPECT_NE(report["problems"][i].get<std::string>().find("cannot be decoded: its reference"), std::string::npos)
+        << report["problems"][i];
+  }
+
+  std::ofstream(work("truncated.svc"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  const CliRun truncated = svc("verify --json " + quoted(work("truncated.svc")));
+  EXPECT_NE(truncated.exit_code, 0);
+  const json short_report = parse_json_after_errors(truncated);
+  EXPECT_EQ(short_report["command"], "verify");
+  EXPECT_EQ(short_report["ok"], false);
+  ASSERT_EQ(short_report["problems"].size(), 1u) << short_report.dump(2);
+  EXPECT_FALSE(short_report["problems"][0].get<std::string>().empty());
 }
 
 // A damaged PNG is reported by svc alone: one line, no image library chatter.

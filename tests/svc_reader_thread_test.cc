@@ -66,6 +66,36 @@ class ReaderThreads : public ::testing::Test {
 testing::TempDir* ReaderThreads::dir_ = nullptr;
 std::vector<ImageYCbCr420>* ReaderThreads::reference_ = nullptr;
 
+// The working buffers a thread keeps for B-face decoding (outside the caches' budgets)
+// are counted in the statistics: one face's worth for a thread that decoded one, given
+// back when the thread ends.
+TEST_F(ReaderThreads, ThreadBuffersAreCountedAndGivenBackWhenTheThreadEnds) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  settings.face_cache_bytes = 0;
+  auto reader = Reader::open(file(), settings);
+  ASSERT_TRUE(reader.ok()) << reader.status().to_string();
+  const auto& cells = (*reader)->cells();
+  size_t b_cell = 0;
+  while (b_cell < cells.size() && cells[b_cell].faces[0].type != FaceType::kPredicted) ++b_cell;
+  ASSERT_LT(b_cell, cells.size());
+  const uint64_t before = (*reader)->stats().thread_buffer_bytes;
+  uint64_t during = 0;
+  std::thread decoder([&] {
+    for (Face face : kAllFaces) ASSERT_TRUE((*reader)->decode_face_ycbcr(cells[b_cell].index, face).ok());
+    during = (*reader)->stats().thread_buffer_bytes;
+  });
+  decoder.join();
+  const uint64_t pixels = 32 * 32;
+  ASSERT_GT(during, before);
+  const uint64_t held = during - before;
+  std::printf("one thread's buffers after B-faces of 32x32: %llu bytes (%.1f a pixel)\n",
+              static_cast<unsigned long long>(held), static_cast<double>(held) / pixels);
+  EXPECT_GE(held, pixels * 3 / 2);  // at least the B-face's reconstructed planes
+  EXPECT_LE(held, pixels * 32);     // and not more than about one face's worth
+  EXPECT_EQ((*reader)->stats().thread_buffer_bytes, before);
+}
+
 TEST_F(ReaderThreads, EightThreadsOnRandomCellsEqualSequentialDecode) {
   ReaderSettings settings;
   settings.face_cache_bytes = 40 * (32 * 32 + 2 * 16 * 16 + 200);  // ~40 faces of 216

@@ -1,6 +1,7 @@
 // Whole-database round trips: generate a sample scene, encode, read back, damage.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <map>
 
@@ -27,16 +28,20 @@ class RoundTrip : public ::testing::Test {
     options.grid = {3, 1, 3};
     options.face_size = 64;
     ASSERT_TRUE(samples::generate_scene(options, db()).ok());
+    // The same scene at 32x32 for the tests that encode it many times (tools, speeds).
+    options.face_size = 32;
+    ASSERT_TRUE(samples::generate_scene(options, small_db()).ok());
   }
   static void TearDownTestSuite() {
     delete dir_;
     dir_ = nullptr;
   }
   static fs::path db() { return dir_->path() / "db"; }
+  static fs::path small_db() { return dir_->path() / "small-db"; }
   static fs::path out(const std::string& name) { return dir_->path() / name; }
 
-  static ImageRGB8 source_face(const CellIndex& c, Face face) {
-    const fs::path path = db() / "cells" /
+  static ImageRGB8 source_face(const fs::path& database, const CellIndex& c, Face face) {
+    const fs::path path = database / "cells" /
                           (std::to_string(c.x) + "_" + std::to_string(c.y) + "_" + std::to_string(c.z)) /
                           (std::string(face_name(face)) + ".png");
     auto in = OIIO::ImageInput::open(path.string());
@@ -52,17 +57,17 @@ class RoundTrip : public ::testing::Test {
   // Encodes the scene with `settings` into out(name): the file verifies and decodes to
   // the encoder's quality. `label` names the case in failures.
   static void expect_sound_encode(const EncoderSettings& settings, const std::string& name,
-                                  const std::string& label) {
+                                  const std::string& label, const fs::path& database = db()) {
     const fs::path file = out(name);
-    auto summary = encode_database(db(), file, settings);
+    auto summary = encode_database(database, file, settings);
     ASSERT_TRUE(summary.ok()) << label << ": " << summary.status().to_string();
     auto reader = Reader::open(file);
     ASSERT_TRUE(reader.ok()) << label;
     EXPECT_TRUE((*reader)->verify().ok()) << label;
-    EXPECT_GE(database_psnr_y(file), 36.0) << label;
+    EXPECT_GE(database_psnr_y(file, database), 36.0) << label;
   }
 
-  static double database_psnr_y(const fs::path& svc_file) {
+  static double database_psnr_y(const fs::path& svc_file, const fs::path& database = db()) {
     auto reader = Reader::open(svc_file);
     EXPECT_TRUE(reader.ok()) << reader.status().to_string();
     SquaredError total;
@@ -70,7 +75,7 @@ class RoundTrip : public ::testing::Test {
       for (Face face : kAllFaces) {
         auto decoded = (*reader)->decode_face(cell.index, face);
         EXPECT_TRUE(decoded.ok()) << decoded.status().to_string();
-        total.add(*luma_squared_error(source_face(cell.index, face), *decoded));
+        total.add(*luma_squared_error(source_face(database, cell.index, face), *decoded));
       }
     }
     return total.psnr();
@@ -124,17 +129,17 @@ TEST_F(RoundTrip, EncodesVerifiesAndDecodesEveryFace) {
 TEST_F(RoundTrip, EveryCodingToolCanBeSwitchedOff) {
   const std::vector<std::string> names = coding_tool_names();
   ASSERT_FALSE(names.empty());
-  ASSERT_TRUE(encode_database(db(), out("tools-on.svc"), EncoderSettings{}).ok());
+  ASSERT_TRUE(encode_database(small_db(), out("tools-on.svc"), EncoderSettings{}).ok());
   EncoderSettings all_off;
   for (const std::string& name : names) {
     EncoderSettings one_off;
     ASSERT_TRUE(disable_coding_tool(&one_off.tools, name).ok()) << name;
     ASSERT_TRUE(disable_coding_tool(&all_off.tools, name).ok()) << name;
-    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(one_off, "tool-off-" + name + ".svc", name));
+    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(one_off, "tool-off-" + name + ".svc", name, small_db()));
   }
   // All off together too: switches that interact (quantization without its
   // rate-distortion step under a mode search without one) still write what decodes.
-  ASSERT_NO_FATAL_FAILURE(expect_sound_encode(all_off, "tools-off.svc", "every tool off"));
+  ASSERT_NO_FATAL_FAILURE(expect_sound_encode(all_off, "tools-off.svc", "every tool off", small_db()));
   EXPECT_NE(file_bytes(out("tools-on.svc")), file_bytes(out("tools-off.svc")));
 
   const Status unknown = disable_coding_tool(&all_off.tools, "no-such-tool");
@@ -144,24 +149,46 @@ TEST_F(RoundTrip, EveryCodingToolCanBeSwitchedOff) {
 }
 
 // Switches interact (a search without its rate-distortion step keeps what quantization
-// without one gave it): every pair of tools switched off still writes a stream that
-// verifies, each face decoded and checked against its chunk.
-TEST_F(RoundTrip, EveryPairOfCodingToolsCanBeSwitchedOff) {
-  const std::vector<std::string> names = coding_tool_names();
-  for (size_t i = 0; i < names.size(); ++i) {
-    for (size_t j = i + 1; j < names.size(); ++j) {
-      EncoderSettings settings;
-      ASSERT_TRUE(disable_coding_tool(&settings.tools, names[i]).ok());
-      ASSERT_TRUE(disable_coding_tool(&settings.tools, names[j]).ok());
-      const std::string label = names[i] + " and " + names[j] + " off";
-      const fs::path file = out("pair.svc");
-      auto summary = encode_database(db(), file, settings);
-      ASSERT_TRUE(summary.ok()) << label << ": " << summary.status().to_string();
-      auto reader = Reader::open(file);
-      ASSERT_TRUE(reader.ok()) << label;
-      const Status verified = (*reader)->verify();
-      EXPECT_TRUE(verified.ok()) << label << ": " << verified.to_string();
+// without one gave it): pairs of tools switched off still write a stream that verifies,
+// each face decoded and checked against its chunk. The default run takes a fixed sample
+// in which every tool is off once beside another (tool i with tool n-1-i); every pair
+// runs under the "long" label (SVC_EVERY_TOOL_PAIR=1; docs/runtime.md, Tests).
+std::vector<std::pair<size_t, size_t>> tool_pairs(size_t n, bool every_pair) {
+  std::vector<std::pair<size_t, size_t>> pairs;
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) {
+      if (every_pair || j == n - 1 - i || (n % 2 == 1 && i == 0 && j == n / 2)) pairs.emplace_back(i, j);
     }
+  }
+  return pairs;
+}
+
+TEST(ToolPairs, SampleSwitchesEveryToolOffAndEveryPairIsTheLongRun) {
+  for (size_t n : {2u, 7u, 16u}) {
+    const auto sample = tool_pairs(n, false);
+    std::vector<int> off(n, 0);
+    for (const auto& [i, j] : sample) ++off[i], ++off[j];
+    for (size_t t = 0; t < n; ++t) EXPECT_GE(off[t], 1) << "tool " << t << " of " << n;
+    EXPECT_EQ(sample.size(), (n + 1) / 2) << n;
+    EXPECT_EQ(tool_pairs(n, true).size(), n * (n - 1) / 2) << n;
+  }
+}
+
+TEST_F(RoundTrip, PairsOfCodingToolsCanBeSwitchedOff) {
+  const std::vector<std::string> names = coding_tool_names();
+  const char* every = std::getenv("SVC_EVERY_TOOL_PAIR");
+  for (const auto& [i, j] : tool_pairs(names.size(), every != nullptr && std::string(every) == "1")) {
+    EncoderSettings settings;
+    ASSERT_TRUE(disable_coding_tool(&settings.tools, names[i]).ok());
+    ASSERT_TRUE(disable_coding_tool(&settings.tools, names[j]).ok());
+    const std::string label = names[i] + " and " + names[j] + " off";
+    const fs::path file = out("pair.svc");
+    auto summary = encode_database(small_db(), file, settings);
+    ASSERT_TRUE(summary.ok()) << label << ": " << summary.status().to_string();
+    auto reader = Reader::open(file);
+    ASSERT_TRUE(reader.ok()) << label;
+    const Status verified = (*reader)->verify();
+    EXPECT_TRUE(verified.ok()) << label << ": " << verified.to_string();
   }
 }
 
@@ -190,12 +217,12 @@ TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
       EXPECT_GT(speed_disabled_tools(speed).size(), speed_disabled_tools(speed - 1).size());
     }
     previous = settings.tools;
-    ASSERT_NO_FATAL_FAILURE(
-        expect_sound_encode(settings, "speed-" + std::to_string(speed) + ".svc", "speed " + std::to_string(speed)));
+    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, "speed-" + std::to_string(speed) + ".svc",
+                                                "speed " + std::to_string(speed), small_db()));
     // With a tool switched off besides: levels as quantized under the speed's searches.
     ASSERT_TRUE(disable_coding_tool(&settings.tools, "rdoq").ok());
     ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, "speed-" + std::to_string(speed) + "-no-rdoq.svc",
-                                                "speed " + std::to_string(speed) + " without rdoq"));
+                                                "speed " + std::to_string(speed) + " without rdoq", small_db()));
   }
   EXPECT_NE(file_bytes(out("speed-0.svc")), file_bytes(out("speed-" + std::to_string(kMaxEncoderSpeed) + ".svc")));
   for (int speed : {-1, kMaxEncoderSpeed + 1}) {
@@ -276,7 +303,7 @@ TEST_F(RoundTrip, FindsCellsByIndexAndWorldPosition) {
 
 TEST_F(RoundTrip, FlippedBytesAreReportedAndNeverCrashTheDecoder) {
   const fs::path file = out("flip.svc");
-  ASSERT_TRUE(encode_database(db(), file, intra_settings(60)).ok());
+  ASSERT_TRUE(encode_database(small_db(), file, intra_settings(60)).ok());
   const std::vector<uint8_t> original = file_bytes(file);
   auto clean_reader = Reader::open(file);
   ASSERT_TRUE(clean_reader.ok());

@@ -19,6 +19,7 @@
 #include "codec/common/adaptive_bit.h"
 #include "codec/common/dsp/dsp.h"
 #include "codec/common/loop_filter.h"
+#include "codec/common/thread_buffers.h"
 
 namespace svc::codec {
 
@@ -102,6 +103,8 @@ class WidenedPlanes {
  public:
   explicit WidenedPlanes(const std::array<PlaneView, 3>& planes) {
     for (int p = 0; p < 3; ++p) widen(planes[p], p);
+    thread_local ThreadBufferShare share;  // codec/common/thread_buffers.h
+    share.set(capacity_bytes(buffers()[0]) + capacity_bytes(buffers()[1]) + capacity_bytes(buffers()[2]));
   }
   WidenedPlanes(const WidenedPlanes&) = delete;
   WidenedPlanes& operator=(const WidenedPlanes&) = delete;

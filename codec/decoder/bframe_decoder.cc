@@ -11,6 +11,7 @@
 #include "codec/common/bframe_loop_filter.h"
 #include "codec/common/bframe_state.h"
 #include "codec/common/cube_padding.h"
+#include "codec/common/thread_buffers.h"
 #include "codec/decoder/bframe_syntax_reader.h"
 #include "codec/decoder/cdef_syntax.h"
 #include "codec/decoder/coefficient_reader.h"
@@ -21,6 +22,18 @@ namespace svc::codec {
 namespace {
 
 using namespace bframe;
+
+// Bytes held by a state's buffers (codec/common/thread_buffers.h); the intra neighbour state
+// holds 3 bytes (mode, coded, width) per 4x4 unit of each plane.
+uint64_t state_buffer_bytes(const FrameState& s) {
+  uint64_t bytes = s.macroblocks.capacity() * sizeof(MacroblockInfo) + capacity_bytes(s.nodes[0]) +
+                   capacity_bytes(s.nodes[1]) + capacity_bytes(s.node_known[0]) + capacity_bytes(s.node_known[1]);
+  for (int p = 0; p < 3; ++p) {
+    const uint64_t rows = (p == 0 ? 16 : 8) * static_cast<uint64_t>(s.mbs_y);
+    bytes += capacity_bytes(s.planes[p]) + capacity_bytes(s.coded[p]) + 3 * (s.strides[p] / 4) * (rows / 4);
+  }
+  return bytes;
+}
 
 Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "B-frame: " + what); }
 
@@ -412,6 +425,8 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   // that decoding face after face allocates (and page-faults) nothing for them.
   thread_local FrameState s;
   init_state(s, width, height, header.qindex, &ref0, ref1, header.border_units);
+  thread_local ThreadBufferShare share;  // codec/common/thread_buffers.h
+  share.set(state_buffer_bytes(s));
   s.warp_mask = header.warp_mask;
   s.filter = header.filter;
   s.inter_transform_sizes = header.inter_transform_sizes;

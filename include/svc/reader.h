@@ -13,6 +13,15 @@
 // background; a request for a face that is being decoded (by a worker or by another
 // caller) waits for that work instead of repeating it.
 //
+// Memory: the caches' budgets bound what they hold. Besides them, each thread that
+// decodes faces (a caller's or a prefetch worker) keeps the decoder's working buffers
+// (the B-face state, CDEF's widened planes) from face to face until it ends, sized for
+// the largest face it has decoded for any reader: about 5 bytes a pixel of a 256x256
+// face. ReaderStats::thread_buffer_bytes counts them. The reader's memory is thus the
+// three budgets plus one face's worth per decoding thread: ReaderSettings::
+// prefetch_threads workers, the callers' threads, and ReaderSettings::decode_threads - 1
+// helpers while decode_cube runs.
+//
 // Errors: no call throws; failures come back as Status / Result with a message naming
 // the file, cell, face and byte offset at fault. A damaged face yields an error for
 // that face (and the B-faces that reference it) while every other face stays readable.
@@ -49,6 +58,11 @@ struct VerifySettings {
   // Called after each face, one call at a time (from any of the threads): (faces
   // checked, faces total). Return false to stop; verify then returns kCancelled.
   std::function<bool(uint64_t done, uint64_t total)> progress;
+  // When given, receives every problem found, one message each, in the order of
+  // verify's report (which its Status holds the first 20 of); cleared first. The
+  // caller owns the vector; verify writes it from the calling thread once the checks
+  // are done, and leaves it empty on kCancelled.
+  std::vector<std::string>* problems = nullptr;
 };
 
 struct ReaderSettings {
@@ -203,6 +217,10 @@ struct ReaderStats {
   uint64_t predicted_faces_decoded = 0;  // B-face decodes
   uint64_t prefetch_faces = 0;           // faces decoded by prefetch workers
   uint64_t prefetch_dropped = 0;         // queued prefetch faces dropped (viewer moved, close)
+  // Bytes held now by the decoder's per-thread working buffers, outside the caches'
+  // budgets (see "Memory" at the top of this file). Process-wide: the sum over every live
+  // thread that has decoded faces, for any reader or encoder.
+  uint64_t thread_buffer_bytes = 0;
 };
 
 class Reader {
@@ -266,9 +284,12 @@ class Reader {
 
   // Checks the CRC of every chunk and decodes every face: each I-face on its own, each
   // B-face from its references through the reference and semi-decoded caches. Returns
-  // the first problems found, naming the damaged chunk (offset, cell, face); ok when the
-  // file is intact. The problems reported, and their order, do not depend on
-  // settings.threads.
+  // ok when the file is intact, else kCorruptData with the first 20 problems, one a
+  // line: damaged commit slots, then the damaged faces themselves (each naming its
+  // chunk: offset, cell, face) in file order, then the faces that cannot be decoded only
+  // because a reference is damaged; then a count of the rest. The problems reported, and
+  // their order, do not depend on settings.threads. kCancelled when settings.progress
+  // stops it.
   Status verify(const VerifySettings& settings = VerifySettings{});
 
   struct Impl;

@@ -39,10 +39,18 @@ struct FaceSource {
   Camera camera;  // view matrix and frustum (per-face or global projection)
 };
 
+// Bit (1 << face) set: the cell lists that face (all six unless ManifestOptions::
+// allow_partial_cells).
+inline constexpr uint8_t kAllFacesListed = (1 << kFaceCount) - 1;
+inline bool lists_face(uint8_t listed_faces, Face face) {
+  return (listed_faces >> static_cast<int>(face) & 1) != 0;
+}
+
 struct CellSource {
   CellIndex index;
   std::array<double, 3> position{0, 0, 0};
-  std::array<FaceSource, kFaceCount> faces;  // indexed by Face
+  std::array<FaceSource, kFaceCount> faces;  // indexed by Face; empty paths where not listed
+  uint8_t listed_faces = kAllFacesListed;
 };
 
 // A listed cell as the manifest keeps it: its index, its position, and where its entry
@@ -55,6 +63,7 @@ struct ManifestCell {
   std::array<double, 3> position{0, 0, 0};
   uint64_t entry_offset = 0;  // of the cell's JSON object in manifest.json
   uint64_t entry_size = 0;    // its bytes, braces included
+  uint8_t listed_faces = kAllFacesListed;
 };
 
 struct DatabaseManifest {
@@ -69,14 +78,29 @@ struct DatabaseManifest {
   std::vector<ManifestCell> cells;    // sorted by (y, z, x) cell index, no duplicates
 };
 
+// A face whose files fail load_manifest's file checks (outside the folder, missing).
+struct FaceFileProblem {
+  CellIndex cell;
+  Face face = Face::kPX;
+  Status status;
+};
+
 struct ManifestOptions {
   // Face files may lie outside the database folder (absolute paths, "../"). Off by
   // default: a manifest from elsewhere must not pull arbitrary files into an .svc file.
   bool allow_outside_paths = false;
+  // A cell may list some of its six faces (what `svc decode --face` writes); the encoder
+  // codes whole cubes and leaves this off. A cell listing none is refused either way.
+  bool allow_partial_cells = false;
+  // When given, every face whose files fail the file checks is appended here, in cell
+  // order then face order, and the load goes on; otherwise the first such face ends the
+  // load with its error.
+  std::vector<FaceFileProblem>* file_problems = nullptr;
 };
 
 // Reads and validates manifest.json: JSON syntax (errors give line and column), required
-// keys, value ranges, cell indices inside the grid and unique, all six faces present,
+// keys, value ranges, cell indices inside the grid and unique, all six faces present
+// (some of them, with options.allow_partial_cells),
 // finite view matrices whose last row is (0,0,0,1) and whose rotation part is orthonormal
 // (within 1e-3), valid frusta, referenced files exist and lie inside the database folder
 // (unless options.allow_outside_paths; a path that leaves it is kBadInput). Keys the
@@ -116,7 +140,8 @@ struct FaceData {
 // one-channel image; it must be half, float or double. In radial mode each value is
 // turned into eye z along the pixel centre's ray through the face frustum; the
 // background test (inf, NaN, <= 0, eye z >= far) is made after that conversion.
-// A cell_ordinal or face out of range is kInvalidArgument. Thread-safe.
+// A cell_ordinal or face out of range, or a face the cell does not list, is
+// kInvalidArgument. Thread-safe.
 Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
 // The same for a cell whose sources the caller has read already. Thread-safe.
 Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face);

@@ -262,6 +262,9 @@ Result<FaceFiles> face_files(const DatabaseManifest& manifest, const CellSource&
   FaceFiles files;
   files.source = &cell.faces[face_slot];
   const std::string where = cell_label(cell.index) + ", face " + face_name(face);
+  if (!lists_face(cell.listed_faces, face)) {
+    return Status(ErrorCode::kInvalidArgument, where + ": the manifest does not list this face");
+  }
   files.color_path = resolve_database_path(manifest, files.source->color_path);
   files.depth_path = resolve_database_path(manifest, files.source->depth_path);
   const auto describe = [&](const char* role, const std::string& path, const fs::path& resolved) {

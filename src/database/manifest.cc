@@ -212,7 +212,7 @@ struct ParsedCell {
 };
 
 Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t ordinal, const GridSpec& grid,
-                              const std::optional<Frustum>& global_projection, double aspect) {
+                              const std::optional<Frustum>& global_projection, double aspect, bool allow_partial) {
   std::string where = "cells[" + std::to_string(ordinal) + "]";
   SVC_RETURN_IF_ERROR(p.expect_object(value, where));
   ParsedCell parsed;
@@ -242,7 +242,11 @@ Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t
     const std::string name = face_name(face);
     const std::string face_where = where + ", face " + name;
     const auto it = faces->find(name);
-    if (it == faces->end()) return p.error(where, "missing face " + in_quotes(name) + " in \"faces\"");
+    if (it == faces->end()) {
+      if (!allow_partial) return p.error(where, "missing face " + in_quotes(name) + " in \"faces\"");
+      cell.listed_faces &= static_cast<uint8_t>(~(1 << static_cast<int>(face)));
+      continue;
+    }
     const json& face_json = *it;
     SVC_RETURN_IF_ERROR(p.expect_object(face_json, face_where));
     FaceSource& source = cell.faces[static_cast<size_t>(face)];
@@ -270,6 +274,7 @@ Result<ParsedCell> parse_cell(const ManifestParser& p, const json& value, size_t
                      "\"projection\")");
     }
   }
+  if (cell.listed_faces == 0) return p.error(join(where, "faces"), "lists none of the six faces");
   return parsed;
 }
 
@@ -443,29 +448,42 @@ Status parse_header(const json& root_json, const ManifestParser& p, DatabaseMani
 }
 
 Result<ParsedCell> parse_cell_safely(const ManifestParser& p, const json& element, size_t ordinal,
-                                     const DatabaseManifest& manifest) {
+                                     const DatabaseManifest& manifest, bool allow_partial) {
   try {
-    return parse_cell(p, element, ordinal, manifest.grid, manifest.projection, aspect_of(manifest));
+    return parse_cell(p, element, ordinal, manifest.grid, manifest.projection, aspect_of(manifest), allow_partial);
   } catch (const json::exception& e) {
     // The parser checks every type before reading it; this is a safety net.
     return p.error("cells[" + std::to_string(ordinal) + "]", e.what());
   }
 }
 
-// The first failing file check of a cell: files inside the database folder (unless
-// allowed), then present, face by face.
-Status check_cell_files(const std::string& label, const DatabaseManifest& manifest, const CellSource& cell,
-                        const ManifestOptions& options) {
-  for (const Face face : kAllFaces) {
-    const FaceSource& source = cell.faces[static_cast<size_t>(face)];
-    SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "color", source.color_path, options));
-    SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "depth", source.depth_path, options));
-    SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "color", source.color_path));
-    if (source.depth_path != source.color_path) {
-      SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
-    }
+// The first failing file check of one face: files inside the database folder (unless
+// allowed), then present.
+Status check_face_files(const std::string& label, const DatabaseManifest& manifest, const CellSource& cell,
+                        Face face, const ManifestOptions& options) {
+  const FaceSource& source = cell.faces[static_cast<size_t>(face)];
+  SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "color", source.color_path, options));
+  SVC_RETURN_IF_ERROR(check_inside_database(label, manifest, cell, face, "depth", source.depth_path, options));
+  SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "color", source.color_path));
+  if (source.depth_path != source.color_path) {
+    SVC_RETURN_IF_ERROR(check_file_exists(label, manifest, cell, face, "depth", source.depth_path));
   }
   return Status::Ok();
+}
+
+// The failing file checks of a cell's listed faces, face by face: all of them when
+// options.file_problems collects them, else the first.
+std::vector<FaceFileProblem> check_cell_files(const std::string& label, const DatabaseManifest& manifest,
+                                              const CellSource& cell, const ManifestOptions& options) {
+  std::vector<FaceFileProblem> problems;
+  for (const Face face : kAllFaces) {
+    if (!lists_face(cell.listed_faces, face)) continue;
+    Status status = check_face_files(label, manifest, cell, face, options);
+    if (status.ok()) continue;
+    problems.push_back(FaceFileProblem{cell.index, face, std::move(status)});
+    if (options.file_problems == nullptr) break;
+  }
+  return problems;
 }
 
 std::tuple<int32_t, int32_t, int32_t> cell_key(const CellIndex& c) { return std::make_tuple(c.y, c.z, c.x); }
@@ -480,7 +498,7 @@ Status parse_cells(std::istream& in, int cells_array, size_t cells_listed, const
   std::optional<std::pair<std::tuple<int32_t, int32_t, int32_t>, Status>> first_bad_file;
   const JsonElementHandler on_cell = [&](json& element, uint64_t offset, uint64_t size) {
     const size_t ordinal = manifest.cells.size();
-    Result<ParsedCell> parsed = parse_cell_safely(p, element, ordinal, manifest);
+    Result<ParsedCell> parsed = parse_cell_safely(p, element, ordinal, manifest, options.allow_partial_cells);
     if (parsed.ok() && visit_cell) {
       Status visited = visit_cell(parsed->cell, ordinal, cells_listed);
       if (!visited.ok()) parsed = std::move(visited);
@@ -490,11 +508,16 @@ Status parse_cells(std::istream& in, int cells_array, size_t cells_listed, const
       return false;
     }
     const CellSource& cell = parsed->cell;
-    manifest.cells.push_back(ManifestCell{cell.index, static_cast<uint32_t>(ordinal), cell.position, offset, size});
+    manifest.cells.push_back(
+        ManifestCell{cell.index, static_cast<uint32_t>(ordinal), cell.position, offset, size, cell.listed_faces});
     const auto key = cell_key(cell.index);
-    if (!first_bad_file || key < first_bad_file->first) {
-      Status files = check_cell_files(label, manifest, cell, options);
-      if (!files.ok()) first_bad_file.emplace(key, std::move(files));
+    if (options.file_problems != nullptr) {
+      for (FaceFileProblem& problem : check_cell_files(label, manifest, cell, options)) {
+        options.file_problems->push_back(std::move(problem));
+      }
+    } else if (!first_bad_file || key < first_bad_file->first) {
+      std::vector<FaceFileProblem> files = check_cell_files(label, manifest, cell, options);
+      if (!files.empty()) first_bad_file.emplace(key, std::move(files.front().status));
     }
     return true;
   };
@@ -515,6 +538,12 @@ Status parse_cells(std::istream& in, int cells_array, size_t cells_listed, const
                                                                   " is listed twice (also at cells[" +
                                                                   std::to_string(first) + "])");
     }
+  }
+  if (options.file_problems != nullptr) {
+    std::stable_sort(options.file_problems->begin(), options.file_problems->end(),
+                     [](const FaceFileProblem& a, const FaceFileProblem& b) {
+                       return std::make_pair(cell_key(a.cell), a.face) < std::make_pair(cell_key(b.cell), b.face);
+                     });
   }
   if (first_bad_file) return first_bad_file->second;
   return Status::Ok();
@@ -611,9 +640,9 @@ Result<CellSource> read_cell(const DatabaseManifest& manifest, size_t cell_ordin
   const json element = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (element.is_discarded()) return changed();
   const ManifestParser p(label);
-  Result<ParsedCell> parsed = parse_cell_safely(p, element, entry.listed_at, manifest);
+  Result<ParsedCell> parsed = parse_cell_safely(p, element, entry.listed_at, manifest, /*allow_partial=*/true);
   if (!parsed.ok()) return parsed.status();
-  if (!(parsed->cell.index == entry.index)) return changed();
+  if (!(parsed->cell.index == entry.index) || parsed->cell.listed_faces != entry.listed_faces) return changed();
   return std::move(parsed->cell);
 }
 

@@ -18,6 +18,7 @@
 #include "codec/common/color.h"
 #include "codec/common/cube_padding.h"
 #include "codec/common/intra_frame.h"
+#include "codec/common/thread_buffers.h"
 #include "codec/decoder/bframe_decoder.h"
 #include "codec/decoder/intra_decoder.h"
 #include "common/file_io.h"
@@ -507,31 +508,32 @@ ReaderStats Reader::stats() const {
   s.predicted_faces_decoded = impl_->predicted_decoded.load(std::memory_order_relaxed);
   s.prefetch_faces = impl_->prefetch_faces.load(std::memory_order_relaxed);
   s.prefetch_dropped = impl_->prefetch_dropped.load(std::memory_order_relaxed);
+  s.thread_buffer_bytes = codec::thread_buffer_bytes();
   return s;
 }
 
 void Reader::close() { impl_->close(); }
 
 Status Reader::verify(const VerifySettings& settings) {
-  std::string problems;
-  int count = 0;
+  std::vector<std::string> problems;
   for (int slot = 0; slot < 2; ++slot) {
     if (impl_->slot_damaged[slot]) {
-      problems += (count ? "\n" : "") + impl_->file->path().string() + ": commit slot " + std::to_string(slot) +
-                  " (bytes " + std::to_string(kFileHeaderSize + slot * kCommitSlotSize) + "-" +
-                  std::to_string(kFileHeaderSize + (slot + 1) * kCommitSlotSize - 1) +
-                  ") fails its CRC-32 check; the other slot's index is in use";
-      ++count;
+      problems.push_back(impl_->file->path().string() + ": commit slot " + std::to_string(slot) + " (bytes " +
+                         std::to_string(kFileHeaderSize + slot * kCommitSlotSize) + "-" +
+                         std::to_string(kFileHeaderSize + (slot + 1) * kCommitSlotSize - 1) +
+                         ") fails its CRC-32 check; the other slot's index is in use");
     }
   }
   const size_t frames = impl_->index.frames.size();
   // Every face's outcome is kept and reported in frame order, whatever the threads did.
   std::vector<Status> outcomes(frames);
+  std::vector<uint8_t> chunk_damaged(frames, 0);
   std::mutex progress_mutex;
   uint64_t checked = 0;
   const Status run = parallel_for(frames, resolve_thread_count(settings.threads), [&](size_t frame) -> Status {
     auto payload = impl_->read_payload(static_cast<uint32_t>(frame));
     outcomes[frame] = payload.status();
+    chunk_damaged[frame] = payload.ok() ? 0 : 1;
     // An I-face is decoded on its own; a B-face from its references as the caches hold
     // them, so the I-faces around it are reconstructed and padded once, not once a face.
     const auto f = static_cast<uint32_t>(frame);
@@ -545,15 +547,33 @@ Status Reader::verify(const VerifySettings& settings) {
     if (settings.progress(++checked, frames)) return Status::Ok();
     return Status(ErrorCode::kCancelled, "verify of " + impl_->file->path().string() + " cancelled");
   });
+  if (settings.problems != nullptr) settings.problems->clear();
   if (!run.ok()) return run;
-  for (const Status& status : outcomes) {
-    if (status.ok()) continue;
-    if (count < 20) problems += (count ? "\n" : "") + status.message();
-    ++count;
+  // The damaged faces first, then those that fail only because a reference they need
+  // failed: the first line names a damaged chunk, not one of the faces that use it.
+  const auto fails_through_reference = [&](size_t frame) {
+    if (chunk_damaged[frame] || impl_->index.frames[frame].type == FaceType::kIntra) return false;
+    for (uint32_t ref : frame_dependencies(impl_->index.frames[frame])) {
+      if (ref < frames && !outcomes[ref].ok()) return true;
+    }
+    return false;
+  };
+  for (bool dependent : {false, true}) {
+    for (size_t frame = 0; frame < frames; ++frame) {
+      if (!outcomes[frame].ok() && fails_through_reference(frame) == dependent) {
+        problems.push_back(outcomes[frame].message());
+      }
+    }
   }
-  if (count == 0) return Status::Ok();
-  if (count > 20) problems += "\n... and " + std::to_string(count - 20) + " more damaged faces";
-  return Status(ErrorCode::kCorruptData, problems);
+  if (settings.problems != nullptr) *settings.problems = problems;
+  if (problems.empty()) return Status::Ok();
+  constexpr size_t kReported = 20;
+  std::string message;
+  for (size_t i = 0; i < problems.size() && i < kReported; ++i) message += (i ? "\n" : "") + problems[i];
+  if (problems.size() > kReported) {
+    message += "\n... and " + std::to_string(problems.size() - kReported) + " more damaged faces";
+  }
+  return Status(ErrorCode::kCorruptData, message);
 }
 
 }  // namespace svc

@@ -112,7 +112,7 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
       ->check(command_line::integer_in(1, 1000000))
       ->capture_default_str();
   command_->add_option("--seed", options_->bench.seed, "Seed of the random access picks")->capture_default_str();
-  command_->add_flag("--quick", options_->bench.quick, "Two PSNR targets, at most three encodes per codec");
+  command_->add_flag("--quick", options_->bench.quick, "Two PSNR targets, at most four encodes per codec");
   command_->add_option("--gop", options_->bench.gop, "GOP (frames between I-frames) of x264, x265 and AV1")
       ->check(command_line::integer_in(1, 1000))
       ->capture_default_str();

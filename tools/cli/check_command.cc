@@ -1,5 +1,7 @@
 // svc check: validates a database as the encoder reads it (manifest, every image's size,
-// channels and depth) without encoding, and summarises it.
+// channels and depth) without encoding, reports every problem, and summarises it. A
+// cell may list some of its faces (what svc decode --face writes): valid, and said to be
+// beyond the encoder, which codes whole cubes.
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -16,6 +18,8 @@ namespace {
 
 struct CheckResult {
   std::vector<std::string> problems;  // one per face that the encoder would refuse, in order
+  uint64_t listed = 0;                // faces the manifest lists
+  uint64_t partial_cells = 0;         // cells that list fewer than six faces
   uint64_t faces = 0;                 // faces that load
   uint64_t pixels = 0;                // in the faces that load
   uint64_t background_pixels = 0;     // of those, pixels whose depth saw no geometry
@@ -27,19 +31,30 @@ struct FaceCheck {
   uint64_t background = 0;
 };
 
-Result<CheckResult> check_faces(const DatabaseManifest& manifest, const CheckOptions& options) {
+Result<CheckResult> check_faces(const DatabaseManifest& manifest, const std::vector<FaceFileProblem>& file_problems,
+                                const CheckOptions& options) {
   const size_t total = manifest.cells.size() * kFaceCount;
   std::vector<FaceCheck> checks(total);
+  std::vector<bool> listed(total), file_checked(total, true);
+  for (size_t i = 0; i < total; ++i)
+    listed[i] = lists_face(manifest.cells[i / kFaceCount].listed_faces, kAllFaces[i % kFaceCount]);
+  for (const FaceFileProblem& problem : file_problems) {
+    const size_t i = *find_cell(manifest, problem.cell) * kFaceCount + static_cast<size_t>(problem.face);
+    checks[i].status = problem.status;
+    file_checked[i] = false;
+  }
   std::mutex progress_mutex;
   uint64_t done = 0;
   ProgressBar bar("checking", options.verbosity.show_progress());
   SVC_RETURN_IF_ERROR(parallel_for(total, resolve_thread_count(options.threads), [&](size_t i) -> Status {
     if (!keep_going()) return Status(ErrorCode::kCancelled, "checking cancelled");
-    auto face = load_face(manifest, i / kFaceCount, kAllFaces[i % kFaceCount]);
-    checks[i].status = face.status();
-    if (face.ok()) {
-      checks[i].pixels = face->depth.size();
-      for (float z : face->depth) checks[i].background += std::isinf(z) ? 1 : 0;
+    if (listed[i] && file_checked[i]) {
+      auto face = load_face(manifest, i / kFaceCount, kAllFaces[i % kFaceCount]);
+      checks[i].status = face.status();
+      if (face.ok()) {
+        checks[i].pixels = face->depth.size();
+        for (float z : face->depth) checks[i].background += std::isinf(z) ? 1 : 0;
+      }
     }
     std::lock_guard<std::mutex> lock(progress_mutex);
     bar.update(++done, total);
@@ -47,7 +62,11 @@ Result<CheckResult> check_faces(const DatabaseManifest& manifest, const CheckOpt
   }));
   bar.finish();
   CheckResult result;
-  for (const FaceCheck& check : checks) {
+  for (const ManifestCell& cell : manifest.cells) result.partial_cells += cell.listed_faces != kAllFacesListed;
+  for (size_t i = 0; i < total; ++i) {
+    if (!listed[i]) continue;
+    ++result.listed;
+    const FaceCheck& check = checks[i];
     if (!check.status.ok()) {
       result.problems.push_back(check.status.to_string());
       continue;
@@ -65,8 +84,10 @@ json check_json(const CheckOptions& options, const DatabaseManifest& m, const Ch
   return {{"command", "check"},
           {"input", options.db_dir.string()},
           {"ok", r.problems.empty()},
+          {"encodable", r.problems.empty() && r.partial_cells == 0},
           {"cells", m.cells.size()},
-          {"faces", m.cells.size() * kFaceCount},
+          {"partial_cells", r.partial_cells},
+          {"faces", r.listed},
           {"grid", {{"dims", m.grid.dims}, {"origin", m.grid.origin}, {"spacing", m.grid.spacing}}},
           {"face_size", {m.face_width, m.face_height}},
           {"depth", depth_mode_name(m.depth_mode)},
@@ -76,25 +97,39 @@ json check_json(const CheckOptions& options, const DatabaseManifest& m, const Ch
 
 void print_check(const CheckOptions& options, const DatabaseManifest& m, const CheckResult& r) {
   const int64_t grid_cells = int64_t{m.grid.dims[0]} * m.grid.dims[1] * m.grid.dims[2];
-  std::printf("%s: %s\n", options.db_dir.string().c_str(),
-              r.problems.empty() ? "ok, the encoder accepts it" : "the encoder would refuse it");
+  const char* verdict = !r.problems.empty() ? "the encoder would refuse it"
+                        : r.partial_cells != 0
+                            ? "ok, a database of some faces of its cells (svc encode needs all six faces of a cell)"
+                            : "ok, the encoder accepts it";
+  std::printf("%s: %s\n", options.db_dir.string().c_str(), verdict);
   std::printf("  grid      %d x %d x %d, %zu cells listed (%lld holes)\n", m.grid.dims[0], m.grid.dims[1],
               m.grid.dims[2], m.cells.size(), static_cast<long long>(grid_cells - m.cells.size()));
-  std::printf("  faces     %llu of %zu load, %d x %d pixels, depth %s, %.1f%% background\n",
-              static_cast<unsigned long long>(r.faces), m.cells.size() * kFaceCount, m.face_width, m.face_height,
-              depth_mode_name(m.depth_mode), r.pixels ? 100.0 * r.background_pixels / r.pixels : 0.0);
+  if (r.partial_cells != 0) {
+    std::printf("  partial   %llu cells list fewer than six faces\n",
+                static_cast<unsigned long long>(r.partial_cells));
+  }
+  std::printf("  faces     %llu of %llu listed load, %d x %d pixels, depth %s, %.1f%% background\n",
+              static_cast<unsigned long long>(r.faces), static_cast<unsigned long long>(r.listed), m.face_width,
+              m.face_height, depth_mode_name(m.depth_mode),
+              r.pixels ? 100.0 * r.background_pixels / r.pixels : 0.0);
 }
 
 }  // namespace
 
 int check_command(const CheckOptions& options) {
-  auto manifest = load_manifest(options.db_dir, ManifestOptions{options.allow_outside_paths});
+  // Every face's files are checked and reported, not the first bad one alone.
+  std::vector<FaceFileProblem> file_problems;
+  ManifestOptions manifest_options;
+  manifest_options.allow_outside_paths = options.allow_outside_paths;
+  manifest_options.allow_partial_cells = true;
+  manifest_options.file_problems = &file_problems;
+  auto manifest = load_manifest(options.db_dir, manifest_options);
   if (!manifest.ok()) return report_error(manifest.status());
   if (options.verbosity.verbose) {
-    std::fprintf(stderr, "svc: manifest ok; loading %zu faces on %d threads\n", manifest->cells.size() * kFaceCount,
+    std::fprintf(stderr, "svc: manifest read; loading its faces on %d threads\n",
                  resolve_thread_count(options.threads));
   }
-  auto result = check_faces(*manifest, options);
+  auto result = check_faces(*manifest, file_problems, options);
   if (!result.ok()) return report_error(result.status());
   for (const std::string& problem : result->problems) std::fprintf(stderr, "svc: %s\n", problem.c_str());
   if (options.verbosity.json) {

@@ -15,7 +15,12 @@ int report_error(const Status& status) { return command_line::report_failure("sv
 
 bool keep_going() { return !command_line::interrupted(); }
 
-void print_json(const json& value) { std::printf("%s\n", value.dump(2).c_str()); }
+// Flushed at once: errors written to stderr after it never land inside the document when
+// both streams go to one pipe.
+void print_json(const json& value) {
+  std::printf("%s\n", value.dump(2).c_str());
+  std::fflush(stdout);
+}
 
 json face_type_stats_json(const FaceTypeStats& s) {
   json j;

@@ -219,16 +219,31 @@ int add_command(const AddOptions& options) {
 }
 
 int verify_command(const VerifyOptions& options) {
-  auto reader = Reader::open(options.input);
-  if (!reader.ok()) return report_error(reader.status());
   const auto start = std::chrono::steady_clock::now();
+  auto reader = Reader::open(options.input);
+  if (!reader.ok()) {
+    // A file too damaged to open (truncated, its index unreadable) is a verify result
+    // too: --json still prints one, with the reason as its problem.
+    if (options.verbosity.json) {
+      print_json({{"command", "verify"},
+                  {"input", options.input.string()},
+                  {"ok", false},
+                  {"cells", 0},
+                  {"faces", 0},
+                  {"problems", json::array({reader.status().message()})},
+                  {"seconds", seconds_since(start)}});
+    }
+    return report_error(reader.status());
+  }
   if (options.verbosity.verbose) {
     std::fprintf(stderr, "svc: verifying %zu faces of %s on %d threads\n", (*reader)->cells().size() * kFaceCount,
                  options.input.string().c_str(), resolve_thread_count(options.threads));
   }
   ProgressBar bar("verifying", options.verbosity.show_progress());
+  std::vector<std::string> problems;
   VerifySettings settings;
   settings.threads = options.threads;
+  settings.problems = &problems;
   settings.progress = [&](uint64_t done, uint64_t total) {
     bar.update(done, total);
     return keep_going();
@@ -243,7 +258,7 @@ int verify_command(const VerifyOptions& options) {
                 {"ok", status.ok()},
                 {"cells", cells},
                 {"faces", cells * kFaceCount},
-                {"problems", status.ok() ? json::array() : json::array({status.message()})},
+                {"problems", problems},
                 {"seconds", seconds_since(start)}});
   }
   if (!status.ok()) {

@@ -56,10 +56,14 @@ json face_json(const CellEntry& cell, Face face) {
 struct DecodeResult {
   uint64_t faces = 0;
   std::vector<std::string> damaged;  // one message per face that failed to decode, in order
-  std::vector<bool> complete;        // per selected cell: all six faces decoded
+  std::vector<bool> complete;        // per selected cell: all selected faces decoded
+  std::vector<bool> decoded;         // per selected cell and face, cell-major
 };
 
-// The manifest of the decoded database; only complete cells are listed.
+// The manifest of the decoded database. With all six faces selected it lists the cells
+// whose faces all decoded, so that svc encode takes it back; with some faces selected
+// (--face), each cell with the faces that decoded: a database svc check accepts, of
+// faces rather than whole cubes.
 json manifest_json(const DecodeOptions& options, const FileInfo& info, const std::vector<const CellEntry*>& cells,
                    const std::vector<Face>& faces, const DecodeResult& result) {
   json manifest;
@@ -71,11 +75,14 @@ json manifest_json(const DecodeOptions& options, const FileInfo& info, const std
   manifest["up_axis"] = std::string(1, info.up_axis);
   manifest["decoded_from"] = options.input.filename().string();
   json list = json::array();
-  for (size_t c = 0; c < cells.size() && faces.size() == kFaceCount; ++c) {
-    if (!result.complete[c]) continue;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    if (faces.size() == kFaceCount && !result.complete[c]) continue;
     const CellEntry& cell = *cells[c];
     json faces_json = json::object();
-    for (Face face : faces) faces_json[face_name(face)] = face_json(cell, face);
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (result.decoded[c * faces.size() + f]) faces_json[face_name(faces[f])] = face_json(cell, faces[f]);
+    }
+    if (faces_json.empty()) continue;
     list.push_back({{"index", {cell.index.x, cell.index.y, cell.index.z}},
                     {"position", cell.position},
                     {"faces", faces_json}});
@@ -117,7 +124,9 @@ Result<DecodeResult> decode_faces(Reader& reader, const DecodeOptions& options,
   bar.finish();
   DecodeResult result;
   result.complete.assign(cells.size(), true);
+  result.decoded.assign(total, false);
   for (size_t i = 0; i < total; ++i) {
+    result.decoded[i] = outcomes[i].ok();
     if (outcomes[i].ok()) {
       ++result.faces;
     } else {
@@ -193,7 +202,10 @@ int decode_command(const DecodeOptions& options) {
     std::printf("decoded %llu faces of %zu cells into %s in %.2f s\n",
                 static_cast<unsigned long long>(result.faces), cells->size(), options.output.string().c_str(),
                 seconds);
-    if (faces.size() != kFaceCount) std::printf("  (one face per cell: manifest.json lists only complete cells)\n");
+    if (faces.size() != kFaceCount) {
+      std::printf(
+          "  (one face per cell: svc check accepts the database, svc encode needs all six faces of a cell)\n");
+    }
   }
   return result.damaged.empty() ? command_line::kExitOk : command_line::kExitCorrupt;
 }
