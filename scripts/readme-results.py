@@ -72,6 +72,8 @@ def table(run, results):
 
 def render(runs_path):
     runs = json.loads(runs_path.read_text())
+    if not runs:
+        return "No run is recorded in docs/results/runs.json yet.\n"
     parts = []
     for run in runs:
         results = json.loads((runs_path.parent / run["results"]).read_text())
