@@ -86,6 +86,24 @@ def angle_table():
     return code([" ".join(str(v) for v in expect(initializer("kAngle"), 33, "kAngle"))])
 
 
+def inverse_angle_table():
+    """The switch of inverse_angle(angle): `case A: return V;` and the default (-32)."""
+    hits = []
+    for path, text in sources().items():
+        m = re.search(r"\binverse_angle\(int \w+\)\s*\{(.*?)\n\}", text, re.S)
+        if m:
+            hits.append(m.group(1))
+    if len(hits) != 1:
+        sys.exit(f"spec-tables: inverse_angle is defined {len(hits)} times under codec/")
+    pairs = [(int(a), int(v)) for a, v in re.findall(r"case (-?\d+): return (-?\d+);", hits[0])]
+    default = re.search(r"default: return (-?\d+);", hits[0])
+    if len(pairs) != 7 or not default:
+        sys.exit("spec-tables: inverse_angle does not have 7 cases and a default")
+    pairs.append((-32, int(default.group(1))))
+    return code(["angle: " + " ".join(f"{a:>5}" for a, _ in pairs),
+                 "inv:   " + " ".join(f"{v:>5}" for _, v in pairs)])
+
+
 def intra_matrix():
     return code(rows(expect(initializer("kDefaultIntraMatrix"), 64, "kDefaultIntraMatrix"), 8, 2))
 
@@ -170,6 +188,7 @@ def priors(name):
 
 TABLES = {
     "kAngle": angle_table,
+    "inverse-angle": inverse_angle_table,
     "kDefaultIntraMatrix": intra_matrix,
     "kScaleOctave": scale_octave,
     "interpolation-regular": lambda: filter_bank("kLumaTaps", "kChromaTaps"),
