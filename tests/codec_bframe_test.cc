@@ -100,7 +100,7 @@ ImageYCbCr420 decoded_intra(const ImageYCbCr420& image, int qindex) {
 // Decodes every prefix of `valid` with `decodes` (true when it decoded) and returns how
 // many cuts by more than the final zeros a payload may leave out decoded all the same:
 // those whose symbols, decoded from zeros in place of the missing bytes, happen to need
-// no more bytes (docs/codec.md 4).
+// no more bytes (docs/codec.md 6.1).
 template <class Decodes>
 int undetected_truncations(const std::vector<uint8_t>& valid, Decodes decodes) {
   int undetected = 0;
@@ -237,7 +237,7 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
 }
 
 // Intra macroblocks beside inter ones predict from their reconstructed samples (docs/codec.md
-// 10.4): a face whose right part no reference holds mixes both, and decodes exactly with
+// 3.8): a face whose right part no reference holds mixes both, and decodes exactly with
 // every mode and with planar and DC only (the b-intra-prediction ablation).
 TEST(BFrame, IntraMacroblocksPredictFromInterNeighboursAndDecodeExactly) {
   const int w = 96, h = 80, q = 120;

@@ -219,7 +219,7 @@ std::array<ImageYCbCr420, kFaceCount> random_faces(int n, std::mt19937& rng) {
   return faces;
 }
 
-// Face `f` padded by the per-sample rule of docs/codec.md 10.6, plane by plane.
+// Face `f` padded by the per-sample rule of docs/codec.md 5.7, plane by plane.
 ImageYCbCr420 reference_padding(const std::array<ImageYCbCr420, kFaceCount>& faces, int f, int units) {
   cube_padding_internal::FacePlanes y{}, cb{}, cr{};
   for (int g = 0; g < kFaceCount; ++g) {

@@ -231,7 +231,7 @@ struct LumaBlock {
   size_t index;  // in CoefficientFrame::block_modes
 };
 
-// The luma blocks of a parsed frame as its partitions place them (docs/codec.md 3).
+// The luma blocks of a parsed frame as its partitions place them (docs/codec.md 3.1).
 std::vector<LumaBlock> luma_blocks(const CoefficientFrame& frame) {
   const int macroblocks_x = (frame.width + 15) / 16;
   std::vector<LumaBlock> blocks;

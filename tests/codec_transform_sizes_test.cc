@@ -201,7 +201,7 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
   }
 }
 
-// Rectangular prediction (docs/codec.md 3.1): a flat edge predicts flat in every mode;
+// Rectangular prediction (docs/codec.md 5.2): a flat edge predicts flat in every mode;
 // the diagonals copy the edge (mode 2 the left column from row x + y + 1, mode 34 the
 // above row from column x + y + 1, both smoothed: on a linear edge smoothing changes
 // nothing); pure horizontal copies the left column beyond the first row.

@@ -353,7 +353,7 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   ASSERT_GT(stats.warp_nodes_coded, 0);
   ImageYCbCr420 out;
   ASSERT_TRUE(decode_b_frame(valid, w, h, ref0, &ref1, &out).ok());
-  // A payload may leave out up to kImplicitZeroBytes final zeros (docs/codec.md 4), so a
+  // A payload may leave out up to kImplicitZeroBytes final zeros (docs/codec.md 6.1), so a
   // cut that short may decode (to some picture); any longer cut is reported.
   for (size_t length = 0; length + kImplicitZeroBytes < valid.size(); ++length) {
     const std::vector<uint8_t> cut(valid.begin(), valid.begin() + static_cast<ptrdiff_t>(length));

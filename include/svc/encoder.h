@@ -19,13 +19,13 @@ namespace svc {
 // gain of each tool can be measured on its own (`svc encode --disable-tool NAME`, the
 // ablation of `svc bench --ablation`). Not stored in the file: `svc add` uses all tools.
 struct CodingTools {
-  // B-faces: macroblocks predicted through a field of corner vectors (docs/codec.md 10.1).
+  // B-faces: macroblocks predicted through a field of corner vectors (docs/codec.md 5.6).
   bool warped_prediction = true;
   // B-faces: the half-pel, then quarter-pel neighbours of the best candidate vector are
   // tried as well.
   bool sub_pel_refinement = true;
   // I-faces: the 33 angular intra prediction modes; without them every block is
-  // predicted by the planar or DC mode (docs/codec.md 3.1).
+  // predicted by the planar or DC mode (docs/codec.md 5.2).
   bool intra_directional = true;
   // I-faces: each block's mode and whether it keeps its levels chosen by
   // rate-distortion cost among the best modes by SATD (docs/codec.md 3.2).
@@ -36,12 +36,12 @@ struct CodingTools {
   // depth, rather than the nearest two (docs/format.md, "I-cube placement").
   bool visibility_references = true;
   // B-faces: references padded with the adjacent faces of their cube, so vectors that
-  // leave the reference face find what lies past its edge (docs/codec.md 10.6). Off: the
+  // leave the reference face find what lies past its edge (docs/codec.md 5.7). Off: the
   // bare reference faces, and a B-face depends on its reference faces only.
   bool cube_references = true;
-  // Every face: the deblocking filter (docs/codec.md 11), on where it lowers the error.
+  // Every face: the deblocking filter (docs/codec.md 5.8), on where it lowers the error.
   bool deblocking = true;
-  // Every face: CDEF deringing after deblocking (docs/codec.md 11.2), per 64x64 unit
+  // Every face: CDEF deringing after deblocking (docs/codec.md 5.8.2), per 64x64 unit
   // where it pays.
   bool cdef = true;
   // B-faces: each face picks its interpolation filter bank (regular, smooth, bilinear) by
@@ -52,56 +52,56 @@ struct CodingTools {
   // rounding with a dead zone. Encoder only.
   bool rdoq = true;
   // B-faces: inter macroblocks split into 16x8, 8x16 or 8x8 partitions, each with its own
-  // direction and vectors from its own pixels' depth (docs/codec.md 10.4). Off: 16x16 only.
+  // direction and vectors from its own pixels' depth (docs/codec.md 3.8). Off: 16x16 only.
   bool partitions = true;
   // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
-  // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3). Off: 8x8 only.
+  // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3.1). Off: 8x8 only.
   bool transform_sizes = true;
   // B-faces: each coded inter macroblock's luma residual coded as one 16x16 transform
   // block or four 8x8 blocks, each of those whole or as four 4x4 blocks, by
-  // rate-distortion cost (docs/codec.md 10.4). Off: 8x8 only.
+  // rate-distortion cost (docs/codec.md 3.8). Off: 8x8 only.
   bool inter_transform_sizes = true;
   // I-faces and B-face intra macroblocks: chroma blocks may be predicted from the
-  // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 10.4), by rate-distortion
+  // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 3.8), by rate-distortion
   // cost against the regular modes. Off: never.
   bool cfl = true;
   // I-faces and B-face intra macroblocks: each block with levels uses the DCT or an
-  // integer DST-VII per direction (docs/codec.md 7.2), by rate-distortion cost, and
+  // integer DST-VII per direction (docs/codec.md 5.5.2), by rate-distortion cost, and
   // codes its choice. Off: DCT only, no type coded (a header flag says so).
   bool transform_types = true;
   // I-faces: residuals quantized with a frequency-weighted matrix (coarser high
-  // frequencies, docs/codec.md 6) instead of one flat step per transform size. Off by
+  // frequencies, docs/codec.md 5.4) instead of one flat step per transform size. Off by
   // default, since flat measures better in PSNR; `svc encode --quant-matrix weighted`.
   // Not one of the --disable-tool names.
   bool weighted_quant_matrix = false;
   // B-faces: intra macroblocks predicted in every mode of the intra frame's prediction
-  // (docs/codec.md 10.4). Off: planar and DC only. (Their transform sizes, mode search
+  // (docs/codec.md 3.8). Off: planar and DC only. (Their transform sizes, mode search
   // and directional modes also follow transform-sizes, intra-rd-search and
   // intra-directional.)
   bool b_intra_prediction = true;
   // B-faces: each coded vector, and each skip, takes the vector predictor (the median,
   // the left, top or top-right macroblock's vector) it codes cheapest from
-  // (docs/codec.md 10.3). Off: the median always.
+  // (docs/codec.md 3.9). Off: the median always.
   bool vector_predictors = true;
   // B-faces: vector and warp node differences coded along and across the epipolar line
-  // of each reference (from the cameras; docs/codec.md 10.3), predictors and candidates
+  // of each reference (from the cameras; docs/codec.md 3.9), predictors and candidates
   // taken onto the line. Off: in x and y.
   bool epipolar_lines = true;
   // I-faces: every block ranks all 35 prediction modes by SATD. Off: planar, DC, the most
   // probable modes and every fourth angular mode, then the two on each side of the best
   // of those (at most 18 modes), as B-face intra macroblocks always rank them
-  // (docs/codec.md 6.2). Encoder only.
+  // (docs/encoder.md 4). Encoder only.
   bool full_intra_mode_search = true;
   // B-faces: an intra macroblock's 8x8 luma blocks are also tried as four 4x4, two 8x4
   // or two 4x8 blocks. Off: its blocks are 16x16, 16x8, 8x16, 16x4, 4x16 or 8x8 only
-  // (docs/codec.md 6.2). Encoder only.
+  // (docs/encoder.md 4). Encoder only.
   bool b_intra_small_blocks = true;
   // Every face: CDEF presets chosen among 14 candidate strengths. Off: among every other
-  // one of them, in half the search time (docs/codec.md 6.2). Encoder only.
+  // one of them, in half the search time (docs/encoder.md 4). Encoder only.
   bool full_cdef_search = true;
   // B-faces: every luma 8x8 residual block of an inter macroblock is also tried as four
   // 4x4 transform blocks. Off: only where its 8x8 transform keeps a level, since a block
-  // that quantizes to nothing as a whole rarely pays for four (docs/codec.md 6.2).
+  // that quantizes to nothing as a whole rarely pays for four (docs/encoder.md 4).
   // Encoder only.
   bool full_inter_split_search = true;
 
@@ -129,7 +129,7 @@ Status disable_coding_tool(CodingTools* tools, std::string_view name);
 
 // Encoder speed settings, 0 (the default: every tool) to kMaxEncoderSpeed. Each step
 // switches off more of the coding tools that cost the most encode time for the bytes
-// they save, and the two highest also the visibility layout's planning; docs/codec.md 6.2
+// they save, and the two highest also the visibility layout's planning; docs/encoder.md 4
 // lists them with their BD-rate and time. Thread-safe (fixed tables); outside
 // 0..kMaxEncoderSpeed the tools list is empty and the layout kVisibility.
 inline constexpr int kMaxEncoderSpeed = 5;
@@ -141,7 +141,7 @@ struct EncoderSettings {
   // (qindex_for_quality): 100 -> 0 (the finest step, not lossless), 75 -> 64, 50 -> 129,
   // 1 -> 255 (the I-faces' index; B-faces use 42 more, a 2.5 times coarser step).
   int quality = 75;
-  // When 0..255, overrides quality: the codec quantiser index (docs/codec.md, section 6).
+  // When 0..255, overrides quality: the codec quantiser index (docs/codec.md, section 5.4).
   // -1: use quality.
   int qindex = -1;
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not

@@ -70,7 +70,7 @@ struct ReaderSettings {
   ReaderLimits limits;
   // Byte budget of the semi-decoded I-face cache. 0 disables it. Default 64 MiB: about
   // 2,000 photographic I-faces of 256x256 or 500 of 512x512 at the default quality
-  // (34 KB each at 256x256, docs/codec.md 8).
+  // (34 KB each at 256x256, docs/runtime.md "The semi-decoded form").
   uint64_t coefficient_cache_bytes = 64ull << 20;
   // Byte budget of the decoded-face cache (1.5 bytes a pixel plus a little per face).
   // 0 disables it, and prefetch with it (prefetched faces would have nowhere to go).
@@ -79,7 +79,7 @@ struct ReaderSettings {
   uint64_t face_cache_bytes = 64ull << 20;
   // Byte budget of the reference cache: I-faces reconstructed for the B-faces that
   // predict from them, and padded with their cube's border as cube references are
-  // (docs/codec.md 10.6), so the cells around one I-cube reconstruct and pad it once.
+  // (docs/codec.md 5.7), so the cells around one I-cube reconstruct and pad it once.
   // 0 disables it. Default 32 MiB: the references of about 8 cells of 256x256 faces
   // (3.8 MB each: two cubes, plain and padded), 2 of 512x512.
   uint64_t reference_cache_bytes = 32ull << 20;
@@ -131,7 +131,7 @@ struct FaceEntry {
   // Faces this one needs decoded; empty for an I-face. First the one or two faces it is
   // predicted from (forward, backward), then, for a B-face with cube references, the four
   // faces adjacent to its face in each of those cubes, whose content pads the references
-  // (docs/codec.md 10.6).
+  // (docs/codec.md 5.7).
   FaceDependencies references;
 };
 
@@ -162,7 +162,7 @@ struct InspectedFace {
   // Row-major, as modes; a partitioned macroblock's mode is its last partition's.
   std::vector<MacroblockPartition> partitions;
   // Row-major, as modes: 1 where a forward, backward or bidirectional macroblock is
-  // predicted through its corner vectors' warp (docs/codec.md 10.1), else 0.
+  // predicted through its corner vectors' warp (docs/codec.md 5.6), else 0.
   std::vector<uint8_t> warped;
 };
 
@@ -183,7 +183,7 @@ struct FileInfo {
   std::array<double, 3> grid_origin{0, 0, 0};
   std::array<double, 3> grid_spacing{1, 1, 1};
   int quality = 0;  // 0 when the file was encoded with an explicit quantiser index
-  int qindex = 0;   // the I-faces' quantiser index (docs/codec.md, section 6)
+  int qindex = 0;   // the I-faces' quantiser index (docs/codec.md, section 5.4)
   std::array<int32_t, 3> i_spacing{1, 1, 1};
   std::string motion;  // "depth" or "logarithmic"
   char up_axis = 'y';

@@ -100,7 +100,7 @@ struct FrameRecord {
   FrameReferences references;  // ordinals into ContainerIndex::frames
   Face face = Face::kPX;
   FaceType type = FaceType::kIntra;
-  // A B-face predicting from padded references (docs/codec.md 10.6): it also depends on
+  // A B-face predicting from padded references (docs/codec.md 5.7): it also depends on
   // the four faces adjacent to its face in each reference cube (frame_dependencies).
   bool cube_references = false;
   // The chunk is bare (payload and CRC-32, make_bare_chunk), as every writer now writes

@@ -119,7 +119,7 @@ class Pipeline {
   }
 
   // A reference I-face padded with the adjacent faces of its cube, as the decoder builds
-  // it for a B-face with cube references (docs/codec.md 10.6).
+  // it for a B-face with cube references (docs/codec.md 5.7).
   Result<FacePointer> padded_reference(const FrameRecord& record, uint32_t ref) {
     return padded_.get(ref, reader_internal::Origin::kCaller, [&]() -> Result<FacePointer> {
       std::vector<FacePointer> held;

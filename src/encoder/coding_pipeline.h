@@ -58,7 +58,7 @@ struct CodingJob {
 };
 
 // Width of the cube-map border of padded references, in units of 16 luma samples
-// (codec/common/cube_padding.h). Encoder's choice (docs/codec.md 10.5).
+// (codec/common/cube_padding.h). Encoder's choice (docs/encoder.md 5).
 inline constexpr int kCubeBorderUnits = 4;
 
 // Whether B-faces of `index` are coded from padded references with `tools`: the tool is

@@ -79,7 +79,7 @@ struct EncoderSpeedStep {
   CubeLayout layout;
 };
 
-// Measured on the photographic scenes (docs/codec.md 6.2): the intra searches'
+// Measured on the photographic scenes (docs/encoder.md 4): the intra searches'
 // rate-distortion step over modes and transform types, the B-frames' second pass with
 // another filter bank and the I-faces' ranking of all 35 modes first (about half the
 // time for 3-4 % more bytes), then the B-frames' partitions, then rate-distortion

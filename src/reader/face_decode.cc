@@ -64,7 +64,7 @@ Result<FacePointer> reference_face(const ReadOnlyFile& file, const ContainerInde
 }
 
 // Reference `ref` of B-face `frame` padded with `units` of cube border: the five faces it
-// is built from must be I-faces (docs/codec.md 10.6).
+// is built from must be I-faces (docs/codec.md 5.7).
 Result<FacePointer> padded_reference(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
                                      uint32_t ref, int units, CodedFaceSource& source) {
   const FrameRecord& record = index.frames[frame];

@@ -62,7 +62,7 @@ enum class Layout : uint8_t { kRegular = 0, kVisibility = 1 };
 // Estimated bytes of a face, in units of an I-face's, that the visibility layout weighs.
 // A B-face costs seen_b_face when its references together see all of it, unseen_b_face
 // when they see none of it, and in between in proportion to the share they see. Measured
-// on the photographic hall and house (docs/codec.md 10.7).
+// on the photographic hall and house (docs/encoder.md 8).
 struct LayoutCosts {
   double seen_b_face = 0.3;
   double unseen_b_face = 0.5;

@@ -82,7 +82,7 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
     if (speed_layout(speed) == CubeLayout::kRegular) speeds += ", regular layout";
   }
   cmd->add_option("--speed", text->speed,
-                  "Encoder speed: 0 every coding tool (smallest files)" + speeds + " (docs/codec.md 6.2)")
+                  "Encoder speed: 0 every coding tool (smallest files)" + speeds + " (docs/encoder.md 4)")
       ->check(integer_in(0, kMaxEncoderSpeed))
       ->capture_default_str();
 }
