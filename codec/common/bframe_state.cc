@@ -77,7 +77,7 @@ int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, 
 
 namespace {
 
-// The median predictor of 10.2 over the neighbours' vectors as `at(nx, ny)` gives them.
+// The median predictor of 4.2 over the neighbours' vectors as `at(nx, ny)` gives them.
 template <class VectorAt>
 MotionVector median_predictor(const FrameState& s, int mx, int my, VectorAt at) {
   if (my == 0) return mx == 0 ? MotionVector{} : at(mx - 1, 0);

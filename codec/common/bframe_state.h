@@ -21,7 +21,7 @@
 
 namespace svc::codec::bframe {
 
-// A magnitude of class k lies in 2^k .. 2^(k+1) - 1 (docs/codec.md 10.3). Vector
+// A magnitude of class k lies in 2^k .. 2^(k+1) - 1 (docs/codec.md 3.9). Vector
 // differences stay below 2^16 and node differences below 2^18 within the ranges of 10.3.
 constexpr int kMagnitudeClasses = 18;
 constexpr int kNeighbourContexts = 3;
@@ -52,7 +52,7 @@ struct SyntaxContexts {
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> mvd_zero{};  // [component][ctx]
   std::array<MagnitudeBits, 2> mvd_magnitude{};                           // [component]
   std::array<AdaptiveBit, kNeighbourContexts> warp{};
-  // Partition of an inter macroblock (docs/codec.md, section 10.4).
+  // Partition of an inter macroblock (docs/codec.md, section 3.8).
   std::array<AdaptiveBit, kNeighbourContexts> partition_split{};
   AdaptiveBit partition_quad{};
   AdaptiveBit partition_vertical{};
@@ -67,16 +67,16 @@ struct SyntaxContexts {
   // Whether a coded luma 8x8 block of such a macroblock is four 4x4 blocks.
   AdaptiveBit luma_4x4{};
   // Which vector predictor a coded vector's difference is taken from: [0] the first or a
-  // later one, [1] the second or the third (docs/codec.md 10.3).
+  // later one, [1] the second or the third (docs/codec.md 3.9).
   PredictorIndexBits predictor_index{};
   // The same for the vectors of a skipped macroblock (one index for both references).
   PredictorIndexBits skip_predictor_index{};
-  // Intra macroblocks: the intra frame's luma and chroma contexts (docs/codec.md 3).
+  // Intra macroblocks: the intra frame's luma and chroma contexts (docs/codec.md 3.1).
   intra::PlaneContexts intra_luma, intra_chroma;
   BlockContextSet inter_luma, inter_chroma;
 };
 
-// Calls f on every context, in member order (docs/codec.md 4).
+// Calls f on every context, in member order (docs/codec.md 6.1).
 template <class Set, class F>
 requires std::same_as<std::remove_const_t<Set>, SyntaxContexts>
 void for_each_context(Set& s, F&& f) {
@@ -169,7 +169,7 @@ struct FrameState {
   // its reference planes. 0 without padding.
   int border_mbs = 0;
   Quantizer inter_quantizer;
-  // The 16x16 luma residual's steps at the same qindex (docs/codec.md 6).
+  // The 16x16 luma residual's steps at the same qindex (docs/codec.md 5.4).
   Quantizer inter_quantizer_16x16;
   Quantizer inter_quantizer_4x4;
   // Whether coded inter macroblocks choose their luma transform size (header flag
@@ -197,7 +197,7 @@ struct FrameState {
   // Per 8x8 block of each plane (grids 2 mbs_x x 2 mbs_y and mbs_x x mbs_y): whether the
   // block had coded levels (intra: some transform block covering it has a level).
   std::array<std::vector<uint8_t>, 3> coded;
-  // Intra prediction's neighbour state of each plane (Y, Cb, Cr; docs/codec.md 10.4):
+  // Intra prediction's neighbour state of each plane (Y, Cb, Cr; docs/codec.md 3.8):
   // intra blocks as in intra frames, inter and skipped macroblocks as DC, uncoded blocks.
   std::vector<intra::PlaneState> intra_planes;
   std::vector<MacroblockInfo> macroblocks;
@@ -251,7 +251,7 @@ T block_value(const FrameState& s, const std::vector<T>& values, const T* local,
   return values[static_cast<size_t>(by) * s.grid_width(plane) + bx];
 }
 
-// ctx_cbf of block (bx, by) of `plane` (docs/codec.md 10.2): the coded flags of its left
+// ctx_cbf of block (bx, by) of `plane` (docs/codec.md 4.2): the coded flags of its left
 // and top neighbours, those of macroblock (mx, my) read from `local` (by block number).
 int coded_context(const FrameState& s, const uint8_t* local, int plane, int mx, int my, int bx, int by);
 
@@ -272,7 +272,7 @@ CarriedVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDir
 inline constexpr int kMaxVectorPredictors = 3;
 
 // The distinct predictors a coded vector may take its difference from, in order; the
-// vector codes the index of the one it uses (docs/codec.md 10.3).
+// vector codes the index of the one it uses (docs/codec.md 3.9).
 struct VectorPredictors {
   int count = 0;
   std::array<MotionVector, kMaxVectorPredictors> vectors{};
@@ -352,7 +352,7 @@ inline int corner_j(int my, int k) { return my + (k >> 1); }
 
 WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int my);
 
-// The prediction of a not yet known node from known ones (docs/codec.md, section 10.3):
+// The prediction of a not yet known node from known ones (docs/codec.md, section 3.9):
 // planar from the left (or right) and top neighbours, else one neighbour, else the
 // macroblock's vector predictor. `kind` receives 0 for planar, 1 otherwise.
 WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vector_predictor, int* kind);
@@ -382,7 +382,7 @@ MotionVector onto_line(LineDirection d, MotionVector v, int limit);
 
 // The coded difference of `vector` from `predictor` towards reference r at macroblock
 // (mx, my): in x and y, or along and across the reference's epipolar line there
-// (docs/codec.md 10.3). Components may exceed 16 bits.
+// (docs/codec.md 3.9). Components may exceed 16 bits.
 std::array<int64_t, 2> vector_difference(const FrameState& s, int r, int mx, int my, MotionVector vector,
                                          MotionVector predictor);
 
@@ -396,7 +396,7 @@ void build_prediction(const FrameState& s, int mx, int my, MacroblockMode mode,
 
 void build_warp_prediction(const FrameState& s, int mx, int my, MacroblockMode mode, MacroblockPrediction* out);
 
-// The translational prediction of every partition of `motion` (docs/codec.md, 10.1).
+// The translational prediction of every partition of `motion` (docs/codec.md, 5.6).
 void build_partition_prediction(const FrameState& s, int mx, int my, const PartitionMotion& motion,
                                 MacroblockPrediction* out);
 

@@ -1,4 +1,4 @@
-// Constrained directional enhancement (docs/codec.md, section 11.2), in the manner of
+// Constrained directional enhancement (docs/codec.md, section 5.8.2), in the manner of
 // AV1's CDEF (sections 7.15.2, 7.15.3): after deblocking, each 8x8 luma block (and its 4x4
 // chroma blocks) is smoothed along its dominant direction (primary taps) and lightly
 // across it (secondary taps), every tap limited by a constraint that spares edges. The
@@ -42,7 +42,7 @@ struct CdefParams {
 // Filter units along a padded luma side of `samples` samples: ceil(samples / 64).
 int cdef_units(int samples);
 
-// The filter's syntax (section 11.2) at the end of a frame's range-coded data is read by
+// The filter's syntax (section 5.8.2) at the end of a frame's range-coded data is read by
 // codec/decoder/cdef_syntax.h and written by codec/encoder/cdef_search.h.
 
 // Filters the macroblock-padded planes of a 4:2:0 frame in place (luma multiple of 16 on

@@ -45,7 +45,7 @@ struct CflContexts {
   std::array<std::array<AdaptiveBit, kCflMaxAlpha - 1>, 2> magnitude{};  // per plane, by bin
 };
 
-// Calls f on every context, in member order (docs/codec.md 4).
+// Calls f on every context, in member order (docs/codec.md 6.1).
 template <class Set, class F>
 requires std::same_as<std::remove_const_t<Set>, CflContexts>
 void for_each_context(Set& s, F&& f) {
@@ -67,7 +67,7 @@ inline size_t cfl_plane_index(ChromaPlane plane) { return plane == ChromaPlane::
 // reconstructed luma plane (stride samples per row, holding at least (2 x0 + 16) x
 // (2 y0 + 16) samples).
 void cfl_luma_ac(const uint8_t* luma, ptrdiff_t stride, int x0, int y0, int16_t* ac);
-// The DC prediction of an 8x8 block from its edge (docs/codec.md 3.1, mode 1).
+// The DC prediction of an 8x8 block from its edge (docs/codec.md 5.2, mode 1).
 int dc_prediction_8x8(const uint8_t* edge);
 // The CfL prediction: clip(dc + ((alpha * ac + 16) >> 5), 0, 255).
 void predict_cfl(const int16_t* ac, int dc, int alpha, uint8_t* out);

@@ -1,4 +1,4 @@
-// The contexts and scans of the coefficient syntax (docs/codec.md section 5), shared by
+// The contexts and scans of the coefficient syntax (docs/codec.md section 3.4), shared by
 // its reader (codec/decoder/coefficient_reader.h) and writer
 // (codec/encoder/coefficient_writer.h): coded-block flag, end-of-block position (class +
 // offset), then in reverse scan order each coefficient's significance, greater-than-1/2
@@ -70,7 +70,7 @@ struct BlockContextSet {
 };
 
 // Calls f on every context of the set, in the order of the members above (arrays in
-// index order): the order of the trained initial probabilities (docs/codec.md 4).
+// index order): the order of the trained initial probabilities (docs/codec.md 6.1).
 template <class Set, class F>
 requires std::same_as<std::remove_const_t<Set>, BlockContextSet>
 void for_each_context(Set& s, F&& f) {
@@ -102,7 +102,7 @@ class NeighbourMagnitudes {
     grid_[cell] = static_cast<uint16_t>(magnitude);
     capped_[cell] = static_cast<uint8_t>(std::min(magnitude, 3));
   }
-  // Contexts of natural position `position` (docs/codec.md 5.2).
+  // Contexts of natural position `position` (docs/codec.md 3.4).
   int significance_context(int position) const {
     const uint8_t* a = capped_.data() + positions_[position].grid;
     const int s = stride_;

@@ -1,4 +1,4 @@
-// Trained initial probabilities of the adaptive contexts (docs/codec.md 4.1): every
+// Trained initial probabilities of the adaptive contexts (docs/codec.md 6.2): every
 // context set a frame creates starts primed at the probability it settles near on
 // typical content, so small frames, whose contexts see only a few dozen bits each, do not
 // pay for learning what every frame learns. The tables (context_priors_table.cc) are

@@ -3,7 +3,7 @@
 // adjacent faces of the same cube (the cube-map projection continued across the edge,
 // as 360-degree video coders pad cube maps). Motion vectors of a B-face that leave the
 // reference face then find the right content instead of repeated edge samples.
-// Integer arithmetic only: part of the bitstream contract (docs/codec.md, section 10.6).
+// Integer arithmetic only: part of the bitstream contract (docs/codec.md, section 5.7).
 //
 // All functions are thread-safe. The border geometry of each face size is worked out
 // once and kept for later paddings (codec/cube_padding_map.h).
@@ -37,7 +37,7 @@ using CubeFaces = std::array<const ImageYCbCr420*, kFaceCount>;
 // The reference face `face` of `cube` with a border of `units` x 16 luma samples on each
 // side: (n + 32 units)^2 luma samples for n x n faces, chroma planes likewise with half
 // the border. Inside, the face's own samples; in the border, the adjacent face hit by
-// the same viewing direction, sampled bilinearly at 1/16 sample (docs/codec.md 10.6).
+// the same viewing direction, sampled bilinearly at 1/16 sample (docs/codec.md 5.7).
 // Errors (kInvalidArgument): units outside 0..kMaxCubeBorderUnits, faces that are not
 // square, of different sizes, or missing where needed. `out` is unchanged then.
 Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420* out);

@@ -1,5 +1,5 @@
 // Internal to the cube padding (codec/cube_padding.h) and its tests. The rule of
-// docs/codec.md 10.6 picks, per border sample, a source face and a 1/16-sample position
+// docs/codec.md 5.7 picks, per border sample, a source face and a 1/16-sample position
 // with 64-bit divisions; that geometry depends only on (face, plane size, border), never
 // on the samples. So each geometry is worked out once with the rule into a BorderMap of
 // ready bilinear taps, kept in a small process-wide cache, and every padding of a plane

@@ -89,7 +89,7 @@ int type_matrix_entry(int points, bool dst, int k, int n) {
   return dsp::type_matrix<16>(dst).m[k][n];
 }
 
-// The typed inverse kernels of a size (docs/codec.md 7.2, 7.3): types 1..3 for squares,
+// The typed inverse kernels of a size (docs/codec.md 5.5.2, 5.5.3): types 1..3 for squares,
 // whose DCT_DCT has kernels of its own, and 0..3 for rectangular sizes.
 void inverse_typed(const dsp::DspTable& dsp, TransformSize size, int type, const int16_t* coefficients,
                    int16_t* samples) {

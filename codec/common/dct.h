@@ -33,7 +33,7 @@ void inverse_dct_8x8_reference(const double* coefficients, double* samples);
 
 // Any transform size (blocks of transform_area(size) values, row-major). 4x4 and 16x16
 // use HEVC's integer DCT matrices (codec/common/dsp/dct_4_16_basis.h, docs/codec.md
-// section 7) scaled to near-orthonormal; the inverses undo exactly the scale of the
+// section 5.5) scaled to near-orthonormal; the inverses undo exactly the scale of the
 // encoder's forward transforms (codec/encoder/forward_transform.h).
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples);
 // The integer inverse as a plain matrix product: bit-identical to inverse_transform.
@@ -42,7 +42,7 @@ void inverse_transform_integer_reference(TransformSize size, const int16_t* coef
 // rounding), of the same scale as inverse_transform.
 void inverse_transform_reference(TransformSize size, const double* coefficients, double* samples);
 
-// The intra transform types (codec/common/transform_type.h, docs/codec.md 7.2): DCT_DCT
+// The intra transform types (codec/common/transform_type.h, docs/codec.md 5.5.2): DCT_DCT
 // is the transforms above; the others take per direction HEVC's integer DCT of the size
 // or an integer DST-VII at the same scale, so quantization treats every type alike.
 void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples);

@@ -17,14 +17,14 @@
 namespace svc::codec {
 
 // Byte 3 of every frame header: the in-loop filters the frame uses (docs/codec.md,
-// section 11). A decoder rejects other bits.
+// section 5.8). A decoder rejects other bits.
 inline constexpr uint8_t kLoopFilterDeblocking = 1;
 inline constexpr uint8_t kLoopFilterCdef = 2;
 inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
 // Flags byte bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
 inline constexpr uint8_t kIntraWeightedMatrix = 4;
 // Flags byte bit 3, intra frames and B-frames: intra blocks with levels code their
-// transform type (docs/codec.md 5.4); without it every block is DCT_DCT.
+// transform type (docs/codec.md 3.6); without it every block is DCT_DCT.
 inline constexpr uint8_t kTransformTypesFlag = 8;
 
 // Byte 0 of every frame payload: the frame type in bit 7 (0 intra, 1 bidirectional) and
@@ -53,7 +53,7 @@ struct CoefficientFrame {
   CdefParams cdef;                                         // when loop_filters has kLoopFilterCdef
   // Per luma macroblock in raster order: its partition (intra_macroblock.h,
   // LumaPartition: bit 0 set when it splits into four 8x8 blocks, else one 16x16 block,
-  // two halves or four strips; docs/codec.md 3 and 8).
+  // two halves or four strips; docs/codec.md 3.1 and runtime.md).
   std::vector<uint16_t> luma_partitions;
   // Per transform block, in coding order (the luma blocks of every macroblock in turn,
   // then the 8x8 blocks of Cb, then of Cr, each in raster order): the number of non-zero
@@ -65,7 +65,7 @@ struct CoefficientFrame {
   // holds its own alpha).
   std::vector<uint8_t> block_modes;
   // The transform type and non-zero levels of each block with levels in turn, each
-  // block's as a whole-byte stream (codec/level_stream.h, docs/codec.md 8).
+  // block's as a whole-byte stream (codec/level_stream.h, docs/runtime.md).
   std::vector<uint8_t> levels;
 
   // Heap and object bytes held.

@@ -1,7 +1,7 @@
 // The block coding of one intra macroblock that both sides share, for intra frames and
 // the intra macroblocks of B-frames: the neighbour state and contexts, the partitions of
 // a luma macroblock, and the prediction and reconstruction of a block from its
-// reconstructed neighbours (docs/codec.md 3, 3.1 and 10.4). Its syntax is read by
+// reconstructed neighbours (docs/codec.md 3.1, 5.2 and 3.8). Its syntax is read by
 // codec/decoder/intra_syntax_reader.h and written by codec/encoder/intra_syntax_writer.h;
 // the encoder's search is codec/encoder/intra_search.h. Not part of the codec's
 // interface.
@@ -38,7 +38,7 @@ struct PlaneContexts {
   TransformTypeContexts types;  // `enabled` from the frame header
 };
 
-// Calls f on every context, in member order (docs/codec.md 4).
+// Calls f on every context, in member order (docs/codec.md 6.1).
 template <class Set, class F>
 requires std::same_as<std::remove_const_t<Set>, PlaneContexts>
 void for_each_context(Set& s, F&& f) {
@@ -114,7 +114,7 @@ void for_each_luma_block(LumaPartition partition, Visit&& visit) {
 
 // Per 4x4 unit of the plane being coded: the mode, coded flag and transform width (the
 // shorter side) of the block covering it (width 0: not reconstructed yet). Source of the neighbour
-// derivations of docs/codec.md 3 and 3.1.
+// derivations of docs/codec.md 3.1 and 5.2.
 class PlaneState {
  public:
   PlaneState(int width, int height)

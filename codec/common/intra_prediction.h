@@ -2,7 +2,7 @@
 // neighbours:
 // the reference edge of a block, the most probable modes derived from its left and above
 // neighbours, and the coding of a block's mode. The predictors themselves are kernels
-// (dsp::DspTable::intra_predict_*). Exact definitions in docs/codec.md 3.1-3.2.
+// (dsp::DspTable::intra_predict_*). Exact definitions in docs/codec.md 5.2-3.2.
 //
 // Threading: pure functions; IntraModeContexts is plain mutable data owned by one coder.
 #pragma once
@@ -27,7 +27,7 @@ inline constexpr int kVerticalMode = 26;
 inline constexpr int kMostProbableModes = 3;
 
 // Which neighbours of a block are reconstructed: the N samples left and above, the N
-// below-left and the N above-right (docs/codec.md 3.1 derives them from coding order).
+// below-left and the N above-right (docs/codec.md 5.2 derives them from coding order).
 struct EdgeAvailability {
   bool left = false, above = false, below_left = false, above_right = false;
 };
@@ -35,7 +35,7 @@ struct EdgeAvailability {
 // Fills edge[2 (W + H) + 1] (the corner at W + H) for the W x H block of `shape`
 // (block_shape of transform_size.h: 4, 8, 16, or 16x8 and 8x16) at sample (x0, y0) of
 // `plane` (stride samples per row), reading only the neighbours `available` names.
-// Missing neighbours are substituted as docs/codec.md 3.1 defines.
+// Missing neighbours are substituted as docs/codec.md 5.2 defines.
 void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int shape,
                       const EdgeAvailability& available, uint8_t* edge);
 
@@ -75,7 +75,7 @@ struct IntraModeContexts {
   std::array<AdaptiveBit, 31> remainder{};
 };
 
-// Calls f on every context, in member order (docs/codec.md 4).
+// Calls f on every context, in member order (docs/codec.md 6.1).
 template <class Set, class F>
 requires std::same_as<std::remove_const_t<Set>, IntraModeContexts>
 void for_each_context(Set& s, F&& f) {

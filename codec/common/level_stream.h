@@ -1,4 +1,4 @@
-// The levels of the semi-decoded form (CoefficientFrame, docs/codec.md 8) packed as
+// The levels of the semi-decoded form (CoefficientFrame, docs/runtime.md) packed as
 // Exp-Golomb codes: a block with levels starts with its transform type in two bits
 // (codec/transform_type.h), then per non-zero level, in increasing scan order within its block, the
 // run of zeros before it, its magnitude minus one and its sign. A photographic I-face's

@@ -1,4 +1,4 @@
-// In-loop deblocking (docs/codec.md, section 11), in the manner of H.265 section 8.7.2:
+// In-loop deblocking (docs/codec.md, section 5.8), in the manner of H.265 section 8.7.2:
 // edges on the 8x8 grid of each plane, a boundary strength per 4-sample edge segment
 // that the frame codec derives from its coding decisions, thresholds beta and tc from
 // the quantiser index, the on/off and strong/normal decisions from the samples. The

@@ -5,7 +5,7 @@
 // bidirectional prediction. Sample coordinates outside the reference plane are clamped
 // to it (edge extension), in one place (fetch_window in motion_compensation.cc), so any
 // vector within max_vector_component() is valid even when it points wholly outside the
-// face. Exact arithmetic is part of the bitstream contract (docs/codec.md, section 10.1).
+// face. Exact arithmetic is part of the bitstream contract (docs/codec.md, section 5.6).
 //
 // All functions are pure and thread-safe. Pointers and sizes are the caller's
 // responsibility (planes of plane_width x plane_height samples, tightly packed).
@@ -28,7 +28,7 @@ bool vector_in_range(MotionVector vector, int width, int height);
 // positions in 1/8 pel with the 4-tap filter.
 enum class PlaneKind : uint8_t { kLuma, kChroma };
 
-// The filter bank of a B-frame (header byte 2, docs/codec.md 10.1): HEVC's DCT-based
+// The filter bank of a B-frame (header byte 2, docs/codec.md 5.6): HEVC's DCT-based
 // filters, AV1's EIGHTTAP_SMOOTH, or bilinear. References carry quantisation noise and
 // are often seen at another scale, where a smoother filter predicts better.
 enum class InterpolationFilter : uint8_t { kRegular = 0, kSmooth = 1, kBilinear = 2 };

@@ -54,7 +54,7 @@ int quant_step(BlockKind kind, int qindex, int position);
 // ones. Part of the bitstream contract.
 int residual_step(TransformSize size, int qindex);
 
-// Quantization matrices of intra-frame residual blocks (docs/codec.md 6, "Weighted
+// Quantization matrices of intra-frame residual blocks (docs/codec.md 5.4, "Weighted
 // matrices"): flat (one step per size, the default: it measures better in PSNR) or
 // weighted by frequency, coarser towards the high frequencies the eye sees least.
 enum class ResidualMatrix : uint8_t { kFlat = 0, kWeighted = 1 };

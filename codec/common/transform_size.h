@@ -1,4 +1,4 @@
-// The transform block sizes of the codec (docs/codec.md sections 3 and 7).
+// The transform block sizes of the codec (docs/codec.md sections 3.1 and 5.5).
 #pragma once
 
 #include <cstdint>
@@ -46,7 +46,7 @@ constexpr int transform_height(TransformSize size) {
 constexpr int transform_area(TransformSize size) { return transform_width(size) * transform_height(size); }
 constexpr bool is_rectangular(TransformSize size) { return transform_width(size) != transform_height(size); }
 // Rectangular coefficients are on the scale 8 / sqrt(W H) of the orthonormal ones
-// (docs/codec.md 7.3): 1/sqrt(2) for 16x8 and 8x16, 1 for 16x4 and 4x16, sqrt(2) for 8x4
+// (docs/codec.md 5.5.3): 1/sqrt(2) for 16x8 and 8x16, 1 for 16x4 and 4x16, sqrt(2) for 8x4
 // and 4x8. The scale in units of sqrt(2): -1, 0 or 1.
 constexpr int rectangular_scale_log_sqrt2(TransformSize size) {
   const int area = transform_area(size);

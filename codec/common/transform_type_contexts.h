@@ -1,4 +1,4 @@
-// The contexts of an intra block's transform type (docs/codec.md 5.4): two adaptive
+// The contexts of an intra block's transform type (docs/codec.md 3.6): two adaptive
 // bits after the block's levels, the vertical direction's DST flag then the horizontal
 // one's, with contexts by transform size, by the class of the block's prediction mode
 // (the direction the residual grows along depends on it) and, for the second bit, by
@@ -30,7 +30,7 @@ struct TransformTypeContexts {
   std::array<std::array<std::array<AdaptiveBit, 3>, kTransformTypeModeClasses>, kTransformSizes> bits{};
 };
 
-// Calls f on every context, in index order (docs/codec.md 4).
+// Calls f on every context, in index order (docs/codec.md 6.1).
 template <class Set, class F>
 requires std::same_as<std::remove_const_t<Set>, TransformTypeContexts>
 void for_each_context(Set& s, F&& f) { for_each_bit(s.bits, f); }

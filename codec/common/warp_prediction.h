@@ -6,7 +6,7 @@
 // interpolation filters as a translation (motion_compensation.h), as VVC's affine and
 // AV1's warped motion predict per sub-block. This follows perspective change (floors,
 // walls and ceilings seen obliquely) that a single vector per 16x16 block cannot. Exact
-// integer arithmetic is part of the bitstream contract (docs/codec.md, section 10.1).
+// integer arithmetic is part of the bitstream contract (docs/codec.md, section 5.6).
 //
 // All functions are pure and thread-safe; pointers and sizes are the caller's
 // responsibility as in motion_compensation.h.

@@ -71,7 +71,7 @@ class IntraBlockDecoder final : public intra::BlockReader {
     return true;
   }
 
-  // The macroblock's coded flags (bit b for block b of 10.2) from the blocks read.
+  // The macroblock's coded flags (bit b for block b of 4.2) from the blocks read.
   uint8_t coded_mask() const { return coded_mask_; }
 
  private:
@@ -173,7 +173,7 @@ class MacroblockReader {
   }
 
   // The intra frame's syntax: the luma macroblock, then the Cb and the Cr block, each
-  // reconstructed in the frame's planes as it is read (docs/codec.md 10.4).
+  // reconstructed in the frame's planes as it is read (docs/codec.md 3.8).
   Status read_intra() {
     info_.mode = MacroblockMode::kIntra;
     IntraBlockDecoder luma(s_, decoder_, 0, mx_, my_);

@@ -25,7 +25,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 // otherwise). `modes` (optional) receives the per-macroblock modes (a partitioned
 // macroblock reports its last partition's), `partitions` (optional) the partitions
 // (16x16 for intra and skipped macroblocks), `warped` (optional) 1 for each coded inter
-// macroblock predicted by warping (10.1), else 0, all row-major. On error `out`, `modes`,
+// macroblock predicted by warping (5.6), else 0, all row-major. On error `out`, `modes`,
 // `partitions` and `warped` are left in an unspecified but valid state.
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
                       const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes = nullptr,

@@ -1,4 +1,4 @@
-// Reading of the CDEF syntax (docs/codec.md section 11.2) at the end of a frame's
+// Reading of the CDEF syntax (docs/codec.md section 5.8.2) at the end of a frame's
 // range-coded data. Every bit pattern reads as valid parameters; truncation shows in the
 // decoder's truncated().
 #pragma once

@@ -1,4 +1,4 @@
-// Reading of quantized transform blocks (docs/codec.md section 5), with the contexts of
+// Reading of quantized transform blocks (docs/codec.md section 3.4), with the contexts of
 // codec/common/coefficient_contexts.h.
 //
 // Threading: context sets are plain mutable data owned by one coder at a time.

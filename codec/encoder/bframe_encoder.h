@@ -34,7 +34,7 @@ struct BFrameParams {
   // Tries the 8 half-pel neighbours of each reference's best candidate, then the 8
   // quarter-pel neighbours of the best of those (16 SADs per macroblock and reference).
   // Depth-derived candidates are already at quarter-pel precision, but the best one for
-  // a whole macroblock often lies between them (docs/codec.md, section 10.5).
+  // a whole macroblock often lies between them (docs/encoder.md 5).
   bool sub_pel_refinement = true;
   // Quarter-pel vectors; off, the encoder picks only half-pel positions (candidates
   // rounded away from zero, no quarter-pel refinement), for ablation.
@@ -43,7 +43,7 @@ struct BFrameParams {
   // scale = quantizer_scale_q8(qindex) / 256 (the MPEG-2 quantiser_scale it replaces),
   // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice). Tuned on
   // the photographic scenes by the whole database's bytes against its PSNR-Y: 0.08 beat
-  // 0.25 by 9.3 % (hall) and 6.9 % (house) BD-rate over 33-40 dB (docs/codec.md, 10.5).
+  // 0.25 by 9.3 % (hall) and 6.9 % (house) BD-rate over 33-40 dB (docs/encoder.md 5).
   double lambda_factor = 0.08;
   // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h).
   bool rdoq = true;
@@ -53,7 +53,7 @@ struct BFrameParams {
   // Candidates tried per macroblock and reference: the first max_candidates of each
   // supplied list (lists come ranked, most pixels first), plus the predictor. Quarter-pel
   // depth lists hold more distinct vectors than half-pel ones did; 32 instead of 16
-  // saved 1.3 % of the B-face bytes on the photographic hall (docs/codec.md, 10.5).
+  // saved 1.3 % of the B-face bytes on the photographic hall (docs/encoder.md 5).
   int max_candidates = 32;
   // Offers the deblocking filter (loop_filter.h); the encoder switches it on for the frame
   // where it lowers the squared error against the source.
@@ -74,7 +74,7 @@ struct BFrameParams {
   // the frame is coded with the regular bank, and again with the bank whose predictions
   // of the same motion come clearly closer to the source, keeping the one of least
   // SSD + lambda * bits; off, the regular bank only. The sharp regular filter loses to
-  // smoother ones on noisy references seen at other scales (docs/codec.md, 10.5).
+  // smoother ones on noisy references seen at other scales (docs/encoder.md 5).
   bool switchable_filter = true;
   // Lets each coded inter macroblock code its luma residual as one 16x16 transform block,
   // and each coded luma 8x8 block as four 4x4 ones, where that lowers the
@@ -86,12 +86,12 @@ struct BFrameParams {
   // macroblock is one 16x16 partition (for ablation).
   bool partitions = true;
   // Codes vector differences along and across each reference's epipolar lines where the
-  // hints give them (docs/codec.md 10.3); off, in x and y, for ablation.
+  // hints give them (docs/codec.md 3.9); off, in x and y, for ablation.
   bool epipolar_lines = true;
   // Each coded vector and skip takes the cheapest of its vector predictors (docs/codec.md
-  // 10.3); off, the first (the median) always, for ablation.
+  // 3.9); off, the first (the median) always, for ablation.
   bool vector_predictors = true;
-  // Intra macroblocks are coded as in intra frames (docs/codec.md 10.4), searched with
+  // Intra macroblocks are coded as in intra frames (docs/codec.md 3.8), searched with
   // the intra frame's tools: every prediction mode (off: planar and DC only, for
   // ablation), the rate-distortion mode search and the 16x16 / 8x8 / 4x4 transform
   // sizes (off: four 8x8 blocks).
@@ -103,7 +103,7 @@ struct BFrameParams {
   bool intra_small_blocks = true;
   // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
   bool intra_cfl = true;
-  // Intra blocks with levels code their transform type (docs/codec.md 5.4; header byte 3
+  // Intra blocks with levels code their transform type (docs/codec.md 3.6; header byte 3
   // bit 3); off, every intra block is DCT_DCT and no type is coded.
   bool intra_transform_types = true;
 };
@@ -181,7 +181,7 @@ struct ReferenceHints {
   // The warp node field, as in the overload above.
   const WarpField* warp = nullptr;
   // The epipolar lines of the reference's camera seen from the current one (same
-  // orientation); absent, vectors are coded in x and y (docs/codec.md 10.3).
+  // orientation); absent, vectors are coded in x and y (docs/codec.md 3.9).
   EpipolarLines lines;
   // The reference's search planes from b_frame_search_planes; null, or built from a
   // face of another size: encode_b_frame builds them.

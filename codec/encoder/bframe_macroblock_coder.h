@@ -33,7 +33,7 @@ struct IntraChoice {
   intra::BlockChoice cb, cr;
 };
 
-// The coded flags (bit b for block b of docs/codec.md 10.2) of an intra macroblock: an
+// The coded flags (bit b for block b of docs/codec.md 4.2) of an intra macroblock: an
 // 8x8 luma block is coded when a transform block covering it has levels.
 uint8_t intra_coded_mask(const IntraChoice& choice);
 
@@ -128,7 +128,7 @@ CandidateList partition_candidates(const MacroblockHints& hints, const Partition
 bool motion_varies(const MacroblockHints& hints);
 
 // A macroblock's vector predictors towards one reference in the line coordinates of its
-// epipolar line there (docs/codec.md 10.3), for pricing vectors against them.
+// epipolar line there (docs/codec.md 3.9), for pricing vectors against them.
 struct LinePredictors {
   int count = 0;   // listed, as the predictor index is coded
   int usable = 0;  // those the encoder may choose
@@ -142,10 +142,10 @@ constexpr int kMaxCandidates = 128;
 
 // A split partition whose screening cost (luma SAD + sqrt(lambda) x side bits) exceeds
 // the best 16x16 option's by this factor is not coded: it practically never wins
-// (docs/codec.md 10.5, "Partitions").
+// (docs/encoder.md 5, "Partitions").
 constexpr double kPartitionScreenMargin = 1.2;
 
-// The intra frame's tools an intra macroblock uses (docs/codec.md 10.5).
+// The intra frame's tools an intra macroblock uses (docs/encoder.md 5).
 CodingParams intra_tools(const BFrameParams& params);
 
 // The macroblock coder of one frame: chooses each macroblock's option and writes it.
@@ -162,7 +162,7 @@ class BFrameMacroblockCoder {
  private:
   void write_vectors(RangeEncoder& encoder, const MacroblockChoice& choice, MacroblockInfo* info);
 
-  // The difference of `vector` from `predictor` (10.3), counted into the neighbour context.
+  // The difference of `vector` from `predictor` (3.9), counted into the neighbour context.
   void write_difference(RangeEncoder& encoder, const int (&contexts)[2], int reference, MotionVector vector,
                         MotionVector predictor, MacroblockInfo* info);
 

@@ -1,5 +1,5 @@
 // The encoder's CDEF decision (docs/encoder.md) and the writing of its syntax
-// (docs/codec.md section 11.2), read by codec/decoder/cdef_syntax.h.
+// (docs/codec.md section 5.8.2), read by codec/decoder/cdef_syntax.h.
 //
 // Threading: every function is reentrant.
 #pragma once

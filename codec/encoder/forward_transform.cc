@@ -26,7 +26,7 @@ struct DoubleBasis {
 };
 const DoubleBasis kDoubleBasis;
 
-// The typed kernels of a size (docs/codec.md 7.2, 7.3): types 1..3 for squares, whose
+// The typed kernels of a size (docs/codec.md 5.5.2, 5.5.3): types 1..3 for squares, whose
 // DCT_DCT has kernels of its own, and 0..3 for rectangular sizes.
 void forward_typed(const dsp::EncoderDspTable& dsp, TransformSize size, int type, const float* samples,
                    float* coefficients) {

@@ -18,11 +18,11 @@ void forward_dct_8x8_reference(const double* samples, double* coefficients);
 
 // Any transform size (blocks of transform_area(size) values). 4x4 and 16x16 take the
 // transposes of HEVC's integer DCT matrices (codec/common/dsp/dct_4_16_basis.h,
-// docs/codec.md section 7) in float, scaled to near-orthonormal, at half scale for 16x16
+// docs/codec.md section 5.5) in float, scaled to near-orthonormal, at half scale for 16x16
 // (so that coefficients of 8-bit residuals fit [kMinCoefficient, kMaxCoefficient]).
 void forward_transform(TransformSize size, const float* samples, float* coefficients);
 
-// The intra transform types (codec/common/transform_type.h, docs/codec.md 7.2): DCT_DCT
+// The intra transform types (codec/common/transform_type.h, docs/codec.md 5.5.2): DCT_DCT
 // is the transforms above; the others take per direction HEVC's DCT of the size or a
 // DST-VII at the same scale, so quantization treats every type alike.
 void forward_transform(TransformSize size, TransformType type, const float* samples, float* coefficients);

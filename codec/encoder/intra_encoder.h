@@ -22,7 +22,7 @@ struct CodingParams {
   // Encoder choice: with every mode allowed, rank by SATD only planar, DC, the most
   // probable modes, every fourth angular mode and the two on each side of the best of
   // those (at most 18 modes instead of 35): for B-frame intra macroblocks, where the
-  // search runs on every macroblock (docs/codec.md 10.5), and for intra frames at encoder
+  // search runs on every macroblock (docs/encoder.md 5), and for intra frames at encoder
   // speeds from 1 on (6.2).
   bool coarse_mode_search = false;
   // Encoder restriction: when false, 8x8 luma blocks are never split into 4x4, 8x4 or
@@ -46,7 +46,7 @@ struct CodingParams {
   // Encoder restriction: when false, no chroma block uses CfL (chroma from luma,
   // codec/cfl.h; the CfL flags are still coded).
   bool cfl = true;
-  // Offers the intra transform types (DST-VII per direction, docs/codec.md 7.2),
+  // Offers the intra transform types (DST-VII per direction, docs/codec.md 5.5.2),
   // signalled in the header (kTransformTypesFlag): the encoder picks each coded block's
   // type by rate-distortion cost. When false, every block is DCT_DCT and no type is coded.
   bool transform_types = true;

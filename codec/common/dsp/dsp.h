@@ -36,7 +36,7 @@ unsigned active_cpu_flags();
 inline constexpr int kIntraEdgeSamples = 33;
 inline constexpr int kMaxIntraEdgeSamples = 65;
 
-// The CDEF filter of one block (docs/codec.md, section 11.2).
+// The CDEF filter of one block (docs/codec.md, section 5.8.2).
 struct CdefTaps {
   int primary;    // primary strength after the contrast adjustment, 0..15
   int secondary;  // secondary strength: 0, 1, 2 or 4
@@ -54,7 +54,7 @@ struct BilinearWeights {
 };
 
 struct DspTable {
-  // The bit-exact integer inverse transforms (docs/codec.md 7), coefficients in
+  // The bit-exact integer inverse transforms (docs/codec.md 5.5), coefficients in
   // [-2048, 2047], blocks row-major: the 8x8 DCT; the 4x4 and 16x16 DCTs with HEVC's
   // matrices; the intra transform types with a DST-VII in at least one direction (7.2),
   // `type` 1..3 (bit 0: rows use the DST, bit 1: columns; the other direction takes
@@ -86,7 +86,7 @@ struct DspTable {
   void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
   void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
-  // Separable 8-tap interpolation (docs/codec.md, section 10.1): `window` points at the
+  // Separable 8-tap interpolation (docs/codec.md, section 5.6): `window` points at the
   // top-left tap, 3 samples left of and above the block's integer position, and holds
   // (width + 7) x (height + 7) samples; h_taps and v_taps hold 8 coefficients each
   // (summing to 64). out = ((sum_j v[j] sum_i h[i] window[y + j][x + i]) >> 6) - 8192,
@@ -100,7 +100,7 @@ struct DspTable {
   // Bidirectional prediction: clip((a + b + 2 * 8192 + 64) >> 7, 0, 255).
   void (*average_intermediate)(const int16_t* a, const int16_t* b, int count, uint8_t* out);
   // Intra prediction of an 8x8 block (64 samples, row-major) in mode 0..34 (planar, DC,
-  // angles; docs/codec.md 3.1) from its edge: edge[15 - i] is the left neighbour of row
+  // angles; docs/codec.md 5.2) from its edge: edge[15 - i] is the left neighbour of row
   // i (i = 0..15, rows 8..15 below the block), edge[16] the top-left corner, edge[17 + i]
   // the sample above column i.
   void (*intra_predict_8x8)(const uint8_t* edge, int mode, uint8_t* out);
@@ -126,7 +126,7 @@ struct DspTable {
   void (*cfl_predict_8x8)(const int16_t* ac, int dc, int alpha, uint8_t* out);
 
   // Deblocking of `segments` consecutive 4-sample segments of one edge (docs/codec.md,
-  // section 11): `pixels` is q0 of the first line, p_i lies at pixels - (i + 1) across,
+  // section 5.8): `pixels` is q0 of the first line, p_i lies at pixels - (i + 1) across,
   // q_i at pixels + i across, line l at pixels + l along; one of across and along is 1.
   // Segment s (lines 4s..4s+3) is filtered with tc[s] (0..24; 0 leaves it alone), each
   // segment making its own decisions. Luma reads p3..q3 and writes at most p2..q2;
@@ -135,7 +135,7 @@ struct DspTable {
                        const uint8_t* tc);
   void (*deblock_chroma)(uint8_t* pixels, ptrdiff_t across, ptrdiff_t along, int segments, const uint8_t* tc);
 
-  // CDEF (docs/codec.md, section 11.2): the direction 0..7 of an 8x8 block and, in
+  // CDEF (docs/codec.md, section 5.8.2): the direction 0..7 of an 8x8 block and, in
   // *variance, the contrast of its best line fit against the orthogonal one.
   int (*cdef_direction_8x8)(const uint8_t* pixels, ptrdiff_t stride, int32_t* variance);
   // Filters a size x size block (8 or 4) of 16-bit samples `in` (the block's first
@@ -144,7 +144,7 @@ struct DspTable {
   void (*cdef_filter_block)(const uint16_t* in, ptrdiff_t in_stride, uint8_t* out, ptrdiff_t out_stride, int size,
                             const CdefTaps& taps);
 
-  // Geometry padding of cube faces (docs/codec.md 10.6): `count` bilinear samples of a
+  // Geometry padding of cube faces (docs/codec.md 5.7): `count` bilinear samples of a
   // plane `stride` samples wide, out[k] = (w.y0 (w.x0 p[0] + w.x1 p[1]) + w.y1 (w.x0
   // p[stride] + w.x1 p[stride + 1]) + 128) >> 8 with p = plane + index[k], w =
   // weights[k]. Each 2 x 2 block lies inside the plane (its left column below

@@ -52,7 +52,7 @@ int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, u
 void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out);
 // The boundary filter of DC (mode 1), pure horizontal (10) and pure vertical (26) over
 // an N x N block's unfiltered prediction `out`, from its unsmoothed edge; other modes
-// are left alone (docs/codec.md 3.1). Every variant of the angular modes calls it.
+// are left alone (docs/codec.md 5.2). Every variant of the angular modes calls it.
 void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* out);
 // The same three for the rectangular W x H blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8), whose edge holds
 // 2 (W + H) + 1 samples: the angular reference main[W + H + k], k = -(W + H)..W + H + 1

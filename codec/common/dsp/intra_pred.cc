@@ -1,6 +1,6 @@
 // Plain intra prediction kernels: the 35 modes of a square (4x4, 8x8, 16x16) or
 // rectangular (16x8, 8x16, 16x4, 4x16, 8x4, 4x8) block from its reference edge (planar,
-// DC and 33 angles, in the manner of HEVC; docs/codec.md 3.1 is the definition).
+// DC and 33 angles, in the manner of HEVC; docs/codec.md 5.2 is the definition).
 #include <algorithm>
 #include <cstdlib>
 
@@ -27,7 +27,7 @@ int inverse_angle(int angle) {
   }
 }
 
-// HEVC's rule (docs/codec.md 3.1): planar always; no angle at 4x4; the three diagonals
+// HEVC's rule (docs/codec.md 5.2): planar always; no angle at 4x4; the three diagonals
 // at 8x8; at 16x16 every angle but the three nearest pure horizontal and vertical.
 template <int N>
 bool edge_is_smoothed(int mode) {
@@ -159,7 +159,7 @@ void intra_predict(const uint8_t* edge, int mode, uint8_t* out) {
   filter_boundary<N>(edge, mode, out);
 }
 
-// Rectangular W x H blocks: the modes of docs/codec.md 3.1 on an edge of W + H samples
+// Rectangular W x H blocks: the modes of docs/codec.md 5.2 on an edge of W + H samples
 // each side, the corner at W + H. The edge is smoothed as for 8x8 blocks (planar and the
 // three diagonals).
 template <int W, int H>

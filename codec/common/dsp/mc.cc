@@ -1,6 +1,6 @@
 // Plain motion-compensation kernels: the separable 8-tap interpolation to 14-bit
 // intermediates and their rounding to samples (single and bidirectional) (docs/codec.md,
-// section 10.1, defines the arithmetic). The encoder's SADs are in
+// section 5.6, defines the arithmetic). The encoder's SADs are in
 // codec/encoder/dsp/sad.cc.
 #include <algorithm>
 

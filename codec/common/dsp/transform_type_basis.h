@@ -74,7 +74,7 @@ inline constexpr TypeMatrix<16> kTypeDst16 = dst_matrix<16>(kDst16AngleTable);
 // ones), as the size's DCT; a DST pass shifts kDstExtraShift more. Row outputs stay
 // below 2^18 and sums below 2^30 for coefficients in [-2048, 2047]: 32-bit arithmetic.
 constexpr int type_row_shift(bool dst) { return 4 + (dst ? kDstExtraShift : 0); }
-// Rectangular blocks (docs/codec.md 7.3) shift 11 whatever their height.
+// Rectangular blocks (docs/codec.md 5.5.3) shift 5.8 whatever their height.
 constexpr int type_column_shift(int width, int height, bool dst) {
   return (width == 4 && height == 4 ? 10 : 11) + (dst ? kDstExtraShift : 0);
 }

@@ -1,4 +1,4 @@
-// Plain kernels of the intra transform types other than DCT_DCT (docs/codec.md 7.2):
+// Plain kernels of the intra transform types other than DCT_DCT (docs/codec.md 5.5.2):
 // separable transforms whose row pass (horizontal) and column pass (vertical) each take
 // the DCT or the DST-VII matrix of transform_type_basis.h. These integer inverses are the
 // bitstream's contract and must equal codec/common/dct.cc's matrix product; the float

@@ -16,13 +16,13 @@
 namespace svc::codec::dsp {
 
 struct EncoderDspTable {
-  // 8x8, 4x4 and 16x16 float forward DCTs (docs/codec.md 7; 4x4 and 8x8 orthonormal,
+  // 8x8, 4x4 and 16x16 float forward DCTs (docs/codec.md 5.5; 4x4 and 8x8 orthonormal,
   // 16x16 half the orthonormal scale): the transposes of the shared table's integer
   // inverses; blocks row-major.
   void (*forward_dct_8x8)(const float* samples, float* coefficients);
   void (*forward_dct_4x4)(const float* samples, float* coefficients);
   void (*forward_dct_16x16)(const float* samples, float* coefficients);
-  // The float forward transforms of the intra transform types (docs/codec.md 7.2),
+  // The float forward transforms of the intra transform types (docs/codec.md 5.5.2),
   // `type` 1..3 for squares (bit 0: rows use the DST-VII, bit 1: columns; the other
   // direction takes HEVC's integer DCT of the size, at 8x8 too), at the scale of the
   // size's DCT; and of the rectangular blocks (7.3; W x H, W samples a row), `type`

@@ -1,5 +1,5 @@
 // Plain float forward transforms of the intra transform types other than DCT_DCT and of
-// the rectangular blocks (docs/codec.md 7.2, 7.3): separable transforms whose row pass
+// the rectangular blocks (docs/codec.md 5.5.2, 5.5.3): separable transforms whose row pass
 // (horizontal) and column pass (vertical) each take the DCT or the DST-VII basis of
 // forward_type_basis.h, the transposes of the shared table's integer inverses.
 #include <cmath>

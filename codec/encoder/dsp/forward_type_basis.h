@@ -1,5 +1,5 @@
 // The float bases and output scales of the intra transform types' forward transforms
-// (docs/codec.md 7.2, 7.3), shared by the plain kernels and their variants so that all
+// (docs/codec.md 5.5.2, 5.5.3), shared by the plain kernels and their variants so that all
 // multiply by the same numbers: the integer matrices of
 // codec/common/dsp/transform_type_basis.h scaled to orthonormal.
 #pragma once
@@ -9,7 +9,7 @@
 namespace svc::codec::dsp {
 
 // The forward transform's output scale (16x16: half the orthonormal scale, as its DCT;
-// rectangular blocks, docs/codec.md 7.3: 8 / sqrt(W H) of it, which the passes' 2^15
+// rectangular blocks, docs/codec.md 5.5.3: 8 / sqrt(W H) of it, which the passes' 2^15
 // gives with the matrices of their sides: 1/sqrt(2) for 16x8 and 8x16, 1 for 16x4 and
 // 4x16, sqrt(2) for 8x4 and 4x8).
 constexpr float type_forward_scale(int width, int height) {

@@ -76,7 +76,7 @@ Columns strong_filtered(const Columns& s, __m128i t) {
   return out;
 }
 
-// Lane masks of the per-segment decisions (docs/codec.md 11.1).
+// Lane masks of the per-segment decisions (docs/codec.md 5.8.1).
 struct Decisions {
   __m128i strong, normal;
   __m128i p1, q1;  // the normal filter also changes p1 / q1
@@ -107,7 +107,7 @@ void normal_filter(Columns& s, __m128i tc, const Decisions& d) {
   s.c[5] = _mm_blendv_epi8(q1, _mm_add_epi16(q1, dq), _mm_and_si128(active, d.q1));
 }
 
-// Whether each line is flat and even enough for the strong filter (docs/codec.md 11.1).
+// Whether each line is flat and even enough for the strong filter (docs/codec.md 5.8.1).
 __m128i strong_lines(const Columns& s, __m128i dpq, __m128i tc, int beta) {
   const __m128i p3 = s.c[0], p0 = s.c[3], q0 = s.c[4], q3 = s.c[7];
   const __m128i flat = _mm_cmplt_epi16(_mm_slli_epi16(dpq, 1), _mm_set1_epi16(static_cast<int16_t>(beta >> 2)));

@@ -1,5 +1,5 @@
 // SSE4.1 float forward transforms of the intra transform types (for the rectangular
-// blocks DCT_DCT too, docs/codec.md 7.3): four outputs of a row at once (lanes over the
+// blocks DCT_DCT too, docs/codec.md 5.5.3): four outputs of a row at once (lanes over the
 // frequency u), every sum in the plain kernel's order, so they round exactly as the plain
 // code does (no fused multiply-add).
 #include <smmintrin.h>
