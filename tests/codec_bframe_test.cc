@@ -237,7 +237,7 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
 }
 
 // Intra macroblocks beside inter ones predict from their reconstructed samples (docs/codec.md
-// 3.8): a face whose right part no reference holds mixes both, and decodes exactly with
+// 3.7): a face whose right part no reference holds mixes both, and decodes exactly with
 // every mode and with planar and DC only (the b-intra-prediction ablation).
 TEST(BFrame, IntraMacroblocksPredictFromInterNeighboursAndDecodeExactly) {
   const int w = 96, h = 80, q = 120;

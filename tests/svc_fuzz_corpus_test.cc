@@ -115,7 +115,7 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
                                                            nullptr, nullptr);
       seeds["seed-b" + std::to_string(refs) + "-" + size] =
           fuzz::make_frame_input(static_cast<uint8_t>(refs), w, h, b);
-      // The same with epipolar lines (docs/codec.md 3.9).
+      // The same with epipolar lines (docs/codec.md 3.8).
       const std::array<codec::ReferenceHints, 2> hints = {codec::ReferenceHints{&candidates, nullptr, &warp,
                                                                                 codec::EpipolarLines{1, -1, 0}},
                                                           codec::ReferenceHints{&candidates, nullptr, &warp,

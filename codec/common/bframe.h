@@ -5,7 +5,7 @@
 // (predicted with the neighbours' vectors, no residual). Each prediction is either a
 // translation (one vector per macroblock and reference) or a warp (a vector per pixel,
 // interpolated from node vectors at the macroblock corners: warp_prediction.h).
-// Bitstream syntax: docs/codec.md, section 3.7. Decoding is
+// Bitstream syntax: docs/codec.md, section 3.6. Decoding is
 // codec/decoder/bframe_decoder.h, encoding codec/encoder/bframe_encoder.h.
 #pragma once
 
@@ -22,13 +22,13 @@ namespace svc::codec {
 inline constexpr uint8_t kBFrameSyntaxVersion = 24;
 // Flags byte bit 4: coded inter macroblocks code whether their luma residual is one
 // 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
-// it is four 4x4 blocks (docs/codec.md 3.8).
+// it is four 4x4 blocks (docs/codec.md 3.7).
 inline constexpr uint8_t kInterTransformSizesFlag = 16;
 // Byte 3 bit 2: each reference's epipolar lines open the range-coded data and vector
-// differences are coded along and across them (docs/codec.md 3.9).
+// differences are coded along and across them (docs/codec.md 3.8).
 inline constexpr uint8_t kEpipolarLinesFlag = 4;
 // Frame type and syntax version (byte 0, intra_codec.h), qindex, the references' byte
-// (border units, interpolation filter, reference count, warp mask), flags (docs/codec.md 3.7).
+// (border units, interpolation filter, reference count, warp mask), flags (docs/codec.md 3.6).
 inline constexpr int kBFrameReferencesByte = 2;
 inline constexpr int kBFrameFlagsByte = 3;
 inline constexpr int kBFrameHeaderBytes = 4;

@@ -21,7 +21,7 @@
 
 namespace svc::codec::bframe {
 
-// A magnitude of class k lies in 2^k .. 2^(k+1) - 1 (docs/codec.md 3.9). Vector
+// A magnitude of class k lies in 2^k .. 2^(k+1) - 1 (docs/codec.md 3.8). Vector
 // differences stay below 2^16 and node differences below 2^18 within the ranges of 10.3.
 constexpr int kMagnitudeClasses = 18;
 constexpr int kNeighbourContexts = 3;
@@ -52,7 +52,7 @@ struct SyntaxContexts {
   std::array<std::array<AdaptiveBit, kNeighbourContexts>, 2> mvd_zero{};  // [component][ctx]
   std::array<MagnitudeBits, 2> mvd_magnitude{};                           // [component]
   std::array<AdaptiveBit, kNeighbourContexts> warp{};
-  // Partition of an inter macroblock (docs/codec.md, section 3.8).
+  // Partition of an inter macroblock (docs/codec.md, section 3.7).
   std::array<AdaptiveBit, kNeighbourContexts> partition_split{};
   AdaptiveBit partition_quad{};
   AdaptiveBit partition_vertical{};
@@ -67,7 +67,7 @@ struct SyntaxContexts {
   // Whether a coded luma 8x8 block of such a macroblock is four 4x4 blocks.
   AdaptiveBit luma_4x4{};
   // Which vector predictor a coded vector's difference is taken from: [0] the first or a
-  // later one, [1] the second or the third (docs/codec.md 3.9).
+  // later one, [1] the second or the third (docs/codec.md 3.8).
   PredictorIndexBits predictor_index{};
   // The same for the vectors of a skipped macroblock (one index for both references).
   PredictorIndexBits skip_predictor_index{};
@@ -197,7 +197,7 @@ struct FrameState {
   // Per 8x8 block of each plane (grids 2 mbs_x x 2 mbs_y and mbs_x x mbs_y): whether the
   // block had coded levels (intra: some transform block covering it has a level).
   std::array<std::vector<uint8_t>, 3> coded;
-  // Intra prediction's neighbour state of each plane (Y, Cb, Cr; docs/codec.md 3.8):
+  // Intra prediction's neighbour state of each plane (Y, Cb, Cr; docs/codec.md 3.7):
   // intra blocks as in intra frames, inter and skipped macroblocks as DC, uncoded blocks.
   std::vector<intra::PlaneState> intra_planes;
   std::vector<MacroblockInfo> macroblocks;
@@ -272,7 +272,7 @@ CarriedVector carried_vector(const FrameState& s, int r, int nx, int ny, LineDir
 inline constexpr int kMaxVectorPredictors = 3;
 
 // The distinct predictors a coded vector may take its difference from, in order; the
-// vector codes the index of the one it uses (docs/codec.md 3.9).
+// vector codes the index of the one it uses (docs/codec.md 3.8).
 struct VectorPredictors {
   int count = 0;
   std::array<MotionVector, kMaxVectorPredictors> vectors{};
@@ -352,7 +352,7 @@ inline int corner_j(int my, int k) { return my + (k >> 1); }
 
 WarpCorners macroblock_corners(const FrameState& s, int reference, int mx, int my);
 
-// The prediction of a not yet known node from known ones (docs/codec.md, section 3.9):
+// The prediction of a not yet known node from known ones (docs/codec.md, section 3.8):
 // planar from the left (or right) and top neighbours, else one neighbour, else the
 // macroblock's vector predictor. `kind` receives 0 for planar, 1 otherwise.
 WarpNode predict_node(const FrameState& s, int r, int i, int j, MotionVector vector_predictor, int* kind);
@@ -382,7 +382,7 @@ MotionVector onto_line(LineDirection d, MotionVector v, int limit);
 
 // The coded difference of `vector` from `predictor` towards reference r at macroblock
 // (mx, my): in x and y, or along and across the reference's epipolar line there
-// (docs/codec.md 3.9). Components may exceed 16 bits.
+// (docs/codec.md 3.8). Components may exceed 16 bits.
 std::array<int64_t, 2> vector_difference(const FrameState& s, int r, int mx, int my, MotionVector vector,
                                          MotionVector predictor);
 

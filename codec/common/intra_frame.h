@@ -24,7 +24,7 @@ inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFil
 // Flags byte bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
 inline constexpr uint8_t kIntraWeightedMatrix = 4;
 // Flags byte bit 3, intra frames and B-frames: intra blocks with levels code their
-// transform type (docs/codec.md 3.6); without it every block is DCT_DCT.
+// transform type (docs/codec.md 3.5); without it every block is DCT_DCT.
 inline constexpr uint8_t kTransformTypesFlag = 8;
 
 // Byte 0 of every frame payload: the frame type in bit 7 (0 intra, 1 bidirectional) and

@@ -1,7 +1,7 @@
 // The block coding of one intra macroblock that both sides share, for intra frames and
 // the intra macroblocks of B-frames: the neighbour state and contexts, the partitions of
 // a luma macroblock, and the prediction and reconstruction of a block from its
-// reconstructed neighbours (docs/codec.md 3.1, 5.2 and 3.8). Its syntax is read by
+// reconstructed neighbours (docs/codec.md 3.1, 5.2 and 3.7). Its syntax is read by
 // codec/decoder/intra_syntax_reader.h and written by codec/encoder/intra_syntax_writer.h;
 // the encoder's search is codec/encoder/intra_search.h. Not part of the codec's
 // interface.

@@ -1,4 +1,4 @@
-// The contexts of an intra block's transform type (docs/codec.md 3.6): two adaptive
+// The contexts of an intra block's transform type (docs/codec.md 3.5): two adaptive
 // bits after the block's levels, the vertical direction's DST flag then the horizontal
 // one's, with contexts by transform size, by the class of the block's prediction mode
 // (the direction the residual grows along depends on it) and, for the second bit, by

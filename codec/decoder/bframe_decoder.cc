@@ -173,7 +173,7 @@ class MacroblockReader {
   }
 
   // The intra frame's syntax: the luma macroblock, then the Cb and the Cr block, each
-  // reconstructed in the frame's planes as it is read (docs/codec.md 3.8).
+  // reconstructed in the frame's planes as it is read (docs/codec.md 3.7).
   Status read_intra() {
     info_.mode = MacroblockMode::kIntra;
     IntraBlockDecoder luma(s_, decoder_, 0, mx_, my_);

@@ -1,5 +1,5 @@
 // B-frame syntax reading: macroblock partitions and directions, motion vector
-// differences, predictor indices, epipolar lines and warp nodes (docs/codec.md 3.9).
+// differences, predictor indices, epipolar lines and warp nodes (docs/codec.md 3.8).
 // Errors: functions returning bool give false on syntax no encoder produces; none reads
 // outside its input.
 #pragma once
@@ -11,7 +11,7 @@
 
 namespace svc::codec::bframe {
 
-// A magnitude of 1 .. 2^kMagnitudeClasses - 1 by class (docs/codec.md 3.9): the class
+// A magnitude of 1 .. 2^kMagnitudeClasses - 1 by class (docs/codec.md 3.8): the class
 // in unary, the bit below the leading one, then the rest as bypass bits.
 unsigned decode_magnitude(RangeDecoder& decoder, MagnitudeBits& bits);
 
@@ -22,7 +22,7 @@ Partition decode_partition(RangeDecoder& decoder, FrameState& s, int mx, int my)
 // reference).
 MacroblockMode decode_direction(RangeDecoder& decoder, FrameState& s, int mx, int my);
 
-// A reference's epipolar lines (docs/codec.md 3.9): a, bx, by, each a signed value as
+// A reference's epipolar lines (docs/codec.md 3.8): a, bx, by, each a signed value as
 // an Exp-Golomb code in bypass bits. Refuses magnitudes above kMaxEpipolarCoefficient.
 bool decode_epipolar_lines(RangeDecoder& decoder, EpipolarLines* lines);
 

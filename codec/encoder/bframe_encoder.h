@@ -86,12 +86,12 @@ struct BFrameParams {
   // macroblock is one 16x16 partition (for ablation).
   bool partitions = true;
   // Codes vector differences along and across each reference's epipolar lines where the
-  // hints give them (docs/codec.md 3.9); off, in x and y, for ablation.
+  // hints give them (docs/codec.md 3.8); off, in x and y, for ablation.
   bool epipolar_lines = true;
   // Each coded vector and skip takes the cheapest of its vector predictors (docs/codec.md
-  // 3.9); off, the first (the median) always, for ablation.
+  // 3.8); off, the first (the median) always, for ablation.
   bool vector_predictors = true;
-  // Intra macroblocks are coded as in intra frames (docs/codec.md 3.8), searched with
+  // Intra macroblocks are coded as in intra frames (docs/codec.md 3.7), searched with
   // the intra frame's tools: every prediction mode (off: planar and DC only, for
   // ablation), the rate-distortion mode search and the 16x16 / 8x8 / 4x4 transform
   // sizes (off: four 8x8 blocks).
@@ -103,7 +103,7 @@ struct BFrameParams {
   bool intra_small_blocks = true;
   // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
   bool intra_cfl = true;
-  // Intra blocks with levels code their transform type (docs/codec.md 3.6; header byte 3
+  // Intra blocks with levels code their transform type (docs/codec.md 3.5; header byte 3
   // bit 3); off, every intra block is DCT_DCT and no type is coded.
   bool intra_transform_types = true;
 };
@@ -181,7 +181,7 @@ struct ReferenceHints {
   // The warp node field, as in the overload above.
   const WarpField* warp = nullptr;
   // The epipolar lines of the reference's camera seen from the current one (same
-  // orientation); absent, vectors are coded in x and y (docs/codec.md 3.9).
+  // orientation); absent, vectors are coded in x and y (docs/codec.md 3.8).
   EpipolarLines lines;
   // The reference's search planes from b_frame_search_planes; null, or built from a
   // face of another size: encode_b_frame builds them.

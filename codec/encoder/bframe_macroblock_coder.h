@@ -128,7 +128,7 @@ CandidateList partition_candidates(const MacroblockHints& hints, const Partition
 bool motion_varies(const MacroblockHints& hints);
 
 // A macroblock's vector predictors towards one reference in the line coordinates of its
-// epipolar line there (docs/codec.md 3.9), for pricing vectors against them.
+// epipolar line there (docs/codec.md 3.8), for pricing vectors against them.
 struct LinePredictors {
   int count = 0;   // listed, as the predictor index is coded
   int usable = 0;  // those the encoder may choose
@@ -162,7 +162,7 @@ class BFrameMacroblockCoder {
  private:
   void write_vectors(RangeEncoder& encoder, const MacroblockChoice& choice, MacroblockInfo* info);
 
-  // The difference of `vector` from `predictor` (3.9), counted into the neighbour context.
+  // The difference of `vector` from `predictor` (3.8), counted into the neighbour context.
   void write_difference(RangeEncoder& encoder, const int (&contexts)[2], int reference, MotionVector vector,
                         MotionVector predictor, MacroblockInfo* info);
 

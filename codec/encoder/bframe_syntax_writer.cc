@@ -145,7 +145,7 @@ void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int compone
 namespace {
 
 // The prediction kind and the coded difference of node (i, j) towards `reference`
-// (docs/codec.md 3.9), the encoder's node value against its prediction.
+// (docs/codec.md 3.8), the encoder's node value against its prediction.
 std::array<int64_t, 2> node_difference(const FrameState& s, int reference, int i, int j,
                                        MotionVector vector_predictor, int* kind) {
   const WarpNode prediction = predict_node(s, reference, i, j, vector_predictor, kind);

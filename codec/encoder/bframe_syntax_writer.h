@@ -1,6 +1,6 @@
 // B-frame syntax writing and its bit estimates from the current adaptive probabilities:
 // macroblock modes, partitions and directions, motion vector differences, predictor
-// indices, epipolar lines and warp nodes (docs/codec.md 3.9), mirrored by
+// indices, epipolar lines and warp nodes (docs/codec.md 3.8), mirrored by
 // codec/decoder/bframe_syntax_reader.h.
 #pragma once
 
@@ -16,7 +16,7 @@
 
 namespace svc::codec::bframe {
 
-// A magnitude of 1 .. 2^kMagnitudeClasses - 1 by class (docs/codec.md 3.9): the class
+// A magnitude of 1 .. 2^kMagnitudeClasses - 1 by class (docs/codec.md 3.8): the class
 // in unary, the bit below the leading one, then the rest as bypass bits.
 void encode_magnitude(RangeEncoder& encoder, MagnitudeBits& bits, unsigned magnitude);
 float magnitude_bits(const MagnitudeBits& bits, unsigned magnitude);
@@ -56,7 +56,7 @@ void encode_partition(RangeEncoder& encoder, FrameState& s, int mx, int my, Part
 
 void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, MacroblockMode mode);
 
-// A reference's epipolar lines (docs/codec.md 3.9): a, bx, by, each a signed value as
+// A reference's epipolar lines (docs/codec.md 3.8): a, bx, by, each a signed value as
 // an Exp-Golomb code in bypass bits.
 void encode_epipolar_lines(RangeEncoder& encoder, const EpipolarLines& lines);
 

@@ -52,17 +52,17 @@ struct CodingTools {
   // rounding with a dead zone. Encoder only.
   bool rdoq = true;
   // B-faces: inter macroblocks split into 16x8, 8x16 or 8x8 partitions, each with its own
-  // direction and vectors from its own pixels' depth (docs/codec.md 3.8). Off: 16x16 only.
+  // direction and vectors from its own pixels' depth (docs/codec.md 3.7). Off: 16x16 only.
   bool partitions = true;
   // I-faces: each 16x16 luma region coded as one 16x16 transform block, four 8x8 or 8x8
   // blocks split into four 4x4, by rate-distortion cost (docs/codec.md 3.1). Off: 8x8 only.
   bool transform_sizes = true;
   // B-faces: each coded inter macroblock's luma residual coded as one 16x16 transform
   // block or four 8x8 blocks, each of those whole or as four 4x4 blocks, by
-  // rate-distortion cost (docs/codec.md 3.8). Off: 8x8 only.
+  // rate-distortion cost (docs/codec.md 3.7). Off: 8x8 only.
   bool inter_transform_sizes = true;
   // I-faces and B-face intra macroblocks: chroma blocks may be predicted from the
-  // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 3.8), by rate-distortion
+  // co-located reconstructed luma (CfL, docs/codec.md 3.3 and 3.7), by rate-distortion
   // cost against the regular modes. Off: never.
   bool cfl = true;
   // I-faces and B-face intra macroblocks: each block with levels uses the DCT or an
@@ -75,16 +75,16 @@ struct CodingTools {
   // Not one of the --disable-tool names.
   bool weighted_quant_matrix = false;
   // B-faces: intra macroblocks predicted in every mode of the intra frame's prediction
-  // (docs/codec.md 3.8). Off: planar and DC only. (Their transform sizes, mode search
+  // (docs/codec.md 3.7). Off: planar and DC only. (Their transform sizes, mode search
   // and directional modes also follow transform-sizes, intra-rd-search and
   // intra-directional.)
   bool b_intra_prediction = true;
   // B-faces: each coded vector, and each skip, takes the vector predictor (the median,
   // the left, top or top-right macroblock's vector) it codes cheapest from
-  // (docs/codec.md 3.9). Off: the median always.
+  // (docs/codec.md 3.8). Off: the median always.
   bool vector_predictors = true;
   // B-faces: vector and warp node differences coded along and across the epipolar line
-  // of each reference (from the cameras; docs/codec.md 3.9), predictors and candidates
+  // of each reference (from the cameras; docs/codec.md 3.8), predictors and candidates
   // taken onto the line. Off: in x and y.
   bool epipolar_lines = true;
   // I-faces: every block ranks all 35 prediction modes by SATD. Off: planar, DC, the most
