@@ -143,11 +143,11 @@ TEST(CodecExpGolomb, RoundTripsValuesUpTo16Bits) {
 }
 
 // A random block whose non-zero levels thin out with scan position, like real data.
-void random_block(std::mt19937& rng, int first_scan, int16_t* levels) {
+void random_block(std::mt19937& rng, int16_t* levels) {
   for (int i = 0; i < 64; ++i) levels[i] = 0;
   const int style = static_cast<int>(rng() % 6);
   if (style == 0) return;  // empty
-  for (int i = first_scan; i < 64; ++i) {
+  for (int i = 0; i < 64; ++i) {
     const uint32_t chance = style == 5 ? 100 : 60 - std::min(55, i);
     if (rng() % 100 < chance) {
       int magnitude = 1 + static_cast<int>(rng() % 3);
@@ -163,15 +163,13 @@ TEST(CodecBlockCoder, RoundTripsRandomBlocks) {
   std::mt19937 rng(23);
   struct Coded {
     int16_t levels[64];
-    int first_scan;
     int cbf_context;
   };
   std::vector<Coded> blocks(3000);
   for (Coded& b : blocks) {
-    b.first_scan = rng() % 2 ? 1 : 0;
-    random_block(rng, b.first_scan, b.levels);
+    random_block(rng, b.levels);
     bool any = false;
-    for (int i = b.first_scan; i < 64; ++i) any = any || b.levels[kZigZag[i]] != 0;
+    for (int i = 0; i < 64; ++i) any = any || b.levels[i] != 0;
     b.cbf_context = any && rng() % 4 == 0 ? kNoCodedBlockFlag : static_cast<int>(rng() % kCodedBlockContexts);
   }
   std::vector<uint8_t> bytes;
@@ -180,7 +178,7 @@ TEST(CodecBlockCoder, RoundTripsRandomBlocks) {
     BlockContextSet a, b;
     for (size_t n = 0; n < blocks.size(); ++n) {
       BlockContextSet& set = n % 3 == 0 ? a : b;
-      encode_block_levels(encoder, set, blocks[n].levels, blocks[n].first_scan, blocks[n].cbf_context);
+      encode_block_levels(encoder, set, blocks[n].levels, blocks[n].cbf_context);
     }
     encoder.finish();
   }
@@ -190,7 +188,7 @@ TEST(CodecBlockCoder, RoundTripsRandomBlocks) {
     BlockContextSet& set = n % 3 == 0 ? a : b;
     BlockLevel out[64];
     int count = -1;
-    ASSERT_TRUE(decode_block_levels(decoder, set, blocks[n].first_scan, blocks[n].cbf_context, out, &count));
+    ASSERT_TRUE(decode_block_levels(decoder, set, blocks[n].cbf_context, out, &count));
     int16_t decoded[64] = {};
     int previous_scan = -1;
     for (int i = 0; i < count; ++i) {
@@ -200,7 +198,6 @@ TEST(CodecBlockCoder, RoundTripsRandomBlocks) {
       ASSERT_GT(scan, previous_scan) << "levels come in scan order";
       previous_scan = scan;
     }
-    for (int i = 0; i < blocks[n].first_scan; ++i) decoded[kZigZag[i]] = blocks[n].levels[kZigZag[i]];
     for (int i = 0; i < 64; ++i) ASSERT_EQ(decoded[i], blocks[n].levels[i]) << "block " << n << " pos " << i;
   }
   EXPECT_LE(decoder.overrun(), kImplicitZeroBytes);  // the final zeros left out
@@ -217,7 +214,7 @@ TEST(CodecBlockCoder, GarbageInputYieldsBoundedLevelsOrErrors) {
     for (int n = 0; n < 100; ++n) {
       BlockLevel out[64];
       int count = 0;
-      if (!decode_block_levels(decoder, set, static_cast<int>(n % 2), static_cast<int>(n % 3), out, &count)) break;
+      if (!decode_block_levels(decoder, set, static_cast<int>(n % 3), out, &count)) break;
       ASSERT_LE(count, 64);
       for (int i = 0; i < count; ++i) {
         ASSERT_LT(out[i].position, 64);
@@ -228,25 +225,23 @@ TEST(CodecBlockCoder, GarbageInputYieldsBoundedLevelsOrErrors) {
   }
 }
 
-// Decodes one block with `set` and returns it in natural order (positions before
-// first_scan zero); fails the test on a syntax error.
-std::array<int16_t, 64> decode_dense(RangeDecoder& decoder, BlockContextSet& set, int first_scan, int cbf_context) {
+// Decodes one block with `set` and returns it in natural order; fails the test on a
+// syntax error.
+std::array<int16_t, 64> decode_dense(RangeDecoder& decoder, BlockContextSet& set, int cbf_context) {
   std::array<int16_t, 64> dense{};
   BlockLevel out[64];
   int count = -1;
-  EXPECT_TRUE(decode_block_levels(decoder, set, first_scan, cbf_context, out, &count));
+  EXPECT_TRUE(decode_block_levels(decoder, set, cbf_context, out, &count));
   for (int i = 0; i < count; ++i) dense[out[i].position] = out[i].level;
   return dense;
 }
 
 TEST(CodecBlockCoder, RoundTripsEveryEndOfBlockAndLevelBoundary) {
-  std::vector<std::pair<int, std::array<int16_t, 64>>> blocks;  // first_scan, levels
-  for (int first_scan = 0; first_scan <= 1; ++first_scan) {
-    for (int last = first_scan; last < 64; ++last) {
-      std::array<int16_t, 64> levels{};
-      levels[kZigZag[last]] = static_cast<int16_t>(last % 2 ? -1 : 2);
-      blocks.push_back({first_scan, levels});
-    }
+  std::vector<std::array<int16_t, 64>> blocks;
+  for (int last = 0; last < 64; ++last) {
+    std::array<int16_t, 64> levels{};
+    levels[kZigZag[last]] = static_cast<int16_t>(last % 2 ? -1 : 2);
+    blocks.push_back(levels);
   }
   // Magnitudes at every binarization boundary, with growing neighbours (Rice 0..4).
   for (int magnitude : {1, 2, 3, 14, 15, 16, 30, 31, 100, 1000, 4080, 4094, kMaxLevel}) {
@@ -255,21 +250,20 @@ TEST(CodecBlockCoder, RoundTripsEveryEndOfBlockAndLevelBoundary) {
       levels[0] = static_cast<int16_t>(-magnitude);
       for (int position : {1, 2, 8, 9, 16}) levels[position] = static_cast<int16_t>(neighbour);
       levels[63] = 1;
-      blocks.push_back({0, levels});
+      blocks.push_back(levels);
     }
   }
   std::vector<uint8_t> bytes;
   {
     RangeEncoder encoder(&bytes);
     BlockContextSet set;
-    for (const auto& [first_scan, levels] : blocks) encode_block_levels(encoder, set, levels.data(), first_scan, 1);
+    for (const auto& levels : blocks) encode_block_levels(encoder, set, levels.data(), 1);
     encoder.finish();
   }
   RangeDecoder decoder(bytes);
   BlockContextSet set;
   for (size_t n = 0; n < blocks.size(); ++n) {
-    const auto& [first_scan, levels] = blocks[n];
-    ASSERT_EQ(decode_dense(decoder, set, first_scan, 1), levels) << "block " << n;
+    ASSERT_EQ(decode_dense(decoder, set, 1), blocks[n]) << "block " << n;
   }
   EXPECT_EQ(decoder.consumed(), bytes.size());
 }
@@ -282,11 +276,10 @@ TEST(CodecBlockCoder, BitEstimateMatchesTheCodedSize) {
   double estimated = 0;
   for (int n = 0; n < 4000; ++n) {
     int16_t levels[64];
-    const int first_scan = n % 3 == 0 ? 1 : 0;
-    random_block(rng, first_scan, levels);
+    random_block(rng, levels);
     const int cbf_context = n % kCodedBlockContexts;
-    estimated += block_levels_bits(set, levels, first_scan, cbf_context);
-    encode_block_levels(encoder, set, levels, first_scan, cbf_context);
+    estimated += block_levels_bits(set, levels, cbf_context);
+    encode_block_levels(encoder, set, levels, cbf_context);
   }
   encoder.finish();
   const double coded = 8.0 * static_cast<double>(bytes.size());
@@ -296,24 +289,27 @@ TEST(CodecBlockCoder, BitEstimateMatchesTheCodedSize) {
   EXPECT_NEAR(estimated, coded, coded * 0.04) << "estimated " << estimated << " bits, coded " << coded;
 }
 
-TEST(CodecBlockCoder, RejectsAnEndOfBlockPastTheBlock) {
-  // Last level at scan 63 with first_scan 0: eob 64. Read with first_scan 1 (63 positions)
-  // the same bins say eob 64, one past the end.
-  std::array<int16_t, 64> levels{};
-  levels[kZigZag[63]] = 1;
-  std::vector<uint8_t> bytes;
-  RangeEncoder encoder(&bytes);
-  BlockContextSet written;
-  encode_block_levels(encoder, written, levels.data(), 0, kNoCodedBlockFlag);
-  encoder.finish();
-  RangeDecoder decoder(bytes);
-  BlockContextSet set;
-  BlockLevel out[64];
-  int count = 0;
-  EXPECT_FALSE(decode_block_levels(decoder, set, 1, kNoCodedBlockFlag, out, &count));
-  RangeDecoder again(bytes);
-  BlockContextSet fresh;
-  EXPECT_EQ(decode_dense(again, fresh, 0, kNoCodedBlockFlag), levels);
+TEST(CodecBlockCoder, AnEndOfBlockAtTheLastPositionOfEverySizeRoundTrips) {
+  // The end-of-block classes of every size reach exactly its last position.
+  for (int s = 0; s < kTransformSizes; ++s) {
+    const auto size = static_cast<TransformSize>(s);
+    const ScanOrder& order = scan_order(size);
+    std::array<int16_t, kMaxTransformArea> levels{};
+    levels[order.scan[order.count - 1]] = 1;
+    std::vector<uint8_t> bytes;
+    RangeEncoder encoder(&bytes);
+    BlockContextSet written;
+    encode_block_levels(encoder, written, levels.data(), kNoCodedBlockFlag, size);
+    encoder.finish();
+    RangeDecoder decoder(bytes);
+    BlockContextSet set;
+    BlockLevel out[kMaxTransformArea];
+    int count = 0;
+    ASSERT_TRUE(decode_block_levels(decoder, set, kNoCodedBlockFlag, out, &count, size)) << "size " << s;
+    ASSERT_EQ(count, 1);
+    EXPECT_EQ(out[0].position, order.scan[order.count - 1]);
+    EXPECT_EQ(out[0].level, 1);
+  }
 }
 
 TEST(CodecBlockCoder, RejectsALevelBeyondTheMaximum) {
@@ -336,7 +332,7 @@ TEST(CodecBlockCoder, RejectsALevelBeyondTheMaximum) {
     BlockLevel out[64];
     int count = 0;
     const bool valid = 15 + quotient <= static_cast<uint32_t>(kMaxLevel);
-    ASSERT_EQ(decode_block_levels(decoder, set, 0, 0, out, &count), valid) << quotient;
+    ASSERT_EQ(decode_block_levels(decoder, set, 0, out, &count), valid) << quotient;
     if (valid) {
       ASSERT_EQ(count, 1);
       EXPECT_EQ(out[0].level, static_cast<int>(15 + quotient));
@@ -353,7 +349,7 @@ TEST(CodecBlockCoder, TruncatedAndDamagedBlocksDecodeSafely) {
     BlockContextSet set;
     for (auto& levels : blocks) {
       random_block(rng, 0, levels.data());
-      encode_block_levels(encoder, set, levels.data(), 0, 2);
+      encode_block_levels(encoder, set, levels.data(), 2);
     }
     encoder.finish();
   }
@@ -372,7 +368,7 @@ TEST(CodecBlockCoder, TruncatedAndDamagedBlocksDecodeSafely) {
     for (size_t n = 0; n < blocks.size(); ++n) {
       BlockLevel out[64];
       int count = 0;
-      if (!decode_block_levels(decoder, set, 0, 2, out, &count)) break;
+      if (!decode_block_levels(decoder, set, 2, out, &count)) break;
       ASSERT_LE(count, 64);
       for (int i = 0; i < count; ++i) {
         ASSERT_LT(out[i].position, 64);
@@ -385,7 +381,7 @@ TEST(CodecBlockCoder, TruncatedAndDamagedBlocksDecodeSafely) {
   // The truncation one byte short still decodes the first blocks exactly.
   RangeDecoder decoder(std::span<const uint8_t>(bytes.data(), bytes.size() - 1));
   BlockContextSet set;
-  EXPECT_EQ(decode_dense(decoder, set, 0, 2), blocks[0]);
+  EXPECT_EQ(decode_dense(decoder, set, 2), blocks[0]);
 }
 
 }  // namespace

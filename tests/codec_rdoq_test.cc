@@ -34,7 +34,7 @@ void random_coefficients(std::mt19937& rng, float* coefficients) {
 }
 
 // Contexts in a state an encoder would meet: adapted to a few hundred blocks.
-BlockContextSet trained_contexts(std::mt19937& rng, const Quantizer& quantizer, int first_scan) {
+BlockContextSet trained_contexts(std::mt19937& rng, const Quantizer& quantizer) {
   BlockContextSet set;
   std::vector<uint8_t> bytes;
   RangeEncoder encoder(&bytes);
@@ -43,26 +43,25 @@ BlockContextSet trained_contexts(std::mt19937& rng, const Quantizer& quantizer, 
     int16_t levels[64];
     random_coefficients(rng, coefficients);
     quantize_block(quantizer, coefficients, levels);
-    encode_block_levels(encoder, set, levels, first_scan, n % kCodedBlockContexts);
+    encode_block_levels(encoder, set, levels, n % kCodedBlockContexts);
   }
   return set;
 }
 
 struct Case {
   BlockKind kind;
-  int first_scan;
   int coded_block_context;
 };
 
 TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
   std::mt19937 rng(31);
-  const Case cases[] = {{BlockKind::kNonIntra, 0, 1},
-                        {BlockKind::kNonIntra, 0, kNoCodedBlockFlag},
-                        {BlockKind::kIntra, 1, 0}};
+  const Case cases[] = {{BlockKind::kNonIntra, 1},
+                        {BlockKind::kNonIntra, kNoCodedBlockFlag},
+                        {BlockKind::kIntra, 0}};
   for (const Case& c : cases) {
     for (int qindex : {64, 115, 160, 202}) {  // quantiser scales about 2, 6, 16 and 40
       const Quantizer quantizer = make_quantizer(c.kind, qindex);
-      const BlockContextSet contexts = trained_contexts(rng, quantizer, c.first_scan);
+      const BlockContextSet contexts = trained_contexts(rng, quantizer);
       const double scale = quantizer_scale_q8(qindex) / 256.0;
       const float lambda = static_cast<float>(0.25 * scale * scale);
       double plain_total = 0, rdoq_total = 0;
@@ -71,22 +70,21 @@ TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
         random_coefficients(rng, coefficients);
         int16_t plain[64], optimized[64];
         quantize_block(quantizer, coefficients, plain);
-        const int nonzero = rdoq_quantize_block(quantizer, coefficients, contexts, c.first_scan,
-                                                c.coded_block_context, lambda, optimized);
+        const int nonzero =
+            rdoq_quantize_block(quantizer, coefficients, contexts, c.coded_block_context, lambda, optimized);
         ASSERT_EQ(nonzero, std::count_if(optimized, optimized + 64, [](int16_t v) { return v != 0; }));
-        for (int i = 0; i < c.first_scan; ++i) ASSERT_EQ(optimized[i], plain[i]) << "positions before first_scan";
         for (int i = 0; i < 64; ++i) ASSERT_LE(std::abs(optimized[i]), kMaxLevel);
-        const double plain_cost = quantization_rd_cost(quantizer, coefficients, plain, contexts, c.first_scan,
-                                                       c.coded_block_context, lambda);
-        const double rdoq_cost = quantization_rd_cost(quantizer, coefficients, optimized, contexts, c.first_scan,
-                                                      c.coded_block_context, lambda);
+        const double plain_cost =
+            quantization_rd_cost(quantizer, coefficients, plain, contexts, c.coded_block_context, lambda);
+        const double rdoq_cost =
+            quantization_rd_cost(quantizer, coefficients, optimized, contexts, c.coded_block_context, lambda);
         ASSERT_LE(rdoq_cost, plain_cost * (1 + 1e-6) + 1e-3)
-            << "qindex " << qindex << " first_scan " << c.first_scan << " block " << n;
+            << "qindex " << qindex << " case " << (&c - cases) << " block " << n;
         plain_total += plain_cost;
         rdoq_total += rdoq_cost;
       }
       // The search itself (not just the fallback to plain levels) must find savings.
-      EXPECT_LT(rdoq_total, plain_total * 0.98) << "qindex " << qindex << " first_scan " << c.first_scan;
+      EXPECT_LT(rdoq_total, plain_total * 0.98) << "qindex " << qindex << " case " << (&c - cases);
     }
   }
 }
@@ -102,7 +100,7 @@ TEST(CodecRdoq, ZeroLambdaKeepsTheNearestLevels) {
     random_coefficients(rng, coefficients);
     int16_t rounded[64], optimized[64];
     quantize_block(nearest, coefficients, rounded);
-    rdoq_quantize_block(quantizer, coefficients, contexts, 0, 0, 0.0f, optimized);
+    rdoq_quantize_block(quantizer, coefficients, contexts, 0, 0.0f, optimized);
     // Without a rate term only the squared error counts: nearest rounding is optimal.
     double rounded_error = 0, optimized_error = 0;
     for (int i = 0; i < 64; ++i) {
@@ -120,9 +118,9 @@ TEST(CodecRdoq, LargeLambdaEmptiesWeakBlocks) {
   float coefficients[64] = {};
   coefficients[kZigZag[40]] = 10.0f;  // rounds to level 1, far down the scan
   int16_t levels[64];
-  EXPECT_EQ(rdoq_quantize_block(quantizer, coefficients, contexts, 0, 0, 1.0f, levels), 1);
+  EXPECT_EQ(rdoq_quantize_block(quantizer, coefficients, contexts, 0, 1.0f, levels), 1);
   EXPECT_EQ(levels[kZigZag[40]], 1);
-  EXPECT_EQ(rdoq_quantize_block(quantizer, coefficients, contexts, 0, 0, 1000.0f, levels), 0);
+  EXPECT_EQ(rdoq_quantize_block(quantizer, coefficients, contexts, 0, 1000.0f, levels), 0);
 }
 
 // A textured frame: gradients, a few sinusoids and noise, in all three planes.

@@ -147,7 +147,7 @@ TEST(TransformSizes, LevelsOfEverySizeRoundTripThroughTheBlockCoder) {
       if (rng() % 5 == 0) level = static_cast<int16_t>(static_cast<int>(rng() % 41) - 20);
     }
     if (n % 7 == 0) levels.back() = kMaxLevel;  // the last scan position of 4x4 and 16x16 too
-    encode_block_levels(encoder, encoding, levels.data(), 0, n % 3, size);
+    encode_block_levels(encoder, encoding, levels.data(), n % 3, size);
     blocks.emplace_back(size, levels);
   }
   encoder.finish();
@@ -157,7 +157,7 @@ TEST(TransformSizes, LevelsOfEverySizeRoundTripThroughTheBlockCoder) {
     const auto& [size, levels] = blocks[n];
     BlockLevel out[kMaxTransformArea];
     int count = 0;
-    ASSERT_TRUE(decode_block_levels(decoder, decoding, 0, static_cast<int>(n % 3), out, &count, size));
+    ASSERT_TRUE(decode_block_levels(decoder, decoding, static_cast<int>(n % 3), out, &count, size));
     std::vector<int16_t> decoded(levels.size(), 0);
     for (int i = 0; i < count; ++i) decoded[out[i].position] = out[i].level;
     ASSERT_EQ(decoded, levels) << "block " << n;

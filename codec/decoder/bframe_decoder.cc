@@ -321,7 +321,7 @@ class MacroblockReader {
   Status read_block(BlockContextSet& contexts, int coded_block_context, const Quantizer& quantizer,
                     const uint8_t* pred, uint8_t* recon, int stride) {
     int count = 0;
-    if (!decode_block_levels(decoder_, contexts, 0, coded_block_context, decoded_, &count, quantizer.size)) {
+    if (!decode_block_levels(decoder_, contexts, coded_block_context, decoded_, &count, quantizer.size)) {
       return fail("invalid residual levels");
     }
     const int width = transform_width(quantizer.size);

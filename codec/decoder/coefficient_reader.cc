@@ -21,11 +21,11 @@ inline bool read_exp_golomb(RangeDecoder& decoder, uint32_t* value) {
   return true;
 }
 
-// Returns 0 on invalid syntax, else the end-of-block count (last scan - first_scan + 1).
-int read_end_of_block(RangeDecoder& decoder, BlockContextSet& contexts, const ScanOrder& order, TransformSize size,
-                      int first_scan) {
+// Returns 0 on invalid syntax, else the end-of-block count (last scan + 1).
+int read_end_of_block(RangeDecoder& decoder, BlockContextSet& contexts, const ScanOrder& order,
+                      TransformSize size) {
   const size_t s = static_cast<size_t>(size);
-  const int max_eob = order.count - first_scan, max_class = end_of_block_class(max_eob);
+  const int max_eob = order.count, max_class = end_of_block_class(max_eob);
   int eob_class = 0;
   while (eob_class < max_class && decoder.decode(contexts.eob_class[s][eob_class])) ++eob_class;
   if (eob_class < 2) return eob_class + 1;
@@ -57,19 +57,18 @@ bool read_magnitude(RangeDecoder& decoder, BlockContextSet& contexts, const Neig
   return true;
 }
 
-[[gnu::always_inline]] inline bool read_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan,
+[[gnu::always_inline]] inline bool read_levels(RangeDecoder& decoder, BlockContextSet& contexts,
                                                int coded_block_context, BlockLevel* out, int* count,
                                                TransformSize size) {
   *count = 0;
   const ScanOrder& order = scan_order(size);
-  if (first_scan < 0 || first_scan >= order.count) return false;
   if (coded_block_context >= 0 && !decoder.decode(contexts.coded_block[coded_block_context])) return true;
-  const int eob = read_end_of_block(decoder, contexts, order, size, first_scan);
+  const int eob = read_end_of_block(decoder, contexts, order, size);
   if (eob == 0) return false;
-  const int last_scan = first_scan + eob - 1;
+  const int last_scan = eob - 1;
   NeighbourMagnitudes neighbours(order);
   int n = 0;
-  for (int i = last_scan; i >= first_scan; --i) {
+  for (int i = last_scan; i >= 0; --i) {
     const int position = order.scan[i];
     int base_context = last_level_context(order, position);
     if (i != last_scan) {
@@ -91,12 +90,12 @@ bool read_magnitude(RangeDecoder& decoder, BlockContextSet& contexts, const Neig
 
 bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value) { return read_exp_golomb(decoder, value); }
 
-bool decode_block_levels(RangeDecoder& shared_decoder, BlockContextSet& contexts, int first_scan,
-                         int coded_block_context, BlockLevel* out, int* count, TransformSize size) {
+bool decode_block_levels(RangeDecoder& shared_decoder, BlockContextSet& contexts, int coded_block_context,
+                         BlockLevel* out, int* count, TransformSize size) {
   // A local copy the compiler can keep in registers: byte stores through `out` and the
   // contexts could otherwise alias the decoder's state.
   RangeDecoder decoder = shared_decoder;
-  const bool valid = read_levels(decoder, contexts, first_scan, coded_block_context, out, count, size);
+  const bool valid = read_levels(decoder, contexts, coded_block_context, out, count, size);
   shared_decoder = decoder;
   return valid;
 }

@@ -14,12 +14,12 @@
 
 namespace svc::codec {
 
-// Decodes what encode_block_levels (codec/encoder/coefficient_writer.h) wrote: scan
-// positions [first_scan, count) of a block of `size`. Writes the non-zero levels in scan
+// Decodes what encode_block_levels (codec/encoder/coefficient_writer.h) wrote: the levels
+// of a block of `size`. Writes the non-zero levels in scan
 // order to out[0..count) (out must hold the size's count) and sets *count. Returns false
 // on invalid syntax.
-bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int first_scan, int coded_block_context,
-                         BlockLevel* out, int* count, TransformSize size = TransformSize::k8x8);
+bool decode_block_levels(RangeDecoder& decoder, BlockContextSet& contexts, int coded_block_context, BlockLevel* out,
+                         int* count, TransformSize size = TransformSize::k8x8);
 
 // Exp-Golomb order 0 with bypass bits, for values below 2^17 - 1 (prefix <= 16).
 bool decode_exp_golomb_bypass(RangeDecoder& decoder, uint32_t* value);

@@ -76,8 +76,8 @@ bool read_levels_and_type(RangeDecoder& decoder, PlaneContexts& contexts, const 
                           TransformSize size, BlockSyntax* out) {
   out->count = 0;
   out->transform_type = TransformType::kDctDct;
-  if (!decode_block_levels(decoder, contexts.residual, 0, state.coded_block_context(x0, y0), out->levels,
-                           &out->count, size)) {
+  if (!decode_block_levels(decoder, contexts.residual, state.coded_block_context(x0, y0), out->levels, &out->count,
+                           size)) {
     return false;
   }
   if (out->count > 0) out->transform_type = decode_transform_type(decoder, contexts.types, size, out->mode);

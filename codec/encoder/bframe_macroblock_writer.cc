@@ -68,7 +68,7 @@ void BFrameMacroblockCoder::write(RangeEncoder& encoder, const MacroblockChoice&
   if (choice.luma_16x16) {
     first_block = 4;
     if (local_coded[0]) {
-      encode_block_levels(encoder, c.inter_luma, choice.luma_levels.data(), 0, kNoCodedBlockFlag,
+      encode_block_levels(encoder, c.inter_luma, choice.luma_levels.data(), kNoCodedBlockFlag,
                           TransformSize::k16x16);
     }
   }
@@ -78,12 +78,12 @@ void BFrameMacroblockCoder::write(RangeEncoder& encoder, const MacroblockChoice&
       encoder.encode(c.luma_4x4, choice.split[b]);
       if (choice.split[b]) {
         for (int k = 0; k < 4; ++k) {
-          encode_block_levels(encoder, c.inter_luma, choice.levels[b].data() + 16 * k, 0, 0, TransformSize::k4x4);
+          encode_block_levels(encoder, c.inter_luma, choice.levels[b].data() + 16 * k, 0, TransformSize::k4x4);
         }
         continue;
       }
     }
-    encode_block_levels(encoder, block_plane(b) == 0 ? c.inter_luma : c.inter_chroma, choice.levels[b].data(), 0,
+    encode_block_levels(encoder, block_plane(b) == 0 ? c.inter_luma : c.inter_chroma, choice.levels[b].data(),
                         kNoCodedBlockFlag);
   }
   commit_macroblock(s_, mx, my, info, choice.reconstruction, choice.coded_mask);

@@ -89,7 +89,7 @@ bool BFrameMacroblockCoder::code_luma_16x16(const MacroblockPrediction& predicti
   const int64_t uncoded_error = squared_error(src, source_stride, prediction.y.data(), 16, visible_w, visible_h);
   int16_t* levels = out->luma_levels.data();
   float levels_bits = 0;
-  const int nonzero = transform_quantize_block_rd(s_.inter_quantizer_16x16, residual, quantize_rd_, c.inter_luma, 0,
+  const int nonzero = transform_quantize_block_rd(s_.inter_quantizer_16x16, residual, quantize_rd_, c.inter_luma,
                                                   kNoCodedBlockFlag, static_cast<float>(lambda_), levels,
                                                   TransformType::kDctDct, &levels_bits);
   if (nonzero > 0) {
@@ -119,7 +119,7 @@ int64_t BFrameMacroblockCoder::code_quarters(const int16_t* residual, const uint
     const uint8_t* quarter_pred = pred + row * stride + column;
     uint8_t* out = reconstruction + 8 * row + column;
     float levels_bits = 0;
-    if (transform_quantize_block_rd(s_.inter_quantizer_4x4, quarter, quantize_rd_, contexts, 0, 0,
+    if (transform_quantize_block_rd(s_.inter_quantizer_4x4, quarter, quantize_rd_, contexts, 0,
                                     static_cast<float>(lambda_), quarter_levels, TransformType::kDctDct,
                                     &levels_bits) > 0) {
       reconstruct_residual_block(s_.inter_quantizer_4x4, quarter_levels, quarter_pred, stride, out, 8);
@@ -154,7 +154,7 @@ void BFrameMacroblockCoder::code_block(const MacroblockPrediction& prediction, i
   int16_t* levels = out->levels[b].data();
   uint8_t trial[64];
   float levels_bits = 0;
-  const bool whole_has_levels = transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_, contexts, 0,
+  const bool whole_has_levels = transform_quantize_block_rd(s_.inter_quantizer, residual, quantize_rd_, contexts,
                                                             kNoCodedBlockFlag, static_cast<float>(lambda_), levels,
                                                             TransformType::kDctDct, &levels_bits) > 0;
   if (whole_has_levels) {

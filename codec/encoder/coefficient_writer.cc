@@ -8,8 +8,8 @@
 namespace svc::codec {
 namespace {
 
-int last_scan_of(const ScanOrder& order, const int16_t* levels, int first_scan) {
-  for (int i = order.count - 1; i >= first_scan; --i) {
+int last_scan_of(const ScanOrder& order, const int16_t* levels) {
+  for (int i = order.count - 1; i >= 0; --i) {
     if (levels[order.scan[i]] != 0) return i;
   }
   return -1;
@@ -32,11 +32,10 @@ struct CostSink {
 };
 
 template <class Sink, class Set>
-void write_end_of_block(Sink& sink, Set& contexts, const ScanOrder& order, TransformSize size, int first_scan,
-                        int last_scan) {
+void write_end_of_block(Sink& sink, Set& contexts, const ScanOrder& order, TransformSize size, int last_scan) {
   const size_t s = static_cast<size_t>(size);
-  const int eob = last_scan - first_scan + 1;
-  const int eob_class = end_of_block_class(eob), max_class = end_of_block_class(order.count - first_scan);
+  const int eob = last_scan + 1;
+  const int eob_class = end_of_block_class(eob), max_class = end_of_block_class(order.count);
   for (int j = 0; j < eob_class; ++j) sink.bit(contexts.eob_class[s][j], 1);
   if (eob_class < max_class) sink.bit(contexts.eob_class[s][eob_class], 0);
   if (eob_class < 2) return;
@@ -64,15 +63,14 @@ void write_magnitude(Sink& sink, Set& contexts, const NeighbourMagnitudes& neigh
 }
 
 template <class Sink, class Set>
-void write_levels(Sink& sink, Set& contexts, const int16_t* levels, int first_scan, int coded_block_context,
-                  TransformSize size) {
+void write_levels(Sink& sink, Set& contexts, const int16_t* levels, int coded_block_context, TransformSize size) {
   const ScanOrder& order = scan_order(size);
-  const int last_scan = last_scan_of(order, levels, first_scan);
+  const int last_scan = last_scan_of(order, levels);
   if (coded_block_context >= 0) sink.bit(contexts.coded_block[coded_block_context], last_scan >= 0);
   if (last_scan < 0) return;
-  write_end_of_block(sink, contexts, order, size, first_scan, last_scan);
+  write_end_of_block(sink, contexts, order, size, last_scan);
   NeighbourMagnitudes neighbours(order);
-  for (int i = last_scan; i >= first_scan; --i) {
+  for (int i = last_scan; i >= 0; --i) {
     const int position = order.scan[i], level = levels[position], magnitude = std::abs(level);
     int base_context = last_level_context(order, position);
     if (i != last_scan) {
@@ -98,16 +96,16 @@ void encode_exp_golomb_bypass(RangeEncoder& encoder, uint32_t value) {
   while (bits-- > 0) encoder.encode_bypass(static_cast<int>((value >> bits) & 1));
 }
 
-void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
+void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels,
                          int coded_block_context, TransformSize size) {
   EncodeSink sink{encoder};
-  write_levels(sink, contexts, levels, first_scan, coded_block_context, size);
+  write_levels(sink, contexts, levels, coded_block_context, size);
 }
 
-float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int first_scan,
-                        int coded_block_context, TransformSize size) {
+float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int coded_block_context,
+                        TransformSize size) {
   CostSink sink;
-  write_levels(sink, contexts, levels, first_scan, coded_block_context, size);
+  write_levels(sink, contexts, levels, coded_block_context, size);
   return sink.bits;
 }
 
@@ -117,10 +115,10 @@ float uncoded_block_bits(const BlockContextSet& contexts, int coded_block_contex
   return sink.bits;
 }
 
-EndOfBlockPricer::EndOfBlockPricer(const BlockContextSet& contexts, int first_scan, TransformSize size)
-    : extra_(contexts.eob_extra[static_cast<size_t>(size)].data()), first_scan_(first_scan) {
+EndOfBlockPricer::EndOfBlockPricer(const BlockContextSet& contexts, TransformSize size)
+    : extra_(contexts.eob_extra[static_cast<size_t>(size)].data()) {
   const auto& classes = contexts.eob_class[static_cast<size_t>(size)];
-  const int max_class = end_of_block_class(scan_order(size).count - first_scan);
+  const int max_class = end_of_block_class(scan_order(size).count);
   float unary = 0;  // the sum CostSink forms over the leading 1 bits
   for (int c = 0; c <= max_class; ++c) {
     class_bits_[static_cast<size_t>(c)] = c < max_class ? unary + bit_cost(classes[c], 0) : unary;
@@ -129,7 +127,7 @@ EndOfBlockPricer::EndOfBlockPricer(const BlockContextSet& contexts, int first_sc
 }
 
 float EndOfBlockPricer::bits(int last_scan) const {
-  const int eob = last_scan - first_scan_ + 1, eob_class = end_of_block_class(eob);
+  const int eob = last_scan + 1, eob_class = end_of_block_class(eob);
   float bits = class_bits_[static_cast<size_t>(eob_class)];
   if (eob_class < 2) return bits;
   const int extra_bits = eob_class - 1, offset = eob - class_first_eob(eob_class);

@@ -14,31 +14,29 @@
 
 namespace svc::codec {
 
-// Codes scan positions [first_scan, count) of `levels` (natural order, |level| <=
-// kMaxLevel): with first_scan = 1 for intra AC after a separate DC, 0 otherwise.
+// Codes the levels of a block of `size` (natural order, |level| <= kMaxLevel).
 // coded_block_context in [0, kCodedBlockContexts) selects the coded-block flag's
 // context, or kNoCodedBlockFlag (then the block must contain a non-zero level).
-void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels, int first_scan,
+void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels,
                          int coded_block_context, TransformSize size = TransformSize::k8x8);
 
-// Encoder only: the bits encode_block_levels would write, from the contexts' current
+// The bits encode_block_levels would write, from the contexts' current
 // probabilities (unchanged).
-float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int first_scan,
-                        int coded_block_context, TransformSize size = TransformSize::k8x8);
+float block_levels_bits(const BlockContextSet& contexts, const int16_t* levels, int coded_block_context,
+                        TransformSize size = TransformSize::k8x8);
 // block_levels_bits of a block without levels: its coded-block flag (0), if coded.
 float uncoded_block_bits(const BlockContextSet& contexts, int coded_block_context);
 
-// Encoder only, for rate-distortion quantization: bits of the end-of-block position
-// `last_scan` (first_scan .. the size's count - 1), the sum write_end_of_block forms,
+// For rate-distortion quantization: bits of the end-of-block position
+// `last_scan` (0 .. the size's count - 1), the sum write_end_of_block forms,
 // from per-class partial sums taken once for the many positions a search prices.
 class EndOfBlockPricer {
  public:
-  EndOfBlockPricer(const BlockContextSet& contexts, int first_scan, TransformSize size);
+  EndOfBlockPricer(const BlockContextSet& contexts, TransformSize size);
   float bits(int last_scan) const;
 
  private:
   const AdaptiveBit* extra_;  // eob_extra of the size
-  int first_scan_;
   // Per end-of-block class: its unary bits and terminating bit (if any), summed in order.
   std::array<float, kMaxEobClasses + 1> class_bits_{};
 };

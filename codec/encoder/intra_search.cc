@@ -251,7 +251,7 @@ class BlockSearch {
         residual[w * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[w * y + x]);
     }
     float levels_bits = 0;
-    trial->coded = transform_quantize_block_rd(quantizer, residual, rdoq_, contexts, 0, cbf_context, lambda_,
+    trial->coded = transform_quantize_block_rd(quantizer, residual, rdoq_, contexts, cbf_context, lambda_,
                                                trial->levels, type, &levels_bits) > 0;
     trial->transform_type = trial->coded ? type : TransformType::kDctDct;
     const float uncoded_cost = static_cast<float>(block_sse(source, stride, trial->prediction, size)) +

@@ -105,7 +105,7 @@ namespace {
 // Writes a block's levels and, when it has levels, its transform type, and marks it.
 void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
                   const BlockChoice& choice) {
-  encode_block_levels(encoder, contexts.residual, choice.levels, 0, state.coded_block_context(x0, y0),
+  encode_block_levels(encoder, contexts.residual, choice.levels, state.coded_block_context(x0, y0),
                       size_of_shape(size));
   const bool has_levels =
       std::any_of(choice.levels, choice.levels + shape_area(size), [](int16_t l) { return l != 0; });

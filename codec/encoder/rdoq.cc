@@ -37,12 +37,12 @@ class RdoqSearch {
   RdoqSearch(const Quantizer& quantizer, const float* coefficients, const BlockContextSet& contexts, float lambda)
       : quantizer_(quantizer), coefficients_(coefficients), contexts_(contexts), lambda_(lambda) {}
 
-  // Fills decisions_[first_scan..last_scan] in reverse scan order; `rounded` holds the
+  // Fills decisions_[0..last_scan] in reverse scan order; `rounded` holds the
   // levels rounded to nearest (natural order, signed).
-  void decide(const ScanOrder& order, const int16_t* rounded, int first_scan, int last_scan) {
+  void decide(const ScanOrder& order, const int16_t* rounded, int last_scan) {
     NeighbourMagnitudes neighbours(order);
     const NeighbourMagnitudes alone(order);
-    for (int i = last_scan; i >= first_scan; --i) {
+    for (int i = last_scan; i >= 0; --i) {
       const int position = order.scan[i], upper = rounded[position];
       Decision& d = decisions_[static_cast<size_t>(i)];
       d.zero_cost = squared_error(quantizer_, coefficients_, position, 0);
@@ -73,11 +73,11 @@ class RdoqSearch {
   }
 
   // The end of block of least total cost (-1: no level at all), given decide()'s results.
-  int choose_last(int first_scan, int last_scan, int coded_block_context, TransformSize size) const {
+  int choose_last(int last_scan, int coded_block_context, TransformSize size) const {
     float zero_tail = 0;                             // squared error of the positions after the candidate last
     float below = 0;                                 // cost of the positions before it, as decided
-    std::array<float, kMaxCoefficients> below_cost;  // set for first_scan .. last_scan
-    for (int i = first_scan; i <= last_scan; ++i) {
+    std::array<float, kMaxCoefficients> below_cost;  // set for 0 .. last_scan
+    for (int i = 0; i <= last_scan; ++i) {
       below_cost[static_cast<size_t>(i)] = below;
       below += decisions_[static_cast<size_t>(i)].cost;
     }
@@ -85,13 +85,13 @@ class RdoqSearch {
     int best_last = -1;
     if (coded_block_context >= 0) {
       float all_zero = 0;
-      for (int i = first_scan; i <= last_scan; ++i) all_zero += decisions_[static_cast<size_t>(i)].zero_cost;
+      for (int i = 0; i <= last_scan; ++i) all_zero += decisions_[static_cast<size_t>(i)].zero_cost;
       best_cost = all_zero + lambda_ * bit_cost(contexts_.coded_block[coded_block_context], 0);
     }
     const float coded_bits = coded_block_context >= 0 ? bit_cost(contexts_.coded_block[coded_block_context], 1)
                                                       : 0.0f;
-    const EndOfBlockPricer end_of_block(contexts_, first_scan, size);
-    for (int k = last_scan; k >= first_scan; --k) {
+    const EndOfBlockPricer end_of_block(contexts_, size);
+    for (int k = last_scan; k >= 0; --k) {
       const Decision& d = decisions_[static_cast<size_t>(k)];
       if (d.last_cost < kInfinity) {
         const float cost = zero_tail + d.last_cost + below_cost[static_cast<size_t>(k)] +
@@ -123,38 +123,34 @@ int count_nonzero(const int16_t* levels, int count) {
 
 // block_levels_bits of levels with `nonzero` non-zero values: without a pass over an
 // empty block.
-float levels_bits_of(const BlockContextSet& contexts, const int16_t* levels, int nonzero, int first_scan,
-                     int coded_block_context, TransformSize size) {
-  return nonzero > 0 ? block_levels_bits(contexts, levels, first_scan, coded_block_context, size)
+float levels_bits_of(const BlockContextSet& contexts, const int16_t* levels, int nonzero, int coded_block_context,
+                     TransformSize size) {
+  return nonzero > 0 ? block_levels_bits(contexts, levels, coded_block_context, size)
                      : uncoded_block_bits(contexts, coded_block_context);
 }
 
 // quantization_rd_cost, with the bits it priced in *bits.
 double rd_cost_and_bits(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
-                        const BlockContextSet& contexts, int first_scan, int coded_block_context, float lambda,
-                        float* bits) {
+                        const BlockContextSet& contexts, int coded_block_context, float lambda, float* bits) {
   const ScanOrder& order = scan_order(quantizer.size);
   double error = 0;
-  for (int i = first_scan; i < order.count; ++i) {
+  for (int i = 0; i < order.count; ++i) {
     error += squared_error(quantizer, coefficients, order.scan[i], levels[order.scan[i]]);
   }
-  *bits = block_levels_bits(contexts, levels, first_scan, coded_block_context, quantizer.size);
+  *bits = block_levels_bits(contexts, levels, coded_block_context, quantizer.size);
   return error + lambda * *bits;
 }
 
 }  // namespace
 
 double quantization_rd_cost(const Quantizer& quantizer, const float* coefficients, const int16_t* levels,
-                            const BlockContextSet& contexts, int first_scan, int coded_block_context,
-                            float lambda) {
+                            const BlockContextSet& contexts, int coded_block_context, float lambda) {
   float bits = 0;
-  return rd_cost_and_bits(quantizer, coefficients, levels, contexts, first_scan, coded_block_context, lambda,
-                          &bits);
+  return rd_cost_and_bits(quantizer, coefficients, levels, contexts, coded_block_context, lambda, &bits);
 }
 
 int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, const BlockContextSet& contexts,
-                        int first_scan, int coded_block_context, float lambda, int16_t* levels,
-                        float* levels_bits) {
+                        int coded_block_context, float lambda, int16_t* levels, float* levels_bits) {
   const TransformSize size = quantizer.size;
   const ScanOrder& order = scan_order(size);
   const int area = order.count;
@@ -162,8 +158,7 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   auto finish = [&](std::optional<float> known = std::nullopt) {
     const int nonzero = count_nonzero(levels, area);
     if (levels_bits != nullptr)
-      *levels_bits = known ? *known
-                           : levels_bits_of(contexts, levels, nonzero, first_scan, coded_block_context, size);
+      *levels_bits = known ? *known : levels_bits_of(contexts, levels, nonzero, coded_block_context, size);
     return nonzero;
   };
   int16_t plain[kMaxCoefficients], rounded[kMaxCoefficients];
@@ -171,17 +166,17 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   quantize_block_nearest(quantizer, coefficients, rounded);
   std::copy_n(plain, area, levels);
   int last_scan = -1;
-  for (int i = order.count - 1; i >= first_scan && last_scan < 0; --i) {
+  for (int i = order.count - 1; i >= 0 && last_scan < 0; --i) {
     if (rounded[order.scan[i]] != 0) last_scan = i;
   }
   if (last_scan < 0) return finish();
 
   RdoqSearch search(quantizer, coefficients, contexts, lambda);
-  search.decide(order, rounded, first_scan, last_scan);
-  const int chosen_last = search.choose_last(first_scan, last_scan, coded_block_context, size);
+  search.decide(order, rounded, last_scan);
+  const int chosen_last = search.choose_last(last_scan, coded_block_context, size);
   int16_t optimized[kMaxCoefficients];
   std::copy_n(plain, area, optimized);
-  for (int i = first_scan; i < order.count; ++i) {
+  for (int i = 0; i < order.count; ++i) {
     const int level = i < chosen_last    ? search.decision(i).level
                       : i == chosen_last ? search.decision(i).last_level
                                          : 0;
@@ -191,9 +186,8 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
   // plain quantization where it is cheaper by the exact measure.
   if (std::equal(optimized, optimized + area, plain)) return finish();
   float optimized_bits = 0, plain_bits = 0;
-  if (rd_cost_and_bits(quantizer, coefficients, optimized, contexts, first_scan, coded_block_context, lambda,
-                       &optimized_bits) < rd_cost_and_bits(quantizer, coefficients, plain, contexts, first_scan,
-                                                           coded_block_context, lambda, &plain_bits)) {
+  if (rd_cost_and_bits(quantizer, coefficients, optimized, contexts, coded_block_context, lambda, &optimized_bits) <
+      rd_cost_and_bits(quantizer, coefficients, plain, contexts, coded_block_context, lambda, &plain_bits)) {
     std::copy_n(optimized, area, levels);
     return finish(optimized_bits);
   }
@@ -201,20 +195,19 @@ int rdoq_quantize_block(const Quantizer& quantizer, const float* coefficients, c
 }
 
 int transform_quantize_block_rd(const Quantizer& quantizer, const int16_t* samples, bool rdoq,
-                                const BlockContextSet& contexts, int first_scan, int coded_block_context,
-                                float lambda, int16_t* levels, TransformType type, float* levels_bits) {
+                                const BlockContextSet& contexts, int coded_block_context, float lambda,
+                                int16_t* levels, TransformType type, float* levels_bits) {
   if (!rdoq) {
     const int nonzero = transform_quantize_block(quantizer, samples, levels, type);
     if (levels_bits != nullptr)
-      *levels_bits = levels_bits_of(contexts, levels, nonzero, first_scan, coded_block_context, quantizer.size);
+      *levels_bits = levels_bits_of(contexts, levels, nonzero, coded_block_context, quantizer.size);
     return nonzero;
   }
   const int area = transform_area(quantizer.size);
   float input[kMaxCoefficients], coefficients[kMaxCoefficients];
   for (int i = 0; i < area; ++i) input[i] = samples[i];
   forward_transform(quantizer.size, type, input, coefficients);
-  return rdoq_quantize_block(quantizer, coefficients, contexts, first_scan, coded_block_context, lambda, levels,
-                             levels_bits);
+  return rdoq_quantize_block(quantizer, coefficients, contexts, coded_block_context, lambda, levels, levels_bits);
 }
 
 }  // namespace svc::codec
