@@ -21,10 +21,9 @@ namespace svc::codec {
 
 // `intra_qindex`: 42 indices coarser (a step 2^(42/32) = 2.48 times larger), clamped to
 // the valid range. References of good
-// quality help every face predicted from them, so B-frames can afford a coarser step:
-// on the sample hall at 38 dB, ratios 1.75, 2 and 2.5 gave 1.94x, 2.00x and 2.02x smaller
-// databases than intra-only, and the house is flat across them (1.39x); see docs/codec.md,
-// section 10.5. The frame header stores the index used.
+// quality help every face predicted from them, so B-frames can afford a coarser step
+// (docs/encoder.md 5; the figures in docs/bench.md, "Figures behind code constants"). The
+// frame header stores the index used.
 inline constexpr int kBQIndexOffset = 42;
 int suggested_b_qindex(int intra_qindex);
 
@@ -41,9 +40,9 @@ struct BFrameParams {
   bool quarter_pel = true;
   // Rate-distortion trade-off: lambda = lambda_factor * scale^2 squared-error units, with
   // scale = quantizer_scale_q8(qindex) / 256 (the MPEG-2 quantiser_scale it replaces),
-  // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice). Tuned on
-  // the photographic scenes by the whole database's bytes against its PSNR-Y: 0.08 beat
-  // 0.25 by 9.3 % (hall) and 6.9 % (house) BD-rate over 33-40 dB (docs/encoder.md 5).
+  // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice), chosen
+  // by the whole database's bytes against its PSNR-Y (docs/bench.md, "Figures behind code
+  // constants").
   double lambda_factor = 0.08;
   // Encoder choice: levels by rate-distortion optimized quantization (codec/rdoq.h).
   bool rdoq = true;
@@ -52,8 +51,8 @@ struct BFrameParams {
   bool warp = true;
   // Candidates tried per macroblock and reference: the first max_candidates of each
   // supplied list (lists come ranked, most pixels first), plus the predictor. Quarter-pel
-  // depth lists hold more distinct vectors than half-pel ones did; 32 instead of 16
-  // saved 1.3 % of the B-face bytes on the photographic hall (docs/encoder.md 5).
+  // depth lists hold more distinct vectors than half-pel ones did (docs/bench.md,
+  // "Figures behind code constants").
   int max_candidates = 32;
   // Offers the deblocking filter (loop_filter.h); the encoder switches it on for the frame
   // where it lowers the squared error against the source.

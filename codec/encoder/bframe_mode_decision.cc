@@ -155,8 +155,8 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
                    [](const Screened& a, const Screened& b) { return a.cost < b.cost; });
   for (int k = 0; k < std::min(screened_count, full_evaluations_); ++k)
     consider(screened[k].mode, screened[k].warp);
-  // Where skipping wins over the inter options, intra rarely wins (28 of 7,012 such
-  // macroblocks at `svc encode -q 60` of the hall's 18-cell subset): not tried.
+  // Where skipping wins over the inter options, intra rarely wins (docs/bench.md,
+  // "Figures behind code constants"): not tried.
   if (winner.mode != MacroblockMode::kSkipped) consider(MacroblockMode::kIntra, false);
   // Split partitions are tried only where one translation may not serve the whole
   // macroblock: the depth-derived motion varies across it, or intra won.

@@ -184,9 +184,8 @@ class BlockSearch {
     } else {
       for (int mode = 0; mode < modes_; ++mode) score(mode);
     }
-    // 4x4 blocks are many and each matters little: the best by SATD alone (a second mode
-    // gained 0.02 dB PSNR-Y for 20 % more time: `svc encode --intra-only -q 40 --psnr` of
-    // 18 cells of the photographic hall).
+    // 4x4 blocks are many and each matters little: the best by SATD alone (a second
+    // mode gains little for much time: docs/bench.md, "Figures behind code constants").
     const int kept = rd_search_ && size != 4 ? std::min(kSearchedModes, count) : 1;
     std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + count);
     std::array<int, kSearchedModes> searched;

@@ -232,10 +232,8 @@ uint8_t linear_to_srgb8(float linear) noexcept {
 }
 
 void configure_image_loading() {
-  // Measured on the photographic hall's 486 faces: the pool cost 7 % of the loading time
-  // (`svc check --threads 1`); the core library read a depth file in 0.9 ms instead of
-  // 1.9 ms, one after another on one thread, to the same bytes on both photographic
-  // scenes.
+  // No OpenEXR thread pool (faces load on svc's own threads) and the core library, which
+  // reads faster to the same bytes (docs/bench.md, "Figures behind code constants").
   OIIO::attribute("exr_threads", -1);
   OIIO::attribute("openexr:core", 1);
 }

@@ -79,14 +79,14 @@ struct EncoderSpeedStep {
   CubeLayout layout;
 };
 
-// Measured on the photographic scenes (docs/encoder.md 4): the intra searches'
-// rate-distortion step over modes and transform types, the B-frames' second pass with
-// another filter bank and the I-faces' ranking of all 35 modes first (about half the
-// time for 3-4 % more bytes), then the B-frames' partitions, then rate-distortion
-// optimized quantization (levels as quantized), then the visibility layout's planning,
-// which reads every depth file before coding (about 9 % of speed 3's time for 0.2-0.4 %
-// of the bytes), with the references it chooses; last the B-faces' intra blocks under
-// 8x8, half the CDEF search and the inter 4x4 trials of blocks without levels.
+// The order of the cuts, cheapest in bytes per time saved first (docs/encoder.md 4 and
+// docs/bench.md): the intra searches' rate-distortion step over modes and transform
+// types, the B-frames' second pass with another filter bank and the I-faces' ranking of
+// all 35 modes first, then the B-frames' partitions, then rate-distortion optimized
+// quantization (levels as quantized), then the visibility layout's planning, which reads
+// every depth file before coding, with the references it chooses; last the B-faces'
+// intra blocks under 8x8, half the CDEF search and the inter 4x4 trials of blocks
+// without levels.
 const std::array<EncoderSpeedStep, kMaxEncoderSpeed + 1> kSpeedSteps = {{
     {{}, CubeLayout::kVisibility},
     {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search"},

@@ -31,8 +31,8 @@ struct FaceReference {
 };
 
 // The encoder's guard against writing what no decoder reads: decodes the I-face
-// `payload` and compares it with the encoder's `reconstruction` of it (about 1 % of the
-// face's encode time). kInternal naming `what` when the decoder rejects the payload or
+// `payload` and compares it with the encoder's `reconstruction` of it (its cost:
+// docs/bench.md, "Figures behind code constants"). kInternal naming `what` when the decoder rejects the payload or
 // decodes other pixels: a bug in svc, reported instead of written. Thread-safe.
 Status check_intra_payload(const std::vector<uint8_t>& payload, const ImageYCbCr420& reconstruction,
                            const std::string& what);
