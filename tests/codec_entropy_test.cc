@@ -348,7 +348,7 @@ TEST(CodecBlockCoder, TruncatedAndDamagedBlocksDecodeSafely) {
     RangeEncoder encoder(&bytes);
     BlockContextSet set;
     for (auto& levels : blocks) {
-      random_block(rng, 0, levels.data());
+      random_block(rng, levels.data());
       encode_block_levels(encoder, set, levels.data(), 2);
     }
     encoder.finish();
