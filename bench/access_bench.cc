@@ -179,7 +179,7 @@ int run(const samples::SceneOptions& options, int sample_count, int quality, dou
   }
 
   std::printf(
-      "\n  files: svc %.2f MiB (quality %d, quantiser index %d), MPEG-2 baseline %.2f MiB (qscale 4, "
+      "\n  files: svc %.2f MiB (quality %d, quantizer index %d), MPEG-2 baseline %.2f MiB (qscale 4, "
       "GOP IBBPBB, row-major), raw RGB %.2f MiB\n",
       summary->file_bytes / 1048576.0, quality, summary->qindex, mpeg2->total_bytes() / 1048576.0,
       summary->raw_bytes / 1048576.0);

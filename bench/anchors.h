@@ -36,7 +36,7 @@ struct AnchorOptions {
 struct SettingRange {
   int lowest = 0;
   int highest = 0;
-  bool higher_is_better = false;  // quality settings; false for quantisers and CRF
+  bool higher_is_better = false;  // quality settings; false for quantizers and CRF
   std::vector<int> seeds;         // measured first
 };
 

@@ -27,7 +27,7 @@ struct Color {
   uint8_t r = 0, g = 0, b = 0;
 };
 
-// A distinct colour for series `index` (a fixed palette, repeating after 10).
+// A distinct color for series `index` (a fixed palette, repeating after 10).
 Color palette(size_t index);
 
 struct Rect {

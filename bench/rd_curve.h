@@ -8,7 +8,7 @@
 namespace svc::bench {
 
 struct RdPoint {
-  int setting = 0;  // the quantiser / quality that produced it
+  int setting = 0;  // the quantizer / quality that produced it
   double bytes = 0;
   double psnr_y = 0;   // dB
   double seconds = 0;  // encode time

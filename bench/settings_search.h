@@ -3,7 +3,7 @@
 //
 // Deterministic: the settings tried depend only on the PSNR each measurement returns.
 // PSNR is assumed to move one way with the setting (up with a quality, down with a
-// quantiser or CRF). Seeds are measured first; then for each target in turn the search
+// quantizer or CRF). Seeds are measured first; then for each target in turn the search
 // brackets it between measured settings and narrows the bracket by secant steps, or
 // steps outwards from the nearest measurements when no bracket exists, until a
 // measurement lies within `tolerance` of the target, the bracket has no setting left

@@ -5,7 +5,7 @@
 //                               [--target 38] [--threads N] [--repeat 2] [--spacing 0.5]
 //                               [--qindices 128,147,160]
 //
-// For each scene it sweeps the quantiser index for three encoder configurations
+// For each scene it sweeps the quantizer index for three encoder configurations
 // (intra-only; default I/B layout with motion from depth; the same layout with
 // logarithmic search) and prints: bytes at equal PSNR-Y (interpolated on log bytes),
 // the encode-time ratio of depth over log search summed over the sweep (configurations
@@ -39,7 +39,7 @@ using namespace svc;
 using bench::RdCurve;
 using bench::SvcMeasurement;
 
-std::vector<int> kScales = {83, 96, 115, 128, 143, 160, 175, 192};  // quantiser indices
+std::vector<int> kScales = {83, 96, 115, 128, 143, 160, 175, 192};  // quantizer indices
 
 struct Config {
   const char* name;
@@ -297,7 +297,7 @@ int main(int argc, char** argv) {
   double spacing = options.spacing[0];
   app.add_option("--spacing", spacing, "Cell spacing along x and z, metres")->capture_default_str();
   std::string scales_text;
-  app.add_option("--qindices", scales_text, "Quantiser indices to sweep, comma-separated");
+  app.add_option("--qindices", scales_text, "Quantizer indices to sweep, comma-separated");
   CLI11_PARSE(app, argc, argv);
   if (std::sscanf(grid.c_str(), "%d,%d,%d", &options.grid[0], &options.grid[1], &options.grid[2]) != 3) {
     std::fprintf(stderr, "--grid takes X,Y,Z\n");

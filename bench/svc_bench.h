@@ -11,7 +11,7 @@
 //
 // Measurement: every codec is scored on the decoded 8-bit RGB faces against the source
 // faces with svc::rgb_squared_error, svc::luma_squared_error and svc::luma_ssim, so the
-// numbers are comparable whatever colour conversion a codec uses internally. PSNR is
+// numbers are comparable whatever color conversion a codec uses internally. PSNR is
 // taken over the summed squared error of all faces; SSIM is the mean over faces.
 //
 // Cold and warm random access:

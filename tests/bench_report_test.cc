@@ -99,7 +99,7 @@ TEST(BenchPlot, ChartIsWrittenAsReadablePng) {
   std::vector<uint8_t> pixels(640 * 400 * 3);
   ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
   EXPECT_EQ(pixels, canvas.image().pixels);
-  // Something was drawn in the series' colours.
+  // Something was drawn in the series' colors.
   const plot::Color first = plot::palette(0);
   bool found = false;
   for (size_t i = 0; i < pixels.size(); i += 3) {

@@ -145,7 +145,7 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   EXPECT_LT(coarser_bytes.size() * 7, intra.size()) << coarser_bytes.size() << " vs intra " << intra.size();
   EXPECT_GE(coarser_stats.mb_skipped, 24);
   // Within 2 dB of intra coding at the 2.5x finer step: the prediction carries the
-  // detail (lambda 0.25 trades some PSNR for bytes; 0.12 gave 1.0 dB; the I-frame's
+  // detail (lambda 0.25 trades some PSNR for bytes; 0.12 gave 1.0 dB; the I-face's
   // rate-distortion quantization, which starts from nearest rounding, added 0.15 dB).
   EXPECT_GT(psnr(source.y, coarser.y), psnr(source.y, intra_reconstruction.y) - 2.0);
 
@@ -227,8 +227,8 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
                      {}, params, &reconstruction, &stats);
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   EXPECT_GE(stats.mb_intra, 20) << "of " << stats.macroblocks;
-  // Intra macroblocks are coded as an I-frame codes its blocks, at the same qindex but
-  // with the B-frame's lambda and the intra flag's bits on top.
+  // Intra macroblocks are coded as an I-face codes its blocks, at the same qindex but
+  // with the B-face's lambda and the intra flag's bits on top.
   EXPECT_GT(psnr(source.y, reconstruction.y), psnr(source.y, intra_reconstruction.y) - 2.0);
   EXPECT_LT(bytes.size(), intra.size() * 6 / 5) << bytes.size() << " vs intra " << intra.size();
   ImageYCbCr420 decoded;
@@ -457,7 +457,7 @@ TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
   const ImageYCbCr420 source = half_pel_blur(ref);
   const FaceCandidates candidates = uniform_candidates(w, h, {MotionVector{2, 0}});
   BFrameParams params;
-  params.qindex = 115;  // quantiser scale 6
+  params.qindex = 115;  // quantizer scale 6
   params.sub_pel_refinement = false;
   std::vector<double> costs;
   for (bool switchable : {false, true}) {
@@ -618,7 +618,7 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   const std::vector<uint8_t> bytes =
       encode_b_frame(source, reference, nullptr, searched, {}, params, &reconstruction, &stats);
   // Against the DCT-only intra frame (transform types shrink this smooth shading's intra
-  // frame further): the B-frame codes it from the reference in under half the bytes.
+  // frame further): the B-face codes it from the reference in under half the bytes.
   const std::vector<uint8_t> intra = encode_intra_frame(source, {.qindex = q, .transform_types = false}, nullptr);
   EXPECT_LT(bytes.size() * 2, intra.size()) << bytes.size() << " vs intra " << intra.size();
   EXPECT_EQ(stats.candidates_evaluated, stats.macroblocks);
@@ -716,7 +716,7 @@ TEST(BFramePartitions, PartitionsChooseTheirOwnReferenceAndDecodeExactly) {
     const std::array<ReferenceHints, 2> hints = {ReferenceHints{&lists0, &blocks0, nullptr},
                                                  ReferenceHints{&lists1, &blocks1, nullptr}};
     BFrameParams params;
-    params.qindex = 138;  // quantiser scale 10
+    params.qindex = 138;  // quantizer scale 10
     ImageYCbCr420 reconstruction;
     BFrameStats stats;
     const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, &ref1, hints, params, &reconstruction, &stats);
@@ -776,7 +776,7 @@ TEST(BFramePartitions, DamagedPartitionedPayloadsAreRejectedOrDecoded) {
   const FaceCandidates lists = uniform_candidates(w, h, {MotionVector{12, 8}, MotionVector{-8, 4}});
   const FaceCandidates blocks = column_block_candidates(w, h, MotionVector{12, 8}, MotionVector{-8, 4});
   BFrameParams params;
-  params.qindex = 115;  // quantiser scale 6
+  params.qindex = 115;  // quantizer scale 6
   BFrameStats stats;
   const std::vector<uint8_t> valid = encode_b_frame(source, reference, nullptr,
                                                     {ReferenceHints{&lists, &blocks, nullptr}, ReferenceHints{}},

@@ -69,8 +69,8 @@ TEST(CodecColor, KnownJfifValues) {
   EXPECT_EQ(blue.cr, 107);  // 107.27
 }
 
-TEST(CodecColor, PerPixelRoundTripOfAllColoursIsWithinTwo) {
-  // Every 8-bit colour on a stride-3 lattice (about 620k colours).
+TEST(CodecColor, PerPixelRoundTripOfAllColorsIsWithinTwo) {
+  // Every 8-bit color on a stride-3 lattice (about 620k colors).
   std::vector<uint8_t> source, back;
   for (int r = 0; r < 256; r += 3) {
     for (int g = 0; g < 256; g += 3) {
@@ -116,12 +116,12 @@ TEST(CodecColor, SmoothGradientRoundTripThrough420IsSmall) {
 
 TEST(CodecColor, ImageOfConstant2x2GroupsRoundTripsLikeSinglePixels) {
   const int width = 40, height = 30;
-  std::vector<uint8_t> colours = random_rgb(width / 2, height / 2, 7);
+  std::vector<uint8_t> colors = random_rgb(width / 2, height / 2, 7);
   std::vector<uint8_t> rgb(static_cast<size_t>(width) * height * 3);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       for (int c = 0; c < 3; ++c) {
-        rgb[(static_cast<size_t>(y) * width + x) * 3 + c] = colours[((y / 2) * (width / 2) + x / 2) * 3 + c];
+        rgb[(static_cast<size_t>(y) * width + x) * 3 + c] = colors[((y / 2) * (width / 2) + x / 2) * 3 + c];
       }
     }
   }

@@ -20,7 +20,7 @@ TEST(ContextPriors, TablesListEveryContextOfTheirBundle) {
     ASSERT_EQ(static_cast<int>(priors.size()), context_count(bundle));
     EXPECT_TRUE(std::all_of(priors.begin(), priors.end(), [](uint16_t p) { return p >= 512 && p <= 32256; }));
     // Trained: many contexts have settled away from 1/2. Not all: every block context set
-    // holds the contexts of every transform size, and chroma blocks (8x8) and B-frame
+    // holds the contexts of every transform size, and chroma blocks (8x8) and B-face
     // residuals (4x4, 8x8, 16x16) never use the rectangular sizes' ones.
     const auto trained = std::count_if(priors.begin(), priors.end(), [](uint16_t p) { return p != 16384; });
     EXPECT_GT(trained, static_cast<long>(priors.size()) * 2 / 5);

@@ -394,7 +394,7 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
   ImageYCbCr420 padded;
   ASSERT_TRUE(pad_cube_face(pointers(faces), Face::kPX, 2, &padded).ok());
   BFrameParams params;
-  params.qindex = 115;  // quantiser scale 6
+  params.qindex = 115;  // quantizer scale 6
   ImageYCbCr420 plain_recon, padded_recon, decoded;
   BFrameStats plain_stats, padded_stats;
   const std::vector<uint8_t> plain =

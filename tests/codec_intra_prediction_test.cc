@@ -255,7 +255,7 @@ TEST(IntraPrediction, EncoderChoosesHorizontalModeForHorizontalStripes) {
   for (int y = 0; y < 64; ++y) std::fill_n(image.y.begin() + 64 * y, 64, static_cast<uint8_t>((y * 37) % 200 + 20));
   for (bool directional : {true, false}) {
     CodingParams params;
-    params.qindex = 96;  // quantiser scale 4
+    params.qindex = 96;  // quantizer scale 4
     params.directional_intra = directional;
     ImageYCbCr420 reconstruction;
     const auto bytes = encode_intra_frame(image, params, &reconstruction);
@@ -295,7 +295,7 @@ TEST(IntraPrediction, EveryEncoderRestrictionDecodesToTheEncodersReconstruction)
     image.cb.push_back(static_cast<uint8_t>(100 + i % 37));
     image.cr.push_back(static_cast<uint8_t>(150 - i % 23));
   }
-  for (int qindex : {83, 189}) {  // quantiser scales about 3 and 30
+  for (int qindex : {83, 189}) {  // quantizer scales about 3 and 30
     const double scale = quantizer_scale_q8(qindex) / 256.0;
     double cost[2] = {};
     for (int restriction = 0; restriction < 8; ++restriction) {

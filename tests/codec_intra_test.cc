@@ -397,7 +397,7 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
     bytes[static_cast<size_t>(index)] = value;
     return decode_intra_frame(bytes, 32, 32, &out);
   };
-  EXPECT_EQ(with(0, kBidirectionalTypeBit | kIntraSyntaxVersion).code(), ErrorCode::kCorruptData);  // B-frame
+  EXPECT_EQ(with(0, kBidirectionalTypeBit | kIntraSyntaxVersion).code(), ErrorCode::kCorruptData);  // B-face
   EXPECT_EQ(with(0, kIntraSyntaxVersion + 1).code(), ErrorCode::kUnsupported);                      // future syntax
   EXPECT_EQ(with(0, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
   EXPECT_EQ(with(0, 0).code(), ErrorCode::kUnsupported);  // before byte 0 held the version: type 0, version 8

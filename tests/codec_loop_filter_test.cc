@@ -33,7 +33,7 @@ struct Frame {
   uint8_t& luma(int x, int y) { return planes[0][static_cast<size_t>(y) * width + x]; }
 };
 
-TEST(LoopFilter, ThresholdsFollowTheQuantiserIndex) {
+TEST(LoopFilter, ThresholdsFollowTheQuantizerIndex) {
   EXPECT_EQ(deblock_qp(0), 0);
   EXPECT_EQ(deblock_qp(128), 22);  // MPEG-2 scale 8: a step of 8, H.265's QP 22
   EXPECT_EQ(deblock_qp(255), 46);
@@ -133,7 +133,7 @@ TEST(LoopFilter, IntraFramesSignalAndApplyDeblocking) {
   EXPECT_EQ(from_coefficients.y, filtered.y);
 }
 
-// B-frame strengths: 2 at an intra macroblock, 1 at coded blocks or differing motion,
+// B-face strengths: 2 at an intra macroblock, 1 at coded blocks or differing motion,
 // 0 inside an uncoded inter macroblock and between macroblocks with the same motion.
 TEST(LoopFilter, BFrameStrengthsFollowTheCoding) {
   ImageYCbCr420 reference;

@@ -22,7 +22,7 @@ TEST(CodecQuant, DefaultMatricesAreMpeg2) {
 }
 
 TEST(CodecQuant, ScaleDoublesEvery32Indices) {
-  EXPECT_EQ(quantizer_scale_q8(0), 128);  // MPEG-2 quantiser_scale 0.5
+  EXPECT_EQ(quantizer_scale_q8(0), 128);  // MPEG-2 quantizer_scale 0.5
   EXPECT_EQ(quantizer_scale_q8(1), 131);
   EXPECT_EQ(quantizer_scale_q8(31), 251);
   EXPECT_EQ(quantizer_scale_q8(32), 256);  // 1
@@ -139,7 +139,7 @@ TEST(CodecQuant, BlocksSmallerThan8x8StayInsideTheirArea) {
 TEST(CodecQuant, BlockTransformRoundTripAtMpeg2sFinestScaleIsNearLossless) {
   std::mt19937 rng(9);
   for (BlockKind kind : {BlockKind::kIntra, BlockKind::kNonIntra}) {
-    const Quantizer q = make_quantizer(kind, 32);  // MPEG-2's quantiser_scale 1
+    const Quantizer q = make_quantizer(kind, 32);  // MPEG-2's quantizer_scale 1
     double squared = 0;
     int peak = 0;
     for (int n = 0; n < 200; ++n) {

@@ -59,7 +59,7 @@ TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
                         {BlockKind::kNonIntra, kNoCodedBlockFlag},
                         {BlockKind::kIntra, 0}};
   for (const Case& c : cases) {
-    for (int qindex : {64, 115, 160, 202}) {  // quantiser scales about 2, 6, 16 and 40
+    for (int qindex : {64, 115, 160, 202}) {  // quantizer scales about 2, 6, 16 and 40
       const Quantizer quantizer = make_quantizer(c.kind, qindex);
       const BlockContextSet contexts = trained_contexts(rng, quantizer);
       const double scale = quantizer_scale_q8(qindex) / 256.0;
@@ -91,7 +91,7 @@ TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
 
 TEST(CodecRdoq, ZeroLambdaKeepsTheNearestLevels) {
   std::mt19937 rng(32);
-  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantiser scale 8
+  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantizer scale 8
   Quantizer nearest = quantizer;
   nearest.rounding_dc = nearest.rounding_ac = 0.5f;
   const BlockContextSet contexts;
@@ -113,7 +113,7 @@ TEST(CodecRdoq, ZeroLambdaKeepsTheNearestLevels) {
 
 TEST(CodecRdoq, LargeLambdaEmptiesWeakBlocks) {
   std::mt19937 rng(33);
-  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantiser scale 8
+  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantizer scale 8
   const BlockContextSet contexts;
   float coefficients[64] = {};
   coefficients[kZigZag[40]] = 10.0f;  // rounds to level 1, far down the scan
@@ -159,7 +159,7 @@ double squared_error(const ImageYCbCr420& a, const ImageYCbCr420& b) {
 // without RDOQ, and RDOQ lowers the frame's squared error + lambda * bits.
 TEST(CodecRdoq, IntraFramesDecodeExactlyAndCostLess) {
   const ImageYCbCr420 source = textured_frame(128, 96);
-  for (int qindex : {83, 138, 179}) {  // quantiser scales about 3, 10 and 24
+  for (int qindex : {83, 138, 179}) {  // quantizer scales about 3, 10 and 24
     const double scale = quantizer_scale_q8(qindex) / 256.0;
     double cost[2];
     for (bool rdoq : {false, true}) {

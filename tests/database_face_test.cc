@@ -1,4 +1,4 @@
-// load_face: colour and depth decoding of svc-input faces.
+// load_face: color and depth decoding of svc-input faces.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ void write_image(const fs::path& path, int width, int height, const std::vector<
   spec.channelnames = channel_names;
   spec.alpha_channel = -1;
   spec.z_channel = -1;
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // store colour as given, alpha or not
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // store color as given, alpha or not
   ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
   ASSERT_TRUE(out->write_image(data_type, data)) << out->geterror();
   ASSERT_TRUE(out->close());
@@ -168,7 +168,7 @@ TEST_F(FaceTest, SixteenBitPngIsRoundedToEightBits) {
   EXPECT_EQ(face->color.pixels[3], 1);
 }
 
-TEST_F(FaceTest, FloatColourIsConvertedToSrgb) {
+TEST_F(FaceTest, FloatColorIsConvertedToSrgb) {
   std::vector<float> rgb(kPixels * 3);
   for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<float>(i) / (rgb.size() - 1) * 1.2f - 0.1f;
   rgb[0] = 0.5f;
@@ -197,7 +197,7 @@ TEST_F(FaceTest, FloatColourIsConvertedToSrgb) {
   }
 }
 
-TEST_F(FaceTest, HalfColourAndDepthAreAccepted) {
+TEST_F(FaceTest, HalfColorAndDepthAreAccepted) {
   std::vector<float> rgbz(kPixels * 4);
   for (size_t i = 0; i < kPixels; ++i) {
     rgbz[i * 4 + 0] = 0.5f;  // exact in half
@@ -216,7 +216,7 @@ TEST_F(FaceTest, HalfColourAndDepthAreAccepted) {
   }
 }
 
-TEST_F(FaceTest, CombinedRgbzExrServesColourAndDepth) {
+TEST_F(FaceTest, CombinedRgbzExrServesColorAndDepth) {
   std::vector<float> data(kPixels * 4);
   for (size_t i = 0; i < kPixels; ++i) {
     data[i * 4 + 0] = 1.0f;
@@ -235,7 +235,7 @@ TEST_F(FaceTest, CombinedRgbzExrServesColourAndDepth) {
   }
 }
 
-TEST_F(FaceTest, BlenderLayerChannelsServeColourAndDepth) {
+TEST_F(FaceTest, BlenderLayerChannelsServeColorAndDepth) {
   const std::vector<std::string> names = {"ViewLayer.Combined.A", "ViewLayer.Combined.B", "ViewLayer.Combined.G",
                                           "ViewLayer.Combined.R", "ViewLayer.Depth.Z"};
   std::vector<float> data(kPixels * names.size());
@@ -397,7 +397,7 @@ TEST_F(FaceTest, GarbageAndMissingFilesAreReported) {
   expect_error(load(manifest, Face::kNX), ErrorCode::kNotFound, {"cell (0,0,0)", "face nx", "depth", "depth.exr"});
 }
 
-TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColour) {
+TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColor) {
   write_rgb_png("rgb.png");
   std::vector<float> depth = constant(kPixels, 3.0f);
   depth[5] = kInf;
@@ -411,7 +411,7 @@ TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColour) {
   ASSERT_TRUE(face.ok() && alone.ok());
   EXPECT_EQ(*alone, face->depth);
 
-  // The colour file is not read: damaged, it fails the face but not its depth.
+  // The color file is not read: damaged, it fails the face but not its depth.
   std::ofstream(at("rgb.png"), std::ios::binary | std::ios::trunc) << "not an image";
   EXPECT_FALSE(load(manifest, Face::kNY).ok());
   const auto still = load_face_depth(manifest, *cell, Face::kNY);
@@ -428,7 +428,7 @@ TEST_F(FaceTest, DepthAloneEqualsTheFacesDepthAndSkipsTheColour) {
   }
 }
 
-TEST_F(FaceTest, ColourAloneEqualsTheFacesColourAndSkipsTheDepth) {
+TEST_F(FaceTest, ColorAloneEqualsTheFacesColorAndSkipsTheDepth) {
   write_rgb_png("rgb.png");
   write_float_exr(at("d.exr"), {"Z"}, constant(kPixels, 3.0f));
   const DatabaseManifest manifest = make_database("rgb.png", "d.exr");
@@ -439,14 +439,14 @@ TEST_F(FaceTest, ColourAloneEqualsTheFacesColourAndSkipsTheDepth) {
   EXPECT_EQ(alone->height, face->color.height);
   EXPECT_EQ(alone->pixels, face->color.pixels);
 
-  // The depth file is not read: damaged, it fails the face but not its colour.
+  // The depth file is not read: damaged, it fails the face but not its color.
   std::ofstream(at("d.exr"), std::ios::binary | std::ios::trunc) << "not an image";
   EXPECT_FALSE(load(manifest, Face::kPY).ok());
   const auto still = load_face_color(manifest, 0, Face::kPY);
   ASSERT_TRUE(still.ok()) << still.status().to_string();
   EXPECT_EQ(still->pixels, face->color.pixels);
 
-  // A missing colour file is named as for the whole face; a bad ordinal is refused.
+  // A missing color file is named as for the whole face; a bad ordinal is refused.
   fs::remove(at("rgb.png"));
   expect_error(load_face_color(manifest, 0, Face::kNZ), ErrorCode::kNotFound,
                {"cell (0,0,0)", "face nz", "color", "rgb.png"});

@@ -1,5 +1,5 @@
 // The sample-scene generator writes svc-input databases that are deterministic, follow
-// docs/input-format.md, and whose colour, depth and cameras agree geometrically.
+// docs/input-format.md, and whose color, depth and cameras agree geometrically.
 
 #include <cmath>
 #include <fstream>

@@ -25,7 +25,7 @@ struct Rgb {
   uint8_t r, g, b;
 };
 
-// A 64 x 64 image of 32-pixel blocks alternating between two colours; with an alpha
+// A 64 x 64 image of 32-pixel blocks alternating between two colors; with an alpha
 // value, the blocks of `b` get that alpha and `a` stays opaque.
 void write_blocks(const fs::path& path, Rgb a, Rgb b, int alpha_b = -1) {
   constexpr int kSize = 64;
@@ -105,7 +105,7 @@ TEST(ScenePhoto, WallAndFloorShowTheImagesOfTheirClass) {
   ASSERT_TRUE(plain_wall.ok());
   const auto wall = pixels_at_depth(*photo_wall, 4.0);
   ASSERT_GT(wall.size(), 200u);
-  // Both block colours of the brick image, in about equal shares.
+  // Both block colors of the brick image, in about equal shares.
   EXPECT_GT(count_if(wall, reddish), static_cast<int>(wall.size() / 4));
   EXPECT_GT(count_if(wall, bluish), static_cast<int>(wall.size() / 4));
   // The procedural brick has no blue at all.

@@ -91,7 +91,7 @@ TEST(SceneTexture, FootprintsOfManyTexelsAverageInsteadOfAliasing) {
   double worst_coarse = 0;
   for (int k = 0; k < 200; ++k) {
     const double u = 0.37 * k + 0.011, v = 0.61 * k + 0.007;
-    // Eight texels per pixel: the two colours mixed evenly.
+    // Eight texels per pixel: the two colors mixed evenly.
     const glm::dvec3 coarse = texture.sample(u, v, 8.0 / 64);
     worst_coarse = std::max(worst_coarse, std::abs(coarse.x - coarse.z));
     EXPECT_NEAR(coarse.x + coarse.z, 1.0, 1e-6);

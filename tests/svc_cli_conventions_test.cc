@@ -386,7 +386,7 @@ TEST_F(CliConventions, BenchNamesTheValidCodecsAndLeavesNothingOnFailure) {
   EXPECT_FALSE(fs::exists(work("bench-foo")));
 }
 
-// The legend names every macroblock mode, and warped prediction, in its own colour; the
+// The legend names every macroblock mode, and warped prediction, in its own color; the
 // sheet is readable.
 TEST_F(CliConventions, InspectDrawsALegendAtAReadableScale) {
   const fs::path png = work("legend.png");
@@ -397,15 +397,15 @@ TEST_F(CliConventions, InspectDrawsALegendAtAReadableScale) {
   EXPECT_GE(spec.height, 512);
   std::vector<uint8_t> pixels(static_cast<size_t>(spec.width) * spec.height * 3);
   ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data()));
-  // Each mode's pure colour fills its legend swatch.
-  const std::vector<std::array<uint8_t, 3>> colours = {{220, 40, 40},  {40, 190, 60},  {240, 200, 30},
-                                                       {170, 60, 220}, {40, 110, 240}, {30, 200, 200}};
-  for (const auto& colour : colours) {
+  // Each mode's pure color fills its legend swatch.
+  const std::vector<std::array<uint8_t, 3>> colors = {{220, 40, 40},  {40, 190, 60},  {240, 200, 30},
+                                                      {170, 60, 220}, {40, 110, 240}, {30, 200, 200}};
+  for (const auto& color : colors) {
     size_t count = 0;
     for (size_t p = 0; p < pixels.size(); p += 3) {
-      count += pixels[p] == colour[0] && pixels[p + 1] == colour[1] && pixels[p + 2] == colour[2];
+      count += pixels[p] == color[0] && pixels[p + 1] == color[1] && pixels[p + 2] == color[2];
     }
-    EXPECT_GE(count, 36u) << int(colour[0]) << "," << int(colour[1]) << "," << int(colour[2]);
+    EXPECT_GE(count, 36u) << int(color[0]) << "," << int(color[1]) << "," << int(color[2]);
   }
 }
 

@@ -48,7 +48,7 @@ TEST_F(Cli, InfoOfAQindexFileShowsTheIndexAndNoQuality) {
   ASSERT_EQ(run_svc("encode --quiet --qindex 20 " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
   const CliRun info = run_svc("info " + quoted(file));
   ASSERT_EQ(info.exit_code, 0) << info.output;
-  EXPECT_NE(info.output.find("quantiser index 20"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("quantizer index 20"), std::string::npos) << info.output;
   EXPECT_EQ(info.output.find("quality"), std::string::npos) << info.output;
   const CliRun json = run_svc("info --json " + quoted(file));
   EXPECT_NE(json.output.find("\"quality\": null"), std::string::npos) << json.output;
@@ -57,7 +57,7 @@ TEST_F(Cli, InfoOfAQindexFileShowsTheIndexAndNoQuality) {
   const fs::path by_quality = work("quality.svc");
   ASSERT_EQ(run_svc("encode --quiet -q 60 " + quoted(db()) + " -o " + quoted(by_quality)).exit_code, 0);
   const CliRun quality_info = run_svc("info " + quoted(by_quality));
-  EXPECT_NE(quality_info.output.find("quality 60, quantiser index " + std::to_string(qindex_for_quality(60))),
+  EXPECT_NE(quality_info.output.find("quality 60, quantizer index " + std::to_string(qindex_for_quality(60))),
             std::string::npos)
       << quality_info.output;
 }

@@ -167,7 +167,7 @@ TEST_F(EncoderInput, NonFiniteNumbersInTheManifest) {
 
 TEST_F(EncoderInput, NonFiniteDepthIsBackgroundNotAnError) {
   // docs/input-format.md: depth +inf, NaN, <= 0 or beyond far marks a pixel that saw no
-  // geometry. Such pixels are accepted (no motion from depth) and colour is coded as usual.
+  // geometry. Such pixels are accepted (no motion from depth) and color is coded as usual.
   const fs::path db = copy("nan-depth");
   const fs::path exr = db / "cells" / "0_0_0" / "px.exr";
   OIIO::ImageSpec spec(16, 16, 1, OIIO::TypeDesc::FLOAT);
@@ -217,7 +217,7 @@ TEST_F(EncoderInput, QualityOutOfRange) {
   }
   EncoderSettings settings;
   settings.qindex = 256;
-  expect_rejected(pristine(), "quantiser index 256", settings);
+  expect_rejected(pristine(), "quantizer index 256", settings);
 }
 
 TEST_F(EncoderInput, UnwritableOutput) {

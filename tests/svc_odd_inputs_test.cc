@@ -31,7 +31,7 @@ fs::path make_scene(const fs::path& dir, std::array<int, 3> grid, bool sparse = 
   return db;
 }
 
-// The source colour image of one face of a manifest cell entry.
+// The source color image of one face of a manifest cell entry.
 ImageRGB8 read_source_face(const fs::path& db, const nlohmann::json& cell, Face face) {
   auto in =
       OIIO::ImageInput::open((db / cell.at("faces").at(face_name(face)).at("color").get<std::string>()).string());
@@ -225,7 +225,7 @@ TEST(OddInputs, EveryQualityGivesADistinctSmallerFile) {
     const std::string contents = testing::read_file_bytes(out);
     EXPECT_NE(contents, previous_contents) << "quality " << quality;
     // On these 12 faces of 48x48 the PSNR-Y measured on RGB wanders by up to 0.6 dB at
-    // one step near the top, where the step is finer than the colour conversion's
+    // one step near the top, where the step is finer than the color conversion's
     // rounding (measured: 53.20 dB at quality 96, 52.59 at 97); the trend must hold.
     EXPECT_GT(total.psnr(), previous_psnr - 1.0) << "quality " << quality;
     if (quality == 1) first_psnr = total.psnr();
@@ -237,7 +237,7 @@ TEST(OddInputs, EveryQualityGivesADistinctSmallerFile) {
   EXPECT_GT(previous_psnr, first_psnr + 20);  // quality 100 against 1
 }
 
-TEST(OddInputs, QualitySpreadsEvenlyOverTheQuantiserIndex) {
+TEST(OddInputs, QualitySpreadsEvenlyOverTheQuantizerIndex) {
   EXPECT_EQ(qindex_for_quality(100), 0);
   EXPECT_EQ(qindex_for_quality(75), 64);
   EXPECT_EQ(qindex_for_quality(50), 129);

@@ -88,7 +88,7 @@ std::string decoded_pixels_sha256(const fs::path& path) {
   return hash.hex_digest();
 }
 
-// What the encoder reads, rendered in memory: colour, depth and camera of every face.
+// What the encoder reads, rendered in memory: color, depth and camera of every face.
 std::string scene_input_sha256(const samples::SceneOptions& options) {
   testing::Sha256 hash;
   for (int z = 0; z < options.grid[2]; ++z) {

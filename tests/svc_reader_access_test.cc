@@ -268,7 +268,7 @@ TEST_F(ReaderAccess, CellDecodesFromAtMostItsTwoReferenceCubes) {
   EXPECT_EQ(stats.chunks_read, faces.size() + 6);
 }
 
-// The payload's reference border (B-frame byte 3) and the index's cube-references bit
+// The payload's reference border (B-face byte 3) and the index's cube-references bit
 // must agree: a mismatch is damage, reported with the face, never decoded with the
 // wrong references.
 TEST_F(ReaderAccess, BorderAndCubeReferencesBitMustAgree) {

@@ -15,7 +15,7 @@ namespace svc::bench {
 
 class SceneFaces {
  public:
-  // Generates `options` into a fresh temporary folder and loads every face's colour.
+  // Generates `options` into a fresh temporary folder and loads every face's color.
   static Result<std::unique_ptr<SceneFaces>> generate(const samples::SceneOptions& options);
   ~SceneFaces();
 

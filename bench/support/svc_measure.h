@@ -15,7 +15,7 @@ struct SvcMeasurement {
 
 Result<SvcMeasurement> measure_svc(const SceneFaces& scene, const EncoderSettings& settings);
 
-// measure_svc at each quantiser scale, as an RD curve.
+// measure_svc at each quantizer scale, as an RD curve.
 Result<std::vector<SvcMeasurement>> sweep_svc(const SceneFaces& scene, EncoderSettings settings,
                                               const std::vector<int>& qindices);
 

@@ -1,4 +1,4 @@
-// A B-frame (a B-face) as both sides see it: its header, macroblock modes and
+// A B-face as both sides of the codec see it: its header, macroblock modes and
 // partitions. Each 16x16 macroblock is intra-coded (as in intra frames, from its
 // reconstructed neighbours), predicted from one of up to two reference faces (forward =
 // reference 0, backward = reference 1) or from the average of both, or skipped

@@ -1,6 +1,6 @@
-// The in-loop filters of a B-frame: the deblocking strengths its macroblock decisions
+// The in-loop filters of a B-face: the deblocking strengths its macroblock decisions
 // give (docs/codec.md, section 5.8.1) and the filtering of its reconstructed planes. Shared
-// by the B-frame encoder and decoder, so both filter alike. Not part of the codec's
+// by the B-face encoder and decoder, so both filter alike. Not part of the codec's
 // interface.
 #pragma once
 

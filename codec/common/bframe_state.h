@@ -1,4 +1,4 @@
-// B-frame coding internals shared by the encoder (bframe_encoder.cc) and the decoder
+// B-face coding internals shared by the encoder (bframe_encoder.cc) and the decoder
 // (bframe_decoder.cc): the frame state (reconstructed padded planes, per-block coded
 // flags, the intra neighbour state, per-macroblock vectors and modes), the predictors
 // derived from it and the reconstruction routines, so the encoder's reconstruction is

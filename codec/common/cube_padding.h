@@ -19,7 +19,7 @@ namespace svc::codec {
 
 // A border is a whole number of macroblocks wide (16 luma, 8 chroma samples a unit), so
 // macroblock (mx, my) of a face is macroblock (mx + units, my + units) of its padded
-// reference. The B-frame header stores the unit count (0 = no padding).
+// reference. The B-face header stores the unit count (0 = no padding).
 inline constexpr int kCubeBorderUnitPixels = 16;
 inline constexpr int kMaxCubeBorderUnits = 4;
 

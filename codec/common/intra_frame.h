@@ -23,7 +23,7 @@ inline constexpr uint8_t kLoopFilterCdef = 2;
 inline constexpr uint8_t kLoopFilterKnownBits = kLoopFilterDeblocking | kLoopFilterCdef;
 // Flags byte bit 2, intra frames only: residuals use ResidualMatrix::kWeighted.
 inline constexpr uint8_t kIntraWeightedMatrix = 4;
-// Flags byte bit 3, intra frames and B-frames: intra blocks with levels code their
+// Flags byte bit 3, intra frames and B-faces: intra blocks with levels code their
 // transform type (docs/codec.md 3.5); without it every block is DCT_DCT.
 inline constexpr uint8_t kTransformTypesFlag = 8;
 

@@ -1,5 +1,5 @@
 // The block coding of one intra macroblock that both sides share, for intra frames and
-// the intra macroblocks of B-frames: the neighbour state and contexts, the partitions of
+// the intra macroblocks of B-faces: the neighbour state and contexts, the partitions of
 // a luma macroblock, and the prediction and reconstruction of a block from its
 // reconstructed neighbours (docs/codec.md 3.1, 5.2 and 3.7). Its syntax is read by
 // codec/decoder/intra_syntax_reader.h and written by codec/encoder/intra_syntax_writer.h;
@@ -176,7 +176,7 @@ class PlaneState {
 
 // The residual quantizers of every transform size at one index, indexed by TransformSize.
 using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
-// The residual quantizers of one index (B-frame intra macroblocks: flat).
+// The residual quantizers of one index (B-face intra macroblocks: flat).
 SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
 const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size);
 

@@ -1,7 +1,7 @@
 // In-loop deblocking (docs/codec.md, section 5.8), in the manner of H.265 section 8.7.2:
 // edges on the 8x8 grid of each plane, a boundary strength per 4-sample edge segment
 // that the frame codec derives from its coding decisions, thresholds beta and tc from
-// the quantiser index, the on/off and strong/normal decisions from the samples. The
+// the quantizer index, the on/off and strong/normal decisions from the samples. The
 // filter knows nothing of macroblocks or block sizes: the frame codec describes the edges
 // in a DeblockMap, so a new partition or transform size only changes how the map is
 // filled. Bit-exact integer arithmetic; the pixel work is in the dsp table.
@@ -40,10 +40,10 @@ struct PlaneView {
   int width = 0, height = 0;
 };
 
-// The H.265-style parameter Q of the thresholds for a quantiser index:
+// The H.265-style parameter Q of the thresholds for a quantizer index:
 // clip((3 qindex + 8) >> 4, 2, 53) - 2, the QP whose step matches the index's.
 int deblock_qp(int qindex);
-// beta and tc (8-bit samples) for a quantiser index and a boundary strength 1 or 2.
+// beta and tc (8-bit samples) for a quantizer index and a boundary strength 1 or 2.
 int deblock_beta(int qindex);
 int deblock_tc(int qindex, int strength);
 

@@ -1,5 +1,5 @@
 // Motion vectors and per-macroblock candidate lists shared by the motion sources
-// (depth reprojection in src/spatial, image search in codec) and the B-frame coder.
+// (depth reprojection in src/spatial, image search in codec) and the B-face coder.
 #pragma once
 
 #include <cstddef>

@@ -28,8 +28,8 @@ bool vector_in_range(MotionVector vector, int width, int height);
 // positions in 1/8 pel with the 4-tap filter.
 enum class PlaneKind : uint8_t { kLuma, kChroma };
 
-// The filter bank of a B-frame (header byte 2, docs/codec.md 5.6): HEVC's DCT-based
-// filters, AV1's EIGHTTAP_SMOOTH, or bilinear. References carry quantisation noise and
+// The filter bank of a B-face (header byte 2, docs/codec.md 5.6): HEVC's DCT-based
+// filters, AV1's EIGHTTAP_SMOOTH, or bilinear. References carry quantization noise and
 // are often seen at another scale, where a smoother filter predicts better.
 enum class InterpolationFilter : uint8_t { kRegular = 0, kSmooth = 1, kBilinear = 2 };
 inline constexpr int kInterpolationFilterCount = 3;

@@ -27,7 +27,7 @@ const std::array<uint8_t, 64> kDefaultNonIntraMatrix = [] {
 
 namespace {
 
-// round(128 * 2^(k / 32)): one octave of quantiser scales.
+// round(128 * 2^(k / 32)): one octave of quantizer scales.
 constexpr std::array<int, kQIndexPerOctave> kScaleOctave = {
     128, 131, 134, 137, 140, 143, 146, 149, 152, 156, 159, 162, 166, 170, 173, 177,  //
     181, 185, 189, 193, 197, 202, 206, 211, 215, 220, 225, 230, 235, 240, 245, 251,  //

@@ -1,6 +1,6 @@
 // Quantization of 8x8 DCT blocks with MPEG-2's weighting matrices and a logarithmic
-// quantiser index (qindex 0..255, the step doubling every 32 indices), shared by intra frames and the residual
-// blocks of B-frames. Dequantization is exact integer arithmetic and part of the
+// quantizer index (qindex 0..255, the step doubling every 32 indices), shared by intra frames and the residual
+// blocks of B-faces. Dequantization is exact integer arithmetic and part of the
 // bitstream contract (docs/codec.md); quantization runs only in the encoder and may use
 // float with rate-distortion rounding offsets (codec/encoder/quantize.h). Quantizer
 // objects are immutable after make_quantizer() and may be shared between threads.
@@ -36,8 +36,8 @@ inline constexpr int kQIndexPerOctave = 32;
 // Dequantization multipliers are in units of 1 / 2^kStepBits of a coefficient.
 inline constexpr int kStepBits = 8;
 
-// The quantiser scale of an index in 1/256 units: T[qindex % 32] << (qindex / 32) with
-// T[k] = round(128 * 2^(k / 32)); 128 (an MPEG-2 quantiser_scale of 0.5) at index 0,
+// The quantizer scale of an index in 1/256 units: T[qindex % 32] << (qindex / 32) with
+// T[k] = round(128 * 2^(k / 32)); 128 (an MPEG-2 quantizer_scale of 0.5) at index 0,
 // 512 (scale 2) at 64, 32128 (125.5) at 255. Part of the bitstream contract.
 int quantizer_scale_q8(int qindex);
 

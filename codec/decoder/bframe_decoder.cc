@@ -1,4 +1,4 @@
-// B-frame decoder: reads each macroblock's mode, vectors or nodes and residual, and
+// B-face decoder: reads each macroblock's mode, vectors or nodes and residual, and
 // reconstructs it with the encoder's own routines (bframe_state.h).
 #include "codec/decoder/bframe_decoder.h"
 
@@ -35,7 +35,7 @@ uint64_t state_buffer_bytes(const FrameState& s) {
   return bytes;
 }
 
-Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "B-frame: " + what); }
+Status corrupt(const std::string& what) { return Status(ErrorCode::kCorruptData, "B-face: " + what); }
 
 std::string macroblock_name(int mx, int my) {
   return "macroblock (" + std::to_string(mx) + ", " + std::to_string(my) + ")";
@@ -354,7 +354,7 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
   if (!(bytes[0] & kBidirectionalTypeBit)) return corrupt("byte 0: frame type bit says intra, not bidirectional");
   const int version = bytes[0] & kSyntaxVersionMask;
   if (version != kBFrameSyntaxVersion) {
-    return Status(ErrorCode::kUnsupported, "B-frame: byte 0: syntax version " + std::to_string(version) +
+    return Status(ErrorCode::kUnsupported, "B-face: byte 0: syntax version " + std::to_string(version) +
                                                " (this build reads " + std::to_string(kBFrameSyntaxVersion) + ")");
   }
   const uint8_t references = bytes[kBFrameReferencesByte], flags = bytes[kBFrameFlagsByte];
@@ -402,7 +402,7 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
                       const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes,
                       std::vector<Partition>* partitions, std::vector<uint8_t>* warped) {
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
-    return Status(ErrorCode::kInvalidArgument, "B-frame: size " + std::to_string(width) + "x" +
+    return Status(ErrorCode::kInvalidArgument, "B-face: size " + std::to_string(width) + "x" +
                                                    std::to_string(height) + " outside 1.." +
                                                    std::to_string(kMaxFrameDimension));
   }
@@ -411,14 +411,14 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   const int extra = 2 * kCubeBorderUnitPixels * header.border_units;
   if (!consistent_image(ref0, width + extra, height + extra) ||
       (ref1 != nullptr && !consistent_image(*ref1, width + extra, height + extra))) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "B-frame: reference images are not " + std::to_string(width + extra) + "x" +
-                      std::to_string(height + extra) + " with 4:2:0 planes of matching size (a border of " +
-                      std::to_string(header.border_units) + " units)");
+    return Status(ErrorCode::kInvalidArgument, "B-face: reference images are not " + std::to_string(width + extra) +
+                                                   "x" + std::to_string(height + extra) +
+                                                   " with 4:2:0 planes of matching size (a border of " +
+                                                   std::to_string(header.border_units) + " units)");
   }
   const int given = ref1 != nullptr ? 2 : 1;
   if (header.reference_count != given) {
-    return Status(ErrorCode::kInvalidArgument, "B-frame: coded with " + std::to_string(header.reference_count) +
+    return Status(ErrorCode::kInvalidArgument, "B-face: coded with " + std::to_string(header.reference_count) +
                                                    " reference(s) but " + std::to_string(given) + " given");
   }
   // The calling thread's state, reset for each frame: its buffers outlive the call, so

@@ -1,9 +1,9 @@
-// Decoding of a B-frame (codec/common/bframe.h).
+// Decoding of a B-face (codec/common/bframe.h).
 //
 // Threading: reentrant (no shared state but each thread's scratch buffers, reused from
 // frame to frame); decode different faces on different threads. Errors: kInvalidArgument
 // for a bad size or reference set and kCorruptData for bytes that are not a valid
-// B-frame. It never reads outside its inputs, whatever the bytes.
+// B-face. It never reads outside its inputs, whatever the bytes.
 #pragma once
 
 #include <cstdint>
@@ -16,10 +16,10 @@
 
 namespace svc::codec {
 
-// Validates and reads the header of a B-frame payload (kCorruptData / kUnsupported).
+// Validates and reads the header of a B-face payload (kCorruptData / kUnsupported).
 Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out);
 
-// Decodes a B-frame of width x height. ref1 must be null exactly when the frame was coded
+// Decodes a B-face of width x height. ref1 must be null exactly when the frame was coded
 // with one reference; references must be width x height with consistent planes, or
 // padded by the border the header names (parse_b_frame_header; kInvalidArgument
 // otherwise). `modes` (optional) receives the per-macroblock modes (a partitioned

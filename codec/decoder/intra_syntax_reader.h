@@ -1,6 +1,6 @@
 // Reading of intra block syntax (docs/codec.md 3.1, 3.5, 3.3): prediction modes, chroma
 // modes with CfL, transform types, and the blocks and split flags of a luma macroblock,
-// for intra frames and B-frame intra macroblocks.
+// for intra frames and B-face intra macroblocks.
 // Errors: functions returning bool give false on syntax no encoder produces; none reads
 // outside its input.
 #pragma once

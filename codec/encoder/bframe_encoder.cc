@@ -1,4 +1,4 @@
-// The B-frame encoder's frame loop: every macroblock chosen and written in raster order
+// The B-face encoder's frame loop: every macroblock chosen and written in raster order
 // by the macroblock coder (bframe_macroblock_coder.h), the interpolation filter bank
 // screened, then the loop filters chosen on the finished reconstruction.
 #include "codec/encoder/bframe_encoder.h"

@@ -1,4 +1,4 @@
-// Encoding of a B-frame (codec/common/bframe.h). Motion is not searched from scratch
+// Encoding of a B-face (codec/common/bframe.h). Motion is not searched from scratch
 // here: the caller supplies candidate vectors per macroblock and reference (from depth
 // reprojection, or from log_search.h) and, optionally, node fields (from depth); the
 // encoder picks vectors by SAD, screens the options by SAD and chooses the macroblock
@@ -21,14 +21,14 @@ namespace svc::codec {
 
 // `intra_qindex`: 42 indices coarser (a step 2^(42/32) = 2.48 times larger), clamped to
 // the valid range. References of good
-// quality help every face predicted from them, so B-frames can afford a coarser step
+// quality help every face predicted from them, so B-faces can afford a coarser step
 // (docs/encoder.md 5; the figures in docs/bench.md, "Figures behind code constants"). The
 // frame header stores the index used.
 inline constexpr int kBQIndexOffset = 42;
 int suggested_b_qindex(int intra_qindex);
 
 struct BFrameParams {
-  // qindex of the whole B-frame (residual and intra macroblocks), 0..255.
+  // qindex of the whole B-face (residual and intra macroblocks), 0..255.
   int qindex = 138;
   // Tries the 8 half-pel neighbours of each reference's best candidate, then the 8
   // quarter-pel neighbours of the best of those (16 SADs per macroblock and reference).
@@ -39,7 +39,7 @@ struct BFrameParams {
   // rounded away from zero, no quarter-pel refinement), for ablation.
   bool quarter_pel = true;
   // Rate-distortion trade-off: lambda = lambda_factor * scale^2 squared-error units, with
-  // scale = quantizer_scale_q8(qindex) / 256 (the MPEG-2 quantiser_scale it replaces),
+  // scale = quantizer_scale_q8(qindex) / 256 (the MPEG-2 quantizer_scale it replaces),
   // per bit for mode decisions (sqrt of it per bit for SAD-based vector choice), chosen
   // by the whole database's bytes against its PSNR-Y (docs/bench.md, "Figures behind code
   // constants").
@@ -137,7 +137,7 @@ struct BFrameStats {
   std::vector<MacroblockMode> modes;
 };
 
-// Encodes `source` as a B-frame predicted from ref0 and, when not null, ref1 (decoded
+// Encodes `source` as a B-face predicted from ref0 and, when not null, ref1 (decoded
 // references: pass what the decoder will have). All images must have the same size and
 // consistent plane sizes, except that both references may instead be padded faces
 // (cube_padding.h: the face plus the same border of 16, 32, ... 64 samples on each side),

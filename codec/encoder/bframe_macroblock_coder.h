@@ -1,4 +1,4 @@
-// The macroblock decisions of the B-frame encoder (internal to codec/encoder): every
+// The macroblock decisions of the B-face encoder (internal to codec/encoder): every
 // option of a macroblock (skip, forward, backward, bidirectional, their partitions and
 // warps, intra) priced as SSD + lambda * estimated bits, with bits estimated from the
 // current adaptive probabilities, and the chosen one written. One class, its members

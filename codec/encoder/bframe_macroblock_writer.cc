@@ -1,4 +1,4 @@
-// The syntax of a B-frame macroblock as chosen (docs/codec.md 4.2-3.8).
+// The syntax of a B-face macroblock as chosen (docs/codec.md 4.2-3.8).
 #include "codec/encoder/bframe_macroblock_coder.h"
 
 #include "codec/encoder/coefficient_writer.h"

@@ -1,4 +1,4 @@
-// The B-frame mode decision: which option each macroblock takes (docs/encoder.md).
+// The B-face mode decision: which option each macroblock takes (docs/encoder.md).
 #include "codec/encoder/bframe_macroblock_coder.h"
 
 #include <cmath>

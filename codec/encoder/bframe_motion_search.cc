@@ -1,4 +1,4 @@
-// The B-frame motion search: vectors by SAD plus vector bits (docs/encoder.md).
+// The B-face motion search: vectors by SAD plus vector bits (docs/encoder.md).
 #include "codec/encoder/bframe_macroblock_coder.h"
 
 #include <cstdlib>

@@ -1,4 +1,4 @@
-// The residual of a B-frame option: transform sizes and levels by rate-distortion cost.
+// The residual of a B-face option: transform sizes and levels by rate-distortion cost.
 #include "codec/encoder/bframe_macroblock_coder.h"
 
 #include "codec/encoder/coefficient_writer.h"

@@ -1,4 +1,4 @@
-// B-frame syntax writing and its bit estimates from the current adaptive probabilities:
+// B-face syntax writing and its bit estimates from the current adaptive probabilities:
 // macroblock modes, partitions and directions, motion vector differences, predictor
 // indices, epipolar lines and warp nodes (docs/codec.md 3.8), mirrored by
 // codec/decoder/bframe_syntax_reader.h.

@@ -12,7 +12,7 @@
 namespace svc::codec {
 
 struct CodingParams {
-  int qindex = 96;  // quantiser index, kMinQIndex..kMaxQIndex (codec/quant.h)
+  int qindex = 96;  // quantizer index, kMinQIndex..kMaxQIndex (codec/quant.h)
   // Encoder restriction: when false, every block uses the planar or DC mode only.
   bool directional_intra = true;
   // Encoder choice: when false, each block takes the mode of least SATD (plus a rate
@@ -21,7 +21,7 @@ struct CodingParams {
   bool rd_intra_search = true;
   // Encoder choice: with every mode allowed, rank by SATD only planar, DC, the most
   // probable modes, every fourth angular mode and the two on each side of the best of
-  // those (at most 18 modes instead of 35): for B-frame intra macroblocks, where the
+  // those (at most 18 modes instead of 35): for B-face intra macroblocks, where the
   // search runs on every macroblock (docs/encoder.md 5), and for intra frames at encoder
   // speeds from 1 on (6.2).
   bool coarse_mode_search = false;

@@ -1,7 +1,7 @@
 // The intra mode decision: for each luma macroblock its partition, and for each block
 // its prediction mode, transform type and levels, by rate-distortion cost; chroma blocks
 // in pairs (a Cb block's mode with its Cr block's cost), CfL against the regular modes.
-// Used by intra frames and by B-frame intra macroblocks.
+// Used by intra frames and by B-face intra macroblocks.
 #include "codec/encoder/intra_search.h"
 
 #include <algorithm>

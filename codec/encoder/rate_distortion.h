@@ -1,6 +1,6 @@
 // The encoder's one lambda formula: squared error per estimated bit at a quantizer
 // index, factor x scale^2, scale being the index's quantizer scale as the MPEG-2
-// quantiser_scale it replaces (codec/common/quant.h). Each decision passes its own
+// quantizer_scale it replaces (codec/common/quant.h). Each decision passes its own
 // factor (docs/encoder.md lists them).
 #pragma once
 
@@ -8,7 +8,7 @@
 
 namespace svc::codec {
 
-// The quantizer scale of an index, 1.0 at a quantiser_scale of 1.
+// The quantizer scale of an index, 1.0 at a quantizer_scale of 1.
 inline double quantizer_scale(int qindex) { return quantizer_scale_q8(qindex) / 256.0; }
 
 inline double rd_lambda(int qindex, double factor) {

@@ -137,11 +137,11 @@ std::vector<std::string> speed_disabled_tools(int speed);
 CubeLayout speed_layout(int speed);
 
 struct EncoderSettings {
-  // 1 (smallest) .. 100 (best), spread evenly over the quantiser indices
+  // 1 (smallest) .. 100 (best), spread evenly over the quantizer indices
   // (qindex_for_quality): 100 -> 0 (the finest step, not lossless), 75 -> 64, 50 -> 129,
   // 1 -> 255 (the I-faces' index; B-faces use 42 more, a 2.5 times coarser step).
   int quality = 75;
-  // When 0..255, overrides quality: the codec quantiser index (docs/codec.md, section 5.4).
+  // When 0..255, overrides quality: the codec quantizer index (docs/codec.md, section 5.4).
   // -1: use quality.
   int qindex = -1;
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
@@ -174,7 +174,7 @@ struct EncodeSummary {
   uint64_t faces = 0;
   uint64_t raw_bytes = 0;   // 3 bytes a pixel of RGB
   uint64_t file_bytes = 0;  // size of the .svc file
-  int qindex = 0;           // the I-faces' quantiser index
+  int qindex = 0;           // the I-faces' quantizer index
   double seconds = 0;
   FaceTypeStats intra;
   FaceTypeStats predicted;
@@ -256,7 +256,7 @@ struct AddSummary {
 };
 
 // Adds the cells of the database in `db_dir` that `svc_file` does not hold yet, without
-// re-encoding or moving any existing face; coding settings (quantiser, I-cube spacing,
+// re-encoding or moving any existing face; coding settings (quantizer, I-cube spacing,
 // motion source) are the file's. Rules:
 //   - the database must have the file's face size, depth mode and up axis, and the same
 //     grid origin and spacing (within a relative 1e-9); the grid grows to the union of
@@ -277,7 +277,7 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
                                    const AddSettings& settings = AddSettings{},
                                    const EncodeProgress& progress = {});
 
-// Quantiser index used for a quality (1..100, clamped): round((100 - quality) * 255 / 99),
+// Quantizer index used for a quality (1..100, clamped): round((100 - quality) * 255 / 99),
 // so every quality step moves the index by 2 or 3 (a step 4.5 to 6.7 % finer).
 int qindex_for_quality(int quality);
 

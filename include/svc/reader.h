@@ -182,8 +182,8 @@ struct FileInfo {
   std::array<int32_t, 3> grid_dims{0, 0, 0};
   std::array<double, 3> grid_origin{0, 0, 0};
   std::array<double, 3> grid_spacing{1, 1, 1};
-  int quality = 0;  // 0 when the file was encoded with an explicit quantiser index
-  int qindex = 0;   // the I-faces' quantiser index (docs/codec.md, section 5.4)
+  int quality = 0;  // 0 when the file was encoded with an explicit quantizer index
+  int qindex = 0;   // the I-faces' quantizer index (docs/codec.md, section 5.4)
   std::array<int32_t, 3> i_spacing{1, 1, 1};
   std::string motion;  // "depth" or "logarithmic"
   char up_axis = 'y';

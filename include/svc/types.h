@@ -61,7 +61,7 @@ struct ImageRGB8 {
 };
 
 // An 8-bit YCbCr 4:2:0 image in three planes, each tightly packed, row 0 at the top.
-// Chroma planes are ((width+1)/2) x ((height+1)/2). The colour conversion is the one
+// Chroma planes are ((width+1)/2) x ((height+1)/2). The color conversion is the one
 // documented in docs/codec.md (full-range BT.601, as JFIF).
 struct ImageYCbCr420 {
   int width = 0;

@@ -71,7 +71,7 @@ inline constexpr double kSceneFar = 100.0;
 // the work (generate_scene then returns kCancelled).
 using SceneProgress = std::function<bool(int, int)>;
 
-// Writes manifest.json, PNG colour and OpenEXR depth (eye_z, channel "Z") for every
+// Writes manifest.json, PNG color and OpenEXR depth (eye_z, channel "Z") for every
 // cell into `out_dir` (created if missing). Deterministic: the same options give the
 // same bytes, whatever `threads` is. Files: cells/X_Y_Z/{px,nx,py,ny,pz,nz}.{png,exr};
 // the manifest is written last, so a failed run leaves no manifest (what it did write

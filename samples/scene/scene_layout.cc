@@ -527,7 +527,7 @@ Scene build_scene(const SceneOptions& options) {
   const auto origin = scene_grid_origin(options);
   scene.origin = Vec3(origin[0], origin[1], origin[2]);
   scene.sun_dir = glm::normalize(Vec3(0.38, 0.82, 0.42));
-  scene.sun_colour = Vec3(1.0, 0.93, 0.82) * 1.7;
+  scene.sun_color = Vec3(1.0, 0.93, 0.82) * 1.7;
   if (options.kind == SceneKind::kHall) {
     build_hall(options, &scene);
   } else {

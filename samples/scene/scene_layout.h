@@ -29,7 +29,7 @@ enum class Pattern : uint8_t {
 struct Material {
   Pattern pattern = Pattern::kPlaster;
   Vec3 base{0.5};          // linear albedo
-  Vec3 second{0.3};        // grout, mortar, gap, second stripe or earth colour
+  Vec3 second{0.3};        // grout, mortar, gap, second stripe or earth color
   double scale = 1;        // element size in metres (tile, brick length, plank width, period)
   double variation = 0.1;  // per-element brightness variation
   uint32_t seed = 0;
@@ -61,7 +61,7 @@ struct Scene {
   double ground_y = -0.02;
   uint16_t ground_material = 0;
   Vec3 sun_dir{0.0, 1.0, 0.0};  // unit, towards the sun
-  Vec3 sun_colour{1.0};
+  Vec3 sun_color{1.0};
   double ambient_outdoor = 0.55;
   double ambient_indoor = 0.3;
 

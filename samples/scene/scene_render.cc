@@ -132,8 +132,8 @@ Vec3 albedo(const Material& m, double u, double v, double fp) {
       Vec3 brick = m.base * (1 + m.variation * tint) * (0.8 + 0.4 * grain);
       brick.x *= 1 + 0.12 * hue;
       brick.z *= 1 - 0.12 * hue;
-      const Vec3 mortar_colour = m.second * (0.85 + 0.3 * fbm(u * 40, v * 40, s + 3, 2, fp * 40));
-      return mix(brick, mortar_colour, joint) * dirt;
+      const Vec3 mortar_color = m.second * (0.85 + 0.3 * fbm(u * 40, v * 40, s + 3, 2, fp * 40));
+      return mix(brick, mortar_color, joint) * dirt;
     }
     case Pattern::kPlanks: {
       const double width = m.scale, length = m.scale * 8;
@@ -203,7 +203,7 @@ Vec3 albedo(const Material& m, double u, double v, double fp) {
 const Vec3 kHorizon(0.66, 0.75, 0.86);
 const Vec3 kZenith(0.16, 0.33, 0.72);
 
-Vec3 sky_colour(const Scene& scene, const Vec3& dir, double pixel_angle) {
+Vec3 sky_color(const Scene& scene, const Vec3& dir, double pixel_angle) {
   const double y = dir.y;
   if (y <= 0) return kHorizon * 0.92;
   Vec3 c = mix(kHorizon, kZenith, std::pow(y, 0.55));
@@ -215,7 +215,7 @@ Vec3 sky_colour(const Scene& scene, const Vec3& dir, double pixel_angle) {
     const Texture& texture = scene.textures[scene.sky_texture];
     const Vec3 image = texture.sample(dir.x * scale, dir.z * scale, fp);
     // Game skies are often strongly tinted: the image lends the sky its structure in
-    // full but only part of its colour.
+    // full but only part of its color.
     const double relative = luminance(image) / std::max(luminance(texture.mean()), 1e-4);
     const Vec3 photo = mix(c * relative, image * scene.sky_texture_gain, 0.35);
     c = mix(c, photo, 0.9 * smoothstep(0.02, 0.25, y));
@@ -288,7 +288,7 @@ void surface_uv(const Primitive& prim, const Vec3& p, const Vec3& n, double* u, 
 }
 
 struct Shaded {
-  Vec3 colour;
+  Vec3 color;
   double depth;  // eye z, +inf for sky
 };
 
@@ -313,7 +313,7 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
   const double dir_length = glm::length(ray.dir);
   const Vec3 unit_dir = ray.dir / dir_length;
   if (!found) {
-    return {sky_colour(scene, unit_dir, pixel_angle), std::numeric_limits<double>::infinity()};
+    return {sky_color(scene, unit_dir, pixel_angle), std::numeric_limits<double>::infinity()};
   }
 
   const Vec3 p = ray.origin + ray.dir * hit.t;
@@ -370,7 +370,7 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
   const double sun_ndl = glm::dot(n, scene.sun_dir);
   if (sun_ndl > 0) {
     const Ray shadow = make_ray(offset_origin, scene.sun_dir);
-    if (!scene.bvh.occluded(shadow, 1e-5, 1e4)) light += scene.sun_colour * sun_ndl;
+    if (!scene.bvh.occluded(shadow, 1e-5, 1e4)) light += scene.sun_color * sun_ndl;
   }
   if (room != nullptr && room->has_lamp) {
     const Vec3 to_lamp = room->lamp - p;
@@ -384,14 +384,14 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
     }
   }
 
-  Vec3 colour = base * light;
-  // Aerial haze: distant ground blends into the horizon colour where it meets the sky.
+  Vec3 color = base * light;
+  // Aerial haze: distant ground blends into the horizon color where it meets the sky.
   const double distance = hit.t * dir_length;
   if (distance > 2.0) {  // below 2 m the haze is under 0.2 %
     const double haze = 1 - std::exp(-(distance / 45.0) * (distance / 45.0));
-    colour = mix(colour, kHorizon * 0.92, haze);
+    color = mix(color, kHorizon * 0.92, haze);
   }
-  return {colour, hit.t};
+  return {color, hit.t};
 }
 
 }  // namespace
@@ -431,9 +431,9 @@ void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, in
           const Ray ray = make_ray(eye, pixel_ray_direction(view, size, i, j));
           const Shaded s = shade_ray(scene, candidates, ray, pixel_angle);
           const size_t index = static_cast<size_t>(j) * size + i;
-          rgb[index * 3 + 0] = encoder.encode(s.colour.x);
-          rgb[index * 3 + 1] = encoder.encode(s.colour.y);
-          rgb[index * 3 + 2] = encoder.encode(s.colour.z);
+          rgb[index * 3 + 0] = encoder.encode(s.color.x);
+          rgb[index * 3 + 1] = encoder.encode(s.color.y);
+          rgb[index * 3 + 2] = encoder.encode(s.color.z);
           depth[index] = static_cast<float>(s.depth);
         }
       }

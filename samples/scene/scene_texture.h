@@ -19,7 +19,7 @@ class Texture {
 
   static constexpr int kMaxSize = 1024;
 
-  // Colour at (u, v) in texture repeats (u to the right, v upwards, period 1). `footprint`
+  // Color at (u, v) in texture repeats (u to the right, v upwards, period 1). `footprint`
   // is the pixel's size in repeats: it picks the mip levels.
   glm::dvec3 sample(double u, double v, double footprint) const;
   glm::dvec3 mean() const;

@@ -10,7 +10,7 @@
 // GOP's I-frame through the frames it depends on, as the MPL library did in the
 // dissertation's MPEGWALK system (section 7.2.1.2).
 //
-// Colour: frames are converted RGB24 -> YUV 4:2:0 and back with libswscale, flags
+// Color: frames are converted RGB24 -> YUV 4:2:0 and back with libswscale, flags
 // SWS_BICUBIC, BT.601 matrix, limited ("MPEG") range; these are the defaults of the ffmpeg
 // command-line tool, so that its output on the same PNG sequence is comparable. mjpeg uses
 // full ("JPEG") range BT.601 as JFIF does; png codes RGB24 losslessly.

@@ -38,7 +38,7 @@ Status set_full_range(SwsContext* sws, bool source_side) {
   int src_range = 0, dst_range = 0, brightness = 0, contrast = 0, saturation = 0;
   if (sws_getColorspaceDetails(sws, &inv_table, &src_range, &table, &dst_range, &brightness, &contrast,
                                &saturation) < 0) {
-    return Status(ErrorCode::kInternal, "libswscale: cannot read colour-space details");
+    return Status(ErrorCode::kInternal, "libswscale: cannot read color-space details");
   }
   if (source_side)
     src_range = 1;

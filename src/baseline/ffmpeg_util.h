@@ -45,7 +45,7 @@ inline constexpr int kSwsFlags = SWS_BICUBIC;
 Result<FramePtr> rgb_to_frame(const ImageRGB8& image, AVPixelFormat format, bool full_range);
 
 // Converts a decoded frame of any format libswscale reads to RGB24, honouring the frame's
-// colour range (yuvj* formats count as full range).
+// color range (yuvj* formats count as full range).
 Result<ImageRGB8> frame_to_rgb(const AVFrame& frame);
 
 // A fresh decoder for the codec named `codec_name` (libavcodec codec name, e.g. "h264"),

@@ -39,7 +39,7 @@ inline constexpr uint32_t kIndexChunkTag = chunk_tag('I', 'N', 'D', 'X');
 
 struct CodingRecord {
   uint32_t quality = 0;  // 1..100 as asked, or 0 when qindex was given
-  uint32_t qindex = 0;   // the I-faces' quantiser index (B-faces: codec::suggested_b_qindex)
+  uint32_t qindex = 0;   // the I-faces' quantizer index (B-faces: codec::suggested_b_qindex)
   std::array<int32_t, 3> i_spacing{1, 1, 1};
   MotionSearch motion = MotionSearch::kDepth;
 };

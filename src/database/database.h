@@ -31,7 +31,7 @@ namespace svc {
 // Caps on untrusted input, checked before anything is allocated from them.
 inline constexpr int kMaxFaceSide = 16384;         // face_size[0], face_size[1]
 inline constexpr int64_t kMaxGridCells = 1 << 24;  // dims[0] * dims[1] * dims[2]
-inline constexpr int kMaxImageChannels = 4096;     // channels in one colour/depth file
+inline constexpr int kMaxImageChannels = 4096;     // channels in one color/depth file
 
 struct FaceSource {
   std::string color_path;  // relative to the database root (or absolute), as the manifest names it
@@ -129,9 +129,9 @@ struct FaceData {
   std::vector<float> depth;  // width * height, row 0 at the top
 };
 
-// Loads colour and depth of one face of manifest.cells[cell_ordinal] (read_cell, then the
+// Loads color and depth of one face of manifest.cells[cell_ordinal] (read_cell, then the
 // overload below).
-// Colour: channels R, G, B by name (or "<layer>.R/G/B"), else the first three channels;
+// Color: channels R, G, B by name (or "<layer>.R/G/B"), else the first three channels;
 // a one- or two-channel image (grey, grey + alpha) is grey, expanded to RGB; other
 // channels are ignored. 8-bit values are taken as they are; other integer types are
 // rescaled to 8 bits with rounding (still display values); half/float/double are linear
@@ -145,13 +145,13 @@ struct FaceData {
 Result<FaceData> load_face(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
 // The same for a cell whose sources the caller has read already. Thread-safe.
 Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& cell, Face face);
-// The depth of load_face alone, without reading or converting the colour (unless the
+// The depth of load_face alone, without reading or converting the color (unless the
 // two share a file): for passes that look at geometry only. Same errors for the depth
 // file. Thread-safe.
 Result<std::vector<float>> load_face_depth(const DatabaseManifest& manifest, const CellSource& cell, Face face);
 
-// The colour of load_face alone, without reading the depth (unless the two share a
-// file): what a colour-only codec reads. Same errors for the colour file. Thread-safe.
+// The color of load_face alone, without reading the depth (unless the two share a
+// file): what a color-only codec reads. Same errors for the color file. Thread-safe.
 Result<ImageRGB8> load_face_color(const DatabaseManifest& manifest, size_t cell_ordinal, Face face);
 
 // Sets OpenImageIO's process-wide reading options that suit load_face: OpenEXR files
@@ -171,7 +171,7 @@ std::filesystem::path resolve_database_path(const DatabaseManifest& manifest, co
 std::optional<size_t> find_cell(const DatabaseManifest& manifest, const CellIndex& index);
 
 // The sRGB transfer function applied to a linear value, clamped to [0,1] (NaN -> 0) and
-// rounded to 8 bits: the conversion load_face uses for float colour.
+// rounded to 8 bits: the conversion load_face uses for float color.
 uint8_t linear_to_srgb8(float linear) noexcept;
 
 // Symmetric glFrustum for a vertical field of view and aspect = width / height.

@@ -1,4 +1,4 @@
-// Loading one face of an svc-input database: colour to 8-bit RGB, depth to eye z.
+// Loading one face of an svc-input database: color to 8-bit RGB, depth to eye z.
 #include "database/database.h"
 
 #include <OpenImageIO/imageio.h>
@@ -24,7 +24,7 @@ std::string in_quotes(const std::string& text) { return "\"" + text + "\""; }
 // The image library's first line: the rest repeats it in other words.
 std::string first_line(const std::string& message) { return message.substr(0, message.find('\n')); }
 
-// All channels of an image: as stored when every channel is 8-bit (most colour files),
+// All channels of an image: as stored when every channel is 8-bit (most color files),
 // else as float (integer types normalised to [0,1] by OpenImageIO).
 struct DecodedImage {
   int width = 0;
@@ -51,7 +51,7 @@ Result<DecodedImage> read_face_image(const fs::path& resolved, const std::string
     if (!probe) return Status(ErrorCode::kIoError, what + ": cannot open the file for reading");
   }
   SVC_RETURN_IF_ERROR(check_png_chunks(resolved, what));
-  // Colour values are taken as stored: without this OpenImageIO premultiplies the colour
+  // Color values are taken as stored: without this OpenImageIO premultiplies the color
   // of PNG and TIFF files with unassociated alpha.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
@@ -115,7 +115,7 @@ bool ends_with(const std::string& text, const std::string& suffix) {
 
 // R, G, B by name, else "<layer>.R/G/B" of the first layer that has all three, else the
 // first three channels, else grey (channel 0) for one- and two-channel images.
-std::array<int, 3> colour_channels(const DecodedImage& image) {
+std::array<int, 3> color_channels(const DecodedImage& image) {
   const int r = find_channel(image, "R"), g = find_channel(image, "G"), b = find_channel(image, "B");
   if (r >= 0 && g >= 0 && b >= 0) return {r, g, b};
   for (int c = 0; c < image.channels; ++c) {
@@ -151,7 +151,7 @@ std::string channel_list(const DecodedImage& image) {
 }
 
 ImageRGB8 to_rgb8(const DecodedImage& image) {
-  const std::array<int, 3> channels = colour_channels(image);
+  const std::array<int, 3> channels = color_channels(image);
   const bool linear = is_float_type(image.channel_types[channels[0]]);
   ImageRGB8 out;
   out.width = image.width;
@@ -298,7 +298,7 @@ Result<FaceData> load_face(const DatabaseManifest& manifest, const CellSource& c
   SVC_ASSIGN_OR_RETURN(const FaceFiles files, face_files(manifest, cell, face));
   SVC_ASSIGN_OR_RETURN(const DecodedImage color_image, read_face_image(files.color_path, files.color_what,
                                                                        manifest.face_width, manifest.face_height));
-  // Colour and depth often share one EXR; read it once then.
+  // Color and depth often share one EXR; read it once then.
   const bool shared_file = files.depth_path == files.color_path;
   DecodedImage depth_storage;
   if (!shared_file) {

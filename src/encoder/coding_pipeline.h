@@ -33,7 +33,7 @@ struct CodingJob {
   // Frames to code, in cell order. I-faces are coded first (B-faces predict from their
   // reconstructions), then B-faces; each group keeps this order.
   std::vector<uint32_t> frames;
-  // The source colour and depth of a frame to code (or of a reference I-face that is in
+  // The source color and depth of a frame to code (or of a reference I-face that is in
   // no file, see below).
   std::function<Result<FaceData>(uint32_t frame)> load;
   // The camera of a frame's face, for B-faces and their references: an encode's index

@@ -81,8 +81,8 @@ struct EncoderSpeedStep {
 
 // The order of the cuts, cheapest in bytes per time saved first (docs/encoder.md 4 and
 // docs/bench.md): the intra searches' rate-distortion step over modes and transform
-// types, the B-frames' second pass with another filter bank and the I-faces' ranking of
-// all 35 modes first, then the B-frames' partitions, then rate-distortion optimized
+// types, the B-faces' second pass with another filter bank and the I-faces' ranking of
+// all 35 modes first, then the B-faces' partitions, then rate-distortion optimized
 // quantization (levels as quantized), then the visibility layout's planning, which reads
 // every depth file before coding, with the references it chooses; last the B-faces'
 // intra blocks under 8x8, half the CDEF search and the inter 4x4 trials of blocks

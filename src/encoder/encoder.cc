@@ -37,7 +37,7 @@ Status validate_settings(const EncoderSettings& settings) {
                   "quality " + std::to_string(settings.quality) + " is outside 1..100");
   }
   if (settings.qindex < -1 || settings.qindex > codec::kMaxQIndex) {
-    return Status(ErrorCode::kInvalidArgument, "quantiser index " + std::to_string(settings.qindex) +
+    return Status(ErrorCode::kInvalidArgument, "quantizer index " + std::to_string(settings.qindex) +
                                                    " is outside " + std::to_string(codec::kMinQIndex) + ".." +
                                                    std::to_string(codec::kMaxQIndex) + " (or -1 for the quality)");
   }

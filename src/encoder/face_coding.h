@@ -37,7 +37,7 @@ struct FaceReference {
 Status check_intra_payload(const std::vector<uint8_t>& payload, const ImageYCbCr420& reconstruction,
                            const std::string& what);
 
-// Codes `data` (colour and eye depth of the face taken by `camera`) as a B-face
+// Codes `data` (color and eye depth of the face taken by `camera`) as a B-face
 // predicted from one or two references. Motion comes from depth reprojection
 // (candidates and warp nodes) or from logarithmic search. The payload is decoded again
 // and must give the encoder's reconstruction (as check_intra_payload). `what` names the

@@ -26,7 +26,7 @@ std::vector<uint8_t> plan_bytes(ContainerIndex plan) {
 }
 
 std::string settings_text(const CodingRecord& c) {
-  return "quantiser index " + std::to_string(c.qindex) + ", quality " + std::to_string(c.quality) + ", I-spacing " +
+  return "quantizer index " + std::to_string(c.qindex) + ", quality " + std::to_string(c.quality) + ", I-spacing " +
          std::to_string(c.i_spacing[0]) + "," + std::to_string(c.i_spacing[1]) + "," +
          std::to_string(c.i_spacing[2]) + ", motion " + (c.motion == MotionSearch::kDepth ? "depth" : "log");
 }

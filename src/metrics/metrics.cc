@@ -20,7 +20,7 @@ Status check_sizes(const ImageRGB8& a, const ImageRGB8& b) {
   return Status::Ok();
 }
 
-// Luma through the codec's own colour conversion, so PSNR-Y measures what it codes.
+// Luma through the codec's own color conversion, so PSNR-Y measures what it codes.
 std::vector<uint8_t> luma_of(const ImageRGB8& image) {
   std::vector<uint8_t> y(static_cast<size_t>(image.width) * image.height);
   for (size_t i = 0; i < y.size(); ++i) {

@@ -1,4 +1,4 @@
-// The epipolar lines of a reference camera seen from the current one, as the B-frame
+// The epipolar lines of a reference camera seen from the current one, as the B-face
 // coder carries them (codec/common/epipolar.h): from the cameras alone, no depth.
 //
 // Threading: a pure function; safe to call concurrently.

@@ -104,7 +104,7 @@ struct Kernel {
 };
 
 std::vector<Kernel> transform_kernels();
-std::vector<Kernel> colour_kernels();
+std::vector<Kernel> color_kernels();
 std::vector<Kernel> motion_kernels();
 std::vector<Kernel> flow_kernels();
 std::vector<Kernel> intra_kernels();

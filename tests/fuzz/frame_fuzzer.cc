@@ -1,4 +1,4 @@
-// libFuzzer target: one intra or B-frame payload of a small size (fuzz_entry.h).
+// libFuzzer target: one I-face or B-face payload of a small size (fuzz_entry.h).
 #include "fuzz/fuzz_entry.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -192,7 +192,7 @@ inline ImageYCbCr420 synthetic_reference(int width, int height, int seed) {
 }
 
 // Frame inputs: 3 selector bytes, then the frame payload.
-//   byte 0: kind: 0 intra, 1 B-frame with one reference, 2 B-frame with two
+//   byte 0: kind: 0 intra, 1 B-face with one reference, 2 B-face with two
 //   byte 1, 2: width and height, 1 + value % 64
 inline constexpr size_t kFrameInputHeader = 3;
 

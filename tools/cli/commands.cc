@@ -58,7 +58,7 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out) {
               s.raw_bytes ? 8.0 * s.file_bytes / (s.raw_bytes / 3.0) : 0.0);
   print_face_type_stats("I-faces", s.intra);
   print_face_type_stats("B-faces", s.predicted);
-  std::printf("  quantiser index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
+  std::printf("  quantizer index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
               s.seconds > 0 ? s.faces / s.seconds : 0.0);
 }
 
@@ -102,7 +102,7 @@ void print_settings(const EncodeOptions& options) {
                        : s.layout == CubeLayout::kRegular ? ", regular layout"
                                                           : ", visibility layout";
   std::fprintf(stderr,
-               "svc: encoding %s: %s%d (quantiser index %d), I-cube spacing %d,%d,%d%s, motion from %s, %d "
+               "svc: encoding %s: %s%d (quantizer index %d), I-cube spacing %d,%d,%d%s, motion from %s, %d "
                "threads%s%s\n",
                options.db_dir.string().c_str(), explicit_index ? "qindex " : "quality ",
                explicit_index ? s.qindex : s.quality, qindex, s.i_spacing[0], s.i_spacing[1], s.i_spacing[2],

@@ -24,7 +24,7 @@ std::string triple_text(const std::array<double, 3>& v) {
 
 // A file encoded with --qindex records no quality (0): only its index is shown.
 std::string coding_scale_text(const FileInfo& info) {
-  const std::string scale = "quantiser index " + std::to_string(info.qindex);
+  const std::string scale = "quantizer index " + std::to_string(info.qindex);
   if (info.quality <= 0) return scale;
   return "quality " + std::to_string(info.quality) + ", " + scale;
 }
@@ -50,7 +50,7 @@ json info_json(const std::filesystem::path& input, const FileInfo& info, const s
   j["face_size"] = {info.face_width, info.face_height};
   j["cells"] = cells.size();
   j["faces"] = cells.size() * kFaceCount;
-  // A file encoded with an explicit quantiser scale has no quality.
+  // A file encoded with an explicit quantizer scale has no quality.
   j["coding"] = {{"quality", info.quality > 0 ? json(info.quality) : json(nullptr)},
                  {"qindex", info.qindex},
                  {"i_spacing", info.i_spacing},

@@ -1,5 +1,5 @@
 // svc inspect: a decoded face beside its macroblock classification, as in the
-// dissertation's Figure 4.5, with a legend naming each colour, at a readable scale.
+// dissertation's Figure 4.5, with a legend naming each color, at a readable scale.
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -32,8 +32,8 @@ const char* mode_name(MacroblockCoding mode) {
   return "other";
 }
 
-// Colours far apart in hue and lightness, so that each mode reads at a glance.
-std::array<uint8_t, 3> mode_colour(MacroblockCoding mode) {
+// Colors far apart in hue and lightness, so that each mode reads at a glance.
+std::array<uint8_t, 3> mode_color(MacroblockCoding mode) {
   switch (mode) {
     case MacroblockCoding::kIntra: return {220, 40, 40};           // red
     case MacroblockCoding::kForward: return {40, 190, 60};         // green
@@ -44,8 +44,8 @@ std::array<uint8_t, 3> mode_colour(MacroblockCoding mode) {
   return {128, 128, 128};
 }
 
-// Warped macroblocks (any direction) take a colour of their own.
-constexpr std::array<uint8_t, 3> kWarpedColour = {30, 200, 200};  // cyan
+// Warped macroblocks (any direction) take a color of their own.
+constexpr std::array<uint8_t, 3> kWarpedColor = {30, 200, 200};  // cyan
 
 // 3x5 glyphs of the letters the legend uses, one row per 3 bits (top row first).
 uint16_t glyph(char c) {
@@ -77,14 +77,14 @@ class Sheet {
     image_.height = height;
     image_.pixels.assign(static_cast<size_t>(width) * height * 3, 255);
   }
-  void fill(int x0, int y0, int w, int h, const std::array<uint8_t, 3>& colour) {
+  void fill(int x0, int y0, int w, int h, const std::array<uint8_t, 3>& color) {
     for (int y = std::max(0, y0); y < std::min(image_.height, y0 + h); ++y) {
-      for (int x = std::max(0, x0); x < std::min(image_.width, x0 + w); ++x) set(x, y, colour);
+      for (int x = std::max(0, x0); x < std::min(image_.width, x0 + w); ++x) set(x, y, color);
     }
   }
-  void set(int x, int y, const std::array<uint8_t, 3>& colour) {
+  void set(int x, int y, const std::array<uint8_t, 3>& color) {
     uint8_t* p = &image_.pixels[(static_cast<size_t>(y) * image_.width + x) * 3];
-    p[0] = colour[0], p[1] = colour[1], p[2] = colour[2];
+    p[0] = color[0], p[1] = color[1], p[2] = color[2];
   }
   // Text in the 3x5 glyphs, each glyph pixel `unit` wide.
   void text(int x, int y, std::string_view s, int unit) {
@@ -117,7 +117,7 @@ ImageRGB8 draw_sheet(const InspectedFace& inspected, int scale) {
       const uint8_t* src = &face.pixels[(static_cast<size_t>(fy) * face.width + fx) * 3];
       const size_t mb = static_cast<size_t>(fy / 16) * inspected.macroblocks_x + fx / 16;
       const bool warped = mb < inspected.warped.size() && inspected.warped[mb] != 0;
-      const auto colour = warped ? kWarpedColour : mode_colour(inspected.modes[mb]);
+      const auto color = warped ? kWarpedColor : mode_color(inspected.modes[mb]);
       // Partition edges are drawn at 8 like macroblock edges at 16.
       const MacroblockPartition partition = mb < inspected.partitions.size() ? inspected.partitions[mb]
                                                                              : MacroblockPartition::k16x16;
@@ -127,18 +127,18 @@ ImageRGB8 draw_sheet(const InspectedFace& inspected, int scale) {
                         (y % (cell_y * scale)) < std::max(1, scale / 2);
       std::array<uint8_t, 3> tinted;
       for (int c = 0; c < 3; ++c)
-        tinted[c] = edge ? colour[c] : static_cast<uint8_t>((src[c] * 2 + colour[c] * 3) / 5);
+        tinted[c] = edge ? color[c] : static_cast<uint8_t>((src[c] * 2 + color[c] * 3) / 5);
       sheet.set(x, y, {src[0], src[1], src[2]});
       sheet.set(w + gap + x, y, tinted);
     }
   }
   int y = h + gap;
   for (MacroblockCoding mode : kModes) {
-    sheet.fill(0, y, 6 * unit, 6 * unit, mode_colour(mode));
+    sheet.fill(0, y, 6 * unit, 6 * unit, mode_color(mode));
     sheet.text(8 * unit, y + unit / 2, mode_name(mode), unit);
     y += line;
   }
-  sheet.fill(0, y, 6 * unit, 6 * unit, kWarpedColour);
+  sheet.fill(0, y, 6 * unit, 6 * unit, kWarpedColor);
   sheet.text(8 * unit, y + unit / 2, "warped", unit);
   return sheet.image();
 }

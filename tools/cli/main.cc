@@ -49,7 +49,7 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   cmd->add_option("-q,--quality", settings->quality, "Quality 1 (smallest) to 100 (best)")
       ->check(integer_in(1, 100))
       ->capture_default_str();
-  cmd->add_option("--qindex", settings->qindex, "Quantiser index 0 (finest) ..255 (overrides --quality)")
+  cmd->add_option("--qindex", settings->qindex, "Quantizer index 0 (finest) ..255 (overrides --quality)")
       ->check(integer_in(0, 255));
   add_threads_option(cmd, &settings->threads);
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");

@@ -1,4 +1,4 @@
-// Plain colour-conversion row kernels (formulas in color_formulas.h).
+// Plain color-conversion row kernels (formulas in color_formulas.h).
 #include "codec/common/dsp/color_formulas.h"
 #include "codec/common/dsp/dsp_init.h"
 

@@ -1,4 +1,4 @@
-// Full-range BT.601 (JFIF) colour conversion in 16-bit fixed point, per pixel: the
+// Full-range BT.601 (JFIF) color conversion in 16-bit fixed point, per pixel: the
 // definition the row kernels and codec/color.cc share. The constants sum exactly to
 // 65536 (luma) and 0 (chroma), so greys map to Y = grey, Cb = Cr = 128 and back without
 // error.

@@ -78,7 +78,7 @@ struct DspTable {
   // [-2048, 2047]; scale[i] in 128..2^18 (codec/common/quant.h).
   void (*dequantize_8x8)(const int16_t* levels, const int32_t* scale, int16_t* coefficients);
 
-  // Colour conversion (codec/encoder/rgb_to_ycbcr.h, codec/common/color.h): one row of
+  // Color conversion (codec/encoder/rgb_to_ycbcr.h, codec/common/color.h): one row of
   // luma from packed RGB; one row of 4:2:0 chroma from two RGB rows (row1 may equal row0;
   // odd widths replicate the last pixel); one RGB row from luma and a half-width chroma
   // row.

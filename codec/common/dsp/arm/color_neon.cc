@@ -1,4 +1,4 @@
-// NEON colour rows: vld3/vst3 move between packed RGB and planes, and the arithmetic is
+// NEON color rows: vld3/vst3 move between packed RGB and planes, and the arithmetic is
 // the plain kernels' integer formulas (color_formulas.h) with the same constants, in
 // 32-bit lanes wherever a constant does not fit 16 bits; saturating narrows are the
 // clamps.

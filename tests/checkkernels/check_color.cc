@@ -1,4 +1,4 @@
-// Colour-conversion row kernels against their references: every width up to 40 and
+// Color-conversion row kernels against their references: every width up to 40 and
 // random wider rows, unaligned rows, extremes that saturate the clamps.
 #include <algorithm>
 
@@ -101,7 +101,7 @@ void bench_rgb_row(const Tables& table, int iterations) {
 
 }  // namespace
 
-std::vector<Kernel> colour_kernels() {
+std::vector<Kernel> color_kernels() {
   return {
       {"rgb_to_luma_row", [](const Tables& t) { return entry_of(t.rgb_to_luma_row); }, check_luma_row,
        bench_luma_row},
