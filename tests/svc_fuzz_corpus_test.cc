@@ -19,6 +19,7 @@
 #include "container/container.h"
 #include "fuzz/fuzz_entry.h"
 #include "scene/scene.h"
+#include "support/reference_hints.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
 
@@ -105,9 +106,10 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
     for (int refs : {1, 2}) {
       codec::BFrameParams params;
       params.qindex = 147;
-      const std::vector<uint8_t> b = codec::encode_b_frame(source, ref0, refs == 2 ? &ref1 : nullptr, candidates,
-                                                           candidates, &warp, refs == 2 ? &warp : nullptr, params,
-                                                           nullptr, nullptr);
+      const std::vector<uint8_t> b =
+          codec::encode_b_frame(source, ref0, refs == 2 ? &ref1 : nullptr,
+                                codec::candidate_hints(candidates, candidates, &warp, refs == 2 ? &warp : nullptr),
+                                params, nullptr, nullptr);
       seeds["seed-b" + std::to_string(refs) + "-" + size] =
           fuzz::make_frame_input(static_cast<uint8_t>(refs), w, h, b);
       // The same with epipolar lines (docs/codec.md 10.3).
