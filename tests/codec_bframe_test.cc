@@ -14,6 +14,7 @@
 #include "codec/encoder/bframe_encoder.h"
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/log_search.h"
+#include "support/reference_hints.h"
 
 namespace svc::codec {
 namespace {
@@ -124,7 +125,7 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
-      encode_b_frame(source, reference, nullptr, candidates, {}, params, &reconstruction, &stats);
+      encode_b_frame(source, reference, nullptr, candidate_hints(candidates, {}), params, &reconstruction, &stats);
   ImageYCbCr420 intra_reconstruction;
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   ASSERT_FALSE(bytes.empty());
@@ -141,7 +142,7 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   BFrameStats coarser_stats;
   ImageYCbCr420 coarser;
   const std::vector<uint8_t> coarser_bytes =
-      encode_b_frame(source, reference, nullptr, candidates, {}, params, &coarser, &coarser_stats);
+      encode_b_frame(source, reference, nullptr, candidate_hints(candidates, {}), params, &coarser, &coarser_stats);
   EXPECT_LT(coarser_bytes.size() * 7, intra.size()) << coarser_bytes.size() << " vs intra " << intra.size();
   EXPECT_GE(coarser_stats.mb_skipped, 24);
   // Within 2 dB of intra coding at the 2.5x finer step: the prediction carries the
@@ -185,7 +186,7 @@ TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
   ImageYCbCr420 reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
-      encode_b_frame(source, ref0, &ref1, zero, zero, params, &reconstruction, &stats);
+      encode_b_frame(source, ref0, &ref1, candidate_hints(zero, zero), params, &reconstruction, &stats);
   ASSERT_FALSE(bytes.empty());
   const int mbs_x = w / 16;
   int forward_left = 0, backward_right = 0;
@@ -223,8 +224,9 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
   ImageYCbCr420 reconstruction, intra_reconstruction;
   BFrameStats stats;
   const std::vector<uint8_t> bytes =
-      encode_b_frame(source, unrelated, nullptr, uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}}),
-                     {}, params, &reconstruction, &stats);
+      encode_b_frame(source, unrelated, nullptr,
+                     candidate_hints(uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{6, 4}}), {}),
+                     params, &reconstruction, &stats);
   const std::vector<uint8_t> intra = encode_intra_frame(source, CodingParams{q}, &intra_reconstruction);
   EXPECT_GE(stats.mb_intra, 20) << "of " << stats.macroblocks;
   // Intra macroblocks are coded as an I-face codes its blocks, at the same qindex but
@@ -253,9 +255,10 @@ TEST(BFrame, IntraMacroblocksPredictFromInterNeighboursAndDecodeExactly) {
     params.intra_prediction = all_modes;
     ImageYCbCr420 reconstruction;
     BFrameStats stats;
-    const std::vector<uint8_t> bytes = encode_b_frame(source, reference, nullptr,
-                                                      uniform_candidates(w, h, {MotionVector{16, 0}}), {}, params,
-                                                      &reconstruction, &stats);
+    const std::vector<uint8_t> bytes =
+        encode_b_frame(source, reference, nullptr,
+                       candidate_hints(uniform_candidates(w, h, {MotionVector{16, 0}}), {}), params,
+                       &reconstruction, &stats);
     EXPECT_GE(stats.mb_intra, 6) << "of " << stats.macroblocks;
     EXPECT_GE(stats.mb_forward + stats.mb_skipped, 6) << "of " << stats.macroblocks;
     ImageYCbCr420 decoded;
@@ -288,7 +291,7 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
         BFrameStats stats;
         const ImageYCbCr420* second = references == 2 ? &ref1 : nullptr;
         const std::vector<uint8_t> bytes =
-            encode_b_frame(source, ref0, second, c0, c1, params, &reconstruction, &stats);
+            encode_b_frame(source, ref0, second, candidate_hints(c0, c1), params, &reconstruction, &stats);
         ASSERT_FALSE(bytes.empty());
         ImageYCbCr420 decoded;
         std::vector<MacroblockMode> modes;
@@ -305,9 +308,9 @@ TEST(BFrame, DecoderMatchesEncoderBitExactlyForOddSizes) {
 TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   const int w = 32, h = 32;
   const ImageYCbCr420 source = textured_crop(w, h, 3, 3), ref = textured_crop(w, h, 4, 3);
-  const std::vector<uint8_t> bytes = encode_b_frame(source, ref, nullptr,
-                                                    uniform_candidates(w, h, {MotionVector{2, 0}}), {},
-                                                    BFrameParams{}, nullptr, nullptr);
+  const std::vector<uint8_t> bytes =
+      encode_b_frame(source, ref, nullptr, candidate_hints(uniform_candidates(w, h, {MotionVector{2, 0}}), {}),
+                     BFrameParams{}, nullptr, nullptr);
   ASSERT_GE(bytes.size(), static_cast<size_t>(kBFrameHeaderBytes));
   BFrameHeader header;
   ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
@@ -352,10 +355,12 @@ TEST(BFrame, HeaderAndReferenceCountAreChecked) {
   EXPECT_EQ(decode_b_frame(changed, w, h, ref, nullptr, &out).code(), ErrorCode::kCorruptData);
 
   // The encoder refuses inconsistent images.
+  EXPECT_TRUE(encode_b_frame(source, textured_crop(w, h + 2, 0, 0), nullptr, candidate_hints({}, {}),
+                             BFrameParams{}, nullptr, nullptr)
+                  .empty());
   EXPECT_TRUE(
-      encode_b_frame(source, textured_crop(w, h + 2, 0, 0), nullptr, {}, {}, BFrameParams{}, nullptr, nullptr)
+      encode_b_frame(ImageYCbCr420{}, ref, nullptr, candidate_hints({}, {}), BFrameParams{}, nullptr, nullptr)
           .empty());
-  EXPECT_TRUE(encode_b_frame(ImageYCbCr420{}, ref, nullptr, {}, {}, BFrameParams{}, nullptr, nullptr).empty());
 }
 
 TEST(BFrame, GarbageNeverCrashesTheDecoder) {
@@ -365,8 +370,10 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
   BFrameParams params;
   params.qindex = 96;
   const std::vector<uint8_t> valid =
-      encode_b_frame(source, ref0, &ref1, uniform_candidates(w, h, {MotionVector{8, -4}}),
-                     uniform_candidates(w, h, {MotionVector{-8, 4}}), params, nullptr, nullptr);
+      encode_b_frame(source, ref0, &ref1,
+                     candidate_hints(uniform_candidates(w, h, {MotionVector{8, -4}}),
+                                     uniform_candidates(w, h, {MotionVector{-8, 4}})),
+                     params, nullptr, nullptr);
   ASSERT_GT(valid.size(), 32u);  // enough payload for the damage below to reach the levels
   ImageYCbCr420 out;
   std::vector<MacroblockMode> modes;
@@ -464,7 +471,7 @@ TEST(BFrame, SwitchableFilterPicksASmootherBankAndDecodesBitExactly) {
     params.switchable_filter = switchable;
     ImageYCbCr420 reconstruction, decoded;
     const std::vector<uint8_t> bytes =
-        encode_b_frame(source, ref, nullptr, candidates, {}, params, &reconstruction, nullptr);
+        encode_b_frame(source, ref, nullptr, candidate_hints(candidates, {}), params, &reconstruction, nullptr);
     BFrameHeader header;
     ASSERT_TRUE(parse_b_frame_header(bytes, &header).ok());
     EXPECT_EQ(header.filter == InterpolationFilter::kRegular, !switchable);
@@ -522,7 +529,7 @@ std::array<SizesRun, 2> code_without_and_with_sizes(const ImageYCbCr420& source,
     ImageYCbCr420 reconstruction, decoded;
     BFrameStats& stats = runs[sizes_on].stats;
     const std::vector<uint8_t> bytes =
-        encode_b_frame(source, ref, nullptr, candidates, {}, params, &reconstruction, &stats);
+        encode_b_frame(source, ref, nullptr, candidate_hints(candidates, {}), params, &reconstruction, &stats);
     BFrameHeader header;
     EXPECT_TRUE(parse_b_frame_header(bytes, &header).ok());
     EXPECT_EQ(header.inter_transform_sizes, sizes_on != 0);
@@ -580,7 +587,7 @@ TEST(BFrame, EmptyCandidateListsFallBackToZeroAndNeighbours) {
   BFrameStats stats;
   ImageYCbCr420 reconstruction;
   const std::vector<uint8_t> bytes =
-      encode_b_frame(source, reference, nullptr, {}, {}, BFrameParams{}, &reconstruction, &stats);
+      encode_b_frame(source, reference, nullptr, candidate_hints({}, {}), BFrameParams{}, &reconstruction, &stats);
   EXPECT_EQ(stats.candidates_evaluated, 0);
   EXPECT_GE(stats.mb_skipped, 10);  // the zero vector is right everywhere
   ImageYCbCr420 decoded;
@@ -616,7 +623,7 @@ TEST(BFrame, LogSearchCandidatesDriveTheSameEncoder) {
   BFrameStats stats;
   ImageYCbCr420 reconstruction;
   const std::vector<uint8_t> bytes =
-      encode_b_frame(source, reference, nullptr, searched, {}, params, &reconstruction, &stats);
+      encode_b_frame(source, reference, nullptr, candidate_hints(searched, {}), params, &reconstruction, &stats);
   // Against the DCT-only intra frame (transform types shrink this smooth shading's intra
   // frame further): the B-face codes it from the reference in under half the bytes.
   const std::vector<uint8_t> intra = encode_intra_frame(source, {.qindex = q, .transform_types = false}, nullptr);
@@ -824,11 +831,11 @@ TEST(BFrame, VectorsTakeTheLeftPredictorWhereTheMedianIsWrongAndDecodeExactly) {
   params.qindex = suggested_b_qindex(q);
   ImageYCbCr420 listed_reconstruction, median_reconstruction;
   BFrameStats listed_stats, median_stats;
-  const std::vector<uint8_t> listed =
-      encode_b_frame(source, reference, nullptr, candidates, {}, params, &listed_reconstruction, &listed_stats);
+  const std::vector<uint8_t> listed = encode_b_frame(source, reference, nullptr, candidate_hints(candidates, {}),
+                                                     params, &listed_reconstruction, &listed_stats);
   params.vector_predictors = false;
-  const std::vector<uint8_t> median =
-      encode_b_frame(source, reference, nullptr, candidates, {}, params, &median_reconstruction, &median_stats);
+  const std::vector<uint8_t> median = encode_b_frame(source, reference, nullptr, candidate_hints(candidates, {}),
+                                                     params, &median_reconstruction, &median_stats);
   ASSERT_FALSE(listed.empty());
   ASSERT_FALSE(median.empty());
   // Each row after the first codes the jump between the rows' motions once (its first

@@ -19,6 +19,7 @@
 #include "codec/encoder/cdef_search.h"
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/range_encoder.h"
+#include "support/reference_hints.h"
 
 namespace svc::codec {
 namespace {
@@ -217,14 +218,15 @@ TEST(Cdef, BFramesDecodeToTheEncodersReconstruction) {
   params.qindex = 200;
   ImageYCbCr420 reconstruction, decoded;
   const std::vector<uint8_t> bytes =
-      encode_b_frame(source, reference, nullptr, {}, {}, params, &reconstruction, nullptr);
+      encode_b_frame(source, reference, nullptr, candidate_hints({}, {}), params, &reconstruction, nullptr);
   ASSERT_FALSE(bytes.empty());
   ASSERT_TRUE(decode_b_frame(bytes, 136, 72, reference, nullptr, &decoded).ok());
   EXPECT_EQ(decoded.y, reconstruction.y);
   EXPECT_EQ(decoded.cb, reconstruction.cb);
   EXPECT_EQ(decoded.cr, reconstruction.cr);
   params.cdef = false;
-  const std::vector<uint8_t> without = encode_b_frame(source, reference, nullptr, {}, {}, params, nullptr, nullptr);
+  const std::vector<uint8_t> without =
+      encode_b_frame(source, reference, nullptr, candidate_hints({}, {}), params, nullptr, nullptr);
   EXPECT_EQ(without[kIntraFlagsByte] & kLoopFilterCdef, 0);
 }
 

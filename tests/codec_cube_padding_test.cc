@@ -15,6 +15,7 @@
 #include "codec/common/cube_padding_map.h"
 #include "codec/decoder/bframe_decoder.h"
 #include "codec/encoder/bframe_encoder.h"
+#include "support/reference_hints.h"
 
 namespace svc::codec {
 namespace {
@@ -397,10 +398,10 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
   params.qindex = 115;  // quantizer scale 6
   ImageYCbCr420 plain_recon, padded_recon, decoded;
   BFrameStats plain_stats, padded_stats;
-  const std::vector<uint8_t> plain =
-      encode_b_frame(source, faces[face], nullptr, candidates, {}, params, &plain_recon, &plain_stats);
-  const std::vector<uint8_t> with_border =
-      encode_b_frame(source, padded, nullptr, candidates, {}, params, &padded_recon, &padded_stats);
+  const std::vector<uint8_t> plain = encode_b_frame(source, faces[face], nullptr, candidate_hints(candidates, {}),
+                                                    params, &plain_recon, &plain_stats);
+  const std::vector<uint8_t> with_border = encode_b_frame(source, padded, nullptr, candidate_hints(candidates, {}),
+                                                          params, &padded_recon, &padded_stats);
   ASSERT_FALSE(plain.empty());
   ASSERT_FALSE(with_border.empty());
   EXPECT_EQ(plain[kBFrameReferencesByte] & 7, 0);  // bits 0..2: the reference border

@@ -12,13 +12,12 @@
 namespace svc::codec {
 namespace {
 
-TEST(CodecQuant, DefaultMatricesAreMpeg2) {
+TEST(CodecQuant, DefaultIntraMatrixIsMpeg2s) {
   EXPECT_EQ(kDefaultIntraMatrix[0], 8);
   EXPECT_EQ(kDefaultIntraMatrix[1], 16);
   EXPECT_EQ(kDefaultIntraMatrix[8], 16);
   EXPECT_EQ(kDefaultIntraMatrix[63], 83);
   EXPECT_EQ(kDefaultIntraMatrix[7], 34);
-  for (int w : kDefaultNonIntraMatrix) EXPECT_EQ(w, 16);
 }
 
 TEST(CodecQuant, ScaleDoublesEvery32Indices) {
@@ -37,46 +36,40 @@ TEST(CodecQuant, ScaleDoublesEvery32Indices) {
   }
 }
 
-TEST(CodecQuant, StepsFollowTheMatricesAndTheDcRule) {
-  // AC: (W * scale + 8) >> 4 in 1/256 units; scale 2048 (index 128) is MPEG-2's scale 8.
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 128, 1), 16 * 2048 / 16);
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 128, 63), 83 * 2048 / 16);
-  EXPECT_EQ(quant_step(BlockKind::kNonIntra, 128, 0), 2048);
-  EXPECT_EQ(quant_step(BlockKind::kNonIntra, 1, 5), (16 * 131 + 8) >> 4);
-  // Intra DC: the scale up to 2048 (8-bit precision), flat to 4096, then half the scale
-  // up to 4096 (a DC step of 16).
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 0, 0), 128);
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 96, 0), 1024);
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 140, 0), 2048);
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 160, 0), 2048);
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 170, 0), quantizer_scale_q8(170) / 2);
-  EXPECT_EQ(quant_step(BlockKind::kIntra, 255, 0), 4096);
-  const Quantizer q = make_quantizer(BlockKind::kIntra, 77);
-  for (int i = 0; i < 64; ++i) EXPECT_EQ(q.scale[i], quant_step(BlockKind::kIntra, 77, i)) << i;
+TEST(CodecQuant, FlatStepsAreTheScale) {
+  // (16 * scale + 8) >> 4 in 1/256 units; scale 2048 (index 128) is MPEG-2's scale 8.
+  EXPECT_EQ(residual_step(TransformSize::k8x8, 128), 2048);
+  EXPECT_EQ(residual_step(TransformSize::k4x4, 1), (16 * 131 + 8) >> 4);
+  for (int qindex = kMinQIndex; qindex <= kMaxQIndex; ++qindex) {
+    EXPECT_EQ(residual_step(TransformSize::k8x8, qindex), quantizer_scale_q8(qindex)) << qindex;
+  }
+  const Quantizer q = make_residual_quantizer(TransformSize::k8x8, 77);
+  for (int i = 0; i < 64; ++i) EXPECT_EQ(q.scale[i], quantizer_scale_q8(77)) << i;
 }
 
 TEST(CodecQuant, DequantizationIsTheDocumentedIntegerFormula) {
-  const Quantizer intra = make_quantizer(BlockKind::kIntra, 106);  // about MPEG-2's scale 5
-  EXPECT_EQ(quantizer_scale_q8(106), 159 << 3);                    // T[10] << 3 = 1272
-  EXPECT_EQ(intra.scale[0], 1272);
-  EXPECT_EQ(dequantize_level(intra, 0, 3), 15);     // DC: level * dc step
-  EXPECT_EQ(dequantize_level(intra, 1, 1), 5);      // (1 * 1272 + 128) >> 8
-  EXPECT_EQ(dequantize_level(intra, 63, -2), -52);  // (2 * 6599 + 128) >> 8 = 52
-  EXPECT_EQ(dequantize_level(intra, 63, 4095), kMaxCoefficient);
-  EXPECT_EQ(dequantize_level(intra, 63, -4095), kMinCoefficient);
-  const Quantizer fine = make_quantizer(BlockKind::kNonIntra, 0);  // step 0.5
-  EXPECT_EQ(dequantize_level(fine, 0, 7), 4);                      // 3.5 rounds up
+  // Weighted 8x8 steps at index 106 (about MPEG-2's scale 5): DC 1272, AC (W * 1272 + 8) >> 4.
+  const Quantizer weighted = make_residual_quantizer(TransformSize::k8x8, 106, ResidualMatrix::kWeighted);
+  EXPECT_EQ(quantizer_scale_q8(106), 159 << 3);  // T[10] << 3 = 1272
+  EXPECT_EQ(weighted.scale[0], 1272);
+  EXPECT_EQ(dequantize_level(weighted, 0, 3), 15);     // (3 * 1272 + 128) >> 8
+  EXPECT_EQ(dequantize_level(weighted, 1, 1), 5);      // (1 * 1272 + 128) >> 8
+  EXPECT_EQ(dequantize_level(weighted, 63, -2), -52);  // (2 * 6599 + 128) >> 8 = 52
+  EXPECT_EQ(dequantize_level(weighted, 63, 4095), kMaxCoefficient);
+  EXPECT_EQ(dequantize_level(weighted, 63, -4095), kMinCoefficient);
+  const Quantizer fine = make_residual_quantizer(TransformSize::k8x8, 0);  // step 0.5
+  EXPECT_EQ(dequantize_level(fine, 0, 7), 4);                              // 3.5 rounds up
   EXPECT_EQ(dequantize_level(fine, 9, -1), -1);
   EXPECT_EQ(dequantize_level(fine, 9, 4095), 2047);
-  EXPECT_EQ(make_quantizer(BlockKind::kIntra, 500).qindex, kMaxQIndex);
-  EXPECT_EQ(make_quantizer(BlockKind::kIntra, -1).qindex, kMinQIndex);
+  EXPECT_EQ(make_residual_quantizer(TransformSize::k8x8, 500).qindex, kMaxQIndex);
+  EXPECT_EQ(make_residual_quantizer(TransformSize::k8x8, -1).qindex, kMinQIndex);
 }
 
 TEST(CodecQuant, QuantizationErrorIsBoundedByTheStep) {
   std::mt19937 rng(5);
-  for (BlockKind kind : {BlockKind::kIntra, BlockKind::kNonIntra}) {
+  for (ResidualMatrix matrix : {ResidualMatrix::kWeighted, ResidualMatrix::kFlat}) {
     for (int qs : {0, 32, 64, 128, 200, 255}) {
-      const Quantizer q = make_quantizer(kind, qs);
+      const Quantizer q = make_residual_quantizer(TransformSize::k8x8, qs, matrix);
       for (int n = 0; n < 200; ++n) {
         float coefficients[64];
         int16_t levels[64], back[64];
@@ -99,7 +92,7 @@ TEST(CodecQuant, QuantizationErrorIsBoundedByTheStep) {
 }
 
 TEST(CodecQuant, NonIntraDeadZoneDropsSmallResiduals) {
-  const Quantizer q = make_quantizer(BlockKind::kNonIntra, 128);  // step 8
+  const Quantizer q = make_residual_quantizer(TransformSize::k8x8, 128);  // step 8
   float coefficients[64] = {};
   coefficients[0] = 6.0f;   // 0.75 step: below 1 - 0.2
   coefficients[5] = -6.3f;  // also dropped
@@ -138,8 +131,8 @@ TEST(CodecQuant, BlocksSmallerThan8x8StayInsideTheirArea) {
 
 TEST(CodecQuant, BlockTransformRoundTripAtMpeg2sFinestScaleIsNearLossless) {
   std::mt19937 rng(9);
-  for (BlockKind kind : {BlockKind::kIntra, BlockKind::kNonIntra}) {
-    const Quantizer q = make_quantizer(kind, 32);  // MPEG-2's quantizer_scale 1
+  for (ResidualMatrix matrix : {ResidualMatrix::kWeighted, ResidualMatrix::kFlat}) {
+    const Quantizer q = make_residual_quantizer(TransformSize::k8x8, 32, matrix);  // MPEG-2's quantizer_scale 1
     double squared = 0;
     int peak = 0;
     for (int n = 0; n < 200; ++n) {
@@ -155,7 +148,7 @@ TEST(CodecQuant, BlockTransformRoundTripAtMpeg2sFinestScaleIsNearLossless) {
       }
     }
     EXPECT_LE(peak, 5);
-    EXPECT_LT(std::sqrt(squared / (200 * 64)), kind == BlockKind::kIntra ? 1.3 : 0.6);
+    EXPECT_LT(std::sqrt(squared / (200 * 64)), matrix == ResidualMatrix::kWeighted ? 1.3 : 0.6);
   }
 }
 

@@ -49,18 +49,18 @@ BlockContextSet trained_contexts(std::mt19937& rng, const Quantizer& quantizer) 
 }
 
 struct Case {
-  BlockKind kind;
+  ResidualMatrix matrix;
   int coded_block_context;
 };
 
 TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
   std::mt19937 rng(31);
-  const Case cases[] = {{BlockKind::kNonIntra, 1},
-                        {BlockKind::kNonIntra, kNoCodedBlockFlag},
-                        {BlockKind::kIntra, 0}};
+  const Case cases[] = {{ResidualMatrix::kFlat, 1},
+                        {ResidualMatrix::kFlat, kNoCodedBlockFlag},
+                        {ResidualMatrix::kWeighted, 0}};
   for (const Case& c : cases) {
     for (int qindex : {64, 115, 160, 202}) {  // quantizer scales about 2, 6, 16 and 40
-      const Quantizer quantizer = make_quantizer(c.kind, qindex);
+      const Quantizer quantizer = make_residual_quantizer(TransformSize::k8x8, qindex, c.matrix);
       const BlockContextSet contexts = trained_contexts(rng, quantizer);
       const double scale = quantizer_scale_q8(qindex) / 256.0;
       const float lambda = static_cast<float>(0.25 * scale * scale);
@@ -91,7 +91,7 @@ TEST(CodecRdoq, NeverCostsMoreThanPlainQuantizationAndUsuallyLess) {
 
 TEST(CodecRdoq, ZeroLambdaKeepsTheNearestLevels) {
   std::mt19937 rng(32);
-  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantizer scale 8
+  const Quantizer quantizer = make_residual_quantizer(TransformSize::k8x8, 128);  // quantizer scale 8
   Quantizer nearest = quantizer;
   nearest.rounding_dc = nearest.rounding_ac = 0.5f;
   const BlockContextSet contexts;
@@ -113,7 +113,7 @@ TEST(CodecRdoq, ZeroLambdaKeepsTheNearestLevels) {
 
 TEST(CodecRdoq, LargeLambdaEmptiesWeakBlocks) {
   std::mt19937 rng(33);
-  const Quantizer quantizer = make_quantizer(BlockKind::kNonIntra, 128);  // quantizer scale 8
+  const Quantizer quantizer = make_residual_quantizer(TransformSize::k8x8, 128);  // quantizer scale 8
   const BlockContextSet contexts;
   float coefficients[64] = {};
   coefficients[kZigZag[40]] = 10.0f;  // rounds to level 1, far down the scan

@@ -11,6 +11,7 @@
 #include "codec/decoder/intra_decoder.h"
 #include "codec/encoder/bframe_encoder.h"
 #include "codec/encoder/intra_encoder.h"
+#include "support/reference_hints.h"
 
 namespace svc::codec {
 namespace {
@@ -236,9 +237,10 @@ TEST(WarpBFrame, DecoderMatchesEncoderBitExactly) {
         const ImageYCbCr420* second = references == 2 ? &ref1 : nullptr;
         ImageYCbCr420 reconstruction;
         BFrameStats stats;
-        const std::vector<uint8_t> bytes =
-            encode_b_frame(source, ref0, second, c0, c1, fields == 2 ? nullptr : &field0,
-                           fields == 1 ? nullptr : &field1, params, &reconstruction, &stats);
+        const std::vector<uint8_t> bytes = encode_b_frame(source, ref0, second,
+                                                          candidate_hints(c0, c1, fields == 2 ? nullptr : &field0,
+                                                                          fields == 1 ? nullptr : &field1),
+                                                          params, &reconstruction, &stats);
         ASSERT_FALSE(bytes.empty());
         ImageYCbCr420 decoded;
         std::vector<MacroblockMode> modes;
@@ -299,11 +301,13 @@ TEST(WarpBFrame, PerspectivePlanePredictsAlmostPerfectly) {
   params.deblocking = params.cdef = false;  // the predictions alone
   BFrameStats warped_stats, plain_stats;
   ImageYCbCr420 warped_reconstruction, plain_reconstruction;
-  const std::vector<uint8_t> warped = encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr,
-                                                     params, &warped_reconstruction, &warped_stats);
+  const std::vector<uint8_t> warped = encode_b_frame(source, reference, nullptr,
+                                                     candidate_hints(candidates, {}, &field, nullptr), params,
+                                                     &warped_reconstruction, &warped_stats);
   params.warp = false;
-  const std::vector<uint8_t> plain = encode_b_frame(source, reference, nullptr, candidates, {}, &field, nullptr,
-                                                    params, &plain_reconstruction, &plain_stats);
+  const std::vector<uint8_t> plain = encode_b_frame(source, reference, nullptr,
+                                                    candidate_hints(candidates, {}, &field, nullptr), params,
+                                                    &plain_reconstruction, &plain_stats);
   EXPECT_EQ(plain_stats.mb_warp, 0);
   EXPECT_GE(warped_stats.mb_warp, 56);  // of 64
   EXPECT_LT(warped.size() * 3, plain.size() * 2) << warped.size() << " vs translational " << plain.size();
@@ -348,7 +352,7 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   params.qindex = 96;
   BFrameStats stats;
   const std::vector<uint8_t> valid =
-      encode_b_frame(source, ref0, &ref1, {}, {}, &field0, &field1, params, nullptr, &stats);
+      encode_b_frame(source, ref0, &ref1, candidate_hints({}, {}, &field0, &field1), params, nullptr, &stats);
   ASSERT_GT(stats.mb_warp, 0);
   ASSERT_GT(stats.warp_nodes_coded, 0);
   ImageYCbCr420 out;
@@ -361,7 +365,7 @@ TEST(WarpBFrame, DamagedWarpPayloadsAreRejectedOrDecodeSafely) {
   }
   // A warp mask naming a missing reference (header byte 3, bits 6-7).
   const std::vector<uint8_t> one_ref =
-      encode_b_frame(source, ref0, nullptr, {}, {}, &field0, nullptr, params, nullptr, nullptr);
+      encode_b_frame(source, ref0, nullptr, candidate_hints({}, {}, &field0, nullptr), params, nullptr, nullptr);
   BFrameHeader header;
   ASSERT_TRUE(parse_b_frame_header(one_ref, &header).ok());
   ASSERT_EQ(header.warp_mask, 1);

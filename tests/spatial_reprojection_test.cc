@@ -14,6 +14,18 @@
 namespace svc {
 namespace {
 
+// The rounding macroblock_candidates applies to a flow in pixels: each component to the
+// nearest quarter pixel (halves away from zero), saturated at +-32767.
+codec::MotionVector quantize_flow(double dx, double dy) {
+  auto to_quarter_pel = [](double d) -> int16_t {
+    const double quarter_pels = std::round(d * codec::kVectorUnitsPerPixel);  // halves away from zero
+    if (!(quarter_pels > -32767.0)) return -32767;                            // NaN saturates low
+    if (quarter_pels > 32767.0) return 32767;
+    return static_cast<int16_t>(quarter_pels);
+  };
+  return codec::MotionVector{to_quarter_pel(dx), to_quarter_pel(dy)};
+}
+
 constexpr double kPi = 3.14159265358979323846;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -354,7 +366,7 @@ TEST(SpatialReprojection, ConstantFlowGivesOneCandidatePerMacroblock) {
   for (const auto& list : candidates) {
     EXPECT_EQ(list, (codec::CandidateList{{5, -3}}));
   }
-  EXPECT_DOUBLE_EQ(mean_candidates_per_macroblock(candidates), 1.0);
+  EXPECT_DOUBLE_EQ(candidate_stats(candidates).mean_per_macroblock(), 1.0);
 }
 
 TEST(SpatialReprojection, CandidatesAreDistinctMostFrequentFirst) {

@@ -89,8 +89,8 @@ TEST(VisibilityReferences, EqualCoverageKeepsTheNearestTwo) {
 TEST(VisibilityReferences, OneCandidateIsTheOnlyReference) {
   const std::vector<ReferenceCandidate> candidates = {{{4, 0, 0}, 7}};
   const std::vector<uint64_t> none = bits(0, 0);
-  auto refs =
-      visible_references({0, 0, 0}, candidates, {1, 1, 1}, [&](uint32_t, uint32_t) { return count_seen(none); });
+  auto refs = visible_references({0, 0, 0}, candidates, {1, 1, 1},
+                                 [&](uint32_t, uint32_t) { return count_seen_by_either(none, none); });
   EXPECT_EQ(refs, (std::vector<uint32_t>{7}));
 }
 

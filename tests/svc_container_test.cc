@@ -1,4 +1,5 @@
-// The .svc index: serialization round trip (versions 1 and 2) and validation of damaged fields.
+// The .svc index: serialization round trip, validation of damaged fields, and the refusal
+// of index versions other than 4.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -7,8 +8,6 @@
 
 #include "common/bytes.h"
 #include "container/container.h"
-#include "support/index_v1.h"
-#include "support/index_v2_v3.h"
 
 namespace svc {
 namespace {
@@ -48,12 +47,10 @@ ContainerIndex sample_index() {
 }
 
 constexpr uint64_t kFileSize = 1 << 20;
-// Version 2 layout: the rig table follows the 96-byte header.
+// The rig table follows the 96-byte header.
 constexpr size_t kRigCountAt = 4 + 8 + 12 + 48 + 4 + 8 + 12;
-constexpr size_t kRigEntryBytes = 15 * 8;  // versions 2 and 3
-// Version 4, a square frustum: packed rotation, flags, right, near and far.
-constexpr size_t kSquareRigEntryBytesV4 = 3 + 1 + 3 * 8;
-constexpr size_t kStatisticsBytes = 2 * 9 * 8;  // versions 1 to 3
+// A rig entry with a square frustum: packed rotation, flags, right, near and far.
+constexpr size_t kSquareRigEntryBytes = 3 + 1 + 3 * 8;
 
 TEST(ContainerIndex, RoundTripsEveryField) {
   const ContainerIndex index = sample_index();
@@ -112,7 +109,8 @@ TEST(ContainerIndex, EnforcesCallerLimitsBeforeAllocating) {
 
   // A huge cell count with few bytes behind it must fail without allocating for it.
   std::vector<uint8_t> forged = bytes;
-  const size_t cell_count_at = kRigCountAt + 1 + bytes[kRigCountAt] * kRigEntryBytes;
+  ASSERT_EQ(bytes[kRigCountAt], 0);  // sample_index's cameras are all explicit
+  const size_t cell_count_at = kRigCountAt + 1;
   forged[cell_count_at + 0] = 0xff;
   forged[cell_count_at + 1] = 0xff;
   forged[cell_count_at + 2] = 0x3f;
@@ -121,7 +119,7 @@ TEST(ContainerIndex, EnforcesCallerLimitsBeforeAllocating) {
   EXPECT_NE(parsed.status().message().find("does not fit"), std::string::npos) << parsed.status().message();
 }
 
-// --- Index version 2: camera rig, varint frame records, version 1 compatibility ---
+// --- Camera rig, cell and frame records ---
 
 uint64_t bits(double v) { return std::bit_cast<uint64_t>(v); }
 
@@ -262,7 +260,7 @@ uint32_t index_version(const std::vector<uint8_t>& bytes) {
   return uint32_t{bytes[0]} | uint32_t{bytes[1]} << 8 | uint32_t{bytes[2]} << 16 | uint32_t{bytes[3]} << 24;
 }
 
-TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
+TEST(ContainerIndexRecords, CubeCamerasShareSixRigEntries) {
   const ContainerIndex index = rig_index();
   const std::vector<uint8_t> bytes = serialize_index(index);
   EXPECT_EQ(index_version(bytes), 4u);
@@ -276,8 +274,7 @@ TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
   const size_t frame_bytes = 6 * 2 + 8 * (3 + 5 * 2);
   const size_t statistics_bytes = 2 * 9 + 2;
   EXPECT_EQ(bytes.size(),
-            kRigCountAt + 1 + 6 * kSquareRigEntryBytesV4 + 4 + cell_bytes + 4 + frame_bytes + statistics_bytes);
-  EXPECT_LT(bytes.size() * 5, testing::serialize_index_v1(index).size());
+            kRigCountAt + 1 + 6 * kSquareRigEntryBytes + 4 + cell_bytes + 4 + frame_bytes + statistics_bytes);
 
   auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
@@ -285,7 +282,7 @@ TEST(ContainerIndexV2, CubeCamerasShareSixRigEntries) {
   EXPECT_EQ(serialize_index(*parsed), bytes);
 }
 
-TEST(ContainerIndexV2, CamerasNoRigEntryReproducesAreStoredExplicitly) {
+TEST(ContainerIndexRecords, CamerasNoRigEntryReproducesAreStoredExplicitly) {
   ContainerIndex index = rig_index();
   const size_t rig_only_size = serialize_index(index).size();
   // A yawed rig: rotation entries that are not 0 or +-1.
@@ -306,14 +303,14 @@ TEST(ContainerIndexV2, CamerasNoRigEntryReproducesAreStoredExplicitly) {
   // Three explicit cameras (22 doubles each) and one more rig entry; cells 1 to 6 list
   // their sources (6 bytes each) instead of taking the previous cell's: they have an
   // explicit camera or a new rig entry, or follow a cell with an explicit camera.
-  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 22 * 8 + kSquareRigEntryBytesV4 + 6 * kFaceCount);
+  EXPECT_EQ(bytes.size(), rig_only_size + 3 * 22 * 8 + kSquareRigEntryBytes + 6 * kFaceCount);
   auto parsed = parse_index(bytes, 0, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   expect_same_index(*parsed, index);
   EXPECT_EQ(serialize_index(*parsed), bytes);
 }
 
-TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
+TEST(ContainerIndexRecords, SignOfZeroIsKeptBitForBit) {
   ContainerIndex index = rig_index();
   const size_t rig_only_size = serialize_index(index).size();
   // A centre on the x = 0 and z = 0 planes: every face has two zero translations.
@@ -356,7 +353,7 @@ TEST(ContainerIndexV2, SignOfZeroIsKeptBitForBit) {
 
 // Cube references: one bit of the type byte; the dependencies it adds are the four
 // adjacent faces of each reference cube, which must be I-faces.
-TEST(ContainerIndexV2, CubeReferencesRoundTripAndNeedIntraCubes) {
+TEST(ContainerIndexRecords, CubeReferencesRoundTripAndNeedIntraCubes) {
   ContainerIndex index = rig_index();
   for (FrameRecord& frame : index.frames) frame.cube_references = frame.type == FaceType::kPredicted;
   const std::vector<uint8_t> bytes = serialize_index(index);
@@ -386,7 +383,7 @@ TEST(ContainerIndexV2, CubeReferencesRoundTripAndNeedIntraCubes) {
       << parsed.status().message();
 }
 
-TEST(ContainerIndexV2, OutOfOrderChunksAndLargeValuesRoundTrip) {
+TEST(ContainerIndexRecords, OutOfOrderChunksAndLargeValuesRoundTrip) {
   ContainerIndex index = rig_index();
   // As after svc add: the first cell's chunks were appended last, far into a large
   // file; one face is big (a multi-byte payload size varint).
@@ -407,55 +404,50 @@ TEST(ContainerIndexV2, OutOfOrderChunksAndLargeValuesRoundTrip) {
   EXPECT_NE(parsed.status().message().find("cell (0,0,0) face px"), std::string::npos) << parsed.status().message();
 }
 
-TEST(ContainerIndexV2, VersionOneIndexStillParses) {
-  for (const ContainerIndex& index : {sample_index(), rig_index()}) {
-    const std::vector<uint8_t> v1 = testing::serialize_index_v1(index);
-    ASSERT_EQ(index_version(v1), 1u);
-    auto parsed = parse_index(v1, 0, kFileSize, ReaderLimits{});
-    ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
-    expect_same_index(*parsed, index);
-    // Rewritten as version 2, it reads back the same.
-    auto again = parse_index(serialize_index(*parsed), 0, kFileSize, ReaderLimits{});
-    ASSERT_TRUE(again.ok()) << again.status().to_string();
-    expect_same_index(*again, index);
-  }
-  // Version 1 validation is unchanged: a truncated v1 index is refused at every length.
-  const std::vector<uint8_t> v1 = testing::serialize_index_v1(sample_index());
-  for (size_t n = 0; n < v1.size(); ++n) {
-    auto parsed = parse_index(std::span(v1).first(n), 0, kFileSize, ReaderLimits{});
-    ASSERT_FALSE(parsed.ok()) << "truncated to " << n;
-    EXPECT_EQ(parsed.status().code(), ErrorCode::kCorruptData) << parsed.status().to_string();
+// Index versions 1 to 3 came before the current frame syntaxes; they and any other value
+// than 4 are refused, naming the version and its offset.
+TEST(ContainerIndex, VersionsOtherThanFourAreRefused) {
+  const std::vector<uint8_t> bytes = serialize_index(sample_index());
+  ASSERT_EQ(index_version(bytes), 4u);
+  for (uint32_t version : {0u, 1u, 2u, 3u, 5u, 0xFFFFFFFFu}) {
+    std::vector<uint8_t> forged = bytes;
+    for (int b = 0; b < 4; ++b) forged[static_cast<size_t>(b)] = static_cast<uint8_t>(version >> (8 * b));
+    auto parsed = parse_index(forged, 1000, kFileSize, ReaderLimits{});
+    ASSERT_FALSE(parsed.ok()) << version;
+    EXPECT_EQ(parsed.status().code(), ErrorCode::kUnsupported);
+    EXPECT_EQ(parsed.status().message(), "index version " + std::to_string(version) +
+                                             " is not supported (this build reads 4) at byte offset 1000");
   }
 }
 
-TEST(ContainerIndexV2, OlderCorpusFilesOpenAndRewriteLosslessly) {
+// The corpus keeps files whose index is in versions 1 to 3 (tests/fuzz/corpus/container,
+// old-index-v*): the reader refuses each, naming its version.
+TEST(ContainerIndex, OlderCorpusFilesAreRefused) {
   namespace fs = std::filesystem;
   int older_files[4] = {};  // by index version
   for (const auto& entry : fs::directory_iterator(fs::path(SVC_SOURCE_DIR) / "tests/fuzz/corpus/container")) {
-    if (entry.path().filename().string().rfind("seed-", 0) != 0) continue;
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("old-index-v", 0) != 0) continue;
     SCOPED_TRACE(entry.path().string());
+    const int version = name[std::string("old-index-v").size()] - '0';
+    ASSERT_TRUE(version >= 1 && version <= 3);
+    ++older_files[version];
     auto file = ReadOnlyFile::open(entry.path());
     ASSERT_TRUE(file.ok());
     auto opened = open_container(**file, ReaderLimits{});
-    ASSERT_TRUE(opened.ok()) << opened.status().to_string();
-    std::vector<uint8_t> version(4);
-    ASSERT_TRUE((*file)->read_at(opened->index_offset + 12, version).ok());
-    if (index_version(version) > 3) continue;
-    ++older_files[index_version(version)];
-    const std::vector<uint8_t> rewritten = serialize_index(opened->index);
-    auto parsed = parse_index(rewritten, 0, (*file)->size(), ReaderLimits{});
-    ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
-    expect_same_index(*parsed, opened->index);
-    if (index_version(version) == 1) {
-      EXPECT_EQ(testing::serialize_index_v1(*parsed), testing::serialize_index_v1(opened->index));
-    }
+    ASSERT_FALSE(opened.ok());
+    EXPECT_EQ(opened.status().code(), ErrorCode::kUnsupported) << opened.status().to_string();
+    EXPECT_NE(opened.status().message().find("index version " + std::to_string(version) +
+                                             " is not supported (this build reads 4) at byte offset "),
+              std::string::npos)
+        << opened.status().message();
   }
   EXPECT_GE(older_files[1], 3);
   EXPECT_GE(older_files[2], 3);
   EXPECT_GE(older_files[3], 3);
 }
 
-TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
+TEST(ContainerIndexRecords, EveryTruncationIsAnErrorNotACrash) {
   ContainerIndex index = rig_index();
   index.cameras[3][1].world_to_camera[12] += 1;  // one explicit camera too
   index.frames[9].chunk_offset = kPreludeSize;   // a negative offset delta
@@ -469,8 +461,8 @@ TEST(ContainerIndexV2, EveryTruncationIsAnErrorNotACrash) {
   }
 }
 
-// A one-cell version 3 index of I-faces whose frame records are the 18 bytes before the
-// statistics: {type 0, offset delta 0, payload size 50} each.
+// A one-cell index of I-faces whose frame records are the 12 bytes before the statistics
+// (18 zero varints): {bare chunk, back to back; payload size 50} each.
 struct OneCell {
   ContainerIndex index;
   std::vector<uint8_t> bytes;
@@ -479,18 +471,19 @@ struct OneCell {
 
 OneCell one_cell_index() {
   OneCell one;
-  ContainerIndex full = rig_index();
-  one.index = full;
+  one.index = rig_index();
   one.index.cells.resize(1);
+  one.index.cameras.resize(1);
   one.index.frames.resize(kFaceCount);
+  one.index.stats = {};
   uint64_t offset = kPreludeSize;
   for (FrameRecord& frame : one.index.frames) {
     frame.chunk_offset = offset;
     frame.payload_size = 50;
     offset += chunk_bytes(frame);
   }
-  one.bytes = testing::serialize_index_v3(one.index);
-  one.frames_at = one.bytes.size() - kStatisticsBytes - 3 * kFaceCount;
+  one.bytes = serialize_index(one.index);
+  one.frames_at = one.bytes.size() - 2 * 9 - 2 * kFaceCount;
   return one;
 }
 
@@ -510,13 +503,16 @@ void expect_refused(const Status& status, const std::string& words) {
   EXPECT_NE(status.message().find("byte offset"), std::string::npos) << status.message();
 }
 
-TEST(ContainerIndexV2, BadVarintsAreRefused) {
+TEST(ContainerIndex, BadVarintsAreRefused) {
   const OneCell one = one_cell_index();
-  const std::vector<uint8_t>& bytes = one.bytes;
-  const size_t record = one.frames_at + 3 * 2;  // frame 2: face py
-  ASSERT_EQ(bytes[record], 0x20);               // an I-face in a bare chunk
-  ASSERT_EQ(bytes[record + 1], 0);
-  ASSERT_EQ(bytes[record + 2], 50);
+  const size_t record = one.frames_at + 2 * 2;  // frame 2: face py
+  ASSERT_EQ(one.bytes[record], 0x60);           // an I-face in a bare chunk, back to back
+  ASSERT_EQ(one.bytes[record + 1], 50);
+  // The same record with its offset delta (0) stored: bit 6 clear.
+  std::vector<uint8_t> bytes = one.bytes;
+  bytes[record] = 0x20;
+  bytes.insert(bytes.begin() + static_cast<std::ptrdiff_t>(record + 1), 0);
+  ASSERT_TRUE(parse_edited(bytes, 0, 0, {}).ok());
   ASSERT_TRUE(parse_edited(bytes, record, 3, {0, 0, 50}).ok());
   // Payload size 50 written in two bytes.
   expect_refused(parse_edited(bytes, record + 2, 1, {0x80 | 50, 0x00}), "redundant trailing zero byte");
@@ -535,9 +531,7 @@ TEST(ContainerIndexV2, BadVarintsAreRefused) {
   // The largest negative delta, whose magnitude has no positive int64.
   expect_refused(parse_edited(bytes, record + 1, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}),
                  "leads outside the file");
-  // Reserved bits of the type byte; an unknown frame type.
-  expect_refused(parse_edited(bytes, record, 1, {0x40}), "reserved bits");
-  expect_refused(parse_edited(bytes, record, 1, {0xA0}), "reserved bits");
+  // Cube references on an I-face; an unknown frame type.
   expect_refused(parse_edited(bytes, record, 1, {0x10}), "cube-references bit");
   expect_refused(parse_edited(bytes, record, 1, {0x02}), "unknown frame type");
   // An I-face with a reference; a B-face reference past the frame count.
@@ -550,11 +544,11 @@ TEST(ContainerIndexV2, BadVarintsAreRefused) {
   expect_refused(parse_edited(bytes, record, 3, {0x05, 0, 50, 0}), "not an I-face");
 }
 
-TEST(ContainerIndexV2, BadRigTablesAreRefused) {
+TEST(ContainerIndex, BadRigTablesAreRefused) {
   const OneCell one = one_cell_index();
   const std::vector<uint8_t>& bytes = one.bytes;
   ASSERT_EQ(bytes[kRigCountAt], 6);
-  const size_t cell_at = kRigCountAt + 1 + 6 * kRigEntryBytes + 4;
+  const size_t cell_at = kRigCountAt + 1 + 6 * kSquareRigEntryBytes + 4;
   const size_t sources_at = cell_at + 2;  // after the position gap and the flags
   ASSERT_EQ(bytes[cell_at], 0);
   ASSERT_EQ(bytes[cell_at + 1], 1);  // centre on the grid
@@ -565,29 +559,22 @@ TEST(ContainerIndexV2, BadRigTablesAreRefused) {
   expect_refused(parse_edited(bytes, kRigCountAt, 1, {64}), "does not fit");
   // A face naming an entry the table does not have.
   expect_refused(parse_edited(bytes, sources_at + 4, 1, {6}), "cell (0,0,0) face pz names camera rig entry 6 of 6");
-  // A rotation entry of 0.5 (not a signed permutation), then two non-zeros in a row.
-  ByteWriter half;
-  half.f64(0.5);
-  const size_t entry1 = kRigCountAt + 1 + kRigEntryBytes;
-  expect_refused(parse_edited(bytes, entry1, 8, half.bytes()), "rig entry 1 has a rotation");
-  ByteWriter one_value;
-  one_value.f64(1.0);
-  std::vector<uint8_t> two_in_row = bytes;
-  for (size_t j = 0; j < 3; ++j) std::copy_n(one_value.bytes().begin(), 8, two_in_row.begin() + entry1 + 8 * j);
-  expect_refused(parse_edited(two_in_row, 0, 0, {}), "rig entry 1 has a rotation");
+  // Three +1s in the first row (not a signed permutation).
+  const size_t entry1 = kRigCountAt + 1 + kSquareRigEntryBytes;
+  ASSERT_EQ(bytes[entry1 + 3], 1);  // a square frustum: right, near, far follow
+  expect_refused(parse_edited(bytes, entry1, 1, {0x2A}), "rig entry 1 has a rotation");
   // An invalid frustum (near plane 0).
   ByteWriter zero;
   zero.f64(0.0);
-  expect_refused(parse_edited(bytes, entry1 + 9 * 8 + 4 * 8, 8, zero.bytes()),
-                 "rig entry 1 has an invalid frustum");
+  expect_refused(parse_edited(bytes, entry1 + 4 + 8, 8, zero.bytes()), "rig entry 1 has an invalid frustum");
   // Bytes past the statistics.
   expect_refused(parse_edited(bytes, bytes.size(), 0, {0}), "unexpected bytes");
 }
 
-TEST(ContainerIndexV3, BadCellRecordsAreRefused) {
+TEST(ContainerIndex, BadCellRecordsAreRefused) {
   const OneCell one = one_cell_index();
   const std::vector<uint8_t>& bytes = one.bytes;
-  const size_t cell_at = kRigCountAt + 1 + 6 * kRigEntryBytes + 4;
+  const size_t cell_at = kRigCountAt + 1 + 6 * kSquareRigEntryBytes + 4;
   ASSERT_TRUE(parse_edited(bytes, cell_at, 1, {8}).ok());  // the last cell of the 3x1x3 grid
   expect_refused(parse_edited(bytes, cell_at, 1, {9}), "cell record 0 lies past the end of the grid");
   expect_refused(parse_edited(bytes, cell_at, 1, {0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01}),
@@ -601,14 +588,14 @@ TEST(ContainerIndexV3, BadCellRecordsAreRefused) {
   std::vector<uint8_t> off_grid = centre.bytes();
   off_grid.insert(off_grid.begin(), 0x00);
   ASSERT_TRUE(parse_edited(bytes, cell_at + 1, 1, off_grid).ok());
-  // Clearing the flag makes the sources and frame records read as a centre, and what
-  // follows as sources.
-  expect_refused(parse_edited(bytes, cell_at + 1, 1, {0x00}), "cell (0,0,0) face px names camera rig entry");
+  // Clearing the flag makes the sources, the frame count and records read as a centre,
+  // and the statistics (zeros) as sources of rig entry 0 and a frame count of 0.
+  expect_refused(parse_edited(bytes, cell_at + 1, 1, {0x00}), "frame count 0 is not six per cell");
 }
 
 // Version 4 frame records: an I-cube then a B-cube predicted from it, chunks back to
 // back, payloads of 50 bytes, no statistics.
-TEST(ContainerIndexV4, FramesShareChunkPositionsAndReferences) {
+TEST(ContainerIndexRecords, FramesShareChunkPositionsAndReferences) {
   ContainerIndex index = rig_index();
   index.cells.resize(2);
   index.cameras.resize(2);
@@ -631,11 +618,6 @@ TEST(ContainerIndexV4, FramesShareChunkPositionsAndReferences) {
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   expect_same_index(*parsed, index);
   EXPECT_EQ(parsed->frames[9].references, FrameReferences{3});  // cell 0's face ny
-  // The version 3 bytes of the same index read the same.
-  auto from_v3 = parse_index(testing::serialize_index_v3(index), 0, kFileSize, ReaderLimits{});
-  ASSERT_TRUE(from_v3.ok()) << from_v3.status().to_string();
-  expect_same_index(*from_v3, index);
-  EXPECT_LT(bytes.size() + 10 * 2, testing::serialize_index_v3(index).size());
 
   // An explicit offset delta of 0 in place of bit 6 is the same index.
   ASSERT_TRUE(parse_edited(bytes, frames_at, 1, {0x20, 0}).ok());
@@ -649,7 +631,7 @@ TEST(ContainerIndexV4, FramesShareChunkPositionsAndReferences) {
 
 // Version 4 rig entries: the rotation packed two bits an entry (negative zeros kept), a
 // frustum that is not square stored whole; reserved bits refused.
-TEST(ContainerIndexV4, RigEntriesArePackedAndExact) {
+TEST(ContainerIndexRecords, RigEntriesArePackedAndExact) {
   ContainerIndex index = rig_index();
   for (int f = 0; f < kFaceCount; ++f) {
     Camera& camera = index.cameras[0][f];
@@ -677,7 +659,7 @@ TEST(ContainerIndexV4, RigEntriesArePackedAndExact) {
   expect_refused(parse_edited(bytes, entry0, 1, {0xAA}), "not a signed permutation");
 }
 
-TEST(ContainerIndexV3, SparseGridsAndCentresOffTheGridRoundTrip) {
+TEST(ContainerIndexRecords, SparseGridsAndCentresOffTheGridRoundTrip) {
   ContainerIndex index = rig_index();
   // Cells 1 and 5 missing (gaps in the raster order), cell 3's centre moved off the grid.
   for (size_t c : {5u, 1u}) {
@@ -697,18 +679,18 @@ TEST(ContainerIndexV3, SparseGridsAndCentresOffTheGridRoundTrip) {
   EXPECT_EQ(serialize_index(*parsed), bytes);
 }
 
-TEST(ContainerIndexV2, CountsAreBoundedByTheBytesLeft) {
+TEST(ContainerIndex, CountsAreBoundedByTheBytesLeft) {
   const OneCell one = one_cell_index();
-  const size_t cell_count_at = kRigCountAt + 1 + 6 * kRigEntryBytes;
+  const size_t cell_count_at = kRigCountAt + 1 + 6 * kSquareRigEntryBytes;
   // Cells need at least 2 bytes each (the one record here takes 8), and six frames per
-  // cell at least 3 bytes each.
+  // cell at least 2 bytes each.
   const size_t frames_count_at = one.frames_at - 4;
   std::vector<uint8_t> forged = one.bytes;
   forged.resize(frames_count_at);  // drop frames and statistics: the one cell record stays
   forged[cell_count_at] = 5;
   expect_refused(parse_edited(forged, 0, 0, {}), "cell count 5 does not fit");
   forged = one.bytes;
-  forged.resize(frames_count_at + 4 + 3 * kFaceCount - 1);
+  forged.resize(frames_count_at + 4 + 2 * kFaceCount - 1);
   expect_refused(parse_edited(forged, 0, 0, {}), "frame count 6 does not fit");
 }
 

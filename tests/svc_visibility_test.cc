@@ -19,6 +19,9 @@
 namespace svc {
 namespace {
 
+// Bits set in `bits`.
+size_t count_seen(const std::vector<uint64_t>& bits) { return count_seen_by_either(bits, bits); }
+
 namespace fs = std::filesystem;
 
 samples::SceneOptions house_options() {

@@ -44,7 +44,7 @@ void init_state(FrameState& s, int width, int height, int qindex, const ImageYCb
   s.chroma_height = (height + 1) / 2;
   s.references = {ref0, ref1};
   s.reference_count = ref1 != nullptr ? 2 : 1;
-  s.inter_quantizer = make_quantizer(BlockKind::kNonIntra, qindex);
+  s.inter_quantizer = make_residual_quantizer(TransformSize::k8x8, qindex);
   s.inter_quantizer_16x16 = make_residual_quantizer(TransformSize::k16x16, qindex);
   s.inter_quantizer_4x4 = make_residual_quantizer(TransformSize::k4x4, qindex);
   s.intra_quantizers = intra::residual_quantizers(qindex);

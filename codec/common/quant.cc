@@ -19,12 +19,6 @@ const std::array<uint8_t, 64> kDefaultIntraMatrix = {
     27, 29, 35, 38, 46, 56, 69, 83,  //
 };
 
-const std::array<uint8_t, 64> kDefaultNonIntraMatrix = [] {
-  std::array<uint8_t, 64> m{};
-  m.fill(16);
-  return m;
-}();
-
 namespace {
 
 // round(128 * 2^(k / 32)): one octave of quantizer scales.
@@ -40,17 +34,9 @@ int quantizer_scale_q8(int qindex) {
   return kScaleOctave[qindex % kQIndexPerOctave] << (qindex / kQIndexPerOctave);
 }
 
-int quant_step(BlockKind kind, int qindex, int position) {
-  const int scale = quantizer_scale_q8(qindex);
-  if (kind == BlockKind::kIntra && position == 0) {
-    return scale <= 4096 ? std::min(scale, 2048) : std::min(scale / 2, 4096);
-  }
-  const auto& matrix = kind == BlockKind::kIntra ? kDefaultIntraMatrix : kDefaultNonIntraMatrix;
-  return (static_cast<int>(matrix[position & 63]) * scale + 8) >> 4;
-}
-
 int residual_step(TransformSize size, int qindex) {
-  const int step = quant_step(BlockKind::kNonIntra, qindex, 0);
+  constexpr int kNonIntraWeight = 16;  // MPEG-2's default non-intra matrix: flat
+  const int step = (kNonIntraWeight * quantizer_scale_q8(qindex) + 8) >> 4;
   if (size == TransformSize::k16x16) return std::max((step + 1) >> 1, 128);
   if (is_rectangular(size)) {  // coefficients at 1/sqrt(2), 1 or sqrt(2) of orthonormal
     const int scale = rectangular_scale_log_sqrt2(size);
@@ -74,30 +60,22 @@ int residual_step(TransformSize size, int qindex, ResidualMatrix matrix, int pos
 }
 
 Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix matrix) {
-  Quantizer q = make_quantizer(BlockKind::kNonIntra, qindex);
+  Quantizer q;
+  q.qindex = std::clamp(qindex, kMinQIndex, kMaxQIndex);
   q.size = size;
+  q.rounding_dc = 0.2f;  // residuals: wider dead zone, most blocks become empty
+  q.rounding_ac = 0.2f;
+  // The 8x8 kernels read 64 entries: past a smaller block they hold the flat 8x8 step.
+  for (int i = 0; i < 64; ++i) {
+    q.scale[static_cast<size_t>(i)] = residual_step(TransformSize::k8x8, q.qindex);
+    q.inverse_step[static_cast<size_t>(i)] =
+        static_cast<float>(1 << kStepBits) / static_cast<float>(q.scale[static_cast<size_t>(i)]);
+  }
   for (int i = 0; i < transform_area(size); ++i) {
     q.scale[static_cast<size_t>(i)] = residual_step(size, q.qindex, matrix, i);
     q.inverse_step[static_cast<size_t>(i)] =
         static_cast<float>(1 << kStepBits) / static_cast<float>(q.scale[static_cast<size_t>(i)]);
   }
-  return q;
-}
-
-Quantizer make_quantizer(BlockKind kind, int qindex) {
-  Quantizer q;
-  q.kind = kind;
-  q.qindex = std::clamp(qindex, kMinQIndex, kMaxQIndex);
-  for (int i = 0; i < 64; ++i) q.scale[i] = quant_step(kind, q.qindex, i);
-  if (kind == BlockKind::kIntra) {
-    q.rounding_dc = 0.5f;
-    q.rounding_ac = 0.34f;  // intra: MPEG-style bias towards smaller levels
-  } else {
-    q.rounding_dc = 0.2f;  // residuals: wider dead zone, most blocks become empty
-    q.rounding_ac = 0.2f;
-  }
-  for (int i = 0; i < 64; ++i)
-    q.inverse_step[i] = static_cast<float>(1 << kStepBits) / static_cast<float>(q.scale[i]);
   return q;
 }
 

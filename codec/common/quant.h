@@ -3,7 +3,7 @@
 // blocks of B-faces. Dequantization is exact integer arithmetic and part of the
 // bitstream contract (docs/codec.md); quantization runs only in the encoder and may use
 // float with rate-distortion rounding offsets (codec/encoder/quantize.h). Quantizer
-// objects are immutable after make_quantizer() and may be shared between threads.
+// objects are immutable after make_residual_quantizer() and may be shared between threads.
 #pragma once
 
 #include <algorithm>
@@ -17,14 +17,9 @@
 
 namespace svc::codec {
 
-enum class BlockKind : uint8_t {
-  kIntra = 0,     // pixels, default intra matrix, DC with its own step
-  kNonIntra = 1,  // prediction residuals, default non-intra matrix (flat 16)
-};
-
-// MPEG-2 default matrices in natural (row-major) order.
+// MPEG-2's default intra matrix in natural (row-major) order: the weights of
+// ResidualMatrix::kWeighted (residual_weight).
 extern const std::array<uint8_t, 64> kDefaultIntraMatrix;
-extern const std::array<uint8_t, 64> kDefaultNonIntraMatrix;
 
 // Largest |level| the quantizer produces and the bitstream allows.
 inline constexpr int kMaxLevel = 4095;
@@ -41,17 +36,11 @@ inline constexpr int kStepBits = 8;
 // 512 (scale 2) at 64, 32128 (125.5) at 255. Part of the bitstream contract.
 int quantizer_scale_q8(int qindex);
 
-// The dequantization step at natural position `position` (0..63) of a block of `kind`
-// for `qindex` (clamped to 0..255), in 1/256 coefficient units: (W[i] * scale + 8) >> 4,
-// except the intra DC, which keeps 8-bit precision or finer at fine indices:
-// min(scale, 2048) while scale <= 4096, then min(scale / 2, 4096). Every transform size
-// derives its steps from this function. Part of the bitstream contract.
-int quant_step(BlockKind kind, int qindex, int position);
-
-// The flat residual step of a transform size, in 1/256 coefficient units:
-// quant_step(kNonIntra, qindex, 0) for 4x4 and 8x8 (orthonormal coefficients);
-// max((step + 1) >> 1, 128) for 16x16, whose coefficients are half the orthonormal
-// ones. Part of the bitstream contract.
+// The flat residual step of a transform size for `qindex` (clamped to 0..255), in 1/256
+// coefficient units: step = (16 * scale + 8) >> 4 (MPEG-2's flat non-intra weight 16,
+// so the scale itself) for 4x4 and 8x8 (orthonormal coefficients); max((step + 1) >> 1,
+// 128) for 16x16, whose coefficients are half the orthonormal ones. Every transform size
+// derives its steps from this one. Part of the bitstream contract.
 int residual_step(TransformSize size, int qindex);
 
 // Quantization matrices of intra-frame residual blocks (docs/codec.md 5.4, "Weighted
@@ -69,11 +58,10 @@ int residual_weight(TransformSize size, int position);
 int residual_step(TransformSize size, int qindex, ResidualMatrix matrix, int position);
 
 struct Quantizer {
-  BlockKind kind = BlockKind::kIntra;
   int qindex = 0;
   TransformSize size = TransformSize::k8x8;  // blocks of transform_area(size) values
   // coefficient = sign(level) * ((|level| * scale[i] + 128) >> 8), i in natural order;
-  // scale[i] = quant_step(kind, qindex, i) for 8x8 blocks, residual_step otherwise.
+  // scale[i] = residual_step(size, qindex, matrix, i).
   std::array<int32_t, kMaxTransformArea> scale{};
   // Encoder only: 256 / scale[i] and the rounding offsets (fractions of a step added
   // before truncation; 0.5 is plain rounding, smaller values widen the dead zone).
@@ -82,9 +70,9 @@ struct Quantizer {
   float rounding_ac = 0.5f;
 };
 
-// qindex is clamped to [kMinQIndex, kMaxQIndex]. make_quantizer serves 8x8 blocks;
-// make_residual_quantizer the residual blocks of any size (flat unless `matrix` says).
-Quantizer make_quantizer(BlockKind kind, int qindex);
+// The quantizer of residual blocks of any size (flat unless `matrix` says); qindex is
+// clamped to [kMinQIndex, kMaxQIndex]. Rounding offsets 0.2: a wide dead zone, most
+// residual blocks become empty.
 Quantizer make_residual_quantizer(TransformSize size, int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
 
 // Exact integer dequantization of one level at natural position `index`, saturated to
@@ -98,7 +86,7 @@ inline int dequantize_level(const Quantizer& quantizer, int index, int level) {
 void dequantize_block(const Quantizer& quantizer, const int16_t* levels, int16_t* coefficients);
 
 // Dequantization + integer inverse DCT: what the decoder reconstructs, before the caller
-// adds 128 (intra) or the prediction (non-intra) and clips to [0, 255].
+// adds the prediction and clips to [0, 255].
 void dequantize_inverse_transform_block(const Quantizer& quantizer, const int16_t* levels, int16_t* samples);
 
 }  // namespace svc::codec

@@ -115,14 +115,6 @@ int suggested_b_qindex(int intra_qindex) {
   return std::clamp(intra_qindex + kBQIndexOffset, kMinQIndex, kMaxQIndex);
 }
 
-std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
-                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
-                                    const FaceCandidates& candidates1, const BFrameParams& params,
-                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
-  return encode_b_frame(source, ref0, ref1, candidates0, candidates1, nullptr, nullptr, params, reconstruction,
-                        stats);
-}
-
 namespace {
 
 void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
@@ -304,16 +296,6 @@ std::vector<uint8_t> finish_frame(CodedMacroblocks& coded, const BFrameParams& p
 }
 
 }  // namespace
-
-std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
-                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
-                                    const FaceCandidates& candidates1, const WarpField* warp0,
-                                    const WarpField* warp1, const BFrameParams& params,
-                                    ImageYCbCr420* reconstruction, BFrameStats* stats) {
-  const std::array<ReferenceHints, 2> hints = {ReferenceHints{&candidates0, nullptr, warp0, {}},
-                                               ReferenceHints{&candidates1, nullptr, warp1, {}}};
-  return encode_b_frame(source, ref0, ref1, hints, params, reconstruction, stats);
-}
 
 std::shared_ptr<const SearchPlanes> b_frame_search_planes(const ImageYCbCr420& reference) {
   return std::make_shared<const SearchPlanes>(reference, kSearchMargin);

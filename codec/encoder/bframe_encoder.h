@@ -137,30 +137,6 @@ struct BFrameStats {
   std::vector<MacroblockMode> modes;
 };
 
-// Encodes `source` as a B-face predicted from ref0 and, when not null, ref1 (decoded
-// references: pass what the decoder will have). All images must have the same size and
-// consistent plane sizes, except that both references may instead be padded faces
-// (cube_padding.h: the face plus the same border of 16, 32, ... 64 samples on each side),
-// whose border the header then records and whose border samples vectors may reach. candidates0/candidates1 hold one
-// list per macroblock (ceil(w/16) x ceil(h/16), row-major); missing or empty lists fall back to the zero vector and
-// the neighbours' vector; out-of-range vectors are clamped (max_vector_component). `reconstruction` (optional)
-// receives exactly what decode_b_frame produces; `stats` (optional) the macroblock decisions. Deterministic.
-// Returns an empty vector when an image is missing, empty or inconsistent.
-std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
-                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
-                                    const FaceCandidates& candidates1, const BFrameParams& params,
-                                    ImageYCbCr420* reconstruction, BFrameStats* stats);
-
-// The same with a warp node field per reference (warp0 for ref0, warp1 for ref1; null or
-// of the wrong size (ceil(w/16) + 1) x (ceil(h/16) + 1): no warped prediction from that
-// reference). Node components are clamped to max_warp_node_component. Only the nodes some
-// warped macroblock uses are transmitted.
-std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
-                                    const ImageYCbCr420* ref1, const FaceCandidates& candidates0,
-                                    const FaceCandidates& candidates1, const WarpField* warp0,
-                                    const WarpField* warp1, const BFrameParams& params,
-                                    ImageYCbCr420* reconstruction, BFrameStats* stats);
-
 class SearchPlanes;
 
 // Encoder only: the motion search's planes of a reference face, as encode_b_frame builds
@@ -187,7 +163,19 @@ struct ReferenceHints {
   const SearchPlanes* search = nullptr;
 };
 
-// The same with per-reference hints (reference 1's ignored when ref1 is null).
+// Encodes `source` as a B-frame predicted from ref0 and, when not null, ref1 (decoded
+// references: pass what the decoder will have), with what `hints` says of the motion
+// towards each (reference 1's ignored when ref1 is null). All images must have the same
+// size and consistent plane sizes, except that both references may instead be padded faces
+// (cube_padding.h: the face plus the same border of 16, 32, ... 64 samples on each side),
+// whose border the header then records and whose border samples vectors may reach.
+// Missing or empty candidate lists fall back to the zero vector and the neighbours'
+// vector; out-of-range vectors are clamped (max_vector_component). A warp node field of
+// the wrong size (ceil(w/16) + 1) x (ceil(h/16) + 1), or none: no warped prediction from
+// that reference; node components are clamped to max_warp_node_component, and only the
+// nodes some warped macroblock uses are transmitted. `reconstruction` (optional) receives
+// exactly what decode_b_frame produces; `stats` (optional) the macroblock decisions.
+// Deterministic. Returns an empty vector when an image is missing, empty or inconsistent.
 std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbCr420& ref0,
                                     const ImageYCbCr420* ref1, const std::array<ReferenceHints, 2>& hints,
                                     const BFrameParams& params, ImageYCbCr420* reconstruction, BFrameStats* stats);

@@ -149,7 +149,8 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index);
 // those cameras in `cameras`.
 using CameraReader = std::function<Result<CellCameras>(size_t cell)>;
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras);
-// Reads index versions 1, 2 and 3. Validates every field against `limits` before it sizes
+// Reads index version 4 (the one serialize_index writes) and refuses any other
+// (ErrorCode::kUnsupported, naming the version). Validates every field against `limits` before it sizes
 // anything; `file_size` bounds chunk offsets. Errors name the field and its file offset
 // (`payload_offset` is the index payload's offset in the file).
 Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t payload_offset, uint64_t file_size,

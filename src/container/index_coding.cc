@@ -13,41 +13,30 @@ namespace svc {
 
 namespace {
 
-constexpr uint32_t kIndexVersion1 = 1;
-constexpr uint32_t kIndexVersion2 = 2;
-constexpr uint32_t kIndexVersion3 = 3;
-constexpr uint32_t kIndexVersion4 = 4;  // written; versions 1 to 3 are still read
-constexpr uint64_t kCameraBytes = (16 + 6) * 8;
+constexpr uint32_t kIndexVersion = 4;  // the only version written and read
 // Smallest record sizes, used to bound counts against the bytes left before allocating.
-constexpr uint64_t kCellRecordBytesV1 = 3 * 4 + 3 * 8 + kFaceCount * kCameraBytes;
-constexpr uint64_t kFrameRecordMinBytesV1 = 4 + 1 + 1 + 1 + 1 + 8 + 4;
-constexpr uint64_t kCellRecordMinBytesV2 = 3 * 4 + 3 * 8 + kFaceCount;  // every face from the rig
-constexpr uint64_t kFrameRecordMinBytesV2 = 1 + 1 + 1;                  // type byte, offset delta, payload size
-constexpr uint64_t kFrameRecordMinBytesV4 = 1 + 1;                      // type byte, payload size
-constexpr uint64_t kCellRecordMinBytesV3 = 1 + 1;                       // raster gap, flags
-// Version 3 cell record flags.
+constexpr uint64_t kFrameRecordMinBytes = 1 + 1;  // type byte, payload size
+constexpr uint64_t kCellRecordMinBytes = 1 + 1;   // raster gap, flags
+// Cell record flags.
 constexpr uint8_t kCentreOnGridBit = 0x01;
 constexpr uint8_t kPreviousSourcesBit = 0x02;
 constexpr uint8_t kCellFlagsReservedMask = 0xFC;
-// Version 2 camera rig table.
+// Camera rig table.
 constexpr uint8_t kExplicitCameraMarker = 255;
 constexpr size_t kMaxRigEntries = 64;
-constexpr uint64_t kRigEntryBytes = (9 + 6) * 8;  // versions 2 and 3
-// Version 4: the rotation's nine entries two bits each (+0, -0, +1, -1) in 3 bytes, a
+// A rig entry: the rotation's nine entries two bits each (+0, -0, +1, -1) in 3 bytes, a
 // flags byte (bit 0: the frustum is square and centred, right = top = -left = -bottom,
 // and only right, near and far follow), then the frustum's doubles.
-constexpr uint64_t kRigEntryMinBytesV4 = 3 + 1 + 3 * 8;
+constexpr uint64_t kRigEntryMinBytes = 3 + 1 + 3 * 8;
 constexpr uint8_t kSquareFrustumBit = 0x01;
-// Version 2 frame record type byte: bits 0-1 frame type, bits 2-3 reference count, bit 4
-// cube references, bit 5 bare chunk.
+// Frame record type byte: bits 0-1 frame type, bits 2-3 reference count, bit 4 cube
+// references, bit 5 bare chunk; bit 6, the chunk follows the previous record's (no offset
+// delta); bit 7, the references name the cells the previous record's do (no references).
 constexpr uint8_t kFaceTypeMask = 0x03;
 constexpr int kRefCountShift = 2;
 constexpr uint8_t kRefCountMask = 0x03;
 constexpr uint8_t kCubeReferencesBit = 0x10;
 constexpr uint8_t kBareChunkBit = 0x20;
-constexpr uint8_t kFrameHeadReservedMask = 0xC0;  // before version 4
-// Version 4: bit 6, the chunk follows the previous record's (no offset delta); bit 7, the
-// references name the cells the previous record's do (no references).
 constexpr uint8_t kBackToBackBit = 0x40;
 constexpr uint8_t kSameReferencesBit = 0x80;
 constexpr int kMaxVarintBytes = 10;
@@ -96,7 +85,7 @@ bool camera_is_valid(const Camera& camera) {
   return frustum_is_valid(camera.frustum);
 }
 
-// --- Version 2: camera rig ---------------------------------------------------------
+// --- Camera rig ---------------------------------------------------------
 
 // A face orientation shared by many cells: the rotation part of world_to_camera
 // (row-major 3x3) and the frustum. The translation is derived from the cell centre.
@@ -193,7 +182,7 @@ uint8_t rig_source(const Camera& camera, const std::array<double, 3>& centre, co
   return found == rig.end() ? kExplicitCameraMarker : static_cast<uint8_t>(found - rig.begin());
 }
 
-// A signed-permutation entry as version 4 codes it: 0 for +0, 1 for -0, 2 for +1, 3 for -1.
+// A signed-permutation entry as a rig entry codes it: 0 for +0, 1 for -0, 2 for +1, 3 for -1.
 uint32_t rotation_entry_code(double v) { return (v != 0 ? 2u : 0u) | (std::signbit(v) ? 1u : 0u); }
 double rotation_entry_value(uint32_t code) {
   const double magnitude = code & 2 ? 1.0 : 0.0;
@@ -205,7 +194,7 @@ bool is_square(const Frustum& f) {
   return bits_of(f.left) == bits_of(-w) && bits_of(f.bottom) == bits_of(-w) && bits_of(f.top) == bits_of(w);
 }
 
-// Version 4's rig entry (kRigEntryMinBytesV4); the rotation must be a signed permutation.
+// A rig entry (kRigEntryMinBytes); the rotation must be a signed permutation.
 void write_rig_entry(ByteWriter& w, const RigEntry& entry) {
   uint32_t packed = 0;
   for (int k = 0; k < 9; ++k) packed |= rotation_entry_code(entry.rotation[static_cast<size_t>(k)]) << (2 * k);
@@ -245,7 +234,7 @@ void add_rig_entry(const Camera& camera, const std::array<double, 3>& centre, st
   }
 }
 
-// --- Version 2: varints ------------------------------------------------------------
+// --- Varints ------------------------------------------------------------
 
 void write_varint(ByteWriter& w, uint64_t v) {
   while (v >= 0x80) {
@@ -258,7 +247,7 @@ void write_varint(ByteWriter& w, uint64_t v) {
 uint64_t zigzag_encode(int64_t v) { return (static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63); }
 int64_t zigzag_decode(uint64_t v) { return static_cast<int64_t>(v >> 1) ^ -static_cast<int64_t>(v & 1); }
 
-// --- Version 3: compact cell records ----------------------------------------------
+// --- Cell records ----------------------------------------------
 
 // A cell's position in (y, z, x) order over the whole grid: the order of the records.
 uint64_t raster_of(const CellIndex& c, const GridSpec& grid) {
@@ -353,7 +342,7 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
   return Status::Ok();
 }
 
-Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r, uint32_t version) {
+Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r) {
   const uint64_t count_at = r.file_offset();
   const uint64_t count = r.u8();
   if (!r.ok()) return corrupt_at("index is truncated before the camera rig table", r.failed_at());
@@ -362,20 +351,14 @@ Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r, uint32_t version) {
                           std::to_string(kMaxRigEntries),
                       count_at);
   }
-  if (count * (version >= kIndexVersion4 ? kRigEntryMinBytesV4 : kRigEntryBytes) > r.remaining()) {
+  if (count * kRigEntryMinBytes > r.remaining()) {
     return corrupt_at("camera rig table of " + std::to_string(count) + " entries does not fit in the index",
                       count_at);
   }
   std::vector<RigEntry> rig(count);
   for (uint64_t k = 0; k < count; ++k) {
     const uint64_t entry_at = r.file_offset();
-    bool reserved_clear = true;
-    if (version >= kIndexVersion4) {
-      reserved_clear = read_rig_entry(r, rig[k]);
-    } else {
-      for (double& v : rig[k].rotation) v = r.f64();
-      rig[k].frustum = read_frustum(r);
-    }
+    const bool reserved_clear = read_rig_entry(r, rig[k]);
     if (!r.ok()) return corrupt_at("camera rig entry " + std::to_string(k) + " is truncated", entry_at);
     if (!reserved_clear) {
       return corrupt_at("camera rig entry " + std::to_string(k) + " has reserved bits set", entry_at);
@@ -386,14 +369,13 @@ Result<std::vector<RigEntry>> parse_rig_table(ByteReader& r, uint32_t version) {
                         entry_at);
     }
     if (!frustum_is_valid(rig[k].frustum)) {
-      return corrupt_at("camera rig entry " + std::to_string(k) + " has an invalid frustum",
-                        entry_at + (version >= kIndexVersion4 ? 4 : 72));
+      return corrupt_at("camera rig entry " + std::to_string(k) + " has an invalid frustum", entry_at + 4);
     }
   }
   return rig;
 }
 
-// Checks shared by both versions once a cell record is read whole.
+// Checks once a cell record is read whole.
 Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
   const CellRecord& cell = index.cells[i];
   const CellIndex& c = cell.index;
@@ -415,7 +397,7 @@ Status check_cell(const ContainerIndex& index, uint64_t i, uint64_t record_at) {
   return Status::Ok();
 }
 
-// Versions 2 and 3: the six face cameras, each from a rig entry at the cell's centre or
+// The six face cameras, each from a rig entry at the cell's centre or
 // explicit; sets each face's source (kExplicitCameraMarker for an explicit one).
 Status read_face_cameras(ByteReader& r, const std::vector<RigEntry>& rig, const CellRecord& cell,
                          CellCameras& cameras, std::array<uint8_t, kFaceCount>& sources) {
@@ -441,10 +423,10 @@ bool all_from_rig(const std::array<uint8_t, kFaceCount>& sources) {
   return std::none_of(sources.begin(), sources.end(), [](uint8_t s) { return s == kExplicitCameraMarker; });
 }
 
-// Version 3: a cell record after the one that ended at raster position `next_raster`
+// A cell record after the one that ended at raster position `next_raster`
 // (whose face sources were `previous`, none on the first record).
-Status read_compact_cell(ByteReader& r, const std::vector<RigEntry>& rig, uint64_t i, uint64_t& next_raster,
-                         std::optional<std::array<uint8_t, kFaceCount>>& previous, ContainerIndex& index) {
+Status read_cell(ByteReader& r, const std::vector<RigEntry>& rig, uint64_t i, uint64_t& next_raster,
+                 std::optional<std::array<uint8_t, kFaceCount>>& previous, ContainerIndex& index) {
   const uint64_t record_at = r.file_offset();
   const GridSpec& grid = index.grid;
   const uint64_t cells_in_grid = uint64_t(grid.dims[0]) * uint64_t(grid.dims[1]) * uint64_t(grid.dims[2]);
@@ -483,7 +465,7 @@ Status read_compact_cell(ByteReader& r, const std::vector<RigEntry>& rig, uint64
   return check_cell(index, i, record_at);
 }
 
-Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>& rig, const ReaderLimits& limits,
+Status parse_cells(ByteReader& r, const std::vector<RigEntry>& rig, const ReaderLimits& limits,
                    ContainerIndex& index) {
   const uint64_t cells_at = r.file_offset();
   const uint64_t cell_count = r.u32();
@@ -492,10 +474,7 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
     return Status(ErrorCode::kLimitExceeded, "cell count " + std::to_string(cell_count) +
                                                  " is zero or above the reader's limit" + at_offset(cells_at));
   }
-  const uint64_t min_record_bytes = version == kIndexVersion1   ? kCellRecordBytesV1
-                                    : version == kIndexVersion2 ? kCellRecordMinBytesV2
-                                                                : kCellRecordMinBytesV3;
-  if (cell_count * min_record_bytes > r.remaining()) {
+  if (cell_count * kCellRecordMinBytes > r.remaining()) {
     return corrupt_at("cell count " + std::to_string(cell_count) + " does not fit in the index", cells_at);
   }
   index.cells.resize(cell_count);
@@ -503,30 +482,12 @@ Status parse_cells(ByteReader& r, uint32_t version, const std::vector<RigEntry>&
   uint64_t next_raster = 0;
   std::optional<std::array<uint8_t, kFaceCount>> previous;
   for (uint64_t i = 0; i < cell_count; ++i) {
-    if (version >= kIndexVersion3) {
-      SVC_RETURN_IF_ERROR(read_compact_cell(r, rig, i, next_raster, previous, index));
-      continue;
-    }
-    const uint64_t record_at = r.file_offset();
-    CellRecord& cell = index.cells[i];
-    CellCameras& cameras = index.cameras[i];
-    cell.index.x = r.i32();
-    cell.index.y = r.i32();
-    cell.index.z = r.i32();
-    for (double& v : cell.position) v = r.f64();
-    if (version == kIndexVersion1) {
-      for (Camera& camera : cameras) camera = read_camera(r);
-    } else {
-      std::array<uint8_t, kFaceCount> sources{};
-      SVC_RETURN_IF_ERROR(read_face_cameras(r, rig, cell, cameras, sources));
-    }
-    if (!r.ok()) return corrupt_at("cell record " + std::to_string(i) + " is truncated", record_at);
-    SVC_RETURN_IF_ERROR(check_cell(index, i, record_at));
+    SVC_RETURN_IF_ERROR(read_cell(r, rig, i, next_raster, previous, index));
   }
   return Status::Ok();
 }
 
-// Checks shared by both versions once a frame record's fixed fields are read.
+// Checks once a frame record's fixed fields are read.
 Status check_frame(const FrameRecord& frame, uint8_t kind, uint64_t ref_count, const std::string& what,
                    uint64_t record_at, uint64_t file_size, const ReaderLimits& limits) {
   if (kind > 1) return corrupt_at(what + " has an unknown frame type " + std::to_string(kind), record_at);
@@ -550,34 +511,7 @@ std::string frame_name(const ContainerIndex& index, uint64_t i) {
   return face_label(index.cells[i / kFaceCount].index, static_cast<Face>(i % kFaceCount));
 }
 
-Status parse_frames_v1(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
-  for (uint64_t i = 0; i < index.frames.size(); ++i) {
-    const uint64_t record_at = r.file_offset();
-    FrameRecord& frame = index.frames[i];
-    frame.cell = r.u32();
-    const uint8_t face = r.u8();
-    const uint8_t kind = r.u8();
-    const uint8_t ref_count = r.u8();
-    r.u8();
-    frame.chunk_offset = r.u64();
-    frame.payload_size = r.u32();
-    frame.bare_chunk = false;
-    if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
-    // Frames are stored cell-major in face order, so the position fixes cell and face.
-    if (frame.cell != i / kFaceCount || face != i % kFaceCount) {
-      return corrupt_at("frame record " + std::to_string(i) + " names the wrong cell or face", record_at);
-    }
-    frame.face = static_cast<Face>(face);
-    SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, frame_name(index, i), record_at, file_size, limits));
-    frame.type = static_cast<FaceType>(kind);
-    frame.references.resize(ref_count);
-    for (uint32_t& ref : frame.references) ref = r.u32();
-    if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
-  }
-  return Status::Ok();
-}
-
-// Version 4, bit 7: frame i references the cells frame i - 1 of the same cell does.
+// Type byte bit 7: frame i references the cells frame i - 1 of the same cell does.
 Status copy_previous_references(ContainerIndex& index, uint64_t i, uint64_t ref_count, const std::string& what,
                                 uint64_t record_at) {
   if (i % kFaceCount == 0) {
@@ -595,25 +529,15 @@ Status copy_previous_references(ContainerIndex& index, uint64_t i, uint64_t ref_
   return Status::Ok();
 }
 
-// Frame i's `ref_count` references as listed in its record: frame numbers (version 2),
-// or the referenced cell's ordinal less this frame's, zigzag-signed (versions 3 and 4:
-// the face is the frame's own).
-Status read_listed_references(ByteReader& r, uint32_t version, ContainerIndex& index, uint64_t i,
-                              uint64_t ref_count, const std::string& what, uint64_t record_at) {
+// Frame i's `ref_count` references as listed in its record: the referenced cell's ordinal
+// less this frame's, zigzag-signed (the face is the frame's own).
+Status read_listed_references(ByteReader& r, ContainerIndex& index, uint64_t i, uint64_t ref_count,
+                              const std::string& what, uint64_t record_at) {
   const uint64_t frame_count = index.frames.size();
   FrameRecord& frame = index.frames[i];
   frame.references.resize(ref_count);
   for (uint32_t& ref : frame.references) {
     SVC_ASSIGN_OR_RETURN(const uint64_t value, read_varint(r, what + " reference"));
-    if (version == kIndexVersion2) {
-      if (value >= frame_count) {
-        return corrupt_at(what + " references frame " + std::to_string(value) + " of " +
-                              std::to_string(frame_count),
-                          record_at);
-      }
-      ref = static_cast<uint32_t>(value);
-      continue;
-    }
     const int64_t cell_delta = zigzag_decode(value);
     const uint64_t cell_count = frame_count / kFaceCount;
     if (cell_delta < -static_cast<int64_t>(frame.cell) ||
@@ -627,9 +551,8 @@ Status read_listed_references(ByteReader& r, uint32_t version, ContainerIndex& i
   return Status::Ok();
 }
 
-// Versions 2 to 4: varint records (docs/format.md "Frame record" and the older versions).
-Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, const ReaderLimits& limits,
-                           ContainerIndex& index) {
+// Varint records (docs/format.md "Frame record").
+Status parse_frames(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
   const uint64_t frame_count = index.frames.size();
   uint64_t previous_end = kPreludeSize;  // where the previous frame's chunk ends
   for (uint64_t i = 0; i < frame_count; ++i) {
@@ -640,11 +563,8 @@ Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, 
     const std::string what = frame_name(index, i);
     const uint8_t head = r.u8();
     if (!r.ok()) return corrupt_at("frame record " + std::to_string(i) + " is truncated", record_at);
-    if (version < kIndexVersion4 && (head & kFrameHeadReservedMask)) {
-      return corrupt_at(what + " has reserved bits set in its type byte", record_at);
-    }
-    const bool back_to_back = version >= kIndexVersion4 && (head & kBackToBackBit);
-    const bool same_references = version >= kIndexVersion4 && (head & kSameReferencesBit);
+    const bool back_to_back = (head & kBackToBackBit) != 0;
+    const bool same_references = (head & kSameReferencesBit) != 0;
     const uint8_t kind = head & kFaceTypeMask;
     const uint8_t ref_count = (head >> kRefCountShift) & kRefCountMask;
     frame.cube_references = (head & kCubeReferencesBit) != 0;
@@ -676,7 +596,7 @@ Status parse_varint_frames(ByteReader& r, uint32_t version, uint64_t file_size, 
     SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, what, record_at, file_size, limits));
     frame.type = static_cast<FaceType>(kind);
     SVC_RETURN_IF_ERROR(same_references ? copy_previous_references(index, i, ref_count, what, record_at)
-                                        : read_listed_references(r, version, index, i, ref_count, what, record_at));
+                                        : read_listed_references(r, index, i, ref_count, what, record_at));
     previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   return Status::Ok();
@@ -701,7 +621,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
 
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras) {
   ByteWriter w;
-  w.u32(kIndexVersion4);
+  w.u32(kIndexVersion);
   w.u32(index.face_width);
   w.u32(index.face_height);
   for (int32_t d : index.grid.dims) w.i32(d);
@@ -726,7 +646,7 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
   w.u8(static_cast<uint8_t>(rig.size()));
   for (const RigEntry& entry : rig) write_rig_entry(w, entry);
 
-  // Cell records, versions 3 and 4: the position in (y, z, x) order as the gap from the previous
+  // Cell records: the position in (y, z, x) order as the gap from the previous
   // record, a centre on the grid and the previous cell's rig entries as flags.
   w.u32(static_cast<uint32_t>(index.cells.size()));
   uint64_t next_raster = 0;
@@ -794,16 +714,14 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   const uint64_t version_at = r.file_offset();
   const uint32_t version = r.u32();
   if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
-  if (version < kIndexVersion1 || version > kIndexVersion4) {
-    return Status(ErrorCode::kUnsupported,
-                  "index version " + std::to_string(version) + " is not supported" + at_offset(version_at));
+  if (version != kIndexVersion) {
+    return Status(ErrorCode::kUnsupported, "index version " + std::to_string(version) +
+                                               " is not supported (this build reads " +
+                                               std::to_string(kIndexVersion) + ")" + at_offset(version_at));
   }
   SVC_RETURN_IF_ERROR(parse_header(r, limits, index));
-  std::vector<RigEntry> rig;
-  if (version != kIndexVersion1) {
-    SVC_ASSIGN_OR_RETURN(rig, parse_rig_table(r, version));
-  }
-  SVC_RETURN_IF_ERROR(parse_cells(r, version, rig, limits, index));
+  SVC_ASSIGN_OR_RETURN(const std::vector<RigEntry> rig, parse_rig_table(r));
+  SVC_RETURN_IF_ERROR(parse_cells(r, rig, limits, index));
 
   const uint64_t frames_at = r.file_offset();
   const uint64_t frame_count = r.u32();
@@ -811,18 +729,11 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   if (frame_count != index.cells.size() * kFaceCount) {
     return corrupt_at("frame count " + std::to_string(frame_count) + " is not six per cell", frames_at);
   }
-  const uint64_t min_record_bytes = version == kIndexVersion1   ? kFrameRecordMinBytesV1
-                                    : version == kIndexVersion4 ? kFrameRecordMinBytesV4
-                                                                : kFrameRecordMinBytesV2;
-  if (frame_count * min_record_bytes > r.remaining()) {
+  if (frame_count * kFrameRecordMinBytes > r.remaining()) {
     return corrupt_at("frame count " + std::to_string(frame_count) + " does not fit in the index", frames_at);
   }
   index.frames.resize(frame_count);
-  if (version == kIndexVersion1) {
-    SVC_RETURN_IF_ERROR(parse_frames_v1(r, file_size, limits, index));
-  } else {
-    SVC_RETURN_IF_ERROR(parse_varint_frames(r, version, file_size, limits, index));
-  }
+  SVC_RETURN_IF_ERROR(parse_frames(r, file_size, limits, index));
   // References must name existing intra frames of the same face, and cube references
   // I-faces of the same cells: then no cycle and no chain can exist, and any face
   // decodes from at most the faces of two I-cubes.
@@ -847,10 +758,6 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   for (FaceTypeStats& t : index.stats) {
     for (uint64_t* v : {&t.faces, &t.bytes, &t.mb_intra, &t.mb_forward, &t.mb_backward, &t.mb_bidirectional,
                         &t.mb_skipped, &t.candidate_vectors, &t.candidate_macroblocks}) {
-      if (version < kIndexVersion4) {
-        *v = r.u64();
-        continue;
-      }
       SVC_ASSIGN_OR_RETURN(*v, read_varint(r, "encoder statistics"));
     }
   }

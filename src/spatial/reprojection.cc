@@ -215,16 +215,6 @@ std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& r
   return seen;
 }
 
-codec::MotionVector quantize_flow(double dx, double dy) {
-  auto to_quarter_pel = [](double d) -> int16_t {
-    const double quarter_pels = std::round(d * codec::kVectorUnitsPerPixel);  // halves away from zero
-    if (!(quarter_pels > -32767.0)) return -32767;                            // NaN saturates low
-    if (quarter_pels > 32767.0) return 32767;
-    return static_cast<int16_t>(quarter_pels);
-  };
-  return codec::MotionVector{to_quarter_pel(dx), to_quarter_pel(dy)};
-}
-
 // One function (about 150 lines) on purpose: its scratch tables (histogram, hash slots,
 // run buffers) are set up once and reused, uncleared, by every macroblock of the face.
 codec::FaceCandidates macroblock_candidates(const FlowField& flow) {
@@ -531,10 +521,6 @@ CandidateStats candidate_stats(const codec::FaceCandidates& candidates) {
     stats.candidates += list.size();
   }
   return stats;
-}
-
-double mean_candidates_per_macroblock(const codec::FaceCandidates& candidates) {
-  return candidate_stats(candidates).mean_per_macroblock();
 }
 
 }  // namespace svc

@@ -72,10 +72,6 @@ std::vector<uint8_t> visible_in_reference(const Camera& current, const Camera& r
 // work on chaotic blocks (foliage, depth edges); the dissertation reports ~5 on average.
 inline constexpr int kMaxCandidatesPerMacroblock = 32;
 
-// A flow in pixels rounded to quarter-pixel units, each component to the nearest
-// quarter pixel (halves rounded away from zero). Components beyond +-32767 are saturated.
-codec::MotionVector quantize_flow(double dx, double dy);
-
 // Distinct quarter-pixel vectors of each 16x16 macroblock, most frequent first (ties: by
 // smaller y, then smaller x). Faces are padded to whole macroblocks: ceil(w/16) x
 // ceil(h/16) lists in row-major macroblock order; pixels outside the face and invalid
@@ -119,8 +115,5 @@ struct CandidateStats {
 };
 
 CandidateStats candidate_stats(const codec::FaceCandidates& candidates);
-
-// candidate_stats(candidates).mean_per_macroblock().
-double mean_candidates_per_macroblock(const codec::FaceCandidates& candidates);
 
 }  // namespace svc

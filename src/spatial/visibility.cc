@@ -152,12 +152,6 @@ std::vector<uint64_t> seen_by(const CubeSamples& current, const CubeSamples& ref
   return seen;
 }
 
-size_t count_seen(const std::vector<uint64_t>& bits) {
-  size_t n = 0;
-  for (uint64_t word : bits) n += static_cast<size_t>(std::popcount(word));
-  return n;
-}
-
 size_t count_seen_by_either(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b) {
   size_t n = 0;
   const size_t words = std::min(a.size(), b.size());

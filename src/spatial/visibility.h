@@ -55,8 +55,7 @@ inline constexpr double kSampledVisibilityTolerance = 0.02;
 // one of those samples is background too. Empty when either cube has no samples.
 std::vector<uint64_t> seen_by(const CubeSamples& current, const CubeSamples& reference);
 
-// Bits set in `bits`; and in the union of `a` and `b` (same length).
-size_t count_seen(const std::vector<uint64_t>& bits);
+// Bits set in the union of `a` and `b` (same length).
 size_t count_seen_by_either(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b);
 
 }  // namespace svc

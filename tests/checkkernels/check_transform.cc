@@ -71,11 +71,20 @@ std::string check_inverse_dct(const Tables& reference, const Tables& variant, Ra
   return {};
 }
 
+// Flat or weighted steps, and the rounding offsets of plain rounding, the MPEG-style
+// intra bias or the residuals' dead zone.
 codec::Quantizer random_quantizer(Random& random) {
-  const auto kind = random.uniform(0, 1) ? codec::BlockKind::kIntra : codec::BlockKind::kNonIntra;
-  return codec::make_quantizer(kind, random.uniform(0, 3) == 0
+  const auto matrix = random.uniform(0, 1) ? codec::ResidualMatrix::kWeighted : codec::ResidualMatrix::kFlat;
+  codec::Quantizer q =
+      codec::make_residual_quantizer(codec::TransformSize::k8x8,
+                                     random.uniform(0, 3) == 0
                                          ? (random.uniform(0, 1) ? codec::kMinQIndex : codec::kMaxQIndex)
-                                         : random.uniform(codec::kMinQIndex, codec::kMaxQIndex));
+                                         : random.uniform(codec::kMinQIndex, codec::kMaxQIndex),
+                                     matrix);
+  const float roundings[] = {0.5f, 0.34f, 0.2f};
+  q.rounding_dc = roundings[random.uniform(0, 2)];
+  q.rounding_ac = roundings[random.uniform(0, 2)];
+  return q;
 }
 
 // Coefficients spread over the whole range, some exactly on a rounding boundary (where
@@ -159,7 +168,7 @@ void bench_inverse_dct(const Tables& table, int iterations) {
 }
 
 void bench_quantize(const Tables& table, int iterations) {
-  const codec::Quantizer q = codec::make_quantizer(codec::BlockKind::kNonIntra, 8);
+  const codec::Quantizer q = codec::make_residual_quantizer(codec::TransformSize::k8x8, 8);
   float coefficients[64];
   int16_t levels[64];
   for (int i = 0; i < 64; ++i) coefficients[i] = static_cast<float>((i * 97) % 400 - 200);
@@ -172,7 +181,8 @@ void bench_quantize(const Tables& table, int iterations) {
 }
 
 void bench_dequantize(const Tables& table, int iterations) {
-  const codec::Quantizer q = codec::make_quantizer(codec::BlockKind::kIntra, 8);
+  const codec::Quantizer q =
+      codec::make_residual_quantizer(codec::TransformSize::k8x8, 8, codec::ResidualMatrix::kWeighted);
   int16_t levels[64], coefficients[64];
   for (int i = 0; i < 64; ++i) levels[i] = static_cast<int16_t>(i < 16 ? (i * 13) % 30 - 15 : 0);
   for (int n = 0; n < iterations; ++n) {
