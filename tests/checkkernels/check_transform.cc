@@ -335,10 +335,84 @@ void bench_inverse_typed(const Tables& table, int iterations) {
   bench_sink = samples[0];
 }
 
+// The inverse_transform_add kernel of W x H and `Type`: the inverses' coefficient
+// patterns, predictions with extremes, strides from the block width to 40, destinations
+// apart from the prediction or the prediction itself; the whole destination buffer is
+// compared, so that a write outside the block shows.
+template <int W, int H>
+constexpr int add_index = codec::size_index(codec::size_of_shape(codec::block_shape(W, H)));
+
+template <int W, int H, int Type>
+std::string check_inverse_add(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  constexpr int kMaxStride = 40;
+  const auto add_of = [](const Tables& t) { return t.inverse_transform_add[add_index<W, H>][Type]; };
+  Buffer prediction(H * kMaxStride), expected(H * kMaxStride), actual(H * kMaxStride);
+  for (int n = 0; n < iterations; ++n) {
+    int16_t coefficients[W * H] = {};
+    const int pattern = random.uniform(0, 4);
+    for (int i = 0; i < W * H; ++i) {
+      const auto value = static_cast<int16_t>(random.uniform(codec::kMinCoefficient, codec::kMaxCoefficient));
+      if (pattern == 0 || (pattern == 1 && random.uniform(0, 7) == 0)) coefficients[i] = value;
+      if (pattern == 2) coefficients[i] = ((i * 7 + i / W) & 1) ? 2047 : -2048;
+      if (pattern == 3) coefficients[i] = random.uniform(0, 1) ? 2047 : -2048;
+    }
+    if (pattern == 4) coefficients[0] = static_cast<int16_t>(random.uniform(-2048, 2047));
+    const int prediction_stride = random.uniform(W, kMaxStride), dst_stride = random.uniform(W, kMaxStride);
+    const bool in_place = random.uniform(0, 3) == 0;
+    const size_t bytes = static_cast<size_t>(H) * kMaxStride;
+    random.fill_with_extremes(prediction.at(0), bytes);
+    std::memcpy(expected.at(0), prediction.at(0), bytes);
+    std::memcpy(actual.at(0), prediction.at(0), bytes);
+    if (in_place) {
+      add_of(reference)(coefficients, expected.at(0), prediction_stride, expected.at(0), prediction_stride);
+      add_of(variant)(coefficients, actual.at(0), prediction_stride, actual.at(0), prediction_stride);
+    } else {
+      add_of(reference)(coefficients, prediction.at(0), prediction_stride, expected.at(0), dst_stride);
+      add_of(variant)(coefficients, prediction.at(0), prediction_stride, actual.at(0), dst_stride);
+    }
+    if (auto diff = first_difference(expected.at(0), actual.at(0), bytes, kMaxStride); !diff.empty()) {
+      return std::string(in_place ? "in place, " : "") + "pattern " + std::to_string(pattern) + ": " + diff;
+    }
+  }
+  return {};
+}
+
+template <int W, int H, int Type>
+void bench_inverse_add(const Tables& table, int iterations) {
+  const auto add = table.inverse_transform_add[add_index<W, H>][Type];
+  int16_t coefficients[W * H];
+  uint8_t block[W * H];
+  for (int i = 0; i < W * H; ++i) {
+    coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
+    block[i] = static_cast<uint8_t>(i * 7);
+  }
+  for (int n = 0; n < iterations; ++n) {
+    coefficients[n & 15] ^= 1;
+    add(coefficients, block, W, block, W);
+  }
+  bench_sink = block[0];
+}
+
+template <int W, int H, int Type>
+Kernel inverse_add_kernel() {
+  static const std::string name =
+      "inverse_transform_add_" + std::to_string(W) + "x" + std::to_string(H) + "_type" + std::to_string(Type);
+  return {name.c_str(), [](const Tables& t) { return entry_of(t.inverse_transform_add[add_index<W, H>][Type]); },
+          check_inverse_add<W, H, Type>, bench_inverse_add<W, H, Type>};
+}
+
+template <int W, int H>
+void add_inverse_add_kernels(std::vector<Kernel>* kernels) {
+  kernels->push_back(inverse_add_kernel<W, H, 0>());
+  kernels->push_back(inverse_add_kernel<W, H, 1>());
+  kernels->push_back(inverse_add_kernel<W, H, 2>());
+  kernels->push_back(inverse_add_kernel<W, H, 3>());
+}
+
 }  // namespace
 
 std::vector<Kernel> transform_kernels() {
-  return {
+  std::vector<Kernel> kernels = {
       {"forward_dct_8x8", [](const Tables& t) { return entry_of(t.forward_dct_8x8); }, check_forward_dct,
        bench_forward_dct},
       {"inverse_dct_8x8", [](const Tables& t) { return entry_of(t.inverse_dct_8x8); }, check_inverse_dct,
@@ -391,6 +465,16 @@ std::vector<Kernel> transform_kernels() {
       {"inverse_typed_4x8", [](const Tables& t) { return entry_of(t.inverse_typed_4x8); },
        check_inverse_typed<4, 8>, bench_inverse_typed<4, 8>},
   };
+  add_inverse_add_kernels<8, 8>(&kernels);
+  add_inverse_add_kernels<4, 4>(&kernels);
+  add_inverse_add_kernels<16, 16>(&kernels);
+  add_inverse_add_kernels<16, 8>(&kernels);
+  add_inverse_add_kernels<8, 16>(&kernels);
+  add_inverse_add_kernels<16, 4>(&kernels);
+  add_inverse_add_kernels<4, 16>(&kernels);
+  add_inverse_add_kernels<8, 4>(&kernels);
+  add_inverse_add_kernels<4, 8>(&kernels);
+  return kernels;
 }
 
 }  // namespace svc::checkkernels
