@@ -62,26 +62,17 @@ struct DspTable {
   // matrices; the intra transform types with a DST-VII in at least one direction (7.2),
   // `type` 1..3 (bit 0: rows use the DST, bit 1: columns; the other direction takes
   // HEVC's integer DCT of the size, at 8x8 too); and the rectangular blocks (7.3; W x H,
-  // W samples a row), `type` 0..3, 0 being DCT_DCT. The encoder's float forward
+  // W samples a row), types 0..3, 0 being DCT_DCT. The encoder's float forward
   // transforms are in its own table (codec/encoder/dsp/encoder_dsp.h).
-  void (*inverse_dct_8x8)(const int16_t* coefficients, int16_t* samples);
-  void (*inverse_dct_4x4)(const int16_t* coefficients, int16_t* samples);
-  void (*inverse_dct_16x16)(const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_4x4)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_8x8)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_16x16)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_16x8)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_8x16)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_16x4)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_4x16)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_8x4)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_4x8)(int type, const int16_t* coefficients, int16_t* samples);
+  // Indexed by TransformSize and TransformType: [k8x8][kDctDct] is the 8x8 DCT,
+  // [k4x4][kDctDct] and [k16x16][kDctDct] the HEVC DCTs, the other entries of the squares
+  // the typed kernels, and every entry of a rectangular size its typed kernel.
+  void (*inverse_transform[kTransformSizes][kTransformTypes])(const int16_t* coefficients, int16_t* samples);
 
   // Reconstruction of a residual block, indexed by TransformSize and TransformType (as
   // dav1d's itxfm_add): dst = clip(prediction + inverse transform of `coefficients`, 0,
-  // 255), the inverse being the kernel above of that size and type (the DCT kernels for
-  // a square's DCT_DCT). prediction and dst are W x H samples with their own strides;
-  // dst may be prediction.
+  // 255), the inverse being inverse_transform[size][type]. prediction and dst are W x H samples with their own
+  // strides; dst may be prediction.
   void (*inverse_transform_add[kTransformSizes][kTransformTypes])(const int16_t* coefficients,
                                                                   const uint8_t* prediction,
                                                                   ptrdiff_t prediction_stride, uint8_t* dst,

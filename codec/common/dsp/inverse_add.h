@@ -48,20 +48,36 @@ void typed_inverse_add(const int16_t* coefficients, const uint8_t* prediction, p
   Add(residual, prediction, prediction_stride, dst, dst_stride);
 }
 
-// The add kernels of the W x H size from its typed inverse: types 1..3 for a square
-// (whose DCT_DCT is a kernel of its own), 0..3 for a rectangular block.
-template <int W, int H, TypedInverseKernel Inverse, AddKernel Add>
-void set_typed_inverse_add(DspTable* table) {
-  auto& entries = table->inverse_transform_add[size_index(size_of_shape(block_shape(W, H)))];
-  if constexpr (W != H) entries[0] = typed_inverse_add<Inverse, 0, Add>;
-  entries[1] = typed_inverse_add<Inverse, 1, Add>;
-  entries[2] = typed_inverse_add<Inverse, 2, Add>;
-  entries[3] = typed_inverse_add<Inverse, 3, Add>;
+template <TypedInverseKernel Inverse, int Type>
+void typed_inverse(const int16_t* coefficients, int16_t* samples) {
+  Inverse(Type, coefficients, samples);
 }
-// The DCT_DCT add kernel of a square size from its DCT.
+
+// The inverse_transform and inverse_transform_add entries of the W x H size from its
+// typed inverse: types 1..3 for a square (whose DCT_DCT is a kernel of its own), 0..3 for
+// a rectangular block.
+template <int W, int H, TypedInverseKernel Inverse, AddKernel Add>
+void set_typed_inverse(DspTable* table) {
+  const int size = size_index(size_of_shape(block_shape(W, H)));
+  auto& inverse = table->inverse_transform[size];
+  auto& add = table->inverse_transform_add[size];
+  if constexpr (W != H) {
+    inverse[0] = typed_inverse<Inverse, 0>;
+    add[0] = typed_inverse_add<Inverse, 0, Add>;
+  }
+  inverse[1] = typed_inverse<Inverse, 1>;
+  inverse[2] = typed_inverse<Inverse, 2>;
+  inverse[3] = typed_inverse<Inverse, 3>;
+  add[1] = typed_inverse_add<Inverse, 1, Add>;
+  add[2] = typed_inverse_add<Inverse, 2, Add>;
+  add[3] = typed_inverse_add<Inverse, 3, Add>;
+}
+// The DCT_DCT entries of a square size from its DCT.
 template <int N, InverseKernel Inverse, AddKernel Add>
-void set_dct_inverse_add(DspTable* table) {
-  table->inverse_transform_add[size_index(size_of_shape(N))][0] = inverse_add<Inverse, Add>;
+void set_dct_inverse(DspTable* table) {
+  const int size = size_index(size_of_shape(N));
+  table->inverse_transform[size][0] = Inverse;
+  table->inverse_transform_add[size][0] = inverse_add<Inverse, Add>;
 }
 
 }  // namespace

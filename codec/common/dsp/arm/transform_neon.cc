@@ -84,9 +84,6 @@ void inverse_dct_8x8_neon(const int16_t* coefficients, int16_t* samples) {
 
 }  // namespace
 
-void init_transform_neon(DspTable* table) {
-  table->inverse_dct_8x8 = inverse_dct_8x8_neon;
-  set_dct_inverse_add<8, inverse_dct_8x8_neon, add_clipped_c<8, 8>>(table);
-}
+void init_transform_neon(DspTable* table) { set_dct_inverse<8, inverse_dct_8x8_neon, add_clipped_c<8, 8>>(table); }
 
 }  // namespace svc::codec::dsp

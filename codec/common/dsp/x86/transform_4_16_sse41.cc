@@ -26,10 +26,8 @@ void inverse_dct_16x16_sse41(const int16_t* coefficients, int16_t* samples) {
 }  // namespace
 
 void init_transform_4_16_sse41(DspTable* table) {
-  table->inverse_dct_4x4 = inverse_dct_4x4_sse41;
-  table->inverse_dct_16x16 = inverse_dct_16x16_sse41;
-  set_dct_inverse_add<4, inverse_dct_4x4_sse41, add_clipped_sse2<4, 4>>(table);
-  set_dct_inverse_add<16, inverse_dct_16x16_sse41, add_clipped_sse2<16, 16>>(table);
+  set_dct_inverse<4, inverse_dct_4x4_sse41, add_clipped_sse2<4, 4>>(table);
+  set_dct_inverse<16, inverse_dct_16x16_sse41, add_clipped_sse2<16, 16>>(table);
 }
 
 }  // namespace svc::codec::dsp

@@ -113,8 +113,7 @@ void inverse_dct_8x8_sse2(const int16_t* coefficients, int16_t* samples) {
 }  // namespace
 
 void init_transform_sse2(DspTable* table) {
-  table->inverse_dct_8x8 = inverse_dct_8x8_sse2;
-  set_dct_inverse_add<8, inverse_dct_8x8_sse2, add_clipped_sse2<8, 8>>(table);
+  set_dct_inverse<8, inverse_dct_8x8_sse2, add_clipped_sse2<8, 8>>(table);
 }
 
 }  // namespace svc::codec::dsp
