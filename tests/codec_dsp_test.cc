@@ -9,6 +9,8 @@
 namespace svc::codec::dsp {
 namespace {
 
+constexpr int k8x8 = size_index(TransformSize::k8x8);
+
 template <class Table>
 bool same_table(const Table& a, const Table& b) {
   return std::memcmp(&a, &b, sizeof(Table)) == 0;
@@ -49,7 +51,7 @@ TEST(DspTable, PlainTableDiffersFromOptimizedWhereVariantsExist) {
   if ((detected_cpu_flags() & kCpuSse2) == 0) GTEST_SKIP() << "no SSE2 on this machine";
   const DspTable plain = make_dsp_table(0), sse2 = make_dsp_table(kCpuSse2);
   EXPECT_NE(plain.put_intermediate, sse2.put_intermediate);
-  EXPECT_NE(plain.inverse_dct_8x8, sse2.inverse_dct_8x8);
+  EXPECT_NE(plain.inverse_transform[k8x8][0], sse2.inverse_transform[k8x8][0]);
   const EncoderDspTable plain_encoder = make_encoder_dsp_table(0), sse2_encoder = make_encoder_dsp_table(kCpuSse2);
   EXPECT_NE(plain_encoder.forward_dct_8x8, sse2_encoder.forward_dct_8x8);
   EXPECT_EQ(plain_encoder.quantize_8x8, sse2_encoder.quantize_8x8);  // no SSE2 variant: the reference stays
@@ -59,7 +61,7 @@ TEST(DspTable, NeonTableDiffersFromPlainWhereVariantsExist) {
   if ((detected_cpu_flags() & kCpuNeon) == 0) GTEST_SKIP() << "no NEON on this machine";
   const DspTable plain = make_dsp_table(0), neon = make_dsp_table(kCpuNeon);
   EXPECT_NE(plain.interpolate_8tap, neon.interpolate_8tap);
-  EXPECT_NE(plain.inverse_dct_8x8, neon.inverse_dct_8x8);
+  EXPECT_NE(plain.inverse_transform[k8x8][0], neon.inverse_transform[k8x8][0]);
   const EncoderDspTable plain_encoder = make_encoder_dsp_table(0), neon_encoder = make_encoder_dsp_table(kCpuNeon);
   EXPECT_NE(plain_encoder.sad_16x16, neon_encoder.sad_16x16);
   EXPECT_EQ(plain_encoder.forward_dct_8x8, neon_encoder.forward_dct_8x8);  // float: no variant

@@ -24,7 +24,7 @@ constexpr int kEdge = dsp::kIntraEdgeSamples;
 
 std::array<uint8_t, 64> predict(const std::array<uint8_t, kEdge>& edge, int mode) {
   std::array<uint8_t, 64> out{};
-  dsp::get_dsp().intra_predict_8x8(edge.data(), mode, out.data());
+  dsp::get_dsp().intra_predict[size_index(TransformSize::k8x8)](edge.data(), mode, out.data());
   return out;
 }
 

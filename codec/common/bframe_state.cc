@@ -9,6 +9,7 @@
 
 #include "codec/common/context_priors.h"
 #include "codec/common/cube_padding.h"
+#include "codec/common/dsp/dsp.h"
 #include "codec/common/image_planes.h"
 
 namespace svc::codec {
@@ -412,15 +413,10 @@ bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode 
 
 void reconstruct_residual_block(const Quantizer& quantizer, const int16_t* levels, const uint8_t* prediction,
                                 int prediction_stride, uint8_t* out, int out_stride) {
-  int16_t residual[kMaxTransformArea];
-  dequantize_inverse_transform_block(quantizer, levels, residual);
-  const int width = transform_width(quantizer.size);
-  for (int y = 0; y < width; ++y) {
-    for (int x = 0; x < width; ++x) {
-      out[y * out_stride + x] =
-          static_cast<uint8_t>(std::clamp(prediction[y * prediction_stride + x] + residual[width * y + x], 0, 255));
-    }
-  }
+  int16_t coefficients[kMaxTransformArea];
+  dequantize_block(quantizer, levels, coefficients);
+  dsp::get_dsp().inverse_transform_add[size_index(quantizer.size)][static_cast<int>(TransformType::kDctDct)](
+      coefficients, prediction, prediction_stride, out, out_stride);
 }
 
 void copy_macroblock_out(const FrameState& s, int mx, int my, MacroblockPrediction* out) {

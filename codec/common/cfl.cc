@@ -12,7 +12,7 @@ void cfl_luma_ac(const uint8_t* luma, ptrdiff_t stride, int x0, int y0, int16_t*
 
 int dc_prediction_8x8(const uint8_t* edge) {
   uint8_t prediction[64];
-  dsp::get_dsp().intra_predict_8x8(edge, kDcMode, prediction);
+  dsp::get_dsp().intra_predict[size_index(TransformSize::k8x8)](edge, kDcMode, prediction);
   return prediction[0];
 }
 

@@ -39,7 +39,7 @@ const DoubleBasis kDoubleBasis;
 }  // namespace
 
 void inverse_dct_8x8(const int16_t* coefficients, int16_t* samples) {
-  dsp::get_dsp().inverse_dct_8x8(coefficients, samples);
+  inverse_transform(TransformSize::k8x8, TransformType::kDctDct, coefficients, samples);
 }
 
 void inverse_dct_8x8_integer_reference(const int16_t* coefficients, int16_t* samples) {
@@ -89,33 +89,10 @@ int type_matrix_entry(int points, bool dst, int k, int n) {
   return dsp::type_matrix<16>(dst).m[k][n];
 }
 
-// The typed inverse kernels of a size (docs/codec.md 5.5.2, 5.5.3): types 1..3 for squares,
-// whose DCT_DCT has kernels of its own, and 0..3 for rectangular sizes.
-void inverse_typed(const dsp::DspTable& dsp, TransformSize size, int type, const int16_t* coefficients,
-                   int16_t* samples) {
-  switch (size) {
-    case TransformSize::k16x8: return dsp.inverse_typed_16x8(type, coefficients, samples);
-    case TransformSize::k8x16: return dsp.inverse_typed_8x16(type, coefficients, samples);
-    case TransformSize::k16x4: return dsp.inverse_typed_16x4(type, coefficients, samples);
-    case TransformSize::k4x16: return dsp.inverse_typed_4x16(type, coefficients, samples);
-    case TransformSize::k8x4: return dsp.inverse_typed_8x4(type, coefficients, samples);
-    case TransformSize::k4x8: return dsp.inverse_typed_4x8(type, coefficients, samples);
-    case TransformSize::k4x4: return dsp.inverse_typed_4x4(type, coefficients, samples);
-    case TransformSize::k16x16: return dsp.inverse_typed_16x16(type, coefficients, samples);
-    default: return dsp.inverse_typed_8x8(type, coefficients, samples);
-  }
-}
-
 }  // namespace
 
 void inverse_transform(TransformSize size, const int16_t* coefficients, int16_t* samples) {
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  switch (size) {
-    case TransformSize::k8x8: return dsp.inverse_dct_8x8(coefficients, samples);
-    case TransformSize::k4x4: return dsp.inverse_dct_4x4(coefficients, samples);
-    case TransformSize::k16x16: return dsp.inverse_dct_16x16(coefficients, samples);
-    default: return inverse_typed(dsp, size, 0, coefficients, samples);
-  }
+  inverse_transform(size, TransformType::kDctDct, coefficients, samples);
 }
 
 void inverse_transform_integer_reference(TransformSize size, const int16_t* coefficients, int16_t* samples) {
@@ -171,8 +148,7 @@ void inverse_transform_reference(TransformSize size, const double* coefficients,
 }
 
 void inverse_transform(TransformSize size, TransformType type, const int16_t* coefficients, int16_t* samples) {
-  if (type == TransformType::kDctDct) return inverse_transform(size, coefficients, samples);
-  inverse_typed(dsp::get_dsp(), size, static_cast<int>(type), coefficients, samples);
+  dsp::get_dsp().inverse_transform[size_index(size)][static_cast<int>(type)](coefficients, samples);
 }
 
 void inverse_transform_integer_reference(TransformSize size, TransformType type, const int16_t* coefficients,

@@ -34,16 +34,7 @@ void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, in
   }
 }
 
-IntraPredictor intra_predictor(int size) {
-  const dsp::DspTable& dsp = dsp::get_dsp();
-  if (size == block_shape(16, 8)) return dsp.intra_predict_16x8;
-  if (size == block_shape(8, 16)) return dsp.intra_predict_8x16;
-  if (size == block_shape(16, 4)) return dsp.intra_predict_16x4;
-  if (size == block_shape(4, 16)) return dsp.intra_predict_4x16;
-  if (size == block_shape(8, 4)) return dsp.intra_predict_8x4;
-  if (size == block_shape(4, 8)) return dsp.intra_predict_4x8;
-  return size == 4 ? dsp.intra_predict_4x4 : size == 16 ? dsp.intra_predict_16x16 : dsp.intra_predict_8x8;
-}
+IntraPredictor intra_predictor(int size) { return dsp::get_dsp().intra_predict[size_index(size_of_shape(size))]; }
 
 ModeCandidates most_probable_modes(int left_mode, int above_mode) {
   const int left_class = std::min(left_mode, 2);  // planar, DC, angular

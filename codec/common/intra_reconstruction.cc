@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "codec/common/cfl.h"
-#include "codec/common/dct.h"
+#include "codec/common/dsp/dsp.h"
 #include "codec/common/image_planes.h"
 #include "codec/common/intra_macroblock.h"
 #include "codec/common/intra_planes.h"
@@ -55,42 +55,16 @@ void crop(const PaddedFrame& frame, int width, int height, ImageYCbCr420* out) {
                        width, height, out);
 }
 
-namespace {
-
-// out = clip(prediction + inverse transform of type `type` of `coefficients`), or the
-// prediction alone when there are none.
-// Rows of a fixed width, so that the compiler vectorizes them.
-template <int N, int H = N>
-void add_residual(const uint8_t* prediction, const int16_t* residual, uint8_t* out, int stride) {
-  for (int y = 0; y < H; ++y) {
-    for (int x = 0; x < N; ++x) {
-      const int value = prediction[N * y + x] + residual[N * y + x];
-      out[y * stride + x] = static_cast<uint8_t>(std::clamp(value, 0, 255));
-    }
-  }
-}
-
-}  // namespace
-
 void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type, int size,
                        uint8_t* out, int stride) {
+  const int w = shape_width(size);
   if (coefficients == nullptr) {
-    const int w = shape_width(size);
     for (int y = 0; y < shape_height(size); ++y)
       std::copy_n(prediction + w * y, w, out + static_cast<ptrdiff_t>(y) * stride);
     return;
   }
-  int16_t residual[kMaxTransformArea];
-  inverse_transform(size_of_shape(size), type, coefficients, residual);
-  if (size == 4) return add_residual<4>(prediction, residual, out, stride);
-  if (size == 16) return add_residual<16>(prediction, residual, out, stride);
-  if (size == block_shape(16, 8)) return add_residual<16, 8>(prediction, residual, out, stride);
-  if (size == block_shape(8, 16)) return add_residual<8, 16>(prediction, residual, out, stride);
-  if (size == block_shape(16, 4)) return add_residual<16, 4>(prediction, residual, out, stride);
-  if (size == block_shape(4, 16)) return add_residual<4, 16>(prediction, residual, out, stride);
-  if (size == block_shape(8, 4)) return add_residual<8, 4>(prediction, residual, out, stride);
-  if (size == block_shape(4, 8)) return add_residual<4, 8>(prediction, residual, out, stride);
-  add_residual<8>(prediction, residual, out, stride);
+  const auto add = dsp::get_dsp().inverse_transform_add[size_index(size_of_shape(size))][static_cast<int>(type)];
+  add(coefficients, prediction, w, out, stride);
 }
 
 void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,

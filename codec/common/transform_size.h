@@ -21,6 +21,9 @@ inline constexpr int kTransformSizes = 9;
 inline constexpr int kMaxTransformWidth = 16;  // the largest size the tables are laid out for
 inline constexpr int kMaxTransformArea = kMaxTransformWidth * kMaxTransformWidth;
 
+// The index of a size in tables laid out by size (kTransformSizes entries).
+constexpr int size_index(TransformSize size) { return static_cast<int>(size); }
+
 constexpr int transform_width(TransformSize size) {
   switch (size) {
     case TransformSize::k4x4:

@@ -4,6 +4,8 @@
 namespace svc::checkkernels {
 namespace {
 
+constexpr int k8x8 = codec::size_index(codec::TransformSize::k8x8);
+
 // Edges as the codec builds them: random, flat, a step between left and above,
 // alternating extremes.
 void random_edge(Random& random, uint8_t* edge) {
@@ -23,8 +25,8 @@ std::string check_intra_predict(const Tables& reference, const Tables& variant, 
     uint8_t edge[codec::dsp::kIntraEdgeSamples], expected[64], actual[64];
     random_edge(random, edge);
     for (int mode = 0; mode < 35; ++mode) {
-      reference.intra_predict_8x8(edge, mode, expected);
-      variant.intra_predict_8x8(edge, mode, actual);
+      reference.intra_predict[k8x8](edge, mode, expected);
+      variant.intra_predict[k8x8](edge, mode, actual);
       if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) {
         return "mode " + std::to_string(mode) + ": " + diff;
       }
@@ -50,19 +52,11 @@ std::string check_satd(const Tables& reference, const Tables& variant, Random& r
   return {};
 }
 
-// The W x H predictor of a table: 4x4, 16x16 or a rectangular shape.
+// The W x H predictor of a table.
 template <int W, int H>
 auto predictor_of(const Tables& t) {
-  if constexpr (W == 4 && H == 4) return t.intra_predict_4x4;
-  if constexpr (W == 16 && H == 4) return t.intra_predict_16x4;
-  if constexpr (W == 4 && H == 16) return t.intra_predict_4x16;
-  if constexpr (W == 8 && H == 4) return t.intra_predict_8x4;
-  if constexpr (W == 4 && H == 8) return t.intra_predict_4x8;
-  if constexpr (W == 16 && H == 16) return t.intra_predict_16x16;
-  if constexpr (W == 16 && H == 8) return t.intra_predict_16x8;
-  if constexpr (W == 8 && H == 16) return t.intra_predict_8x16;
+  return t.intra_predict[codec::size_index(codec::size_of_shape(codec::block_shape(W, H)))];
 }
-
 // 4x4, 16x16 and the rectangular blocks from edges of 2 (W + H) + 1 samples built the same ways.
 template <int N, int H = N>
 std::string check_intra_predict_n(const Tables& reference, const Tables& variant, Random& random, int iterations) {
@@ -132,7 +126,7 @@ void bench_satd_4x4(const Tables& table, int iterations) {
 void bench_intra_predict(const Tables& table, int iterations) {
   uint8_t edge[codec::dsp::kIntraEdgeSamples], out[64];
   for (int i = 0; i < codec::dsp::kIntraEdgeSamples; ++i) edge[i] = static_cast<uint8_t>(i * 7);
-  for (int n = 0; n < iterations; ++n) table.intra_predict_8x8(edge, n % 35, out);
+  for (int n = 0; n < iterations; ++n) table.intra_predict[k8x8](edge, n % 35, out);
   bench_sink = out[0];
 }
 
@@ -220,24 +214,24 @@ void bench_cfl_predict(const Tables& table, int iterations) {
 
 std::vector<Kernel> intra_kernels() {
   return {
-      {"intra_predict_8x8", [](const Tables& t) { return entry_of(t.intra_predict_8x8); }, check_intra_predict,
+      {"intra_predict_8x8", [](const Tables& t) { return entry_of(t.intra_predict[k8x8]); }, check_intra_predict,
        bench_intra_predict},
       {"satd_8x8", [](const Tables& t) { return entry_of(t.satd_8x8); }, check_satd, bench_satd},
-      {"intra_predict_4x4", [](const Tables& t) { return entry_of(t.intra_predict_4x4); }, check_intra_predict_n<4>,
-       bench_intra_predict_n<4>},
-      {"intra_predict_16x16", [](const Tables& t) { return entry_of(t.intra_predict_16x16); },
+      {"intra_predict_4x4", [](const Tables& t) { return entry_of(predictor_of<4, 4>(t)); },
+       check_intra_predict_n<4>, bench_intra_predict_n<4>},
+      {"intra_predict_16x16", [](const Tables& t) { return entry_of(predictor_of<16, 16>(t)); },
        check_intra_predict_n<16>, bench_intra_predict_n<16>},
-      {"intra_predict_16x8", [](const Tables& t) { return entry_of(t.intra_predict_16x8); },
+      {"intra_predict_16x8", [](const Tables& t) { return entry_of(predictor_of<16, 8>(t)); },
        check_intra_predict_n<16, 8>, bench_intra_predict_n<16, 8>},
-      {"intra_predict_8x16", [](const Tables& t) { return entry_of(t.intra_predict_8x16); },
+      {"intra_predict_8x16", [](const Tables& t) { return entry_of(predictor_of<8, 16>(t)); },
        check_intra_predict_n<8, 16>, bench_intra_predict_n<8, 16>},
-      {"intra_predict_16x4", [](const Tables& t) { return entry_of(t.intra_predict_16x4); },
+      {"intra_predict_16x4", [](const Tables& t) { return entry_of(predictor_of<16, 4>(t)); },
        check_intra_predict_n<16, 4>, bench_intra_predict_n<16, 4>},
-      {"intra_predict_4x16", [](const Tables& t) { return entry_of(t.intra_predict_4x16); },
+      {"intra_predict_4x16", [](const Tables& t) { return entry_of(predictor_of<4, 16>(t)); },
        check_intra_predict_n<4, 16>, bench_intra_predict_n<4, 16>},
-      {"intra_predict_8x4", [](const Tables& t) { return entry_of(t.intra_predict_8x4); },
+      {"intra_predict_8x4", [](const Tables& t) { return entry_of(predictor_of<8, 4>(t)); },
        check_intra_predict_n<8, 4>, bench_intra_predict_n<8, 4>},
-      {"intra_predict_4x8", [](const Tables& t) { return entry_of(t.intra_predict_4x8); },
+      {"intra_predict_4x8", [](const Tables& t) { return entry_of(predictor_of<4, 8>(t)); },
        check_intra_predict_n<4, 8>, bench_intra_predict_n<4, 8>},
       {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd_4x4, bench_satd_4x4},
       {"cfl_luma_ac_8x8", [](const Tables& t) { return entry_of(t.cfl_luma_ac_8x8); }, check_cfl_luma_ac,

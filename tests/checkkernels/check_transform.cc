@@ -9,6 +9,10 @@
 namespace svc::checkkernels {
 namespace {
 
+constexpr int kIndex8x8 = codec::size_index(codec::TransformSize::k8x8);
+constexpr int kIndex4x4 = codec::size_index(codec::TransformSize::k4x4);
+constexpr int kIndex16x16 = codec::size_index(codec::TransformSize::k16x16);
+
 // Samples as the codec feeds them: pixel - 128 (intra) or residuals in [-255, 255].
 void random_samples(Random& random, float* samples) {
   const int range = random.uniform(0, 1) ? 128 : 255;
@@ -64,8 +68,8 @@ std::string check_inverse_dct(const Tables& reference, const Tables& variant, Ra
   for (int n = 0; n < iterations; ++n) {
     int16_t coefficients[64], expected[64], actual[64];
     random_coefficients(random, coefficients);
-    reference.inverse_dct_8x8(coefficients, expected);
-    variant.inverse_dct_8x8(coefficients, actual);
+    reference.inverse_transform[kIndex8x8][0](coefficients, expected);
+    variant.inverse_transform[kIndex8x8][0](coefficients, actual);
     if (auto diff = first_difference(expected, actual, 64, 8); !diff.empty()) return diff;
   }
   return {};
@@ -162,7 +166,7 @@ void bench_inverse_dct(const Tables& table, int iterations) {
   for (int i = 0; i < 64; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
   for (int n = 0; n < iterations; ++n) {
     coefficients[n & 15] ^= 1;
-    table.inverse_dct_8x8(coefficients, samples);
+    table.inverse_transform[kIndex8x8][0](coefficients, samples);
   }
   bench_sink = samples[0];
 }
@@ -213,7 +217,7 @@ std::string check_forward_dct_n(const Tables& reference, const Tables& variant, 
 
 template <int N>
 std::string check_inverse_dct_n(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  auto inverse = [](const Tables& t) { return N == 4 ? t.inverse_dct_4x4 : t.inverse_dct_16x16; };
+  auto inverse = [](const Tables& t) { return t.inverse_transform[N == 4 ? kIndex4x4 : kIndex16x16][0]; };
   for (int n = 0; n < iterations; ++n) {
     int16_t coefficients[N * N] = {}, expected[N * N], actual[N * N];
     const int pattern = random.uniform(0, 4);
@@ -245,7 +249,7 @@ void bench_forward_dct_n(const Tables& table, int iterations) {
 
 template <int N>
 void bench_inverse_dct_n(const Tables& table, int iterations) {
-  const auto inverse = N == 4 ? table.inverse_dct_4x4 : table.inverse_dct_16x16;
+  const auto inverse = table.inverse_transform[N == 4 ? kIndex4x4 : kIndex16x16][0];
   int16_t coefficients[N * N], samples[N * N];
   for (int i = 0; i < N * N; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
   for (int n = 0; n < iterations; ++n) {
@@ -267,14 +271,10 @@ auto forward_typed_of(const Tables& t) {
   if constexpr (W != H && W != 4 && H != 4) return W == 16 ? t.forward_typed_16x8 : t.forward_typed_8x16;
   return W == 4 ? t.forward_typed_4x4 : W == 8 ? t.forward_typed_8x8 : t.forward_typed_16x16;
 }
+// The inverses of the W x H size, indexed by type.
 template <int W, int H>
-auto inverse_typed_of(const Tables& t) {
-  if constexpr (W == 16 && H == 4) return t.inverse_typed_16x4;
-  if constexpr (W == 4 && H == 16) return t.inverse_typed_4x16;
-  if constexpr (W == 8 && H == 4) return t.inverse_typed_8x4;
-  if constexpr (W == 4 && H == 8) return t.inverse_typed_4x8;
-  if constexpr (W != H && W != 4 && H != 4) return W == 16 ? t.inverse_typed_16x8 : t.inverse_typed_8x16;
-  return W == 4 ? t.inverse_typed_4x4 : W == 8 ? t.inverse_typed_8x8 : t.inverse_typed_16x16;
+const auto& inverse_typed_of(const Tables& t) {
+  return t.inverse_transform[codec::size_index(codec::size_of_shape(codec::block_shape(W, H)))];
 }
 template <int W, int H>
 int type_of_iteration(int n) {
@@ -314,8 +314,8 @@ std::string check_inverse_typed(const Tables& reference, const Tables& variant, 
     }
     if (pattern == 4) coefficients[0] = static_cast<int16_t>(random.uniform(-2048, 2047));
     const int type = type_of_iteration<W, H>(n);
-    inverse_typed_of<W, H>(reference)(type, coefficients, expected);
-    inverse_typed_of<W, H>(variant)(type, coefficients, actual);
+    inverse_typed_of<W, H>(reference)[type](coefficients, expected);
+    inverse_typed_of<W, H>(variant)[type](coefficients, actual);
     if (auto diff = first_difference(expected, actual, W * H, W); !diff.empty()) {
       return "type " + std::to_string(type) + ": " + diff;
     }
@@ -340,19 +340,93 @@ void bench_inverse_typed(const Tables& table, int iterations) {
   for (int i = 0; i < W * H; ++i) coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
   for (int n = 0; n < iterations; ++n) {
     coefficients[n & 15] ^= 1;
-    inverse_typed_of<W, H>(table)(type_of_iteration<W, H>(n), coefficients, samples);
+    inverse_typed_of<W, H>(table)[type_of_iteration<W, H>(n)](coefficients, samples);
   }
   bench_sink = samples[0];
+}
+
+// The inverse_transform_add kernel of W x H and `Type`: the inverses' coefficient
+// patterns, predictions with extremes, strides from the block width to 40, destinations
+// apart from the prediction or the prediction itself; the whole destination buffer is
+// compared, so that a write outside the block shows.
+template <int W, int H>
+constexpr int add_index = codec::size_index(codec::size_of_shape(codec::block_shape(W, H)));
+
+template <int W, int H, int Type>
+std::string check_inverse_add(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  constexpr int kMaxStride = 40;
+  const auto add_of = [](const Tables& t) { return t.inverse_transform_add[add_index<W, H>][Type]; };
+  Buffer prediction(H * kMaxStride), expected(H * kMaxStride), actual(H * kMaxStride);
+  for (int n = 0; n < iterations; ++n) {
+    int16_t coefficients[W * H] = {};
+    const int pattern = random.uniform(0, 4);
+    for (int i = 0; i < W * H; ++i) {
+      const auto value = static_cast<int16_t>(random.uniform(codec::kMinCoefficient, codec::kMaxCoefficient));
+      if (pattern == 0 || (pattern == 1 && random.uniform(0, 7) == 0)) coefficients[i] = value;
+      if (pattern == 2) coefficients[i] = ((i * 7 + i / W) & 1) ? 2047 : -2048;
+      if (pattern == 3) coefficients[i] = random.uniform(0, 1) ? 2047 : -2048;
+    }
+    if (pattern == 4) coefficients[0] = static_cast<int16_t>(random.uniform(-2048, 2047));
+    const int prediction_stride = random.uniform(W, kMaxStride), dst_stride = random.uniform(W, kMaxStride);
+    const bool in_place = random.uniform(0, 3) == 0;
+    const size_t bytes = static_cast<size_t>(H) * kMaxStride;
+    random.fill_with_extremes(prediction.at(0), bytes);
+    std::memcpy(expected.at(0), prediction.at(0), bytes);
+    std::memcpy(actual.at(0), prediction.at(0), bytes);
+    if (in_place) {
+      add_of(reference)(coefficients, expected.at(0), prediction_stride, expected.at(0), prediction_stride);
+      add_of(variant)(coefficients, actual.at(0), prediction_stride, actual.at(0), prediction_stride);
+    } else {
+      add_of(reference)(coefficients, prediction.at(0), prediction_stride, expected.at(0), dst_stride);
+      add_of(variant)(coefficients, prediction.at(0), prediction_stride, actual.at(0), dst_stride);
+    }
+    if (auto diff = first_difference(expected.at(0), actual.at(0), bytes, kMaxStride); !diff.empty()) {
+      return std::string(in_place ? "in place, " : "") + "pattern " + std::to_string(pattern) + ": " + diff;
+    }
+  }
+  return {};
+}
+
+template <int W, int H, int Type>
+void bench_inverse_add(const Tables& table, int iterations) {
+  const auto add = table.inverse_transform_add[add_index<W, H>][Type];
+  int16_t coefficients[W * H];
+  uint8_t block[W * H];
+  for (int i = 0; i < W * H; ++i) {
+    coefficients[i] = static_cast<int16_t>(i < 20 ? (i * 53) % 200 - 100 : 0);
+    block[i] = static_cast<uint8_t>(i * 7);
+  }
+  for (int n = 0; n < iterations; ++n) {
+    coefficients[n & 15] ^= 1;
+    add(coefficients, block, W, block, W);
+  }
+  bench_sink = block[0];
+}
+
+template <int W, int H, int Type>
+Kernel inverse_add_kernel() {
+  static const std::string name =
+      "inverse_transform_add_" + std::to_string(W) + "x" + std::to_string(H) + "_type" + std::to_string(Type);
+  return {name.c_str(), [](const Tables& t) { return entry_of(t.inverse_transform_add[add_index<W, H>][Type]); },
+          check_inverse_add<W, H, Type>, bench_inverse_add<W, H, Type>};
+}
+
+template <int W, int H>
+void add_inverse_add_kernels(std::vector<Kernel>* kernels) {
+  kernels->push_back(inverse_add_kernel<W, H, 0>());
+  kernels->push_back(inverse_add_kernel<W, H, 1>());
+  kernels->push_back(inverse_add_kernel<W, H, 2>());
+  kernels->push_back(inverse_add_kernel<W, H, 3>());
 }
 
 }  // namespace
 
 std::vector<Kernel> transform_kernels() {
-  return {
+  std::vector<Kernel> kernels = {
       {"forward_dct_8x8", [](const Tables& t) { return entry_of(t.forward_dct_8x8); }, check_forward_dct,
        bench_forward_dct},
-      {"inverse_dct_8x8", [](const Tables& t) { return entry_of(t.inverse_dct_8x8); }, check_inverse_dct,
-       bench_inverse_dct},
+      {"inverse_dct_8x8", [](const Tables& t) { return entry_of(t.inverse_transform[kIndex8x8][0]); },
+       check_inverse_dct, bench_inverse_dct},
       {"quantize_8x8", [](const Tables& t) { return entry_of(t.quantize_8x8); }, check_quantize, bench_quantize},
       {"dequantize_8x8", [](const Tables& t) { return entry_of(t.dequantize_8x8); }, check_dequantize,
        bench_dequantize},
@@ -360,47 +434,57 @@ std::vector<Kernel> transform_kernels() {
        bench_forward_dct_n<4>},
       {"forward_dct_16x16", [](const Tables& t) { return entry_of(t.forward_dct_16x16); }, check_forward_dct_n<16>,
        bench_forward_dct_n<16>},
-      {"inverse_dct_4x4", [](const Tables& t) { return entry_of(t.inverse_dct_4x4); }, check_inverse_dct_n<4>,
-       bench_inverse_dct_n<4>},
-      {"inverse_dct_16x16", [](const Tables& t) { return entry_of(t.inverse_dct_16x16); }, check_inverse_dct_n<16>,
-       bench_inverse_dct_n<16>},
+      {"inverse_dct_4x4", [](const Tables& t) { return entry_of(t.inverse_transform[kIndex4x4][0]); },
+       check_inverse_dct_n<4>, bench_inverse_dct_n<4>},
+      {"inverse_dct_16x16", [](const Tables& t) { return entry_of(t.inverse_transform[kIndex16x16][0]); },
+       check_inverse_dct_n<16>, bench_inverse_dct_n<16>},
       {"forward_typed_4x4", [](const Tables& t) { return entry_of(t.forward_typed_4x4); },
        check_forward_typed<4, 4>, bench_forward_typed<4, 4>},
-      {"inverse_typed_4x4", [](const Tables& t) { return entry_of(t.inverse_typed_4x4); },
+      {"inverse_typed_4x4", [](const Tables& t) { return entry_of(inverse_typed_of<4, 4>(t)[1]); },
        check_inverse_typed<4, 4>, bench_inverse_typed<4, 4>},
       {"forward_typed_8x8", [](const Tables& t) { return entry_of(t.forward_typed_8x8); },
        check_forward_typed<8, 8>, bench_forward_typed<8, 8>},
-      {"inverse_typed_8x8", [](const Tables& t) { return entry_of(t.inverse_typed_8x8); },
+      {"inverse_typed_8x8", [](const Tables& t) { return entry_of(inverse_typed_of<8, 8>(t)[1]); },
        check_inverse_typed<8, 8>, bench_inverse_typed<8, 8>},
       {"forward_typed_16x16", [](const Tables& t) { return entry_of(t.forward_typed_16x16); },
        check_forward_typed<16, 16>, bench_forward_typed<16, 16>},
-      {"inverse_typed_16x16", [](const Tables& t) { return entry_of(t.inverse_typed_16x16); },
+      {"inverse_typed_16x16", [](const Tables& t) { return entry_of(inverse_typed_of<16, 16>(t)[1]); },
        check_inverse_typed<16, 16>, bench_inverse_typed<16, 16>},
       {"forward_typed_16x8", [](const Tables& t) { return entry_of(t.forward_typed_16x8); },
        check_forward_typed<16, 8>, bench_forward_typed<16, 8>},
-      {"inverse_typed_16x8", [](const Tables& t) { return entry_of(t.inverse_typed_16x8); },
+      {"inverse_typed_16x8", [](const Tables& t) { return entry_of(inverse_typed_of<16, 8>(t)[1]); },
        check_inverse_typed<16, 8>, bench_inverse_typed<16, 8>},
       {"forward_typed_8x16", [](const Tables& t) { return entry_of(t.forward_typed_8x16); },
        check_forward_typed<8, 16>, bench_forward_typed<8, 16>},
-      {"inverse_typed_8x16", [](const Tables& t) { return entry_of(t.inverse_typed_8x16); },
+      {"inverse_typed_8x16", [](const Tables& t) { return entry_of(inverse_typed_of<8, 16>(t)[1]); },
        check_inverse_typed<8, 16>, bench_inverse_typed<8, 16>},
       {"forward_typed_16x4", [](const Tables& t) { return entry_of(t.forward_typed_16x4); },
        check_forward_typed<16, 4>, bench_forward_typed<16, 4>},
-      {"inverse_typed_16x4", [](const Tables& t) { return entry_of(t.inverse_typed_16x4); },
+      {"inverse_typed_16x4", [](const Tables& t) { return entry_of(inverse_typed_of<16, 4>(t)[1]); },
        check_inverse_typed<16, 4>, bench_inverse_typed<16, 4>},
       {"forward_typed_4x16", [](const Tables& t) { return entry_of(t.forward_typed_4x16); },
        check_forward_typed<4, 16>, bench_forward_typed<4, 16>},
-      {"inverse_typed_4x16", [](const Tables& t) { return entry_of(t.inverse_typed_4x16); },
+      {"inverse_typed_4x16", [](const Tables& t) { return entry_of(inverse_typed_of<4, 16>(t)[1]); },
        check_inverse_typed<4, 16>, bench_inverse_typed<4, 16>},
       {"forward_typed_8x4", [](const Tables& t) { return entry_of(t.forward_typed_8x4); },
        check_forward_typed<8, 4>, bench_forward_typed<8, 4>},
-      {"inverse_typed_8x4", [](const Tables& t) { return entry_of(t.inverse_typed_8x4); },
+      {"inverse_typed_8x4", [](const Tables& t) { return entry_of(inverse_typed_of<8, 4>(t)[1]); },
        check_inverse_typed<8, 4>, bench_inverse_typed<8, 4>},
       {"forward_typed_4x8", [](const Tables& t) { return entry_of(t.forward_typed_4x8); },
        check_forward_typed<4, 8>, bench_forward_typed<4, 8>},
-      {"inverse_typed_4x8", [](const Tables& t) { return entry_of(t.inverse_typed_4x8); },
+      {"inverse_typed_4x8", [](const Tables& t) { return entry_of(inverse_typed_of<4, 8>(t)[1]); },
        check_inverse_typed<4, 8>, bench_inverse_typed<4, 8>},
   };
+  add_inverse_add_kernels<8, 8>(&kernels);
+  add_inverse_add_kernels<4, 4>(&kernels);
+  add_inverse_add_kernels<16, 16>(&kernels);
+  add_inverse_add_kernels<16, 8>(&kernels);
+  add_inverse_add_kernels<8, 16>(&kernels);
+  add_inverse_add_kernels<16, 4>(&kernels);
+  add_inverse_add_kernels<4, 16>(&kernels);
+  add_inverse_add_kernels<8, 4>(&kernels);
+  add_inverse_add_kernels<4, 8>(&kernels);
+  return kernels;
 }
 
 }  // namespace svc::checkkernels

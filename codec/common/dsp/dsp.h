@@ -12,6 +12,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "codec/common/transform_size.h"
+#include "codec/common/transform_type.h"
+
 namespace svc::codec::dsp {
 
 // CPU feature bits a variant may need. A table built for a mask uses, per kernel, the
@@ -59,20 +62,21 @@ struct DspTable {
   // matrices; the intra transform types with a DST-VII in at least one direction (7.2),
   // `type` 1..3 (bit 0: rows use the DST, bit 1: columns; the other direction takes
   // HEVC's integer DCT of the size, at 8x8 too); and the rectangular blocks (7.3; W x H,
-  // W samples a row), `type` 0..3, 0 being DCT_DCT. The encoder's float forward
+  // W samples a row), types 0..3, 0 being DCT_DCT. The encoder's float forward
   // transforms are in its own table (codec/encoder/dsp/encoder_dsp.h).
-  void (*inverse_dct_8x8)(const int16_t* coefficients, int16_t* samples);
-  void (*inverse_dct_4x4)(const int16_t* coefficients, int16_t* samples);
-  void (*inverse_dct_16x16)(const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_4x4)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_8x8)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_16x16)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_16x8)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_8x16)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_16x4)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_4x16)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_8x4)(int type, const int16_t* coefficients, int16_t* samples);
-  void (*inverse_typed_4x8)(int type, const int16_t* coefficients, int16_t* samples);
+  // Indexed by TransformSize and TransformType: [k8x8][kDctDct] is the 8x8 DCT,
+  // [k4x4][kDctDct] and [k16x16][kDctDct] the HEVC DCTs, the other entries of the squares
+  // the typed kernels, and every entry of a rectangular size its typed kernel.
+  void (*inverse_transform[kTransformSizes][kTransformTypes])(const int16_t* coefficients, int16_t* samples);
+
+  // Reconstruction of a residual block, indexed by TransformSize and TransformType (as
+  // dav1d's itxfm_add): dst = clip(prediction + inverse transform of `coefficients`, 0,
+  // 255), the inverse being inverse_transform[size][type]. prediction and dst are W x H samples with their own
+  // strides; dst may be prediction.
+  void (*inverse_transform_add[kTransformSizes][kTransformTypes])(const int16_t* coefficients,
+                                                                  const uint8_t* prediction,
+                                                                  ptrdiff_t prediction_stride, uint8_t* dst,
+                                                                  ptrdiff_t dst_stride);
 
   // coefficient = sign(level) ((min(|level|, 4096) scale[i] + 128) >> 8) saturated to
   // [-2048, 2047]; scale[i] in 128..2^18 (codec/common/quant.h).
@@ -99,25 +103,12 @@ struct DspTable {
   void (*put_intermediate)(const int16_t* in, int count, uint8_t* out);
   // Bidirectional prediction: clip((a + b + 2 * 8192 + 64) >> 7, 0, 255).
   void (*average_intermediate)(const int16_t* a, const int16_t* b, int count, uint8_t* out);
-  // Intra prediction of an 8x8 block (64 samples, row-major) in mode 0..34 (planar, DC,
-  // angles; docs/codec.md 5.2) from its edge: edge[15 - i] is the left neighbour of row
-  // i (i = 0..15, rows 8..15 below the block), edge[16] the top-left corner, edge[17 + i]
-  // the sample above column i.
-  void (*intra_predict_8x8)(const uint8_t* edge, int mode, uint8_t* out);
-  // The same for 4x4 and 16x16 blocks (N x N samples out): edge[2N - 1 - i] is the left
-  // neighbour of row i (i = 0..2N-1), edge[2N] the corner, edge[2N + 1 + i] the sample
-  // above column i.
-  void (*intra_predict_4x4)(const uint8_t* edge, int mode, uint8_t* out);
-  void (*intra_predict_16x16)(const uint8_t* edge, int mode, uint8_t* out);
-  // The same for the rectangular blocks (W x H samples out, W a row; 3.1):
-  // edge[W + H - 1 - i] is the left neighbour of row i (i = 0..W+H-1), edge[W + H] the
-  // corner, edge[W + H + 1 + i] the sample above column i.
-  void (*intra_predict_16x8)(const uint8_t* edge, int mode, uint8_t* out);
-  void (*intra_predict_8x16)(const uint8_t* edge, int mode, uint8_t* out);
-  void (*intra_predict_16x4)(const uint8_t* edge, int mode, uint8_t* out);
-  void (*intra_predict_4x16)(const uint8_t* edge, int mode, uint8_t* out);
-  void (*intra_predict_8x4)(const uint8_t* edge, int mode, uint8_t* out);
-  void (*intra_predict_4x8)(const uint8_t* edge, int mode, uint8_t* out);
+  // Intra prediction of a block, indexed by its TransformSize (W x H samples out, W a
+  // row), in mode 0..34 (planar, DC, angles; docs/codec.md 5.2) from its edge of
+  // 2 (W + H) + 1 samples: edge[W + H - 1 - i] is the left neighbour of row i
+  // (i = 0..W+H-1, rows H.. below the block), edge[W + H] the top-left corner,
+  // edge[W + H + 1 + i] the sample above column i.
+  void (*intra_predict[kTransformSizes])(const uint8_t* edge, int mode, uint8_t* out);
   // Chroma from luma (docs/codec.md 3.3): the 8x8 chroma block's luma, `luma` pointing at
   // its 16x16 co-located samples, as 2x2 sums minus their rounded mean over the block
   // (64 values in -1020..1020, row-major); and the prediction

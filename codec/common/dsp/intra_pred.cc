@@ -312,15 +312,15 @@ template void intra_predict_rectangular_c<8, 4>(const uint8_t*, int, uint8_t*);
 template void intra_predict_rectangular_c<4, 8>(const uint8_t*, int, uint8_t*);
 
 void init_intra_c(DspTable* table) {
-  table->intra_predict_4x4 = intra_predict_4x4_c;
-  table->intra_predict_8x8 = intra_predict_8x8_c;
-  table->intra_predict_16x16 = intra_predict_16x16_c;
-  table->intra_predict_16x8 = intra_predict_rectangular_c<16, 8>;
-  table->intra_predict_8x16 = intra_predict_rectangular_c<8, 16>;
-  table->intra_predict_16x4 = intra_predict_rectangular_c<16, 4>;
-  table->intra_predict_4x16 = intra_predict_rectangular_c<4, 16>;
-  table->intra_predict_8x4 = intra_predict_rectangular_c<8, 4>;
-  table->intra_predict_4x8 = intra_predict_rectangular_c<4, 8>;
+  table->intra_predict[size_index(TransformSize::k4x4)] = intra_predict_4x4_c;
+  table->intra_predict[size_index(TransformSize::k8x8)] = intra_predict_8x8_c;
+  table->intra_predict[size_index(TransformSize::k16x16)] = intra_predict_16x16_c;
+  table->intra_predict[size_index(TransformSize::k16x8)] = intra_predict_rectangular_c<16, 8>;
+  table->intra_predict[size_index(TransformSize::k8x16)] = intra_predict_rectangular_c<8, 16>;
+  table->intra_predict[size_index(TransformSize::k16x4)] = intra_predict_rectangular_c<16, 4>;
+  table->intra_predict[size_index(TransformSize::k4x16)] = intra_predict_rectangular_c<4, 16>;
+  table->intra_predict[size_index(TransformSize::k8x4)] = intra_predict_rectangular_c<8, 4>;
+  table->intra_predict[size_index(TransformSize::k4x8)] = intra_predict_rectangular_c<4, 8>;
 }
 
 }  // namespace svc::codec::dsp

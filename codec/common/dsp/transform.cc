@@ -3,6 +3,7 @@
 // float forward transform is the encoder's (codec/encoder/dsp/forward_transform.cc).
 #include "codec/common/dsp/dsp_init.h"
 #include "codec/common/dsp/idct_basis.h"
+#include "codec/common/dsp/inverse_add.h"
 
 namespace svc::codec::dsp {
 namespace {
@@ -54,6 +55,6 @@ void inverse_dct_8x8_c(const int16_t* coefficients, int16_t* samples) {
 
 }  // namespace
 
-void init_transform_c(DspTable* table) { table->inverse_dct_8x8 = inverse_dct_8x8_c; }
+void init_transform_c(DspTable* table) { set_dct_inverse<8, inverse_dct_8x8_c, add_clipped_c<8, 8>>(table); }
 
 }  // namespace svc::codec::dsp

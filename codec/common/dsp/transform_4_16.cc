@@ -6,6 +6,7 @@
 
 #include "codec/common/dsp/dct_4_16_basis.h"
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/inverse_add.h"
 
 namespace svc::codec::dsp {
 namespace {
@@ -40,8 +41,8 @@ void inverse_dct_16x16_c(const int16_t* coefficients, int16_t* samples) {
 }
 
 void init_transform_4_16_c(DspTable* table) {
-  table->inverse_dct_4x4 = inverse_dct_4x4_c;
-  table->inverse_dct_16x16 = inverse_dct_16x16_c;
+  set_dct_inverse<4, inverse_dct_4x4_c, add_clipped_c<4, 4>>(table);
+  set_dct_inverse<16, inverse_dct_16x16_c, add_clipped_c<16, 16>>(table);
 }
 
 }  // namespace svc::codec::dsp

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/inverse_add.h"
 #include "codec/common/dsp/transform_type_basis.h"
 
 namespace svc::codec::dsp {
@@ -38,15 +39,15 @@ void inverse_typed(int type, const int16_t* coefficients, int16_t* samples) {
 }  // namespace
 
 void init_transform_types_c(DspTable* table) {
-  table->inverse_typed_4x4 = inverse_typed<4, 4>;
-  table->inverse_typed_8x8 = inverse_typed<8, 8>;
-  table->inverse_typed_16x16 = inverse_typed<16, 16>;
-  table->inverse_typed_16x8 = inverse_typed<16, 8>;
-  table->inverse_typed_8x16 = inverse_typed<8, 16>;
-  table->inverse_typed_16x4 = inverse_typed<16, 4>;
-  table->inverse_typed_4x16 = inverse_typed<4, 16>;
-  table->inverse_typed_8x4 = inverse_typed<8, 4>;
-  table->inverse_typed_4x8 = inverse_typed<4, 8>;
+  set_typed_inverse<4, 4, inverse_typed<4, 4>, add_clipped_c<4, 4>>(table);
+  set_typed_inverse<8, 8, inverse_typed<8, 8>, add_clipped_c<8, 8>>(table);
+  set_typed_inverse<16, 16, inverse_typed<16, 16>, add_clipped_c<16, 16>>(table);
+  set_typed_inverse<16, 8, inverse_typed<16, 8>, add_clipped_c<16, 8>>(table);
+  set_typed_inverse<8, 16, inverse_typed<8, 16>, add_clipped_c<8, 16>>(table);
+  set_typed_inverse<16, 4, inverse_typed<16, 4>, add_clipped_c<16, 4>>(table);
+  set_typed_inverse<4, 16, inverse_typed<4, 16>, add_clipped_c<4, 16>>(table);
+  set_typed_inverse<8, 4, inverse_typed<8, 4>, add_clipped_c<8, 4>>(table);
+  set_typed_inverse<4, 8, inverse_typed<4, 8>, add_clipped_c<4, 8>>(table);
 }
 
 }  // namespace svc::codec::dsp

@@ -88,15 +88,15 @@ void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out)
 }  // namespace
 
 void init_intra_neon(DspTable* table) {
-  table->intra_predict_4x4 = intra_predict_neon<4>;
-  table->intra_predict_8x8 = intra_predict_neon<8>;
-  table->intra_predict_16x16 = intra_predict_neon<16>;
-  table->intra_predict_16x8 = intra_predict_rectangular_neon<16, 8>;
-  table->intra_predict_8x16 = intra_predict_rectangular_neon<8, 16>;
-  table->intra_predict_16x4 = intra_predict_rectangular_neon<16, 4>;
-  table->intra_predict_4x16 = intra_predict_rectangular_neon<4, 16>;
-  table->intra_predict_8x4 = intra_predict_rectangular_neon<8, 4>;
-  table->intra_predict_4x8 = intra_predict_rectangular_neon<4, 8>;
+  table->intra_predict[size_index(TransformSize::k4x4)] = intra_predict_neon<4>;
+  table->intra_predict[size_index(TransformSize::k8x8)] = intra_predict_neon<8>;
+  table->intra_predict[size_index(TransformSize::k16x16)] = intra_predict_neon<16>;
+  table->intra_predict[size_index(TransformSize::k16x8)] = intra_predict_rectangular_neon<16, 8>;
+  table->intra_predict[size_index(TransformSize::k8x16)] = intra_predict_rectangular_neon<8, 16>;
+  table->intra_predict[size_index(TransformSize::k16x4)] = intra_predict_rectangular_neon<16, 4>;
+  table->intra_predict[size_index(TransformSize::k4x16)] = intra_predict_rectangular_neon<4, 16>;
+  table->intra_predict[size_index(TransformSize::k8x4)] = intra_predict_rectangular_neon<8, 4>;
+  table->intra_predict[size_index(TransformSize::k4x8)] = intra_predict_rectangular_neon<4, 8>;
 }
 
 }  // namespace svc::codec::dsp

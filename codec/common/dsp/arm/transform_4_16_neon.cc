@@ -5,6 +5,7 @@
 #include "codec/common/dsp/arm/matrix_transform_neon.h"
 #include "codec/common/dsp/dct_4_16_basis.h"
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/inverse_add.h"
 
 namespace svc::codec::dsp {
 namespace {
@@ -21,8 +22,8 @@ void inverse_dct_16x16_neon(const int16_t* coefficients, int16_t* samples) {
 }  // namespace
 
 void init_transform_4_16_neon(DspTable* table) {
-  table->inverse_dct_4x4 = inverse_dct_4x4_neon;
-  table->inverse_dct_16x16 = inverse_dct_16x16_neon;
+  set_dct_inverse<4, inverse_dct_4x4_neon, add_clipped_c<4, 4>>(table);
+  set_dct_inverse<16, inverse_dct_16x16_neon, add_clipped_c<16, 16>>(table);
 }
 
 }  // namespace svc::codec::dsp

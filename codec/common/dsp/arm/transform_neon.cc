@@ -12,6 +12,7 @@
 #include "codec/common/dsp/arm/transpose_neon.h"
 #include "codec/common/dsp/dsp_init.h"
 #include "codec/common/dsp/idct_basis.h"
+#include "codec/common/dsp/inverse_add.h"
 
 namespace svc::codec::dsp {
 namespace {
@@ -83,6 +84,6 @@ void inverse_dct_8x8_neon(const int16_t* coefficients, int16_t* samples) {
 
 }  // namespace
 
-void init_transform_neon(DspTable* table) { table->inverse_dct_8x8 = inverse_dct_8x8_neon; }
+void init_transform_neon(DspTable* table) { set_dct_inverse<8, inverse_dct_8x8_neon, add_clipped_c<8, 8>>(table); }
 
 }  // namespace svc::codec::dsp

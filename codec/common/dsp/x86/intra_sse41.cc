@@ -215,15 +215,15 @@ void intra_predict_rectangular_sse41(const uint8_t* edge, int mode, uint8_t* out
 }  // namespace
 
 void init_intra_sse41(DspTable* table) {
-  table->intra_predict_16x8 = intra_predict_rectangular_sse41<16, 8>;
-  table->intra_predict_8x16 = intra_predict_rectangular_sse41<8, 16>;
-  table->intra_predict_16x4 = intra_predict_rectangular_sse41<16, 4>;
-  table->intra_predict_4x16 = intra_predict_rectangular_sse41<4, 16>;
-  table->intra_predict_8x4 = intra_predict_rectangular_sse41<8, 4>;
-  table->intra_predict_4x8 = intra_predict_rectangular_sse41<4, 8>;
-  table->intra_predict_4x4 = intra_predict_4x4_sse41;
-  table->intra_predict_8x8 = intra_predict_8x8_sse41;
-  table->intra_predict_16x16 = intra_predict_16x16_sse41;
+  table->intra_predict[size_index(TransformSize::k16x8)] = intra_predict_rectangular_sse41<16, 8>;
+  table->intra_predict[size_index(TransformSize::k8x16)] = intra_predict_rectangular_sse41<8, 16>;
+  table->intra_predict[size_index(TransformSize::k16x4)] = intra_predict_rectangular_sse41<16, 4>;
+  table->intra_predict[size_index(TransformSize::k4x16)] = intra_predict_rectangular_sse41<4, 16>;
+  table->intra_predict[size_index(TransformSize::k8x4)] = intra_predict_rectangular_sse41<8, 4>;
+  table->intra_predict[size_index(TransformSize::k4x8)] = intra_predict_rectangular_sse41<4, 8>;
+  table->intra_predict[size_index(TransformSize::k4x4)] = intra_predict_4x4_sse41;
+  table->intra_predict[size_index(TransformSize::k8x8)] = intra_predict_8x8_sse41;
+  table->intra_predict[size_index(TransformSize::k16x16)] = intra_predict_16x16_sse41;
 }
 
 }  // namespace svc::codec::dsp

@@ -4,6 +4,8 @@
 
 #include "codec/common/dsp/dct_4_16_basis.h"
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/inverse_add.h"
+#include "codec/common/dsp/x86/add_clipped_sse2.h"
 #include "codec/common/dsp/x86/matrix_inverse_sse41.h"
 
 #pragma GCC target("sse4.1")
@@ -24,8 +26,8 @@ void inverse_dct_16x16_sse41(const int16_t* coefficients, int16_t* samples) {
 }  // namespace
 
 void init_transform_4_16_sse41(DspTable* table) {
-  table->inverse_dct_4x4 = inverse_dct_4x4_sse41;
-  table->inverse_dct_16x16 = inverse_dct_16x16_sse41;
+  set_dct_inverse<4, inverse_dct_4x4_sse41, add_clipped_sse2<4, 4>>(table);
+  set_dct_inverse<16, inverse_dct_16x16_sse41, add_clipped_sse2<16, 16>>(table);
 }
 
 }  // namespace svc::codec::dsp

@@ -9,6 +9,8 @@
 
 #include "codec/common/dsp/dsp_init.h"
 #include "codec/common/dsp/idct_basis.h"
+#include "codec/common/dsp/inverse_add.h"
+#include "codec/common/dsp/x86/add_clipped_sse2.h"
 
 #pragma GCC target("sse2")
 
@@ -110,6 +112,8 @@ void inverse_dct_8x8_sse2(const int16_t* coefficients, int16_t* samples) {
 
 }  // namespace
 
-void init_transform_sse2(DspTable* table) { table->inverse_dct_8x8 = inverse_dct_8x8_sse2; }
+void init_transform_sse2(DspTable* table) {
+  set_dct_inverse<8, inverse_dct_8x8_sse2, add_clipped_sse2<8, 8>>(table);
+}
 
 }  // namespace svc::codec::dsp

@@ -4,7 +4,9 @@
 #include <smmintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/inverse_add.h"
 #include "codec/common/dsp/transform_type_basis.h"
+#include "codec/common/dsp/x86/add_clipped_sse2.h"
 #include "codec/common/dsp/x86/matrix_inverse_sse41.h"
 
 #pragma GCC target("sse4.1")
@@ -29,15 +31,15 @@ void inverse_typed(int type, const int16_t* coefficients, int16_t* samples) {
 }  // namespace
 
 void init_transform_types_sse41(DspTable* table) {
-  table->inverse_typed_4x4 = inverse_typed<4, 4>;
-  table->inverse_typed_8x8 = inverse_typed<8, 8>;
-  table->inverse_typed_16x16 = inverse_typed<16, 16>;
-  table->inverse_typed_16x8 = inverse_typed<16, 8>;
-  table->inverse_typed_8x16 = inverse_typed<8, 16>;
-  table->inverse_typed_16x4 = inverse_typed<16, 4>;
-  table->inverse_typed_4x16 = inverse_typed<4, 16>;
-  table->inverse_typed_8x4 = inverse_typed<8, 4>;
-  table->inverse_typed_4x8 = inverse_typed<4, 8>;
+  set_typed_inverse<4, 4, inverse_typed<4, 4>, add_clipped_sse2<4, 4>>(table);
+  set_typed_inverse<8, 8, inverse_typed<8, 8>, add_clipped_sse2<8, 8>>(table);
+  set_typed_inverse<16, 16, inverse_typed<16, 16>, add_clipped_sse2<16, 16>>(table);
+  set_typed_inverse<16, 8, inverse_typed<16, 8>, add_clipped_sse2<16, 8>>(table);
+  set_typed_inverse<8, 16, inverse_typed<8, 16>, add_clipped_sse2<8, 16>>(table);
+  set_typed_inverse<16, 4, inverse_typed<16, 4>, add_clipped_sse2<16, 4>>(table);
+  set_typed_inverse<4, 16, inverse_typed<4, 16>, add_clipped_sse2<4, 16>>(table);
+  set_typed_inverse<8, 4, inverse_typed<8, 4>, add_clipped_sse2<8, 4>>(table);
+  set_typed_inverse<4, 8, inverse_typed<4, 8>, add_clipped_sse2<4, 8>>(table);
 }
 
 }  // namespace svc::codec::dsp
