@@ -14,6 +14,7 @@
 #include "codec/encoder/bframe_encoder.h"
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/log_search.h"
+#include "support/damaged_payload.h"
 #include "support/reference_hints.h"
 
 namespace svc::codec {
@@ -411,19 +412,10 @@ TEST(BFrame, GarbageNeverCrashesTheDecoder) {
     header.reference_count = 2;
     const auto header_bytes = serialize_b_frame_header(header);
     std::copy(header_bytes.begin(), header_bytes.end(), bytes.begin());
-    const Status first = decode_b_frame(bytes, w, h, ref0, &ref1, &out);
-    ImageYCbCr420 again;
-    const Status second = decode_b_frame(bytes, w, h, ref0, &ref1, &again);
-    ASSERT_EQ(first.code(), second.code()) << "trial " << trial;
-    if (first.ok()) {
+    if (testing::decodes_whole_or_refused(bytes, w, h, ref0, &ref1, "trial " + std::to_string(trial))) {
       ++accepted;
-      ASSERT_EQ(out.y.size(), static_cast<size_t>(w * h));
-      ASSERT_EQ(out.cb.size(), static_cast<size_t>((w + 1) / 2 * ((h + 1) / 2)));
-      EXPECT_TRUE(out.y == again.y && out.cb == again.cb && out.cr == again.cr) << "trial " << trial;
     } else {
       ++rejected;
-      EXPECT_EQ(first.code(), ErrorCode::kCorruptData) << first.message();
-      EXPECT_FALSE(first.message().empty());
     }
   }
   // Random payloads behind a valid header: most are refused (trailing bytes, invalid

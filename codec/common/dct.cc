@@ -26,17 +26,20 @@ double basis(int u, int x) {
   return c * std::cos((2 * x + 1) * u * std::numbers::pi / 16.0);
 }
 
-struct DoubleBasis {
-  double value[8][8];  // [u][x]
-  DoubleBasis() {
-    for (int u = 0; u < 8; ++u) {
-      for (int x = 0; x < 8; ++x) value[u][x] = basis(u, x);
-    }
-  }
-};
-const DoubleBasis kDoubleBasis;
-
 }  // namespace
+
+const DctBasis8x8& dct_basis_8x8() {
+  static const auto table = [] {
+    struct Table {
+      double value[8][8];
+    } t{};
+    for (int u = 0; u < 8; ++u) {
+      for (int x = 0; x < 8; ++x) t.value[u][x] = basis(u, x);
+    }
+    return t;
+  }();
+  return table.value;
+}
 
 void inverse_dct_8x8(const int16_t* coefficients, int16_t* samples) {
   inverse_transform(TransformSize::k8x8, TransformType::kDctDct, coefficients, samples);
@@ -67,12 +70,13 @@ void inverse_dct_8x8_integer_reference(const int16_t* coefficients, int16_t* sam
 }
 
 void inverse_dct_8x8_reference(const double* coefficients, double* samples) {
+  const DctBasis8x8& basis = dct_basis_8x8();
   for (int y = 0; y < 8; ++y) {
     for (int x = 0; x < 8; ++x) {
       double sum = 0;
       for (int v = 0; v < 8; ++v) {
         for (int u = 0; u < 8; ++u) {
-          sum += kDoubleBasis.value[v][y] * kDoubleBasis.value[u][x] * coefficients[8 * v + u];
+          sum += basis[v][y] * basis[u][x] * coefficients[8 * v + u];
         }
       }
       samples[8 * y + x] = sum;

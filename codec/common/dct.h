@@ -24,6 +24,12 @@ inline constexpr int kMaxCoefficient = 2047;
 // Integer inverse DCT; coefficients must lie in [kMinCoefficient, kMaxCoefficient].
 // Output is not clipped (the caller adds a prediction or level shift and clips).
 // Accuracy meets IEEE 1180-1990 (peak error <= 1 against the exact inverse).
+// The orthonormal 8x8 DCT basis in double precision, [u][x] = c(u) cos((2x+1) u pi / 16)
+// with c(0) = sqrt(1/8), c(u > 0) = 1/2: what the double references of both directions
+// compute with.
+using DctBasis8x8 = double[8][8];
+const DctBasis8x8& dct_basis_8x8();
+
 void inverse_dct_8x8(const int16_t* coefficients, int16_t* samples);
 // The same integer transform as inverse_dct_8x8 written as a plain matrix product
 // without shortcuts: bit-identical output (the definition docs/codec.md spells out).

@@ -5,26 +5,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "codec/common/dct.h"
 #include "codec/encoder/dsp/encoder_dsp.h"
 
 namespace svc::codec {
 namespace {
-
-// basis[u][x] = c(u) cos((2x+1) u pi / 16), c(0) = sqrt(1/8), c(u>0) = 1/2.
-double basis(int u, int x) {
-  const double c = u == 0 ? std::sqrt(0.125) : 0.5;
-  return c * std::cos((2 * x + 1) * u * std::numbers::pi / 16.0);
-}
-
-struct DoubleBasis {
-  double value[8][8];  // [u][x]
-  DoubleBasis() {
-    for (int u = 0; u < 8; ++u) {
-      for (int x = 0; x < 8; ++x) value[u][x] = basis(u, x);
-    }
-  }
-};
-const DoubleBasis kDoubleBasis;
 
 // The typed kernels of a size (docs/codec.md 5.5.2, 5.5.3): types 1..3 for squares, whose
 // DCT_DCT has kernels of its own, and 0..3 for rectangular sizes.
@@ -50,12 +35,13 @@ void forward_dct_8x8(const float* samples, float* coefficients) {
 }
 
 void forward_dct_8x8_reference(const double* samples, double* coefficients) {
+  const DctBasis8x8& basis = dct_basis_8x8();
   for (int v = 0; v < 8; ++v) {
     for (int u = 0; u < 8; ++u) {
       double sum = 0;
       for (int y = 0; y < 8; ++y) {
         for (int x = 0; x < 8; ++x) {
-          sum += kDoubleBasis.value[v][y] * kDoubleBasis.value[u][x] * samples[8 * y + x];
+          sum += basis[v][y] * basis[u][x] * samples[8 * y + x];
         }
       }
       coefficients[8 * v + u] = sum;
