@@ -5,26 +5,18 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <span>
-#include <string>
 
 #include "codec/common/bframe_loop_filter.h"
 #include "codec/common/bframe_state.h"
 #include "codec/common/context_priors.h"
-#include "codec/common/intra_planes.h"
 #include "codec/encoder/bframe_macroblock_coder.h"
 #include "codec/encoder/bframe_syntax_writer.h"
 #include "codec/encoder/cdef_search.h"
-#include "codec/encoder/coefficient_writer.h"
-#include "codec/encoder/intra_search.h"
-#include "codec/encoder/intra_syntax_writer.h"
 #include "codec/encoder/range_encoder.h"
 #include "codec/encoder/rate_distortion.h"
-#include "codec/encoder/rdoq.h"
 #include "codec/encoder/search_planes.h"
 
 namespace svc::codec {

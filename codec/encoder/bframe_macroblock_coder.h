@@ -21,6 +21,7 @@
 #include "codec/common/bframe_state.h"
 #include "codec/encoder/bframe_encoder.h"
 #include "codec/encoder/bframe_syntax_writer.h"
+#include "codec/encoder/distortion.h"
 #include "codec/encoder/intra_search.h"
 #include "codec/encoder/range_encoder.h"
 #include "codec/encoder/search_planes.h"
@@ -63,8 +64,6 @@ struct PaddedSource {
   std::array<std::vector<uint8_t>, 3> planes;
   std::array<int, 3> strides{};
 };
-
-int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_stride, int w, int h);
 
 // residual = source - prediction over a width x width block, packed rows.
 void subtract_prediction(const uint8_t* source, int source_stride, const uint8_t* prediction, int prediction_stride,

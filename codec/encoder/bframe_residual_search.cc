@@ -6,17 +6,6 @@
 
 namespace svc::codec::bframe {
 
-int64_t squared_error(const uint8_t* a, int a_stride, const uint8_t* b, int b_stride, int w, int h) {
-  int64_t sum = 0;
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const int d = static_cast<int>(a[y * a_stride + x]) - static_cast<int>(b[y * b_stride + x]);
-      sum += d * d;
-    }
-  }
-  return sum;
-}
-
 void subtract_prediction(const uint8_t* source, int source_stride, const uint8_t* prediction, int prediction_stride,
                          int width, int16_t* residual) {
   for (int y = 0; y < width; ++y) {

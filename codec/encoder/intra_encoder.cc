@@ -9,6 +9,7 @@
 #include "codec/common/context_priors.h"
 #include "codec/common/intra_planes.h"
 #include "codec/encoder/cdef_search.h"
+#include "codec/encoder/distortion.h"
 #include "codec/encoder/intra_search.h"
 #include "codec/encoder/intra_syntax_writer.h"
 #include "codec/encoder/range_encoder.h"
@@ -53,23 +54,12 @@ bool apply_cdef_choice(RangeEncoder& encoder, PaddedFrame* frame, const ImageYCb
   return true;
 }
 
-// Sum of squared differences of the visible part of a padded plane against a source plane.
-int64_t plane_error(const std::vector<uint8_t>& plane, int stride, const std::vector<uint8_t>& source, int width,
-                    int height) {
-  int64_t sum = 0;
-  for (int y = 0; y < height; ++y) {
-    const uint8_t* a = plane.data() + static_cast<size_t>(y) * stride;
-    const uint8_t* b = source.data() + static_cast<size_t>(y) * width;
-    for (int x = 0; x < width; ++x) sum += (a[x] - b[x]) * (a[x] - b[x]);
-  }
-  return sum;
-}
-
 int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
   const int cw = (source.width + 1) / 2, ch = (source.height + 1) / 2;
-  return plane_error(frame.planes[0], frame.widths[0], source.y, source.width, source.height) +
-         plane_error(frame.planes[1], frame.widths[1], source.cb, cw, ch) +
-         plane_error(frame.planes[2], frame.widths[2], source.cr, cw, ch);
+  return squared_error(frame.planes[0].data(), frame.widths[0], source.y.data(), source.width, source.width,
+                       source.height) +
+         squared_error(frame.planes[1].data(), frame.widths[1], source.cb.data(), cw, cw, ch) +
+         squared_error(frame.planes[2].data(), frame.widths[2], source.cr.data(), cw, cw, ch);
 }
 
 }  // namespace

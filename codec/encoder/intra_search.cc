@@ -13,6 +13,7 @@
 #include "codec/common/intra_planes.h"
 #include "codec/encoder/bit_cost.h"
 #include "codec/encoder/coefficient_writer.h"
+#include "codec/encoder/distortion.h"
 #include "codec/encoder/dsp/encoder_dsp.h"
 #include "codec/encoder/intra_syntax_writer.h"
 #include "codec/encoder/rate_distortion.h"
@@ -47,18 +48,6 @@ struct ModeSet {
       modes[static_cast<size_t>(count++)] = static_cast<uint8_t>(mode);
   }
 };
-
-int block_sse(const uint8_t* source, int stride, const uint8_t* block, int shape) {
-  const int w = shape_width(shape);
-  int sum = 0;
-  for (int y = 0; y < shape_height(shape); ++y) {
-    for (int x = 0; x < w; ++x) {
-      const int d = source[y * stride + x] - block[w * y + x];
-      sum += d * d;
-    }
-  }
-  return sum;
-}
 
 // Hadamard SATD of a block of `shape`: the 4x4 or 8x8 kernel, a larger block as the sum
 // over its 8x8 tiles, or its 4x4 tiles when a side is 4.
@@ -253,14 +242,15 @@ class BlockSearch {
     trial->coded = transform_quantize_block_rd(quantizer, residual, rdoq_, contexts, cbf_context, lambda_,
                                                trial->levels, type, &levels_bits) > 0;
     trial->transform_type = trial->coded ? type : TransformType::kDctDct;
-    const float uncoded_cost = static_cast<float>(block_sse(source, stride, trial->prediction, size)) +
-                               lambda_ * (mode_bits + uncoded_block_bits(contexts, cbf_context));
+    const float uncoded_cost =
+        static_cast<float>(squared_error(source, stride, trial->prediction, w, w, shape_height(size))) +
+        lambda_ * (mode_bits + uncoded_block_bits(contexts, cbf_context));
     if (!trial->coded) return uncoded_cost;
     uint8_t reconstructed[kMaxTransformArea];
     dequantize_block(quantizer, trial->levels, coefficients);
     reconstruct_block(trial->prediction, coefficients, type, size, reconstructed, w);
     const float coded_cost =
-        static_cast<float>(block_sse(source, stride, reconstructed, size)) +
+        static_cast<float>(squared_error(source, stride, reconstructed, w, w, shape_height(size))) +
         lambda_ * (mode_bits + levels_bits +
                    transform_type_bits(plane_contexts.types, quantizer.size, trial->mode, type));
     if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;

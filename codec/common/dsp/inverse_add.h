@@ -40,14 +40,6 @@ void inverse_add(const int16_t* coefficients, const uint8_t* prediction, ptrdiff
   Add(residual, prediction, prediction_stride, dst, dst_stride);
 }
 
-template <TypedInverseKernel Inverse, int Type, AddKernel Add>
-void typed_inverse_add(const int16_t* coefficients, const uint8_t* prediction, ptrdiff_t prediction_stride,
-                       uint8_t* dst, ptrdiff_t dst_stride) {
-  alignas(32) int16_t residual[kMaxTransformArea];
-  Inverse(Type, coefficients, residual);
-  Add(residual, prediction, prediction_stride, dst, dst_stride);
-}
-
 template <TypedInverseKernel Inverse, int Type>
 void typed_inverse(const int16_t* coefficients, int16_t* samples) {
   Inverse(Type, coefficients, samples);
@@ -63,14 +55,14 @@ void set_typed_inverse(DspTable* table) {
   auto& add = table->inverse_transform_add[size];
   if constexpr (W != H) {
     inverse[0] = typed_inverse<Inverse, 0>;
-    add[0] = typed_inverse_add<Inverse, 0, Add>;
+    add[0] = inverse_add<typed_inverse<Inverse, 0>, Add>;
   }
   inverse[1] = typed_inverse<Inverse, 1>;
   inverse[2] = typed_inverse<Inverse, 2>;
   inverse[3] = typed_inverse<Inverse, 3>;
-  add[1] = typed_inverse_add<Inverse, 1, Add>;
-  add[2] = typed_inverse_add<Inverse, 2, Add>;
-  add[3] = typed_inverse_add<Inverse, 3, Add>;
+  add[1] = inverse_add<typed_inverse<Inverse, 1>, Add>;
+  add[2] = inverse_add<typed_inverse<Inverse, 2>, Add>;
+  add[3] = inverse_add<typed_inverse<Inverse, 3>, Add>;
 }
 // The DCT_DCT entries of a square size from its DCT.
 template <int N, InverseKernel Inverse, AddKernel Add>
