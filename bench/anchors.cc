@@ -104,28 +104,56 @@ Result<CodecPlan> x26x_plan(const std::string& name, const AnchorOptions& option
   return plan;
 }
 
-Result<CodecPlan> av1_plan(const AnchorOptions& options, int width, int height) {
+CodecPlan av1_base_plan(const std::string& name, const AnchorOptions& options) {
   CodecPlan plan;
-  plan.name = "av1";
+  plan.name = name;
   plan.setting_name = "crf";
   plan.range = {1, 63, false, {30, 45}};
   plan.base.gop_size = options.gop;
   plan.base.max_b_frames = 0;
+  return plan;
+}
+
+Status use_libaom(const std::string& name, const AnchorOptions& options, const std::string& default_cpu,
+                  CodecPlan* plan) {
+  plan->encoder = baseline::encoder_available("libaom-av1") ? "libaom-av1" : "";
+  const std::string cpu = preset_of(options, name, default_cpu);
+  SVC_RETURN_IF_ERROR(check_integer_preset(name + " (libaom)", cpu, 0, 8));
+  plan->base.codec_options = {{"cpu-used", cpu}};
+  plan->description = "libaom cpu-used " + cpu + ", GOP " + std::to_string(options.gop) + ", closed GOP";
+  return Status::Ok();
+}
+
+Status use_svt(const std::string& name, const AnchorOptions& options, const std::string& default_preset,
+               CodecPlan* plan) {
+  plan->encoder = "libsvtav1";
+  const std::string preset = preset_of(options, name, default_preset);
+  SVC_RETURN_IF_ERROR(check_integer_preset(name + " (SVT-AV1)", preset, 0, 13));
+  plan->base.codec_options = {{"preset", preset}};
+  plan->parallel_faces = false;
+  plan->description = "SVT-AV1 preset " + preset + ", GOP " + std::to_string(options.gop) + ", closed GOP";
+  return Status::Ok();
+}
+
+// "av1": SVT-AV1 preset 6 (libaom cpu-used 4 where SVT-AV1 is missing or refuses the
+// size); "av1-svt-slow": SVT-AV1 preset 2; "av1-slow": libaom cpu-used 2 in its good-
+// quality mode, as AV1 is run for archival.
+Result<CodecPlan> av1_plan(const std::string& name, const AnchorOptions& options, int width, int height) {
+  CodecPlan plan = av1_base_plan(name, options);
   // SVT-AV1 refuses frames under 64 pixels.
   const bool svt = baseline::encoder_available("libsvtav1") && width >= 64 && height >= 64;
-  if (svt) {
-    plan.encoder = "libsvtav1";
-    const std::string preset = preset_of(options, "av1", "6");
-    SVC_RETURN_IF_ERROR(check_integer_preset("av1 (SVT-AV1)", preset, 0, 13));
-    plan.base.codec_options = {{"preset", preset}};
-    plan.parallel_faces = false;
-    plan.description = "SVT-AV1 preset " + preset + ", GOP " + std::to_string(options.gop) + ", closed GOP";
+  if (name == "av1-slow") {
+    SVC_RETURN_IF_ERROR(use_libaom(name, options, "2", &plan));
+  } else if (name == "av1-svt-slow") {
+    SVC_RETURN_IF_ERROR(use_svt(name, options, "2", &plan));
+    if (!svt) {
+      plan.unavailable = baseline::encoder_available("libsvtav1") ? "SVT-AV1 refuses faces under 64 pixels"
+                                                                  : "libsvtav1 is not in this build of libavcodec";
+    }
+  } else if (svt) {
+    SVC_RETURN_IF_ERROR(use_svt(name, options, "6", &plan));
   } else {
-    plan.encoder = baseline::encoder_available("libaom-av1") ? "libaom-av1" : "";
-    const std::string preset = preset_of(options, "av1", "4");
-    SVC_RETURN_IF_ERROR(check_integer_preset("av1 (libaom)", preset, 0, 8));
-    plan.base.codec_options = {{"cpu-used", preset}};
-    plan.description = "libaom cpu-used " + preset + ", GOP " + std::to_string(options.gop) + ", closed GOP";
+    SVC_RETURN_IF_ERROR(use_libaom(name, options, "4", &plan));
   }
   return plan;
 }
@@ -208,8 +236,8 @@ Result<CodecPlan> make_plan(const std::string& name, const AnchorOptions& option
     plan = mpeg2_plan(name);
   } else if (name == "x264" || name == "x265" || name == "x265-ra" || name == "x265-intra") {
     SVC_ASSIGN_OR_RETURN(plan, x26x_plan(name, options));
-  } else if (name == "av1") {
-    SVC_ASSIGN_OR_RETURN(plan, av1_plan(options, width, height));
+  } else if (name == "av1" || name == "av1-slow" || name == "av1-svt-slow") {
+    SVC_ASSIGN_OR_RETURN(plan, av1_plan(name, options, width, height));
   } else {
     SVC_ASSIGN_OR_RETURN(plan, intra_image_plan(name, options));
   }

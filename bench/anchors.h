@@ -6,7 +6,9 @@
 // GOP I B B P B B, an I-frame at every row start). Every other inter anchor runs as its
 // users run it: x264 and x265 at preset medium, a GOP of `gop` frames (9), 2 B-frames,
 // open GOPs; AV1 with SVT-AV1 preset 6 (libaom cpu-used 4 where SVT-AV1 is missing or
-// the faces are under 64 pixels), same GOP, its default closed GOP; and x265 at svc's
+// the faces are under 64 pixels), same GOP, its default closed GOP; the slower AV1 that
+// archives are made with, libaom cpu-used 2 ("av1-slow") and SVT-AV1 preset 2
+// ("av1-svt-slow"), same GOP; and x265 at svc's
 // random-access bound (keyint 3, 2 fixed B-frames, no B-pyramid, open GOP: I B B I B B,
 // B-frames never references). Intra anchors code each face on its own.
 #pragma once
@@ -23,6 +25,7 @@ struct AnchorOptions {
   int gop = 9;  // frames from one I-frame to the next for x264, x265 and AV1
   // Preset per codec name, replacing the defaults: "x264", "x265", "x265-ra",
   // "x265-intra" (x264/x265 preset names), "av1" (SVT-AV1 preset, or libaom cpu-used),
+  // "av1-slow" (libaom cpu-used), "av1-svt-slow" (SVT-AV1 preset),
   // "avif" (libaom cpu-used), "webp" (compression level 0..6), "jxl" (effort 1..9).
   std::map<std::string, std::string> presets;
   // Private encoder options per codec name, set after the plan's own (replacing one of
@@ -57,6 +60,8 @@ struct CodecPlan {
   // The six face sequences may be encoded at once. Off for SVT-AV1, which runs its own
   // thread pool and whose library set-up is not safe to run twice concurrently.
   bool parallel_faces = true;
+  // Why this anchor cannot run here (the run records it as skipped); empty when it can.
+  std::string unavailable;
 };
 
 // Whether `name` (of all_codec_names) is one of svc's own layouts: svc, svc-regular,

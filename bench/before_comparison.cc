@@ -5,12 +5,13 @@
 #include <nlohmann/json.hpp>
 
 #include "bd_rate.h"
+#include "point_json.h"
 
 namespace svc::bench {
 
 namespace {
 
-using json = nlohmann::json;
+using json = nlohmann::ordered_json;
 
 Status not_results(const std::filesystem::path& path, const std::string& why) {
   return Status(ErrorCode::kInvalidArgument, "--before " + path.string() + ": " + why);
@@ -51,15 +52,9 @@ Result<std::vector<QualityPoint>> load_svc_points(const std::filesystem::path& r
   for (const json& codec : j["codecs"]) {
     if (!codec.is_object() || codec.value("name", "") != "svc" || !codec.contains("points")) continue;
     for (const json& p : codec["points"]) {
-      if (!p.is_object() || !p.contains("bytes") || !p.contains("psnr_y")) {
-        return not_results(results_json, "an svc point lacks bytes or psnr_y");
-      }
-      QualityPoint point;
-      point.bytes = p["bytes"].get<uint64_t>();
-      point.psnr_y = p["psnr_y"].get<double>();
-      point.b_face_bytes = p.value("b_face_bytes", uint64_t{0});
-      point.b_face_psnr_y = p.value("b_face_psnr_y", 0.0);
-      points.push_back(point);
+      Result<QualityPoint> point = point_from_json(p);
+      if (!point.ok()) return not_results(results_json, "an svc point lacks bytes or psnr_y");
+      points.push_back(*point);
     }
   }
   if (points.size() < 2) return not_results(results_json, "fewer than two svc points");

@@ -79,6 +79,10 @@ class Bench {
   Result<baseline::EncodedDatabase> encode_baseline(const CodecPlan& plan,
                                                     const baseline::EncodeSettings& settings);
   Result<QualityPoint> measure_baseline(const CodecPlan& plan, int setting, baseline::EncodedDatabase* keep);
+  // The anchor's points from the cache, when it holds them (then true).
+  bool points_from_cache(const CodecPlan& plan, CodecResult* result);
+  void store_in_cache(const CodecPlan& plan, const CodecResult& result);
+  std::string cache_key(const CodecPlan& plan);
   static int reference_index(const std::vector<QualityPoint>& points, std::optional<double> target);
 
   // Every face decoded on the calling thread: an .svc file's in cell order (index
@@ -126,6 +130,7 @@ class Bench {
   std::deque<SvcRun> svc_runs_;
   std::vector<SpeedJob> speed_jobs_;
   std::optional<double> svc_reference_psnr_;
+  std::string source_fingerprint_;  // of source_, once an anchor looks in the cache
   int experiments_quality_ = 75;
 };
 

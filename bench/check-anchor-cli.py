@@ -24,6 +24,8 @@ COMMANDS = {
                    .replace("{extra}", ":b-adapt=0:b-pyramid=0"),
     "x265-intra": X265.replace("{gop}", "1").replace("{bf}", "0").replace("{open}", "0").replace("{extra}", ""),
     "av1": "-c:v libsvtav1 -pix_fmt yuv420p -threads 1 -g 9 -bf 0 -flags +cgop -crf {s} -preset 6 -f obu",
+    "av1-svt-slow": "-c:v libsvtav1 -pix_fmt yuv420p -threads 1 -g 9 -bf 0 -flags +cgop -crf {s} -preset 2 -f obu",
+    "av1-slow": "-c:v libaom-av1 -pix_fmt yuv420p -threads 1 -g 9 -bf 0 -flags +cgop -crf {s} -cpu-used 2 -f obu",
 }
 
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "anchor_cache.h"
 #include "bench_runner.h"
 #include "settings_search.h"
 
@@ -213,7 +214,33 @@ int Bench::reference_index(const std::vector<QualityPoint>& points, std::optiona
   return best;
 }
 
+std::string Bench::cache_key(const CodecPlan& plan) {
+  if (source_fingerprint_.empty()) source_fingerprint_ = source_fingerprint(source_);
+  return anchor_cache_key(source_fingerprint_, plan, options_.quick);
+}
+
+bool Bench::points_from_cache(const CodecPlan& plan, CodecResult* result) {
+  if (options_.anchor_cache.empty()) return false;
+  std::optional<std::vector<QualityPoint>> points = load_cached_points(options_.anchor_cache, cache_key(plan));
+  if (!points) return false;
+  result->points = std::move(*points);
+  result->from_cache = true;
+  result->reference_point = reference_index(result->points, svc_reference_psnr_);
+  result->ffmpeg_command = ffmpeg_command(plan, result->points[result->reference_point].setting, "face/%04d.png",
+                                          "out." + baseline::stream_extension(plan.encoder),
+                                          source_.manifest.grid.dims[0]);
+  for (const QualityPoint& p : result->points) log_point(plan.name + " (cached)", p);
+  return true;
+}
+
+void Bench::store_in_cache(const CodecPlan& plan, const CodecResult& result) {
+  if (options_.anchor_cache.empty()) return;
+  const Status stored = store_cached_points(options_.anchor_cache, cache_key(plan), result.points);
+  if (!stored.ok()) log(plan.name + ": not cached (" + stored.message() + ")");
+}
+
 Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
+  if (points_from_cache(plan, result)) return Status::Ok();
   // Every point's streams are kept (compressed, so small) until the reference point for
   // the access measurements is known.
   std::map<int, baseline::EncodedDatabase> encoded;
@@ -226,6 +253,7 @@ Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
   SVC_RETURN_IF_ERROR(search_settings(plan.range, default_targets(options_.quick), measure).status());
   std::sort(result->points.begin(), result->points.end(),
             [](const QualityPoint& a, const QualityPoint& b) { return a.setting < b.setting; });
+  store_in_cache(plan, *result);
   result->reference_point = reference_index(result->points, svc_reference_psnr_);
   const int setting = result->points[result->reference_point].setting;
   result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png",
@@ -273,10 +301,12 @@ Result<CodecResult> Bench::run_codec(const CodecPlan& plan) {
   result.encoder = plan.encoder;
   result.description = plan.description;
   result.threads = threads_;
-  if (!plan.is_svc && (plan.encoder.empty() || !baseline::encoder_available(plan.encoder))) {
+  if (!plan.is_svc &&
+      (!plan.unavailable.empty() || plan.encoder.empty() || !baseline::encoder_available(plan.encoder))) {
     result.skipped = true;
-    result.skip_reason = plan.encoder.empty() ? "no AV1 encoder in this build of libavcodec"
-                                              : plan.encoder + " is not in this build of libavcodec";
+    result.skip_reason = !plan.unavailable.empty() ? plan.unavailable
+                         : plan.encoder.empty()    ? "no AV1 encoder in this build of libavcodec"
+                                                   : plan.encoder + " is not in this build of libavcodec";
     log(plan.name + ": skipped (" + result.skip_reason + ")");
     return result;
   }

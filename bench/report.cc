@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "plot.h"
+#include "point_json.h"
 #include "svc_bench.h"
 
 namespace svc::bench {
@@ -26,25 +27,6 @@ std::string human_bytes(double bytes) {
   if (bytes >= 1024.0 * 1024.0) return format("%.2f MiB", bytes / (1024.0 * 1024.0));
   if (bytes >= 1024.0) return format("%.1f KiB", bytes / 1024.0);
   return format("%.0f B", bytes);
-}
-
-json point_json(const QualityPoint& p) {
-  json j;
-  j["setting_name"] = p.setting_name;
-  j["setting"] = p.setting;
-  j["bytes"] = p.bytes;
-  j["compression_ratio"] = p.compression_ratio;
-  j["bits_per_pixel"] = p.bits_per_pixel;
-  j["psnr_rgb"] = p.psnr_rgb;
-  j["psnr_y"] = p.psnr_y;
-  j["ssim"] = p.ssim;
-  j["encode_seconds"] = p.encode_seconds;
-  j["decode_seconds"] = p.decode_seconds;
-  if (p.b_face_bytes) {
-    j["b_face_bytes"] = p.b_face_bytes;
-    j["b_face_psnr_y"] = p.b_face_psnr_y;
-  }
-  return j;
 }
 
 json access_json(const AccessStats& a) {
@@ -96,6 +78,10 @@ Status write_results_json(const BenchResults& r, const std::filesystem::path& pa
                    {"faces", r.faces},
                    {"face_size", {r.face_width, r.face_height}},
                    {"raw_bytes", r.raw_bytes}};
+  j["content"] = {{"mean_luma", r.content.mean_luma},
+                  {"luma_contrast", r.content.luma_contrast},
+                  {"mean_gradient", r.content.mean_gradient},
+                  {"background_share", r.content.background_share}};
   j["threads"] = r.threads;
   j["bd_reference"] = r.bd_reference.empty() ? json(nullptr) : json(r.bd_reference);
   j["total_seconds"] = r.total_seconds;
@@ -118,6 +104,7 @@ Status write_results_json(const BenchResults& r, const std::filesystem::path& pa
     for (const QualityPoint& p : c.points) points.push_back(point_json(p));
     cj["points"] = points;
     cj["reference_point"] = c.reference_point;
+    cj["from_cache"] = c.from_cache;
     cj["threads"] = c.threads;
     cj["speed"] = {{"encode_faces_per_second", c.encode_faces_per_second},
                    {"decode_faces_per_second", c.decode_faces_per_second},
@@ -128,6 +115,7 @@ Status write_results_json(const BenchResults& r, const std::filesystem::path& pa
     cj["bd_range_psnr_y"] = c.bd_rate_svc ? json(c.bd_range_y) : json(nullptr);
     cj["bd_rate_svc_target"] = c.bd_rate_svc_target ? json(*c.bd_rate_svc_target) : json(nullptr);
     cj["bd_range_target"] = c.bd_rate_svc_target ? json(c.bd_range_target) : json(nullptr);
+    cj["bd_rate_svc_intra_target"] = c.bd_rate_svc_intra_target ? json(*c.bd_rate_svc_intra_target) : json(nullptr);
     cj["bd_rate_svc_rgb"] = c.bd_rate_svc_rgb ? json(*c.bd_rate_svc_rgb) : json(nullptr);
     cj["bd_range_psnr_rgb"] = c.bd_rate_svc_rgb ? json(c.bd_range_rgb) : json(nullptr);
     cj["ffmpeg_command"] = c.ffmpeg_command;
@@ -239,7 +227,7 @@ Status write_plots(const BenchResults& r, const std::filesystem::path& directory
     chart.log_y = true;
     chart.series_labels = {"cold", "warm"};
     for (const CodecResult& c : r.codecs) {
-      if (c.skipped || c.points.empty()) continue;
+      if (c.skipped || c.points.empty() || c.from_cache) continue;
       plot::BarGroup g;
       g.label = c.name;
       g.values = {c.access_cold.mean_ms, c.access_warm.mean_ms};
@@ -299,10 +287,14 @@ std::string summary_table_markdown(const BenchResults& r) {
        << (c.name == r.bd_reference ? std::string("-")
            : c.bd_rate_svc          ? format("%+.1f%%", *c.bd_rate_svc * 100)
                                     : "n/a")
-       << " | " << format("%.1f", c.encode_faces_per_second) << " | " << format("%.1f", c.decode_faces_per_second)
-       << " | " << format("%.2f", c.access_cold.mean_ms) << " (" << format("%.2f", c.access_cold.mean_frames)
-       << ") | " << format("%.2f", c.access_warm.mean_ms) << " (" << format("%.2f", c.access_warm.mean_frames)
-       << ") |\n";
+       << " | ";
+    if (c.from_cache) {
+      md << "cached | cached | cached | cached |\n";
+      continue;
+    }
+    md << format("%.1f", c.encode_faces_per_second) << " | " << format("%.1f", c.decode_faces_per_second) << " | "
+       << format("%.2f", c.access_cold.mean_ms) << " (" << format("%.2f", c.access_cold.mean_frames) << ") | "
+       << format("%.2f", c.access_warm.mean_ms) << " (" << format("%.2f", c.access_warm.mean_frames) << ") |\n";
   }
   return md.str();
 }
@@ -314,6 +306,10 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
      << r.cells << " cells, " << r.faces << " faces of " << r.face_width << " x " << r.face_height << ", raw RGB "
      << human_bytes(double(r.raw_bytes)) << ". " << r.threads << " worker thread(s); whole run "
      << format("%.1f", r.total_seconds) << " s.\n\n";
+  md << "Content: mean luma " << format("%.1f", r.content.mean_luma) << ", luma contrast (standard deviation) "
+     << format("%.1f", r.content.luma_contrast) << ", mean horizontal luma gradient "
+     << format("%.2f", r.content.mean_gradient) << " per pixel, background (sky) "
+     << format("%.1f", r.content.background_share * 100) << " % of the pixels.\n\n";
   md << "## Ranking by BD-rate\n\n"
         "BD-rate of svc (or, where svc did not run, of the svc layout named): its bytes against the codec's at "
         "equal PSNR, by piecewise cubic (PCHIP) "
@@ -363,7 +359,7 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
         "cell warm ms | faces decoded per cell |\n";
   md << "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const CodecResult& c : r.codecs) {
-    if (c.skipped || c.reference_point < 0) continue;
+    if (c.skipped || c.reference_point < 0 || c.from_cache) continue;
     md << "| " << c.name << " | " << psnr_text(c.points[c.reference_point].psnr_y) << " | "
        << format("%.1f", c.decode_faces_per_second) << " | "
        << format("%.1f", c.decode_faces_per_second_all_threads) << " | " << c.threads << " | "
@@ -376,7 +372,7 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
         "|\n";
   md << "|---|---:|---:|---:|---:|---:|---:|\n";
   for (const CodecResult& c : r.codecs) {
-    if (c.skipped || c.points.empty()) continue;
+    if (c.skipped || c.points.empty() || c.from_cache) continue;
     md << "| " << c.name << " | " << format("%.3f", c.access_cold.mean_ms) << " | "
        << format("%.3f", c.access_cold.p99_ms) << " | " << format("%.3f", c.access_warm.mean_ms) << " | "
        << format("%.3f", c.access_warm.p99_ms) << " | " << format("%.2f", c.access_cold.mean_frames) << " | "

@@ -58,11 +58,14 @@ inline constexpr int kEncodeSpeedPasses = 3;
 
 // Every codec name `svc bench` knows, in report order.
 const std::vector<std::string>& all_codec_names();
+// The codecs a run without a list runs: all but the slow AV1 anchors (av1-slow,
+// av1-svt-slow), which take longer than the rest together.
+const std::vector<std::string>& default_codec_names();
 
 struct BenchOptions {
   std::filesystem::path db_dir;     // the svc-input database
   std::filesystem::path out_dir;    // results.json, results.csv, report.md, *.png
-  std::vector<std::string> codecs;  // subset of all_codec_names(); empty: all
+  std::vector<std::string> codecs;  // subset of all_codec_names(); empty: default_codec_names()
   // Worker threads for encoding (svc's encoder, the six baseline face sequences at once)
   // and quality measurement; 0: the machine's hardware concurrency.
   int threads = 0;
@@ -82,6 +85,8 @@ struct BenchOptions {
   int gop = 9;
   std::map<std::string, std::string> anchor_presets;
   std::map<std::string, std::map<std::string, std::string>> anchor_options;
+  // Folder of anchors' quality points kept between runs (anchor_cache.h); empty: none.
+  std::filesystem::path anchor_cache;
   // Progress lines ("[  12.3 s] x264 crf 23: ..."). Unset: nothing is printed.
   std::function<void(const std::string&)> progress;
 };
@@ -118,6 +123,8 @@ struct CodecResult {
   std::string description;  // GOP, order and preset in words
   bool skipped = false;
   std::string skip_reason;
+  // The quality points came from the anchor cache: speed and access were not measured.
+  bool from_cache = false;
   std::vector<QualityPoint> points;  // ascending setting order as run
   int reference_point = -1;          // index in points where speed and access were measured
   int threads = 1;
@@ -146,6 +153,8 @@ struct CodecResult {
   // targets are stated over; nullopt where the curves do not both cover part of it.
   std::optional<double> bd_rate_svc_target;
   std::array<double, 2> bd_range_target{0, 0};
+  // BD-rate of svc-intra (when it ran) against this codec over kTargetPsnrRange.
+  std::optional<double> bd_rate_svc_intra_target;
   // The same on PSNR-RGB.
   std::optional<double> bd_rate_svc_rgb;
   std::array<double, 2> bd_range_rgb{0, 0};
@@ -218,8 +227,17 @@ struct PartTiming {
 
 inline constexpr std::array<double, 2> kTargetPsnrRange{32, 40};
 
+// What the faces look like, to set databases side by side (docs/bench.md, "The corpus").
+struct ContentStats {
+  double mean_luma = 0;         // BT.601 full-range luma from RGB, 0..255, over every pixel
+  double luma_contrast = 0;     // standard deviation of that luma
+  double mean_gradient = 0;     // mean absolute luma difference of horizontally adjacent pixels
+  double background_share = 0;  // pixels whose depth saw no geometry (sky)
+};
+
 struct BenchResults {
   std::string database;  // db_dir as given
+  ContentStats content;
   // The codec every BD-rate is against: the first svc layout (is_svc_layout) that ran, in
   // report order, so svc when it ran (empty: none ran, no BD-rate). The fields named
   // bd_rate_svc hold its BD-rate.

@@ -154,8 +154,8 @@ TEST(BenchAnchorOptions, ReachTheEncoderTheDescriptionAndTheCommandLine) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Anchors, BenchAnchorCliTest,
-                         ::testing::Values("x264", "x265", "x265-ra", "av1", "jpeg", "webp", "jxl", "avif",
-                                           "x265-intra"),
+                         ::testing::Values("x264", "x265", "x265-ra", "av1", "av1-slow", "av1-svt-slow", "jpeg",
+                                           "webp", "jxl", "avif", "x265-intra"),
                          [](const auto& info) {
                            std::string name = info.param;
                            std::replace(name.begin(), name.end(), '-', '_');

@@ -260,6 +260,14 @@ TEST(SceneGenerate, HallDepthReprojectsIntoNeighbouringCells) { expect_depth_rep
 
 TEST(SceneGenerate, HouseDepthReprojectsIntoNeighbouringCells) { expect_depth_reprojects(SceneKind::kHouse); }
 
+TEST(SceneGenerate, StreetDepthReprojectsIntoNeighbouringCells) { expect_depth_reprojects(SceneKind::kStreet); }
+
+TEST(SceneGenerate, ColonnadeDepthReprojectsIntoNeighbouringCells) {
+  expect_depth_reprojects(SceneKind::kColonnade);
+}
+
+TEST(SceneGenerate, PlazaDepthReprojectsIntoNeighbouringCells) { expect_depth_reprojects(SceneKind::kPlaza); }
+
 TEST(SceneGenerate, SparseGridLeavesOutCellsInsideGeometry) {
   SceneOptions options;
   options.kind = SceneKind::kHall;

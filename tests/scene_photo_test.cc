@@ -265,3 +265,54 @@ TEST(ScenePhoto, OpenArenaTexturesReachTheWalls) {
 
 }  // namespace
 }  // namespace svc::samples
+
+namespace svc::samples {
+namespace {
+
+// Normal, specular, gloss and height maps shipped beside the colour images are no
+// candidates for any surface.
+TEST(ScenePhoto, SurfaceMapsBesideColourImagesAreSkipped) {
+  const std::vector<std::string> files = {"w/wall01.png",    "w/wall01_nm.png", "w/wall01_SM.png",
+                                          "w/wall01_gm.jpg", "w/wall01_hm.tga", "w/wall_smooth.png"};
+  const auto walls = detail::texture_candidates(files, detail::TextureClass::kWall, 1);
+  EXPECT_EQ(std::set<std::string>(walls.begin(), walls.end()),
+            (std::set<std::string>{"w/wall01.png", "w/wall_smooth.png"}));
+}
+
+// Hidden folders (an interrupted extraction's staging folder, a desktop's metadata) are
+// no part of the set, so they cannot change which images a scene takes.
+TEST(ScenePhoto, HiddenEntriesAreNotListed) {
+  testing::TempDir dir("svc-photo-hidden");
+  write_texture_folder(dir.path());
+  const auto before = detail::list_texture_files(dir.path());
+  ASSERT_TRUE(before.ok());
+  fs::create_directories(dir.path() / ".textures-staging" / "set");
+  write_blocks(dir.path() / ".textures-staging" / "set" / "brick.png", kRed, kRed);
+  write_blocks(dir.path() / "set" / ".hidden_brick.png", kBlue, kBlue);
+  const auto after = detail::list_texture_files(dir.path());
+  ASSERT_TRUE(after.ok());
+  EXPECT_EQ(*after, *before);
+}
+
+// A folder with no image named for the sky keeps the procedural sky instead of putting a
+// wall or floor image over it.
+TEST(ScenePhoto, FolderWithoutSkyImagesKeepsTheProceduralSky) {
+  testing::TempDir dir("svc-photo-nosky");
+  write_texture_folder(dir.path());
+  fs::remove_all(dir.path() / "set" / "skies");
+  const CellIndex cell{1, 0, 1};
+  auto photo = render_scene_face(small_hall(dir.path()), cell, Face::kPY);
+  auto plain = render_scene_face(small_hall({}), cell, Face::kPY);
+  ASSERT_TRUE(photo.ok()) << photo.status().to_string();
+  ASSERT_TRUE(plain.ok());
+  int sky = 0;
+  for (size_t i = 0; i < photo->depth.size(); ++i) {
+    if (!std::isinf(photo->depth[i])) continue;
+    ++sky;
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(photo->color.pixels[i * 3 + c], plain->color.pixels[i * 3 + c]) << i;
+  }
+  EXPECT_GT(sky, 0) << "the skylights show no sky";
+}
+
+}  // namespace
+}  // namespace svc::samples

@@ -92,9 +92,12 @@ int main(int argc, char** argv) {
   svc::samples::SceneOptions options;
   svc::command_line::Verbosity verbosity;
   app.add_option("OUT_DIR", out_dir, "Output directory (created if missing)")->required();
-  app.add_option("--kind", kind, "Scene: hall or house")
+  std::vector<std::string> kinds;
+  for (int k = 0; k < svc::samples::kSceneKinds; ++k)
+    kinds.push_back(svc::samples::scene_kind_name(static_cast<svc::samples::SceneKind>(k)));
+  app.add_option("--kind", kind, "Scene: " + svc::samples::scene_kind_names())
       ->capture_default_str()
-      ->check(CLI::IsMember({"hall", "house"}));
+      ->check(CLI::IsMember(kinds));
   app.add_option("--grid", grid, "Cells along x,y,z (y counts layers)")->capture_default_str();
   app.add_option("--spacing", spacing, "Cell spacing in metres: S or SX,SY,SZ")->capture_default_str();
   app.add_option("--origin", origin,
@@ -112,6 +115,22 @@ int main(int argc, char** argv) {
                  "concrete, wood, metal, tile, wall, ceil, grass, sky); "
                  "scripts/fetch-textures.sh extracts a set");
   app.add_flag("--sparse", options.sparse, "Leave out cells whose centre is inside geometry");
+  app.add_option("--supersample", options.supersample,
+                 "N x N colour samples per pixel (antialiased edges); depth stays one sample per pixel")
+      ->check(CLI::Range(1, 4))
+      ->capture_default_str();
+  app.add_option("--exposure", options.exposure_stops,
+                 "Exposure in stops above the default (daylight renders: about +1)")
+      ->check(CLI::Range(-4.0, 4.0))
+      ->capture_default_str();
+  app.add_flag("--anisotropic", options.anisotropic,
+               "Texture filtering that keeps detail on surfaces seen at grazing angles (as GPUs' anisotropic "
+               "filtering does)");
+  app.add_option("--texture-scale", options.texture_scale,
+                 "Size of one repeat of each photographic texture, relative to the default (0.5: twice the detail "
+                 "per metre)")
+      ->check(CLI::Range(0.1, 10.0))
+      ->capture_default_str();
   svc::command_line::add_verbosity_options(&app, &verbosity);
   bool overwrite = false;
   svc::command_line::add_overwrite_flag(&app, &overwrite);

@@ -1,5 +1,6 @@
 #include "scene/scene.h"
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -83,41 +84,52 @@ std::vector<SceneCellInfo> cell_infos(const SceneOptions& options, const detail:
   return cells;
 }
 
+detail::RenderSettings render_settings(const SceneOptions& options) {
+  return {options.supersample, options.exposure_stops, options.anisotropic};
+}
+
 // The scene with its photographic textures when the options name a folder.
 Result<detail::Scene> build_rendered_scene(const SceneOptions& options) {
   detail::Scene scene = detail::build_scene(options);
   if (!options.textures.empty()) {
-    SVC_RETURN_IF_ERROR(detail::apply_photo_textures(options.textures, options.seed, &scene));
+    SVC_RETURN_IF_ERROR(
+        detail::apply_photo_textures(options.textures, options.seed, options.texture_scale, &scene));
   }
   return scene;
 }
 
 }  // namespace
 
+namespace {
+constexpr std::array<const char*, kSceneKinds> kSceneKindNames = {"hall",     "house",     "street",
+                                                                  "interior", "colonnade", "plaza"};
+}  // namespace
+
 const char* scene_kind_name(SceneKind kind) {
-  switch (kind) {
-    case SceneKind::kHall: return "hall";
-    case SceneKind::kHouse: return "house";
-  }
-  return "unknown";
+  const auto index = static_cast<size_t>(kind);
+  return index < kSceneKindNames.size() ? kSceneKindNames[index] : "unknown";
 }
 
 bool parse_scene_kind(const std::string& name, SceneKind* out) {
-  if (name == "hall") {
-    *out = SceneKind::kHall;
-    return true;
-  }
-  if (name == "house") {
-    *out = SceneKind::kHouse;
-    return true;
+  for (size_t k = 0; k < kSceneKindNames.size(); ++k) {
+    if (name == kSceneKindNames[k]) {
+      *out = static_cast<SceneKind>(k);
+      return true;
+    }
   }
   return false;
 }
 
+std::string scene_kind_names() {
+  std::string out;
+  for (const char* name : kSceneKindNames) out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
 Status validate_scene_options(const SceneOptions& options) {
-  if (options.kind != SceneKind::kHall && options.kind != SceneKind::kHouse) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "scene kind " + std::to_string(static_cast<int>(options.kind)) + " is neither hall nor house");
+  if (static_cast<int>(options.kind) >= kSceneKinds) {
+    return Status(ErrorCode::kInvalidArgument, "scene kind " + std::to_string(static_cast<int>(options.kind)) +
+                                                   " is none of " + scene_kind_names());
   }
   const char* axes[3] = {"x", "y", "z"};
   int64_t cells = 1;
@@ -148,6 +160,18 @@ Status validate_scene_options(const SceneOptions& options) {
   }
   if (options.threads < 1 || options.threads > 256) {
     return Status(ErrorCode::kInvalidArgument, "threads " + std::to_string(options.threads) + " is outside 1..256");
+  }
+  if (options.supersample < 1 || options.supersample > 4) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "supersample " + std::to_string(options.supersample) + " is outside 1..4");
+  }
+  if (!std::isfinite(options.exposure_stops) || std::abs(options.exposure_stops) > 4) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "exposure " + std::to_string(options.exposure_stops) + " stops is outside [-4, 4]");
+  }
+  if (!std::isfinite(options.texture_scale) || options.texture_scale < 0.1 || options.texture_scale > 10) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "texture scale " + std::to_string(options.texture_scale) + " is outside [0.1, 10]");
   }
   return Status::Ok();
 }
@@ -185,7 +209,7 @@ Result<SceneFace> render_scene_face(const SceneOptions& options, CellIndex cell,
   out.color.height = n;
   out.color.pixels.resize(static_cast<size_t>(n) * n * 3);
   out.depth.resize(static_cast<size_t>(n) * n);
-  detail::render_face(scene, eye, view, n, out.color.pixels.data(), out.depth.data());
+  detail::render_face(scene, eye, view, n, render_settings(options), out.color.pixels.data(), out.depth.data());
   out.world_to_camera = to_array(view);
   return out;
 }
@@ -231,7 +255,7 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
     // Each face is rendered and written by one worker; files and bytes do not depend on
     // which worker or in which order.
     SVC_RETURN_IF_ERROR(parallel_for(kFaceCount, options.threads, [&](size_t f) {
-      detail::render_face(scene, eye, views[f], n, rgb[f].data(), depth[f].data());
+      detail::render_face(scene, eye, views[f], n, render_settings(options), rgb[f].data(), depth[f].data());
       const std::string stem = rel_dir + "/" + kFaceNames[f];
       Status s = write_color_png(out_dir / (stem + ".png"), n, rgb[f].data());
       if (s.ok()) s = write_depth_exr(out_dir / (stem + ".exr"), n, depth[f].data());
@@ -265,6 +289,11 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
                            {"kind", scene_kind_name(options.kind)},
                            {"seed", options.seed},
                            {"sparse", options.sparse}};
+  // Written only when set, so that earlier scenes keep their manifests byte for byte.
+  if (options.supersample != 1) manifest["generator"]["supersample"] = options.supersample;
+  if (options.exposure_stops != 0) manifest["generator"]["exposure_stops"] = options.exposure_stops;
+  if (options.anisotropic) manifest["generator"]["anisotropic"] = true;
+  if (options.texture_scale != 1) manifest["generator"]["texture_scale"] = options.texture_scale;
   // The images used, relative to the texture folder: where it lies does not matter.
   if (!scene.texture_names.empty()) manifest["generator"]["textures"] = scene.texture_names;
   manifest["grid"] = {{"dims", options.grid}, {"origin", scene_grid_origin(options)}, {"spacing", options.spacing}};

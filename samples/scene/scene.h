@@ -16,12 +16,19 @@
 namespace svc::samples {
 
 enum class SceneKind : uint8_t {
-  kHall = 0,   // open hall: columns, pipes, textured walls and floor, sky
-  kHouse = 1,  // rooms behind walls with doorways
+  kHall = 0,       // open hall: columns, pipes, textured walls and floor, sky
+  kHouse = 1,      // rooms behind walls with doorways
+  kStreet = 2,     // a street between facades with windows, balconies, kerbs and lamp posts
+  kInterior = 3,   // one furnished room: shelves, chairs, tables and many small objects
+  kColonnade = 4,  // a courtyard ringed by a colonnade: rows of columns and arches
+  kPlaza = 5,      // an open square with buildings and trees in the distance under the sky
 };
+inline constexpr int kSceneKinds = 6;
 
 const char* scene_kind_name(SceneKind kind);
 bool parse_scene_kind(const std::string& name, SceneKind* out);
+// "hall, house, street, ...": every name parse_scene_kind takes.
+std::string scene_kind_names();
 
 struct SceneOptions {
   SceneKind kind = SceneKind::kHall;
@@ -37,10 +44,21 @@ struct SceneOptions {
   // Photographic variant: a folder of images (searched recursively) mapped onto the
   // surfaces and the sky in place of the procedural patterns; empty for procedural.
   std::filesystem::path textures;
+  // Rendering as users' renderers render: n x n colour samples per pixel (depth always
+  // from the one ray through the pixel centre), and the exposure in stops above the
+  // sample scenes' (daylight renders: about +1).
+  int supersample = 1;
+  double exposure_stops = 0.0;
+  // Texture filtering that keeps detail at grazing angles, as renderers' anisotropic
+  // filtering does; and the size of one repeat of each photographic texture, relative
+  // to its default (0.5: twice the detail per metre).
+  bool anisotropic = false;
+  double texture_scale = 1.0;
 };
 
 // Checks ranges: grid 1..1024 per axis and at most 1,000,000 cells, spacing finite in
-// (0, 100], origin finite, face_size 4..8192, threads 1..256. kInvalidArgument naming the field.
+// (0, 100], origin finite, face_size 4..8192, threads 1..256, supersample 1..4,
+// exposure_stops in [-4, 4], texture_scale in [0.1, 10]. kInvalidArgument naming the field.
 Status validate_scene_options(const SceneOptions& options);
 
 // Where each grid cell falls in the scene the options describe (all cells, sparse or not),

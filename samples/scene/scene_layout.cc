@@ -1,5 +1,7 @@
 #include "scene/scene_layout.h"
 
+#include "scene/scene_builders.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,93 +10,6 @@
 namespace svc::samples::detail {
 
 namespace {
-
-// SplitMix64: small, fast and identical everywhere (std distributions are not).
-class Random {
- public:
-  explicit Random(uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 0x1234567ull) {}
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform(double lo, double hi) {
-    return lo + (hi - lo) * static_cast<double>(next() >> 11) * (1.0 / 9007199254740992.0);
-  }
-  int below(int n) { return static_cast<int>(next() % static_cast<uint64_t>(n)); }
-  bool chance(double p) { return uniform(0, 1) < p; }
-
- private:
-  uint64_t state_;
-};
-
-struct Opening {
-  double from, to;     // along the wall
-  double bottom, top;  // heights
-};
-
-// A wall running along axis `along` (0 = x, 2 = z), occupying [across0, across1] on the
-// other horizontal axis, [from, to] along its length and [0, height] vertically, with
-// rectangular openings cut through it. Openings must lie inside and not overlap.
-void add_wall(std::vector<Primitive>* prims, int along, double across0, double across1, double from, double to,
-              double height, std::vector<Opening> openings, uint16_t material) {
-  std::sort(openings.begin(), openings.end(), [](const Opening& a, const Opening& b) { return a.from < b.from; });
-  auto box = [&](double a0, double a1, double y0, double y1) {
-    if (a1 - a0 <= 1e-9 || y1 - y0 <= 1e-9) return;
-    Vec3 lo, hi;
-    lo[along] = a0;
-    hi[along] = a1;
-    const int across = along == 0 ? 2 : 0;
-    lo[across] = across0;
-    hi[across] = across1;
-    lo.y = y0;
-    hi.y = y1;
-    prims->push_back(make_box(lo, hi, material));
-  };
-  double cursor = from;
-  for (const Opening& o : openings) {
-    box(cursor, o.from, 0, height);
-    box(o.from, o.to, 0, o.bottom);
-    box(o.from, o.to, o.top, height);
-    cursor = o.to;
-  }
-  box(cursor, to, 0, height);
-}
-
-uint16_t add_material(Scene* scene, const Material& m) {
-  scene->materials.push_back(m);
-  scene->materials.back().seed = static_cast<uint32_t>(scene->materials.size() * 7919u + m.seed);
-  return static_cast<uint16_t>(scene->materials.size() - 1);
-}
-
-Material mat(Pattern pattern, Vec3 base, Vec3 second, double scale, double variation) {
-  Material m;
-  m.pattern = pattern;
-  m.base = base;
-  m.second = second;
-  m.scale = scale;
-  m.variation = variation;
-  return m;
-}
-
-// Lattice positions origin + (phase + offset + k * period) * spacing inside (lo, hi),
-// with a period of about `every` metres. An offset of 0.5 puts the lattice between
-// cell centres, where no camera stands.
-std::vector<double> lattice(double origin, double spacing, double lo, double hi, double every, double offset) {
-  const int period = std::max(2, static_cast<int>(std::lround(every / spacing)));
-  const int phase = period / 2;
-  std::vector<double> out;
-  const double step = period * spacing;
-  const double first = origin + (phase + offset) * spacing;
-  const int k_lo = static_cast<int>(std::floor((lo - first) / step)) - 1;
-  const int k_hi = static_cast<int>(std::ceil((hi - first) / step)) + 1;
-  for (int k = k_lo; k <= k_hi; ++k) {
-    const double p = first + k * step;
-    if (p > lo && p < hi) out.push_back(p);
-  }
-  return out;
-}
 
 void build_hall(const SceneOptions& options, Scene* scene) {
   Random rng(options.seed * 2654435761u + 17);
@@ -512,7 +427,7 @@ void build_house(const SceneOptions& options, Scene* scene) {
 
 int Scene::room_at(double x, double z) const {
   if (x < lo_x || x > hi_x || z < lo_z || z > hi_z) return -1;
-  if (kind == SceneKind::kHall) return 0;
+  if (kind != SceneKind::kHouse) return 0;
   const int rx = static_cast<int>(std::upper_bound(cuts_x.begin(), cuts_x.end(), x) - cuts_x.begin());
   const int rz = static_cast<int>(std::upper_bound(cuts_z.begin(), cuts_z.end(), z) - cuts_z.begin());
   return rz * (static_cast<int>(cuts_x.size()) + 1) + rx;
@@ -528,10 +443,13 @@ Scene build_scene(const SceneOptions& options) {
   scene.origin = Vec3(origin[0], origin[1], origin[2]);
   scene.sun_dir = glm::normalize(Vec3(0.38, 0.82, 0.42));
   scene.sun_color = Vec3(1.0, 0.93, 0.82) * 1.7;
-  if (options.kind == SceneKind::kHall) {
-    build_hall(options, &scene);
-  } else {
-    build_house(options, &scene);
+  switch (options.kind) {
+    case SceneKind::kHall: build_hall(options, &scene); break;
+    case SceneKind::kHouse: build_house(options, &scene); break;
+    case SceneKind::kStreet: build_street(options, &scene); break;
+    case SceneKind::kInterior: build_interior(options, &scene); break;
+    case SceneKind::kColonnade: build_colonnade(options, &scene); break;
+    case SceneKind::kPlaza: build_plaza(options, &scene); break;
   }
   return scene;
 }

@@ -24,6 +24,10 @@ enum class Pattern : uint8_t {
   kMetal,     // painted metal with joints every few metres along u
   kGround,    // grass and earth outside
   kPanels,    // ceiling panels in a thin frame grid
+  kPaving,    // stone setts or paving slabs in rows
+  kFabric,    // woven cloth: upholstery, rugs, curtains
+  kLeaves,    // foliage seen as a mass of leaves
+  kGlass,     // window glass: dark, with a faint sky reflection towards the top
 };
 
 struct Material {
@@ -83,7 +87,8 @@ struct Scene {
   std::array<int, 3> dims{1, 1, 1};
 
   Vec3 cell_position(int ix, int iy, int iz) const { return origin + Vec3(ix, iy, iz) * spacing; }
-  // Room holding (x, z), or -1 outside the building; the hall is one room (0).
+  // Room holding (x, z), or -1 outside the building; the hall and the interior are one room
+  // (0); the street, colonnade and plaza lie outdoors (-1 everywhere).
   int room_at(double x, double z) const;
 };
 

@@ -30,6 +30,16 @@ bool contains_any(const std::string& text, const std::vector<std::string>& words
                      [&](const std::string& w) { return text.find(w) != std::string::npos; });
 }
 
+// Normal, specular, gloss and height maps that ship beside a colour image, named by a
+// suffix: "wall01_nm.png" is a map of "wall01.png", not a colour image.
+bool is_surface_map(const std::string& name) {
+  const std::string stem = lower(fs::path(name).stem().string());
+  for (const char* suffix : {"_nm", "_sm", "_gm", "_hm"}) {
+    if (stem.size() > 3 && stem.compare(stem.size() - 3, 3, suffix) == 0) return true;
+  }
+  return false;
+}
+
 // FNV-1a over the name, mixed with the seed: an order that does not follow the folder
 // layout, so that consecutive materials do not take near-identical variants.
 uint64_t name_hash(const std::string& name, uint32_t seed) {
@@ -50,6 +60,10 @@ TextureClass class_of(Pattern pattern) {
     case Pattern::kMetal: return TextureClass::kMetal;
     case Pattern::kGround: return TextureClass::kGrass;
     case Pattern::kPanels: return TextureClass::kCeiling;
+    case Pattern::kPaving: return TextureClass::kPaving;
+    case Pattern::kFabric: return TextureClass::kFabric;
+    case Pattern::kLeaves: return TextureClass::kLeaves;
+    case Pattern::kGlass: return TextureClass::kWindow;
   }
   return TextureClass::kWall;
 }
@@ -63,6 +77,9 @@ double repeat_metres(TextureClass c) {
     case TextureClass::kMetal: return 1.5;
     case TextureClass::kTile: return 1.5;
     case TextureClass::kGrass: return 4.0;
+    case TextureClass::kPaving: return 2.5;
+    case TextureClass::kFabric: return 0.8;
+    case TextureClass::kLeaves: return 1.5;
     default: return 2.0;
   }
 }
@@ -184,6 +201,10 @@ const char* texture_class_name(TextureClass c) {
     case TextureClass::kCeiling: return "ceiling";
     case TextureClass::kGrass: return "grass";
     case TextureClass::kSky: return "sky";
+    case TextureClass::kPaving: return "paving";
+    case TextureClass::kFabric: return "fabric";
+    case TextureClass::kLeaves: return "leaves";
+    case TextureClass::kWindow: return "window";
   }
   return "unknown";
 }
@@ -199,6 +220,10 @@ const std::vector<std::string>& texture_class_words(TextureClass c) {
       {TextureClass::kCeiling, {"ceil", "roof", "panel"}},
       {TextureClass::kGrass, {"grass", "dirt", "ground", "terrain"}},
       {TextureClass::kSky, {"sky", "skies", "cloud"}},
+      {TextureClass::kPaving, {"street", "pave", "cobble", "asphalt", "road", "sidewalk"}},
+      {TextureClass::kFabric, {"carpet", "textil", "fabric", "cloth", "couch", "seat", "rug"}},
+      {TextureClass::kLeaves, {"leaves", "leaf", "hedge", "bush", "foliage", "jungle"}},
+      {TextureClass::kWindow, {"window", "glass"}},
   };
   return words.at(c);
 }
@@ -211,6 +236,11 @@ Result<std::vector<std::string>> list_texture_files(const fs::path& dir) {
   std::vector<std::string> files;
   fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec);
   for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    // Hidden entries (".staging", ".DS_Store") are no part of the set.
+    if (it->path().filename().string().starts_with(".")) {
+      if (it->is_directory(ec)) it.disable_recursion_pending();
+      continue;
+    }
     if (!it->is_regular_file(ec)) continue;
     const std::string ext = lower(it->path().extension().string());
     if (std::find(kImageExtensions.begin(), kImageExtensions.end(), ext) == kImageExtensions.end()) continue;
@@ -228,7 +258,7 @@ Result<std::vector<std::string>> list_texture_files(const fs::path& dir) {
 std::vector<std::string> usable_textures(const std::vector<std::string>& files, uint32_t seed) {
   std::vector<std::string> out;
   for (const std::string& name : files) {
-    if (!contains_any(lower(name), kTextureSkipWords)) out.push_back(name);
+    if (!contains_any(lower(name), kTextureSkipWords) && !is_surface_map(name)) out.push_back(name);
   }
   std::stable_sort(out.begin(), out.end(), [seed](const std::string& a, const std::string& b) {
     return name_hash(a, seed) < name_hash(b, seed);
@@ -245,8 +275,20 @@ std::vector<std::string> texture_candidates(const std::vector<std::string>& file
   return matching.empty() ? usable : matching;
 }
 
-Status apply_photo_textures(const fs::path& dir, uint32_t seed, Scene* scene) {
+namespace {
+
+bool has_class_word(const std::vector<std::string>& files, TextureClass c) {
+  return std::any_of(files.begin(), files.end(), [c](const std::string& name) {
+    return !is_surface_map(name) && !contains_any(lower(name), kTextureSkipWords) &&
+           contains_any(lower(name), texture_class_words(c));
+  });
+}
+
+}  // namespace
+
+Status apply_photo_textures(const fs::path& dir, uint32_t seed, double texture_scale, Scene* scene) {
   SVC_ASSIGN_OR_RETURN(std::vector<std::string> files, list_texture_files(dir));
+  const std::vector<std::string> picker_files = files;
   TexturePicker picker(dir, std::move(files), seed, scene);
   const auto no_image = [&](TextureClass c) {
     return Status(ErrorCode::kInvalidArgument, "texture folder " + dir.string() + " has no usable image for " +
@@ -259,10 +301,13 @@ Status apply_photo_textures(const fs::path& dir, uint32_t seed, Scene* scene) {
     const TextureClass c = class_of(m.pattern);
     m.texture = picker.next(c);
     if (m.texture < 0) return no_image(c);
-    m.texture_metres = repeat_metres(c);
+    m.texture_metres = repeat_metres(c) * texture_scale;
     const double mean = luminance(scene->textures[m.texture].mean());
     m.texture_gain = std::clamp(luminance(m.base) / std::max(mean, 1e-4), 0.5, 2.5);
   }
+  // A folder without sky images (no file named for the sky) keeps the procedural clouds:
+  // a wall or floor image over the sky would look like nothing real.
+  if (!has_class_word(picker_files, TextureClass::kSky)) return Status::Ok();
   scene->sky_texture = picker.next(TextureClass::kSky);
   if (scene->sky_texture < 0) return no_image(TextureClass::kSky);
   const double sky_mean = luminance(scene->textures[scene->sky_texture].mean());

@@ -17,8 +17,9 @@ namespace svc::samples::detail {
 Result<std::vector<std::string>> list_texture_files(const std::filesystem::path& dir);
 
 // Words in a file's relative path that make it a candidate for each material class;
-// names with a word of kTextureSkipWords (light maps, glow and blend layers, trims) are
-// never chosen.
+// names with a word of kTextureSkipWords (light maps, glow and blend layers, trims) and
+// the normal, specular, gloss and height maps ("_nm", "_sm", "_gm", "_hm" before the
+// extension) are never chosen.
 enum class TextureClass : uint8_t {
   kBrick,
   kConcrete,
@@ -29,6 +30,10 @@ enum class TextureClass : uint8_t {
   kCeiling,
   kGrass,
   kSky,
+  kPaving,
+  kFabric,
+  kLeaves,
+  kWindow,
 };
 const char* texture_class_name(TextureClass c);
 const std::vector<std::string>& texture_class_words(TextureClass c);
@@ -45,7 +50,9 @@ std::vector<std::string> texture_candidates(const std::vector<std::string>& file
 // Gives every material of `scene` and its sky an image from `dir`: the n-th material of
 // a class takes the n-th candidate that loads (8 to 8192 pixels a side, aspect at most
 // 8:1, not a cut-out with over 1 % of its alpha below one half), any usable image when
-// none of them does. Errors name the folder, among them one where no image loads.
-Status apply_photo_textures(const std::filesystem::path& dir, uint32_t seed, Scene* scene);
+// none of them does. The sky takes an image only when a file is named for it (procedural
+// clouds otherwise). Errors name the folder, among them one where no image loads.
+// `texture_scale` multiplies the metres one repeat of each image covers.
+Status apply_photo_textures(const std::filesystem::path& dir, uint32_t seed, double texture_scale, Scene* scene);
 
 }  // namespace svc::samples::detail

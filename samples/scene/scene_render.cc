@@ -188,6 +188,40 @@ Vec3 albedo(const Material& m, double u, double v, double fp) {
       const Vec3 c = m.base * (0.8 + 0.3 * mottle) * (0.92 + 0.16 * brushed);
       return mix(c, m.second, band) * dirt;
     }
+    case Pattern::kPaving: {
+      // Setts in running rows, each with its own tint, in a darker joint.
+      const double width = m.scale, depth = m.scale * 0.6, joint = 0.012;
+      const int32_t row = floor_int(v / depth);
+      const double uu = u + (row & 1) * width * 0.5;
+      const int32_t col = floor_int(uu / width);
+      const double lu = filtered_lines(uu / width, joint / width, fp / width);
+      const double lv = filtered_lines(v / depth, joint / depth, fp / depth);
+      const double gap = 1 - (1 - lu) * (1 - lv);
+      const double tint = (hash01(col, row, s) - 0.5) * 2 * detail_fade(depth, fp);
+      const double grain = fbm(u * 40, v * 40, s + 1, 3, fp * 40);
+      const Vec3 stone = m.base * (1 + m.variation * tint) * (0.82 + 0.36 * grain);
+      return mix(stone, m.second, gap) * dirt;
+    }
+    case Pattern::kFabric: {
+      // A weave of warp and weft threads with a slow colour variation.
+      const double period = m.scale;
+      const double warp = filtered_lines(u / period, 0.5, fp / period);
+      const double weft = filtered_lines(v / period, 0.5, fp / period);
+      const double weave = 0.5 + 0.5 * (warp - weft) * detail_fade(period, fp);
+      const double mottle = fbm(u * 3, v * 3, s + 1, 3, fp * 3);
+      return mix(m.base, m.second, 0.35 * weave) * (0.85 + 0.3 * mottle);
+    }
+    case Pattern::kLeaves: {
+      const double clumps = fbm(u * 4, v * 4, s + 1, 4, fp * 4);
+      const double leaf = fbm(u * 30, v * 30, s + 2, 3, fp * 30);
+      return mix(m.second, m.base, smoothstep(0.3, 0.7, clumps)) * (0.6 + 0.8 * leaf);
+    }
+    case Pattern::kGlass: {
+      // Dark panes: a faint vertical sky gradient and mullions every `scale` metres.
+      const double frame = filtered_lines(u / m.scale, 0.04 / m.scale, fp / m.scale);
+      const double sheen = 0.8 + 0.4 * fbm(u * 0.5, v * 2, s + 1, 2, fp * 2);
+      return mix(m.base * sheen, m.second, frame);
+    }
     case Pattern::kGround: {
       const double patch = fbm(u * 0.12, v * 0.12, s + 1, 4, fp * 0.12);
       const double earth = smoothstep(0.48, 0.62, patch);
@@ -238,15 +272,16 @@ Vec3 sky_color(const Scene& scene, const Vec3& dir, double pixel_angle) {
 // ---------------------------------------------------------------- shading
 
 // Linear light to 8-bit sRGB through a soft shoulder (so that sunlit surfaces and the
-// sun do not clip flat). The curve is inverted once into the 255 linear values where the
-// output code steps up, so a pixel costs a binary search instead of exp and pow.
+// sun do not clip flat), after an exposure gain. The curve is inverted once into the 255
+// linear values where the output code steps up, so a pixel costs a binary search instead
+// of exp and pow.
 class SrgbEncoder {
  public:
-  SrgbEncoder() {
+  explicit SrgbEncoder(double exposure) {
     for (int code = 1; code <= 255; ++code) {
       const double srgb = (code - 0.5) / 255.0;
       const double mapped = srgb <= 0.04045 ? srgb / 12.92 : std::pow((srgb + 0.055) / 1.055, 2.4);
-      thresholds_[code - 1] = -std::log(1.0 - mapped) / kExposure;
+      thresholds_[code - 1] = -std::log(1.0 - mapped) / exposure;
     }
   }
   uint8_t encode(double linear) const {
@@ -255,7 +290,6 @@ class SrgbEncoder {
   }
 
  private:
-  static constexpr double kExposure = 1.35;
   std::array<double, 255> thresholds_{};
 };
 
@@ -292,27 +326,42 @@ struct Shaded {
   double depth;  // eye z, +inf for sky
 };
 
-// `candidates`: the primitives the ray's tile can see (frustum_candidates).
-Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, const Ray& ray, double pixel_angle) {
-  Hit hit;
-  bool found = closest_among(scene.bvh.primitives(), candidates, ray, kNearPlane, kMaxDepth, &hit);
-  const Primitive* prim = found ? &scene.bvh.primitives()[hit.primitive] : nullptr;
-  uint16_t material_id = found ? prim->material : 0;
-  // The ground plane outside the building.
+// The nearest surface along `ray` among `candidates` (the primitives the ray's tile can
+// see, from frustum_candidates) and the ground plane outside the building.
+struct Surface {
+  bool found = false;
+  Hit hit;                // hit.primitive -1 for the ground plane
+  uint16_t material = 0;  // as the primitive or the ground gives it
+};
+
+Surface nearest_surface(const Scene& scene, const std::vector<Candidate>& candidates, const Ray& ray) {
+  Surface s;
+  s.found = closest_among(scene.bvh.primitives(), candidates, ray, kNearPlane, kMaxDepth, &s.hit);
+  if (s.found) s.material = scene.bvh.primitives()[s.hit.primitive].material;
   if (ray.dir.y < 0) {
     const double t = (scene.ground_y - ray.origin.y) / ray.dir.y;
-    if (t > kNearPlane && t < (found ? hit.t : kMaxDepth)) {
-      found = true;
-      hit.t = t;
-      hit.normal = Vec3(0, 1, 0);
-      hit.primitive = -1;
-      prim = nullptr;
-      material_id = scene.ground_material;
+    if (t > kNearPlane && t < (s.found ? s.hit.t : kMaxDepth)) {
+      s.found = true;
+      s.hit.t = t;
+      s.hit.normal = Vec3(0, 1, 0);
+      s.hit.primitive = -1;
+      s.material = scene.ground_material;
     }
   }
+  return s;
+}
+
+// `pixel_angle`: the angle one sample covers; `anisotropic`: texture detail kept along the
+// grazing direction, as a renderer's anisotropic filtering keeps it.
+Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, const Ray& ray, double pixel_angle,
+                 bool anisotropic) {
+  const Surface surface = nearest_surface(scene, candidates, ray);
+  const Hit& hit = surface.hit;
+  const Primitive* prim = surface.found && hit.primitive >= 0 ? &scene.bvh.primitives()[hit.primitive] : nullptr;
+  uint16_t material_id = surface.material;
   const double dir_length = glm::length(ray.dir);
   const Vec3 unit_dir = ray.dir / dir_length;
-  if (!found) {
+  if (!surface.found) {
     return {sky_color(scene, unit_dir, pixel_angle), std::numeric_limits<double>::infinity()};
   }
 
@@ -346,7 +395,7 @@ Shaded shade_ray(const Scene& scene, const std::vector<Candidate>& candidates, c
   }
   // Footprint of a pixel on the surface: grows with depth and with grazing angles.
   const double cos_incidence = std::max(0.2, std::abs(glm::dot(n, unit_dir)));
-  const double fp = hit.t * pixel_angle / cos_incidence;
+  const double fp = hit.t * pixel_angle / (anisotropic ? std::sqrt(cos_incidence) : cos_incidence);
   Vec3 base = material.texture < 0 ? albedo(material, u, v, fp)
                                    : scene.textures[material.texture].sample(u / material.texture_metres,
                                                                              v / material.texture_metres,
@@ -402,34 +451,61 @@ glm::dmat4 face_view_matrix(const Vec3& eye, int face) {
   return glm::lookAt(eye, eye + kForward[face], kUp[face]);
 }
 
-Vec3 pixel_ray_direction(const glm::dmat4& view, int size, int i, int j) {
+Vec3 sample_ray_direction(const glm::dmat4& view, int size, double x, double y) {
   const Vec3 right(view[0][0], view[1][0], view[2][0]);
   const Vec3 up(view[0][1], view[1][1], view[2][1]);
   const Vec3 back(view[0][2], view[1][2], view[2][2]);
-  const double x = (i + 0.5) / size * 2 - 1;
-  const double y = 1 - (j + 0.5) / size * 2;
   // tan(fov/2) = 1 for the 90-degree cube faces.
-  return right * x + up * y - back;
+  return right * (x / size * 2 - 1) + up * (1 - y / size * 2) - back;
 }
 
-void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, int size, uint8_t* rgb,
-                 float* depth) {
-  static const SrgbEncoder encoder;
+Vec3 pixel_ray_direction(const glm::dmat4& view, int size, int i, int j) {
+  return sample_ray_direction(view, size, i + 0.5, j + 0.5);
+}
+
+namespace {
+
+// Colour of pixel (i, j) as the mean of an n x n grid of samples in linear light, and
+// its depth from the one ray through the pixel centre.
+Shaded render_pixel(const Scene& scene, const std::vector<Candidate>& candidates, const Vec3& eye,
+                    const glm::dmat4& view, int size, const RenderSettings& settings, int i, int j) {
   const double pixel_angle = 2.0 / size;
-  // Tiles of pixels share one list of the primitives their pyramid of rays can meet.
+  const bool aniso = settings.anisotropic;
+  const int n = settings.supersample;
+  if (n == 1)
+    return shade_ray(scene, candidates, make_ray(eye, pixel_ray_direction(view, size, i, j)), pixel_angle, aniso);
+  Vec3 sum(0.0);
+  for (int sy = 0; sy < n; ++sy) {
+    for (int sx = 0; sx < n; ++sx) {
+      const Vec3 dir = sample_ray_direction(view, size, i + (sx + 0.5) / n, j + (sy + 0.5) / n);
+      sum += shade_ray(scene, candidates, make_ray(eye, dir), pixel_angle / n, aniso).color;
+    }
+  }
+  const Surface centre = nearest_surface(scene, candidates, make_ray(eye, pixel_ray_direction(view, size, i, j)));
+  return {sum / static_cast<double>(n * n), centre.found ? centre.hit.t : std::numeric_limits<double>::infinity()};
+}
+
+}  // namespace
+
+void render_face(const Scene& scene, const Vec3& eye, const glm::dmat4& view, int size,
+                 const RenderSettings& settings, uint8_t* rgb, float* depth) {
+  const SrgbEncoder encoder(kBaseExposure * std::exp2(settings.exposure_stops));
+  // Tiles of pixels share one list of the primitives their pyramid of rays can meet: the
+  // pyramid through the tile's outer corners, which holds every sample ray of its pixels.
   constexpr int kTile = 16;
   std::vector<Candidate> candidates;
   candidates.reserve(scene.bvh.primitives().size());
   for (int tj = 0; tj < size; tj += kTile) {
     for (int ti = 0; ti < size; ti += kTile) {
       const int i1 = std::min(ti + kTile, size) - 1, j1 = std::min(tj + kTile, size) - 1;
-      const Vec3 corners[4] = {pixel_ray_direction(view, size, ti, tj), pixel_ray_direction(view, size, i1, tj),
-                               pixel_ray_direction(view, size, i1, j1), pixel_ray_direction(view, size, ti, j1)};
+      const Vec3 corners[4] = {sample_ray_direction(view, size, ti, tj),
+                               sample_ray_direction(view, size, i1 + 1, tj),
+                               sample_ray_direction(view, size, i1 + 1, j1 + 1),
+                               sample_ray_direction(view, size, ti, j1 + 1)};
       frustum_candidates(scene.bvh.primitives(), eye, corners, &candidates);
       for (int j = tj; j <= j1; ++j) {
         for (int i = ti; i <= i1; ++i) {
-          const Ray ray = make_ray(eye, pixel_ray_direction(view, size, i, j));
-          const Shaded s = shade_ray(scene, candidates, ray, pixel_angle);
+          const Shaded s = render_pixel(scene, candidates, eye, view, size, settings, i, j);
           const size_t index = static_cast<size_t>(j) * size + i;
           rgb[index * 3 + 0] = encoder.encode(s.color.x);
           rgb[index * 3 + 1] = encoder.encode(s.color.y);

@@ -10,6 +10,7 @@
 
 extern "C" {
 #include <libavformat/avformat.h>
+#include <libavutil/avutil.h>
 #include <libavutil/log.h>
 #include <libavutil/opt.h>
 }
@@ -213,6 +214,12 @@ std::vector<int> EncodedSequence::frames_needed(int display_index) const {
 }
 
 bool encoder_available(const std::string& name) { return avcodec_find_encoder_by_name(name.c_str()) != nullptr; }
+
+std::string library_version() {
+  const unsigned v = avcodec_version();
+  return std::string("FFmpeg ") + av_version_info() + ", libavcodec " + std::to_string(v >> 16) + "." +
+         std::to_string((v >> 8) & 0xFF) + "." + std::to_string(v & 0xFF);
+}
 
 std::vector<CodecProbe> probe_codecs() {
   std::vector<CodecProbe> probes;

@@ -186,6 +186,9 @@ struct EncodedSequence {
 // True when this build of libavcodec has an encoder of that name.
 bool encoder_available(const std::string& name);
 
+// "FFmpeg 5.1.6-0+deb12u1, libavcodec 59.37.100": the libraries the anchors run on.
+std::string library_version();
+
 struct CodecProbe {
   std::string name;
   bool available = false;  // false: report as skipped

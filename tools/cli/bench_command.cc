@@ -94,14 +94,16 @@ struct BenchSubcommand::Options {
 };
 
 BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Options>()) {
-  std::string all;
-  for (const std::string& name : bench::all_codec_names()) all += (all.empty() ? "" : ",") + name;
-  options_->codecs = all;
+  std::string defaults, all;
+  for (const std::string& name : bench::default_codec_names()) defaults += (defaults.empty() ? "" : ",") + name;
+  for (const std::string& name : bench::all_codec_names()) all += (all.empty() ? "" : ", ") + name;
+  options_->codecs = defaults;
   command_ = app.add_subcommand(
       "bench",
       "Compare svc with the MPEG-2 baseline and other codecs on one database: quality, speed, access cost");
   command_->add_option("DB_DIR", options_->bench.db_dir, "svc-input database folder")->required();
-  command_->add_option("--codecs", options_->codecs, "Comma-separated codecs to run")->capture_default_str();
+  command_->add_option("--codecs", options_->codecs, "Comma-separated codecs to run, of: " + all)
+      ->capture_default_str();
   command_->add_option("--out", options_->out_dir, "Output folder for results.json, results.csv, plots, report.md")
       ->capture_default_str()
       ->check(not_standard_output());
@@ -116,9 +118,11 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
   command_->add_option("--gop", options_->bench.gop, "GOP (frames between I-frames) of x264, x265 and AV1")
       ->check(command_line::integer_in(1, 1000))
       ->capture_default_str();
-  command_->add_option("--anchor-preset", options_->presets,
-                       "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "
-                       "libaom cpu-used where SVT-AV1 is missing), avif=6 (libaom cpu-used), jxl=7 (effort)");
+  command_->add_option(
+      "--anchor-preset", options_->presets,
+      "CODEC=PRESET, repeatable: x264/x265/x265-ra/x265-intra=medium, av1=6 (SVT-AV1 preset; "
+      "libaom cpu-used where SVT-AV1 is missing), av1-slow=2 (libaom cpu-used), av1-svt-slow=2 (SVT-AV1 "
+      "preset), avif=6 (libaom cpu-used), jxl=7 (effort)");
   command_->add_option("--anchor-option", options_->codec_options,
                        "CODEC=KEY=VALUE, repeatable: a private option of that anchor's libavcodec encoder, e.g. "
                        "avif=aom-params=enable-rect-partitions=0 (to measure an anchor's tools)");
@@ -133,6 +137,10 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
                    "results.json of an earlier run on the same database: BD-rate of svc (and of its B-faces) "
                    "against that run's svc")
       ->check(CLI::ExistingFile);
+  command_->add_option("--anchor-cache", options_->bench.anchor_cache,
+                       "Folder keeping the anchors' quality points between runs: an anchor already run on the same "
+                       "faces with the same settings and libraries is read back instead of encoded (its speed and "
+                       "access are then not measured)");
 }
 
 BenchSubcommand::~BenchSubcommand() = default;
