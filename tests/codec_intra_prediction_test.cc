@@ -21,6 +21,7 @@ namespace svc::codec {
 namespace {
 
 constexpr int kEdge = dsp::kIntraEdgeSamples;
+constexpr TransformSize kSquareSizes[] = {TransformSize::k4x4, TransformSize::k8x8, TransformSize::k16x16};
 
 std::array<uint8_t, 64> predict(const std::array<uint8_t, kEdge>& edge, int mode) {
   std::array<uint8_t, 64> out{};
@@ -91,20 +92,21 @@ TEST(IntraPrediction, EdgeSubstitutesMissingNeighbours) {
   std::array<uint8_t, kEdge> edge{};
   EdgeAvailability none, left, above, both;
   left.left = above.above = both.left = both.above = true;
-  build_intra_edge(plane.data(), stride, 0, 0, 8, none, edge.data());
+  build_intra_edge(plane.data(), stride, 0, 0, TransformSize::k8x8, none, edge.data());
   EXPECT_TRUE(std::all_of(edge.begin(), edge.end(), [](uint8_t v) { return v == 128; }));
 
-  build_intra_edge(plane.data(), stride, 8, 0, 8, left, edge.data());  // left only
+  build_intra_edge(plane.data(), stride, 8, 0, TransformSize::k8x8, left, edge.data());  // left only
   EXPECT_TRUE(std::all_of(edge.begin(), edge.end(), [](uint8_t v) { return v == 100; }));
 
   EdgeAvailability above_and_right = above;
   above_and_right.above_right = true;
-  build_intra_edge(plane.data(), stride, 0, 8, 8, above_and_right, edge.data());
+  build_intra_edge(plane.data(), stride, 0, 8, TransformSize::k8x8, above_and_right, edge.data());
   for (int i = 0; i < 17; ++i) EXPECT_EQ(edge[i], 100) << i;
   for (int i = 0; i < 8; ++i) EXPECT_EQ(edge[25 + i], 101) << i;
 
-  build_intra_edge(plane.data(), stride, 16, 8, 8, both, edge.data());  // no above-right, no below-left
-  EXPECT_EQ(edge[16], 101);                                             // corner
+  // No above-right, no below-left.
+  build_intra_edge(plane.data(), stride, 16, 8, TransformSize::k8x8, both, edge.data());
+  EXPECT_EQ(edge[16], 101);  // corner
   for (int i = 0; i < 16; ++i) EXPECT_EQ(edge[17 + i], 102) << i;
   for (int i = 0; i < 16; ++i) EXPECT_EQ(edge[15 - i], 104) << i;
 
@@ -113,7 +115,7 @@ TEST(IntraPrediction, EdgeSubstitutesMissingNeighbours) {
   EdgeAvailability all = both;
   all.below_left = all.above_right = true;
   std::array<uint8_t, 17> small{};
-  build_intra_edge(plane.data(), stride, 4, 4, 4, all, small.data());
+  build_intra_edge(plane.data(), stride, 4, 4, TransformSize::k4x4, all, small.data());
   for (int i = 0; i < 4; ++i) {
     EXPECT_EQ(small[7 - i], 100) << i;
     EXPECT_EQ(small[3 - i], 103) << i;
@@ -121,7 +123,7 @@ TEST(IntraPrediction, EdgeSubstitutesMissingNeighbours) {
     EXPECT_EQ(small[13 + i], 101) << i;
   }
   all.below_left = all.above_right = false;  // substitutes repeat the last left and above sample
-  build_intra_edge(plane.data(), stride, 4, 4, 4, all, small.data());
+  build_intra_edge(plane.data(), stride, 4, 4, TransformSize::k4x4, all, small.data());
   EXPECT_TRUE(std::all_of(small.begin(), small.end(), [](uint8_t v) { return v == 100; }));
 }
 
@@ -137,7 +139,7 @@ TEST(IntraPrediction, OtherBlockSizesPredictByTheSameRules) {
     }
     edge[static_cast<size_t>(corner)] = 60;
     std::vector<uint8_t> out(static_cast<size_t>(size * size));
-    const IntraPredictor predict = intra_predictor(size);
+    const IntraPredictor predict = intra_predictor(transform_size_of(size, size));
     predict(edge.data(), kVerticalMode, out.data());
     for (int y = 0; y < size; ++y) {
       for (int x = 0; x < size; ++x) EXPECT_EQ(out[static_cast<size_t>(size * y + x)], 20 + 5 * x) << size;
@@ -167,7 +169,7 @@ TEST(IntraPrediction, EdgeSmoothingFollowsBlockSizeAndAngle) {
     std::vector<uint8_t> edge(static_cast<size_t>(4 * size + 1), 0);
     edge[static_cast<size_t>(2 * size + 2)] = 200;  // above[1]
     std::vector<uint8_t> out(static_cast<size_t>(size * size));
-    intra_predictor(size)(edge.data(), mode, out.data());
+    intra_predictor(transform_size_of(size, size))(edge.data(), mode, out.data());
     return out[0];
   };
   // Mode 30 (13/32 a row): row 0, x = 0 is (19 A[0] + 13 A[1] + 16) >> 5. Smoothed,
@@ -194,16 +196,16 @@ TEST(IntraPrediction, EveryModeRoundTripsThroughModeCoding) {
       std::vector<uint8_t> bytes;
       RangeEncoder encoder(&bytes);
       IntraModeContexts contexts;
-      // Each mode at each size class (shapes 4x4, 8x8, 16x16).
+      // Each mode at each size class (4x4, 8x8, 16x16).
       for (int mode = 0; mode < kIntraModes; ++mode) {
-        for (int shape : {4, 8, 16}) encode_intra_mode(encoder, contexts, shape, candidates, mode);
+        for (TransformSize size : kSquareSizes) encode_intra_mode(encoder, contexts, size, candidates, mode);
       }
       encoder.finish();
       RangeDecoder decoder(bytes);
       IntraModeContexts decoding;
       for (int mode = 0; mode < kIntraModes; ++mode) {
-        for (int shape : {4, 8, 16}) {
-          ASSERT_EQ(decode_intra_mode(decoder, decoding, shape, candidates), mode) << left << " " << above;
+        for (TransformSize size : kSquareSizes) {
+          ASSERT_EQ(decode_intra_mode(decoder, decoding, size, candidates), mode) << left << " " << above;
         }
       }
     }
@@ -218,12 +220,13 @@ TEST(IntraPrediction, RemainderTreeLearnsFrequentModes) {
   RangeEncoder encoder(&bytes);
   IntraModeContexts contexts;
   constexpr int kBlocks = 2000;
-  for (int i = 0; i < kBlocks; ++i) encode_intra_mode(encoder, contexts, 8, candidates, 18);
+  for (int i = 0; i < kBlocks; ++i) encode_intra_mode(encoder, contexts, TransformSize::k8x8, candidates, 18);
   encoder.finish();
   EXPECT_LT(bytes.size() * 8, static_cast<size_t>(kBlocks));
   RangeDecoder decoder(bytes);
   IntraModeContexts decoding;
-  for (int i = 0; i < kBlocks; ++i) ASSERT_EQ(decode_intra_mode(decoder, decoding, 8, candidates), 18);
+  for (int i = 0; i < kBlocks; ++i)
+    ASSERT_EQ(decode_intra_mode(decoder, decoding, TransformSize::k8x8, candidates), 18);
 }
 
 struct LumaBlock {
@@ -237,7 +240,7 @@ std::vector<LumaBlock> luma_blocks(const CoefficientFrame& frame) {
   std::vector<LumaBlock> blocks;
   for (size_t mb = 0; mb < frame.luma_partitions.size(); ++mb) {
     const int x0 = 16 * static_cast<int>(mb % static_cast<size_t>(macroblocks_x));
-    intra::for_each_luma_block(frame.luma_partitions[mb], [&](int x, int, int) {
+    intra::for_each_luma_block(frame.luma_partitions[mb], [&](int x, int, TransformSize) {
       blocks.push_back({x0 + x, blocks.size()});
     });
   }

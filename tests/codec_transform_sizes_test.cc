@@ -206,13 +206,13 @@ TEST(TransformSizes, IntraFramesChooseEverySizeAndDecodeExactly) {
 // above row from column x + y + 1, both smoothed: on a linear edge smoothing changes
 // nothing); pure horizontal copies the left column beyond the first row.
 TEST(TransformSizes, RectangularPredictionFollowsTheEdge) {
-  for (int shape : {block_shape(16, 8), block_shape(8, 16), block_shape(16, 4), block_shape(4, 16),
-                    block_shape(8, 4), block_shape(4, 8)}) {
-    const int w = shape_width(shape), h = shape_height(shape), corner = w + h;
+  for (TransformSize size : {TransformSize::k16x8, TransformSize::k8x16, TransformSize::k16x4, TransformSize::k4x16,
+                             TransformSize::k8x4, TransformSize::k4x8}) {
+    const int w = transform_width(size), h = transform_height(size), corner = w + h;
     uint8_t edge[2 * 24 + 1], out[128];
     std::fill_n(edge, 2 * corner + 1, uint8_t{90});
     for (int mode = 0; mode < kIntraModes; ++mode) {
-      intra_predictor(shape)(edge, mode, out);
+      intra_predictor(size)(edge, mode, out);
       ASSERT_TRUE(std::all_of(out, out + w * h, [](uint8_t v) { return v == 90; })) << w << "x" << h << " " << mode;
     }
     for (int i = 0; i < corner; ++i) {
@@ -220,15 +220,15 @@ TEST(TransformSizes, RectangularPredictionFollowsTheEdge) {
       edge[corner + 1 + i] = static_cast<uint8_t>(100 + 2 * i);  // above column i
     }
     edge[corner] = 47;
-    intra_predictor(shape)(edge, 2, out);
+    intra_predictor(size)(edge, 2, out);
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) ASSERT_EQ(out[w * y + x], 50 + 3 * (x + y + 1)) << w << "x" << h;
     }
-    intra_predictor(shape)(edge, 34, out);
+    intra_predictor(size)(edge, 34, out);
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) ASSERT_EQ(out[w * y + x], 100 + 2 * (x + y + 1)) << w << "x" << h;
     }
-    intra_predictor(shape)(edge, kHorizontalMode, out);
+    intra_predictor(size)(edge, kHorizontalMode, out);
     for (int y = 1; y < h; ++y) {
       for (int x = 0; x < w; ++x) ASSERT_EQ(out[w * y + x], 50 + 3 * y);
     }

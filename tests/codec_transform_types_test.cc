@@ -275,12 +275,12 @@ TEST(TransformTypes, RectangularBlocksUseTypes) {
   size_t block = 0, offset = 0;
   int positions[kMaxTransformArea], values[kMaxTransformArea];
   for (uint16_t partition : parsed.luma_partitions) {
-    intra::for_each_luma_block(partition, [&](int, int, int shape) {
+    intra::for_each_luma_block(partition, [&](int, int, TransformSize size) {
       const int count = parsed.block_counts[block++];
       if (count == 0) return;
       TransformType type = TransformType::kDctDct;
-      ASSERT_EQ(parsed.read_levels(&offset, count, size_of_shape(shape), positions, values, &type), count);
-      if (shape_width(shape) != shape_height(shape)) ++rectangular[static_cast<size_t>(type)];
+      ASSERT_EQ(parsed.read_levels(&offset, count, size, positions, values, &type), count);
+      if (is_rectangular(size)) ++rectangular[static_cast<size_t>(type)];
     });
   }
   EXPECT_GT(rectangular[0], 0);

@@ -448,9 +448,9 @@ void commit_macroblock(FrameState& s, int mx, int my, const MacroblockInfo& info
     s.coded[plane][index] = static_cast<uint8_t>((coded_mask >> b) & 1);
   }
   if (info.mode != MacroblockMode::kIntra) {
-    s.intra_planes[0].mark(16 * mx, 16 * my, 16, kDcMode, false);
-    s.intra_planes[1].mark(8 * mx, 8 * my, 8, kDcMode, false);
-    s.intra_planes[2].mark(8 * mx, 8 * my, 8, kDcMode, false);
+    s.intra_planes[0].mark(16 * mx, 16 * my, TransformSize::k16x16, kDcMode, false);
+    s.intra_planes[1].mark(8 * mx, 8 * my, intra::kChromaSize, kDcMode, false);
+    s.intra_planes[2].mark(8 * mx, 8 * my, intra::kChromaSize, kDcMode, false);
   }
   s.macroblocks[static_cast<size_t>(my) * s.mbs_x + mx] = info;
 }

@@ -70,46 +70,54 @@ inline constexpr LumaPartition kStrips = 128;
 constexpr LumaPartition halves_8x8_bit(int i) { return static_cast<LumaPartition>(256 << i); }
 constexpr LumaPartition vertical_8x8_bit(int i) { return static_cast<LumaPartition>(4096 << i); }
 
-// Calls visit(x, y, shape) for the transform blocks of 8x8 block i (Z order) of a split
-// macroblock, in coding order (x, y relative to the macroblock).
+// Calls visit(x, y, size) for the transform blocks of 8x8 block i (Z order) of a split
+// macroblock, in coding order (x, y relative to the macroblock; size a TransformSize).
 template <class Visit>
 void for_each_quarter_block(LumaPartition partition, int i, Visit&& visit) {
   const int x = 8 * (i & 1), y = 8 * (i >> 1);
   if (partition & split_8x8_bit(i)) {
-    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), 4);
+    for (int j = 0; j < 4; ++j) visit(x + 4 * (j & 1), y + 4 * (j >> 1), TransformSize::k4x4);
   } else if ((partition & halves_8x8_bit(i)) == 0) {
-    visit(x, y, 8);
+    visit(x, y, TransformSize::k8x8);
   } else if (partition & vertical_8x8_bit(i)) {
-    visit(x, y, block_shape(4, 8));
-    visit(x + 4, y, block_shape(4, 8));
+    visit(x, y, TransformSize::k4x8);
+    visit(x + 4, y, TransformSize::k4x8);
   } else {
-    visit(x, y, block_shape(8, 4));
-    visit(x, y + 4, block_shape(8, 4));
+    visit(x, y, TransformSize::k8x4);
+    visit(x, y + 4, TransformSize::k8x4);
   }
 }
 
-// Calls visit(x, y, shape) for the transform blocks of a macroblock partition in coding
-// order (x, y relative to the macroblock; shape as block_shape).
+// Calls visit(x, y, size) for the transform blocks of a macroblock partition in coding
+// order (x, y relative to the macroblock; size a TransformSize).
 template <class Visit>
 void for_each_luma_block(LumaPartition partition, Visit&& visit) {
   if ((partition & kSplit16x16) == 0) {
     if ((partition & kHalves16x16) == 0) {
-      visit(0, 0, 16);
+      visit(0, 0, TransformSize::k16x16);
     } else if (partition & kStrips) {
       const bool vertical = (partition & kVerticalHalves) != 0;
-      for (int k = 0; k < 4; ++k) {
-        visit(vertical ? 4 * k : 0, vertical ? 0 : 4 * k, vertical ? block_shape(4, 16) : block_shape(16, 4));
-      }
+      const TransformSize strip = vertical ? TransformSize::k4x16 : TransformSize::k16x4;
+      for (int k = 0; k < 4; ++k) visit(vertical ? 4 * k : 0, vertical ? 0 : 4 * k, strip);
     } else if (partition & kVerticalHalves) {
-      visit(0, 0, block_shape(8, 16));
-      visit(8, 0, block_shape(8, 16));
+      visit(0, 0, TransformSize::k8x16);
+      visit(8, 0, TransformSize::k8x16);
     } else {
-      visit(0, 0, block_shape(16, 8));
-      visit(0, 8, block_shape(16, 8));
+      visit(0, 0, TransformSize::k16x8);
+      visit(0, 8, TransformSize::k16x8);
     }
     return;
   }
   for (int i = 0; i < 4; ++i) for_each_quarter_block(partition, i, visit);
+}
+
+// The size of every chroma block.
+inline constexpr TransformSize kChromaSize = TransformSize::k8x8;
+
+// Whether the block of size `a` at (xa, ya) and the block of size `b` at (xb, yb) overlap.
+constexpr bool blocks_overlap(int xa, int ya, TransformSize a, int xb, int yb, TransformSize b) {
+  return xa < xb + transform_width(b) && xb < xa + transform_width(a) && ya < yb + transform_height(b) &&
+         yb < ya + transform_height(a);
 }
 
 // Per 4x4 unit of the plane being coded: the mode, coded flag and transform width (the
@@ -135,10 +143,10 @@ class PlaneState {
   int split_context(int x0, int y0, int width) const {
     return (x0 > 0 && at(x0 - 4, y0).width < width) + (y0 > 0 && at(x0, y0 - 4).width < width);
   }
-  // `shape` as block_shape (transform_size.h). Below-left and above-right count when
-  // the whole segment (the other side's length) lies in the plane, reconstructed.
-  EdgeAvailability availability(int x0, int y0, int shape) const {
-    const int w = shape_width(shape), h = shape_height(shape);
+  // The neighbours of the block of `size` at (x0, y0). Below-left and above-right count
+  // when the whole segment (the other side's length) lies in the plane, reconstructed.
+  EdgeAvailability availability(int x0, int y0, TransformSize size) const {
+    const int w = transform_width(size), h = transform_height(size);
     EdgeAvailability a;
     a.left = x0 > 0;
     a.above = y0 > 0;
@@ -148,12 +156,12 @@ class PlaneState {
                     at(x0 + w + h - 4, y0 - 4).width != 0;
     return a;
   }
-  void mark(int x0, int y0, int shape, int mode, bool coded) {
-    const int narrow = std::min(shape_width(shape), shape_height(shape));
-    fill(x0, y0, shape, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(narrow)});
+  void mark(int x0, int y0, TransformSize size, int mode, bool coded) {
+    const int narrow = std::min(transform_width(size), transform_height(size));
+    fill(x0, y0, size, {static_cast<uint8_t>(mode), coded, static_cast<uint8_t>(narrow)});
   }
   // Forgets a region, as before it was reconstructed (encoder: trying another partition).
-  void clear(int x0, int y0, int shape) { fill(x0, y0, shape, Unit{}); }
+  void clear(int x0, int y0, TransformSize size) { fill(x0, y0, size, Unit{}); }
 
  private:
   struct Unit {
@@ -164,10 +172,10 @@ class PlaneState {
   // A CfL block counts as DC for the most probable modes (its prediction's base).
   static int regular_mode(int mode) { return mode == kCflMode ? kDcMode : mode; }
   const Unit& at(int x, int y) const { return units_[static_cast<size_t>(y / 4) * units_x_ + x / 4]; }
-  void fill(int x0, int y0, int shape, const Unit& unit) {
-    for (int y = y0 / 4; y < (y0 + shape_height(shape)) / 4; ++y) {
+  void fill(int x0, int y0, TransformSize size, const Unit& unit) {
+    for (int y = y0 / 4; y < (y0 + transform_height(size)) / 4; ++y) {
       std::fill_n(units_.begin() + static_cast<ptrdiff_t>(static_cast<size_t>(y) * units_x_ + x0 / 4),
-                  shape_width(shape) / 4, unit);
+                  transform_width(size) / 4, unit);
     }
   }
   int units_x_, units_y_;
@@ -178,14 +186,14 @@ class PlaneState {
 using SizedQuantizers = std::array<Quantizer, kTransformSizes>;
 // The residual quantizers of one index (B-face intra macroblocks: flat).
 SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix = ResidualMatrix::kFlat);
-const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size);
+const Quantizer& quantizer_for(const SizedQuantizers& quantizers, TransformSize size);
 
-// Predicts the block of shape `size` at (x0, y0) of `plane` (stride samples a row) in `mode`
+// Predicts the block of `size` at (x0, y0) of `plane` (stride samples a row) in `mode`
 // from its reconstructed neighbours, adds the inverse transform of type `type` of
 // `coefficients` (dequantized, natural order; null when the block has no levels),
 // writes the clipped result into the plane and marks the block in `state`.
-void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
-                                const int16_t* coefficients, TransformType type);
+void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, TransformSize size,
+                                int mode, const int16_t* coefficients, TransformType type);
 // The same for an 8x8 chroma block in `mode`; CfL predicts from `luma`, the plane's
 // reconstructed luma (luma_stride samples a row, luma sample (2 x0, 2 y0) co-located).
 void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0,

@@ -10,6 +10,7 @@
 #include "codec/common/cdef.h"
 #include "codec/common/intra_frame.h"
 #include "codec/common/loop_filter.h"
+#include "codec/common/transform_size.h"
 #include "codec/common/transform_type.h"
 #include "svc/types.h"
 
@@ -46,8 +47,8 @@ void cdef_intra(PaddedFrame* frame, const CdefParams& params, int qindex);
 void crop(const PaddedFrame& frame, int width, int height, ImageYCbCr420* out);
 
 // out = clip(prediction + inverse transform of type `type` of `coefficients`), or the
-// prediction alone when there are none; a block of `shape` (transform_size.h).
-void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type, int shape,
-                       uint8_t* out, int stride);
+// prediction alone when there are none; a block of `size`.
+void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type,
+                       TransformSize size, uint8_t* out, int stride);
 
 }  // namespace svc::codec::intra

@@ -6,9 +6,9 @@
 #include "codec/common/transform_size.h"
 
 namespace svc::codec {
-void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int shape,
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, TransformSize size,
                       const EdgeAvailability& available, uint8_t* edge) {
-  const int w = shape_width(shape), h = shape_height(shape);
+  const int w = transform_width(size), h = transform_height(size);
   const int corner = w + h, samples = 2 * (w + h) + 1;
   if (!available.left && !available.above) {
     std::memset(edge, 128, static_cast<size_t>(samples));
@@ -34,7 +34,7 @@ void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, in
   }
 }
 
-IntraPredictor intra_predictor(int size) { return dsp::get_dsp().intra_predict[size_index(size_of_shape(size))]; }
+IntraPredictor intra_predictor(TransformSize size) { return dsp::get_dsp().intra_predict[size_index(size)]; }
 
 ModeCandidates most_probable_modes(int left_mode, int above_mode) {
   const int left_class = std::min(left_mode, 2);  // planar, DC, angular
@@ -52,8 +52,8 @@ ModeCandidates most_probable_modes(int left_mode, int above_mode) {
   return {{left_mode, above_mode, third}, 3 + left_class};
 }
 
-int mode_size_class(int shape) {
-  const int area = shape_area(shape);
+int mode_size_class(TransformSize size) {
+  const int area = transform_area(size);
   return area < 64 ? 0 : area == 64 ? 1 : 2;
 }
 

@@ -16,6 +16,7 @@
 
 #include "codec/common/adaptive_bit.h"
 #include "codec/common/dsp/dsp.h"
+#include "codec/common/transform_size.h"
 
 namespace svc::codec {
 
@@ -32,22 +33,21 @@ struct EdgeAvailability {
   bool left = false, above = false, below_left = false, above_right = false;
 };
 
-// Fills edge[2 (W + H) + 1] (the corner at W + H) for the W x H block of `shape`
-// (block_shape of transform_size.h: 4, 8, 16, or 16x8 and 8x16) at sample (x0, y0) of
-// `plane` (stride samples per row), reading only the neighbours `available` names.
-// Missing neighbours are substituted as docs/codec.md 5.2 defines.
-void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, int shape,
+// Fills edge[2 (W + H) + 1] (the corner at W + H) for the W x H block of `size` at
+// sample (x0, y0) of `plane` (stride samples per row), reading only the neighbours
+// `available` names. Missing neighbours are substituted as docs/codec.md 5.2 defines.
+void build_intra_edge(const uint8_t* plane, ptrdiff_t stride, int x0, int y0, TransformSize size,
                       const EdgeAvailability& available, uint8_t* edge);
 
-// The intra prediction kernel of a block shape (as build_intra_edge's).
+// The intra prediction kernel of a block size.
 using IntraPredictor = void (*)(const uint8_t* edge, int mode, uint8_t* out);
-IntraPredictor intra_predictor(int shape);
+IntraPredictor intra_predictor(TransformSize size);
 
 // The mode flags' contexts by block size (fewer than 64 samples, 64, more) and by the
 // neighbours' modes (docs/codec.md 3.2).
 inline constexpr int kModeSizeClasses = 3;
 inline constexpr int kModeNeighbourContexts = 6;
-int mode_size_class(int shape);
+int mode_size_class(TransformSize size);
 
 // The three most probable modes of a block, all different, and the neighbour context of
 // its mode flags.
@@ -84,7 +84,7 @@ void for_each_context(Set& s, F&& f) {
   for_each_bit(s.remainder, f);
 }
 
-// Mode coding of a block of `shape` (block_shape): a flag, then the index among the most
+// Mode coding of a block (contexts by its mode_size_class): a flag, then the index among the most
 // probable modes (truncated unary) or the rank of the mode among the other 32 in
 // increasing order, in kRemainderBits bits through the remainder tree (node n's
 // children 2n and 2n + 1, node 1 at remainder[0]). Read by

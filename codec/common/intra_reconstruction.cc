@@ -23,8 +23,8 @@ SizedQuantizers residual_quantizers(int qindex, ResidualMatrix matrix) {
   return q;
 }
 
-const Quantizer& quantizer_for(const SizedQuantizers& quantizers, int size) {
-  return quantizers[static_cast<size_t>(size_of_shape(size))];
+const Quantizer& quantizer_for(const SizedQuantizers& quantizers, TransformSize size) {
+  return quantizers[static_cast<size_t>(size_index(size))];
 }
 
 std::array<PlaneGeometry, 3> planes_of(const BlockLayout& layout, int width, int height) {
@@ -55,20 +55,20 @@ void crop(const PaddedFrame& frame, int width, int height, ImageYCbCr420* out) {
                        width, height, out);
 }
 
-void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type, int size,
-                       uint8_t* out, int stride) {
-  const int w = shape_width(size);
+void reconstruct_block(const uint8_t* prediction, const int16_t* coefficients, TransformType type,
+                       TransformSize size, uint8_t* out, int stride) {
+  const int w = transform_width(size);
   if (coefficients == nullptr) {
-    for (int y = 0; y < shape_height(size); ++y)
+    for (int y = 0; y < transform_height(size); ++y)
       std::copy_n(prediction + w * y, w, out + static_cast<ptrdiff_t>(y) * stride);
     return;
   }
-  const auto add = dsp::get_dsp().inverse_transform_add[size_index(size_of_shape(size))][static_cast<int>(type)];
+  const auto add = dsp::get_dsp().inverse_transform_add[size_index(size)][static_cast<int>(type)];
   add(coefficients, prediction, w, out, stride);
 }
 
-void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, int size, int mode,
-                                const int16_t* coefficients, TransformType type) {
+void reconstruct_block_in_plane(PlaneState& state, uint8_t* plane, int stride, int x0, int y0, TransformSize size,
+                                int mode, const int16_t* coefficients, TransformType type) {
   uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
   build_intra_edge(plane, stride, x0, y0, size, state.availability(x0, y0, size), edge);
   intra_predictor(size)(edge, mode, prediction);
@@ -80,16 +80,17 @@ void reconstruct_chroma_block_in_plane(PlaneState& state, uint8_t* plane, int st
                                        const ChromaMode& mode, const uint8_t* luma, int luma_stride,
                                        const int16_t* coefficients, TransformType type) {
   if (!mode.cfl()) {
-    reconstruct_block_in_plane(state, plane, stride, x0, y0, 8, mode.mode, coefficients, type);
+    reconstruct_block_in_plane(state, plane, stride, x0, y0, kChromaSize, mode.mode, coefficients, type);
     return;
   }
   uint8_t edge[dsp::kMaxIntraEdgeSamples], prediction[kMaxTransformArea];
-  build_intra_edge(plane, stride, x0, y0, 8, state.availability(x0, y0, 8), edge);
+  build_intra_edge(plane, stride, x0, y0, kChromaSize, state.availability(x0, y0, kChromaSize), edge);
   int16_t ac[64];
   cfl_luma_ac(luma, luma_stride, x0, y0, ac);
   predict_cfl(ac, dc_prediction_8x8(edge), mode.alpha, prediction);
-  reconstruct_block(prediction, coefficients, type, 8, plane + static_cast<ptrdiff_t>(y0) * stride + x0, stride);
-  state.mark(x0, y0, 8, kCflMode, coefficients != nullptr);
+  reconstruct_block(prediction, coefficients, type, kChromaSize, plane + static_cast<ptrdiff_t>(y0) * stride + x0,
+                    stride);
+  state.mark(x0, y0, kChromaSize, kCflMode, coefficients != nullptr);
 }
 
 }  // namespace intra
@@ -100,7 +101,7 @@ using namespace intra;
 
 int luma_block_count(LumaPartition partition) {
   int count = 0;
-  for_each_luma_block(partition, [&](int, int, int) { ++count; });
+  for_each_luma_block(partition, [&](int, int, TransformSize) { ++count; });
   return count;
 }
 
@@ -113,20 +114,21 @@ class BlockReconstructor {
         decoded_(decoded),
         quantizers_(residual_quantizers(coefficients.qindex, coefficients.residual_matrix)) {}
 
-  // The next block: size x size at (x0, y0) of `recon` (stride samples per row); `luma`,
+  // The next block: one of `size` at (x0, y0) of `recon` (stride samples per row); `luma`,
   // for a chroma block, is the reconstructed luma plane (stride 2 * stride).
-  void next(PlaneState& state, uint8_t* recon, int stride, int x0, int y0, int size, const uint8_t* luma) {
-    const int area = shape_area(size);
+  void next(PlaneState& state, uint8_t* recon, int stride, int x0, int y0, TransformSize size,
+            const uint8_t* luma) {
+    const int area = transform_area(size);
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
     const int count = std::min<int>(coefficients_.block_counts[block_number_], area);
     TransformType type = TransformType::kDctDct;
-    const int decoded = read_levels(count, size_of_shape(size), &type);
+    const int decoded = read_levels(count, size, &type);
     for (int i = 0; i < decoded; ++i) {
       block_[positions_[i]] = static_cast<int16_t>(dequantize_level(quantizer, positions_[i], values_[i]));
     }
     const int mode_byte = coefficients_.block_modes[block_number_];
     const int16_t* residual = decoded > 0 ? block_ : nullptr;
-    if (luma != nullptr && size == 8 && is_cfl_mode_byte(mode_byte)) {
+    if (luma != nullptr && size == kChromaSize && is_cfl_mode_byte(mode_byte)) {
       reconstruct_chroma_block_in_plane(state, recon, stride, x0, y0, {kCflMode, cfl_alpha_of_mode_byte(mode_byte)},
                                         luma, 2 * stride, residual, type);
     } else {
@@ -174,7 +176,7 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const Decoded
     for (int mbx = 0; mbx < luma.blocks_x / 2; ++mbx) {
       const LumaPartition partition =
           coefficients.luma_partitions[static_cast<size_t>(mby) * (luma.blocks_x / 2) + mbx];
-      for_each_luma_block(partition, [&](int x, int y, int size) {
+      for_each_luma_block(partition, [&](int x, int y, TransformSize size) {
         reconstructor.next(luma_state, frame->planes[0].data(), luma.stride(), 16 * mbx + x, 16 * mby + y, size,
                            nullptr);
       });
@@ -185,7 +187,7 @@ void predict_and_reconstruct(const CoefficientFrame& coefficients, const Decoded
     PlaneState state(plane.stride(), plane.padded_height());
     for (int by = 0; by < plane.blocks_y; ++by) {
       for (int bx = 0; bx < plane.blocks_x; ++bx) {
-        reconstructor.next(state, frame->planes[p].data(), plane.stride(), 8 * bx, 8 * by, 8,
+        reconstructor.next(state, frame->planes[p].data(), plane.stride(), 8 * bx, 8 * by, kChromaSize,
                            frame->planes[0].data());
       }
     }

@@ -1,6 +1,7 @@
 // The transform block sizes of the codec (docs/codec.md sections 3.1 and 5.5).
 #pragma once
 
+#include <cassert>
 #include <cstdint>
 
 namespace svc::codec {
@@ -56,24 +57,14 @@ constexpr int rectangular_scale_log_sqrt2(TransformSize size) {
   return area == 128 ? -1 : area == 32 ? 1 : 0;
 }
 
-// A block's shape as one int: its width for a square block, else width | height << 8.
-constexpr int block_shape(int width, int height) { return width == height ? width : width | (height << 8); }
-constexpr int shape_width(int shape) { return shape & 0xFF; }
-constexpr int shape_height(int shape) { return shape >> 8 ? shape >> 8 : shape; }
-constexpr int shape_area(int shape) { return shape_width(shape) * shape_height(shape); }
-// The transform size of a block shape (8x8 for any shape without one of its own).
-constexpr TransformSize size_of_shape(int shape) {
-  switch (shape) {
-    case 4: return TransformSize::k4x4;
-    case 16: return TransformSize::k16x16;
-    case block_shape(16, 8): return TransformSize::k16x8;
-    case block_shape(8, 16): return TransformSize::k8x16;
-    case block_shape(16, 4): return TransformSize::k16x4;
-    case block_shape(4, 16): return TransformSize::k4x16;
-    case block_shape(8, 4): return TransformSize::k8x4;
-    case block_shape(4, 8): return TransformSize::k4x8;
-    default: return TransformSize::k8x8;
+// The transform size of a width x height block, which must be one of the sizes.
+constexpr TransformSize transform_size_of(int width, int height) {
+  for (int s = 0; s < kTransformSizes; ++s) {
+    const auto size = static_cast<TransformSize>(s);
+    if (transform_width(size) == width && transform_height(size) == height) return size;
   }
+  assert(false && "not a transform size");
+  return TransformSize::k8x8;
 }
 
 }  // namespace svc::codec

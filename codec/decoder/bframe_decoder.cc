@@ -48,7 +48,7 @@ class IntraBlockDecoder final : public intra::BlockReader {
   IntraBlockDecoder(FrameState& s, RangeDecoder& decoder, int plane, int mx, int my)
       : s_(s), decoder_(decoder), plane_(plane), mx_(mx), my_(my) {}
 
-  bool read(int x0, int y0, int size) override {
+  bool read(int x0, int y0, TransformSize size) override {
     intra::PlaneState& state = s_.intra_planes[static_cast<size_t>(plane_)];
     if (!intra::read_block_syntax(decoder_, s_.contexts.intra_luma, state, x0, y0, size, &block_)) return false;
     intra::reconstruct_block_in_plane(state, s_.planes[0].data(), s_.strides[0], x0, y0, size, block_.mode,
@@ -66,8 +66,8 @@ class IntraBlockDecoder final : public intra::BlockReader {
     }
     intra::reconstruct_chroma_block_in_plane(state, s_.planes[static_cast<size_t>(plane_)].data(),
                                              s_.strides[plane_], x0, y0, {block_.mode, block_.cfl_alpha},
-                                             s_.planes[0].data(), s_.strides[0], dequantize(x0, y0, 8),
-                                             block_.transform_type);
+                                             s_.planes[0].data(), s_.strides[0],
+                                             dequantize(x0, y0, intra::kChromaSize), block_.transform_type);
     return true;
   }
 
@@ -76,11 +76,11 @@ class IntraBlockDecoder final : public intra::BlockReader {
 
  private:
   // The dequantized levels of the block read (null when it has none), marked coded.
-  const int16_t* dequantize(int x0, int y0, int size) {
+  const int16_t* dequantize(int x0, int y0, TransformSize size) {
     const int count = block_.count;
     if (count > 0) {
       const Quantizer& quantizer = intra::quantizer_for(s_.intra_quantizers, size);
-      std::fill_n(coefficients_, shape_area(size), int16_t{0});
+      std::fill_n(coefficients_, transform_area(size), int16_t{0});
       for (int i = 0; i < count; ++i) {
         const BlockLevel& level = block_.levels[i];
         coefficients_[level.position] =
@@ -92,14 +92,14 @@ class IntraBlockDecoder final : public intra::BlockReader {
   }
 
   // Sets the coded flag of every 8x8 block (chroma: the block) the transform block covers.
-  void mark_coded(int x0, int y0, int size) {
+  void mark_coded(int x0, int y0, TransformSize size) {
     if (plane_ != 0) {
       coded_mask_ |= static_cast<uint8_t>(1 << (3 + plane_));
       return;
     }
     for (int b = 0; b < 4; ++b) {
       const int bx = 16 * mx_ + 8 * (b & 1), by = 16 * my_ + 8 * (b >> 1);
-      if (x0 < bx + 8 && bx < x0 + shape_width(size) && y0 < by + 8 && by < y0 + shape_height(size))
+      if (intra::blocks_overlap(x0, y0, size, bx, by, TransformSize::k8x8))
         coded_mask_ |= static_cast<uint8_t>(1 << b);
     }
   }

@@ -26,7 +26,7 @@ class FrameBlockReader final : public BlockReader {
                    DecodedLevels* decoded)
       : decoder_(decoder), contexts_(contexts), state_(state), frame_(frame), decoded_(decoded) {}
 
-  bool read(int x0, int y0, int size) override {
+  bool read(int x0, int y0, TransformSize size) override {
     if (!read_block_syntax(decoder_, contexts_, state_, x0, y0, size, &block_)) return false;
     append(x0, y0, size, static_cast<uint8_t>(block_.mode));
     return true;
@@ -35,15 +35,15 @@ class FrameBlockReader final : public BlockReader {
   // An 8x8 chroma block; a Cb block's mode goes to `cb`, which the Cr block reads.
   bool read_chroma(int x0, int y0, ChromaPlane plane, ChromaMode* cb) {
     if (!read_chroma_block_syntax(decoder_, contexts_, state_, x0, y0, plane, cb, &block_)) return false;
-    append(x0, y0, 8, ChromaMode{block_.mode, block_.cfl_alpha}.mode_byte());
+    append(x0, y0, kChromaSize, ChromaMode{block_.mode, block_.cfl_alpha}.mode_byte());
     return true;
   }
 
  private:
   // Marks the block read and appends it to the frame with its mode byte.
-  void append(int x0, int y0, int size, uint8_t mode_byte) {
+  void append(int x0, int y0, TransformSize size, uint8_t mode_byte) {
     state_.mark(x0, y0, size, block_.mode, block_.count > 0);
-    frame_->append_levels(block_.levels, block_.count, size_of_shape(size), block_.transform_type);
+    frame_->append_levels(block_.levels, block_.count, size, block_.transform_type);
     frame_->block_counts.push_back(static_cast<uint16_t>(block_.count));
     frame_->block_modes.push_back(mode_byte);
     if (decoded_ != nullptr && block_.count > 0) {

@@ -22,9 +22,9 @@ int decode_alpha(RangeDecoder& decoder, CflContexts& cfl, ChromaPlane plane, int
 
 }  // namespace
 
-int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
+int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, TransformSize size,
                       const ModeCandidates& candidates) {
-  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+  const auto size_class = static_cast<size_t>(mode_size_class(size));
   const auto context = static_cast<size_t>(candidates.context);
   if (decoder.decode(contexts.is_most_probable[size_class][context])) {
     auto& index_bits = contexts.most_probable_index[size_class][context];
@@ -53,7 +53,7 @@ ChromaMode decode_chroma_mode(RangeDecoder& decoder, CflContexts& cfl, IntraMode
     mode.mode = kCflMode;
     mode.alpha = decode_alpha(decoder, cfl, plane, 0);
   } else {
-    mode.mode = decode_intra_mode(decoder, modes, 8, candidates);
+    mode.mode = decode_intra_mode(decoder, modes, intra::kChromaSize, candidates);
   }
   return mode;
 }
@@ -87,10 +87,10 @@ bool read_levels_and_type(RangeDecoder& decoder, PlaneContexts& contexts, const 
 }  // namespace
 
 bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
-                       int size, BlockSyntax* out) {
+                       TransformSize size, BlockSyntax* out) {
   out->mode = decode_intra_mode(decoder, contexts.modes, size, state.candidates(x0, y0));
   out->cfl_alpha = 0;
-  return read_levels_and_type(decoder, contexts, state, x0, y0, size_of_shape(size), out);
+  return read_levels_and_type(decoder, contexts, state, x0, y0, size, out);
 }
 
 bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0,
@@ -100,7 +100,7 @@ bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, co
   if (plane == ChromaPlane::kCb) *cb = mode;
   out->mode = mode.mode;
   out->cfl_alpha = mode.alpha;
-  return read_levels_and_type(decoder, contexts, state, x0, y0, TransformSize::k8x8, out);
+  return read_levels_and_type(decoder, contexts, state, x0, y0, kChromaSize, out);
 }
 
 bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int mbx, int mby,
@@ -109,14 +109,16 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
   *partition = 0;
   const int split_context = state.split_context(x0, y0, 16);
   if (!decoder.decode(contexts.split_16x16[static_cast<size_t>(split_context)])) {
-    if (!decoder.decode(contexts.halves_16x16[static_cast<size_t>(split_context)])) return reader.read(x0, y0, 16);
+    if (!decoder.decode(contexts.halves_16x16[static_cast<size_t>(split_context)]))
+      return reader.read(x0, y0, TransformSize::k16x16);
     const bool vertical = decoder.decode(contexts.vertical_halves) != 0;
     const bool strips = decoder.decode(contexts.strips[vertical ? 1 : 0]) != 0;
     *partition =
         static_cast<LumaPartition>(kHalves16x16 | (vertical ? kVerticalHalves : 0) | (strips ? kStrips : 0));
     bool read = true;
-    for_each_luma_block(*partition,
-                        [&](int x, int y, int shape) { read = read && reader.read(x0 + x, y0 + y, shape); });
+    for_each_luma_block(*partition, [&](int x, int y, TransformSize size) {
+      read = read && reader.read(x0 + x, y0 + y, size);
+    });
     return read;
   }
   *partition = kSplit16x16;
@@ -130,8 +132,9 @@ bool read_luma_macroblock(RangeDecoder& decoder, PlaneContexts& contexts, const 
       if (decoder.decode(contexts.vertical_8x8)) *partition |= vertical_8x8_bit(i);
     }
     bool read = true;
-    for_each_quarter_block(*partition, i,
-                           [&](int bx, int by, int shape) { read = read && reader.read(x0 + bx, y0 + by, shape); });
+    for_each_quarter_block(*partition, i, [&](int bx, int by, TransformSize size) {
+      read = read && reader.read(x0 + bx, y0 + by, size);
+    });
     if (!read) return false;
   }
   return true;

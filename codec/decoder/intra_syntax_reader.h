@@ -12,8 +12,8 @@
 
 namespace svc::codec {
 
-// A block's prediction mode (`shape` a block shape) given its most probable modes.
-int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, int shape,
+// The prediction mode of a block of `size` given its most probable modes.
+int decode_intra_mode(RangeDecoder& decoder, IntraModeContexts& contexts, TransformSize size,
                       const ModeCandidates& candidates);
 
 // Cb: the CfL flag (context `cfl_context`, the left and above Cb blocks using CfL), then
@@ -41,11 +41,11 @@ struct BlockSyntax {
   BlockLevel levels[kMaxTransformArea];
 };
 
-// Reads a luma block's mode and levels at (x0, y0) of a plane whose neighbours `state`
-// describes (`size` a block shape, transform_size.h block_shape, as in every call below
-// that takes one); the caller marks the block. Returns false on invalid levels.
+// Reads the mode and levels of a luma block of `size` at (x0, y0) of a plane whose
+// neighbours `state` describes; the caller marks the block. Returns false on invalid
+// levels.
 bool read_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
-                       int size, BlockSyntax* out);
+                       TransformSize size, BlockSyntax* out);
 // Reads an 8x8 chroma block's mode (codec/cfl.h: the CfL flag and alpha, or the regular
 // mode) and levels; a Cb block's mode goes to `cb`, which the Cr block at the same place
 // reads. The caller marks the block. Returns false on invalid levels.
@@ -57,7 +57,7 @@ bool read_chroma_block_syntax(RangeDecoder& decoder, PlaneContexts& contexts, co
 // at it). Returns false on invalid syntax.
 class BlockReader {
  public:
-  virtual bool read(int x0, int y0, int size) = 0;
+  virtual bool read(int x0, int y0, TransformSize size) = 0;
 
  protected:
   ~BlockReader() = default;

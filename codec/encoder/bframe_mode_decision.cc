@@ -11,11 +11,10 @@ namespace svc::codec::bframe {
 uint8_t intra_coded_mask(const IntraChoice& choice) {
   uint8_t mask = static_cast<uint8_t>((choice.cb.coded ? 16 : 0) | (choice.cr.coded ? 32 : 0));
   int n = 0;
-  intra::for_each_luma_block(choice.luma.partition, [&](int x, int y, int size) {
+  intra::for_each_luma_block(choice.luma.partition, [&](int x, int y, TransformSize size) {
     if (!choice.luma.blocks[static_cast<size_t>(n++)].coded) return;
     for (int b = 0; b < 4; ++b) {
-      const int bx = 8 * (b & 1), by = 8 * (b >> 1);
-      if (x < bx + 8 && bx < x + shape_width(size) && y < by + 8 && by < y + shape_height(size))
+      if (intra::blocks_overlap(x, y, size, 8 * (b & 1), 8 * (b >> 1), TransformSize::k8x8))
         mask |= static_cast<uint8_t>(1 << b);
     }
   });

@@ -49,13 +49,13 @@ struct ModeSet {
   }
 };
 
-// Hadamard SATD of a block of `shape`: the 4x4 or 8x8 kernel, a larger block as the sum
+// Hadamard SATD of a block of `size`: the 4x4 or 8x8 kernel, a larger block as the sum
 // over its 8x8 tiles, or its 4x4 tiles when a side is 4.
-int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, int shape) {
+int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, TransformSize size) {
   const dsp::EncoderDspTable& dsp = dsp::get_encoder_dsp();
-  if (shape == 4) return dsp.satd_4x4(source, stride, prediction);
-  if (shape == 8) return dsp.satd_8x8(source, stride, prediction);
-  const int w = shape_width(shape), h = shape_height(shape), t = std::min({w, h, 8});
+  if (size == TransformSize::k4x4) return dsp.satd_4x4(source, stride, prediction);
+  if (size == TransformSize::k8x8) return dsp.satd_8x8(source, stride, prediction);
+  const int w = transform_width(size), h = transform_height(size), t = std::min({w, h, 8});
   const auto satd = t == 8 ? dsp.satd_8x8 : dsp.satd_4x4;
   int sum = 0;
   uint8_t tile[64];
@@ -85,13 +85,13 @@ class BlockSearch {
 
   float lambda() const { return lambda_; }
 
-  // Chooses the mode and levels of a size x size block and returns its cost.
+  // Chooses the mode and levels of a block of `size` and returns its cost.
   // `candidates` null: the mode is fixed (a Cr block takes its Cb block's). `ranked`: the
   // modes to rank, else every allowed one. `prefix_bits`: bits coded before the mode (a
   // Cb block's CfL flag).
-  float choose(const uint8_t* source, int stride, const uint8_t* edge, int size, const PlaneContexts& contexts,
-               const ModeCandidates* candidates, int cbf_context, const ModeSet* ranked, BlockChoice* best,
-               float prefix_bits = 0) const {
+  float choose(const uint8_t* source, int stride, const uint8_t* edge, TransformSize size,
+               const PlaneContexts& contexts, const ModeCandidates* candidates, int cbf_context,
+               const ModeSet* ranked, BlockChoice* best, float prefix_bits = 0) const {
     std::array<int, kSearchedModes> searched;
     searched.fill(-1);
     searched[0] = best->mode;  // a fixed mode is the only one searched
@@ -130,31 +130,32 @@ class BlockSearch {
       trial_.cfl_alpha = alpha;
       predict_cfl(ac, dc, alpha, trial_.prediction);
       const float bits = prefix_bits + cfl_alpha_bits(contexts.cfl, plane, cb_alpha, alpha);
-      const float cost = evaluate(source, stride, 8, contexts, cbf_context, bits, TransformType::kDctDct, &trial_);
+      const float cost =
+          evaluate(source, stride, kChromaSize, contexts, cbf_context, bits, TransformType::kDctDct, &trial_);
       if (cost < best_cost) {
         best_cost = cost;
         best_bits = bits;
-        copy_choice(trial_, 8, best);
+        copy_choice(trial_, kChromaSize, best);
       }
     }
-    return choose_transform_type(source, stride, 8, contexts, cbf_context, best_bits, best, best_cost);
+    return choose_transform_type(source, stride, kChromaSize, contexts, cbf_context, best_bits, best, best_cost);
   }
 
-  static void copy_choice(const BlockChoice& from, int size, BlockChoice* to) {
+  static void copy_choice(const BlockChoice& from, TransformSize size, BlockChoice* to) {
     to->mode = from.mode;
     to->cfl_alpha = from.cfl_alpha;
     to->coded = from.coded;
     to->transform_type = from.transform_type;
-    std::copy_n(from.prediction, shape_area(size), to->prediction);
-    std::copy_n(from.levels, shape_area(size), to->levels);
+    std::copy_n(from.prediction, transform_area(size), to->prediction);
+    std::copy_n(from.levels, transform_area(size), to->levels);
   }
 
  private:
   static constexpr int kSearchedModes = 3;
 
-  std::array<int, kSearchedModes> preselect(const uint8_t* source, int stride, const uint8_t* edge, int size,
-                                            const IntraModeContexts& contexts, const ModeCandidates& candidates,
-                                            const ModeSet* ranked) const {
+  std::array<int, kSearchedModes> preselect(const uint8_t* source, int stride, const uint8_t* edge,
+                                            TransformSize size, const IntraModeContexts& contexts,
+                                            const ModeCandidates& candidates, const ModeSet* ranked) const {
     const IntraPredictor predict = intra_predictor(size);
     std::array<std::pair<int, int>, kIntraModes> costs;
     uint8_t prediction[kMaxTransformArea];
@@ -175,7 +176,7 @@ class BlockSearch {
     }
     // 4x4 blocks are many and each matters little: the best by SATD alone (a second
     // mode gains little for much time: docs/bench.md, "Figures behind code constants").
-    const int kept = rd_search_ && size != 4 ? std::min(kSearchedModes, count) : 1;
+    const int kept = rd_search_ && size != TransformSize::k4x4 ? std::min(kSearchedModes, count) : 1;
     std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + count);
     std::array<int, kSearchedModes> searched;
     searched.fill(-1);
@@ -210,12 +211,12 @@ class BlockSearch {
 
   // The best block's levels under each other transform type (where the contexts enable
   // types and the block has levels; the mode stays), by the same cost. Returns the cost.
-  float choose_transform_type(const uint8_t* source, int stride, int size, const PlaneContexts& contexts,
+  float choose_transform_type(const uint8_t* source, int stride, TransformSize size, const PlaneContexts& contexts,
                               int cbf_context, float mode_bits, BlockChoice* best, float best_cost) const {
     if (!contexts.types.enabled || !best->coded) return best_cost;
     trial_.mode = best->mode;
     trial_.cfl_alpha = best->cfl_alpha;
-    std::copy_n(best->prediction, shape_area(size), trial_.prediction);
+    std::copy_n(best->prediction, transform_area(size), trial_.prediction);
     for (int t = 1; t < kTransformTypes; ++t) {
       const float cost =
           evaluate(source, stride, size, contexts, cbf_context, mode_bits, static_cast<TransformType>(t), &trial_);
@@ -228,13 +229,13 @@ class BlockSearch {
   }
 
   // The levels and cost of trial->prediction with transform type `type`.
-  float evaluate(const uint8_t* source, int stride, int size, const PlaneContexts& plane_contexts, int cbf_context,
-                 float mode_bits, TransformType type, BlockChoice* trial) const {
+  float evaluate(const uint8_t* source, int stride, TransformSize size, const PlaneContexts& plane_contexts,
+                 int cbf_context, float mode_bits, TransformType type, BlockChoice* trial) const {
     const BlockContextSet& contexts = plane_contexts.residual;
     const Quantizer& quantizer = quantizer_for(quantizers_, size);
-    const int area = shape_area(size), w = shape_width(size);
+    const int area = transform_area(size), w = transform_width(size), h = transform_height(size);
     int16_t residual[kMaxTransformArea], coefficients[kMaxTransformArea];
-    for (int y = 0; y < shape_height(size); ++y) {
+    for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x)
         residual[w * y + x] = static_cast<int16_t>(source[y * stride + x] - trial->prediction[w * y + x]);
     }
@@ -242,15 +243,14 @@ class BlockSearch {
     trial->coded = transform_quantize_block_rd(quantizer, residual, rdoq_, contexts, cbf_context, lambda_,
                                                trial->levels, type, &levels_bits) > 0;
     trial->transform_type = trial->coded ? type : TransformType::kDctDct;
-    const float uncoded_cost =
-        static_cast<float>(squared_error(source, stride, trial->prediction, w, w, shape_height(size))) +
-        lambda_ * (mode_bits + uncoded_block_bits(contexts, cbf_context));
+    const float uncoded_cost = static_cast<float>(squared_error(source, stride, trial->prediction, w, w, h)) +
+                               lambda_ * (mode_bits + uncoded_block_bits(contexts, cbf_context));
     if (!trial->coded) return uncoded_cost;
     uint8_t reconstructed[kMaxTransformArea];
     dequantize_block(quantizer, trial->levels, coefficients);
     reconstruct_block(trial->prediction, coefficients, type, size, reconstructed, w);
     const float coded_cost =
-        static_cast<float>(squared_error(source, stride, reconstructed, w, w, shape_height(size))) +
+        static_cast<float>(squared_error(source, stride, reconstructed, w, w, h)) +
         lambda_ * (mode_bits + levels_bits +
                    transform_type_bits(plane_contexts.types, quantizer.size, trial->mode, type));
     if (coded_cost <= uncoded_cost || !rd_search_) return coded_cost;
@@ -283,7 +283,7 @@ class PlaneSearch {
         recon_(recon),
         stride_(stride) {}
 
-  float code_block(PlaneState& state, int x0, int y0, int size, const ModeSet* ranked, bool fixed_mode,
+  float code_block(PlaneState& state, int x0, int y0, TransformSize size, const ModeSet* ranked, bool fixed_mode,
                    BlockChoice* choice) const {
     uint8_t edge[dsp::kMaxIntraEdgeSamples];
     build_intra_edge(recon_, stride_, x0, y0, size, state.availability(x0, y0, size), edge);
@@ -301,15 +301,15 @@ class PlaneSearch {
   float choose_chroma_regular(const PlaneState& state, int x0, int y0, const ChromaMode* cb,
                               BlockChoice* choice) const {
     uint8_t edge[dsp::kMaxIntraEdgeSamples];
-    build_intra_edge(recon_, stride_, x0, y0, 8, state.availability(x0, y0, 8), edge);
+    build_intra_edge(recon_, stride_, x0, y0, kChromaSize, state.availability(x0, y0, kChromaSize), edge);
     const uint8_t* source = source_ + static_cast<size_t>(y0) * stride_ + x0;
     const int cbf_context = state.coded_block_context(x0, y0);
     if (cb != nullptr) {
       choice->mode = cb->mode;
-      return search_.choose(source, stride_, edge, 8, contexts_, nullptr, cbf_context, nullptr, choice);
+      return search_.choose(source, stride_, edge, kChromaSize, contexts_, nullptr, cbf_context, nullptr, choice);
     }
     const auto candidates = state.candidates(x0, y0);
-    return search_.choose(source, stride_, edge, 8, contexts_, &candidates, cbf_context, nullptr, choice,
+    return search_.choose(source, stride_, edge, kChromaSize, contexts_, &candidates, cbf_context, nullptr, choice,
                           cfl_flag_bits(contexts_.cfl, state.cfl_context(x0, y0), false));
   }
 
@@ -318,7 +318,7 @@ class PlaneSearch {
   float choose_chroma_cfl(const PlaneState& state, int x0, int y0, const int16_t* ac, const ChromaMode* cb,
                           BlockChoice* choice) const {
     uint8_t edge[dsp::kMaxIntraEdgeSamples];
-    build_intra_edge(recon_, stride_, x0, y0, 8, state.availability(x0, y0, 8), edge);
+    build_intra_edge(recon_, stride_, x0, y0, kChromaSize, state.availability(x0, y0, kChromaSize), edge);
     const uint8_t* source = source_ + static_cast<size_t>(y0) * stride_ + x0;
     const int cbf_context = state.coded_block_context(x0, y0);
     if (cb != nullptr) {
@@ -330,7 +330,7 @@ class PlaneSearch {
   }
 
   // Writes the chosen block's reconstruction into the plane and marks it.
-  void finish_block(PlaneState& state, int x0, int y0, int size, const BlockChoice& choice) const {
+  void finish_block(PlaneState& state, int x0, int y0, TransformSize size, const BlockChoice& choice) const {
     const size_t offset = static_cast<size_t>(y0) * stride_ + x0;
     int16_t coefficients[kMaxTransformArea];
     if (choice.coded) dequantize_block(quantizer_for(quantizers_, size), choice.levels, coefficients);
@@ -375,7 +375,7 @@ class MacroblockSearch {
     const int x0 = 16 * mbx, y0 = 16 * mby;
     const PlaneContexts& contexts = plane_->contexts();
     const int split_context = state.split_context(x0, y0, 16);
-    state.clear(x0, y0, 16);
+    state.clear(x0, y0, TransformSize::k16x16);
     split_.partition = kSplit16x16;
     float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
     bool over_budget = false;
@@ -396,18 +396,18 @@ class MacroblockSearch {
     uint8_t saved[kMaxTransformArea];
     plane_->save(x0, y0, 16, saved);
     ModeSet ranked;
-    for_each_luma_block(split_.partition, [&, n = 0](int, int, int) mutable {
+    for_each_luma_block(split_.partition, [&, n = 0](int, int, TransformSize) mutable {
       ranked.add(split_.blocks[static_cast<size_t>(n++)].mode);
     });
     for (int mode : state.candidates(x0, y0)) ranked.add(mode);
     ranked.add(kPlanarMode);
     ranked.add(kDcMode);
-    state.clear(x0, y0, 16);
+    state.clear(x0, y0, TransformSize::k16x16);
     BlockChoice& whole = out->blocks[0];
     const float unsplit_bits = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0);
     const auto& halves_bit = contexts.halves_16x16[static_cast<size_t>(split_context)];
     float whole_cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 0) +
-                       plane_->code_block(state, x0, y0, 16, &ranked, false, &whole);
+                       plane_->code_block(state, x0, y0, TransformSize::k16x16, &ranked, false, &whole);
     out->partition = 0;
     // Past the budget, the halves and strips are not tried either.
     for (const bool vertical : {false, true}) {
@@ -439,7 +439,7 @@ class MacroblockSearch {
     const int first = block_index(i);
     BlockChoice& whole = split_.blocks[static_cast<size_t>(first)];
     float best_cost = unsplit_bits + plane_->split_bit_cost(contexts.halves_8x8[context], 0) +
-                      plane_->code_block(state, x0, y0, 8, nullptr, false, &whole);
+                      plane_->code_block(state, x0, y0, TransformSize::k8x8, nullptr, false, &whole);
     if (!sizes_ || !small_blocks_ || !whole.coded) return best_cost;
     kept_[0] = whole;
     int kept_count = 1;
@@ -452,12 +452,13 @@ class MacroblockSearch {
         {static_cast<LumaPartition>(halves_8x8_bit(i) | vertical_8x8_bit(i)),
          halves_bits + plane_->split_bit_cost(contexts.vertical_8x8, 1)}};
     for (const auto& [bits, flags_cost] : trials) {
-      state.clear(x0, y0, 8);
+      state.clear(x0, y0, TransformSize::k8x8);
       float cost = flags_cost;
       int n = 0;
-      for_each_quarter_block(static_cast<LumaPartition>(kSplit16x16 | bits), i, [&](int x, int y, int shape) {
+      const auto partition = static_cast<LumaPartition>(kSplit16x16 | bits);
+      for_each_quarter_block(partition, i, [&](int x, int y, TransformSize size) {
         if (cost >= best_cost) return;
-        cost += plane_->code_block(state, mb_x0 + x, mb_y0 + y, shape, nullptr, false,
+        cost += plane_->code_block(state, mb_x0 + x, mb_y0 + y, size, nullptr, false,
                                    &trial_[static_cast<size_t>(n++)]);
       });
       if (cost < best_cost) {
@@ -479,17 +480,17 @@ class MacroblockSearch {
   // Marks the blocks of 8x8 block i of the split partition in `state` again (their modes
   // from kept_), after a trial over them.
   void mark_quarter(PlaneState& state, int mb_x0, int mb_y0, int i, LumaPartition partition) const {
-    for_each_quarter_block(partition, i, [&, n = 0](int x, int y, int shape) mutable {
+    for_each_quarter_block(partition, i, [&, n = 0](int x, int y, TransformSize size) mutable {
       const BlockChoice& b = kept_[static_cast<size_t>(n++)];
-      state.mark(mb_x0 + x, mb_y0 + y, shape, b.mode, b.coded);
+      state.mark(mb_x0 + x, mb_y0 + y, size, b.mode, b.coded);
     });
   }
 
   // Marks the blocks of `choice` in `state` again, after a trial over them.
   static void mark_blocks(PlaneState& state, int x0, int y0, const MacroblockChoice& choice) {
-    for_each_luma_block(choice.partition, [&, n = 0](int x, int y, int shape) mutable {
+    for_each_luma_block(choice.partition, [&, n = 0](int x, int y, TransformSize size) mutable {
       const BlockChoice& b = choice.blocks[static_cast<size_t>(n++)];
-      state.mark(x0 + x, y0 + y, shape, b.mode, b.coded);
+      state.mark(x0 + x, y0 + y, size, b.mode, b.coded);
     });
   }
 
@@ -500,13 +501,13 @@ class MacroblockSearch {
                      MacroblockChoice* out) {
     uint8_t best_samples[kMaxTransformArea];
     plane_->save(x0, y0, 16, best_samples);
-    state.clear(x0, y0, 16);
+    state.clear(x0, y0, TransformSize::k16x16);
     float cost = bits;
     int n = 0;
-    for_each_luma_block(partition, [&](int x, int y, int shape) {
+    for_each_luma_block(partition, [&](int x, int y, TransformSize size) {
       if (cost >= *best_cost) return;
-      const ModeSet ranked = covered_modes(state, x0, y0, x, y, shape, *out);
-      cost += plane_->code_block(state, x0 + x, y0 + y, shape, &ranked, false, &trial_[static_cast<size_t>(n++)]);
+      const ModeSet ranked = covered_modes(state, x0, y0, x, y, size, *out);
+      cost += plane_->code_block(state, x0 + x, y0 + y, size, &ranked, false, &trial_[static_cast<size_t>(n++)]);
     });
     if (cost < *best_cost) {
       *best_cost = cost;
@@ -519,17 +520,16 @@ class MacroblockSearch {
     mark_blocks(state, x0, y0, *out);
   }
 
-  // The modes a block (x, y, shape within the macroblock at x0, y0) ranks: those of the
+  // The modes a block (x, y, size within the macroblock at x0, y0) ranks: those of the
   // 8x8 blocks and of the best partition's blocks it overlaps, its most probable modes,
   // planar and DC.
-  ModeSet covered_modes(const PlaneState& state, int x0, int y0, int x, int y, int shape,
+  ModeSet covered_modes(const PlaneState& state, int x0, int y0, int x, int y, TransformSize size,
                         const MacroblockChoice& best) const {
     ModeSet ranked;
-    const int w = shape_width(shape), h = shape_height(shape);
     auto add_overlapping = [&](const MacroblockChoice& choice) {
-      for_each_luma_block(choice.partition, [&, n = 0](int bx, int by, int b) mutable {
+      for_each_luma_block(choice.partition, [&, n = 0](int bx, int by, TransformSize b) mutable {
         const int mode = choice.blocks[static_cast<size_t>(n++)].mode;
-        if (bx < x + w && x < bx + shape_width(b) && by < y + h && y < by + shape_height(b)) ranked.add(mode);
+        if (blocks_overlap(x, y, size, bx, by, b)) ranked.add(mode);
       });
     };
     add_overlapping(split_);
@@ -543,7 +543,8 @@ class MacroblockSearch {
   // Index in split_.blocks of the first block of 8x8 block i, given the partitions before it.
   int block_index(int i) const {
     int index = 0;
-    for (int k = 0; k < i; ++k) for_each_quarter_block(split_.partition, k, [&](int, int, int) { ++index; });
+    for (int k = 0; k < i; ++k)
+      for_each_quarter_block(split_.partition, k, [&](int, int, TransformSize) { ++index; });
     return index;
   }
 
@@ -611,14 +612,14 @@ float MacroblockEncoder::choose_chroma(const PlaneContexts& contexts, PlaneState
       const ChromaMode cb_mode = cb_trial.chroma_mode();
       const float cfl_cost = cb_cost + cr_plane.choose_chroma_cfl(cr_state, x0, y0, ac, &cb_mode, &cr_trial);
       if (cfl_cost < cost) {
-        BlockSearch::copy_choice(cb_trial, 8, cb);
-        BlockSearch::copy_choice(cr_trial, 8, cr);
+        BlockSearch::copy_choice(cb_trial, kChromaSize, cb);
+        BlockSearch::copy_choice(cr_trial, kChromaSize, cr);
         cost = cfl_cost;
       }
     }
   }
-  cb_plane.finish_block(cb_state, x0, y0, 8, *cb);
-  cr_plane.finish_block(cr_state, x0, y0, 8, *cr);
+  cb_plane.finish_block(cb_state, x0, y0, kChromaSize, *cb);
+  cr_plane.finish_block(cr_state, x0, y0, kChromaSize, *cr);
   return cost;
 }
 

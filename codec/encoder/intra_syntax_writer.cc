@@ -34,15 +34,16 @@ int rank_among_others(const ModeCandidates& candidates, int mode) {
   return rank;
 }
 
-void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
+void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, TransformSize size,
                        const ModeCandidates& candidates, int mode) {
-  for_each_mode_bit(contexts, shape, candidates, mode,
+  for_each_mode_bit(contexts, size, candidates, mode,
                     [&](AdaptiveBit& model, int bit) { encoder.encode(model, bit); });
 }
 
-float intra_mode_bits(const IntraModeContexts& contexts, int shape, const ModeCandidates& candidates, int mode) {
+float intra_mode_bits(const IntraModeContexts& contexts, TransformSize size, const ModeCandidates& candidates,
+                      int mode) {
   float bits = 0;
-  for_each_mode_bit(contexts, shape, candidates, mode,
+  for_each_mode_bit(contexts, size, candidates, mode,
                     [&](const AdaptiveBit& model, int bit) { bits += bit_cost(model, bit); });
   return bits;
 }
@@ -58,7 +59,7 @@ void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContex
   if (mode.cfl()) {
     encode_alpha(encoder, cfl, plane, 0, mode.alpha);
   } else {
-    encode_intra_mode(encoder, modes, 8, candidates, mode.mode);
+    encode_intra_mode(encoder, modes, intra::kChromaSize, candidates, mode.mode);
   }
 }
 
@@ -103,21 +104,19 @@ namespace intra {
 namespace {
 
 // Writes a block's levels and, when it has levels, its transform type, and marks it.
-void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                  const BlockChoice& choice) {
-  encode_block_levels(encoder, contexts.residual, choice.levels, state.coded_block_context(x0, y0),
-                      size_of_shape(size));
+void write_levels(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
+                  TransformSize size, const BlockChoice& choice) {
+  encode_block_levels(encoder, contexts.residual, choice.levels, state.coded_block_context(x0, y0), size);
   const bool has_levels =
-      std::any_of(choice.levels, choice.levels + shape_area(size), [](int16_t l) { return l != 0; });
-  if (has_levels)
-    encode_transform_type(encoder, contexts.types, size_of_shape(size), choice.mode, choice.transform_type);
+      std::any_of(choice.levels, choice.levels + transform_area(size), [](int16_t l) { return l != 0; });
+  if (has_levels) encode_transform_type(encoder, contexts.types, size, choice.mode, choice.transform_type);
   state.mark(x0, y0, size, choice.mode, choice.coded);
 }
 
 }  // namespace
 
-void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                 const BlockChoice& choice) {
+void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
+                 TransformSize size, const BlockChoice& choice) {
   encode_intra_mode(encoder, contexts.modes, size, state.candidates(x0, y0), choice.mode);
   write_levels(encoder, contexts, state, x0, y0, size, choice);
 }
@@ -126,7 +125,7 @@ void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneSta
                         ChromaPlane plane, const ChromaMode& cb, const BlockChoice& choice) {
   encode_chroma_mode(encoder, contexts.cfl, contexts.modes, state.cfl_context(x0, y0), state.candidates(x0, y0),
                      plane, cb, choice.chroma_mode());
-  write_levels(encoder, contexts, state, x0, y0, 8, choice);
+  write_levels(encoder, contexts, state, x0, y0, kChromaSize, choice);
 }
 
 namespace {
@@ -158,7 +157,7 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
     }
   }
   int n = 0;
-  for_each_luma_block(choice.partition, [&](int x, int y, int size) {
+  for_each_luma_block(choice.partition, [&](int x, int y, TransformSize size) {
     if ((choice.partition & kSplit16x16) && x % 8 == 0 && y % 8 == 0)
       write_quarter_flags(encoder, contexts, state, x0, y0, x / 8 + 2 * (y / 8), choice.partition);
     write_block(encoder, contexts, state, x0 + x, y0 + y, size, choice.blocks[static_cast<size_t>(n++)]);

@@ -23,8 +23,9 @@ int rank_among_others(const ModeCandidates& candidates, int mode);
 // kRemainderBits bits down a binary tree of contexts.
 template <class Contexts, class Bit>
 requires std::same_as<std::remove_const_t<Contexts>, IntraModeContexts>
-void for_each_mode_bit(Contexts& contexts, int shape, const ModeCandidates& candidates, int mode, Bit&& bit) {
-  const auto size_class = static_cast<size_t>(mode_size_class(shape));
+void for_each_mode_bit(Contexts& contexts, TransformSize size, const ModeCandidates& candidates, int mode,
+                       Bit&& bit) {
+  const auto size_class = static_cast<size_t>(mode_size_class(size));
   const auto context = static_cast<size_t>(candidates.context);
   const auto found = std::find(candidates.begin(), candidates.end(), mode);
   bit(contexts.is_most_probable[size_class][context], found != candidates.end() ? 1 : 0);
@@ -44,10 +45,11 @@ void for_each_mode_bit(Contexts& contexts, int shape, const ModeCandidates& cand
   }
 }
 
-void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, int shape,
+void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, TransformSize size,
                        const ModeCandidates& candidates, int mode);
 // The bits encode_intra_mode spends on `mode` at the contexts' current state.
-float intra_mode_bits(const IntraModeContexts& contexts, int shape, const ModeCandidates& candidates, int mode);
+float intra_mode_bits(const IntraModeContexts& contexts, TransformSize size, const ModeCandidates& candidates,
+                      int mode);
 
 // What decode_chroma_mode reads (codec/decoder/intra_syntax_reader.h).
 void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
@@ -85,8 +87,8 @@ struct MacroblockChoice {
 };
 
 // Writes a luma block's mode and levels, and marks it.
-void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0, int size,
-                 const BlockChoice& choice);
+void write_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,
+                 TransformSize size, const BlockChoice& choice);
 // Writes an 8x8 chroma block's mode (codec/cfl.h; `cb` is a Cr block's Cb block's mode)
 // and levels, and marks it.
 void write_chroma_block(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState& state, int x0, int y0,

@@ -55,7 +55,7 @@ std::string check_satd(const Tables& reference, const Tables& variant, Random& r
 // The W x H predictor of a table.
 template <int W, int H>
 auto predictor_of(const Tables& t) {
-  return t.intra_predict[codec::size_index(codec::size_of_shape(codec::block_shape(W, H)))];
+  return t.intra_predict[codec::size_index(codec::transform_size_of(W, H))];
 }
 // 4x4, 16x16 and the rectangular blocks from edges of 2 (W + H) + 1 samples built the same ways.
 template <int N, int H = N>

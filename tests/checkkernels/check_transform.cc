@@ -274,7 +274,7 @@ auto forward_typed_of(const Tables& t) {
 // The inverses of the W x H size, indexed by type.
 template <int W, int H>
 const auto& inverse_typed_of(const Tables& t) {
-  return t.inverse_transform[codec::size_index(codec::size_of_shape(codec::block_shape(W, H)))];
+  return t.inverse_transform[codec::size_index(codec::transform_size_of(W, H))];
 }
 template <int W, int H>
 int type_of_iteration(int n) {
@@ -350,7 +350,7 @@ void bench_inverse_typed(const Tables& table, int iterations) {
 // apart from the prediction or the prediction itself; the whole destination buffer is
 // compared, so that a write outside the block shows.
 template <int W, int H>
-constexpr int add_index = codec::size_index(codec::size_of_shape(codec::block_shape(W, H)));
+constexpr int add_index = codec::size_index(codec::transform_size_of(W, H));
 
 template <int W, int H, int Type>
 std::string check_inverse_add(const Tables& reference, const Tables& variant, Random& random, int iterations) {

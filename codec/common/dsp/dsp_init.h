@@ -44,25 +44,20 @@ struct IntraAngularReference {
   uint8_t main[kIntraAngularReferenceOffset + 18];
 };
 void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngularReference* out);
-// The same for an N x N block (N = 4, 8 or 16): main[N + k], k = -N..2N+1, is sample k of
-// the projected edge (main holds 3N + 2 samples). Returns the angle.
-int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, uint8_t* main);
-// The [1 2 1] smoothing of an N x N block's edge (N = 4, 8 or 16; 4N + 1 samples, the
-// ends kept) that planar prediction and the diagonal modes read.
-void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out);
+// The same for the W x H block of `size`, whose edge holds 2 (W + H) + 1 samples, the
+// corner at W + H. A square N x N block: main[N + k], k = -N..2N+1, is sample k of the
+// projected edge (main holds 3N + 2 samples). A rectangular one (16x8, 8x16, 16x4, 4x16,
+// 8x4, 4x8): main[W + H + k], k = -(W + H)..W + H + 1 (main holds 3 (W + H) + 2
+// samples), of the block predicted along its columns (W x H for vertical modes, H x W,
+// to be transposed, for horizontal ones). Returns the angle.
+int prepare_intra_angular_reference(const uint8_t* edge, int mode, TransformSize size, uint8_t* main);
+// The [1 2 1] smoothing of the edge of a block of `size` (the ends kept) that planar
+// prediction and the diagonal modes read.
+void smooth_intra_edge(const uint8_t* edge, TransformSize size, uint8_t* out);
 // The boundary filter of DC (mode 1), pure horizontal (10) and pure vertical (26) over
-// an N x N block's unfiltered prediction `out`, from its unsmoothed edge; other modes
-// are left alone (docs/codec.md 5.2). Every variant of the angular modes calls it.
-void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* out);
-// The same three for the rectangular W x H blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8), whose edge holds
-// 2 (W + H) + 1 samples: the angular reference main[W + H + k], k = -(W + H)..W + H + 1
-// (main holds 3 (W + H) + 2 samples), of a block predicted along its columns (W x H for
-// vertical modes, H x W, to be transposed, for horizontal ones); the boundary filters;
-// the smoothing.
-int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, int height,
-                                                uint8_t* main);
-void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, int height, uint8_t* out);
-void smooth_intra_edge_rectangular(const uint8_t* edge, int width, int height, uint8_t* out);
+// the unfiltered prediction `out` of a block of `size`, from its unsmoothed edge; other
+// modes are left alone (docs/codec.md 5.2). Every variant of the angular modes calls it.
+void filter_intra_boundary(const uint8_t* edge, int mode, TransformSize size, uint8_t* out);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
 
 #if defined(__x86_64__) || defined(__i386__)

@@ -251,50 +251,38 @@ void prepare_intra_angular_reference(const uint8_t* edge, int mode, IntraAngular
   out->angle = prepare_angular_reference<8>(edge, mode, out->main);
 }
 
-int prepare_intra_angular_reference_n(const uint8_t* edge, int mode, int size, uint8_t* main) {
-  if (size == 4) return prepare_angular_reference<4>(edge, mode, main);
-  if (size == 16) return prepare_angular_reference<16>(edge, mode, main);
-  return prepare_angular_reference<8>(edge, mode, main);
-}
-
-void filter_intra_boundary_n(const uint8_t* edge, int mode, int size, uint8_t* out) {
-  if (size == 4) return filter_boundary<4>(edge, mode, out);
-  if (size == 16) return filter_boundary<16>(edge, mode, out);
-  filter_boundary<8>(edge, mode, out);
-}
-
-// Calls f.template operator()<W, H>() for the rectangular shape width x height.
+// Calls f.template operator()<W, H>() for the W x H block of `size`.
 template <class F>
-auto with_rectangular_shape(int width, int height, F&& f) {
-  switch (width * 32 + height) {
-    case 16 * 32 + 8: return f.template operator()<16, 8>();
-    case 8 * 32 + 16: return f.template operator()<8, 16>();
-    case 16 * 32 + 4: return f.template operator()<16, 4>();
-    case 4 * 32 + 16: return f.template operator()<4, 16>();
-    case 8 * 32 + 4: return f.template operator()<8, 4>();
-    default: return f.template operator()<4, 8>();
+auto with_block_size(TransformSize size, F&& f) {
+  switch (size) {
+    case TransformSize::k4x4: return f.template operator()<4, 4>();
+    case TransformSize::k16x16: return f.template operator()<16, 16>();
+    case TransformSize::k16x8: return f.template operator()<16, 8>();
+    case TransformSize::k8x16: return f.template operator()<8, 16>();
+    case TransformSize::k16x4: return f.template operator()<16, 4>();
+    case TransformSize::k4x16: return f.template operator()<4, 16>();
+    case TransformSize::k8x4: return f.template operator()<8, 4>();
+    case TransformSize::k4x8: return f.template operator()<4, 8>();
+    default: return f.template operator()<8, 8>();
   }
 }
 
-int prepare_intra_angular_reference_rectangular(const uint8_t* edge, int mode, int width, int height,
-                                                uint8_t* main) {
-  return with_rectangular_shape(width, height, [&]<int W, int H>() {
-    return prepare_rectangular_reference<W, H>(edge, mode, main);
+int prepare_intra_angular_reference(const uint8_t* edge, int mode, TransformSize size, uint8_t* main) {
+  return with_block_size(size, [&]<int W, int H>() {
+    if constexpr (W == H) {
+      return prepare_angular_reference<W>(edge, mode, main);
+    } else {
+      return prepare_rectangular_reference<W, H>(edge, mode, main);
+    }
   });
 }
 
-void filter_intra_boundary_rectangular(const uint8_t* edge, int mode, int width, int height, uint8_t* out) {
-  with_rectangular_shape(width, height, [&]<int W, int H>() { filter_boundary<W, H>(edge, mode, out); });
+void filter_intra_boundary(const uint8_t* edge, int mode, TransformSize size, uint8_t* out) {
+  with_block_size(size, [&]<int W, int H>() { filter_boundary<W, H>(edge, mode, out); });
 }
 
-void smooth_intra_edge_rectangular(const uint8_t* edge, int width, int height, uint8_t* out) {
-  with_rectangular_shape(width, height, [&]<int W, int H>() { smooth_edge<W, H>(edge, out); });
-}
-
-void smooth_intra_edge_n(const uint8_t* edge, int size, uint8_t* out) {
-  if (size == 4) return smooth_edge<4>(edge, out);
-  if (size == 16) return smooth_edge<16>(edge, out);
-  smooth_edge<8>(edge, out);
+void smooth_intra_edge(const uint8_t* edge, TransformSize size, uint8_t* out) {
+  with_block_size(size, [&]<int W, int H>() { smooth_edge<W, H>(edge, out); });
 }
 
 void intra_predict_4x4_c(const uint8_t* edge, int mode, uint8_t* out) { intra_predict<4>(edge, mode, out); }

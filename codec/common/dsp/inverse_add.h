@@ -50,7 +50,7 @@ void typed_inverse(const int16_t* coefficients, int16_t* samples) {
 // a rectangular block.
 template <int W, int H, TypedInverseKernel Inverse, AddKernel Add>
 void set_typed_inverse(DspTable* table) {
-  const int size = size_index(size_of_shape(block_shape(W, H)));
+  constexpr int size = size_index(transform_size_of(W, H));
   auto& inverse = table->inverse_transform[size];
   auto& add = table->inverse_transform_add[size];
   if constexpr (W != H) {
@@ -67,7 +67,7 @@ void set_typed_inverse(DspTable* table) {
 // The DCT_DCT entries of a square size from its DCT.
 template <int N, InverseKernel Inverse, AddKernel Add>
 void set_dct_inverse(DspTable* table) {
-  const int size = size_index(size_of_shape(N));
+  constexpr int size = size_index(transform_size_of(N, N));
   table->inverse_transform[size][0] = Inverse;
   table->inverse_transform_add[size][0] = inverse_add<Inverse, Add>;
 }

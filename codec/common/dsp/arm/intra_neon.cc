@@ -25,7 +25,7 @@ template <int N>
 void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
   uint8_t main[3 * N + 2 + 16];  // room for the eight-sample loads past the last sample
   std::memset(main + 3 * N + 2, 0, 16);
-  const int angle = prepare_intra_angular_reference_n(edge, mode, N, main);
+  const int angle = prepare_intra_angular_reference(edge, mode, transform_size_of(N, N), main);
   const uint8_t* ref = main + N;
   uint8_t rows[N * N + 8];  // a 4x4 block's last row stores eight
   for (int y = 0; y < N; ++y) {
@@ -51,7 +51,7 @@ void intra_predict_neon(const uint8_t* edge, int mode, uint8_t* out) {
     return;
   }
   predict_angular<N>(edge, mode, out);
-  filter_intra_boundary_n(edge, mode, N, out);
+  filter_intra_boundary(edge, mode, transform_size_of(N, N), out);
 }
 
 // Rectangular blocks (16x8, 8x16, 16x4, 4x16, 8x4, 4x8): the angular modes eight samples of a row
@@ -65,7 +65,7 @@ void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out)
   }
   uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
   std::memset(main + 3 * (W + H) + 2, 0, 16);
-  const int angle = prepare_intra_angular_reference_rectangular(edge, mode, W, H, main);
+  const int angle = prepare_intra_angular_reference(edge, mode, transform_size_of(W, H), main);
   const uint8_t* ref = main + (W + H);
   const bool vertical = mode >= 18;
   const int bw = vertical ? W : H, bh = vertical ? H : W;
@@ -82,7 +82,7 @@ void intra_predict_rectangular_neon(const uint8_t* edge, int mode, uint8_t* out)
       for (int x = 0; x < bw; ++x) out[W * x + y] = rows[bw * y + x];
     }
   }
-  filter_intra_boundary_rectangular(edge, mode, W, H, out);
+  filter_intra_boundary(edge, mode, transform_size_of(W, H), out);
 }
 
 }  // namespace

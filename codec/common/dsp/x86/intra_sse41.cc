@@ -32,7 +32,7 @@ template <int N>
 void predict_planar(const uint8_t* edge, uint8_t* out) {
   constexpr int kCorner = 2 * N, kShift = N == 4 ? 3 : N == 8 ? 4 : 5;
   uint8_t smoothed[4 * N + 1 + 8];  // room for the eight-sample load of a 4x4 block's above row
-  smooth_intra_edge_n(edge, N, smoothed);
+  smooth_intra_edge(edge, transform_size_of(N, N), smoothed);
   std::memset(smoothed + 4 * N + 1, 0, 8);
   const uint8_t* above = smoothed + kCorner + 1;
   const __m128i above_right = _mm_set1_epi16(above[N]), below_left = _mm_set1_epi16(smoothed[kCorner - 1 - N]);
@@ -78,7 +78,7 @@ void intra_predict_8x8_sse41(const uint8_t* edge, int mode, uint8_t* out) {
   for (int y = 0; y < 8; y += 2) {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 8 * y), _mm_packus_epi16(rows[y], rows[y + 1]));
   }
-  filter_intra_boundary_n(edge, mode, 8, out);
+  filter_intra_boundary(edge, mode, TransformSize::k8x8, out);
 }
 
 // Angular prediction of a 16x16 block, eight samples of a row at a time; horizontal
@@ -87,7 +87,7 @@ template <int N>
 void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
   uint8_t main[3 * N + 2 + 16];  // room for the eight-sample loads past the last sample
   std::memset(main + 3 * N + 2, 0, 16);
-  const int angle = prepare_intra_angular_reference_n(edge, mode, N, main);
+  const int angle = prepare_intra_angular_reference(edge, mode, transform_size_of(N, N), main);
   const uint8_t* ref = main + N;
   alignas(16) uint8_t rows[N * N + 16];
   for (int y = 0; y < N; ++y) {
@@ -106,7 +106,7 @@ void predict_angular(const uint8_t* edge, int mode, uint8_t* out) {
       for (int x = 0; x < N; ++x) out[N * x + y] = rows[N * y + x];
     }
   }
-  filter_intra_boundary_n(edge, mode, N, out);
+  filter_intra_boundary(edge, mode, transform_size_of(N, N), out);
 }
 
 // A 4x4 block's angular rows, eight samples computed to keep four, measured slower than
@@ -152,7 +152,7 @@ template <int W, int H>
 void predict_rectangular_planar(const uint8_t* edge, uint8_t* out) {
   constexpr int kCorner = W + H, kLogW = std::bit_width(unsigned{W}) - 1, kLogH = std::bit_width(unsigned{H}) - 1;
   uint8_t smoothed[2 * (W + H) + 1 + 8];  // room for the eight-sample load of a 4-wide above row
-  smooth_intra_edge_rectangular(edge, W, H, smoothed);
+  smooth_intra_edge(edge, transform_size_of(W, H), smoothed);
   const uint8_t* above = smoothed + kCorner + 1;
   const __m128i below_left = _mm_set1_epi16(smoothed[kCorner - 1 - H]), above_right = _mm_set1_epi16(above[W]);
   const __m128i lane = _mm_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7);
@@ -186,7 +186,7 @@ void intra_predict_rectangular_sse41(const uint8_t* edge, int mode, uint8_t* out
   }
   uint8_t main[3 * (W + H) + 2 + 16];  // room for the eight-sample loads past the last sample
   std::memset(main + 3 * (W + H) + 2, 0, 16);
-  const int angle = prepare_intra_angular_reference_rectangular(edge, mode, W, H, main);
+  const int angle = prepare_intra_angular_reference(edge, mode, transform_size_of(W, H), main);
   const uint8_t* ref = main + (W + H);
   const bool vertical = mode >= 18;
   const int bw = vertical ? W : H, bh = vertical ? H : W;
@@ -209,7 +209,7 @@ void intra_predict_rectangular_sse41(const uint8_t* edge, int mode, uint8_t* out
       }
     }
   }
-  filter_intra_boundary_rectangular(edge, mode, W, H, out);
+  filter_intra_boundary(edge, mode, transform_size_of(W, H), out);
 }
 
 }  // namespace
