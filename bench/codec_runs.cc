@@ -132,8 +132,10 @@ Status Bench::run_svc_codec(const CodecPlan& plan, CodecResult* result) {
   for (size_t i = 0; i < result->points.size(); ++i) {
     if (result->points[i].setting == reference_run->point.setting) result->reference_point = static_cast<int>(i);
   }
-  SVC_RETURN_IF_ERROR(svc_access(*reference_run, *reference_reader, result));
-  speed_jobs_.push_back(svc_speed_job(plan.name, *reference_run));
+  if (options_.measure_speed) {
+    SVC_RETURN_IF_ERROR(svc_access(*reference_run, *reference_reader, result));
+    speed_jobs_.push_back(svc_speed_job(plan.name, *reference_run));
+  }
   // The svc layouts run first, svc before the others: the first to run sets the PSNR-Y
   // at which the anchors' speed and access are measured.
   if (!svc_reference_psnr_) svc_reference_psnr_ = reference_run->point.psnr_y;
@@ -259,8 +261,10 @@ Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
   result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png",
                                           "out." + baseline::stream_extension(plan.encoder),
                                           source_.manifest.grid.dims[0]);
-  SVC_ASSIGN_OR_RETURN(const auto paths, baseline_access(plan, encoded.at(setting), result));
-  speed_jobs_.push_back(baseline_speed_job(plan, setting, std::move(encoded.at(setting)), paths));
+  if (options_.measure_speed) {
+    SVC_ASSIGN_OR_RETURN(const auto paths, baseline_access(plan, encoded.at(setting), result));
+    speed_jobs_.push_back(baseline_speed_job(plan, setting, std::move(encoded.at(setting)), paths));
+  }
   return Status::Ok();
 }
 

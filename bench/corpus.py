@@ -10,7 +10,8 @@ Scenes are rendered once (svc-scene, textures from scripts/fetch-textures.sh) in
 CACHE/scenes, keyed by their settings; the anchors' quality points are kept in
 CACHE/anchors (svc bench --anchor-cache), so a second run encodes only svc.
 --quick runs the same scenes on a block of 6 x 6 cells each (corpus.json "quick_cells"),
-about 2.2 times faster, for iterating; the full corpus is what is reported.
+without speed and access measurements, for iterating; the full corpus, with svc's
+speed beside its figures, is what is reported.
 --before DIR compares svc with the svc of an earlier run's output folder (svc bench
 --before), per scene: the BD-rate of a change.
 
@@ -111,10 +112,12 @@ def quick_subset(full, cells, cache, name):
     return folder
 
 
-def run_bench(svc, database, out, codecs, cache, threads, before):
+def run_bench(svc, database, out, codecs, cache, threads, before, speed):
     command = [svc, "bench", database, "--codecs", codecs, "--no-experiments", "--out", out, "-y", "--quiet",
                "--anchor-cache", os.path.join(cache, "anchors"), "--anchor-preset", "avif=4",
                "--threads", str(threads)]
+    if not speed:
+        command.append("--no-speed")
     if before:
         command += ["--before", before]
     subprocess.run(command, check=True)
@@ -189,7 +192,8 @@ def main():
         out = os.path.join(options.out, scene["name"])
         before = os.path.join(options.before, scene["name"], "results.json") if options.before else ""
         print("%s: svc bench %s" % (scene["name"], database), file=sys.stderr)
-        results = run_bench(options.svc, database, out, options.codecs, options.cache, options.threads, before)
+        results = run_bench(options.svc, database, out, options.codecs, options.cache, options.threads, before,
+                            not options.quick)
         bd = {label: bd_between(results, test, anchor) for test, anchor, label in COLUMNS}
         if results.get("before"):
             bd["svc vs before"] = results["before"].get("bd_rate_psnr_y")

@@ -80,6 +80,9 @@ struct BenchOptions {
   std::filesystem::path before_results;
   // Two PSNR targets and at most four encodes per codec: for tests and quick looks.
   bool quick = false;
+  // Speed and random access at each codec's reference point; off: quality points and
+  // BD-rates only (the corpus loop, bench/corpus.py --quick).
+  bool measure_speed = true;
   // GOP of x264, x265 and AV1, presets replacing the defaults and private encoder
   // options per codec (see anchors.h, AnchorOptions).
   int gop = 9;

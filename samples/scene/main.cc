@@ -139,7 +139,10 @@ int main(int argc, char** argv) {
       "Photographic hall and house (OpenArena textures, Debian openarena-081-textures):\n"
       "  textures=$(scripts/fetch-textures.sh)\n"
       "  svc-scene photo-hall/ --kind hall --textures \"$textures\"\n"
-      "  svc-scene photo-house/ --kind house --textures \"$textures\"\n\n" +
+      "  svc-scene photo-house/ --kind house --textures \"$textures\"\n"
+      "Rendered as the development corpus renders (bench/corpus.json):\n"
+      "  svc-scene street/ --kind street --spacing 1 --supersample 2 --anisotropic --texture-scale 1.5 \\\n"
+      "      --textures \"$(scripts/fetch-textures.sh --set ufoai)\"\n\n" +
       svc::command_line::exit_codes_help(false));
   if (auto exit_code = svc::command_line::parse(app, argc, argv, "svc-scene")) return *exit_code;
 

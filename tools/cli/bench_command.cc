@@ -137,6 +137,8 @@ BenchSubcommand::BenchSubcommand(CLI::App& app) : options_(std::make_unique<Opti
                    "results.json of an earlier run on the same database: BD-rate of svc (and of its B-faces) "
                    "against that run's svc")
       ->check(CLI::ExistingFile);
+  command_->add_flag("!--no-speed", options_->bench.measure_speed,
+                     "Quality points and BD-rates only: no speed or random-access measurements");
   command_->add_option("--anchor-cache", options_->bench.anchor_cache,
                        "Folder keeping the anchors' quality points between runs: an anchor already run on the same "
                        "faces with the same settings and libraries is read back instead of encoded (its speed and "
