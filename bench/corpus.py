@@ -9,7 +9,7 @@ summarises the BD-rates per scene, their mean and the worst scene.
 Scenes are rendered once (svc-scene, textures from scripts/fetch-textures.sh) into
 CACHE/scenes, keyed by their settings; the anchors' quality points are kept in
 CACHE/anchors (svc bench --anchor-cache), so a second run encodes only svc.
---quick runs the same scenes on a block of 6 x 6 cells each (corpus.json "quick_cells"),
+--quick runs the same scenes on their cells x, z = 0..5 (corpus.json "quick_cells"),
 without speed and access measurements, for iterating; the full corpus, with svc's
 speed beside its figures, is what is reported.
 --before DIR compares svc with the svc of an earlier run's output folder (svc bench
