@@ -5,6 +5,10 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -14,6 +18,7 @@ namespace svc {
 namespace {
 
 namespace fs = std::filesystem;
+using json = nlohmann::json;
 
 using testing::CliRun;
 using testing::quoted;
@@ -42,6 +47,43 @@ class Cli : public ::testing::Test {
   static testing::TempDir* dir_;
 };
 testing::TempDir* Cli::dir_ = nullptr;
+
+TEST_F(Cli, EncodeReportsTheBytesOfEachSyntaxElement) {
+  const fs::path scene = work("syntax-scene");
+  samples::SceneOptions options;
+  options.grid = {3, 1, 1};
+  options.face_size = 64;
+  ASSERT_TRUE(samples::generate_scene(options, scene).ok());
+  const fs::path file = work("syntax.svc");
+  const CliRun run = run_svc("encode --quiet --json --qindex 60 " + quoted(scene) + " -o " + quoted(file));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const json parsed = json::parse(run.output, nullptr, false);
+  ASSERT_FALSE(parsed.is_discarded()) << run.output;
+  const std::vector<std::string> names = syntax_element_names();
+  ASSERT_EQ(names.size(), kSyntaxElementCount);
+  for (const char* type : {"intra", "predicted"}) {
+    const json& bytes = parsed["syntax_bytes"][type];
+    ASSERT_EQ(bytes.size(), names.size()) << bytes;
+    double sum = 0;
+    for (const std::string& name : names) {
+      ASSERT_TRUE(bytes.contains(name)) << name;
+      EXPECT_GE(bytes[name].get<double>(), 0) << name;
+      sum += bytes[name].get<double>();
+    }
+    const double payload = parsed["face_types"][type]["bytes"].get<double>();
+    ASSERT_GT(payload, 0) << type;
+    EXPECT_NEAR(sum, payload, 0.02 * payload) << type << ": " << bytes;
+    EXPECT_GT(bytes["levels"].get<double>(), 0) << type;
+    EXPECT_GT(bytes["modes"].get<double>(), 0) << type;
+  }
+  EXPECT_GT(parsed["syntax_bytes"]["predicted"]["vectors"].get<double>(), 0);
+  // The text summary shows them with --verbose only.
+  const std::string encode = "encode --no-progress -y " + quoted(scene) + " -o " + quoted(file);
+  EXPECT_EQ(run_svc(encode).output.find("syntax:"), std::string::npos);
+  const CliRun verbose = run_svc(encode + " --verbose");
+  EXPECT_NE(verbose.output.find("I-faces   syntax: header"), std::string::npos) << verbose.output;
+  EXPECT_NE(verbose.output.find("B-faces   syntax: header"), std::string::npos) << verbose.output;
+}
 
 TEST_F(Cli, InfoOfAQindexFileShowsTheIndexAndNoQuality) {
   const fs::path file = work("qindex.svc");

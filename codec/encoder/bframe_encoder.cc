@@ -145,6 +145,7 @@ struct CodedMacroblocks {
   BFrameHeader header;                          // its flags are known when the frame is finished
   std::unique_ptr<std::vector<uint8_t>> bytes;  // the header, then what the range encoder appends
   std::unique_ptr<RangeEncoder> encoder;
+  std::unique_ptr<SyntaxBits> syntax;  // the encoder's account, with stats only
   BFrameStats stats;
   std::vector<PredictionRecord> predictions;  // per macroblock, raster order
 };
@@ -240,6 +241,11 @@ CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr4
   const std::array<uint8_t, kBFrameHeaderBytes> header_bytes = serialize_b_frame_header(header);
   coded.bytes = std::make_unique<std::vector<uint8_t>>(header_bytes.begin(), header_bytes.end());
   coded.encoder = std::make_unique<RangeEncoder>(coded.bytes.get());
+  if (stats != nullptr) {
+    coded.syntax = std::make_unique<SyntaxBits>();
+    coded.syntax->add(SyntaxElement::kHeader, 8.0 * static_cast<double>(header_bytes.size()));
+    coded.encoder->set_account(coded.syntax.get());
+  }
   if (header.epipolar_lines) {
     for (int r = 0; r < state.reference_count; ++r) encode_epipolar_lines(*coded.encoder, state.lines[r]);
   }
@@ -279,6 +285,10 @@ std::vector<uint8_t> finish_frame(CodedMacroblocks& coded, const BFrameParams& p
   std::copy(header_bytes.begin(), header_bytes.end(), bytes.begin());
   if (stats != nullptr) {
     *stats = std::move(coded.stats);
+    if (coded.syntax != nullptr) {
+      stats->syntax = *coded.syntax;
+      stats->syntax.current = SyntaxElement::kHeader;
+    }
     for (int r = 0; r < state.reference_count; ++r) {
       for (uint8_t known : state.node_known[r]) stats->warp_nodes_coded += known;
     }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "codec/common/bframe.h"
+#include "codec/encoder/syntax_account.h"
 #include "svc/types.h"
 
 namespace svc::codec {
@@ -135,6 +136,9 @@ struct BFrameStats {
   int64_t sad_evaluations = 0;
   // Per macroblock, row-major (the encoder's choice; the decoder returns the same map).
   std::vector<MacroblockMode> modes;
+  // The payload's bits by syntax element (syntax_account.h; the header bytes count as
+  // header), estimated from the contexts' probabilities as coded.
+  SyntaxBits syntax;
 };
 
 class SearchPlanes;

@@ -14,7 +14,10 @@ void BFrameMacroblockCoder::write(RangeEncoder& encoder, const MacroblockChoice&
   info.inter_mode = predicted_mode(s_, mx, my);
   info.inter_warp = predicted_warp(s_, mx, my);
   info.vectors = predictors_;
-  encoder.encode(c.skip[skip_context(s_, mx, my)], choice.mode == MacroblockMode::kSkipped);
+  {
+    const SyntaxScope scope(encoder, SyntaxElement::kModes);
+    encoder.encode(c.skip[skip_context(s_, mx, my)], choice.mode == MacroblockMode::kSkipped);
+  }
   if (choice.mode == MacroblockMode::kSkipped) {
     if (info.inter_warp) {
       write_warp_nodes(encoder, info.inter_mode, &info);
@@ -26,7 +29,10 @@ void BFrameMacroblockCoder::write(RangeEncoder& encoder, const MacroblockChoice&
     commit_macroblock(s_, mx, my, info, choice.reconstruction, 0);
     return;
   }
-  encoder.encode(c.intra[intra_context(s_, mx, my)], choice.mode == MacroblockMode::kIntra);
+  {
+    const SyntaxScope scope(encoder, SyntaxElement::kModes);
+    encoder.encode(c.intra[intra_context(s_, mx, my)], choice.mode == MacroblockMode::kIntra);
+  }
   if (choice.mode == MacroblockMode::kIntra) {
     // The planes and the intra neighbour state hold this choice since its evaluation.
     const IntraChoice& blocks = *choice.intra;
@@ -44,7 +50,10 @@ void BFrameMacroblockCoder::write(RangeEncoder& encoder, const MacroblockChoice&
     info.partition = choice.motion.partition;
   } else {
     encode_direction(encoder, s_, mx, my, choice.mode);
-    if (warp_allowed(s_, choice.mode)) encoder.encode(c.warp[warp_context(s_, mx, my)], choice.warp);
+    if (warp_allowed(s_, choice.mode)) {
+      const SyntaxScope scope(encoder, SyntaxElement::kModes);
+      encoder.encode(c.warp[warp_context(s_, mx, my)], choice.warp);
+    }
     if (choice.warp) {
       write_warp_nodes(encoder, choice.mode, &info);
     } else {
@@ -54,8 +63,12 @@ void BFrameMacroblockCoder::write(RangeEncoder& encoder, const MacroblockChoice&
   info.inter_mode = choice.mode;
   info.inter_warp = choice.warp;
   info.luma_16x16 = choice.luma_16x16;
-  if (s_.inter_transform_sizes) encoder.encode(c.luma_16x16[luma_16x16_context(s_, mx, my)], choice.luma_16x16);
+  if (s_.inter_transform_sizes) {
+    const SyntaxScope scope(encoder, SyntaxElement::kPartitions);
+    encoder.encode(c.luma_16x16[luma_16x16_context(s_, mx, my)], choice.luma_16x16);
+  }
   uint8_t local_coded[6] = {};
+  const SyntaxScope levels_scope(encoder, SyntaxElement::kLevels);  // the coded-block flags and levels
   for (int b = 0; b < 6; ++b) {
     const int plane = block_plane(b);
     const int context = coded_context(s_, local_coded, plane, mx, my, block_x(b, mx), block_y(b, my));
@@ -75,7 +88,10 @@ void BFrameMacroblockCoder::write(RangeEncoder& encoder, const MacroblockChoice&
   for (int b = first_block; b < 6; ++b) {
     if (!local_coded[b]) continue;
     if (block_plane(b) == 0 && s_.inter_transform_sizes) {
-      encoder.encode(c.luma_4x4, choice.split[b]);
+      {
+        const SyntaxScope scope(encoder, SyntaxElement::kPartitions);
+        encoder.encode(c.luma_4x4, choice.split[b]);
+      }
       if (choice.split[b]) {
         for (int k = 0; k < 4; ++k) {
           encode_block_levels(encoder, c.inter_luma, choice.levels[b].data() + 16 * k, 0, TransformSize::k4x4);
@@ -125,6 +141,7 @@ void BFrameMacroblockCoder::write_partition_vectors(RangeEncoder& encoder, const
 }
 
 void BFrameMacroblockCoder::write_warp_nodes(RangeEncoder& encoder, MacroblockMode mode, MacroblockInfo* info) {
+  const SyntaxScope scope(encoder, SyntaxElement::kVectors);
   for (int r = 0; r < s_.reference_count; ++r) {
     if (!uses_reference(mode, r)) continue;
     encode_missing_nodes(encoder, s_, r, mx_, my_, predictors_[r]);

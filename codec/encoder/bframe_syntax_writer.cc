@@ -81,6 +81,7 @@ float partition_bits(const FrameState& s, int mx, int my, Partition partition) {
 }
 
 void encode_partition(RangeEncoder& encoder, FrameState& s, int mx, int my, Partition partition) {
+  const SyntaxScope scope(encoder, SyntaxElement::kPartitions);
   SyntaxContexts& c = s.contexts;
   encoder.encode(c.partition_split[partition_context(s, mx, my)], partition != Partition::k16x16);
   if (partition == Partition::k16x16) return;
@@ -90,6 +91,7 @@ void encode_partition(RangeEncoder& encoder, FrameState& s, int mx, int my, Part
 
 void encode_direction(RangeEncoder& encoder, FrameState& s, int mx, int my, MacroblockMode mode) {
   if (s.reference_count == 1) return;
+  const SyntaxScope scope(encoder, SyntaxElement::kModes);
   SyntaxContexts& c = s.contexts;
   encoder.encode(c.bidirectional[bidirectional_context(s, mx, my)], mode == MacroblockMode::kBidirectional);
   if (mode != MacroblockMode::kBidirectional) {
@@ -106,10 +108,12 @@ uint32_t signed_code(int32_t value) {
 }  // namespace
 
 void encode_epipolar_lines(RangeEncoder& encoder, const EpipolarLines& lines) {
+  const SyntaxScope scope(encoder, SyntaxElement::kVectors);
   for (const int32_t value : {lines.a, lines.bx, lines.by}) encode_exp_golomb_bypass(encoder, signed_code(value));
 }
 
 void encode_mvd_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int context, int value) {
+  const SyntaxScope scope(encoder, SyntaxElement::kVectors);
   encoder.encode(c.mvd_zero[component][context], value != 0);
   if (value == 0) return;
   encode_magnitude(encoder, c.mvd_magnitude[component], static_cast<unsigned>(std::abs(value)));
@@ -125,6 +129,7 @@ float predictor_index_bits(const PredictorIndexBits& bits, int count, int index)
 
 void encode_predictor_index(RangeEncoder& encoder, PredictorIndexBits& bits, int count, int index) {
   if (count < 2) return;
+  const SyntaxScope scope(encoder, SyntaxElement::kVectors);
   encoder.encode(bits[0], index > 0);
   if (index > 0 && count > 2) encoder.encode(bits[1], index > 1);
 }
@@ -136,6 +141,7 @@ float node_component_bits(const SyntaxContexts& c, int component, int kind, int 
 }
 
 void encode_node_component(RangeEncoder& encoder, SyntaxContexts& c, int component, int kind, int value) {
+  const SyntaxScope scope(encoder, SyntaxElement::kVectors);
   encoder.encode(c.node_zero[component][kind], value != 0);
   if (value == 0) return;
   encoder.encode_bypass(value < 0);

@@ -159,6 +159,7 @@ std::vector<std::vector<int64_t>> candidate_errors(const std::array<PlaneView, 3
 }  // namespace
 
 void write_cdef_syntax(RangeEncoder& encoder, const CdefParams& params, int units_x, int units_y) {
+  const SyntaxScope scope(encoder, SyntaxElement::kFilters);
   const int count = static_cast<int>(params.presets.size());
   for (int bit = 1; bit >= 0; --bit) encoder.encode_bypass(((count - 1) >> bit) & 1);
   for (const CdefStrength& strength : params.presets) {

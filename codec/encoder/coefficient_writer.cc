@@ -98,6 +98,7 @@ void encode_exp_golomb_bypass(RangeEncoder& encoder, uint32_t value) {
 
 void encode_block_levels(RangeEncoder& encoder, BlockContextSet& contexts, const int16_t* levels,
                          int coded_block_context, TransformSize size) {
+  const SyntaxScope scope(encoder, SyntaxElement::kLevels);
   EncodeSink sink{encoder};
   write_levels(sink, contexts, levels, coded_block_context, size);
 }

@@ -65,7 +65,7 @@ int64_t frame_error(const PaddedFrame& frame, const ImageYCbCr420& source) {
 }  // namespace
 
 std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const CodingParams& params,
-                                        ImageYCbCr420* reconstruction) {
+                                        ImageYCbCr420* reconstruction, SyntaxBits* syntax) {
   const int width = source.width, height = source.height;
   const size_t chroma_size = static_cast<size_t>((width + 1) / 2) * static_cast<size_t>((height + 1) / 2);
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension ||
@@ -87,6 +87,11 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
   bytes.reserve(static_cast<size_t>(width) * height / 4 + 64);
   if (params.transform_types) bytes[kIntraFlagsByte] |= kTransformTypesFlag;
   RangeEncoder encoder(&bytes);
+  SyntaxBits account;
+  if (syntax != nullptr) {
+    account.add(SyntaxElement::kHeader, 8.0 * static_cast<double>(bytes.size()));
+    encoder.set_account(&account);
+  }
   PlaneContexts luma_contexts, chroma_contexts;
   prime_intra_frame_contexts(luma_contexts, chroma_contexts);
   luma_contexts.types.enabled = chroma_contexts.types.enabled = params.transform_types;
@@ -144,6 +149,10 @@ std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const Codin
     bytes[kIntraFlagsByte] |= kLoopFilterCdef;
   observe_intra_frame_contexts(luma_contexts, chroma_contexts);
   encoder.finish();
+  if (syntax != nullptr) {
+    account.current = SyntaxElement::kHeader;
+    *syntax = account;
+  }
   if (reconstruction != nullptr) crop(frame, width, height, reconstruction);
   return bytes;
 }

@@ -7,6 +7,7 @@
 
 #include "codec/common/intra_frame.h"
 #include "codec/common/quant.h"
+#include "codec/encoder/syntax_account.h"
 #include "svc/types.h"
 
 namespace svc::codec {
@@ -57,8 +58,10 @@ struct CodingParams {
 // Encodes an intra frame. `reconstruction` (optional) receives exactly what the
 // decoder will produce. `source` must have positive size and planes of the sizes
 // ImageYCbCr420 documents; otherwise the result is empty (which no decoder accepts).
-// qindex is clamped to [kMinQIndex, kMaxQIndex]. Thread-safe (no shared state).
+// qindex is clamped to [kMinQIndex, kMaxQIndex]. `syntax` (optional) receives the
+// frame's bits by syntax element (syntax_account.h; the header bytes count as header);
+// the bytes do not depend on it. Thread-safe (no shared state).
 std::vector<uint8_t> encode_intra_frame(const ImageYCbCr420& source, const CodingParams& params,
-                                        ImageYCbCr420* reconstruction);
+                                        ImageYCbCr420* reconstruction, SyntaxBits* syntax = nullptr);
 
 }  // namespace svc::codec

@@ -36,6 +36,7 @@ int rank_among_others(const ModeCandidates& candidates, int mode) {
 
 void encode_intra_mode(RangeEncoder& encoder, IntraModeContexts& contexts, TransformSize size,
                        const ModeCandidates& candidates, int mode) {
+  const SyntaxScope scope(encoder, SyntaxElement::kModes);
   for_each_mode_bit(contexts, size, candidates, mode,
                     [&](AdaptiveBit& model, int bit) { encoder.encode(model, bit); });
 }
@@ -51,6 +52,7 @@ float intra_mode_bits(const IntraModeContexts& contexts, TransformSize size, con
 void encode_chroma_mode(RangeEncoder& encoder, CflContexts& cfl, IntraModeContexts& modes, int cfl_context,
                         const ModeCandidates& candidates, ChromaPlane plane, const ChromaMode& cb,
                         const ChromaMode& mode) {
+  const SyntaxScope scope(encoder, SyntaxElement::kModes);
   if (plane == ChromaPlane::kCr) {
     if (cb.cfl()) encode_alpha(encoder, cfl, plane, cb.alpha, mode.alpha);
     return;
@@ -86,6 +88,7 @@ float cfl_alpha_bits(const CflContexts& cfl, ChromaPlane plane, int cb_alpha, in
 void encode_transform_type(RangeEncoder& encoder, TransformTypeContexts& contexts, TransformSize size, int mode,
                            TransformType type) {
   if (!contexts.enabled) return;
+  const SyntaxScope scope(encoder, SyntaxElement::kPartitions);
   auto& bits = transform_type_bits_of(contexts, size, mode);
   const bool vertical = vertical_dst(type);
   encoder.encode(bits[0], vertical);
@@ -133,6 +136,7 @@ namespace {
 // The split and halves flags of 8x8 block i of a split macroblock at (x0, y0).
 void write_quarter_flags(RangeEncoder& encoder, PlaneContexts& contexts, const PlaneState& state, int x0, int y0,
                          int i, LumaPartition partition) {
+  const SyntaxScope scope(encoder, SyntaxElement::kPartitions);
   const auto context = static_cast<size_t>(state.split_context(x0 + 8 * (i & 1), y0 + 8 * (i >> 1), 8));
   encoder.encode(contexts.split_8x8[context], (partition & split_8x8_bit(i)) != 0);
   if (partition & split_8x8_bit(i)) return;
@@ -146,14 +150,17 @@ void write_macroblock(RangeEncoder& encoder, PlaneContexts& contexts, PlaneState
                       const MacroblockChoice& choice) {
   const int x0 = 16 * mbx, y0 = 16 * mby;
   const int split_context = state.split_context(x0, y0, 16);
-  encoder.encode(contexts.split_16x16[static_cast<size_t>(split_context)], choice.partition & kSplit16x16);
-  if ((choice.partition & kSplit16x16) == 0) {
-    encoder.encode(contexts.halves_16x16[static_cast<size_t>(split_context)],
-                   (choice.partition & kHalves16x16) != 0);
-    if (choice.partition & kHalves16x16) {
-      const bool vertical = (choice.partition & kVerticalHalves) != 0;
-      encoder.encode(contexts.vertical_halves, vertical);
-      encoder.encode(contexts.strips[vertical ? 1 : 0], (choice.partition & kStrips) != 0);
+  {
+    const SyntaxScope scope(encoder, SyntaxElement::kPartitions);
+    encoder.encode(contexts.split_16x16[static_cast<size_t>(split_context)], choice.partition & kSplit16x16);
+    if ((choice.partition & kSplit16x16) == 0) {
+      encoder.encode(contexts.halves_16x16[static_cast<size_t>(split_context)],
+                     (choice.partition & kHalves16x16) != 0);
+      if (choice.partition & kHalves16x16) {
+        const bool vertical = (choice.partition & kVerticalHalves) != 0;
+        encoder.encode(contexts.vertical_halves, vertical);
+        encoder.encode(contexts.strips[vertical ? 1 : 0], (choice.partition & kStrips) != 0);
+      }
     }
   }
   int n = 0;

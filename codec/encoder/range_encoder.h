@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "codec/common/adaptive_bit.h"
+#include "codec/encoder/bit_cost.h"
+#include "codec/encoder/syntax_account.h"
 
 namespace svc::codec {
 
@@ -17,7 +19,15 @@ class RangeEncoder {
   // Appends to `out` (not owned; must outlive the encoder until finish()).
   explicit RangeEncoder(std::vector<uint8_t>* out) : out_(out), start_(out->size()) {}
 
+  // Optional (null by default; not owned): each bin coded from now on adds its cost to
+  // account->bits[account->current] (syntax_account.h). Changes no output byte.
+  void set_account(SyntaxBits* account) { account_ = account; }
+  SyntaxBits* account() const { return account_; }
+
   void encode(AdaptiveBit& model, int bit) {
+    if (account_ != nullptr) [[unlikely]] {
+      account_->bits[static_cast<size_t>(account_->current)] += bit_cost(model, bit);
+    }
     const uint32_t bound = (range_ >> kProbabilityBits) * model.probability_of_zero();
     if (bit) {
       low_ += bound;
@@ -31,6 +41,8 @@ class RangeEncoder {
 
   // Equiprobable bit, no model.
   void encode_bypass(int bit) {
+    if (account_ != nullptr) [[unlikely]]
+      account_->bits[static_cast<size_t>(account_->current)] += 1;
     range_ >>= 1;
     if (bit) low_ += range_;
     normalize();
@@ -76,6 +88,7 @@ class RangeEncoder {
   }
 
   std::vector<uint8_t>* out_;
+  SyntaxBits* account_ = nullptr;
   size_t start_;  // out_'s size before this stream's first byte
   uint64_t low_ = 0;
   uint32_t range_ = 0xFFFFFFFFu;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -169,6 +170,23 @@ EncoderSettings default_encoder_settings();
 // 0..kMaxEncoderSpeed; `settings` is unchanged then.
 Status apply_encoder_speed(EncoderSettings* settings, int speed);
 
+// The syntax elements the encode summary counts bytes by (EncodeSummary::
+// intra_syntax_bytes, predicted_syntax_bytes), in this order (docs/encoder.md, "Syntax
+// accounting"):
+//   header      frame header fields, and any bin no other element claims;
+//   modes       skip flags, the macroblock type and prediction direction (intra,
+//               forward, backward, bidirectional, warp), luma and chroma intra modes
+//               with the CfL parameters;
+//   partitions  inter partitions, transform size splits and transform types;
+//   vectors     motion vector differences, vector predictor indices, warp nodes,
+//               epipolar lines;
+//   levels      the coefficient syntax: coded-block flags, end of block, significance,
+//               levels, signs and their Golomb / bypass remainders;
+//   filters     CDEF syntax (the loop filter flags are header bits).
+inline constexpr size_t kSyntaxElementCount = 6;
+// {"header", "modes", "partitions", "vectors", "levels", "filters"}. Thread-safe.
+std::vector<std::string> syntax_element_names();
+
 struct EncodeSummary {
   uint64_t cells = 0;
   uint64_t faces = 0;
@@ -182,6 +200,15 @@ struct EncodeSummary {
   // outside the reference face: from the cube border with cube references, else from
   // the edge extension. Not stored in the file.
   uint64_t predicted_mb_leaving_face = 0;
+  // Bytes of the I-faces' and of the B-faces' payloads by syntax element (indexed as
+  // syntax_element_names()), estimated from the contexts' probabilities as coded (-log2 p
+  // per bin, 1 bit per bypass bin, 8 bits per header byte): each sum is within a fraction
+  // of a percent of that face type's payload bytes (intra.bytes, predicted.bytes), the
+  // range coder's final bytes making the difference. Not stored in the file. Filled by
+  // encode_database and encode_shard (the faces this part coded); merges and `svc add`
+  // do not compute it.
+  std::array<double, kSyntaxElementCount> intra_syntax_bytes{};
+  std::array<double, kSyntaxElementCount> predicted_syntax_bytes{};
 };
 
 // Called from the encoding thread after each face: (faces done, faces total). Return

@@ -24,6 +24,7 @@ namespace {
 struct CodedIntra {
   std::vector<uint8_t> payload;
   ImageYCbCr420 reconstruction;
+  codec::SyntaxBits syntax;
 };
 
 uint64_t image_bytes(const ImageYCbCr420& image) { return image.y.size() + image.cb.size() + image.cr.size(); }
@@ -92,13 +93,14 @@ class Pipeline {
     SVC_ASSIGN_OR_RETURN(FaceData data, job_.load(frame));
     const ImageYCbCr420 ycc = codec::rgb_to_ycbcr420(data.color.pixels.data(), data.color.width, data.color.height);
     CodedIntra coded;
-    coded.payload = codec::encode_intra_frame(ycc, intra_params_, &coded.reconstruction);
+    coded.payload = codec::encode_intra_frame(ycc, intra_params_, &coded.reconstruction, &coded.syntax);
     SVC_RETURN_IF_ERROR(check_intra_payload(coded.payload, coded.reconstruction, frame_name(frame)));
     return coded;
   }
 
   Status store_intra(uint32_t frame, CodedIntra& coded) {
     SVC_RETURN_IF_ERROR(store(frame, coded.payload));
+    job_.syntax[0] += coded.syntax;
     const codec::BlockLayout layout =
         codec::block_layout(static_cast<int>(index_.face_width), static_cast<int>(index_.face_height));
     index_.stats[0].mb_intra += uint64_t(layout.luma_blocks_x / 2) * uint64_t(layout.luma_blocks_y / 2);
@@ -179,6 +181,7 @@ class Pipeline {
     s.mb_bidirectional += coded.stats.mb_bidirectional;
     s.mb_skipped += coded.stats.mb_skipped;
     job_.predicted_mb_leaving_face += static_cast<uint64_t>(coded.stats.mb_leaving_face);
+    job_.syntax[1] += coded.stats.syntax;
     s.candidate_vectors += coded.candidates.candidates;
     s.candidate_macroblocks += coded.candidates.macroblocks;
     return Status::Ok();

@@ -2,12 +2,14 @@
 // encode and `svc add`, so all three code, store and count faces the same way.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
 #include <vector>
 
+#include "codec/encoder/syntax_account.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "database/database.h"
@@ -55,6 +57,9 @@ struct CodingJob {
   // Filled by coding: B-face macroblocks predicted from outside their reference faces
   // (EncodeSummary::predicted_mb_leaving_face).
   uint64_t predicted_mb_leaving_face = 0;
+  // Filled by coding: the bits of the stored faces by syntax element, I-faces [0] and
+  // B-faces [1] (EncodeSummary::intra_syntax_bytes, predicted_syntax_bytes).
+  std::array<codec::SyntaxBits, 2> syntax;
 };
 
 // Width of the cube-map border of padded references, in units of 16 luma samples

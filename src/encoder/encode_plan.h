@@ -3,6 +3,7 @@
 // the coding of any subset of its frames.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -10,6 +11,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/encoder/syntax_account.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "database/database.h"
@@ -27,6 +29,8 @@ struct EncodePlan {
   ContainerIndex index;
   // B macroblocks coded so far whose prediction reads past their reference face.
   uint64_t predicted_mb_leaving_face = 0;
+  // Bits of the faces coded so far by syntax element: I-faces [0], B-faces [1].
+  std::array<codec::SyntaxBits, 2> syntax;
 };
 
 // Checks `settings`, reads the manifest of `db_dir` and plans every frame.

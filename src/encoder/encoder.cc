@@ -18,6 +18,7 @@
 #include "codec/decoder/intra_decoder.h"
 #include "codec/encoder/bframe_encoder.h"
 #include "codec/encoder/intra_encoder.h"
+#include "codec/encoder/syntax_account.h"
 #include "common/parallel.h"
 #include "container/writer.h"
 #include "database/database.h"
@@ -222,6 +223,7 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   job.progress = progress;
   SVC_RETURN_IF_ERROR(code_faces(job));
   plan.predicted_mb_leaving_face += job.predicted_mb_leaving_face;
+  for (size_t t = 0; t < 2; ++t) plan.syntax[t] += job.syntax[t];
   return Status::Ok();
 }
 
@@ -230,6 +232,15 @@ Result<CellCameras> cell_cameras(const DatabaseManifest& manifest, size_t cell) 
   CellCameras cameras;
   for (int f = 0; f < kFaceCount; ++f) cameras[f] = source.faces[f].camera;
   return cameras;
+}
+
+static_assert(kSyntaxElementCount == codec::kSyntaxElements);
+
+std::vector<std::string> syntax_element_names() {
+  std::vector<std::string> names;
+  for (size_t e = 0; e < kSyntaxElementCount; ++e)
+    names.emplace_back(codec::syntax_element_name(static_cast<codec::SyntaxElement>(e)));
+  return names;
 }
 
 EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
@@ -241,6 +252,10 @@ EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
   summary.intra = plan.index.stats[0];
   summary.predicted = plan.index.stats[1];
   summary.predicted_mb_leaving_face = plan.predicted_mb_leaving_face;
+  for (size_t e = 0; e < kSyntaxElementCount; ++e) {
+    summary.intra_syntax_bytes[e] = plan.syntax[0].bits[e] / 8;
+    summary.predicted_syntax_bytes[e] = plan.syntax[1].bits[e] / 8;
+  }
   return summary;
 }
 

@@ -1,6 +1,7 @@
 #include "cli/commands.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -33,6 +34,13 @@ json quality_json(const QualityReport& q) {
   return {{"faces", q.faces}, {"psnr_y", q.psnr_y()}, {"psnr_rgb", q.psnr_rgb()}, {"ssim", q.ssim()}};
 }
 
+json syntax_bytes_json(const std::array<double, kSyntaxElementCount>& bytes) {
+  json j = json::object();
+  const std::vector<std::string> names = syntax_element_names();
+  for (size_t e = 0; e < kSyntaxElementCount; ++e) j[names[e]] = bytes[e];
+  return j;
+}
+
 json summary_json(const EncodeSummary& s, const std::filesystem::path& db, const std::filesystem::path& out) {
   json j;
   j["command"] = "encode";
@@ -46,10 +54,28 @@ json summary_json(const EncodeSummary& s, const std::filesystem::path& db, const
   j["qindex"] = s.qindex;
   j["seconds"] = s.seconds;
   j["face_types"] = {{"intra", face_type_stats_json(s.intra)}, {"predicted", face_type_stats_json(s.predicted)}};
+  j["syntax_bytes"] = {{"intra", syntax_bytes_json(s.intra_syntax_bytes)},
+                       {"predicted", syntax_bytes_json(s.predicted_syntax_bytes)}};
   return j;
 }
 
-void print_summary(const EncodeSummary& s, const std::filesystem::path& out) {
+// -v: where a face type's bytes go, by syntax element (estimated).
+void print_syntax_bytes(const char* name, const FaceTypeStats& stats,
+                        const std::array<double, kSyntaxElementCount>& bytes) {
+  if (stats.faces == 0) return;
+  double total = 0;
+  for (double b : bytes) total += b;
+  if (total <= 0) return;
+  const std::vector<std::string> names = syntax_element_names();
+  std::printf("  %-9s syntax:", name);
+  for (size_t e = 0; e < kSyntaxElementCount; ++e) {
+    std::printf("%s %s %s (%.1f%%)", e ? "," : "", names[e].c_str(),
+                human_bytes(static_cast<uint64_t>(bytes[e] + 0.5)).c_str(), 100.0 * bytes[e] / total);
+  }
+  std::printf("\n");
+}
+
+void print_summary(const EncodeSummary& s, const std::filesystem::path& out, bool verbose) {
   std::printf("encoded %llu cells, %llu faces into %s\n", static_cast<unsigned long long>(s.cells),
               static_cast<unsigned long long>(s.faces), out.string().c_str());
   std::printf("  size      %s (raw RGB %s), compression %.1f:1, %.3f bits/pixel\n",
@@ -58,6 +84,10 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out) {
               s.raw_bytes ? 8.0 * s.file_bytes / (s.raw_bytes / 3.0) : 0.0);
   print_face_type_stats("I-faces", s.intra);
   print_face_type_stats("B-faces", s.predicted);
+  if (verbose) {
+    print_syntax_bytes("I-faces", s.intra, s.intra_syntax_bytes);
+    print_syntax_bytes("B-faces", s.predicted, s.predicted_syntax_bytes);
+  }
   std::printf("  quantizer index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
               s.seconds > 0 ? s.faces / s.seconds : 0.0);
 }
@@ -150,7 +180,7 @@ int encode_command(const EncodeOptions& options) {
   if (options.verbosity.json) {
     print_json(result);
   } else if (options.verbosity.show_summary()) {
-    print_summary(*summary, options.output);
+    print_summary(*summary, options.output, options.verbosity.verbose);
     if (quality) print_quality(*quality);
   }
   return 0;
@@ -396,7 +426,7 @@ int demo_command(const DemoOptions& options) {
   });
   bar.finish();
   if (!summary.ok()) return report_error(summary.status());
-  if (verbosity.show_summary()) print_summary(*summary, shown / "scene.svc");
+  if (verbosity.show_summary()) print_summary(*summary, shown / "scene.svc", verbosity.verbose);
 
   auto sample = decode_random_cells(db, out, verbosity.show_summary());
   if (!sample.ok()) return report_error(sample.status());
