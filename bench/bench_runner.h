@@ -83,6 +83,8 @@ class Bench {
   bool points_from_cache(const CodecPlan& plan, CodecResult* result);
   void store_in_cache(const CodecPlan& plan, const CodecResult& result);
   std::string cache_key(const CodecPlan& plan);
+  // The ffmpeg command the report gives for `plan` at `setting`.
+  std::string reference_command(const CodecPlan& plan, int setting) const;
   static int reference_index(const std::vector<QualityPoint>& points, std::optional<double> target);
 
   // Every face decoded on the calling thread: an .svc file's in cell order (index

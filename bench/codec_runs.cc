@@ -216,6 +216,11 @@ int Bench::reference_index(const std::vector<QualityPoint>& points, std::optiona
   return best;
 }
 
+std::string Bench::reference_command(const CodecPlan& plan, int setting) const {
+  return ffmpeg_command(plan, setting, "face/%04d.png", "out." + baseline::stream_extension(plan.encoder),
+                        source_.manifest.grid.dims[0]);
+}
+
 std::string Bench::cache_key(const CodecPlan& plan) {
   if (source_fingerprint_.empty()) source_fingerprint_ = source_fingerprint(source_);
   return anchor_cache_key(source_fingerprint_, plan, options_.quick);
@@ -228,9 +233,7 @@ bool Bench::points_from_cache(const CodecPlan& plan, CodecResult* result) {
   result->points = std::move(*points);
   result->from_cache = true;
   result->reference_point = reference_index(result->points, svc_reference_psnr_);
-  result->ffmpeg_command = ffmpeg_command(plan, result->points[result->reference_point].setting, "face/%04d.png",
-                                          "out." + baseline::stream_extension(plan.encoder),
-                                          source_.manifest.grid.dims[0]);
+  result->ffmpeg_command = reference_command(plan, result->points[result->reference_point].setting);
   for (const QualityPoint& p : result->points) log_point(plan.name + " (cached)", p);
   return true;
 }
@@ -258,9 +261,7 @@ Status Bench::run_baseline_codec(const CodecPlan& plan, CodecResult* result) {
   store_in_cache(plan, *result);
   result->reference_point = reference_index(result->points, svc_reference_psnr_);
   const int setting = result->points[result->reference_point].setting;
-  result->ffmpeg_command = ffmpeg_command(plan, setting, "face/%04d.png",
-                                          "out." + baseline::stream_extension(plan.encoder),
-                                          source_.manifest.grid.dims[0]);
+  result->ffmpeg_command = reference_command(plan, setting);
   if (options_.measure_speed) {
     SVC_ASSIGN_OR_RETURN(const auto paths, baseline_access(plan, encoded.at(setting), result));
     speed_jobs_.push_back(baseline_speed_job(plan, setting, std::move(encoded.at(setting)), paths));

@@ -64,6 +64,9 @@ std::string setting_text(const QualityPoint& p) {
   return p.setting_name == "lossless" ? "lossless" : p.setting_name + " " + std::to_string(p.setting);
 }
 
+// Speed and access were measured: not read from the anchor cache, not run with --no-speed.
+bool speed_measured(const CodecResult& c) { return !c.from_cache && c.access_cold.samples > 0; }
+
 std::string psnr_text(double psnr) { return psnr >= 99.0 ? "lossless" : format("%.2f", psnr); }
 
 }  // namespace
@@ -227,7 +230,7 @@ Status write_plots(const BenchResults& r, const std::filesystem::path& directory
     chart.log_y = true;
     chart.series_labels = {"cold", "warm"};
     for (const CodecResult& c : r.codecs) {
-      if (c.skipped || c.points.empty() || c.from_cache || c.access_cold.samples == 0) continue;
+      if (c.skipped || c.points.empty() || !speed_measured(c)) continue;
       plot::BarGroup g;
       g.label = c.name;
       g.values = {c.access_cold.mean_ms, c.access_warm.mean_ms};
@@ -288,7 +291,7 @@ std::string summary_table_markdown(const BenchResults& r) {
            : c.bd_rate_svc          ? format("%+.1f%%", *c.bd_rate_svc * 100)
                                     : "n/a")
        << " | ";
-    if (c.from_cache || c.access_cold.samples == 0) {  // from the anchor cache, or run with --no-speed
+    if (!speed_measured(c)) {
       const char* why = c.from_cache ? "cached" : "not measured";
       md << why << " | " << why << " | " << why << " | " << why << " |\n";
       continue;
@@ -360,7 +363,7 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
         "cell warm ms | faces decoded per cell |\n";
   md << "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const CodecResult& c : r.codecs) {
-    if (c.skipped || c.reference_point < 0 || c.from_cache || c.access_cold.samples == 0) continue;
+    if (c.skipped || c.reference_point < 0 || !speed_measured(c)) continue;
     md << "| " << c.name << " | " << psnr_text(c.points[c.reference_point].psnr_y) << " | "
        << format("%.1f", c.decode_faces_per_second) << " | "
        << format("%.1f", c.decode_faces_per_second_all_threads) << " | " << c.threads << " | "
@@ -373,7 +376,7 @@ Status write_report(const BenchResults& r, const std::filesystem::path& path) {
         "|\n";
   md << "|---|---:|---:|---:|---:|---:|---:|\n";
   for (const CodecResult& c : r.codecs) {
-    if (c.skipped || c.points.empty() || c.from_cache || c.access_cold.samples == 0) continue;
+    if (c.skipped || c.points.empty() || !speed_measured(c)) continue;
     md << "| " << c.name << " | " << format("%.3f", c.access_cold.mean_ms) << " | "
        << format("%.3f", c.access_cold.p99_ms) << " | " << format("%.3f", c.access_warm.mean_ms) << " | "
        << format("%.3f", c.access_warm.p99_ms) << " | " << format("%.2f", c.access_cold.mean_frames) << " | "

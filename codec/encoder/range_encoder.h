@@ -25,9 +25,8 @@ class RangeEncoder {
   SyntaxBits* account() const { return account_; }
 
   void encode(AdaptiveBit& model, int bit) {
-    if (account_ != nullptr) [[unlikely]] {
-      account_->bits[static_cast<size_t>(account_->current)] += bit_cost(model, bit);
-    }
+    if (account_ != nullptr) [[unlikely]]
+      account_->add(account_->current, bit_cost(model, bit));
     const uint32_t bound = (range_ >> kProbabilityBits) * model.probability_of_zero();
     if (bit) {
       low_ += bound;
@@ -42,7 +41,7 @@ class RangeEncoder {
   // Equiprobable bit, no model.
   void encode_bypass(int bit) {
     if (account_ != nullptr) [[unlikely]]
-      account_->bits[static_cast<size_t>(account_->current)] += 1;
+      account_->add(account_->current, 1);
     range_ >>= 1;
     if (bit) low_ += range_;
     normalize();

@@ -255,10 +255,25 @@ Result<std::vector<std::string>> list_texture_files(const fs::path& dir) {
   return files;
 }
 
+namespace {
+
+// Neither a skipped layer (light map, glow, trim, ...) nor a surface map.
+bool is_usable(const std::string& name) {
+  return !contains_any(lower(name), kTextureSkipWords) && !is_surface_map(name);
+}
+
+bool has_class_word(const std::vector<std::string>& files, TextureClass c) {
+  return std::any_of(files.begin(), files.end(), [c](const std::string& name) {
+    return is_usable(name) && contains_any(lower(name), texture_class_words(c));
+  });
+}
+
+}  // namespace
+
 std::vector<std::string> usable_textures(const std::vector<std::string>& files, uint32_t seed) {
   std::vector<std::string> out;
   for (const std::string& name : files) {
-    if (!contains_any(lower(name), kTextureSkipWords) && !is_surface_map(name)) out.push_back(name);
+    if (is_usable(name)) out.push_back(name);
   }
   std::stable_sort(out.begin(), out.end(), [seed](const std::string& a, const std::string& b) {
     return name_hash(a, seed) < name_hash(b, seed);
@@ -275,20 +290,9 @@ std::vector<std::string> texture_candidates(const std::vector<std::string>& file
   return matching.empty() ? usable : matching;
 }
 
-namespace {
-
-bool has_class_word(const std::vector<std::string>& files, TextureClass c) {
-  return std::any_of(files.begin(), files.end(), [c](const std::string& name) {
-    return !is_surface_map(name) && !contains_any(lower(name), kTextureSkipWords) &&
-           contains_any(lower(name), texture_class_words(c));
-  });
-}
-
-}  // namespace
-
 Status apply_photo_textures(const fs::path& dir, uint32_t seed, double texture_scale, Scene* scene) {
   SVC_ASSIGN_OR_RETURN(std::vector<std::string> files, list_texture_files(dir));
-  const std::vector<std::string> picker_files = files;
+  const bool has_sky_image = has_class_word(files, TextureClass::kSky);
   TexturePicker picker(dir, std::move(files), seed, scene);
   const auto no_image = [&](TextureClass c) {
     return Status(ErrorCode::kInvalidArgument, "texture folder " + dir.string() + " has no usable image for " +
@@ -307,7 +311,7 @@ Status apply_photo_textures(const fs::path& dir, uint32_t seed, double texture_s
   }
   // A folder without sky images (no file named for the sky) keeps the procedural clouds:
   // a wall or floor image over the sky would look like nothing real.
-  if (!has_class_word(picker_files, TextureClass::kSky)) return Status::Ok();
+  if (!has_sky_image) return Status::Ok();
   scene->sky_texture = picker.next(TextureClass::kSky);
   if (scene->sky_texture < 0) return no_image(TextureClass::kSky);
   const double sky_mean = luminance(scene->textures[scene->sky_texture].mean());
