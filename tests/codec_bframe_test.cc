@@ -941,5 +941,23 @@ TEST(BFrame, SuggestedQIndex) {
   }
 }
 
+TEST(BFrame, AdaptedQIndexShrinksTheOffsetAsMoreMacroblocksAreIntra) {
+  EXPECT_EQ(adapted_b_qindex(128, 0.0), suggested_b_qindex(128));
+  EXPECT_EQ(adapted_b_qindex(128, 1.0), 128 + kMinBQIndexOffset);
+  int previous = adapted_b_qindex(128, 0.0);
+  for (int percent = 1; percent <= 100; ++percent) {
+    const int qindex = adapted_b_qindex(128, percent / 100.0);
+    EXPECT_LE(qindex, previous) << percent;
+    EXPECT_GE(qindex, 128 + kMinBQIndexOffset) << percent;
+    previous = qindex;
+  }
+  EXPECT_LT(adapted_b_qindex(128, 0.5), suggested_b_qindex(128));
+  // Out-of-range shares and indices are clamped; a NaN share keeps the default.
+  EXPECT_EQ(adapted_b_qindex(128, -1.0), suggested_b_qindex(128));
+  EXPECT_EQ(adapted_b_qindex(128, 7.0), 128 + kMinBQIndexOffset);
+  EXPECT_EQ(adapted_b_qindex(128, std::nan("")), suggested_b_qindex(128));
+  EXPECT_EQ(adapted_b_qindex(250, 1.0), 255);
+}
+
 }  // namespace
 }  // namespace svc::codec

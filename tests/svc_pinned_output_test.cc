@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "bd118c1161be112be04ec3c2828847bab0d2c5a603620775dc94be0ae1ed2461",
-     "70bbe0c3cff4b7669f745d679ea58f50e4c56aeb5c4671a11eb32e9801325be4"},
+     "dd9e8d9800644978af8a224b6a8684479afb65b76117637d9306b426dd04cc0c",
+     "d81db8d5b992b43a7f1498914a216dfca074104e79fd7d8b8a674db6a33893d9"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "7cda7b47a9b65e32e1c4f51ab9f0556365f3418c74e9883dfe2cede3a15051db",
-     "ad0833e82b82043a4ca23b1911c0f28ee4d5ada24f63ff21609b64c1a1508783"},
+     "4d37270d0bc2625e19eac348b913bdd37381c860ae66d15b185b35db779d5aab",
+     "acc2a5f169d170c4c5ece25f2b6c5b7347eaa31c4a260c8b7acd24bd6fcf2e82"},
 };
 
 std::string file_sha256(const fs::path& path) {

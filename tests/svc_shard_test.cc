@@ -206,6 +206,12 @@ TEST_F(Shard, ASwitchedOffCodingToolIsRefused) {
   EXPECT_EQ(result.status().code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(result.status().message().find("--disable-tool"), std::string::npos);
   EXPECT_FALSE(fs::exists(out("tools.part")));
+  EncoderSettings fixed_offset = settings(1);
+  fixed_offset.b_qindex_offset = 30;
+  result = encode_shard(full(), out("offset.part"), fixed_offset, 1, 2);
+  ASSERT_FALSE(result.ok());
+  EXPECT_NE(result.status().message().find("--b-qindex-offset"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out("offset.part")));
 }
 
 }  // namespace

@@ -21,12 +21,20 @@
 namespace svc::codec {
 
 // `intra_qindex`: 42 indices coarser (a step 2^(42/32) = 2.48 times larger), clamped to
-// the valid range. References of good
-// quality help every face predicted from them, so B-faces can afford a coarser step
-// (docs/encoder.md 5; the figures in docs/bench.md, "Figures behind code constants"). The
-// frame header stores the index used.
+// the valid range. References of good quality help every face predicted from them, so
+// B-faces can afford a coarser step. The default, and the offset of the trial B-faces
+// that adapted_b_qindex reads (docs/encoder.md 5).
 inline constexpr int kBQIndexOffset = 42;
 int suggested_b_qindex(int intra_qindex);
+
+// The B-faces' qindex for a database whose trial B-faces, coded at
+// suggested_b_qindex(intra_qindex), coded `intra_share` (0..1) of their macroblocks
+// intra: the less of the B-faces the references predict, the less a finer I-face step
+// buys, so the offset shrinks from kBQIndexOffset towards kMinBQIndexOffset as the share
+// grows (docs/encoder.md 5; the figures in docs/bench.md, "B-face quantizer offset").
+// The frame header stores the index used.
+inline constexpr int kMinBQIndexOffset = 18;
+int adapted_b_qindex(int intra_qindex, double intra_share);
 
 struct BFrameParams {
   // qindex of the whole B-face (residual and intra macroblocks), 0..255.

@@ -140,11 +140,15 @@ CubeLayout speed_layout(int speed);
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best), spread evenly over the quantizer indices
   // (qindex_for_quality): 100 -> 0 (the finest step, not lossless), 75 -> 64, 50 -> 129,
-  // 1 -> 255 (the I-faces' index; B-faces use 42 more, a 2.5 times coarser step).
+  // 1 -> 255 (the I-faces' index; B-faces use 18 to 42 more, b_qindex_offset).
   int quality = 75;
   // When 0..255, overrides quality: the codec quantizer index (docs/codec.md, section 5.4).
   // -1: use quality.
   int qindex = -1;
+  // Quantizer indices the B-faces use above the I-faces' (the sum clamped to 255):
+  // -1 chooses 18..42 per database from trial B-faces (docs/encoder.md 5); 0..255 fixes
+  // it (to measure the choice; sharded encodes take the default).
+  int b_qindex_offset = -1;
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
   // depend on this.
   int threads = 0;
@@ -193,6 +197,9 @@ struct EncodeSummary {
   uint64_t raw_bytes = 0;   // 3 bytes a pixel of RGB
   uint64_t file_bytes = 0;  // size of the .svc file
   int qindex = 0;           // the I-faces' quantizer index
+  // The B-faces' quantizer index, chosen per database from trial B-faces (docs/encoder.md
+  // 5); -1 when this run coded no B-face.
+  int b_qindex = -1;
   double seconds = 0;
   FaceTypeStats intra;
   FaceTypeStats predicted;

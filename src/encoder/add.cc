@@ -295,6 +295,7 @@ Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const 
     }
     (types.intra[c][0] ? summary.intra_cells_added : summary.predicted_cells_added) += 1;
   }
+  job.trial_frames = trial_frames(index, job.frames);  // only the new cells' sources are at hand
   job.load = [&](uint32_t frame) {
     const size_t source = static_cast<size_t>(cells[frame / kFaceCount].source);
     return load_face(manifest, source, static_cast<Face>(frame % kFaceCount));

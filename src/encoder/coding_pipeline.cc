@@ -1,6 +1,10 @@
 #include "encoder/coding_pipeline.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <map>
 #include <string>
 
 #include "codec/common/bframe.h"
@@ -55,7 +59,9 @@ class Pipeline {
     intra_params_.transform_types = job.tools.transform_types;
     intra_params_.residual_matrix = job.tools.weighted_quant_matrix ? codec::ResidualMatrix::kWeighted
                                                                     : codec::ResidualMatrix::kFlat;
-    b_params_.qindex = codec::suggested_b_qindex(intra_params_.qindex);
+    b_params_.qindex = job.b_qindex_offset >= 0
+                           ? std::clamp(intra_params_.qindex + job.b_qindex_offset, codec::kMinQIndex, codec::kMaxQIndex)
+                           : codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
     b_params_.quarter_pel = job.tools.quarter_pel;
@@ -83,8 +89,16 @@ class Pipeline {
         [&](size_t k, CodedIntra& coded) { return store_intra(intra_[k], coded); }));
     if (predicted_.empty()) return Status::Ok();
     SVC_ASSIGN_OR_RETURN(written_, job_.open_written());
+    SVC_RETURN_IF_ERROR(choose_b_qindex());
+    job_.b_qindex = b_params_.qindex;
     return ordered_parallel_map<CodedPredictedFace>(
-        predicted_.size(), job_.threads, [&](size_t k) { return code_predicted(predicted_[k]); },
+        predicted_.size(), job_.threads,
+        [&](size_t k) -> Result<CodedPredictedFace> {
+          // The trial's faces are already coded when their index stayed.
+          const auto trial = trial_coded_.find(predicted_[k]);
+          if (trial != trial_coded_.end()) return std::move(trial->second);
+          return code_predicted(predicted_[k]);
+        },
         [&](size_t k, CodedPredictedFace& coded) { return store_predicted(predicted_[k], coded); });
   }
 
@@ -148,6 +162,31 @@ class Pipeline {
                               [&]() -> Result<std::shared_ptr<const codec::SearchPlanes>> {
                                 return codec::b_frame_search_planes(image);
                               });
+  }
+
+  // Codes the trial B-faces at the default offset and adapts every B-face's qindex to
+  // the share of their macroblocks coded intra (docs/encoder.md 5).
+  Status choose_b_qindex() {
+    if (job_.trial_frames.empty() || job_.b_qindex_offset >= 0) return Status::Ok();
+    uint64_t intra = 0, macroblocks = 0;
+    std::map<uint32_t, CodedPredictedFace> coded_faces;
+    SVC_RETURN_IF_ERROR(ordered_parallel_map<CodedPredictedFace>(
+        job_.trial_frames.size(), job_.threads, [&](size_t k) { return code_predicted(job_.trial_frames[k]); },
+        [&](size_t k, CodedPredictedFace& coded) {
+          intra += static_cast<uint64_t>(coded.stats.mb_intra);
+          macroblocks += static_cast<uint64_t>(coded.stats.macroblocks);
+          coded_faces[job_.trial_frames[k]] = std::move(coded);
+          return Status::Ok();
+        }));
+    if (macroblocks == 0) return Status::Ok();
+    const int trial_qindex = b_params_.qindex;
+    b_params_.qindex = codec::adapted_b_qindex(intra_params_.qindex, double(intra) / double(macroblocks));
+    if (b_params_.qindex != trial_qindex) return Status::Ok();
+    for (uint32_t frame : predicted_) {
+      const auto coded = coded_faces.find(frame);
+      if (coded != coded_faces.end()) trial_coded_.insert(std::move(*coded));
+    }
+    return Status::Ok();
   }
 
   Result<CodedPredictedFace> code_predicted(uint32_t frame) {
@@ -217,6 +256,8 @@ class Pipeline {
   SearchPlanesCache search_planes_;  // by 2 frame + (1 when padded)
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;
+  // Trial B-faces of this job coded at the index every B-face keeps (choose_b_qindex).
+  std::map<uint32_t, CodedPredictedFace> trial_coded_;
   uint64_t done_ = 0;
 };
 
@@ -234,6 +275,53 @@ uint64_t reference_cache_bytes() {
 bool uses_cube_references(const ContainerIndex& index, const CodingTools& tools) {
   return tools.cube_references &&
          codec::cube_padding_possible(static_cast<int>(index.face_width), static_cast<int>(index.face_height));
+}
+
+namespace {
+
+// Squared distance from a B-cube to its nearest reference cube (0 without positions).
+double squared_reference_distance(const ContainerIndex& index, uint32_t cell) {
+  const size_t frame = size_t{cell} * kFaceCount;
+  if (frame >= index.frames.size() || cell >= index.cells.size()) return 0;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (uint32_t ref : index.frames[frame].references) {
+    const uint32_t ref_cell = ref < index.frames.size() ? index.frames[ref].cell : cell;
+    if (ref_cell >= index.cells.size()) continue;
+    double d = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double delta = index.cells[cell].position[axis] - index.cells[ref_cell].position[axis];
+      d += delta * delta;
+    }
+    nearest = std::min(nearest, d);
+  }
+  return std::isfinite(nearest) ? nearest : 0;
+}
+
+}  // namespace
+
+std::vector<uint32_t> trial_frames(const ContainerIndex& index, std::span<const uint32_t> frames) {
+  std::map<uint32_t, uint32_t> faces_of_cell;  // B-faces in `frames`, by cell
+  for (uint32_t frame : frames) {
+    if (frame < index.frames.size() && index.frames[frame].type == FaceType::kPredicted)
+      ++faces_of_cell[index.frames[frame].cell];
+  }
+  // Ordered by distance to the nearest reference, so that the trial takes near and far
+  // B-cubes in the proportions the database has them (cell order alone may take only
+  // the nearest, which predict best).
+  std::vector<std::pair<double, uint32_t>> cubes;
+  for (const auto& [cell, faces] : faces_of_cell) {
+    if (faces == kFaceCount) cubes.emplace_back(squared_reference_distance(index, cell), cell);
+  }
+  std::sort(cubes.begin(), cubes.end());
+  const size_t chosen = std::min(kTrialCubes, cubes.size());
+  std::vector<uint32_t> cells;
+  for (size_t k = 0; k < chosen; ++k) cells.push_back(cubes[(2 * k + 1) * cubes.size() / (2 * chosen)].second);
+  std::sort(cells.begin(), cells.end());
+  std::vector<uint32_t> trial;
+  for (uint32_t cell : cells) {
+    for (uint32_t f = 0; f < kFaceCount; ++f) trial.push_back(cell * kFaceCount + f);
+  }
+  return trial;
 }
 
 Status code_faces(CodingJob& job) { return Pipeline(job).run(); }

@@ -54,6 +54,17 @@ struct CodingJob {
   int threads = 1;
   const char* action = "encode";  // names the run in the cancellation message
   EncodeProgress progress;
+  // B-faces coded once, before the others, at the default B-face quantizer offset: the
+  // share of their macroblocks coded intra sets every B-face's quantizer index
+  // (codec::adapted_b_qindex, docs/encoder.md 5). Their sources must be loadable; the
+  // same list gives the same bytes, so every part of a sharded encode takes the whole
+  // database's (trial_frames). Empty: the default offset.
+  std::vector<uint32_t> trial_frames;
+  // 0..255: the B-faces' quantizer index is the I-faces' plus this (clamped to 255),
+  // and trial_frames is ignored.
+  int b_qindex_offset = -1;
+  // Filled by coding: the B-faces' quantizer index (-1 when no B-face was coded).
+  int b_qindex = -1;
   // Filled by coding: B-face macroblocks predicted from outside their reference faces
   // (EncodeSummary::predicted_mb_leaving_face).
   uint64_t predicted_mb_leaving_face = 0;
@@ -61,6 +72,14 @@ struct CodingJob {
   // B-faces [1] (EncodeSummary::intra_syntax_bytes, predicted_syntax_bytes).
   std::array<codec::SyntaxBits, 2> syntax;
 };
+
+// B-cubes whose faces are CodingJob::trial_frames.
+inline constexpr size_t kTrialCubes = 3;
+
+// The trial B-faces among `frames` of `index`, in cell order: every face of kTrialCubes
+// B-cubes spread evenly over the B-cubes `frames` holds whole, ordered by the distance to
+// their nearest reference cube, then by cell (all of them when fewer).
+std::vector<uint32_t> trial_frames(const ContainerIndex& index, std::span<const uint32_t> frames);
 
 // Width of the cube-map border of padded references, in units of 16 luma samples
 // (codec/common/cube_padding.h). Encoder's choice (docs/encoder.md 5).

@@ -29,6 +29,8 @@ struct EncodePlan {
   ContainerIndex index;
   // B macroblocks coded so far whose prediction reads past their reference face.
   uint64_t predicted_mb_leaving_face = 0;
+  // The B-faces' quantizer index (CodingJob::b_qindex; -1 before any B-face is coded).
+  int b_qindex = -1;
   // Bits of the faces coded so far by syntax element: I-faces [0], B-faces [1].
   std::array<codec::SyntaxBits, 2> syntax;
 };

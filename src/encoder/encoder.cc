@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -41,6 +42,11 @@ Status validate_settings(const EncoderSettings& settings) {
     return Status(ErrorCode::kInvalidArgument, "quantizer index " + std::to_string(settings.qindex) +
                                                    " is outside " + std::to_string(codec::kMinQIndex) + ".." +
                                                    std::to_string(codec::kMaxQIndex) + " (or -1 for the quality)");
+  }
+  if (settings.b_qindex_offset < -1 || settings.b_qindex_offset > codec::kMaxQIndex) {
+    return Status(ErrorCode::kInvalidArgument, "B-face quantizer offset " + std::to_string(settings.b_qindex_offset) +
+                                                   " is outside 0.." + std::to_string(codec::kMaxQIndex) +
+                                                   " (or -1 to choose it per database)");
   }
   if (settings.threads < 0 || settings.threads > 1024) {
     return Status(ErrorCode::kInvalidArgument,
@@ -202,6 +208,11 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   CodingJob job;
   job.index = &plan.index;
   job.frames = std::move(frames);
+  // From the whole database, so that every part of a sharded encode chooses alike.
+  std::vector<uint32_t> all(plan.index.frames.size());
+  std::iota(all.begin(), all.end(), 0u);
+  if (settings.b_qindex_offset < 0) job.trial_frames = trial_frames(plan.index, all);
+  job.b_qindex_offset = settings.b_qindex_offset;
   job.load = [&](uint32_t frame) {
     return load_face(plan.manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
   };
@@ -223,6 +234,7 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   job.progress = progress;
   SVC_RETURN_IF_ERROR(code_faces(job));
   plan.predicted_mb_leaving_face += job.predicted_mb_leaving_face;
+  if (job.b_qindex >= 0) plan.b_qindex = job.b_qindex;
   for (size_t t = 0; t < 2; ++t) plan.syntax[t] += job.syntax[t];
   return Status::Ok();
 }
@@ -252,6 +264,7 @@ EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
   summary.intra = plan.index.stats[0];
   summary.predicted = plan.index.stats[1];
   summary.predicted_mb_leaving_face = plan.predicted_mb_leaving_face;
+  summary.b_qindex = plan.b_qindex;
   for (size_t e = 0; e < kSyntaxElementCount; ++e) {
     summary.intra_syntax_bytes[e] = plan.syntax[0].bits[e] / 8;
     summary.predicted_syntax_bytes[e] = plan.syntax[1].bits[e] / 8;

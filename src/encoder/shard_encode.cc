@@ -22,10 +22,10 @@ Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const st
   }
   // Parts record the settings the file keeps, not the tools; a tool switched off would
   // go unnoticed by the merge.
-  if (!(settings.tools == CodingTools{})) {
+  if (!(settings.tools == CodingTools{}) || settings.b_qindex_offset >= 0) {
     return Status(ErrorCode::kInvalidArgument,
-                  "a sharded encode uses the default coding tools; --disable-tool, --speed and --quant-matrix "
-                  "are for single encodes");
+                  "a sharded encode uses the default coding tools; --disable-tool, --speed, --quant-matrix and "
+                  "--b-qindex-offset are for single encodes");
   }
   SVC_ASSIGN_OR_RETURN(EncodePlan plan, plan_encode(db_dir, settings));
   SVC_ASSIGN_OR_RETURN(const uint64_t fingerprint, database_fingerprint(db_dir, plan.manifest));

@@ -52,6 +52,7 @@ json summary_json(const EncodeSummary& s, const std::filesystem::path& db, const
   j["file_bytes"] = s.file_bytes;
   j["compression_ratio"] = s.file_bytes ? static_cast<double>(s.raw_bytes) / s.file_bytes : 0.0;
   j["qindex"] = s.qindex;
+  j["b_qindex"] = s.b_qindex;
   j["seconds"] = s.seconds;
   j["face_types"] = {{"intra", face_type_stats_json(s.intra)}, {"predicted", face_type_stats_json(s.predicted)}};
   j["syntax_bytes"] = {{"intra", syntax_bytes_json(s.intra_syntax_bytes)},
@@ -88,8 +89,13 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out, boo
     print_syntax_bytes("I-faces", s.intra, s.intra_syntax_bytes);
     print_syntax_bytes("B-faces", s.predicted, s.predicted_syntax_bytes);
   }
-  std::printf("  quantizer index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
-              s.seconds > 0 ? s.faces / s.seconds : 0.0);
+  if (s.b_qindex >= 0) {
+    std::printf("  quantizer index %d (B-faces %d), %.2f s (%.1f faces/s)\n", s.qindex, s.b_qindex, s.seconds,
+                s.seconds > 0 ? s.faces / s.seconds : 0.0);
+  } else {
+    std::printf("  quantizer index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
+                s.seconds > 0 ? s.faces / s.seconds : 0.0);
+  }
 }
 
 void print_quality(const QualityReport& q) {
