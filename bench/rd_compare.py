@@ -4,7 +4,8 @@
     bench/rd_compare.py DB --config base= --config offset34="--b-qindex-offset 34"
 
 Encodes DB (`svc encode DB -q Q --psnr --json`) at each quality of --qualities with every
---config (NAME=ARGUMENTS, the arguments added to the encode command), then prints the
+--config (NAME=ARGUMENTS, the arguments added to the encode command; NAME:SVC=ARGUMENTS
+runs the svc binary SVC instead of --svc, to compare two builds), then prints the
 BD-rate of every config against the first: bytes of the whole file against PSNR-Y of all
 faces, log-rate as a PCHIP of PSNR (as bench/bd_rate.h), over the PSNR range both curves
 cover within --window (32-40 dB). The tuning loop of docs/bench.md for encoder-only
@@ -101,12 +102,17 @@ def main():
     options = parser.parse_args()
     low, high = (float(v) for v in options.window.split(","))
     configs = [c.split("=", 1) if "=" in c else (c, "") for c in options.config]
+    binaries = {}
+    for k, (name, arguments) in enumerate(configs):
+        name, _, binary = name.partition(":")
+        configs[k] = (name, arguments)
+        binaries[name] = binary or options.svc
     curves = {}
     with tempfile.TemporaryDirectory(prefix="svc-rd-compare-") as work:
         for name, arguments in configs:
             points = []
             for quality in (int(q) for q in options.qualities.split(",")):
-                result = encode(options.svc, options.db, quality, arguments.split(), work, options.threads)
+                result = encode(binaries[name], options.db, quality, arguments.split(), work, options.threads)
                 psnr = result["quality"]["psnr_y"]
                 points.append((psnr, result["file_bytes"]))
                 print(f"{name} q{quality}: {result['file_bytes']} bytes, {psnr:.3f} dB, B-face qindex "

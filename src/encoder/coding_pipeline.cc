@@ -59,9 +59,9 @@ class Pipeline {
     intra_params_.transform_types = job.tools.transform_types;
     intra_params_.residual_matrix = job.tools.weighted_quant_matrix ? codec::ResidualMatrix::kWeighted
                                                                     : codec::ResidualMatrix::kFlat;
-    b_params_.qindex = job.b_qindex_offset >= 0
-                           ? std::clamp(intra_params_.qindex + job.b_qindex_offset, codec::kMinQIndex, codec::kMaxQIndex)
-                           : codec::suggested_b_qindex(intra_params_.qindex);
+    b_params_.qindex = job.b_qindex_offset >= 0 ? std::clamp(intra_params_.qindex + job.b_qindex_offset,
+                                                             codec::kMinQIndex, codec::kMaxQIndex)
+                                                : codec::suggested_b_qindex(intra_params_.qindex);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
     b_params_.quarter_pel = job.tools.quarter_pel;

@@ -44,9 +44,9 @@ Status validate_settings(const EncoderSettings& settings) {
                                                    std::to_string(codec::kMaxQIndex) + " (or -1 for the quality)");
   }
   if (settings.b_qindex_offset < -1 || settings.b_qindex_offset > codec::kMaxQIndex) {
-    return Status(ErrorCode::kInvalidArgument, "B-face quantizer offset " + std::to_string(settings.b_qindex_offset) +
-                                                   " is outside 0.." + std::to_string(codec::kMaxQIndex) +
-                                                   " (or -1 to choose it per database)");
+    return Status(ErrorCode::kInvalidArgument,
+                  "B-face quantizer offset " + std::to_string(settings.b_qindex_offset) + " is outside 0.." +
+                      std::to_string(codec::kMaxQIndex) + " (or -1 to choose it per database)");
   }
   if (settings.threads < 0 || settings.threads > 1024) {
     return Status(ErrorCode::kInvalidArgument,
