@@ -54,11 +54,11 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "dd9e8d9800644978af8a224b6a8684479afb65b76117637d9306b426dd04cc0c",
-     "d81db8d5b992b43a7f1498914a216dfca074104e79fd7d8b8a674db6a33893d9"},
+     "bedf74ef263ce4e71b5e6df3ac894df97ace6b55bbbeef34c9e81a052480f0d5",
+     "8e7f4d9c89bae88f2032f390592ba825d567ecddcdf290af7fc7165bed1a305c"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "4d37270d0bc2625e19eac348b913bdd37381c860ae66d15b185b35db779d5aab",
-     "acc2a5f169d170c4c5ece25f2b6c5b7347eaa31c4a260c8b7acd24bd6fcf2e82"},
+     "f4a79b4b67005d19df2763b9fc36ac2699ff65cf690c0554cac267c14d7d5c9d",
+     "bbf60cf8fa516701e4e5b1e543c8f92f9d4ddf45485565ff29e62eb938217bf6"},
 };
 
 std::string file_sha256(const fs::path& path) {

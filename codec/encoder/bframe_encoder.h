@@ -33,7 +33,7 @@ int suggested_b_qindex(int intra_qindex);
 // buys, so the offset shrinks from kBQIndexOffset towards kMinBQIndexOffset as the share
 // grows (docs/encoder.md 5; the figures in docs/bench.md, "B-face quantizer offset").
 // The frame header stores the index used.
-inline constexpr int kMinBQIndexOffset = 18;
+inline constexpr int kMinBQIndexOffset = 26;
 int adapted_b_qindex(int intra_qindex, double intra_share);
 
 struct BFrameParams {

@@ -140,13 +140,13 @@ CubeLayout speed_layout(int speed);
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best), spread evenly over the quantizer indices
   // (qindex_for_quality): 100 -> 0 (the finest step, not lossless), 75 -> 64, 50 -> 129,
-  // 1 -> 255 (the I-faces' index; B-faces use 18 to 42 more, b_qindex_offset).
+  // 1 -> 255 (the I-faces' index; B-faces use 26 to 42 more, b_qindex_offset).
   int quality = 75;
   // When 0..255, overrides quality: the codec quantizer index (docs/codec.md, section 5.4).
   // -1: use quality.
   int qindex = -1;
   // Quantizer indices the B-faces use above the I-faces' (the sum clamped to 255):
-  // -1 chooses 18..42 per database from trial B-faces (docs/encoder.md 5); 0..255 fixes
+  // -1 chooses 26..42 per database from trial B-faces (docs/encoder.md 5); 0..255 fixes
   // it (to measure the choice; sharded encodes take the default).
   int b_qindex_offset = -1;
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not

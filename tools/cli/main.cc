@@ -52,7 +52,7 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   cmd->add_option("--qindex", settings->qindex, "Quantizer index 0 (finest) ..255 (overrides --quality)")
       ->check(integer_in(0, 255));
   cmd->add_option("--b-qindex-offset", settings->b_qindex_offset,
-                  "Quantizer indices the B-faces use above the I-faces' (default: 18..42, chosen per database "
+                  "Quantizer indices the B-faces use above the I-faces' (default: 26..42, chosen per database "
                   "from trial B-faces)")
       ->check(integer_in(0, 255));
   add_threads_option(cmd, &settings->threads);
