@@ -103,17 +103,19 @@ MacroblockHints macroblock_hints_at(const ReferenceHints& hints, const FrameStat
 
 }  // namespace
 
-int suggested_b_qindex(int intra_qindex) {
-  return std::clamp(intra_qindex + kBQIndexOffset, kMinQIndex, kMaxQIndex);
+int b_qindex_for_offset(int intra_qindex, int offset) {
+  return std::clamp(intra_qindex + offset, kMinQIndex, kMaxQIndex);
 }
+
+int suggested_b_qindex(int intra_qindex) { return b_qindex_for_offset(intra_qindex, kBQIndexOffset); }
 
 int adapted_b_qindex(int intra_qindex, double intra_share) {
   // Full offset up to kSharePredicted of intra macroblocks, the least from kShareUnpredicted.
   constexpr double kSharePredicted = 0.12, kShareUnpredicted = 0.5;
   const double share = std::isfinite(intra_share) ? std::clamp(intra_share, 0.0, 1.0) : 0.0;
   const double t = std::clamp((share - kSharePredicted) / (kShareUnpredicted - kSharePredicted), 0.0, 1.0);
-  const int offset = static_cast<int>(std::lround(kBQIndexOffset - t * (kBQIndexOffset - kMinBQIndexOffset)));
-  return std::clamp(intra_qindex + offset, kMinQIndex, kMaxQIndex);
+  return b_qindex_for_offset(intra_qindex, static_cast<int>(std::lround(kBQIndexOffset -
+                                                                        t * (kBQIndexOffset - kMinBQIndexOffset))));
 }
 
 namespace {

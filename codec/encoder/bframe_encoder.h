@@ -27,6 +27,9 @@ namespace svc::codec {
 inline constexpr int kBQIndexOffset = 42;
 int suggested_b_qindex(int intra_qindex);
 
+// `intra_qindex` plus `offset`, clamped to the valid range: every B-face index above.
+int b_qindex_for_offset(int intra_qindex, int offset);
+
 // The B-faces' qindex for a database whose trial B-faces, coded at
 // suggested_b_qindex(intra_qindex), coded `intra_share` (0..1) of their macroblocks
 // intra: the less of the B-faces the references predict, the less a finer I-face step

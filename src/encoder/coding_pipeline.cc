@@ -59,9 +59,9 @@ class Pipeline {
     intra_params_.transform_types = job.tools.transform_types;
     intra_params_.residual_matrix = job.tools.weighted_quant_matrix ? codec::ResidualMatrix::kWeighted
                                                                     : codec::ResidualMatrix::kFlat;
-    b_params_.qindex = job.b_qindex_offset >= 0 ? std::clamp(intra_params_.qindex + job.b_qindex_offset,
-                                                             codec::kMinQIndex, codec::kMaxQIndex)
-                                                : codec::suggested_b_qindex(intra_params_.qindex);
+    b_params_.qindex = codec::b_qindex_for_offset(intra_params_.qindex, job.b_qindex_offset >= 0
+                                                                            ? job.b_qindex_offset
+                                                                            : codec::kBQIndexOffset);
     b_params_.warp = job.tools.warped_prediction;
     b_params_.sub_pel_refinement = job.tools.sub_pel_refinement;
     b_params_.quarter_pel = job.tools.quarter_pel;
@@ -181,11 +181,7 @@ class Pipeline {
     if (macroblocks == 0) return Status::Ok();
     const int trial_qindex = b_params_.qindex;
     b_params_.qindex = codec::adapted_b_qindex(intra_params_.qindex, double(intra) / double(macroblocks));
-    if (b_params_.qindex != trial_qindex) return Status::Ok();
-    for (uint32_t frame : predicted_) {
-      const auto coded = coded_faces.find(frame);
-      if (coded != coded_faces.end()) trial_coded_.insert(std::move(*coded));
-    }
+    if (b_params_.qindex == trial_qindex) trial_coded_ = std::move(coded_faces);
     return Status::Ok();
   }
 
@@ -256,7 +252,8 @@ class Pipeline {
   SearchPlanesCache search_planes_;  // by 2 frame + (1 when padded)
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;
-  // Trial B-faces of this job coded at the index every B-face keeps (choose_b_qindex).
+  // The trial B-faces when they were coded at the index every B-face keeps
+  // (choose_b_qindex); those of this job are stored from here.
   std::map<uint32_t, CodedPredictedFace> trial_coded_;
   uint64_t done_ = 0;
 };
@@ -285,8 +282,8 @@ double squared_reference_distance(const ContainerIndex& index, uint32_t cell) {
   if (frame >= index.frames.size() || cell >= index.cells.size()) return 0;
   double nearest = std::numeric_limits<double>::infinity();
   for (uint32_t ref : index.frames[frame].references) {
-    const uint32_t ref_cell = ref < index.frames.size() ? index.frames[ref].cell : cell;
-    if (ref_cell >= index.cells.size()) continue;
+    if (ref >= index.frames.size() || index.frames[ref].cell >= index.cells.size()) continue;
+    const uint32_t ref_cell = index.frames[ref].cell;
     double d = 0;
     for (int axis = 0; axis < 3; ++axis) {
       const double delta = index.cells[cell].position[axis] - index.cells[ref_cell].position[axis];

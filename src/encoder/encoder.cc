@@ -211,7 +211,7 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   // From the whole database, so that every part of a sharded encode chooses alike.
   std::vector<uint32_t> all(plan.index.frames.size());
   std::iota(all.begin(), all.end(), 0u);
-  if (settings.b_qindex_offset < 0) job.trial_frames = trial_frames(plan.index, all);
+  job.trial_frames = trial_frames(plan.index, all);
   job.b_qindex_offset = settings.b_qindex_offset;
   job.load = [&](uint32_t frame) {
     return load_face(plan.manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <string>
 
 #include "cli/cli_util.h"
 #include "cli/quality_report.h"
@@ -89,13 +90,9 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out, boo
     print_syntax_bytes("I-faces", s.intra, s.intra_syntax_bytes);
     print_syntax_bytes("B-faces", s.predicted, s.predicted_syntax_bytes);
   }
-  if (s.b_qindex >= 0) {
-    std::printf("  quantizer index %d (B-faces %d), %.2f s (%.1f faces/s)\n", s.qindex, s.b_qindex, s.seconds,
-                s.seconds > 0 ? s.faces / s.seconds : 0.0);
-  } else {
-    std::printf("  quantizer index %d, %.2f s (%.1f faces/s)\n", s.qindex, s.seconds,
-                s.seconds > 0 ? s.faces / s.seconds : 0.0);
-  }
+  const std::string b_faces = s.b_qindex >= 0 ? " (B-faces " + std::to_string(s.b_qindex) + ")" : "";
+  std::printf("  quantizer index %d%s, %.2f s (%.1f faces/s)\n", s.qindex, b_faces.c_str(), s.seconds,
+              s.seconds > 0 ? s.faces / s.seconds : 0.0);
 }
 
 void print_quality(const QualityReport& q) {
