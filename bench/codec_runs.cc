@@ -186,9 +186,10 @@ Result<QualityPoint> Bench::measure_baseline(const CodecPlan& plan, int setting,
   const auto t1 = Clock::now();
   SVC_ASSIGN_OR_RETURN(const auto decoded, decode_every_face(encoded));
   point.decode_seconds = seconds_since(t1);
-  std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs;
+  std::vector<std::pair<const ImageRGB8*, const ImageRGB8*>> pairs, predicted_pairs;
   for (Face f : kAllFaces) {
     const auto& frames = decoded[static_cast<int>(f)];
+    const baseline::EncodedSequence& sequence = encoded.faces[static_cast<size_t>(f)];
     if (frames.size() != encoded.layout.cells.size()) {
       return Status(ErrorCode::kInternal, plan.name + ": decoded " + std::to_string(frames.size()) +
                                               " frames of face " + face_name(f) + ", expected " +
@@ -196,12 +197,20 @@ Result<QualityPoint> Bench::measure_baseline(const CodecPlan& plan, int setting,
     }
     for (size_t k = 0; k < frames.size(); ++k) {
       pairs.emplace_back(&source_.face(*source_.ordinal(encoded.layout.cells[k]), f), &frames[k]);
+      const baseline::FrameRecord& record = sequence.frames[static_cast<size_t>(sequence.decode_position[k])];
+      if (record.type == baseline::PictureType::kI) continue;
+      predicted_pairs.push_back(pairs.back());
+      point.b_face_bytes += record.size;
     }
   }
   SVC_ASSIGN_OR_RETURN(Score score, score_faces(pairs, threads_));
   point.psnr_rgb = score.psnr_rgb;
   point.psnr_y = score.psnr_y;
   point.ssim = score.ssim;
+  if (!predicted_pairs.empty()) {
+    SVC_ASSIGN_OR_RETURN(Score predicted, score_faces(predicted_pairs, threads_));
+    point.b_face_psnr_y = predicted.psnr_y;
+  }
   if (keep) *keep = std::move(encoded);
   return point;
 }

@@ -106,8 +106,9 @@ struct QualityPoint {
   double ssim = 0;  // mean luma SSIM over faces
   double encode_seconds = 0;
   double decode_seconds = 0;  // sequential decode of every face
-  // svc only: the B-faces' coded bytes and the PSNR-Y over the B-faces alone (0 when the
-  // file has none), to follow the predicted faces apart from the I-faces they lean on.
+  // The predicted faces' coded bytes and their PSNR-Y alone (0 when there are none), to
+  // follow them apart from the intra faces they lean on: svc's B-faces, the video
+  // anchors' P- and B-frames.
   uint64_t b_face_bytes = 0;
   double b_face_psnr_y = 0;
 };

@@ -158,6 +158,35 @@ TEST(BFrame, KnownMotionPredictsNearlyPerfectlyAndCodesSmall) {
   EXPECT_EQ(modes, stats.modes);
 }
 
+TEST(BFrame, ScreenedPredictionErrorSeparatesWhatTheReferenceSees) {
+  const int w = 128, h = 64, q = 128;
+  const ImageYCbCr420 source = textured_crop(w, h, 20, 20);
+  const ImageYCbCr420 other = textured_crop(w, h, 20, 20, 1234);
+  // The reference shows the source's left half; its right half is another texture.
+  ImageYCbCr420 reference = source;
+  for (int y = 0; y < h; ++y) {
+    for (int x = w / 2; x < w; ++x)
+      reference.y[static_cast<size_t>(y) * w + x] = other.y[static_cast<size_t>(y) * w + x];
+  }
+  reference = decoded_intra(reference, q);
+  const FaceCandidates zero = uniform_candidates(w, h, {MotionVector{0, 0}});
+  BFrameParams params;
+  params.qindex = q;
+  BFrameStats stats;
+  ASSERT_FALSE(
+      encode_b_frame(source, reference, nullptr, candidate_hints(zero, {}), params, nullptr, &stats).empty());
+  EXPECT_EQ(stats.screened_prediction_pixels[0] + stats.screened_prediction_pixels[1], w * h);
+  EXPECT_EQ(stats.screened_prediction_pixels[0], 256 * stats.mb_intra);
+  ASSERT_GT(stats.mb_intra, 0);
+  ASSERT_LT(stats.mb_intra, stats.macroblocks);
+  auto mean_error = [&](size_t k) {
+    return static_cast<double>(stats.screened_prediction_sse[k]) /
+           static_cast<double>(stats.screened_prediction_pixels[k]);
+  };
+  // Where intra won the reference showed another texture: its error is far larger.
+  EXPECT_GT(mean_error(0), 10 * mean_error(1)) << mean_error(0) << " vs " << mean_error(1);
+}
+
 TEST(BFrame, TwoReferencesPickTheOneWhereTheContentIsVisible) {
   const int w = 128, h = 64, q = 128;
   const ImageYCbCr420 source = textured_crop(w, h, 20, 20);

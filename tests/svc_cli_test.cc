@@ -80,12 +80,26 @@ TEST_F(Cli, EncodeReportsTheBytesOfEachSyntaxElement) {
   // The B-faces' quantizer index the trial chose (docs/encoder.md 5).
   EXPECT_GE(parsed["b_qindex"].get<int>(), 60 + 26);
   EXPECT_LE(parsed["b_qindex"].get<int>(), 60 + 42);
+  // How close the references came: the inter macroblocks' screened prediction is a PSNR
+  // (or null when no macroblock of that kind), warped ones at most the inter ones.
+  const json& prediction = parsed["prediction"];
+  const json& predicted_mbs = parsed["face_types"]["predicted"]["macroblocks"];
+  const uint64_t inter_mbs = predicted_mbs["forward"].get<uint64_t>() + predicted_mbs["backward"].get<uint64_t>() +
+                             predicted_mbs["bidirectional"].get<uint64_t>() +
+                             predicted_mbs["skipped"].get<uint64_t>();
+  ASSERT_GT(inter_mbs, 0u);
+  EXPECT_LE(prediction["macroblocks_warped"].get<uint64_t>(), inter_mbs);
+  ASSERT_TRUE(prediction["screened_psnr_y"]["inter"].is_number()) << prediction;
+  EXPECT_GT(prediction["screened_psnr_y"]["inter"].get<double>(), 15.0) << prediction;
+  EXPECT_LT(prediction["screened_psnr_y"]["inter"].get<double>(), 99.0) << prediction;
+  if (predicted_mbs["intra"].get<uint64_t>() == 0) EXPECT_TRUE(prediction["screened_psnr_y"]["intra"].is_null());
   // The text summary shows them with --verbose only.
   const std::string encode = "encode --no-progress -y " + quoted(scene) + " -o " + quoted(file);
   EXPECT_EQ(run_svc(encode).output.find("syntax:"), std::string::npos);
   const CliRun verbose = run_svc(encode + " --verbose");
   EXPECT_NE(verbose.output.find("I-faces   syntax: header"), std::string::npos) << verbose.output;
   EXPECT_NE(verbose.output.find("B-faces   syntax: header"), std::string::npos) << verbose.output;
+  EXPECT_NE(verbose.output.find("B-faces   closest inter prediction PSNR-Y"), std::string::npos) << verbose.output;
 }
 
 TEST_F(Cli, InfoOfAQindexFileShowsTheIndexAndNoQuality) {

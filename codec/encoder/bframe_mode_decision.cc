@@ -1,8 +1,11 @@
 // The B-face mode decision: which option each macroblock takes (docs/encoder.md).
 #include "codec/encoder/bframe_macroblock_coder.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "codec/encoder/distortion.h"
 #include "codec/encoder/rate_distortion.h"
 #include "codec/encoder/sad.h"
 
@@ -102,6 +105,7 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
     bool warp;
   };
   std::array<Screened, 6> screened{};
+  int64_t closest_sse = std::numeric_limits<int64_t>::max();
   int screened_count = 0;
   const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my) * source_.strides[0] + 16 * mx;
   std::array<std::array<int16_t, 256>, 2> luma{}, warped{};
@@ -140,6 +144,11 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
         round_prediction(planes[mode == MacroblockMode::kBackward ? 1 : 0].data(), 256, prediction);
       }
       const int sad = sad_16x16(source, source_.strides[0], prediction);
+      if (stats != nullptr) {
+        closest_sse =
+            std::min(closest_sse, squared_error(source, source_.strides[0], prediction, 16,
+                                                visible_w_[0] + visible_w_[1], visible_h_[0] + visible_h_[2]));
+      }
       if (warp) {
         bits += warp_nodes_bits(mode);
       } else {
@@ -167,6 +176,12 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
     }
   }
   if (rdoq_) requantize(&winner);
+  if (stats != nullptr && screened_count > 0) {
+    const size_t coded_inter = winner.mode != MacroblockMode::kIntra;
+    stats->screened_prediction_sse[coded_inter] += closest_sse;
+    stats->screened_prediction_pixels[coded_inter] +=
+        (visible_w_[0] + visible_w_[1]) * (visible_h_[0] + visible_h_[2]);
+  }
   return winner;
 }
 

@@ -191,6 +191,24 @@ inline constexpr size_t kSyntaxElementCount = 6;
 // {"header", "modes", "partitions", "vectors", "levels", "filters"}. Thread-safe.
 std::vector<std::string> syntax_element_names();
 
+// What the encoder saw of the B-faces' prediction (docs/encoder.md 12).
+struct PredictionSummary {
+  // Macroblocks (inter or skipped) whose prediction reads reference samples outside the
+  // reference face: from the cube border with cube references, else from the edge
+  // extension.
+  uint64_t mb_leaving_face = 0;
+  // Inter and skipped macroblocks predicted by warping.
+  uint64_t mb_warp = 0;
+  // Luma squared error against the source of the closest whole-macroblock inter
+  // prediction the encoder screened for each macroblock, and the luma pixels it covers:
+  // [0] over macroblocks coded intra, [1] over the others. How well the references see
+  // the B-faces, whatever was coded.
+  std::array<uint64_t, 2> screened_sse{};
+  std::array<uint64_t, 2> screened_pixels{};
+
+  PredictionSummary& operator+=(const PredictionSummary& other);
+};
+
 struct EncodeSummary {
   uint64_t cells = 0;
   uint64_t faces = 0;
@@ -203,10 +221,9 @@ struct EncodeSummary {
   double seconds = 0;
   FaceTypeStats intra;
   FaceTypeStats predicted;
-  // B-face macroblocks (inter or skipped) whose prediction reads reference samples
-  // outside the reference face: from the cube border with cube references, else from
-  // the edge extension. Not stored in the file.
-  uint64_t predicted_mb_leaving_face = 0;
+  // How the B-faces' macroblocks were predicted. Not stored in the file; filled as the
+  // syntax bytes below are.
+  PredictionSummary prediction;
   // Bytes of the I-faces' and of the B-faces' payloads by syntax element (indexed as
   // syntax_element_names()), estimated from the contexts' probabilities as coded (-log2 p
   // per bin, 1 bit per bypass bin, 8 bits per header byte): each sum is within a fraction

@@ -215,7 +215,13 @@ class Pipeline {
     s.mb_backward += coded.stats.mb_backward;
     s.mb_bidirectional += coded.stats.mb_bidirectional;
     s.mb_skipped += coded.stats.mb_skipped;
-    job_.predicted_mb_leaving_face += static_cast<uint64_t>(coded.stats.mb_leaving_face);
+    PredictionSummary& prediction = job_.prediction;
+    prediction.mb_leaving_face += static_cast<uint64_t>(coded.stats.mb_leaving_face);
+    prediction.mb_warp += static_cast<uint64_t>(coded.stats.mb_warp);
+    for (size_t k = 0; k < 2; ++k) {
+      prediction.screened_sse[k] += static_cast<uint64_t>(coded.stats.screened_prediction_sse[k]);
+      prediction.screened_pixels[k] += static_cast<uint64_t>(coded.stats.screened_prediction_pixels[k]);
+    }
     job_.syntax[1] += coded.stats.syntax;
     s.candidate_vectors += coded.candidates.candidates;
     s.candidate_macroblocks += coded.candidates.macroblocks;

@@ -65,9 +65,8 @@ struct CodingJob {
   int b_qindex_offset = -1;
   // Filled by coding: the B-faces' quantizer index (-1 when no B-face was coded).
   int b_qindex = -1;
-  // Filled by coding: B-face macroblocks predicted from outside their reference faces
-  // (EncodeSummary::predicted_mb_leaving_face).
-  uint64_t predicted_mb_leaving_face = 0;
+  // Filled by coding: how the B-faces' macroblocks were predicted (EncodeSummary::prediction).
+  PredictionSummary prediction;
   // Filled by coding: the bits of the stored faces by syntax element, I-faces [0] and
   // B-faces [1] (EncodeSummary::intra_syntax_bytes, predicted_syntax_bytes).
   std::array<codec::SyntaxBits, 2> syntax;

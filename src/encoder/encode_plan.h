@@ -27,8 +27,8 @@ struct EncodePlan {
   // manifest when needed (cell_cameras), so that an encode does not hold 176 bytes of
   // camera a face.
   ContainerIndex index;
-  // B macroblocks coded so far whose prediction reads past their reference face.
-  uint64_t predicted_mb_leaving_face = 0;
+  // How the B-faces coded so far were predicted.
+  PredictionSummary prediction;
   // The B-faces' quantizer index (CodingJob::b_qindex; -1 before any B-face is coded).
   int b_qindex = -1;
   // Bits of the faces coded so far by syntax element: I-faces [0], B-faces [1].

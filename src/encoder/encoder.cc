@@ -233,7 +233,7 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   job.threads = resolve_thread_count(settings.threads);
   job.progress = progress;
   SVC_RETURN_IF_ERROR(code_faces(job));
-  plan.predicted_mb_leaving_face += job.predicted_mb_leaving_face;
+  plan.prediction += job.prediction;
   if (job.b_qindex >= 0) plan.b_qindex = job.b_qindex;
   for (size_t t = 0; t < 2; ++t) plan.syntax[t] += job.syntax[t];
   return Status::Ok();
@@ -255,6 +255,16 @@ std::vector<std::string> syntax_element_names() {
   return names;
 }
 
+PredictionSummary& PredictionSummary::operator+=(const PredictionSummary& other) {
+  mb_leaving_face += other.mb_leaving_face;
+  mb_warp += other.mb_warp;
+  for (size_t k = 0; k < 2; ++k) {
+    screened_sse[k] += other.screened_sse[k];
+    screened_pixels[k] += other.screened_pixels[k];
+  }
+  return *this;
+}
+
 EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
   EncodeSummary summary;
   summary.cells = plan.index.cells.size();
@@ -263,7 +273,7 @@ EncodeSummary summarize_encode(const EncodePlan& plan, uint64_t frames) {
   summary.raw_bytes = uint64_t{3} * plan.index.face_width * plan.index.face_height * frames;
   summary.intra = plan.index.stats[0];
   summary.predicted = plan.index.stats[1];
-  summary.predicted_mb_leaving_face = plan.predicted_mb_leaving_face;
+  summary.prediction = plan.prediction;
   summary.b_qindex = plan.b_qindex;
   for (size_t e = 0; e < kSyntaxElementCount; ++e) {
     summary.intra_syntax_bytes[e] = plan.syntax[0].bits[e] / 8;

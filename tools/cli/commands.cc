@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -42,6 +44,25 @@ json syntax_bytes_json(const std::array<double, kSyntaxElementCount>& bytes) {
   return j;
 }
 
+// PSNR-Y of a squared error over `pixels` luma samples; none without samples or error.
+std::optional<double> screened_psnr(uint64_t sse, uint64_t pixels) {
+  if (pixels == 0 || sse == 0) return std::nullopt;
+  return 10.0 * std::log10(255.0 * 255.0 * static_cast<double>(pixels) / static_cast<double>(sse));
+}
+
+json screened_psnr_json(uint64_t sse, uint64_t pixels) {
+  const std::optional<double> psnr = screened_psnr(sse, pixels);
+  return psnr ? json(*psnr) : json(nullptr);
+}
+
+json prediction_json(const PredictionSummary& p) {
+  return {{"macroblocks_leaving_face", p.mb_leaving_face},
+          {"macroblocks_warped", p.mb_warp},
+          {"screened_psnr_y",
+           {{"intra", screened_psnr_json(p.screened_sse[0], p.screened_pixels[0])},
+            {"inter", screened_psnr_json(p.screened_sse[1], p.screened_pixels[1])}}}};
+}
+
 json summary_json(const EncodeSummary& s, const std::filesystem::path& db, const std::filesystem::path& out) {
   json j;
   j["command"] = "encode";
@@ -58,6 +79,7 @@ json summary_json(const EncodeSummary& s, const std::filesystem::path& db, const
   j["face_types"] = {{"intra", face_type_stats_json(s.intra)}, {"predicted", face_type_stats_json(s.predicted)}};
   j["syntax_bytes"] = {{"intra", syntax_bytes_json(s.intra_syntax_bytes)},
                        {"predicted", syntax_bytes_json(s.predicted_syntax_bytes)}};
+  j["prediction"] = prediction_json(s.prediction);
   return j;
 }
 
@@ -77,6 +99,22 @@ void print_syntax_bytes(const char* name, const FaceTypeStats& stats,
   std::printf("\n");
 }
 
+// -v: how close the references came to the B-faces, where intra won and elsewhere.
+void print_prediction(const EncodeSummary& s) {
+  const PredictionSummary& p = s.prediction;
+  if (s.predicted.faces == 0 || p.screened_pixels[0] + p.screened_pixels[1] == 0) return;
+  auto text = [&](size_t k) {
+    const std::optional<double> psnr = screened_psnr(p.screened_sse[k], p.screened_pixels[k]);
+    char buffer[32] = "none";
+    if (psnr) std::snprintf(buffer, sizeof buffer, "%.2f dB", *psnr);
+    return std::string(buffer);
+  };
+  std::printf(
+      "  B-faces   closest inter prediction PSNR-Y %s where coded intra, %s elsewhere; %llu macroblocks "
+      "warped\n",
+      text(0).c_str(), text(1).c_str(), static_cast<unsigned long long>(p.mb_warp));
+}
+
 void print_summary(const EncodeSummary& s, const std::filesystem::path& out, bool verbose) {
   std::printf("encoded %llu cells, %llu faces into %s\n", static_cast<unsigned long long>(s.cells),
               static_cast<unsigned long long>(s.faces), out.string().c_str());
@@ -89,6 +127,7 @@ void print_summary(const EncodeSummary& s, const std::filesystem::path& out, boo
   if (verbose) {
     print_syntax_bytes("I-faces", s.intra, s.intra_syntax_bytes);
     print_syntax_bytes("B-faces", s.predicted, s.predicted_syntax_bytes);
+    print_prediction(s);
   }
   const std::string b_faces = s.b_qindex >= 0 ? " (B-faces " + std::to_string(s.b_qindex) + ")" : "";
   std::printf("  quantizer index %d%s, %.2f s (%.1f faces/s)\n", s.qindex, b_faces.c_str(), s.seconds,
