@@ -27,10 +27,30 @@ void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, 
   for (int x = 0; x < width; ++x) to_rgb(y[x], cb[x >> 1], cr[x >> 1], rgb + 3 * x);
 }
 
+void ycbcr_to_rgba_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgba) {
+  for (int x = 0; x < width; ++x) {
+    to_rgb(y[x], cb[x >> 1], cr[x >> 1], rgba + 4 * x);
+    rgba[4 * x + 3] = 255;
+  }
+}
+
+void ycbcr_to_bgra_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* bgra) {
+  for (int x = 0; x < width; ++x) {
+    uint8_t rgb[3];
+    to_rgb(y[x], cb[x >> 1], cr[x >> 1], rgb);
+    bgra[4 * x] = rgb[2];
+    bgra[4 * x + 1] = rgb[1];
+    bgra[4 * x + 2] = rgb[0];
+    bgra[4 * x + 3] = 255;
+  }
+}
+
 void init_color_c(DspTable* table) {
   table->rgb_to_luma_row = rgb_to_luma_row_c;
   table->rgb_to_chroma_row = rgb_to_chroma_row_c;
   table->ycbcr_to_rgb_row = ycbcr_to_rgb_row_c;
+  table->ycbcr_to_rgba_row = ycbcr_to_rgba_row_c;
+  table->ycbcr_to_bgra_row = ycbcr_to_bgra_row_c;
 }
 
 }  // namespace svc::codec::dsp

@@ -89,6 +89,11 @@ struct DspTable {
   void (*rgb_to_luma_row)(const uint8_t* rgb, int width, uint8_t* y);
   void (*rgb_to_chroma_row)(const uint8_t* row0, const uint8_t* row1, int width, uint8_t* cb, uint8_t* cr);
   void (*ycbcr_to_rgb_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
+  // The same row as 4-byte pixels with alpha 255, in memory order R, G, B, A (rgba) or
+  // B, G, R, A (bgra): the formats GPUs upload. Write exactly 4 * width bytes, at any
+  // alignment.
+  void (*ycbcr_to_rgba_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgba);
+  void (*ycbcr_to_bgra_row)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* bgra);
 
   // Separable 8-tap interpolation (docs/codec.md, section 5.6): `window` points at the
   // top-left tap, 3 samples left of and above the block's integer position, and holds

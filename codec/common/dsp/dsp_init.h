@@ -59,6 +59,8 @@ void smooth_intra_edge(const uint8_t* edge, TransformSize size, uint8_t* out);
 // modes are left alone (docs/codec.md 5.2). Every variant of the angular modes calls it.
 void filter_intra_boundary(const uint8_t* edge, int mode, TransformSize size, uint8_t* out);
 void ycbcr_to_rgb_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb);
+void ycbcr_to_rgba_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgba);
+void ycbcr_to_bgra_row_c(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* bgra);
 
 #if defined(__x86_64__) || defined(__i386__)
 void init_mc_sse2(DspTable* table);
