@@ -1,5 +1,6 @@
 // Color-conversion row kernels against their references: every width up to 40 and
-// random wider rows, unaligned rows, extremes that saturate the clamps.
+// random wider rows, unaligned rows, extremes that saturate the clamps. The YCbCr rows
+// (RGB, RGBA, BGRA) share one check and one benchmark.
 #include <algorithm>
 
 #include "checkkernels/harness.h"
@@ -49,10 +50,21 @@ std::string check_chroma_row(const Tables& reference, const Tables& variant, Ran
   return {};
 }
 
-std::string check_rgb_row(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+using codec::dsp::DspTable;
+
+// One of the shared table's YCbCr row entries, which differ only in their output layout.
+using YcbcrRow = decltype(&DspTable::ycbcr_to_rgb_row);
+
+// `row` writes kBytes per pixel. Planes and output at their own unaligned offsets; the
+// comparison spans the bytes before and after the output too, so a variant that writes
+// outside its row fails.
+template <YcbcrRow row, size_t kBytes>
+std::string check_ycbcr_row(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  constexpr size_t kGuard = 64;  // a whole group of 16 four-byte pixels
   for (int n = 0; n < iterations + 40; ++n) {
     const int width = random_width(random, n), chroma_width = (width + 1) / 2;
     const size_t offset = static_cast<size_t>(random.uniform(0, 15));
+    const size_t out_offset = static_cast<size_t>(random.uniform(0, 15));
     Buffer planes(static_cast<size_t>(width) + 2 * static_cast<size_t>(chroma_width) + 16);
     uint8_t* y = planes.at(offset);
     uint8_t* cb = y + width;
@@ -60,12 +72,13 @@ std::string check_rgb_row(const Tables& reference, const Tables& variant, Random
     random.fill_with_extremes(y, static_cast<size_t>(width));
     random.fill_with_extremes(cb, static_cast<size_t>(chroma_width));
     random.fill_with_extremes(cr, static_cast<size_t>(chroma_width));
-    Buffer expected(3 * static_cast<size_t>(width) + 32), actual(3 * static_cast<size_t>(width) + 32);
-    reference.ycbcr_to_rgb_row(y, cb, cr, width, expected.at(offset));
-    variant.ycbcr_to_rgb_row(y, cb, cr, width, actual.at(offset));
-    if (auto diff = first_difference(expected.at(0), actual.at(0), 3 * static_cast<size_t>(width) + 32);
+    const size_t row_bytes = kBytes * static_cast<size_t>(width);
+    Buffer expected(row_bytes + kGuard + 16), actual(row_bytes + kGuard + 16);
+    (reference.*row)(y, cb, cr, width, expected.at(out_offset));
+    (variant.*row)(y, cb, cr, width, actual.at(out_offset));
+    if (auto diff = first_difference(expected.at(0), actual.at(0), out_offset + row_bytes + kGuard);
         !diff.empty()) {
-      return with_input(diff, width, offset);
+      return with_input(diff + " (output offset " + std::to_string(out_offset) + ")", width, offset);
     }
   }
   return {};
@@ -89,14 +102,15 @@ void bench_chroma_row(const Tables& table, int iterations) {
   bench_sink = cb[7] + cr[7];
 }
 
-void bench_rgb_row(const Tables& table, int iterations) {
-  std::vector<uint8_t> planes(2 * kBenchWidth), rgb(3 * kBenchWidth);
+template <YcbcrRow row, size_t kBytes>
+void bench_ycbcr_row(const Tables& table, int iterations) {
+  std::vector<uint8_t> planes(2 * kBenchWidth), out(kBytes * kBenchWidth);
   for (size_t i = 0; i < planes.size(); ++i) planes[i] = static_cast<uint8_t>(i * 31);
   const uint8_t* y = planes.data();
   for (int n = 0; n < iterations; ++n) {
-    table.ycbcr_to_rgb_row(y, y + kBenchWidth, y + kBenchWidth + kBenchWidth / 2, kBenchWidth, rgb.data());
+    (table.*row)(y, y + kBenchWidth, y + kBenchWidth + kBenchWidth / 2, kBenchWidth, out.data());
   }
-  bench_sink = rgb[7];
+  bench_sink = out[7];
 }
 
 }  // namespace
@@ -107,8 +121,12 @@ std::vector<Kernel> color_kernels() {
        bench_luma_row},
       {"rgb_to_chroma_row", [](const Tables& t) { return entry_of(t.rgb_to_chroma_row); }, check_chroma_row,
        bench_chroma_row},
-      {"ycbcr_to_rgb_row", [](const Tables& t) { return entry_of(t.ycbcr_to_rgb_row); }, check_rgb_row,
-       bench_rgb_row},
+      {"ycbcr_to_rgb_row", [](const Tables& t) { return entry_of(t.ycbcr_to_rgb_row); },
+       check_ycbcr_row<&DspTable::ycbcr_to_rgb_row, 3>, bench_ycbcr_row<&DspTable::ycbcr_to_rgb_row, 3>},
+      {"ycbcr_to_rgba_row", [](const Tables& t) { return entry_of(t.ycbcr_to_rgba_row); },
+       check_ycbcr_row<&DspTable::ycbcr_to_rgba_row, 4>, bench_ycbcr_row<&DspTable::ycbcr_to_rgba_row, 4>},
+      {"ycbcr_to_bgra_row", [](const Tables& t) { return entry_of(t.ycbcr_to_bgra_row); },
+       check_ycbcr_row<&DspTable::ycbcr_to_bgra_row, 4>, bench_ycbcr_row<&DspTable::ycbcr_to_bgra_row, 4>},
   };
 }
 

@@ -1,7 +1,7 @@
-// NEON color rows: vld3/vst3 move between packed RGB and planes, and the arithmetic is
-// the plain kernels' integer formulas (color_formulas.h) with the same constants, in
-// 32-bit lanes wherever a constant does not fit 16 bits; saturating narrows are the
-// clamps.
+// NEON color rows: vld3/vst3 move between packed RGB and planes (vst4 writes RGBA and
+// BGRA), and the arithmetic is the plain kernels' integer formulas (color_formulas.h)
+// with the same constants, in 32-bit lanes wherever a constant does not fit 16 bits;
+// saturating narrows are the clamps.
 #include <arm_neon.h>
 
 #include "codec/common/dsp/color_formulas.h"
@@ -79,20 +79,39 @@ uint8x16_t channel(uint8x16_t y, int16x8_t term) {
   return vcombine_u8(vqmovun_s16(low), vqmovun_s16(high));
 }
 
-void ycbcr_to_rgb_row_neon(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb) {
+// R, G and B of 16 pixels at y[0..15] with chroma cb[0..7], cr[0..7].
+uint8x16x3_t ycbcr_to_rgb_16(const uint8_t* y, const uint8_t* cb, const uint8_t* cr) {
   const int16x8_t bias = vdupq_n_s16(128);
+  const int16x8_t dcb = vsubq_s16(vreinterpretq_s16_u16(vmovl_u8(vld1_u8(cb))), bias);
+  const int16x8_t dcr = vsubq_s16(vreinterpretq_s16_u16(vmovl_u8(vld1_u8(cr))), bias);
+  const uint8x16_t luma = vld1q_u8(y);
+  uint8x16x3_t planes;
+  planes.val[0] = channel(luma, chroma_term(dcr, kRCr, dcr, 0));
+  planes.val[1] = channel(luma, chroma_term(dcb, kGCb, dcr, kGCr));
+  planes.val[2] = channel(luma, chroma_term(dcb, kBCb, dcb, 0));
+  return planes;
+}
+
+void store_rgb_16(const uint8x16x3_t& planes, uint8_t* rgb) { vst3q_u8(rgb, planes); }
+
+void store_rgba_16(const uint8x16x3_t& planes, uint8_t* rgba) {
+  vst4q_u8(rgba, uint8x16x4_t{{planes.val[0], planes.val[1], planes.val[2], vdupq_n_u8(255)}});
+}
+
+void store_bgra_16(const uint8x16x3_t& planes, uint8_t* bgra) {
+  vst4q_u8(bgra, uint8x16x4_t{{planes.val[2], planes.val[1], planes.val[0], vdupq_n_u8(255)}});
+}
+
+using PixelStore16 = void (*)(const uint8x16x3_t& planes, uint8_t* out);
+using ColorRow = void (*)(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* out);
+
+// A row of kBytes-byte pixels: groups of 16 converted here and written by `store`, the
+// rest by the plain kernel `tail` of the same layout.
+template <PixelStore16 store, int kBytes, ColorRow tail>
+void ycbcr_row_16(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* out) {
   int x = 0;
-  for (; x + 16 <= width; x += 16) {
-    const int16x8_t dcb = vsubq_s16(vreinterpretq_s16_u16(vmovl_u8(vld1_u8(cb + x / 2))), bias);
-    const int16x8_t dcr = vsubq_s16(vreinterpretq_s16_u16(vmovl_u8(vld1_u8(cr + x / 2))), bias);
-    const uint8x16_t luma = vld1q_u8(y + x);
-    uint8x16x3_t out;
-    out.val[0] = channel(luma, chroma_term(dcr, kRCr, dcr, 0));
-    out.val[1] = channel(luma, chroma_term(dcb, kGCb, dcr, kGCr));
-    out.val[2] = channel(luma, chroma_term(dcb, kBCb, dcb, 0));
-    vst3q_u8(rgb + 3 * x, out);
-  }
-  if (x < width) ycbcr_to_rgb_row_c(y + x, cb + x / 2, cr + x / 2, width - x, rgb + 3 * x);  // x is even
+  for (; x + 16 <= width; x += 16) store(ycbcr_to_rgb_16(y + x, cb + x / 2, cr + x / 2), out + kBytes * x);
+  if (x < width) tail(y + x, cb + x / 2, cr + x / 2, width - x, out + kBytes * x);  // x is even
 }
 
 }  // namespace
@@ -100,7 +119,9 @@ void ycbcr_to_rgb_row_neon(const uint8_t* y, const uint8_t* cb, const uint8_t* c
 void init_color_neon(DspTable* table) {
   table->rgb_to_luma_row = rgb_to_luma_row_neon;
   table->rgb_to_chroma_row = rgb_to_chroma_row_neon;
-  table->ycbcr_to_rgb_row = ycbcr_to_rgb_row_neon;
+  table->ycbcr_to_rgb_row = ycbcr_row_16<store_rgb_16, 3, ycbcr_to_rgb_row_c>;
+  table->ycbcr_to_rgba_row = ycbcr_row_16<store_rgba_16, 4, ycbcr_to_rgba_row_c>;
+  table->ycbcr_to_bgra_row = ycbcr_row_16<store_bgra_16, 4, ycbcr_to_bgra_row_c>;
 }
 
 }  // namespace svc::codec::dsp

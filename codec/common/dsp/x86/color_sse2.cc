@@ -1,4 +1,4 @@
-// SSE2 YCbCr -> RGB rows (arithmetic in color_sse2.h).
+// SSE2 YCbCr -> RGB, RGBA and BGRA rows (arithmetic in color_sse2.h).
 #include <emmintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
@@ -10,26 +10,24 @@
 namespace svc::codec::dsp {
 namespace {
 
-void ycbcr_to_rgb_row_sse2(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb) {
-  int x = 0;
-  for (; x + 16 <= width; x += 16) {
-    const RgbPlanes planes = ycbcr_to_rgb_16(y + x, cb + x / 2, cr + x / 2);
-    alignas(16) uint8_t r[16], g[16], b[16];
-    _mm_store_si128(reinterpret_cast<__m128i*>(r), planes.r);
-    _mm_store_si128(reinterpret_cast<__m128i*>(g), planes.g);
-    _mm_store_si128(reinterpret_cast<__m128i*>(b), planes.b);
-    uint8_t* out = rgb + 3 * x;
-    for (int i = 0; i < 16; ++i) {  // SSE2 has no byte shuffle to interleave with
-      out[3 * i] = r[i];
-      out[3 * i + 1] = g[i];
-      out[3 * i + 2] = b[i];
-    }
+void store_rgb_16(const RgbPlanes& planes, uint8_t* rgb) {
+  alignas(16) uint8_t r[16], g[16], b[16];
+  _mm_store_si128(reinterpret_cast<__m128i*>(r), planes.r);
+  _mm_store_si128(reinterpret_cast<__m128i*>(g), planes.g);
+  _mm_store_si128(reinterpret_cast<__m128i*>(b), planes.b);
+  for (int i = 0; i < 16; ++i) {  // SSE2 has no byte shuffle to interleave with
+    rgb[3 * i] = r[i];
+    rgb[3 * i + 1] = g[i];
+    rgb[3 * i + 2] = b[i];
   }
-  if (x < width) ycbcr_to_rgb_row_c(y + x, cb + x / 2, cr + x / 2, width - x, rgb + 3 * x);  // x is even
 }
 
 }  // namespace
 
-void init_color_sse2(DspTable* table) { table->ycbcr_to_rgb_row = ycbcr_to_rgb_row_sse2; }
+void init_color_sse2(DspTable* table) {
+  table->ycbcr_to_rgb_row = ycbcr_row_16<store_rgb_16, 3, ycbcr_to_rgb_row_c>;
+  table->ycbcr_to_rgba_row = ycbcr_row_16<store_rgba_16, 4, ycbcr_to_rgba_row_c>;
+  table->ycbcr_to_bgra_row = ycbcr_row_16<store_bgra_16, 4, ycbcr_to_bgra_row_c>;
+}
 
 }  // namespace svc::codec::dsp

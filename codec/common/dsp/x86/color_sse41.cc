@@ -1,7 +1,8 @@
 // SSE4.1 color rows. pshufb (SSSE3, which every SSE4.1 processor has) moves between
 // packed RGB and planes; the arithmetic is the plain kernels' integer formulas
 // (color_formulas.h) on pmaddwd, with constants that do not fit 16 bits split in two.
-// YCbCr -> RGB uses the SSE2 arithmetic of color_sse2.h.
+// YCbCr -> RGB uses the SSE2 arithmetic of color_sse2.h. RGBA and BGRA keep the SSE2
+// rows: unpacking already interleaves 4-byte pixels, so pshufb would not make them faster.
 #include <emmintrin.h>
 #include <tmmintrin.h>
 
@@ -115,36 +116,36 @@ void rgb_to_chroma_row_sse41(const uint8_t* row0, const uint8_t* row1, int width
 }
 
 // Shuffle masks picking, for output bytes 16 j .. 16 j + 15 (byte k is channel k % 3 of
-// pixel k / 3), the bytes of one channel's plane; -128 leaves zero.
+// pixel k / 3), the bytes of one channel's plane; -128 leaves zero. Constant data rather
+// than a static built on first use, so that storing each group of 16 pixels does not
+// test a guard.
 struct InterleaveMasks {
-  __m128i mask[3][3];  // [output vector][channel]
-  InterleaveMasks() {
-    for (int j = 0; j < 3; ++j) {
-      for (int c = 0; c < 3; ++c) {
-        alignas(16) int8_t bytes[16];
-        for (int i = 0; i < 16; ++i) {
-          const int k = 16 * j + i;
-          bytes[i] = static_cast<int8_t>(k % 3 == c ? k / 3 : -128);
-        }
-        mask[j][c] = _mm_load_si128(reinterpret_cast<const __m128i*>(bytes));
+  alignas(16) int8_t bytes[3][3][16];  // [output vector][channel]
+};
+constexpr InterleaveMasks kInterleaveMasks = [] {
+  InterleaveMasks masks{};
+  for (int j = 0; j < 3; ++j) {
+    for (int c = 0; c < 3; ++c) {
+      for (int i = 0; i < 16; ++i) {
+        const int k = 16 * j + i;
+        masks.bytes[j][c][i] = static_cast<int8_t>(k % 3 == c ? k / 3 : -128);
       }
     }
   }
-};
+  return masks;
+}();
 
-void ycbcr_to_rgb_row_sse41(const uint8_t* y, const uint8_t* cb, const uint8_t* cr, int width, uint8_t* rgb) {
-  static const InterleaveMasks masks;
-  int x = 0;
-  for (; x + 16 <= width; x += 16) {
-    const RgbPlanes planes = ycbcr_to_rgb_16(y + x, cb + x / 2, cr + x / 2);
-    for (int j = 0; j < 3; ++j) {
-      const __m128i packed = _mm_or_si128(_mm_or_si128(_mm_shuffle_epi8(planes.r, masks.mask[j][0]),
-                                                       _mm_shuffle_epi8(planes.g, masks.mask[j][1])),
-                                          _mm_shuffle_epi8(planes.b, masks.mask[j][2]));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(rgb + 3 * x + 16 * j), packed);
-    }
+inline __m128i interleave_mask(int j, int c) {
+  return _mm_load_si128(reinterpret_cast<const __m128i*>(kInterleaveMasks.bytes[j][c]));
+}
+
+void store_rgb_16(const RgbPlanes& planes, uint8_t* rgb) {
+  for (int j = 0; j < 3; ++j) {
+    const __m128i packed = _mm_or_si128(_mm_or_si128(_mm_shuffle_epi8(planes.r, interleave_mask(j, 0)),
+                                                     _mm_shuffle_epi8(planes.g, interleave_mask(j, 1))),
+                                        _mm_shuffle_epi8(planes.b, interleave_mask(j, 2)));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(rgb + 16 * j), packed);
   }
-  if (x < width) ycbcr_to_rgb_row_c(y + x, cb + x / 2, cr + x / 2, width - x, rgb + 3 * x);  // x is even
 }
 
 }  // namespace
@@ -152,7 +153,7 @@ void ycbcr_to_rgb_row_sse41(const uint8_t* y, const uint8_t* cb, const uint8_t* 
 void init_color_sse41(DspTable* table) {
   table->rgb_to_luma_row = rgb_to_luma_row_sse41;
   table->rgb_to_chroma_row = rgb_to_chroma_row_sse41;
-  table->ycbcr_to_rgb_row = ycbcr_to_rgb_row_sse41;
+  table->ycbcr_to_rgb_row = ycbcr_row_16<store_rgb_16, 3, ycbcr_to_rgb_row_c>;
 }
 
 }  // namespace svc::codec::dsp
