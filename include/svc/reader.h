@@ -45,6 +45,7 @@
 #include <utility>
 #include <vector>
 
+#include "svc/byte_source.h"
 #include "svc/limits.h"
 #include "svc/status.h"
 #include "svc/types.h"
@@ -230,6 +231,10 @@ class Reader {
   // range; the container's errors otherwise.
   static Result<std::unique_ptr<Reader>> open(const std::filesystem::path& path,
                                               const ReaderSettings& settings = default_reader_settings());
+  // The same from any byte source (svc/byte_source.h: a file, memory, the embedder's own
+  // file access), which the reader owns from then on; kInvalidArgument when null.
+  static Result<std::unique_ptr<Reader>> open(std::unique_ptr<ByteSource> source,
+                                              const ReaderSettings& settings = default_reader_settings());
   // Calls close().
   ~Reader();
   Reader(const Reader&) = delete;
@@ -257,6 +262,16 @@ class Reader {
   // The six faces of a cell, indexed by Face, decoded on settings.decode_threads
   // threads. Errors as decode_face (the first face's, in face order, when several fail).
   Result<std::array<ImageRGB8, kFaceCount>> decode_cube(const CellIndex& cell);
+
+  // Decodes one face straight into the caller's buffer in its pixel format and row
+  // order (svc/types.h, PixelBuffer), with no intermediate image: once the face is in
+  // the decoded-face cache this allocates nothing. kInvalidArgument, naming the plane and
+  // the bytes it needs, when the buffer cannot hold the face (nothing is written then);
+  // other errors as decode_face, after which the buffer's contents are unspecified.
+  Status decode_face_into(const CellIndex& cell, Face face, const PixelBuffer& out);
+  // The six faces of a cell into six buffers indexed by Face, decoded on
+  // settings.decode_threads threads. Errors as decode_face_into and decode_cube.
+  Status decode_cube_into(const CellIndex& cell, const std::array<PixelBuffer, kFaceCount>& out);
 
   // Tells the prefetcher where the viewer is: its cell (or a world position, mapped to
   // the grid cell containing it, clamped into the grid) and optionally its velocity in

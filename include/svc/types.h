@@ -2,11 +2,15 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "svc/export.h"
 
 namespace svc {
 
@@ -68,6 +72,37 @@ struct ImageYCbCr420 {
   int height = 0;
   std::vector<uint8_t> y, cb, cr;
 };
+
+// The layouts a face can be decoded into (Reader::decode_face_into): the formats GPUs
+// upload and the decoder's own planes.
+enum class PixelFormat : uint8_t {
+  kRGBA8 = 0,     // 4 bytes a pixel in memory order R, G, B, A; alpha is 255
+  kBGRA8 = 1,     // B, G, R, A
+  kRGB8 = 2,      // 3 bytes a pixel: R, G, B
+  kYCbCr420 = 3,  // planes Y (width x height), Cb and Cr ((width+1)/2 x (height+1)/2),
+                  // full-range BT.601 as docs/codec.md defines it, as decoded
+};
+
+// Whether a buffer's first row is the image's top (as images are stored) or its bottom
+// (as OpenGL's texture uploads take rows).
+enum class RowOrder : uint8_t { kTopDown = 0, kBottomUp = 1 };
+
+// A caller's buffer to decode a face into. Packed formats use planes[0] alone; YCbCr
+// 4:2:0 uses the three. Rows of plane p start strides[p] bytes apart (at least the row's
+// bytes: padding at the end of each row is left untouched), so planes[p] must hold
+// (rows - 1) * strides[p] + the row's bytes (pixel_row_bytes, pixel_plane_rows). The
+// buffer is the caller's: the decoder writes into it and keeps no reference.
+struct PixelBuffer {
+  PixelFormat format = PixelFormat::kRGBA8;
+  RowOrder rows = RowOrder::kTopDown;
+  std::array<std::span<uint8_t>, 3> planes{};
+  std::array<size_t, 3> strides{};
+};
+
+// The bytes of one row and the number of rows of plane `plane` (0..2) of a width x height
+// face in `format`; 0 for a plane the format does not have. Thread-safe.
+SVC_API size_t pixel_row_bytes(PixelFormat format, int width, int plane) noexcept;
+SVC_API size_t pixel_plane_rows(PixelFormat format, int height, int plane) noexcept;
 
 // Statistics of one frame type (I or B) over a whole encode, kept in the .svc index.
 struct FaceTypeStats {

@@ -17,46 +17,31 @@ std::string errno_text() { return std::strerror(errno); }
 
 }  // namespace
 
-Result<std::unique_ptr<ReadOnlyFile>> ReadOnlyFile::open(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    const ErrorCode code = errno == ENOENT ? ErrorCode::kNotFound : ErrorCode::kIoError;
-    return Status(code, "cannot open " + path.string() + ": " + errno_text());
-  }
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    return Status(ErrorCode::kIoError, path.string() + " is not a regular file");
-  }
-  return std::unique_ptr<ReadOnlyFile>(new ReadOnlyFile(fd, static_cast<uint64_t>(st.st_size), path));
-}
+ReadOnlyFile::ReadOnlyFile(std::unique_ptr<ByteSource> source)
+    : source_(std::move(source)), size_(source_->size()) {}
 
-ReadOnlyFile::~ReadOnlyFile() { ::close(fd_); }
+Result<std::unique_ptr<ReadOnlyFile>> ReadOnlyFile::open(const std::filesystem::path& path) {
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<ByteSource> source, open_file_source(path));
+  return std::make_unique<ReadOnlyFile>(std::move(source));
+}
 
 Status ReadOnlyFile::read_at(uint64_t offset, std::span<uint8_t> out) const {
   if (offset > size_ || out.size() > size_ - offset) {
-    return Status(ErrorCode::kCorruptData, path_.string() + ": read of " + std::to_string(out.size()) +
+    return Status(ErrorCode::kCorruptData, name() + ": read of " + std::to_string(out.size()) +
                                                " bytes at offset " + std::to_string(offset) +
                                                " runs past the end of the file (" + std::to_string(size_) +
                                                " bytes)");
   }
-  size_t done = 0;
-  while (done < out.size()) {
-    const ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      return Status(ErrorCode::kIoError, path_.string() + ": read failed at offset " +
-                                             std::to_string(offset + done) + ": " +
-                                             (n == 0 ? std::string("unexpected end of file") : errno_text()));
-    }
-    done += static_cast<size_t>(n);
-  }
-  return Status::Ok();
+  if (out.empty()) return Status::Ok();
+  const Status read = source_->read_at(offset, out);
+  if (read.ok()) return read;
+  return read.with_context(name() + ": read of " + std::to_string(out.size()) + " bytes at offset " +
+                           std::to_string(offset));
 }
 
 Result<std::vector<uint8_t>> ReadOnlyFile::read_vector(uint64_t offset, uint64_t size) const {
   if (offset > size_ || size > size_ - offset) {
-    return Status(ErrorCode::kCorruptData, path_.string() + ": " + std::to_string(size) + " bytes at offset " +
+    return Status(ErrorCode::kCorruptData, name() + ": " + std::to_string(size) + " bytes at offset " +
                                                std::to_string(offset) + " lie past the end of the file (" +
                                                std::to_string(size_) + " bytes)");
   }

@@ -1,36 +1,40 @@
-// File access for the container: positioned reads of an open file, and output files
-// that appear at their final path only when complete.
+// File access for the container: checked positioned reads of a byte source, and output
+// files that appear at their final path only when complete.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "svc/byte_source.h"
 #include "svc/status.h"
 
 namespace svc {
 
-// A read-only file with positioned reads. read_at is thread-safe (pread).
+// A ByteSource as the container reads it: every read checked against the source's size
+// (kCorruptData past the end, naming the source and offset) and the source's errors
+// named. read_at is thread-safe.
 class ReadOnlyFile {
  public:
+  explicit ReadOnlyFile(std::unique_ptr<ByteSource> source);
+  // The file at `path` (open_file_source).
   static Result<std::unique_ptr<ReadOnlyFile>> open(const std::filesystem::path& path);
-  ~ReadOnlyFile();
   ReadOnlyFile(const ReadOnlyFile&) = delete;
   ReadOnlyFile& operator=(const ReadOnlyFile&) = delete;
 
   uint64_t size() const { return size_; }
-  const std::filesystem::path& path() const { return path_; }
-  // Reads exactly out.size() bytes at `offset`; kCorruptData if the file is shorter.
+  // The source's name, for messages: the path of a file.
+  const std::string& name() const { return source_->name(); }
+  // Reads exactly out.size() bytes at `offset`; kCorruptData if the source is shorter.
   Status read_at(uint64_t offset, std::span<uint8_t> out) const;
   Result<std::vector<uint8_t>> read_vector(uint64_t offset, uint64_t size) const;
 
  private:
-  ReadOnlyFile(int fd, uint64_t size, std::filesystem::path path) : fd_(fd), size_(size), path_(std::move(path)) {}
-  int fd_;
+  std::unique_ptr<ByteSource> source_;
   uint64_t size_;
-  std::filesystem::path path_;
 };
 
 // Writes to a temporary file beside `final_path`; commit() flushes, syncs and renames

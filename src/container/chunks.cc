@@ -84,7 +84,9 @@ Result<std::vector<uint8_t>> read_chunk_bytes(const ReadOnlyFile& file, uint64_t
   if (offset > file.size() || size > file.size() - offset) {
     return corrupt_at(what + " chunk of " + std::to_string(size) + " bytes lies outside the file", offset);
   }
-  return file.read_vector(offset, size);
+  Result<std::vector<uint8_t>> bytes = file.read_vector(offset, size);
+  if (!bytes.ok()) return bytes.status().with_context("cannot read the " + what + " chunk");
+  return bytes;
 }
 
 // Every chunk, bare or framed, ends with the CRC-32 of the bytes before it.
@@ -118,7 +120,7 @@ Result<std::vector<uint8_t>> read_chunk(const ReadOnlyFile& file, uint64_t offse
 }
 
 Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLimits& limits) {
-  const std::string name = file.path().string();
+  const std::string name = file.name();
   if (file.size() < kPreludeSize) {
     return Status(ErrorCode::kCorruptData,
                   name + " is too short to be an .svc file (" + std::to_string(file.size()) + " bytes)");

@@ -83,7 +83,7 @@ Status ContainerUpdater::write_at(uint64_t offset, std::span<const uint8_t> data
     const ssize_t n = ::pwrite(fd_, data.data() + done, data.size() - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      return Status(ErrorCode::kIoError, "write to " + file_->path().string() + " at byte offset " +
+      return Status(ErrorCode::kIoError, "write to " + file_->name() + " at byte offset " +
                                              std::to_string(offset + done) + " failed: " + std::strerror(errno));
     }
     done += static_cast<size_t>(n);
@@ -94,7 +94,7 @@ Status ContainerUpdater::write_at(uint64_t offset, std::span<const uint8_t> data
 Status ContainerUpdater::sync(const char* what) {
   if (::fsync(fd_) != 0) {
     return Status(ErrorCode::kIoError,
-                  "sync of " + file_->path().string() + " " + what + " failed: " + std::strerror(errno));
+                  "sync of " + file_->name() + " " + what + " failed: " + std::strerror(errno));
   }
   return Status::Ok();
 }

@@ -35,22 +35,22 @@ std::string settings_text(const CodingRecord& c) {
 Status check_matches(const OpenedPart& part, const OpenedPart& first, const std::vector<uint8_t>& first_plan) {
   const PartDescriptor& d = part.descriptor;
   const PartDescriptor& f = first.descriptor;
-  const std::filesystem::path& path = part.file->path();
+  const std::filesystem::path path = part.file->name();
   if (d.fingerprint != f.fingerprint) {
-    return refuse(path, "it belongs to a different database than " + first.file->path().string());
+    return refuse(path, "it belongs to a different database than " + first.file->name());
   }
   if (d.shard_count != f.shard_count) {
-    return refuse(path, "it is a part of " + std::to_string(d.shard_count) + ", " + first.file->path().string() +
+    return refuse(path, "it is a part of " + std::to_string(d.shard_count) + ", " + first.file->name() +
                             " a part of " + std::to_string(f.shard_count));
   }
   const CodingRecord& a = d.plan.coding;
   const CodingRecord& b = f.plan.coding;
   if (a.qindex != b.qindex || a.quality != b.quality || a.i_spacing != b.i_spacing || a.motion != b.motion) {
-    return refuse(path, "it was encoded with " + settings_text(a) + ", " + first.file->path().string() + " with " +
+    return refuse(path, "it was encoded with " + settings_text(a) + ", " + first.file->name() + " with " +
                             settings_text(b));
   }
   if (plan_bytes(d.plan) != first_plan) {
-    return refuse(path, "its plan of cells and references differs from " + first.file->path().string());
+    return refuse(path, "its plan of cells and references differs from " + first.file->name());
   }
   return Status::Ok();
 }
@@ -64,7 +64,7 @@ Result<std::vector<const OpenedPart*>> check_parts(const std::vector<OpenedPart>
   std::vector<const OpenedPart*> by_shard(count, nullptr);
   for (const OpenedPart& part : parts) {
     const PartDescriptor& d = part.descriptor;
-    const std::filesystem::path& path = part.file->path();
+    const std::filesystem::path path = part.file->name();
     if (d.svc_version != kSvcVersion) {
       return refuse(path, "it was written by svc " + d.svc_version + ", this is svc " + kSvcVersion);
     }
@@ -75,7 +75,7 @@ Result<std::vector<const OpenedPart*>> check_parts(const std::vector<OpenedPart>
     const OpenedPart*& slot = by_shard[d.shard - 1];
     if (slot != nullptr) {
       return refuse(path, "it is part " + std::to_string(d.shard) + " of " + std::to_string(count) + ", as is " +
-                              slot->file->path().string());
+                              slot->file->name());
     }
     const std::vector<uint32_t> expected = shard_frames(d.plan, d.shard, count);
     if (d.faces.size() != expected.size() ||
@@ -120,7 +120,7 @@ Status copy_faces(const std::vector<const OpenedPart*>& parts, ContainerWriter& 
       stored.payload_size = face.payload_size;
       const ReadOnlyFile& file = *sources[frame].part->file;
       auto payload = read_frame_payload(file, stored, face_label(index.cells[record.cell].index, record.face));
-      if (!payload.ok()) return payload.status().with_context("cannot merge " + file.path().string());
+      if (!payload.ok()) return payload.status().with_context("cannot merge " + file.name());
       SVC_ASSIGN_OR_RETURN(record.chunk_offset, writer.append_frame(*payload));
       record.payload_size = face.payload_size;
     }

@@ -14,7 +14,7 @@ std::string frame_label(const ContainerIndex& index, uint32_t frame) {
 }
 
 Status frame_error(const Status& status, const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame) {
-  return status.with_context(file.path().string() + ": " + frame_label(index, frame) + " (chunk at byte offset " +
+  return status.with_context(file.name() + ": " + frame_label(index, frame) + " (chunk at byte offset " +
                              std::to_string(index.frames[frame].chunk_offset) + ")");
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <thread>
@@ -25,6 +26,7 @@
 #include "common/parallel.h"
 #include "container/container.h"
 #include "reader/face_decode.h"
+#include "reader/pixel_buffer.h"
 #include "reader/prefetch_order.h"
 #include "reader/shared_cache.h"
 
@@ -60,6 +62,7 @@ bool finite3(const std::array<double, 3>& v) {
 
 Status cancelled() { return Status(ErrorCode::kCancelled, "the reader was closed"); }
 
+// The allocating form of decode_face_into.
 ImageRGB8 to_rgb(const ImageYCbCr420& ycc) {
   ImageRGB8 rgb;
   rgb.width = ycc.width;
@@ -136,7 +139,7 @@ struct Reader::Impl {
   Result<uint32_t> frame_of(const CellIndex& cell, Face face) const {
     const std::optional<size_t> ordinal = cell_ordinal(cell);
     if (!ordinal || static_cast<unsigned>(face) >= kFaceCount) {
-      return Status(ErrorCode::kNotFound, file->path().string() + " has no " + face_label(cell, face));
+      return Status(ErrorCode::kNotFound, file->name() + " has no " + face_label(cell, face));
     }
     return static_cast<uint32_t>(*ordinal * kFaceCount + static_cast<unsigned>(face));
   }
@@ -239,7 +242,9 @@ struct Reader::Impl {
   // first the reference I-faces they need, then the faces themselves, each B-face
   // padding its references from those. The second step reports any error, so which
   // one comes back does not depend on the threads.
-  Result<std::array<ImageRGB8, kFaceCount>> decode_cube(uint32_t first) {
+  // Decodes the six faces from `first` on and passes each to emit(face, image), from
+  // up to settings.decode_threads threads at once.
+  Status decode_cube(uint32_t first, const std::function<void(size_t, const ImageYCbCr420&)>& emit) {
     const int threads = resolve_thread_count(settings.decode_threads);
     if (threads > 1) {
       std::vector<uint32_t> references;
@@ -254,13 +259,11 @@ struct Reader::Impl {
         return Status::Ok();
       });
     }
-    std::array<ImageRGB8, kFaceCount> cube;
-    SVC_RETURN_IF_ERROR(parallel_for(kFaceCount, threads, [&](size_t f) -> Status {
+    return parallel_for(kFaceCount, threads, [&](size_t f) -> Status {
       SVC_ASSIGN_OR_RETURN(ImagePointer image, face_of(first + static_cast<uint32_t>(f), Origin::kCaller));
-      cube[f] = to_rgb(*image);
+      emit(f, *image);
       return Status::Ok();
-    }));
-    return cube;
+    });
   }
 
   // --- Prefetch --------------------------------------------------------------------------
@@ -349,6 +352,12 @@ Reader::~Reader() {
 }
 
 Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, const ReaderSettings& settings) {
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<ByteSource> source, open_file_source(path));
+  return open(std::move(source), settings);
+}
+
+Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source, const ReaderSettings& settings) {
+  if (source == nullptr) return Status(ErrorCode::kInvalidArgument, "no byte source to read");
   if (settings.prefetch_threads < 0 || settings.prefetch_threads > 64) {
     return Status(ErrorCode::kInvalidArgument, "reader settings: prefetch_threads " +
                                                    std::to_string(settings.prefetch_threads) + " outside 0..64");
@@ -362,7 +371,7 @@ Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, 
                   "reader settings: prefetch_radius " + std::to_string(settings.prefetch_radius) + " outside 0..8");
   }
   auto impl = std::make_unique<Impl>(settings);
-  SVC_ASSIGN_OR_RETURN(impl->file, ReadOnlyFile::open(path));
+  impl->file = std::make_unique<ReadOnlyFile>(std::move(source));
   SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*impl->file, settings.limits));
   impl->index = std::move(opened.index);
   impl->reference_keys_fit = impl->index.frames.size() <=
@@ -441,8 +450,16 @@ Result<ImageYCbCr420> Reader::decode_face_ycbcr(const CellIndex& cell, Face face
 }
 
 Result<ImageRGB8> Reader::decode_face(const CellIndex& cell, Face face) {
-  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, acquire_face_ycbcr(cell, face));
-  return to_rgb(*ycc);
+  ImageRGB8 rgb;
+  rgb.width = impl_->info.face_width;
+  rgb.height = impl_->info.face_height;
+  rgb.pixels.resize(static_cast<size_t>(rgb.width) * rgb.height * 3);
+  PixelBuffer buffer;
+  buffer.format = PixelFormat::kRGB8;
+  buffer.planes[0] = rgb.pixels;
+  buffer.strides[0] = static_cast<size_t>(rgb.width) * 3;
+  SVC_RETURN_IF_ERROR(decode_face_into(cell, face, buffer));
+  return rgb;
 }
 
 Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
@@ -473,7 +490,30 @@ Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
 Result<std::array<ImageRGB8, kFaceCount>> Reader::decode_cube(const CellIndex& cell) {
   if (impl_->closed.load()) return cancelled();
   SVC_ASSIGN_OR_RETURN(uint32_t first, impl_->frame_of(cell, Face::kPX));
-  return impl_->decode_cube(first);
+  std::array<ImageRGB8, kFaceCount> cube;
+  SVC_RETURN_IF_ERROR(
+      impl_->decode_cube(first, [&](size_t f, const ImageYCbCr420& image) { cube[f] = to_rgb(image); }));
+  return cube;
+}
+
+Status Reader::decode_face_into(const CellIndex& cell, Face face, const PixelBuffer& out) {
+  SVC_RETURN_IF_ERROR(reader_internal::check_pixel_buffer(out, impl_->info.face_width, impl_->info.face_height));
+  SVC_ASSIGN_OR_RETURN(ImagePointer image, acquire_face_ycbcr(cell, face));
+  reader_internal::write_pixels(*image, out);
+  return Status::Ok();
+}
+
+Status Reader::decode_cube_into(const CellIndex& cell, const std::array<PixelBuffer, kFaceCount>& out) {
+  for (size_t f = 0; f < kFaceCount; ++f) {
+    const Status checked =
+        reader_internal::check_pixel_buffer(out[f], impl_->info.face_width, impl_->info.face_height);
+    if (!checked.ok()) return checked.with_context(std::string("face ") + face_name(kAllFaces[f]));
+  }
+  if (impl_->closed.load()) return cancelled();
+  SVC_ASSIGN_OR_RETURN(uint32_t first, impl_->frame_of(cell, Face::kPX));
+  return impl_->decode_cube(first, [&](size_t f, const ImageYCbCr420& image) {
+    reader_internal::write_pixels(image, out[f]);
+  });
 }
 
 Status Reader::set_viewer(const CellIndex& cell, const std::array<double, 3>& velocity) {
@@ -518,7 +558,7 @@ Status Reader::verify(const VerifySettings& settings) {
   std::vector<std::string> problems;
   for (int slot = 0; slot < 2; ++slot) {
     if (impl_->slot_damaged[slot]) {
-      problems.push_back(impl_->file->path().string() + ": commit slot " + std::to_string(slot) + " (bytes " +
+      problems.push_back(impl_->file->name() + ": commit slot " + std::to_string(slot) + " (bytes " +
                          std::to_string(kFileHeaderSize + slot * kCommitSlotSize) + "-" +
                          std::to_string(kFileHeaderSize + (slot + 1) * kCommitSlotSize - 1) +
                          ") fails its CRC-32 check; the other slot's index is in use");
@@ -545,7 +585,7 @@ Status Reader::verify(const VerifySettings& settings) {
     if (!settings.progress) return Status::Ok();
     std::lock_guard<std::mutex> lock(progress_mutex);
     if (settings.progress(++checked, frames)) return Status::Ok();
-    return Status(ErrorCode::kCancelled, "verify of " + impl_->file->path().string() + " cancelled");
+    return Status(ErrorCode::kCancelled, "verify of " + impl_->file->name() + " cancelled");
   });
   if (settings.problems != nullptr) settings.problems->clear();
   if (!run.ok()) return run;
