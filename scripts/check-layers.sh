@@ -3,7 +3,7 @@
 # include from its own layer and those below:
 #   0 decoder API   include/svc (status.h, types.h, limits.h, reader.h)
 #   1 codec         codec/: codec/common, then codec/decoder, then codec/encoder
-#   2 decoder       src/common, src/container, src/reader (libsvc_decoder)
+#   2 decoder       src/common, src/container, src/reader, src/capi (libsvc_decoder)
 #   3 full library  src/database, src/spatial, src/encoder, src/metrics and the public
 #                   encoder.h, metrics.h (libsvc)
 #   4 baselines     src/baseline (libsvc_baseline)
@@ -31,7 +31,7 @@ layer_of() {
     include/svc/encoder.h | include/svc/metrics.h) echo 3 ;;
     include/* | samples/command_line/*) echo 0 ;;
     codec/*) echo 1 ;;
-    src/common/* | src/container/* | src/reader/*) echo 2 ;;
+    src/common/* | src/container/* | src/reader/* | src/capi/*) echo 2 ;;
     src/baseline/*) echo 4 ;;
     src/*) echo 3 ;;
     samples/*) echo 5 ;;
@@ -56,7 +56,7 @@ codec_part_of() {
 decoder_side() {
   case $1 in
     include/svc/encoder.h | include/svc/metrics.h) return 1 ;;
-    include/* | codec/common/* | codec/decoder/* | src/common/* | src/container/* | src/reader/*) return 0 ;;
+    include/* | codec/common/* | codec/decoder/* | src/common/* | src/container/* | src/reader/* | src/capi/*) return 0 ;;
     *) return 1 ;;
   esac
 }
@@ -64,7 +64,7 @@ decoder_side() {
 # The highest layer a file may include from.
 limit_of() {
   case $1 in
-    samples/embed/* | samples/walkthrough/*) echo 0 ;;
+    samples/embed/* | samples/embed_c/* | samples/walkthrough/*) echo 0 ;;
     *) layer_of "$1" ;;
   esac
 }
