@@ -10,8 +10,9 @@ packages=(
   ffmpeg clang-format-14
   # scripts/encode-parallel.sh runs the shards of an encode with GNU parallel.
   parallel
-  # tests/renderer_manifest_test.sh runs docs/input-format.md's manifest writer.
-  python3
+  # tests/renderer_manifest_test.sh runs docs/input-format.md's manifest writer; the C
+  # API's Python example (docs/embedding.md) decodes into NumPy arrays.
+  python3 python3-numpy
   # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
   openarena-081-textures unzip
 )

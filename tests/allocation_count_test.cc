@@ -69,7 +69,8 @@ TEST(Allocations, DecodingACachedFaceIntoTheCallersBufferAllocatesNothing) {
   const svc_image image{SVC_PIXEL_RGBA8, SVC_ROWS_BOTTOM_UP, {pixels.data()}, {64 * 4}, {pixels.size()}};
   ASSERT_EQ(svc_reader_decode_face(c_reader, cell, SVC_FACE_PZ, &image), SVC_OK);
   const uint64_t c_before = g_allocations.load();
-  for (int pass = 0; pass < 3; ++pass) ASSERT_EQ(svc_reader_decode_face(c_reader, cell, SVC_FACE_PZ, &image), SVC_OK);
+  for (int pass = 0; pass < 3; ++pass)
+    ASSERT_EQ(svc_reader_decode_face(c_reader, cell, SVC_FACE_PZ, &image), SVC_OK);
   EXPECT_EQ(g_allocations.load() - c_before, 0u);
   svc_reader_destroy(c_reader);
 }

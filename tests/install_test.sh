@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs svc to a prefix with spaces in its name and moves the installed tree; then
-# builds samples/embed against it both ways, running the recipe in README ("Embedding")
+# builds samples/embed and samples/embed_c against it both ways, running the recipe in README ("Embedding")
 # exactly as written (CMake component `decoder`, pkg-config `svc-decoder`), runs both
 # builds on a real .svc, and checks that neither pulls in OpenImageIO, OpenEXR or FFmpeg.
 # A program linked against the full library through pkg-config alone must encode the
@@ -30,6 +30,7 @@ recipe=$(awk '/<!-- embed-recipe/ {found = 1; next}
 [[ -n "$recipe" ]] || fail "no embed recipe found in README.md"
 mkdir -p "$work/tree/samples"
 cp -r "$source_dir/samples/embed" "$work/tree/samples/embed"
+cp -r "$source_dir/samples/embed_c" "$work/tree/samples/embed_c"
 if ! (cd "$work/tree" && bash -e -u -o pipefail -c "$recipe") >"$work/recipe.log" 2>&1; then
   cat "$work/recipe.log" >&2
   fail "the README's embed recipe failed"
@@ -71,6 +72,18 @@ for exe in svc-embed-example svc-embed-pc; do
   outputs+=("$out $out_at")
 done
 [[ "${outputs[0]}" == "${outputs[1]}" ]] || fail "the CMake and pkg-config builds decode differently"
+
+# The C example, built both ways against the moved install, writes the cube the build
+# tree's copy writes (itself checked against the C++ reader by tests/svc_c_api_test.cc).
+embed_c_dir="$work/tree/build-embed-c"
+"$build_dir/bin/svc-embed-c" "$work/db.svc" "$work/cube-tree.rgba" "$x" "$y" "$z" >/dev/null
+for exe in svc-embed-c svc-embed-c-pc; do
+  [[ -x "$embed_c_dir/$exe" ]] || fail "$exe was not built"
+  if ldd "$embed_c_dir/$exe" | grep -Ei "$image_libs"; then fail "$exe loads the libraries above"; fi
+  out=$("$embed_c_dir/$exe" "$work/db.svc" "$work/cube-$exe.rgba" "$x" "$y" "$z")
+  [[ "$out" == "cell 1,0,1: 6 faces of 32x32" ]] || fail "$exe: $out"
+  cmp "$work/cube-tree.rgba" "$work/cube-$exe.rgba" || fail "$exe decodes differently from the build tree's"
+done
 
 # The full library through pkg-config alone (no --static): encodes what the tool encodes.
 cat >"$work/encode.cc" <<'EOF'

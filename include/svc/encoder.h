@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "svc/export.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
@@ -119,14 +120,14 @@ enum class CubeLayout : uint8_t {
 };
 
 // Names of the coding tools, in the order of CodingTools, for --disable-tool.
-std::vector<std::string> coding_tool_names();
+SVC_API std::vector<std::string> coding_tool_names();
 
 // Names of the coding tools switched off in `tools`, in the order of coding_tool_names().
-std::vector<std::string> disabled_coding_tools(const CodingTools& tools);
+SVC_API std::vector<std::string> disabled_coding_tools(const CodingTools& tools);
 
 // Switches the tool called `name` off. Errors: kInvalidArgument naming the valid tools
 // when `name` is not one of coding_tool_names().
-Status disable_coding_tool(CodingTools* tools, std::string_view name);
+SVC_API Status disable_coding_tool(CodingTools* tools, std::string_view name);
 
 // Encoder speed settings, 0 (the default: every tool) to kMaxEncoderSpeed. Each step
 // switches off more of the coding tools that cost the most encode time for the bytes
@@ -134,8 +135,8 @@ Status disable_coding_tool(CodingTools* tools, std::string_view name);
 // lists them with their BD-rate and time. Thread-safe (fixed tables); outside
 // 0..kMaxEncoderSpeed the tools list is empty and the layout kVisibility.
 inline constexpr int kMaxEncoderSpeed = 5;
-std::vector<std::string> speed_disabled_tools(int speed);
-CubeLayout speed_layout(int speed);
+SVC_API std::vector<std::string> speed_disabled_tools(int speed);
+SVC_API CubeLayout speed_layout(int speed);
 
 struct EncoderSettings {
   // 1 (smallest) .. 100 (best), spread evenly over the quantizer indices
@@ -166,13 +167,13 @@ struct EncoderSettings {
 };
 
 // Fills settings with the defaults documented on each field.
-EncoderSettings default_encoder_settings();
+SVC_API EncoderSettings default_encoder_settings();
 
 // Applies encoder speed `speed`: switches speed_disabled_tools(speed) off in
 // settings->tools (on top of any already off) and sets settings->layout to
 // speed_layout(speed). Thread-safe. Errors: kInvalidArgument outside
 // 0..kMaxEncoderSpeed; `settings` is unchanged then.
-Status apply_encoder_speed(EncoderSettings* settings, int speed);
+SVC_API Status apply_encoder_speed(EncoderSettings* settings, int speed);
 
 // The syntax elements the encode summary counts bytes by (EncodeSummary::
 // intra_syntax_bytes, predicted_syntax_bytes), in this order (docs/encoder.md, "Syntax
@@ -189,10 +190,10 @@ Status apply_encoder_speed(EncoderSettings* settings, int speed);
 //   filters     CDEF syntax (the loop filter flags are header bits).
 inline constexpr size_t kSyntaxElementCount = 6;
 // {"header", "modes", "partitions", "vectors", "levels", "filters"}. Thread-safe.
-std::vector<std::string> syntax_element_names();
+SVC_API std::vector<std::string> syntax_element_names();
 
 // What the encoder saw of the B-faces' prediction (docs/encoder.md 12).
-struct PredictionSummary {
+struct SVC_API PredictionSummary {
   // Macroblocks (inter or skipped) whose prediction reads reference samples outside the
   // reference face: from the cube border with cube references, else from the edge
   // extension.
@@ -246,8 +247,9 @@ using EncodeProgress = std::function<bool(uint64_t done, uint64_t total)>;
 // of them padded for cube references, 5 faces per thread) plus the manifest and index,
 // whatever the database's size (docs/format.md, "Memory"). Thread-safe: independent
 // calls may run concurrently.
-Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const std::filesystem::path& out_path,
-                                      const EncoderSettings& settings, const EncodeProgress& progress = {});
+SVC_API Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir,
+                                              const std::filesystem::path& out_path,
+                                              const EncoderSettings& settings, const EncodeProgress& progress = {});
 
 // --- Sharded encoding (docs/format.md, "Shards") ------------------------------------------
 
@@ -262,9 +264,9 @@ Result<EncodeSummary> encode_database(const std::filesystem::path& db_dir, const
 // faces (file_bytes: the part).
 // Thread-safe: independent calls may run concurrently.
 inline constexpr int kMaxShards = 65536;
-Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const std::filesystem::path& part_path,
-                                   const EncoderSettings& settings, int shard, int shard_count,
-                                   const EncodeProgress& progress = {});
+SVC_API Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir,
+                                           const std::filesystem::path& part_path, const EncoderSettings& settings,
+                                           int shard, int shard_count, const EncodeProgress& progress = {});
 
 struct MergeSummary {
   uint64_t parts = 0;
@@ -279,8 +281,8 @@ struct MergeSummary {
 // undamaged part (every chunk's CRC is checked); parts of different databases, settings,
 // shard counts or svc versions; a part given twice; a part missing. Output rules as
 // encode_database. Thread-safe: independent calls may run concurrently.
-Result<MergeSummary> merge_shards(const std::vector<std::filesystem::path>& parts,
-                                  const std::filesystem::path& out_path);
+SVC_API Result<MergeSummary> merge_shards(const std::vector<std::filesystem::path>& parts,
+                                          const std::filesystem::path& out_path);
 
 // --- Incremental additions (docs/format.md, "Incremental additions") ---------------------
 
@@ -324,12 +326,13 @@ struct AddSummary {
 //     point leaves the file opening as exactly the old database.
 // Nothing to add is not an error (cells_added 0, the file untouched). Errors name the
 // mismatch, cell, face or file at fault. Progress counts the faces added.
-Result<AddSummary> add_to_database(const std::filesystem::path& svc_file, const std::filesystem::path& db_dir,
-                                   const AddSettings& settings = AddSettings{},
-                                   const EncodeProgress& progress = {});
+SVC_API Result<AddSummary> add_to_database(const std::filesystem::path& svc_file,
+                                           const std::filesystem::path& db_dir,
+                                           const AddSettings& settings = AddSettings{},
+                                           const EncodeProgress& progress = {});
 
 // Quantizer index used for a quality (1..100, clamped): round((100 - quality) * 255 / 99),
 // so every quality step moves the index by 2 or 3 (a step 4.5 to 6.7 % finer).
-int qindex_for_quality(int quality);
+SVC_API int qindex_for_quality(int quality);
 
 }  // namespace svc

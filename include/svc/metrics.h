@@ -1,6 +1,7 @@
 // Image quality metrics used by the tools and benchmarks.
 #pragma once
 
+#include "svc/export.h"
 #include "svc/status.h"
 #include "svc/types.h"
 
@@ -19,10 +20,10 @@ struct SquaredError {
 };
 
 // Over all three RGB channels. Errors when sizes differ.
-Result<SquaredError> rgb_squared_error(const ImageRGB8& a, const ImageRGB8& b);
+SVC_API Result<SquaredError> rgb_squared_error(const ImageRGB8& a, const ImageRGB8& b);
 // Over luma, computed with svc's color conversion (docs/codec.md).
-Result<SquaredError> luma_squared_error(const ImageRGB8& a, const ImageRGB8& b);
+SVC_API Result<SquaredError> luma_squared_error(const ImageRGB8& a, const ImageRGB8& b);
 // Mean SSIM of luma over 8x8 windows with stride 4 (as in common codec tools).
-Result<double> luma_ssim(const ImageRGB8& a, const ImageRGB8& b);
+SVC_API Result<double> luma_ssim(const ImageRGB8& a, const ImageRGB8& b);
 
 }  // namespace svc

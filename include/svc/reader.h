@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "svc/byte_source.h"
+#include "svc/export.h"
 #include "svc/limits.h"
 #include "svc/status.h"
 #include "svc/types.h"
@@ -100,7 +101,7 @@ struct ReaderSettings {
 };
 
 // Fills settings with the defaults documented on each field.
-ReaderSettings default_reader_settings();
+SVC_API ReaderSettings default_reader_settings();
 
 // The faces one face needs decoded, as (cell ordinal, face), held inline: an index of
 // any size costs no allocation per face. A copy owns its own entries.
@@ -224,7 +225,7 @@ struct ReaderStats {
   uint64_t thread_buffer_bytes = 0;
 };
 
-class Reader {
+class SVC_API Reader {
  public:
   // Opens `path` and reads its header and index (not the face data). The returned
   // reader owns the file handle until destroyed. kInvalidArgument for settings out of

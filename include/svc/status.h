@@ -6,6 +6,8 @@
 #include <string>
 #include <utility>
 
+#include "svc/export.h"
+
 namespace svc {
 
 enum class ErrorCode : int {
@@ -21,7 +23,7 @@ enum class ErrorCode : int {
   kInternal,         // a broken invariant inside svc; please report it
 };
 
-const char* error_code_name(ErrorCode code) noexcept;
+SVC_API const char* error_code_name(ErrorCode code) noexcept;
 
 // A success or an error code with a human-readable message that names what is
 // wrong and where (file, cell, face, byte offset). Cheap to copy when ok.
@@ -36,10 +38,10 @@ class [[nodiscard]] Status {
   ErrorCode code() const noexcept { return code_; }
   const std::string& message() const noexcept { return message_; }
   // "<code name>: <message>", or "ok".
-  std::string to_string() const;
+  SVC_API std::string to_string() const;
 
   // Returns a copy whose message is prefixed with `context + ": "`.
-  Status with_context(const std::string& context) const;
+  SVC_API Status with_context(const std::string& context) const;
 
  private:
   ErrorCode code_ = ErrorCode::kOk;

@@ -21,8 +21,8 @@ inline constexpr std::array<Face, kFaceCount> kAllFaces = {Face::kPX, Face::kNX,
                                                            Face::kNY, Face::kPZ, Face::kNZ};
 
 // "px", "nx", "py", "ny", "pz", "nz".
-const char* face_name(Face face) noexcept;
-std::optional<Face> face_from_name(std::string_view name) noexcept;
+SVC_API const char* face_name(Face face) noexcept;
+SVC_API std::optional<Face> face_from_name(std::string_view name) noexcept;
 
 // A cell's integer coordinates in the grid (x, y, z); y counts layers when y is up.
 struct CellIndex {
@@ -31,9 +31,9 @@ struct CellIndex {
 };
 
 // "cell (x,y,z)", the way every message names a cell.
-std::string cell_label(const CellIndex& cell);
+SVC_API std::string cell_label(const CellIndex& cell);
 // "cell (x,y,z) face px".
-std::string face_label(const CellIndex& cell, Face face);
+SVC_API std::string face_label(const CellIndex& cell, Face face);
 
 // How a face is coded: on its own (an I-face, in an I-cube) or predicted from up to
 // two reference I-faces (a B-face, in a B-cube). The value is the first byte of every
