@@ -4,12 +4,14 @@
 // cell's reference I-faces and its six faces).
 //
 //   build/bin/svc-bench-decode FILE.svc [--repeat 5] [--threads 0] [--cells 12]
-//                              [--mode all|sequential|parallel|cells|checksum]
+//                              [--mode all|sequential|parallel|cells|buffers|checksum]
 //
 // Each figure is the median over --repeat passes; the one-thread pass is the one to
 // profile (`perf record build/bin/svc-bench-decode FILE --mode sequential`). The
 // checksum (FNV-1a over every decoded face's RGB, in cell order) shows that a change to
-// the decoder left its output as it was.
+// the decoder left its output as it was. `--mode buffers` times, pass by pass, the
+// allocating decode_face (RGB8) against decode_face_into an RGBA8 buffer, as engines take
+// faces.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -35,9 +37,11 @@ uint64_t fnv1a(uint64_t hash, const std::vector<uint8_t>& bytes) {
   return hash;
 }
 
-// Every face of the file in cell order, RGB out, as `svc bench` times it. Returns seconds;
-// `stats` (optional) receives the reader's counters after the pass.
-Result<double> decode_all(const std::string& file, int threads, ReaderStats* stats = nullptr) {
+// Every face of the file in cell order, RGB out, as `svc bench` times it; or, with
+// `into_buffer`, each face into a reused RGBA8 buffer as an engine takes it
+// (decode_face_into). Returns seconds; `stats` (optional) receives the reader's counters.
+Result<double> decode_all(const std::string& file, int threads, ReaderStats* stats = nullptr,
+                          bool into_buffer = false) {
   ReaderSettings settings;
   settings.prefetch_threads = 0;
   settings.decode_threads = threads;
@@ -46,8 +50,18 @@ Result<double> decode_all(const std::string& file, int threads, ReaderStats* sta
   const size_t faces = cells.size() * kFaceCount;
   const auto t0 = Clock::now();
   // One thread decodes in cell order, as `svc bench` does; more take the faces side by side.
+  const int width = reader->info().face_width, height = reader->info().face_height;
   SVC_RETURN_IF_ERROR(parallel_for(faces, threads, [&](size_t k) {
-    return reader->decode_face(cells[k / kFaceCount].index, kAllFaces[k % kFaceCount]).status();
+    const CellIndex& cell = cells[k / kFaceCount].index;
+    const Face face = kAllFaces[k % kFaceCount];
+    if (!into_buffer) return reader->decode_face(cell, face).status();
+    thread_local std::vector<uint8_t> pixels;
+    pixels.resize(static_cast<size_t>(width) * height * 4);
+    PixelBuffer buffer;
+    buffer.format = PixelFormat::kRGBA8;
+    buffer.planes[0] = pixels;
+    buffer.strides[0] = static_cast<size_t>(width) * 4;
+    return reader->decode_face_into(cell, face, buffer);
   }));
   const double seconds = seconds_since(t0);
   if (stats != nullptr) *stats = reader->stats();
@@ -108,11 +122,11 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     std::printf("%s: %.0f faces, checksum %016llx\n", file.c_str(), faces, static_cast<unsigned long long>(*hash));
     return 0;
   }
-  std::vector<double> one, all, cold;
+  std::vector<double> one, all, cold, into_buffer, allocating;
   double cold_faces = 0;
   ReaderStats one_stats;
   for (int r = 0; r < repeat; ++r) {
-    if (mode != "parallel" && mode != "cells") {
+    if (mode == "all" || mode == "sequential") {
       auto s = decode_all(file, 1, &one_stats);
       if (!s.ok()) return fail(s.status());
       one.push_back(faces / *s);
@@ -121,6 +135,15 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
       auto s = decode_all(file, threads);
       if (!s.ok()) return fail(s.status());
       all.push_back(faces / *s);
+    }
+    if (mode == "buffers") {
+      // Side by side in each pass: the allocating RGB8 call, then RGBA8 into a buffer.
+      auto a = decode_all(file, 1);
+      if (!a.ok()) return fail(a.status());
+      allocating.push_back(faces / *a);
+      auto b = decode_all(file, 1, nullptr, true);
+      if (!b.ok()) return fail(b.status());
+      into_buffer.push_back(faces / *b);
     }
     if (mode == "all" || mode == "cells") {
       auto c = cold_cells(file, cells);
@@ -139,6 +162,11 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
                 static_cast<unsigned long long>(one_stats.reference_cache.misses));
   }
   if (!all.empty()) std::printf("  decode, %2d threads    %8.1f faces/s\n", threads, median(all));
+  if (!into_buffer.empty()) {
+    std::printf("  decode, 1 thread, RGB8 allocated     %8.1f faces/s\n", median(allocating));
+    std::printf("  decode, 1 thread, into RGBA8 buffer  %8.1f faces/s (%.3fx, medians of %d passes side by side)\n",
+                median(into_buffer), median(into_buffer) / median(allocating), repeat);
+  }
   if (!cold.empty()) {
     std::printf("  cold cell, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d cells)\n", median(cold),
                 cold_faces, cells);
@@ -157,7 +185,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "threads of the parallel pass (0: all cores)")->check(CLI::Range(0, 1024));
   app.add_option("--cells", cells, "cells of the cold-access pass")->check(CLI::Range(1, 100000));
   app.add_option("--mode", mode, "what to measure")
-      ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "checksum"}));
+      ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "buffers", "checksum"}));
   CLI11_PARSE(app, argc, argv);
   threads = resolve_thread_count(threads);
   return run(file, repeat, threads, cells, mode);
