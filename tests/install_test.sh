@@ -22,6 +22,14 @@ for tool in svc svc-scene svc-walkthrough; do
   "$SVC_PREFIX/bin/$tool" --help >/dev/null || fail "the installed $tool does not run"
 done
 
+# The license travels with the libraries: the text, and the SPDX name in the metadata.
+cmp "$source_dir/LICENSE" "$SVC_PREFIX/share/doc/svc/LICENSE" || fail "share/doc/svc/LICENSE is not LICENSE"
+for pc in svc-decoder svc; do
+  grep -qx 'License: BSD-2-Clause' "$SVC_PREFIX/lib/pkgconfig/$pc.pc" || fail "$pc.pc names no license"
+done
+grep -q 'set(svc_LICENSE "BSD-2-Clause")' "$SVC_PREFIX/lib/cmake/svc/svcConfig.cmake" ||
+  fail "the CMake package names no license"
+
 # The README's recipe, run from a copy of the tree's samples/embed.
 recipe=$(awk '/<!-- embed-recipe/ {found = 1; next}
               found && /^```sh/ {inside = 1; next}
