@@ -4,7 +4,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
-  libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev zlib1g-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
   ffmpeg clang-format-14
