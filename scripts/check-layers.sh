@@ -4,7 +4,7 @@
 #   0 decoder API   include/svc (status.h, types.h, limits.h, reader.h)
 #   1 codec         codec/: codec/common, then codec/decoder, then codec/encoder
 #   2 decoder       src/common, src/container, src/reader, src/capi (libsvc_decoder)
-#   3 full library  src/database, src/spatial, src/encoder, src/metrics and the public
+#   3 full library  src/database, src/spatial, src/output, src/encoder, src/metrics and the public
 #                   encoder.h, metrics.h (libsvc)
 #   4 baselines     src/baseline (libsvc_baseline)
 #   5 samples       samples/ (samples/embed and samples/walkthrough: the decoder API and
