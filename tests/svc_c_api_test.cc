@@ -203,7 +203,8 @@ TEST_F(CApi, InfoAndCellsAreTheCppReaders) {
     EXPECT_EQ(cell.index[2], want.index.z);
     EXPECT_EQ(cell.position[1], want.position[1]);
     for (int f = 0; f < 6; ++f) {
-      EXPECT_EQ(std::memcmp(cell.cameras[f].world_to_camera, want.cameras[f].world_to_camera.data(), 16 * sizeof(double)),
+      EXPECT_EQ(std::memcmp(cell.cameras[f].world_to_camera, want.cameras[f].world_to_camera.data(),
+                            16 * sizeof(double)),
                 0);
       EXPECT_EQ(cell.cameras[f].near_plane, want.cameras[f].frustum.near_plane);
       EXPECT_EQ(cell.face_types[f], static_cast<uint8_t>(want.faces[f].type));
@@ -325,7 +326,6 @@ TEST_F(CApi, ViewerPrefetchAndStats) {
   EXPECT_EQ(svc_reader_set_viewer_cell(reader, outside, nullptr), SVC_INVALID_ARGUMENT);
   svc_reader_destroy(reader);
 }
-
 
 std::vector<uint8_t> read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

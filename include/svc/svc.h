@@ -132,8 +132,8 @@ typedef struct svc_reader svc_reader;
 SVC_API svc_status svc_reader_open_file(const char* path, const svc_reader_settings* settings, svc_reader** out);
 SVC_API svc_status svc_reader_open_memory(const void* data, size_t size, const svc_reader_settings* settings,
                                           svc_reader** out);
-SVC_API svc_status svc_reader_open_callbacks(const svc_read_callbacks* callbacks, const svc_reader_settings* settings,
-                                             svc_reader** out);
+SVC_API svc_status svc_reader_open_callbacks(const svc_read_callbacks* callbacks,
+                                             const svc_reader_settings* settings, svc_reader** out);
 
 /* The message of the last failed open call on the calling thread ("" if none). Valid
    until the next open call on that thread. */

@@ -157,7 +157,7 @@ svc_status open_reader(const svc_reader_settings* settings, svc_reader** out, co
 }
 
 void copy_counters(const svc::CacheCounters& in, svc_cache_counters* out) {
-  *out = svc_cache_counters{in.hits,    in.misses,  in.in_flight_waits, in.prefetch_lookups, in.insertions,
+  *out = svc_cache_counters{in.hits,      in.misses,  in.in_flight_waits, in.prefetch_lookups, in.insertions,
                             in.evictions, in.entries, in.bytes_held,      in.peak_bytes,       in.budget_bytes};
 }
 
@@ -212,10 +212,11 @@ svc_status svc_reader_open_file(const char* path, const svc_reader_settings* set
 
 svc_status svc_reader_open_memory(const void* data, size_t size, const svc_reader_settings* settings,
                                   svc_reader** out) {
-  return open_reader(settings, out, "svc_reader_open_memory", [&]() -> svc::Result<std::unique_ptr<svc::ByteSource>> {
-    if (data == nullptr) return invalid("svc_reader_open_memory", "data");
-    return svc::memory_source(std::span<const uint8_t>(static_cast<const uint8_t*>(data), size));
-  });
+  return open_reader(settings, out, "svc_reader_open_memory",
+                     [&]() -> svc::Result<std::unique_ptr<svc::ByteSource>> {
+                       if (data == nullptr) return invalid("svc_reader_open_memory", "data");
+                       return svc::memory_source(std::span<const uint8_t>(static_cast<const uint8_t*>(data), size));
+                     });
 }
 
 svc_status svc_reader_open_callbacks(const svc_read_callbacks* callbacks, const svc_reader_settings* settings,
@@ -289,7 +290,8 @@ svc_status svc_reader_cell(const svc_reader* reader, size_t ordinal, svc_cell* o
     const auto& cells = reader->reader->cells();
     if (ordinal >= cells.size()) {
       return Status(ErrorCode::kInvalidArgument, "svc_reader_cell: ordinal " + std::to_string(ordinal) +
-                                                     " outside 0.." + std::to_string(cells.size()) + " (exclusive)");
+                                                     " outside 0.." + std::to_string(cells.size()) +
+                                                     " (exclusive)");
     }
     const svc::CellEntry& cell = cells[ordinal];
     svc_cell result{};
@@ -332,7 +334,8 @@ svc_status svc_reader_find_cell_at(const svc_reader* reader, const double positi
   return guarded(reader, "svc_reader_find_cell_at", [&]() -> Status {
     if (position == nullptr) return invalid("svc_reader_find_cell_at", "position");
     if (ordinal == nullptr) return invalid("svc_reader_find_cell_at", "ordinal");
-    if (!finite3(position)) return Status(ErrorCode::kInvalidArgument, "svc_reader_find_cell_at: position is not finite");
+    if (!finite3(position))
+      return Status(ErrorCode::kInvalidArgument, "svc_reader_find_cell_at: position is not finite");
     const std::optional<size_t> found = reader->reader->find_cell_at({position[0], position[1], position[2]});
     if (!found) return Status(ErrorCode::kNotFound, "no cell of the file contains the position");
     *ordinal = *found;
