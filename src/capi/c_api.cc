@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 #include <new>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <unordered_map>
 
@@ -206,7 +208,9 @@ void svc_reader_settings_default(svc_reader_settings* settings) {
 svc_status svc_reader_open_file(const char* path, const svc_reader_settings* settings, svc_reader** out) {
   return open_reader(settings, out, "svc_reader_open_file", [&]() -> svc::Result<std::unique_ptr<svc::ByteSource>> {
     if (path == nullptr) return invalid("svc_reader_open_file", "path");
-    return svc::open_file_source(path);
+    // UTF-8 on every platform: on Windows a char path would otherwise be read in the
+    // ANSI code page.
+    return svc::open_file_source(std::filesystem::path(std::u8string_view(reinterpret_cast<const char8_t*>(path))));
   });
 }
 
