@@ -17,8 +17,10 @@ packages=(
 )
 # The test suite checks the AArch64 NEON kernels cross-built, under qemu
 # (scripts/check-neon.sh). Without recommends: qemu-user recommends qemu-user-binfmt,
-# which registers handlers with the kernel, something a container may refuse.
-lean_packages=(g++-aarch64-linux-gnu qemu-user)
+# which registers handlers with the kernel, something a container may refuse. It also
+# checks the decoder library cross-built for Windows, under Wine (scripts/check-windows.sh;
+# wine64 alone, without the 32-bit half and the desktop integration it recommends).
+lean_packages=(g++-aarch64-linux-gnu qemu-user g++-mingw-w64-x86-64-posix wine64)
 # scripts/encode-slurm.sh and the one-node cluster of scripts/slurm-localhost.sh.
 if [[ "${SVC_WITH_SLURM:-0}" == 1 ]]; then
   packages+=(slurm-wlm munge)
