@@ -8,8 +8,11 @@
 # row order, opened by path, from memory and through read callbacks; the check fails
 # unless both print the same lines, errors included. The Windows program runs once with
 # each x86 kernel set (SVC_CPU_MASK: AVX2, SSE4.1, SSE2, the plain references), all of
-# which must decode the native program's bytes. Installs the cross compiler and Wine
-# (Debian 12: g++-mingw-w64-x86-64-posix, wine64) when missing; with --if-installed it
+# which must decode the native program's bytes. Where GoogleTest's sources are installed
+# (Debian: googletest), the codec's unit tests (tests/codec_*_test.cc) are cross-built too
+# and run under Wine, with the best kernels and with the plain references alone.
+# Installs the cross compiler and Wine (Debian 12: g++-mingw-w64-x86-64-posix, wine64)
+# when missing; with --if-installed it
 # exits 77 (skipped) instead, so that the test suite never downloads anything.
 #
 # Usage: scripts/check-windows.sh [--if-installed] [--native NATIVE_BUILD] [BUILD_DIR]
@@ -74,7 +77,13 @@ if [[ ! -f $build/CMakeCache.txt ]]; then
   cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DSVC_DECODER_ONLY=ON \
     -DCMAKE_TOOLCHAIN_FILE="$root/cmake/x86_64-w64-mingw32.cmake" >/dev/null
 fi
-cmake --build "$build" --target svc-decode-digest -j "${SVC_JOBS:-1}"
+targets=(svc-decode-digest)
+if cmake --build "$build" --target help | grep -q '^svc_codec_tests'; then
+  targets+=(svc_codec_tests)
+else
+  echo "note: no GoogleTest sources (apt-get install googletest): the codec's unit tests are left out"
+fi
+cmake --build "$build" --target "${targets[@]}" -j "${SVC_JOBS:-1}"
 
 # A small database, the same at two other face sizes (one not a multiple of the 16-pixel
 # macroblock), a copy with a few bytes flipped in the middle (a face fails, the others
@@ -117,3 +126,15 @@ for mask in 0x7 0x3 0x1 0x0; do
   echo "SVC_CPU_MASK=$mask: the same under Wine ($(($(date +%s) - start)) s)"
 done
 echo "check-windows: the Windows build under Wine decodes ${#files[@]} files exactly as the native one"
+
+if [[ -x $build/bin/svc_codec_tests.exe ]]; then
+  for mask in 0x7 0x0; do
+    start=$(date +%s)
+    if ! SVC_CPU_MASK=$mask "$wine" "$build/bin/svc_codec_tests.exe" --gtest_brief=1 >"$build/codec_tests.log" 2>&1; then
+      tr -d '\r' <"$build/codec_tests.log" | grep -v '^\[ ' >&2
+      echo "check-windows: the codec's unit tests fail under Wine (SVC_CPU_MASK=$mask)" >&2
+      exit 1
+    fi
+    echo "SVC_CPU_MASK=$mask: the codec's unit tests pass under Wine ($(($(date +%s) - start)) s)"
+  done
+fi

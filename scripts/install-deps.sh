@@ -19,8 +19,9 @@ packages=(
 # (scripts/check-neon.sh). Without recommends: qemu-user recommends qemu-user-binfmt,
 # which registers handlers with the kernel, something a container may refuse. It also
 # checks the decoder library cross-built for Windows, under Wine (scripts/check-windows.sh;
-# wine64 alone, without the 32-bit half and the desktop integration it recommends).
-lean_packages=(g++-aarch64-linux-gnu qemu-user g++-mingw-w64-x86-64-posix wine64)
+# wine64 alone, without the 32-bit half and the desktop integration it recommends), with
+# the codec's unit tests built from GoogleTest's sources.
+lean_packages=(g++-aarch64-linux-gnu qemu-user g++-mingw-w64-x86-64-posix wine64 googletest)
 # scripts/encode-slurm.sh and the one-node cluster of scripts/slurm-localhost.sh.
 if [[ "${SVC_WITH_SLURM:-0}" == 1 ]]; then
   packages+=(slurm-wlm munge)
