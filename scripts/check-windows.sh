@@ -87,7 +87,8 @@ cmake --build "$build" --target "${targets[@]}" -j "${SVC_JOBS:-1}"
 
 # A small database, the same at two other face sizes (one not a multiple of the 16-pixel
 # macroblock), a copy with a few bytes flipped in the middle (a face fails, the others
-# decode) and one cut off halfway (the index is gone: the file does not open).
+# decode), one cut off halfway (the index is gone: the file does not open), a path that
+# does not exist and a folder.
 data=$build/data
 rm -rf "$data"
 mkdir -p "$data"
@@ -102,7 +103,8 @@ size=$(stat -c %s "$data/small.svc")
 cp "$data/small.svc" "$data/damaged.svc"
 printf '\xff\x00\xff\x00' | dd of="$data/damaged.svc" bs=1 seek=$((size / 2)) conv=notrunc status=none
 head -c $((size / 2)) "$data/small.svc" >"$data/truncated.svc"
-files=(small.svc odd.svc damaged.svc truncated.svc)
+mkdir "$data/folder.svc"
+files=(small.svc odd.svc damaged.svc truncated.svc missing.svc folder.svc)
 
 cd "$data"
 if ! native_out=$("$native/bin/svc-decode-digest" "${files[@]}"); then
