@@ -88,7 +88,7 @@ cmake --build "$build" --target "${targets[@]}" -j "${SVC_JOBS:-1}"
 # A small database, the same at two other face sizes (one not a multiple of the 16-pixel
 # macroblock), a copy with a few bytes flipped in the middle (a face fails, the others
 # decode), one cut off halfway (the index is gone: the file does not open), a path that
-# does not exist and a folder.
+# does not exist, a folder and a copy whose name is not ASCII (the C API takes UTF-8).
 data=$build/data
 rm -rf "$data"
 mkdir -p "$data"
@@ -104,9 +104,12 @@ cp "$data/small.svc" "$data/damaged.svc"
 printf '\xff\x00\xff\x00' | dd of="$data/damaged.svc" bs=1 seek=$((size / 2)) conv=notrunc status=none
 head -c $((size / 2)) "$data/small.svc" >"$data/truncated.svc"
 mkdir "$data/folder.svc"
-files=(small.svc odd.svc damaged.svc truncated.svc missing.svc folder.svc)
+cp "$data/odd.svc" "$data/café-ünï.svc"
+files=(small.svc odd.svc damaged.svc truncated.svc missing.svc folder.svc café-ünï.svc)
 
 cd "$data"
+# Wine reads Unix file names and arguments in the locale's character set.
+export LC_ALL=C.UTF-8
 if ! native_out=$("$native/bin/svc-decode-digest" "${files[@]}"); then
   echo "check-windows: the native program failed:" >&2
   echo "$native_out" >&2

@@ -3,7 +3,8 @@
 // (with the faces that fail, if any). Each file is opened four ways: the C API by path,
 // from memory and through read callbacks, and the C++ reader by path; all four must
 // decode the same bytes and fail on the same faces, or the program exits with 1. A path
-// that is no readable file (missing, a folder) is opened by path alone, both ways. Built
+// that is no readable file (missing, a folder) is opened by path alone, both ways. Paths
+// are UTF-8 on both systems, names beyond ASCII included. Built
 // for Linux and for Windows, so that the two can be compared (scripts/check-windows.sh).
 #include <cstdio>
 #include <cstring>
@@ -13,11 +14,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
 
 #include "decode_digest/face_walk.h"
+#include "decode_digest/utf8_arguments.h"
 #include "svc/reader.h"
 #include "svc/svc.h"
 
@@ -142,10 +145,17 @@ std::optional<std::vector<uint8_t>> read_bytes(const std::filesystem::path& path
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// Prints the file's line; false when the ways of opening it disagree.
-bool digest_file(const std::string& path) {
-  const std::string name = std::filesystem::path(path).filename().string();
-  const Outcome by_path = walk_c_file(path);
+std::string utf8_of(const std::filesystem::path& path) {
+  const std::u8string text = path.u8string();
+  return std::string(text.begin(), text.end());
+}
+
+// Prints the file's line; false when the ways of opening it disagree. `utf8` is the
+// path as the C API takes it.
+bool digest_file(const std::string& utf8) {
+  const std::filesystem::path path(std::u8string_view(reinterpret_cast<const char8_t*>(utf8.data()), utf8.size()));
+  const std::string name = utf8_of(path.filename());
+  const Outcome by_path = walk_c_file(utf8);
   std::printf("%s %s\n", name.c_str(), summary(by_path).c_str());
   for (const std::string& error : by_path.walk.errors) std::printf("  %s\n", error.c_str());
   std::vector<std::pair<const char*, Outcome>> others;
@@ -171,7 +181,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s FILE.svc...\n", argv[0]);
     return 2;
   }
+  const std::vector<std::string> arguments = svc::testing::utf8_arguments(argc, argv);
   bool ok = true;
-  for (int i = 1; i < argc; ++i) ok = svc::testing::digest_file(argv[i]) && ok;
+  for (size_t i = 1; i < arguments.size(); ++i) ok = svc::testing::digest_file(arguments[i]) && ok;
   return ok ? 0 : 1;
 }
