@@ -3,17 +3,18 @@
 # svc-decode-digest for 64-bit Windows (SVC_DECODER_ONLY with
 # cmake/x86_64-w64-mingw32.cmake: the decoder library and that program, no third-party
 # library), makes a few .svc files with the native tools (one of them damaged, one cut
-# short) and runs the native and the Windows program on them, the latter under Wine. Each
-# prints one digest line per file over every face of every cell in every pixel format and
-# row order, opened by path, from memory and through read callbacks; the check fails
-# unless both print the same lines, errors included. The Windows program runs once with
-# each x86 kernel set (SVC_CPU_MASK: AVX2, SSE4.1, SSE2, the plain references), all of
-# which must decode the native program's bytes. Where GoogleTest's sources are installed
+# short, and paths that do not open) and runs the native and the Windows program on them,
+# the latter under Wine. Each prints one digest line per file over every face of every
+# cell in every pixel format and row order, opened by path, from memory and through read
+# callbacks; the check fails unless both print the same lines, errors included. The
+# Windows program runs once with each x86 kernel set (SVC_CPU_MASK: AVX2, SSE4.1, SSE2,
+# the plain references), all of which must decode the native program's bytes. Where GoogleTest's sources are installed
 # (Debian: googletest), the codec's unit tests (tests/codec_*_test.cc) are cross-built too
 # and run under Wine, with the best kernels and with the plain references alone.
-# Installs the cross compiler and Wine (Debian 12: g++-mingw-w64-x86-64-posix, wine64)
-# when missing; with --if-installed it
-# exits 77 (skipped) instead, so that the test suite never downloads anything.
+# Installs the cross compiler, Wine and GoogleTest's sources (Debian 12:
+# g++-mingw-w64-x86-64-posix, wine64, googletest) when the first two are missing; with
+# --if-installed it exits 77 (skipped) instead, so that the test suite never downloads
+# anything.
 #
 # Usage: scripts/check-windows.sh [--if-installed] [--native NATIVE_BUILD] [BUILD_DIR]
 #   NATIVE_BUILD is the Linux build with svc, svc-scene and svc-decode-digest (default:
@@ -55,12 +56,12 @@ if ! command -v "$compiler" >/dev/null || [[ -z $wine ]]; then
     echo "SKIPPED: $compiler or wine64 is not installed (apt-get install g++-mingw-w64-x86-64-posix wine64)"
     exit 77
   fi
-  echo "installing: g++-mingw-w64-x86-64-posix wine64"
+  echo "installing: g++-mingw-w64-x86-64-posix wine64 googletest"
   sudo=""
   if [[ $(id -u) != 0 ]]; then sudo="sudo"; fi
   export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -qq
-  $sudo apt-get install -y -qq --no-install-recommends g++-mingw-w64-x86-64-posix wine64
+  $sudo apt-get install -y -qq --no-install-recommends g++-mingw-w64-x86-64-posix wine64 googletest
   wine=$(find_wine)
 fi
 
@@ -85,8 +86,8 @@ else
 fi
 cmake --build "$build" --target "${targets[@]}" -j "${SVC_JOBS:-1}"
 
-# A small database, the same at two other face sizes (one not a multiple of the 16-pixel
-# macroblock), a copy with a few bytes flipped in the middle (a face fails, the others
+# A small database at two face sizes (40 is not a multiple of the 16-pixel macroblock),
+# a copy with a few bytes flipped in the middle (a face fails, the others
 # decode), one cut off halfway (the index is gone: the file does not open), a path that
 # does not exist, a folder and a copy whose name is not ASCII (the C API takes UTF-8).
 data=$build/data
