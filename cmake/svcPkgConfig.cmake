@@ -12,10 +12,10 @@ else()
 endif()
 if(SVC_LIBRARY_TYPE STREQUAL "STATIC_LIBRARY")
   # A C program links the static C++ library through the C compiler: name its runtime.
-  set(SVC_PC_DECODER_DEPS "Requires: zlib\nLibs: -L\${libdir} -lsvc_decoder -pthread -lstdc++ -lm")
+  set(SVC_PC_DECODER_DEPS "Libs: -L\${libdir} -lsvc_decoder -pthread -lstdc++ -lm")
   set(SVC_PC_FULL_DEPS "Requires: svc-decoder OpenImageIO OpenEXR\nLibs: -L\${libdir} -lsvc -pthread")
 else()
-  set(SVC_PC_DECODER_DEPS "Requires.private: zlib\nLibs: -L\${libdir} -lsvc_decoder\nLibs.private: -pthread -lstdc++ -lm")
+  set(SVC_PC_DECODER_DEPS "Libs: -L\${libdir} -lsvc_decoder\nLibs.private: -pthread -lstdc++ -lm")
   set(SVC_PC_FULL_DEPS
       "Requires: svc-decoder\nRequires.private: OpenImageIO OpenEXR\nLibs: -L\${libdir} -lsvc\nLibs.private: -pthread")
 endif()

@@ -4,7 +4,7 @@
 #   0 decoder API   include/svc (status.h, types.h, limits.h, reader.h)
 #   1 codec         codec/: codec/common, then codec/decoder, then codec/encoder
 #   2 decoder       src/common, src/container, src/reader, src/capi (libsvc_decoder)
-#   3 full library  src/database, src/spatial, src/encoder, src/metrics and the public
+#   3 full library  src/database, src/spatial, src/output, src/encoder, src/metrics and the public
 #                   encoder.h, metrics.h (libsvc)
 #   4 baselines     src/baseline (libsvc_baseline)
 #   5 samples       samples/ (samples/embed and samples/walkthrough: the decoder API and
@@ -16,6 +16,9 @@
 # Within the codec, common includes neither decoder nor encoder, and nothing that goes
 # into the decoder library (decoder API, codec/common, codec/decoder, layer 2) includes
 # an encoder header (codec/encoder/).
+# The decoder library builds for Linux and Windows: among its files, only a platform file
+# (*_posix.cc, *_windows.cc, chosen by src/common/CMakeLists.txt) includes an operating
+# system header (unistd.h, fcntl.h, sys/*, windows.h, pthread.h and the like).
 # An include is resolved as the compiler would: beside the including file, then under
 # the include roots the build uses (include, the tree's root, src, samples, tools, bench,
 # tests). An include that resolves nowhere is an error too.
@@ -112,8 +115,27 @@ while IFS= read -r file; do
              sed -E 's/^([0-9]+):[^"]*"([^"]*)".*/\1:\2/')
 done < <(find include codec src samples bench tools tests -type f \( -name '*.h' -o -name '*.cc' -o -name '*.cpp' \) 2>/dev/null | sort)
 
+# Operating system headers in the decoder library outside its platform files.
+system_headers='unistd\.h|fcntl\.h|sys/[a-z_/]+\.h|windows\.h|pthread\.h|dirent\.h|dlfcn\.h|io\.h'
+platform_violations=0
+while IFS= read -r file; do
+  file=${file#./}
+  decoder_side "$file" || continue
+  case $file in *_posix.cc | *_windows.cc) continue ;; esac
+  while IFS=: read -r line header; do
+    echo "$file:$line: #include <$header> outside a platform file (*_posix.cc, *_windows.cc)"
+    platform_violations=$((platform_violations + 1))
+  done < <(grep -n -E "^[[:space:]]*#[[:space:]]*include[[:space:]]*<($system_headers)>" "$file" |
+             sed -E 's/^([0-9]+):[^<]*<([^>]*)>.*/\1:\2/')
+done < <(find include codec src -type f \( -name '*.h' -o -name '*.cc' \) 2>/dev/null | sort)
+
 if ((violations > 0)); then
   echo "check-layers: $violations include(s) point up a layer"
+fi
+if ((platform_violations > 0)); then
+  echo "check-layers: $platform_violations operating system header(s) in the decoder library outside its platform files"
+fi
+if ((violations + platform_violations > 0)); then
   exit 1
 fi
 echo "check-layers: $checked includes, all point down or across"

@@ -4,7 +4,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
-  libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev zlib1g-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
   ffmpeg clang-format-14
@@ -18,8 +18,11 @@ packages=(
 )
 # The test suite checks the AArch64 NEON kernels cross-built, under qemu
 # (scripts/check-neon.sh). Without recommends: qemu-user recommends qemu-user-binfmt,
-# which registers handlers with the kernel, something a container may refuse.
-lean_packages=(g++-aarch64-linux-gnu qemu-user)
+# which registers handlers with the kernel, something a container may refuse. It also
+# checks the decoder library cross-built for Windows, under Wine (scripts/check-windows.sh;
+# wine64 alone, without the 32-bit half and the desktop integration it recommends), with
+# the codec's unit tests built from GoogleTest's sources.
+lean_packages=(g++-aarch64-linux-gnu qemu-user g++-mingw-w64-x86-64-posix wine64 googletest)
 # scripts/encode-slurm.sh and the one-node cluster of scripts/slurm-localhost.sh.
 if [[ "${SVC_WITH_SLURM:-0}" == 1 ]]; then
   packages+=(slurm-wlm munge)

@@ -17,7 +17,7 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
-#include "container/updater.h"
+#include "output/updater.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"

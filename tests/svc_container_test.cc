@@ -5,6 +5,8 @@
 #include <bit>
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "common/bytes.h"
 #include "container/container.h"
@@ -704,6 +706,24 @@ TEST(ContainerChunk, CarriesTagSizeAndCrc) {
   const uint32_t crc = crc32_of(std::span(chunk).first(chunk.size() - 4));
   EXPECT_EQ(chunk[chunk.size() - 4], crc & 0xff);
   EXPECT_EQ(chunk[chunk.size() - 1], crc >> 24);
+}
+
+// The container's CRC-32 is zlib's crc32(): values from zlib, at every alignment and
+// split, since the fast path takes eight bytes at a time.
+TEST(ContainerChunk, CrcIsZlibsCrc32) {
+  const std::string check = "123456789";
+  EXPECT_EQ(crc32_of(std::span(reinterpret_cast<const uint8_t*>(check.data()), check.size())), 0xCBF43926u);
+  EXPECT_EQ(crc32_of({}), 0u);
+  std::vector<uint8_t> all(256);
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint8_t>(i);
+  EXPECT_EQ(crc32_of(all), 0x29058C73u);
+  std::vector<uint8_t> long_run(100003);
+  for (size_t i = 0; i < long_run.size(); ++i) long_run[i] = static_cast<uint8_t>(i * 7 + 3);
+  EXPECT_EQ(crc32_of(long_run), 0xCD676DABu);
+  const std::span<const uint8_t> bytes(long_run);
+  for (size_t split = 0; split < 20; ++split) {
+    EXPECT_EQ(crc32_of(bytes.subspan(split), crc32_of(bytes.first(split))), 0xCD676DABu) << split;
+  }
 }
 
 }  // namespace

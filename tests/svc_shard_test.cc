@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/bytes.h"
-#include "container/part_file.h"
+#include "output/part_file.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"

@@ -125,10 +125,12 @@ typedef struct svc_reader svc_reader;
 
 /* Open a reader on a file, on `size` bytes of memory (not copied: they must stay valid
    and unchanged until svc_reader_destroy), or on read callbacks. Reads the header and
-   the index only. settings NULL: the defaults. On success *out is a new reader to pass
-   to svc_reader_destroy; on failure *out is NULL and svc_last_open_error() says why.
-   SVC_INVALID_ARGUMENT for NULL arguments or settings out of range; SVC_NOT_FOUND,
-   SVC_IO_ERROR, SVC_CORRUPT_DATA, SVC_LIMIT_EXCEEDED, SVC_UNSUPPORTED from the file. */
+   the index only. The path is UTF-8, on Windows too. settings NULL: the defaults. On
+   success *out is a new reader to pass to svc_reader_destroy; on failure *out is NULL
+   and svc_last_open_error() says why.
+   SVC_INVALID_ARGUMENT for NULL arguments, settings out of range or (on Windows) a path
+   that is not UTF-8; SVC_NOT_FOUND, SVC_IO_ERROR, SVC_CORRUPT_DATA, SVC_LIMIT_EXCEEDED,
+   SVC_UNSUPPORTED from the file. */
 SVC_API svc_status svc_reader_open_file(const char* path, const svc_reader_settings* settings, svc_reader** out);
 SVC_API svc_status svc_reader_open_memory(const void* data, size_t size, const svc_reader_settings* settings,
                                           svc_reader** out);

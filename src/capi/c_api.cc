@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 #include <new>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <thread>
 #include <unordered_map>
 
@@ -74,6 +77,16 @@ svc_status guarded(const svc_reader* reader, const char* call, Body&& body) {
 
 Status invalid(const char* call, const char* what) {
   return Status(ErrorCode::kInvalidArgument, std::string(call) + ": " + what + " is NULL");
+}
+
+// UTF-8 on every platform: on Windows a char path would otherwise be read in the ANSI
+// code page. The conversion to Windows' UTF-16 throws on bytes that are not UTF-8.
+svc::Result<std::filesystem::path> utf8_path(const char* path) {
+  try {
+    return std::filesystem::path(std::u8string_view(reinterpret_cast<const char8_t*>(path)));
+  } catch (const std::system_error&) {
+    return Status(ErrorCode::kInvalidArgument, "svc_reader_open_file: the path is not UTF-8");
+  }
 }
 
 svc::CellIndex cell_index(const int32_t cell[3]) { return svc::CellIndex{cell[0], cell[1], cell[2]}; }
@@ -206,7 +219,8 @@ void svc_reader_settings_default(svc_reader_settings* settings) {
 svc_status svc_reader_open_file(const char* path, const svc_reader_settings* settings, svc_reader** out) {
   return open_reader(settings, out, "svc_reader_open_file", [&]() -> svc::Result<std::unique_ptr<svc::ByteSource>> {
     if (path == nullptr) return invalid("svc_reader_open_file", "path");
-    return svc::open_file_source(path);
+    SVC_ASSIGN_OR_RETURN(const std::filesystem::path file, utf8_path(path));
+    return svc::open_file_source(file);
   });
 }
 

@@ -11,6 +11,8 @@
 
 namespace svc {
 
+// The standard CRC-32 (ISO-HDLC, the value zlib's crc32() gives); `crc` continues the
+// CRC of the bytes before these.
 uint32_t crc32_of(std::span<const uint8_t> bytes, uint32_t crc = 0);
 
 class ByteWriter {

@@ -2,7 +2,7 @@
 // chunks holding coded faces, and an index chunk with grid, cameras, coding settings
 // and every face's offset, size, type and references (an adjacency list). This header
 // is the reading side (index_coding.cc, chunks.cc); writing a new file is
-// container/writer.h, adding to one in place container/updater.h.
+// output/writer.h, adding to one in place output/updater.h (the full library).
 #pragma once
 
 #include <algorithm>

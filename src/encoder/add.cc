@@ -10,10 +10,10 @@
 #include <string>
 
 #include "common/parallel.h"
-#include "container/updater.h"
 #include "database/database.h"
 #include "encoder/cell_visibility.h"
 #include "encoder/coding_pipeline.h"
+#include "output/updater.h"
 #include "spatial/placement.h"
 #include "svc/encoder.h"
 

@@ -21,11 +21,11 @@
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/syntax_account.h"
 #include "common/parallel.h"
-#include "container/writer.h"
 #include "database/database.h"
 #include "encoder/cell_visibility.h"
 #include "encoder/coding_pipeline.h"
 #include "encoder/encode_plan.h"
+#include "output/writer.h"
 #include "reader/shared_cache.h"
 #include "spatial/placement.h"
 

@@ -3,10 +3,10 @@
 #include <chrono>
 #include <string>
 
-#include "container/part_file.h"
 #include "encoder/encode_plan.h"
 #include "encoder/shard_fingerprint.h"
 #include "encoder/shard_split.h"
+#include "output/part_file.h"
 #include "svc/encoder.h"
 
 namespace svc {

@@ -5,10 +5,10 @@
 #include <map>
 #include <string>
 
-#include "container/part_file.h"
-#include "container/writer.h"
 #include "encoder/shard_fingerprint.h"
 #include "encoder/shard_split.h"
+#include "output/part_file.h"
+#include "output/writer.h"
 #include "svc/encoder.h"
 
 namespace svc {

@@ -11,10 +11,6 @@
 #include <thread>
 #include <tuple>
 
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-
 #include "codec/common/bframe.h"
 #include "codec/common/color.h"
 #include "codec/common/cube_padding.h"
@@ -24,6 +20,7 @@
 #include "codec/decoder/intra_decoder.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
+#include "common/thread_priority.h"
 #include "container/container.h"
 #include "reader/face_decode.h"
 #include "reader/pixel_buffer.h"
@@ -276,9 +273,8 @@ struct Reader::Impl {
   }
 
   void worker_loop() {
-    // Background work yields to the threads that need a face now (Linux: per-thread
-    // nice value; failure leaves the default priority).
-    (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
+    // Background work yields to the threads that need a face now.
+    lower_current_thread_priority();
     std::unique_lock<std::mutex> lock(prefetch_mutex);
     for (;;) {
       work_ready.wait(lock, [&] { return stopping || !queue.empty(); });

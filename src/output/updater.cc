@@ -1,4 +1,4 @@
-#include "container/updater.h"
+#include "output/updater.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "container/part_file.h"
+#include "output/part_file.h"
 
 #include <algorithm>
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "container/writer.h"
+#include "output/writer.h"
 
 namespace svc {
 

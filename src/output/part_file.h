@@ -13,6 +13,7 @@
 
 #include "common/file_io.h"
 #include "container/container.h"
+#include "output/atomic_output_file.h"
 
 namespace svc {
 

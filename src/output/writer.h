@@ -7,6 +7,7 @@
 
 #include "common/file_io.h"
 #include "container/container.h"
+#include "output/atomic_output_file.h"
 
 namespace svc {
 
