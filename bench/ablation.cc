@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The gain of each coding tool on its own: svc re-encoded at its own quality settings
 // with one tool switched off, scored like every other run, and compared by BD-rate.
 #include "bd_rate.h"

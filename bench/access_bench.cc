@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Random access cost, side by side: svc's reader (caches, prefetch) against the
 // libavcodec MPEG-2 baseline decoded the way the dissertation's MPEGWALK did (a fresh
 // decoder from the GOP's I-frame for every request), on a generated sample scene.

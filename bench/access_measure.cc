@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Random-access cost of svc and of the libavcodec anchors (see svc_bench.h, "Cold and
 // warm random access").
 #include <algorithm>

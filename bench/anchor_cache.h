@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Anchors' quality points kept between runs of `svc bench --anchor-cache DIR`: an
 // anchor's curve depends on the faces it codes, its settings and the libraries it runs
 // on, not on svc, so a corpus run that changes only svc encodes only svc.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The codecs `svc bench` runs and how: for every anchor the settings its users pick, the
 // range its quality search may use, and the ffmpeg command line that gives the same
 // bytes.

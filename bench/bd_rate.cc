@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "bd_rate.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Bjontegaard delta rate by the method of the common test conditions (JCTVC-L1100 and
 // its successors): log-rate as a piecewise cubic Hermite (PCHIP, Fritsch-Carlson
 // monotone slopes as in the CTC spreadsheet) function of PSNR for each curve, integrated

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc against the svc of an earlier `svc bench` run (--before): how far the codec moved.
 #pragma once
 

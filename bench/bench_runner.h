@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to `svc bench`: the state of one run over one database, shared by the codec
 // sweeps (codec_runs.cc), the access measurements (access_measure.cc) and the
 // dissertation's experiments (experiments.cc).

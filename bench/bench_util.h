@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Small pieces shared by the parts of `svc bench`: timing, a worker pool, random picks
 // and access statistics.
 #pragma once

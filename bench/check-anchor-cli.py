@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-2-Clause
 """Re-encodes a database with the ffmpeg command lines of docs/bench.md, at every setting
 `svc bench` recorded in results.json, and compares the bytes with the bench's.
 

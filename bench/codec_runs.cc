@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The quality search of each codec over the whole database, with speed and access cost
 // at its reference point (see svc_bench.h).
 #include <algorithm>

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-2-Clause
 """Runs `svc bench` on every scene of the development corpus (bench/corpus.json) and
 summarises the BD-rates per scene, their mean and the worst scene.
 

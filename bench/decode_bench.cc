@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Decoding speed of one .svc file, measured as `svc bench` measures svc's (docs/bench.md):
 // every face through a fresh Reader in cell order on one thread (faces/s), the same on
 // all threads, and cold access to one whole cell (a fresh reader, one decode thread, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The dissertation's experiments on the database at hand: Table 7.5 (sizes), Figure 7.16
 // (compression against B:I ratio and sample spacing) and Table 7.4 (depth motion against
 // logarithmic search).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc intra coding against libavcodec's MPEG-2 intra-only coding of the same faces:
 // bytes at equal PSNR-Y, measured side by side on the sample scenes.
 //

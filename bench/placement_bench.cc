@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // What the references see of the B-cubes, and what that costs, on one database:
 //
 //   build/bin/svc-bench-placement DB_DIR [--qualities 55,65,75] [--threads N] [--work DIR]

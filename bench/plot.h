@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Small chart renderer for the benchmark report: line charts (linear or log axes) and
 // grouped bar charts drawn into an 8-bit RGB image and written as PNG.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A quality point as results.json writes it, and read back (svc_bench.h, QualityPoint).
 #pragma once
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-2-Clause
 """BD-rate of svc encoder settings against each other on one database.
 
     bench/rd_compare.py DB --config base= --config offset34="--b-qindex-offset 34"

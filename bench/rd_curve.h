@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Rate-distortion curves and comparisons at equal quality, shared by the benchmarks.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // results.json, results.csv, plots and report.md of `svc bench` (see svc_bench.h).
 #include <algorithm>
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The first table of report.md: the codecs ranked by BD-rate against svc, with each
 // anchor's settings and random-access cost, and where svc loses said in words.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The quality search of `svc bench`: which settings of a codec to encode so that its
 // rate-distortion curve covers the same PSNR-Y targets as every other codec's.
 //

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Sharded encoding on this machine: the speed-up of N shards run by GNU parallel (one
 # thread each, scripts/encode-parallel.sh) over one process using every core and over
 # one single-threaded process, each merged file checked against the one-process bytes;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The database's source faces, held in memory, and the scoring of decoded faces against
 // them (see svc_bench.h, "Measurement").
 #pragma once

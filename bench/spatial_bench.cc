@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Spatial prediction against intra-only coding, and depth-derived motion against
 // logarithmic search, on the sample scenes, side by side in one run:
 //

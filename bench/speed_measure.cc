@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encoding and decoding speed and random access to a cell of every codec at its
 // reference point (see svc_bench.h, CodecResult), measured in rounds across the codecs.
 #include <algorithm>

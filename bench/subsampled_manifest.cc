@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // An svc-input manifest over every n-th cell of a database (Figure 7.16's spacing sweep).
 #include <fstream>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Runs `svc bench` (see svc_bench.h): each codec's sweep in report order, BD-rates of svc
 // against each, then the dissertation's experiments.
 #include "svc_bench.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // `svc bench`: svc against the MPEG-2 row-major baseline and the codecs users would
 // otherwise pick, measured the same way on one svc-input database.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Trains the initial probabilities of the codec's adaptive contexts (codec/common/context_priors.h,
 // docs/codec.md 6.2) and writes them as the table source file:
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-2-Clause
 # Cross-compiling for 64-bit Arm Linux with Debian's GNU toolchain (g++-aarch64-linux-gnu).
 # scripts/check-neon.sh uses it with SVC_KERNELS_ONLY, which needs no library of the
 # target beyond the C++ runtime the toolchain brings; tests and programs built with it run

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-2-Clause
 # Debian's OpenImageIO package lists /usr/include/opencv4 among its include
 # directories even when OpenCV is not installed, which CMake rejects. Drop include
 # directories of imported targets that do not exist.

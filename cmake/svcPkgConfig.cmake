@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-2-Clause
 # pkg-config files svc-decoder.pc and svc.pc. Relocatable: the prefix is derived from
 # the directory the .pc file is found in. `pkg-config --libs` gives a complete link line
 # without --static: for static libraries the dependencies are listed in Libs/Requires,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-2-Clause
 # Cross-compiling for 64-bit Windows with Debian's MinGW-w64 toolchain
 # (g++-mingw-w64-x86-64-posix). The posix thread model is the one with std::thread and
 # std::mutex. scripts/check-windows.sh uses it with SVC_DECODER_ONLY; programs are linked

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Installs missing dependencies, then configures and builds svc into build/.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Checks that the tracked C++ files (or the files named) are formatted as .clang-format
 # says, with clang-format 14 (Debian 12: clang-format-14). Lists each file that differs
 # and exits 1; --fix rewrites them in place instead.

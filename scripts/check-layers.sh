@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Fails when an `#include "..."` points up a layer. Layers, lowest first; a file may
 # include from its own layer and those below:
 #   0 decoder API   include/svc (status.h, types.h, limits.h, reader.h)

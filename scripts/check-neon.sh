@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Checks the AArch64 NEON kernel variants on any Linux machine: cross-builds
 # svc-checkkernels for AArch64 (SVC_KERNELS_ONLY with cmake/aarch64-linux-gnu.cmake: the
 # codec layer, the flow kernels and the checker, no third-party library) and runs it under

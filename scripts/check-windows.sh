@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Checks the decoder library on Windows from any Linux machine: cross-builds
 # svc-decode-digest for 64-bit Windows (SVC_DECODER_ONLY with
 # cmake/x86_64-w64-mingw32.cmake: the decoder library and that program, no third-party

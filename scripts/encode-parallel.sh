@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Encodes an svc-input database in N shards run by GNU parallel, on this machine's cores
 # or on other machines, then merges the parts (docs/format.md, "Shards"). The result is
 # byte-identical to `svc encode DB -o OUT.svc`.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Submits the shards of an encode as a Slurm job array and their merge as a job that
 # runs once every shard has succeeded (docs/format.md, "Shards"). The result is
 # byte-identical to `svc encode DB -o OUT.svc`.

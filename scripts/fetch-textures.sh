@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Extracts a set of game textures into a folder for `svc-scene --textures`, installing
 # its Debian package when it is missing.
 #

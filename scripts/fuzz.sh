@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Builds the libFuzzer targets with clang under AddressSanitizer and
 # UndefinedBehaviorSanitizer (build-fuzz) and runs each for a given time, starting from
 # the seed corpus in tests/fuzz/corpus. Needs clang: SVC_WITH_CLANG=1 scripts/install-deps.sh

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-2-Clause
 """Writes README.md's results tables from the results.json of recorded `svc bench` runs.
 
 docs/results/runs.json lists the runs the README shows, one per scene:

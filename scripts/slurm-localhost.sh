@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # A one-node Slurm cluster on this machine (slurmctld, slurmd and munged from Debian's
 # slurm-wlm and munge packages), for trying scripts/encode-slurm.sh and for its test.
 #

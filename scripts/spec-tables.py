@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-2-Clause
 """Keeps the normative tables of docs/codec.md equal to the source.
 
 Every table of the bitstream specification that the source spells out as a constant

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Builds the test programs with AddressSanitizer and UndefinedBehaviorSanitizer in
 # build-asan and runs them all. Any sanitizer report fails the run.
 #   scripts/test-asan.sh [gtest filter, default *]

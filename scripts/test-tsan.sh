@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Builds the integration tests with ThreadSanitizer in build-tsan and runs the reader's
 # access and threading tests under it. Any reported race fails the run.
 #   scripts/test-tsan.sh [extra gtest filter, default Reader*]

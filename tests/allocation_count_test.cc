@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Decoding into the caller's buffer allocates nothing once the caches hold the face: every
 // operator new of this program is counted (a program of its own, so that the count
 // replaces no other test's allocator).

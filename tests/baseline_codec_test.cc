@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The libavcodec baseline: MPEG-2 GOP structure, random access against sequential decode,
 // intra-only mode, the comparison codecs, files, and agreement with the ffmpeg tool.
 #include <gtest/gtest.h>

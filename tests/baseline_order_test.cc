@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Cell orders of the baseline: row-major layout and GOP starts, Hilbert coverage and
 // locality.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The baseline on the procedural sample scene: the six-face database in row-major and
 // Hilbert order and MPEG-2 intra-only, with random access checked against sequential
 // decoding, and the scene's PNG files read back through libavcodec.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The anchor cache of `svc bench --anchor-cache` returns exactly what was stored, and
 // only for the same faces, plan, targets and libraries; the content statistics of the
 // bench report measure what they say.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Each anchor of `svc bench` against the ffmpeg command line that the report documents
 // for it (bench/anchors.h): on a small face sequence, the bench's bytes within 1 % and its
 // PSNR-Y within 0.05 dB of what `ffmpeg` makes with those arguments.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // BD-rate by PCHIP interpolation of log-rate against PSNR (bench/bd_rate.h).
 #include <gtest/gtest.h>
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-2-Clause
 """bench/rd_compare.py's BD-rate agrees with bench/bd_rate.h on the published example
 data (tests/bench_bd_rate_test.cc) and is exact on a uniform scale."""
 import os

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The pieces of `svc bench` that need no codec: chart drawing, BD-rate, JSON/CSV writers,
 // and the subsampled manifest of the Figure 7.16 spacing sweep.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // `svc bench` end to end on a tiny scene with fast codecs: results.json, results.csv,
 // report.md and valid PNG plots, with numbers that agree with each other.
 

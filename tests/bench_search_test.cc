@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The quality search of `svc bench` (bench/settings_search.h) on known PSNR curves.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # scripts/check-layers.sh passes a tree whose includes point down and reports each
 # include planted to point up: codec into src, the decoder into the encoder's API, the
 # embedding sample into the full library, src into the samples, the codec's decoder part

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // CDEF: the direction search on hand-made lines, the filter on a hand-checked block, its
 // syntax, and its use by the frame codecs (signalled, bit-exact, robust to damage).
 #include <gtest/gtest.h>

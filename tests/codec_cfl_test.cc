@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Chroma from luma: the prediction against its definition (docs/codec.md 3.3), the mode
 // syntax for every mode and alpha, and intra frames whose chroma follows their luma.
 #include <gtest/gtest.h>

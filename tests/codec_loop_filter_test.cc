@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The deblocking filter: its arithmetic on hand-checked edges, the strength map's
 // effect, and its use by the frame codecs (signalled, bit-exact, helping where blocky).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Transform sizes 4x4, 16x16 and the rectangular ones: the integer inverses against their
 // definitions and the exact transform, their scans and level coding, and intra frames that
 // choose them.

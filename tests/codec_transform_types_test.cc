@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Intra transform types (DCT or DST-VII per direction): the integer matrices against
 // the DST-VII formula, the integer inverses against their matrix products, forward then
 // inverse near identity, the type's coding, and intra frames that choose every type.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # docs/embedding.md's Python ctypes example, run as written against the build tree's
 # shared decoder library: the face it decodes into a NumPy array must be the one
 # samples/embed_c decodes through the C API's read callbacks (itself checked against the

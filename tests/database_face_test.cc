@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // load_face: color and depth decoding of svc-input faces.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // load_manifest: parsing, validation and error messages of svc-input manifests.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # The shared decoder library exports its public API alone: the C API's svc_* functions
 # and the C++ API of svc/ (svc::Reader, svc::Status, ...), besides the instantiations of
 # standard-library templates that libstdc++ keeps visible; no internal namespace

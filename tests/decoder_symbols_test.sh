@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # The decoder library holds no encoder code: no symbol that the codec's encoder part
 # (codec/encoder, object library svc_codec_encoder) defines, and no symbol named like
 # encoder work (encoding, forward transforms, quantization, SAD/SATD, searches, rate

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # scripts/encode-parallel.sh on local cores: the merged file equals the one-process
 # encode; an existing output is kept; a failed shard leaves no output and its rerun
 # encodes only the missing part.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # scripts/encode-slurm.sh against a real one-node Slurm cluster on localhost
 # (scripts/slurm-localhost.sh): the merged file equals the one-process encode; a failed
 # shard cancels the merge, and the rerun encodes only that shard. Skipped (exit 77)

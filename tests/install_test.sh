@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Installs svc to a prefix with spaces in its name and moves the installed tree; then
 # builds samples/embed and samples/embed_c against it both ways, running the recipe in README ("Embedding")
 # exactly as written (CMake component `decoder`, pkg-config `svc-decoder`), runs both

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # The "long" tests stay out of the default run (plain `ctest`, as scripts/test.sh runs it),
 # the default run keeps a sample of what they cover, and the documented command
 # `ctest --test-dir BUILD -C long -L long` runs them and nothing else.

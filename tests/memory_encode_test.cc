@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Peak memory of an encode does not follow the database: 100,000 faces of 32x32 encode
 // in a fixed limit, and a database four times smaller peaks within a few tens of bytes a
 // face of it: a frame record a face and the manifest's few bytes a cell (docs/format.md,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Runs the README's tool commands (the block after "<!-- readme-commands") exactly as
 # written, in an empty folder where build/ is the build tree, and checks what they left:
 # a database, an .svc file that grew by the added cells, a decoded face, an inspect sheet.

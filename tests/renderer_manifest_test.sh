@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # Runs docs/input-format.md's manifest writer (the block after "<!-- renderer-manifest")
 # on svc-scene's images renamed to the renderer layout it describes (X_Y_Z_FACE.png and
 # .exr in one folder), then checks that it wrote svc-scene's own cameras and that svc

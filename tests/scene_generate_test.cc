@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The sample-scene generator writes svc-input databases that are deterministic, follow
 // docs/input-format.md, and whose color, depth and cameras agree geometrically.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The ray caster's accelerated traversals (BVH, per-tile frustum culling) against the
 // plain every-primitive reference, and the primitive intersections against known answers.
 

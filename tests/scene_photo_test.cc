@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Photographic scenes: images from a folder the test writes reach the surfaces of their
 // material class, the output stays deterministic, and bad folders are named in errors.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The corpus scene kinds (street, interior, colonnade, plaza) and the rendering settings
 // users' renderers differ in: supersampled colour with one-sample depth, exposure and
 // anisotropic texture filtering.

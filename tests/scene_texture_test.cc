@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Texture pyramids: exact texels where a pixel covers less than a texel, averages where
 // it covers many, means kept through resizing, and coordinates that wrap.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "spatial/placement.h"
 
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Reference choice and I-cube placement by what references see, on hand-made visibility
 // tables (the measurement itself: spatial_visibility_test.cc, svc_visibility_test.cc).
 #include <gtest/gtest.h>

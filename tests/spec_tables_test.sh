@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-2-Clause
 # docs/codec.md's normative tables equal the constants in codec/ (scripts/spec-tables.py),
 # and the check fails when either side drifts: a number changed in the document, a
 # number changed in the source, a table missing from the document.

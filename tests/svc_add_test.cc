@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Incremental additions (svc add): new cells appended without touching old ones, and
 // crash safety of the in-place commit, checked by killing an adding child process.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The B-faces' quantizer index chosen per database from trial B-faces
 // (docs/encoder.md 5): which faces make the trial, and that every B-face of the file
 // carries the index the encode reports.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The C API (svc/svc.h) against the C++ reader: the same pixels from every way of
 // opening, every pixel format and row order, the same cells and cameras, and errors as
 // status codes with messages kept per reader and thread.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The svc tool's conventions as a user meets them: interrupts leave nothing behind,
 // --json everywhere with one vocabulary, --threads that change nothing but speed, input
 // checks (check, outside paths, damaged images) that speak with svc's voice alone.

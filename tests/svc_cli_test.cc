@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The svc tool as a user runs it: what it prints, its exit codes, and what it refuses
 // to write. Runs the built build/bin/svc.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The .svc index: serialization round trip, validation of damaged fields, and the refusal
 // of index versions other than 4.
 #include <gtest/gtest.h>

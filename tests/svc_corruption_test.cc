@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Damage sweeps over a tiny database (2x1x2 cells of 16-pixel faces, I- and B-faces):
 // the file truncated at every length, and one byte changed at every offset. For each
 // damaged copy: opening either fails with an error or verify() reports the damage;

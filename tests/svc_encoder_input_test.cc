@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Bad input to the encoder: each case fails with an error naming the cause, leaves
 // nothing at the output path (nor a temporary file beside it), and the svc tool exits
 // with a non-zero status.

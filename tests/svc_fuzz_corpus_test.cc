@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Replays the fuzzers' seed corpus (tests/fuzz/corpus) through the fuzz entry points, and
 // generates that corpus: with SVC_WRITE_FUZZ_CORPUS=DIR set, FuzzCorpus.Generate writes
 // the seeds into DIR/container and DIR/frame (the committed corpus was made with

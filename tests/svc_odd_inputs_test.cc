@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encoding odd but valid databases, and bad ones: every case decodes (or fails) cleanly.
 #include <gtest/gtest.h>
 

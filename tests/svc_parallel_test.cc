@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The one thread pool (common/parallel.h): every item runs once, results are consumed in
 // order, and which error comes back does not depend on the thread count or timing.
 #include "common/parallel.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Pins the encoder's output: the SHA-256 of each .svc file and of its decoded pixels for
 // a small sample database at two settings. Any change to the bitstream, the encoder's
 // decisions or the decoder's reconstruction fails here, so such a change is always a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Random access through the reader's caches: bit-exact against a sequential decode
 // without caches, byte budgets never exceeded, counters that say what happened, and the
 // prefetch order.

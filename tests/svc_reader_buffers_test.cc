@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Decoding into the caller's buffers (every pixel format, both row orders, strides with
 // padding) and reading from any byte source (memory, the embedder's own reads).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The reader under concurrency: many threads, prefetch workers, in-flight
 // deduplication and close() while work is pending. Run under ThreadSanitizer by
 // scripts/test-tsan.sh.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Whole-database round trips: generate a sample scene, encode, read back, damage.
 #include <gtest/gtest.h>
 

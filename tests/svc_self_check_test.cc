@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's self-check: a coded face must decode to the encoder's reconstruction,
 // else the encode stops with an internal error instead of writing the file.
 #include <gtest/gtest.h>

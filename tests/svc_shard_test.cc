@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Sharded encoding (svc encode --shard K/N, svc merge): merged parts equal the
 // one-process encode byte for byte, and wrong, missing, duplicate or damaged parts are
 // refused with nothing written.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Visibility on the generated house (rooms behind walls): what the measure sees, which
 // references it picks, and the encoder's visibility layout.
 #include <gtest/gtest.h>

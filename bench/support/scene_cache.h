@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A generated sample scene held in memory for the benchmarks: its source faces, its
 // cells, and a work folder removed when the object goes away.
 #pragma once

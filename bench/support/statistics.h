@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The median the benchmarks report of repeated timings: on a shared, noisy machine it
 // is steadier than a single pass or the mean.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encodes a generated scene with given settings and measures bytes and PSNR-Y over all
 // decoded faces, as every benchmark reports svc.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The adaptive probability model of every context-coded bit, shared by the range
 // decoder (codec/decoder/range_decoder.h) and encoder (codec/encoder/range_encoder.h).
 // Exact arithmetic is specified in docs/codec.md.

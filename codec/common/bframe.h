@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A B-face as both sides of the codec see it: its header, macroblock modes and
 // partitions. Each 16x16 macroblock is intra-coded (as in intra frames, from its
 // reconstructed neighbours), predicted from one of up to two reference faces (forward =

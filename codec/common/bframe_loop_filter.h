@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The in-loop filters of a B-face: the deblocking strengths its macroblock decisions
 // give (docs/codec.md, section 5.8.1) and the filtering of its reconstructed planes. Shared
 // by the B-face encoder and decoder, so both filter alike. Not part of the codec's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // B-face coding internals shared by the encoder (bframe_encoder.cc) and the decoder
 // (bframe_decoder.cc): the frame state (reconstructed padded planes, per-block coded
 // flags, the intra neighbour state, per-macroblock vectors and modes), the predictors

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Constrained directional enhancement (docs/codec.md, section 5.8.2), in the manner of
 // AV1's CDEF (sections 7.15.2, 7.15.3): after deblocking, each 8x8 luma block (and its 4x4
 // chroma blocks) is smoothed along its dominant direction (primary taps) and lightly

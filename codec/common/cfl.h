@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Chroma from luma (CfL), a chroma intra mode: an 8x8 chroma block predicted as its DC
 // prediction plus alpha times the variation of the co-located reconstructed luma
 // (averaged 2x2 to chroma resolution, less its mean). docs/codec.md 3.3 defines the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The scans and position contexts of every transform size, tabulated at compile time.
 #include "codec/common/coefficient_contexts.h"
 

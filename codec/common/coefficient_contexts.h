@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The contexts and scans of the coefficient syntax (docs/codec.md section 3.4), shared by
 // its reader (codec/decoder/coefficient_reader.h) and writer
 // (codec/encoder/coefficient_writer.h): coded-block flag, end-of-block position (class +

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The packed, semi-decoded form of an intra frame (CoefficientFrame) and its block
 // layout.
 #include <array>

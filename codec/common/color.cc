@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Full-range BT.601 (JFIF) conversion of whole decoded images to RGB through the dsp row
 // kernel, and the per-pixel reference it is tested against.
 #include "codec/common/color.h"

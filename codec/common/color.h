@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The YCbCr 4:2:0 -> RGB conversion of decoded faces; the encoder's RGB -> YCbCr is
 // codec/encoder/rgb_to_ycbcr.h. Full-range BT.601 (as JFIF), 16-bit fixed point; exact
 // definition in docs/codec.md. All functions are pure and thread-safe; sizes are the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Trained initial probabilities of the adaptive contexts (docs/codec.md 6.2): every
 // context set a frame creates starts primed at the probability it settles near on
 // typical content, so small frames, whose contexts see only a few dozen bits each, do not

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Geometry padding of cube-map reference faces: a face extended by a border in which
 // each sample shows what the same camera would see past the face edge, taken from the
 // adjacent faces of the same cube (the cube-map projection continued across the edge,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to the cube padding (codec/cube_padding.h) and its tests. The rule of
 // docs/codec.md 5.7 picks, per border sample, a source face and a 1/16-sample position
 // with 64-bit divisions; that geometry depends only on (face, plane size, border), never

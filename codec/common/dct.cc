@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The inverse transforms through the kernel table and their definitional references.
 // The integer inverses are the contract of the bitstream:
 // docs/codec.md defines it step by step and any change breaks decoding of existing files.

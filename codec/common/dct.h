@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The inverse of the 8x8 two-dimensional DCT-II (orthonormal scaling: DC = 8 x block
 // mean) and of the other transform sizes and types: bit-exact 32-bit integer transforms
 // that encoder and decoder share, so both reconstruct identical pixels on every

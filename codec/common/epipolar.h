@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Epipolar vector coordinates (docs/codec.md 3.8): with a reference camera of the same
 // orientation, the point seen at a pixel moves along the line through that pixel and the
 // epipole as its depth varies, so a depth-derived vector is a multiple of a direction the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Copying a frame's working planes (padded to whole blocks, each with its own row
 // stride) into the tightly packed 4:2:0 image the codec hands out.
 // Threading: pure function. Sizes and strides are the caller's responsibility.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // An intra frame (an I-face) as both sides see it: its header constants, its packed
 // semi-decoded form (CoefficientFrame) and the reconstruction of that form into pixels.
 // The syntax is specified in docs/codec.md; reading it is codec/decoder/intra_decoder.h,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The block coding of one intra macroblock that both sides share, for intra frames and
 // the intra macroblocks of B-faces: the neighbour state and contexts, the partitions of
 // a luma macroblock, and the prediction and reconstruction of a block from its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The macroblock-padded planes of an intra frame, shared by its reconstruction, its
 // decoder and its encoder (internal to codec/).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "codec/common/intra_prediction.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Spatial intra prediction of 4x4, 8x8, 16x16, 16x8 and 8x16 blocks from reconstructed
 // neighbours:
 // the reference edge of a block, the most probable modes derived from its left and above

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Reconstruction of intra blocks and frames: prediction from the reconstructed
 // neighbours in the block's mode, inverse transform of its dequantized levels, then the
 // in-loop filters the header selects. The decoder's reconstruction is also the

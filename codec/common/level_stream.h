@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The levels of the semi-decoded form (CoefficientFrame, docs/runtime.md) packed as
 // Exp-Golomb codes: a block with levels starts with its transform type in two bits
 // (codec/transform_type.h), then per non-zero level, in increasing scan order within its block, the

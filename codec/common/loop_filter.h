@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // In-loop deblocking (docs/codec.md, section 5.8), in the manner of H.265 section 8.7.2:
 // edges on the 8x8 grid of each plane, a boundary strength per 4-sample edge segment
 // that the frame codec derives from its coding decisions, thresholds beta and tc from

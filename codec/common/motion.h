@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Motion vectors and per-macroblock candidate lists shared by the motion sources
 // (depth reprojection in src/spatial, image search in codec) and the B-face coder.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Quarter-pel motion-compensated prediction of blocks from a reference face, as in HEVC:
 // a separable 8-tap luma filter at quarter-pel phases and a 4-tap chroma filter at
 // eighth-pel phases (the luma vector read in eighth chroma pels), first to 14-bit

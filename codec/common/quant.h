@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Quantization of 8x8 DCT blocks with MPEG-2's weighting matrices and a logarithmic
 // quantizer index (qindex 0..255, the step doubling every 32 indices), shared by intra frames and the residual
 // blocks of B-faces. Dequantization is exact integer arithmetic and part of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The working buffers that decoding keeps per thread (the B-face decoder's state, CDEF's
 // widened planes) are reused from face to face and live as long as their thread; they
 // belong to no cache. Each thread counts its share in one process-wide total, which the

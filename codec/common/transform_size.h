@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The transform block sizes of the codec (docs/codec.md sections 3.1 and 5.5).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The transform types of intra residual blocks (docs/codec.md 5.5.2): per direction the
 // DCT-II or an integer DST-VII, as in AV1 (ADST) and HEVC (4x4 DST). The DST's basis
 // functions start near zero at the edge the prediction comes from, where the residual of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "codec/common/transform_type_contexts.h"
 
 #include "codec/common/cfl.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The contexts of an intra block's transform type (docs/codec.md 3.5): two adaptive
 // bits after the block's levels, the vertical direction's DST flag then the horizontal
 // one's, with contexts by transform size, by the class of the block's prediction mode

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Warped (mesh) motion compensation: a macroblock predicted with a smoothly varying
 // vector instead of one translation. Each macroblock corner is a node carrying a vector
 // in 1/8 pel; every 4x4 luma block (and every 4x4 chroma block, an 8x8 luma area) takes

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // B-face decoder: reads each macroblock's mode, vectors or nodes and residual, and
 // reconstructs it with the encoder's own routines (bframe_state.h).
 #include "codec/decoder/bframe_decoder.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Decoding of a B-face (codec/common/bframe.h).
 //
 // Threading: reentrant (no shared state but each thread's scratch buffers, reused from

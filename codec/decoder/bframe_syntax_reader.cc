@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "codec/decoder/bframe_syntax_reader.h"
 
 #include <array>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // B-face syntax reading: macroblock partitions and directions, motion vector
 // differences, predictor indices, epipolar lines and warp nodes (docs/codec.md 3.8).
 // Errors: functions returning bool give false on syntax no encoder produces; none reads

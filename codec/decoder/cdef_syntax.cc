@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "codec/decoder/cdef_syntax.h"
 
 namespace svc::codec {

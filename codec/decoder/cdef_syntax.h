@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Reading of the CDEF syntax (docs/codec.md section 5.8.2) at the end of a frame's
 // range-coded data. Every bit pattern reads as valid parameters; truncation shows in the
 // decoder's truncated().

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Reading of quantized transform blocks (docs/codec.md section 3.4), with the contexts of
 // codec/common/coefficient_contexts.h.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Intra frame decoding: the parse stage reads every block's syntax into the packed
 // CoefficientFrame (what the runtime caches semi-decoded); reconstruction
 // (codec/common/intra_frame.h) turns it into pixels.

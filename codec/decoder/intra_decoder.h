@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Intra frame decoding (docs/codec.md): the parse stage into a CoefficientFrame, and
 // parse plus reconstruction. Pure computation: no files.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "codec/decoder/intra_syntax_reader.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Reading of intra block syntax (docs/codec.md 3.1, 3.5, 3.3): prediction modes, chroma
 // modes with CfL, transform types, and the blocks and split flags of a luma macroblock,
 // for intra frames and B-face intra macroblocks.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Adaptive binary range decoder (the LZMA-style coder of docs/codec.md) that every
 // entropy-coded syntax element is read with.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The B-face encoder's frame loop: every macroblock chosen and written in raster order
 // by the macroblock coder (bframe_macroblock_coder.h), the interpolation filter bank
 // screened, then the loop filters chosen on the finished reconstruction.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encoding of a B-face (codec/common/bframe.h). Motion is not searched from scratch
 // here: the caller supplies candidate vectors per macroblock and reference (from depth
 // reprojection, or from log_search.h) and, optionally, node fields (from depth); the

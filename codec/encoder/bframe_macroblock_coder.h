@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The macroblock decisions of the B-face encoder (internal to codec/encoder): every
 // option of a macroblock (skip, forward, backward, bidirectional, their partitions and
 // warps, intra) priced as SSD + lambda * estimated bits, with bits estimated from the

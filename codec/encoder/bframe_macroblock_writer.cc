@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The syntax of a B-face macroblock as chosen (docs/codec.md 4.2-3.8).
 #include "codec/encoder/bframe_macroblock_coder.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The B-face mode decision: which option each macroblock takes (docs/encoder.md).
 #include "codec/encoder/bframe_macroblock_coder.h"
 

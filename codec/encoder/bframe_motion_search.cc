@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The B-face motion search: vectors by SAD plus vector bits (docs/encoder.md).
 #include "codec/encoder/bframe_macroblock_coder.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The residual of a B-face option: transform sizes and levels by rate-distortion cost.
 #include "codec/encoder/bframe_macroblock_coder.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // B-face syntax writing and its bit estimates from the current adaptive probabilities:
 // macroblock modes, partitions and directions, motion vector differences, predictor
 // indices, epipolar lines and warp nodes (docs/codec.md 3.8), mirrored by

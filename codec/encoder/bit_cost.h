@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's bit estimates: -log2 of a context's current probability of a bit, as a
 // table read, so that rate-distortion decisions price syntax without coding it.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's CDEF decision (docs/encoder.md) and the writing of its syntax
 // (docs/codec.md section 5.8.2), read by codec/decoder/cdef_syntax.h.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Writing and pricing of quantized transform blocks (docs/codec.md section 3.4), with the
 // contexts of codec/common/coefficient_contexts.h; codec/decoder/coefficient_reader.h
 // reads what it writes. The bit estimates run the same writer on a counting sink, so the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's measure of distortion: the sum of squared differences of two blocks of
 // samples, each with its own stride. Inline: the mode decisions call it for every option.
 #pragma once

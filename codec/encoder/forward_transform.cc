@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's forward transforms through its kernel table, and the double-precision
 // 8x8 reference the tests compare them with.
 #include "codec/encoder/forward_transform.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's forward transforms, through its kernel table
 // (codec/encoder/dsp/encoder_dsp.h): the 8x8 two-dimensional DCT-II (orthonormal
 // scaling: DC = 8 x block mean) and the other transform sizes and types, in float. They

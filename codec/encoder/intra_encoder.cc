@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Intra frame encoding: each luma macroblock and chroma block chosen by the intra
 // search (codec/encoder/intra_search.h) and written as the syntax orders them, then the
 // in-loop filters decided on the finished reconstruction.

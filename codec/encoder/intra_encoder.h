@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Intra frame encoding: the coding tools an encode may use and the frame encoder.
 // Pure computation: no files.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The intra mode decision: for each luma macroblock its partition, and for each block
 // its prediction mode, transform type and levels, by rate-distortion cost; chroma blocks
 // in pairs (a Cb block's mode with its Cr block's cost), CfL against the regular modes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The intra mode decision (docs/encoder.md): partitions, prediction modes, transform
 // types and levels of intra macroblocks by rate-distortion cost.
 #pragma once

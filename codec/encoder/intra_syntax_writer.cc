@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "codec/encoder/intra_syntax_writer.h"
 
 #include <algorithm>

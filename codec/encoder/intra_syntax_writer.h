@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Writing of intra block syntax (docs/codec.md 3.1, 3.5, 3.3) and its bit estimates at
 // the contexts' current probabilities, mirrored by codec/decoder/intra_syntax_reader.h:
 // prediction modes, chroma modes with CfL, transform types, and the blocks and split

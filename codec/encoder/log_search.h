@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Image-space motion search: the two-dimensional logarithmic search of J. R. Jain and
 // A. K. Jain ("Displacement measurement and its application in interframe image coding",
 // IEEE Trans. Communications 29(12), 1981), as the standard alternative to motion vectors

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's quantization of transform coefficients to levels (the quantizers and
 // the exact dequantization that encoder and decoder share are codec/common/quant.h):
 // float arithmetic with the quantizer's rate-distortion rounding offsets, through the

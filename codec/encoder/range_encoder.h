@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Adaptive binary range encoder (LZMA-style carry-less encoder with cache byte) that
 // every entropy-coded syntax element is written with; codec/decoder/range_decoder.h
 // reads what it writes. Exact arithmetic is specified in docs/codec.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's one lambda formula: squared error per estimated bit at a quantizer
 // index, factor x scale^2, scale being the index's quantizer scale as the MPEG-2
 // quantizer_scale it replaces (codec/common/quant.h). Each decision passes its own

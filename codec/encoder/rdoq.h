@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encoder only: rate-distortion optimized quantization (in the manner of HEVC's RDOQ).
 // For each coefficient, in reverse scan order, it weighs the rounded level, one less,
 // and zero by transform-domain squared error + lambda * bits, the bits from the block

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Full-range BT.601 (JFIF) conversion of whole input images to YCbCr 4:2:0 through the
 // dsp row kernels, and the per-pixel references they are tested against.
 #include "codec/encoder/rgb_to_ycbcr.h"

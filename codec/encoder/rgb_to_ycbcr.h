@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's RGB -> YCbCr 4:2:0 conversion of its input, the inverse of
 // codec/common/color.h's. Full-range BT.601 (as JFIF), 16-bit fixed point; exact
 // definition in docs/codec.md. All functions are pure and thread-safe; sizes are the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's sums of absolute differences against 16x16 predictions (motion search
 // and mode decision), through its kernel table (codec/encoder/dsp/encoder_dsp.h). Pure
 // and thread-safe.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "codec/encoder/search_planes.h"
 
 #include <algorithm>

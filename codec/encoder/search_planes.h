@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encoder only: a reference face's luma at the four half-pel phases (whole, half across,
 // half down, half both), filtered once with the regular 8-tap filter and edge-extended
 // by a margin, so that the motion search prices a candidate vector with one SAD instead

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's account of where a frame's bits go: the range encoder adds each coded
 // bin's cost (-log2 of its probability as coded; 1 for a bypass bin) to the syntax
 // element the writers have declared current with a SyntaxScope. An estimate, not a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Where a reader's bytes come from: a file, a block of memory, or the embedder's own file
 // access (a package, a memory-mapped archive, a virtual file system, a network cache).
 // Reader::open takes any of them; the reader reads only the header, the index and the

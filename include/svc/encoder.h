@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encoding an svc-input database (docs/input-format.md) into an .svc file.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 /* Marks the public API's symbols (C and C++): the libraries are built with every other
    symbol hidden, so an embedder links against the documented interface alone. Define
    SVC_SHARED when linking a Windows DLL build of the library. */

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Caps on what an .svc file may make the reader allocate. Every field read from a file
 // is checked against these, in 64-bit arithmetic, before it sizes an allocation; a file
 // above a cap is refused with kLimitExceeded naming the field and its byte offset. The

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Image quality metrics used by the tools and benchmarks.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Random access to an .svc file by cell: what a walkthrough runtime embeds.
 //
 // The reader opens a file without reading it whole: open() reads the header and the

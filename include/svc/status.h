@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Error values used across the svc API. No svc function throws across the public
 // API boundary: failures come back as a Status (or a Result<T> holding one).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 /* The svc decoder's C API (C99): random access by cell to an .svc file, for engines and
    languages that bind to a C ABI (C#, Rust, Python ctypes, GDExtension). It wraps the C++
    reader (svc/reader.h) and shares its implementation, caches and prefetch.

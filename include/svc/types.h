@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain value types shared by the svc encoder and reader APIs.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Command-line conventions shared by svc and svc-scene: one set of exit codes, every
 // message prefixed with the program's name, numeric options that say what is wrong.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SIGINT and SIGTERM as a request to stop: the work in progress is cancelled through its
 // progress callback, what it wrote is removed, and the program exits 128 + the signal
 // number (130 for Ctrl-C, 143 for SIGTERM), as shells report a killed command.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Rules for where svc and svc-scene may write, checked before any work is done.
 #pragma once
 

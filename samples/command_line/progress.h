@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // What svc and svc-scene print while they work: a one-line progress bar on stderr, and
 // the options that decide whether it is drawn (--quiet, --json, --progress,
 // --no-progress, -v).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // How svc, svc-scene and svc-walkthrough report a failed command: one line
 // "PROGRAM: message" on stderr and the exit status of command_line.h for its error code.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "command_line/staged_folder.h"
 
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // An output folder written beside its destination and moved into place only when
 // complete, so that a failed or interrupted command leaves nothing behind. Not
 // thread-safe; one owner.

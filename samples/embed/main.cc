@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Opens an .svc file, decodes the six faces of one cell (by world position or the
 // first cell) and prints their sizes and a checksum of the pixels.
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 /* An engine's use of the svc decoder through its C API: open an .svc file through the
    engine's own file access (read callbacks; here stdio), decode the six faces of one
    cell straight into RGBA8 buffers whose rows end with padding (as a GPU staging

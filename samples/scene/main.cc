@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc-scene: writes a procedural or photographic sample scene as an svc-input database.
 //
 //   svc-scene OUT_DIR [--kind hall|house] [--grid X,Y,Z] [--spacing S | SX,SY,SZ]

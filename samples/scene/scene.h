@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Procedural architectural scenes written as svc-input databases: the built-in data
 // that `svc demo`, the tests and the benchmarks run on.
 #pragma once

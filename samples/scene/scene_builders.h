@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Pieces the scene layouts are built from: a portable random source, walls with
 // openings, materials and lattices of positions between cell centres. Internal to svc_scene.
 #pragma once

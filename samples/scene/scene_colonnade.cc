@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The colonnade: a paved courtyard open to the sky, ringed on all four sides by an arcade
 // of columns under the upper storeys of the surrounding building; a fountain basin and
 // planted trees in the court. Repeated structure at every depth.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Analytic primitives and a bounding-volume hierarchy for the sample-scene ray caster.
 // Internal to svc_scene. Everything here is plain value code: no allocation while
 // tracing, no shared mutable state, so one Bvh may be traced from several threads.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The furnished interior: one room around the cell grid with daylight through tall
 // windows, bookshelves full of books along the walls, pictures, a sofa, and tables,
 // chairs and small objects standing among the cameras below eye height.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "scene/scene_layout.h"
 
 #include "scene/scene_builders.h"

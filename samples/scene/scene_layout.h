@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The built scene: primitives, materials, rooms and lights of a hall or a house, sized
 // to the grid of SceneOptions. Internal to svc_scene. A Scene is immutable once built and
 // may be rendered from several threads at once.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Photographic materials: images from a folder, chosen per material class by file name,
 // replacing the procedural patterns of a built Scene. Internal to svc_scene.
 #pragma once

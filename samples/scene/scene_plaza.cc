@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The plaza: an open paved square under a wide sky, benches, lamp posts and a monument
 // near the cameras, rows of trees further out, and blocks of buildings at 20-40 m whose
 // windows give distant detail.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Deterministic CPU ray caster for the sample scenes: one ray per pixel through the pixel
 // centre, or an n x n grid of colour samples per pixel with depth from the centre ray (as
 // a renderer with supersampled colour and a one-sample depth buffer gives them); procedural textures filtered by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The street: a road between two rows of buildings of different heights and materials,
 // with sidewalks, parked cars, trees and lamp posts, running far beyond the cell grid
 // along x so that it recedes into the distance.

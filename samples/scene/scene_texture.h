@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A photographic texture for the sample-scene ray caster: linear-light RGB in a mip-map
 // pyramid, sampled trilinearly with wrap-around so that surfaces far away or seen at a
 // grazing angle average their texels instead of aliasing. Internal to svc_scene.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc-walkthrough: replays a viewer path through an .svc database and reports how long
 // the viewer waits for the six faces of each cell it enters, with the reader's
 // background prefetch on and off.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A simulated walkthrough over svc::Reader: a viewer moves along a path at a fixed speed
 // and, each time it enters a cell, asks for that cell's six faces. Measures how long each
 // of those requests takes, with the reader's background prefetch on or off.

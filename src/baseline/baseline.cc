@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Encoding and random-access decoding of the baseline's face sequences with libavcodec.
 #include "baseline/baseline.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The strict-MPEG-compatibility baseline of the dissertation's section 4.2.2 (and the
 // comparison codecs around it), built on FFmpeg's libavcodec.
 //

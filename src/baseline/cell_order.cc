@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Cell orders of the baseline: row-major (dissertation Figure 4.1) and Hilbert (Figure 8.1).
 #include <algorithm>
 #include <tuple>

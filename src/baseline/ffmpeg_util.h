@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to svc_baseline: owning wrappers for libav* objects, error conversion and the
 // RGB <-> YUV conversion shared by every baseline codec.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Baseline files: elementary stream + JSON index per face sequence, a database directory,
 // and PNG images through libavcodec.
 #include <cstring>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // PSNR over RGB and BT.601 luma, the measure shared by the baseline and its benchmarks.
 #include <cmath>
 #include <limits>

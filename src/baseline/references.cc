@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "baseline/references.h"
 
 namespace svc::baseline::detail {

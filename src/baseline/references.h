@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to svc_baseline: which frames each coded frame depends on, as recorded in the
 // index, so that one frame can be decoded on its own.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The C API (svc/svc.h) over the C++ reader: handles, status codes, the messages kept
 // per reader and thread, and no exception past the boundary.
 #include "svc/svc.h"

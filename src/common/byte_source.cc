@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The byte sources every platform has: a block of memory.
 #include <algorithm>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Little-endian serialization with bounds checking, for container headers and index.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // File access for the container: checked positioned reads of a byte source.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // open_file_source on POSIX systems: pread on a file descriptor.
 #include <cerrno>
 #include <cstring>

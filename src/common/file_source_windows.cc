@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // open_file_source on Windows: ReadFile at an offset given in an OVERLAPPED, which leaves
 // the handle's file pointer alone, so reads from several threads need no lock.
 #include <windows.h>

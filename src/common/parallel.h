@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The project's one way to run work on several threads (encoder, bench, scene
 // generator): parallel_for for independent items, ordered_parallel_map when results must
 // be consumed in order. Results, and the bytes written from them, never depend on the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Background threads that yield to the threads a caller is waiting on.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // lower_current_thread_priority on Linux: the nice value, which Linux keeps per thread.
 #include <sys/resource.h>
 #include <sys/syscall.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // lower_current_thread_priority on Windows.
 #include <windows.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Chunk framing, the file header and commit slots, and opening a container at its newest
 // valid commit (docs/format.md).
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The .svc container (docs/format.md): file header, two commit slots, CRC-protected
 // chunks holding coded faces, and an index chunk with grid, cameras, coding settings
 // and every face's offset, size, type and references (an adjacency list). This header

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // How a database lays out its cells and depths: shared by svc-input manifests
 // (docs/input-format.md) and the .svc index (docs/format.md).
 #pragma once

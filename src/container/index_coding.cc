@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The index chunk's payload: serialize_index and parse_index (docs/format.md, "The index").
 #include <algorithm>
 #include <bit>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc-input databases (docs/input-format.md): the manifest and the faces it names.
 //
 // Error behaviour: nothing here throws. Problems with the database's content (bad JSON,

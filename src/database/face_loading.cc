@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Loading one face of an svc-input database: color to 8-bit RGB, depth to eye z.
 #include "database/database.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Reading a large JSON document as a stream: the values outside one top-level array make
 // a small document of their own, and each element of that array is built alone, handed
 // over with where it lies in the file, and dropped. The manifest of a database of any

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // manifest.json of an svc-input database: syntax, keys, ranges and the files it names.
 #include "database/database.h"
 

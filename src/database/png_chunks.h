@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A PNG file's chunk structure, checked before the image library reads it: libpng
 // prints its own lines on stderr when it meets a truncated or damaged file, so such a
 // file is caught here and reported by svc alone.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc add: cells of a database appended to an existing .svc file (include/svc/encoder.h).
 // What is its own: the compatibility checks, the merge of old and new cells, the types
 // and references of new cells, and the crash-safe commit. Coding is the encoder's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // What the cubes of a database see of each other, from its depth: the input of I-cube
 // placement and reference choice by visibility (spatial/placement.h). Shared by a full
 // encode, `svc add` and the placement bench.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "encoder/coding_pipeline.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The coding of a list of faces into a container: shared by a full encode, a shard
 // encode and `svc add`, so all three code, store and count faces the same way.
 #pragma once

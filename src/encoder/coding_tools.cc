@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The names of the encoder's coding tools: one table, read by --disable-tool and by the
 // bench's ablation.
 #include <array>

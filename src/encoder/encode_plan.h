@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // What a full encode and a shard encode share: the settings checked, the database read,
 // the index planned (every frame's type and references from the placement rules) and
 // the coding of any subset of its frames.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "encoder/face_coding.h"
 
 #include "codec/common/intra_frame.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Coding of one B-face from its references: shared by a full encode and by `svc add`,
 // so both code new faces identically.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // One shard of a sharded encode: the plan of the whole encode, this shard's faces coded
 // into a part file (docs/format.md, "Shards").
 #include <chrono>

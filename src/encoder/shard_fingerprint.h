@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // What ties a part file to its database (docs/format.md, "Shards").
 #pragma once
 

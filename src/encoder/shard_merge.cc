@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc merge: the part files of a sharded encode checked against each other and joined
 // into the file a one-process encode writes (docs/format.md, "Shards").
 #include <algorithm>

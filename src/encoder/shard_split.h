@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Which faces a shard codes (docs/format.md, "Shards"). Shard k of n (1-based) codes
 // the k-th of n even, contiguous runs of the I-faces in frame order and the k-th run of
 // the B-faces. Runs in frame order are runs of cells in (y, z, x) order, so a shard's

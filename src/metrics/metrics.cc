@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "svc/metrics.h"
 
 #include "codec/encoder/rgb_to_ycbcr.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Output files that appear at their final path only when complete.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A shard's part file (docs/format.md, "Shards"): the FACE chunks one shard coded, and a
 // PART chunk saying which database, settings, svc version and shard they belong to and
 // holding the plan of the whole encode, so that `svc merge` needs nothing but the parts.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Adding to an .svc file in place, crash-safe (docs/format.md, commit slots).
 #pragma once
 

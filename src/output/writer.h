@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Writing a new .svc file in one pass (docs/format.md).
 #pragma once
 

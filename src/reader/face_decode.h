@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Decoding one face of an opened container with its references: the single path shared
 // by the reader (cached and uncached), svc add (old references), svc inspect and the
 // fuzz targets. Where the bytes and the reference pixels come from is up to a

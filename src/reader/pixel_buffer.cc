@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "reader/pixel_buffer.h"
 
 #include <string>

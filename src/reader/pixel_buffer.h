@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Checks a caller's PixelBuffer against the face it is to receive.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Which cells to prefetch around a viewer, most urgent first. Pure computation.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A thread-safe least-recently-used cache of immutable values under a byte budget,
 // with in-flight deduplication: the first thread to ask for a missing key computes it
 // while later askers wait for that result instead of computing it again.

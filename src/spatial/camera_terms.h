@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Camera arithmetic shared by the spatial parts: the transform between two cameras'
 // spaces and the projection terms of a frustum.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The epipolar lines of a reference camera seen from the current one, as the B-face
 // coder carries them (codec/common/epipolar.h): from the cameras alone, no depth.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The plain flow kernels and the table that picks a variant per CPU.
 #include "spatial/flow_kernels.h"
 

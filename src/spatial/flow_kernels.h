@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's per-pixel flow kernels behind one table of function pointers, chosen
 // once by CPU features as codec/common/dsp/dsp.h does for the codec's kernels (the same
 // detected flags and SVC_CPU_MASK): a plain C++ reference, always compiled, and x86

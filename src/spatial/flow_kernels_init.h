@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to the flow kernels: the per-pixel formulas that the plain kernels loop over
 // and the x86 variants use for their tails (internal linkage, so code built for one
 // instruction set is never linked into another's callers), and the variants' init.

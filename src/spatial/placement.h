@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // I-cube / B-cube placement over the cell grid and reference selection
 // (dissertation section 4.2.3.1, Figure 4.3).
 //

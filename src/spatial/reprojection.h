@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Optical flow from depth and cameras (dissertation section 4.2.3.2) and the
 // per-macroblock candidate motion vectors derived from it.
 //

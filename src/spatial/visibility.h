@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // What one cube map sees of another: the estimate behind reference choice and I-cube
 // placement by visibility (spatial/placement.h). A B-cube is sampled at every
 // kVisibilitySampleStep-th pixel of each face in each direction; a sample point counts as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Color-conversion row kernels against their references: every width up to 40 and
 // random wider rows, unaligned rows, extremes that saturate the clamps. The YCbCr rows
 // (RGB, RGBA, BGRA) share one check and one benchmark.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The in-loop filter kernels: deblocking of an edge's segments, both orientations; CDEF.
 #include <string>
 #include <vector>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's flow kernels against their references: flow rows with depths that are
 // NaN, infinite, huge, negative, at the far plane or just in front of the reference
 // camera; half-pel keys on rounding boundaries (exact halves) and at the limit; run-end

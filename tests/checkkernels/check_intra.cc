@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Intra prediction, chroma-from-luma and SATD kernels against their references.
 #include "checkkernels/harness.h"
 

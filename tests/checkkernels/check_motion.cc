@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Motion-compensation kernels against their references: the 8-tap interpolation at every
 // luma and chroma phase pair, every block width the codec uses (4 for warped
 // sub-blocks, 8, 16) and others up to 64, odd strides, unaligned pointers, extreme

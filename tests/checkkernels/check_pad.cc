@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The bilinear sampling of cube padding's border: random runs of taps over planes of
 // many widths, weights at the clamped extremes (0 and 16), blocks on the last row and
 // column, and the bytes around each run's output.

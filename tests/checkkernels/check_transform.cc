@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // DCT, transform type and quantization kernels against their references.
 #include <cmath>
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The kernel checker's shared parts: seeded random inputs, the comparison that names the
 // first differing position, and the registry entry each kernel family provides.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc-checkkernels: every variant of every pixel kernel this machine supports, of the
 // shared table and of the encoder's, compared bit for bit with the plain reference on seeded random inputs and edge
 // cases (in the spirit of dav1d's checkasm). --bench times each variant beside its reference.

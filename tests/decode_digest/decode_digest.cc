@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc-decode-digest FILE...: decodes every face of every cell of each .svc file in every
 // pixel format and row order, as an embedder would, and prints one digest line per file
 // (with the faces that fail, if any). Each file is opened four ways: the C API by path,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 #include "decode_digest/face_walk.h"
 
 #include <array>

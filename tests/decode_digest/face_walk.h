@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Every face of every cell of an .svc file in every pixel format and row order, in one
 // fixed order, hashed: the same bytes give the same digest on every platform and
 // through every way of opening the file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The program's arguments as UTF-8, as the C API takes paths.
 #pragma once
 

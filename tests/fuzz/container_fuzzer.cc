@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // libFuzzer target: an .svc file from arbitrary bytes, opened and fully decoded.
 #include "fuzz/fuzz_entry.h"
 

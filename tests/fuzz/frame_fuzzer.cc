@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // libFuzzer target: one I-face or B-face payload of a small size (fuzz_entry.h).
 #include "fuzz/fuzz_entry.h"
 

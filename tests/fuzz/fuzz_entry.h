@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Entry points shared by the libFuzzer targets (tests/fuzz/*_fuzzer.cc, built with
 // clang) and the corpus replay test (tests/svc_fuzz_corpus_test.cc, built with the
 // default compiler), so the test suite runs every seed through exactly the code the

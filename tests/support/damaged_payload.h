@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Decoding of a damaged B-face payload, as the corruption tests check it: decoded twice,
 // it gives the same status both times, and either a whole frame of the right size with
 // the same pixels both times or kCorruptData with a message.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Random transform coefficients for the inverse-transform tests: dense, sparse, or a DC
 // at the coefficient limits, so that clamps and rounding are exercised.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // encode_b_frame's per-reference hints from candidate lists and warp node fields alone: no
 // partition lists, no epipolar lines, search planes built by the encoder.
 #pragma once

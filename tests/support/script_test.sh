@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-2-Clause
 # Sourced by the shell tests (bash, set -euo pipefail): `work`, a scratch folder removed
 # on exit, and `fail`, which prefixes its message with $test_name (set it first).
 work=$(mktemp -d)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SHA-256 (FIPS 180-4) for pinning bytes in tests: strong enough that a pinned digest
 // changes whenever any byte does. Not for security use.
 #pragma once

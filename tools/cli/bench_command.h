@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // `svc bench`: the benchmark suite of bench/svc_bench.h as a subcommand of the svc tool.
 // Built only with SVC_BUILD_BENCH (the tool then defines SVC_WITH_BENCH).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc check: validates a database as the encoder reads it (manifest, every image's size,
 // channels and depth) without encoding, reports every problem, and summarises it. A
 // cell may list some of its faces (what svc decode --face writes): valid, and said to be

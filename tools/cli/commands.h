@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The svc tool's subcommands. Each returns the process exit status.
 #pragma once
 

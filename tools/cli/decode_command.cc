@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc decode: an .svc file back into an svc-input database (manifest.json, a PNG per
 // face, cameras copied), written beside the destination and moved there when complete.
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc info: what an .svc file holds: grid, coding settings, bytes by face type and by cell.
 #include <charconv>
 #include <cstdio>

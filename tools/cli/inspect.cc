@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc inspect: a decoded face beside its macroblock classification, as in the
 // dissertation's Figure 4.5, with a legend naming each color, at a readable scale.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // svc: encode, decode, check, inspect and verify spatial video databases.
 #include <charconv>
 #include <cstdio>

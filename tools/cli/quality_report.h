@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // How close an .svc file's decoded faces are to the database they were encoded from:
 // what `svc encode --psnr` and `svc demo` report.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain CDEF kernels (docs/codec.md, section 5.8.2 defines the arithmetic): the direction
 // search of an 8x8 luma block and the filter of one 8x8 (luma) or 4x4 (chroma) block,
 // the model of AV1 sections 7.15.2 and 7.15.3.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The parts of the CDEF kernels (docs/codec.md, section 5.8.2) shared by the plain kernels
 // and their variants: the direction offsets, the constraint function and the direction
 // costs from the partial sums.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain chroma-from-luma kernels (docs/codec.md 3.3): the luma of an 8x8 chroma block
 // averaged 2x2 to chroma resolution minus its mean, and the prediction that scales it.
 #include <algorithm>

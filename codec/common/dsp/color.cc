@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain color-conversion row kernels (formulas in color_formulas.h).
 #include "codec/common/dsp/color_formulas.h"
 #include "codec/common/dsp/dsp_init.h"

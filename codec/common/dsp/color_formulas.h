@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Full-range BT.601 (JFIF) color conversion in 16-bit fixed point, per pixel: the
 // definition the row kernels and codec/color.cc share. The constants sum exactly to
 // 65536 (luma) and 0 (chroma), so greys map to Y = grey, Cb = Cr = 128 and back without

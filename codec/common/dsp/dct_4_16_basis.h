@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The integer inverse DCTs of 4x4 and 16x16 blocks: HEVC's integer DCT matrices and the
 // shifts of their two passes, part of the bitstream contract (docs/codec.md section 5.5),
 // shared by the kernels and the matrix-product definitions in codec/common/dct.cc. The

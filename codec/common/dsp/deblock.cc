@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain deblocking kernels (docs/codec.md, section 5.8 defines the arithmetic): the
 // segments of an edge one after another, each the model of H.265 section 8.7.2.
 #include <algorithm>

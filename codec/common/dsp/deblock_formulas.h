@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The per-segment decisions of the luma deblocking filter (docs/codec.md, section 5.8),
 // shared by the plain kernel and the NEON variant, which differ only in how they filter
 // the four lines (the SSE4.1 variant makes the same decisions as lane masks).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Builds the kernel table: plain references first, then each x86 or NEON variant whose
 // CPU features are present, so the most capable variant of each kernel wins.
 #include "codec/common/dsp/dsp.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The pixel kernels that encoder and decoder share behind one table of function pointers,
 // filled once by CPU features (the pattern of dav1d's mc.h and libwebp's dsp/): every
 // kernel has a plain C++ reference, always compiled, and optional x86 or AArch64 NEON

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to the dsp layer: each kernel family fills its entries of a DspTable, first
 // with the plain reference, then with each variant the CPU flags allow.
 #pragma once

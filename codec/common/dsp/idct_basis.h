@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The integer inverse DCT's constants: part of the bitstream contract (docs/codec.md),
 // shared by the kernel and the matrix-product definition in codec/dct.cc, and the scalar
 // column pass its variants fall back to.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain intra prediction kernels: the 35 modes of a square (4x4, 8x8, 16x16) or
 // rectangular (16x8, 8x16, 16x4, 4x16, 8x4, 4x8) block from its reference edge (planar,
 // DC and 33 angles, in the manner of HEVC; docs/codec.md 5.2 is the definition).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to the dsp layer: the inverse_transform_add kernels (DspTable) as an inverse
 // transform of the size followed by an add of the residual to the prediction, clipped to
 // 8 bits. Each variant composes its own inverse with an add (the plain one here, or a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain motion-compensation kernels: the separable 8-tap interpolation to 14-bit
 // intermediates and their rounding to samples (single and bidirectional) (docs/codec.md,
 // section 5.6, defines the arithmetic). The encoder's SADs are in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain bilinear sampling of cube padding's border (docs/codec.md 5.7): the 2 x 2
 // filter applied as two 1-D passes. With weights y_r x_c for row r, column c, the sum
 // y0 (x0 p00 + x1 p01) + y1 (x0 p10 + x1 p11) is the 2-D filter's sum term for term.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The plain dequantization kernel (codec/common/quant.h defines the arithmetic; the
 // encoder's quantization is codec/encoder/dsp/quantize.cc).
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The plain 8x8 integer inverse DCT with its zero-row and DC-only shortcuts, the
 // bitstream's contract: its output must equal codec/common/dct.cc's matrix product. The
 // float forward transform is the encoder's (codec/encoder/dsp/forward_transform.cc).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain 4x4 and 16x16 integer inverse DCTs with HEVC's matrices, the bitstream's
 // contract: their output must equal codec/common/dct.cc's matrix products. The float
 // forward transforms are the encoder's (codec/encoder/dsp/forward_transform_4_16.cc).

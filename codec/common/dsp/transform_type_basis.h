@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The integer matrices of the intra transform types other than DCT_DCT (docs/codec.md
 // 7.2): HEVC's DCT matrix of each size and an integer DST-VII at the same scale,
 // 64 sqrt(N) times orthonormal, so that either may serve either direction of a block.

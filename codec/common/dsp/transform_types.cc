@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain kernels of the intra transform types other than DCT_DCT (docs/codec.md 5.5.2):
 // separable transforms whose row pass (horizontal) and column pass (vertical) each take
 // the DCT or the DST-VII matrix of transform_type_basis.h. These integer inverses are the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Builds the encoder's kernel table by the shared table's rules (codec/common/dsp/dsp.cc):
 // plain references first, then each x86 or NEON variant whose CPU features are present,
 // so the most capable variant of each kernel wins.

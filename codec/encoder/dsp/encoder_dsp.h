@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The encoder's pixel kernels behind a table of their own, built like the shared one
 // (codec/common/dsp/dsp.h): every kernel has a plain C++ reference, always compiled, and
 // optional x86 or AArch64 NEON variants that must match it bit for bit, chosen once by

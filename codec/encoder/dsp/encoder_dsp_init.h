@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Internal to the encoder's dsp layer: each kernel family fills its entries of an
 // EncoderDspTable, first with the plain reference, then with each variant the CPU flags
 // allow.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The float bases of the 4x4 and 16x16 forward DCTs, shared by the plain kernels and
 // their variants so that all multiply by the same numbers: HEVC's integer matrices
 // (codec/common/dsp/dct_4_16_basis.h) scaled to (near) orthonormal.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The forward DCT's float basis, shared by the plain kernel and its variants so that all
 // multiply by the same constants.
 #pragma once

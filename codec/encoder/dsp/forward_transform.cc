@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The plain 8x8 float forward DCT: the separable transform with an even/odd butterfly
 // per 1-D pass (the integer inverse is the shared table's, codec/common/dsp/transform.cc).
 #include <cmath>

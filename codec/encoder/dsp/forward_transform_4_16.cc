@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain 4x4 and 16x16 float forward DCTs: separable transforms with HEVC's integer
 // matrices scaled to (near) orthonormal (for 16x16, half that scale so that
 // coefficients fit 12 bits), the transposes of the shared table's integer inverses.

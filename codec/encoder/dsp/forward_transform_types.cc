@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain float forward transforms of the intra transform types other than DCT_DCT and of
 // the rectangular blocks (docs/codec.md 5.5.2, 5.5.3): separable transforms whose row pass
 // (horizontal) and column pass (vertical) each take the DCT or the DST-VII basis of

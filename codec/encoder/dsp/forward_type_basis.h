@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The float bases and output scales of the intra transform types' forward transforms
 // (docs/codec.md 5.5.2, 5.5.3), shared by the plain kernels and their variants so that all
 // multiply by the same numbers: the integer matrices of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The plain quantization kernel (codec/encoder/quantize.h and codec/common/quant.h define
 // the arithmetic).
 #include <cmath>

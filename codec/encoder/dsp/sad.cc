@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // Plain SAD kernels of the encoder's motion search: against a packed prediction and
 // against the rounded-up average of two reference blocks.
 #include <cstdlib>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The plain 4x4 and 8x8 Hadamard SATDs of the encoder's intra mode pre-selection.
 #include <cstdlib>
 

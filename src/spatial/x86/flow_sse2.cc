@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE2 flow kernels: the plain formulas two pixels (flow, in doubles) or four pixels
 // (quarter-pel keys) at a time with the same operations in the same order, so the same
 // bits; comparison masks replace the branches.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON CDEF kernels. The filter works on 8 samples at once in 16-bit lanes (a row of an
 // 8x8 block, two rows of a 4x4 one); unavailable samples (kCdefUnavailable) constrain to 0
 // by themselves and are masked out of the maximum. The direction search builds the partial

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON chroma-from-luma kernels. Every value fits 16 bits: a 2x2 luma sum is at most
 // 1020, its deviation from the mean within +-1020, and alpha * ac + 16 within +-16336,
 // so 16-bit lanes compute the plain kernels' integers exactly.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON color rows: vld3/vst3 move between packed RGB and planes (vst4 writes RGBA and
 // BGRA), and the arithmetic is the plain kernels' integer formulas (color_formulas.h)
 // with the same constants, in 32-bit lanes wherever a constant does not fit 16 bits;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON deblocking kernels: the four lines of a segment side by side in 16-bit lanes, one
 // vector per sample position across the edge, the decisions shared with the plain kernel
 // (deblock_formulas.h). Table lookups transpose a vertical edge's lines into those

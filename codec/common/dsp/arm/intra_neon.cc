@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON intra kernels (every block shape). Angular prediction interpolates eight samples of a row at once
 // with the plain kernel's integer formula ((32 - f) a + f b + 16 is at most 8176, in
 // 16-bit lanes); planar, DC and the edge preparation run the plain code.

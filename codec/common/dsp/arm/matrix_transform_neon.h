@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The NEON integer inverse of a separable W x H transform (W samples a row) given its two integer
 // matrices, shared by the 4x4/16x16 DCT and the transform-type kernels (internal
 // linkage). Four outputs of a row at a time (lanes over the sample x), every 32-bit sum

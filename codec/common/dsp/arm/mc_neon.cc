@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON motion-compensation kernels, each equal to its plain kernel in mc.cc bit for bit:
 // the separable 8-tap interpolation, the rounding of 14-bit intermediates to samples
 // (single and bidirectional).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON dequantization: four levels a step in 32-bit lanes. |level| is capped at 4096 and
 // scale is at most 2^18, so the product and the rounding fit 31 bits, as in the plain
 // kernel.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON integer inverse 4x4 and 16x16 DCTs (arithmetic in matrix_transform_neon.h). The
 // float forward transforms have no NEON variant: GCC contracts the plain kernels'
 // products and sums into fused multiply-adds on AArch64, an order a variant cannot

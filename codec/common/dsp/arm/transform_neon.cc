@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON 8x8 integer inverse DCT, exact against the plain kernel. Both passes run on eight
 // transforms at once (one per lane, on transposed blocks) with 16-bit inputs and 32-bit
 // sums. The row pass always fits 32 bits; the column pass does when every row-pass output

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON integer inverses of the intra transform types (for 16x8 and 8x16 blocks DCT_DCT too; arithmetic in
 // matrix_transform_neon.h). The float forward transforms have no NEON variant, for the
 // reason transform_4_16_neon.cc gives.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // An 8x8 transpose of 16-bit lanes, shared by the NEON inverse DCT and the encoder's
 // SATD (internal linkage).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The add half of the SSE2 and SSE4.1 inverse_transform_add kernels: dst =
 // clip(prediction + residual, 0, 255) over a W x H block (W = 4, 8 or 16), the
 // saturating 16-bit add and the unsigned pack doing the clip (inverse_add.h's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // AVX2 CDEF kernels. The filter is the SSE4.1 one (cdef_sse41.cc) on 16 lanes: two rows
 // of an 8x8 block, or all four rows of a 4x4 one, per operation. The direction search
 // builds two directions' partial sums in one register, one per 128-bit half: a half

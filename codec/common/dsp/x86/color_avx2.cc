@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // AVX2 YCbCr -> RGB, RGBA and BGRA rows: the SSE2 arithmetic of color_sse2.h (the plain
 // formulas with the 17-bit constants split for pmaddwd) on 32 pixels at once, each
 // 128-bit half one group of 16 pixels and their 8 chroma samples; RGB takes the SSE4.1

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE2 YCbCr -> RGB, RGBA and BGRA rows (arithmetic in color_sse2.h).
 #include <emmintrin.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The SSE2 arithmetic of the YCbCr -> RGB, RGBA and BGRA row kernels, shared by the
 // SSE2, SSE4.1 and AVX2 variants (internal linkage: each includes it under its own
 // target); the layouts differ only in how they store a group of pixels. The plain

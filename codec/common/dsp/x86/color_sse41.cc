@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 color rows. pshufb (SSSE3, which every SSE4.1 processor has) moves between
 // packed RGB and planes; the arithmetic is the plain kernels' integer formulas
 // (color_formulas.h) on pmaddwd, with constants that do not fit 16 bits split in two.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 deblocking kernels: the lines of an edge side by side in 16-bit lanes, one
 // register per sample position across the edge, two segments per register (lanes 0..3
 // and 4..7). Each segment's decisions are lane masks built from its lines 0 and 3, so

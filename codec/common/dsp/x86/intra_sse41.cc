@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 intra kernels (every block shape). Angular prediction interpolates a whole row
 // at once with the plain kernel's integer formula and planar a row of eight samples at
 // once; DC and the edge preparation run the plain code.

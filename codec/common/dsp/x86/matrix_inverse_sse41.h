@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // The integer inverse of a W x H separable transform (W samples a row) given its row
 // (W-point) and column (H-point) matrices (m[frequency][sample], entries within 16 bits),
 // shared by the SSE4.1 4x4 and 16x16 DCTs and the transform types of every size. It

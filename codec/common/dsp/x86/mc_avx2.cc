@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // AVX2 separable 8-tap interpolation: the arithmetic of the SSE4.1 variant (mc_sse41.cc:
 // pmaddubsw on pshufb-gathered sample pairs, then pmaddwd on pairs of first-pass rows)
 // on 16 lanes. A 256-bit operation covers two groups of 8 intermediates: the halves of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE2 motion-compensation kernels: the rounding of 14-bit intermediates to samples
 // (single and bidirectional), each equal to its plain kernel in mc.cc bit for bit.
 #include <emmintrin.h>

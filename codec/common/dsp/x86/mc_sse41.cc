@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 separable 8-tap interpolation: the first pass multiplies pairs of neighbouring
 // samples (gathered by pshufb) with pairs of taps (pmaddubsw, whose partial sums stay far
 // below saturation for these filters: at most 88 x 255), the second pass multiplies

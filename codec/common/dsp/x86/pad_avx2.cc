@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // AVX2 bilinear sampling of cube padding's border: eight samples per step, their 2 x 2
 // blocks fetched with two gathers. A 4-byte gather at the block's top-left sample holds
 // the top pair in its low half; one 2 bytes before the bottom-left sample holds the

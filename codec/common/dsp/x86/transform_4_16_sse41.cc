@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 4x4 and 16x16 integer inverse DCTs: matrix_inverse_sse41.h's arithmetic (the
 // encoder's float forward transforms are codec/encoder/dsp/x86/forward_transform_4_16_sse41.cc).
 #include <smmintrin.h>

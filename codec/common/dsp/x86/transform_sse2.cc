@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE2 8x8 integer inverse DCT, exact against the plain kernel (the encoder's float
 // forward DCT is codec/encoder/dsp/x86/forward_transform_sse2.cc). Both passes run on eight
 // transforms at once with pmaddwd (16-bit inputs, 32-bit sums) on transposed blocks.

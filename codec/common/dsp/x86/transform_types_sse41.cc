@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 integer inverses of the intra transform types (for the rectangular blocks
 // DCT_DCT too, docs/codec.md 5.5.3): matrix_inverse_sse41.h's arithmetic (the encoder's
 // float forward transforms are codec/encoder/dsp/x86/forward_transform_types_sse41.cc).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON SADs of the encoder's motion search, each equal to its plain kernel in sad.cc bit
 // for bit: against a packed prediction and against the rounded-up average of two blocks.
 #include <arm_neon.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // NEON Hadamard SATDs of the encoder's intra mode pre-selection. They keep every value
 // in 16 bits (residuals of at most 255 grow by 8 per 1-D pass: |value| <= 16320), so
 // they equal the plain sums.

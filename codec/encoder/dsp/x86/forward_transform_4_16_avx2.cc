@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // AVX2 16x16 forward DCT: each pass computes a whole row of 16 outputs in two registers
 // (lanes over the frequency u), with every sum in the plain kernel's order and no fused
 // multiply-add, so it rounds exactly as the plain and SSE4.1 code do. The 4x4 stays

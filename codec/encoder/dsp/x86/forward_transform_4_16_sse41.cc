@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 4x4 and 16x16 float forward DCTs: four outputs of a row at once (lanes over the
 // frequency u) with every sum in the plain kernel's order, so they round exactly as the
 // plain code does (no fused multiply-add).

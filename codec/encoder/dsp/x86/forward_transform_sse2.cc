@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE2 8x8 float forward DCT: the plain kernel's float butterflies on four blocks rows
 // (or columns) at once, with every product and sum in the same order and no fused
 // multiply-add, so each lane rounds exactly as the plain code does.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 float forward transforms of the intra transform types (for the rectangular
 // blocks DCT_DCT too, docs/codec.md 5.5.3): four outputs of a row at once (lanes over the
 // frequency u), every sum in the plain kernel's order, so they round exactly as the plain

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 quantization, four coefficients a step in 32-bit lanes, rounding as the plain
 // kernel does: one float multiply, one float add, then truncation (no fused
 // multiply-add).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE2 SADs of the encoder's motion search: psadbw against a packed prediction and
 // against the pavgb average of two blocks, each equal to its plain kernel in sad.cc bit
 // for bit.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // SSE4.1 Hadamard SATDs of the encoder's intra mode pre-selection. The 8x8 transform
 // keeps every value in 16 bits (residuals of at most 255 grow by 8 per 1-D pass:
 // |value| <= 16320), so it equals the plain sum; the 4x4 transforms two rows per

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-2-Clause
 // A float transform basis b[k][n] transposed to bt[n][k], so that an SSE or AVX kernel
 // loads four or eight frequencies of one sample at once. Shared by the SSE4.1 and AVX2
 // DCT and the transform-type kernels; any basis type with a member `float b[N][N]`
