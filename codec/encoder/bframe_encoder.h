@@ -146,8 +146,8 @@ struct BFrameStats {
   int64_t candidates_evaluated = 0;
   // Every luma SAD computed for vector choice (candidates, predictors, refinement).
   int64_t sad_evaluations = 0;
-  // Luma squared error against the source of the closest whole-macroblock inter
-  // prediction the screening found (forward, backward or both, warped or not), and the
+  // Luma squared error against the source of the whole-macroblock inter prediction of
+  // the lowest SAD the screening found (forward, backward or both, warped or not), and the
   // luma pixels it covers: [0] over macroblocks coded intra, [1] over the others. How well
   // the references see the face, whatever was coded.
   std::array<int64_t, 2> screened_prediction_sse{};

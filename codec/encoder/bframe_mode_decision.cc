@@ -106,7 +106,9 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
     bool warp;
   };
   std::array<Screened, 6> screened{};
-  int64_t closest_sse = std::numeric_limits<int64_t>::max();
+  // For the statistics: the screened prediction of the lowest SAD, its error taken once.
+  std::array<uint8_t, 256> closest{};
+  int closest_sad = std::numeric_limits<int>::max();
   int screened_count = 0;
   const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my) * source_.strides[0] + 16 * mx;
   std::array<std::array<int16_t, 256>, 2> luma{}, warped{};
@@ -145,10 +147,9 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
         round_prediction(planes[mode == MacroblockMode::kBackward ? 1 : 0].data(), 256, prediction);
       }
       const int sad = sad_16x16(source, source_.strides[0], prediction);
-      if (stats != nullptr) {
-        closest_sse =
-            std::min(closest_sse, squared_error(source, source_.strides[0], prediction, 16,
-                                                visible_w_[0] + visible_w_[1], visible_h_[0] + visible_h_[2]));
+      if (stats != nullptr && sad < closest_sad) {
+        closest_sad = sad;
+        std::copy_n(prediction, 256, closest.data());
       }
       if (warp) {
         bits += warp_nodes_bits(mode);
@@ -179,9 +180,10 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
   if (rdoq_) requantize(&winner);
   if (stats != nullptr && screened_count > 0) {
     const size_t coded_inter = winner.mode != MacroblockMode::kIntra;
-    stats->screened_prediction_sse[coded_inter] += closest_sse;
-    stats->screened_prediction_pixels[coded_inter] +=
-        (visible_w_[0] + visible_w_[1]) * (visible_h_[0] + visible_h_[2]);
+    const int width = visible_w_[0] + visible_w_[1], height = visible_h_[0] + visible_h_[2];
+    stats->screened_prediction_sse[coded_inter] +=
+        squared_error(source, source_.strides[0], closest.data(), 16, width, height);
+    stats->screened_prediction_pixels[coded_inter] += width * height;
   }
   return winner;
 }

@@ -201,7 +201,7 @@ struct SVC_API PredictionSummary {
   uint64_t mb_leaving_face = 0;
   // Inter and skipped macroblocks predicted by warping.
   uint64_t mb_warp = 0;
-  // Luma squared error against the source of the closest whole-macroblock inter
+  // Luma squared error against the source of the lowest-SAD whole-macroblock inter
   // prediction the encoder screened for each macroblock, and the luma pixels it covers:
   // [0] over macroblocks coded intra, [1] over the others. How well the references see
   // the B-faces, whatever was coded.

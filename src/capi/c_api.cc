@@ -175,6 +175,11 @@ void copy_counters(const svc::CacheCounters& in, svc_cache_counters* out) {
                             in.evictions, in.entries, in.bytes_held,      in.peak_bytes,       in.budget_bytes};
 }
 
+// A caller's optional 3-vector; none is zero.
+std::array<double, 3> vector3(const double v[3]) {
+  return v != nullptr ? std::array<double, 3>{v[0], v[1], v[2]} : std::array<double, 3>{0, 0, 0};
+}
+
 bool finite3(const double v[3]) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 }  // namespace
@@ -351,7 +356,7 @@ svc_status svc_reader_find_cell_at(const svc_reader* reader, const double positi
     if (ordinal == nullptr) return invalid("svc_reader_find_cell_at", "ordinal");
     if (!finite3(position))
       return Status(ErrorCode::kInvalidArgument, "svc_reader_find_cell_at: position is not finite");
-    const std::optional<size_t> found = reader->reader->find_cell_at({position[0], position[1], position[2]});
+    const std::optional<size_t> found = reader->reader->find_cell_at(vector3(position));
     if (!found) return Status(ErrorCode::kNotFound, "no cell of the file contains the position");
     *ordinal = *found;
     return Status::Ok();
@@ -386,9 +391,7 @@ svc_status svc_reader_set_viewer_cell(svc_reader* reader, const int32_t cell[3],
   if (reader == nullptr) return SVC_INVALID_ARGUMENT;
   return guarded(reader, "svc_reader_set_viewer_cell", [&]() -> Status {
     if (cell == nullptr) return invalid("svc_reader_set_viewer_cell", "cell");
-    const std::array<double, 3> v = velocity ? std::array<double, 3>{velocity[0], velocity[1], velocity[2]}
-                                             : std::array<double, 3>{0, 0, 0};
-    return reader->reader->set_viewer(cell_index(cell), v);
+    return reader->reader->set_viewer(cell_index(cell), vector3(velocity));
   });
 }
 
@@ -396,9 +399,7 @@ svc_status svc_reader_set_viewer_position(svc_reader* reader, const double posit
   if (reader == nullptr) return SVC_INVALID_ARGUMENT;
   return guarded(reader, "svc_reader_set_viewer_position", [&]() -> Status {
     if (position == nullptr) return invalid("svc_reader_set_viewer_position", "position");
-    const std::array<double, 3> v = velocity ? std::array<double, 3>{velocity[0], velocity[1], velocity[2]}
-                                             : std::array<double, 3>{0, 0, 0};
-    return reader->reader->set_viewer(std::array<double, 3>{position[0], position[1], position[2]}, v);
+    return reader->reader->set_viewer(vector3(position), vector3(velocity));
   });
 }
 
