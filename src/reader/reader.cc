@@ -60,7 +60,7 @@ bool finite3(const std::array<double, 3>& v) {
 
 Status cancelled() { return Status(ErrorCode::kCancelled, "the reader was closed"); }
 
-// The allocating form of decode_face_into.
+// The allocating RGB8 form of decode_face_into (same conversion).
 ImageRGB8 to_rgb(const ImageYCbCr420& ycc) {
   ImageRGB8 rgb;
   rgb.width = ycc.width;
@@ -447,16 +447,8 @@ Result<ImageYCbCr420> Reader::decode_face_ycbcr(const CellIndex& cell, Face face
 }
 
 Result<ImageRGB8> Reader::decode_face(const CellIndex& cell, Face face) {
-  ImageRGB8 rgb;
-  rgb.width = impl_->info.face_width;
-  rgb.height = impl_->info.face_height;
-  rgb.pixels.resize(static_cast<size_t>(rgb.width) * rgb.height * 3);
-  PixelBuffer buffer;
-  buffer.format = PixelFormat::kRGB8;
-  buffer.planes[0] = rgb.pixels;
-  buffer.strides[0] = static_cast<size_t>(rgb.width) * 3;
-  SVC_RETURN_IF_ERROR(decode_face_into(cell, face, buffer));
-  return rgb;
+  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, acquire_face_ycbcr(cell, face));
+  return to_rgb(*ycc);
 }
 
 Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
