@@ -12,7 +12,7 @@
 // checksum (FNV-1a over every decoded face's RGB, in cell order) shows that a change to
 // the decoder left its output as it was. `--mode buffers` times, pass by pass, the
 // allocating decode_face (RGB8) against decode_face_into an RGBA8 buffer, as engines take
-// faces.
+// faces, and the same from a warm face cache, where only the output step differs.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -38,35 +38,61 @@ uint64_t fnv1a(uint64_t hash, const std::vector<uint8_t>& bytes) {
   return hash;
 }
 
-// Every face of the file in cell order, RGB out, as `svc bench` times it; or, with
-// `into_buffer`, each face into a reused RGBA8 buffer as an engine takes it
-// (decode_face_into). Returns seconds; `stats` (optional) receives the reader's counters.
+// One face out as `svc bench` takes it (decode_face, an allocated RGB8 image) or, with
+// `into_buffer`, into a reused RGBA8 buffer as an engine takes it (decode_face_into).
+Status decode_one(Reader& reader, const CellIndex& cell, Face face, bool into_buffer) {
+  if (!into_buffer) return reader.decode_face(cell, face).status();
+  const int width = reader.info().face_width, height = reader.info().face_height;
+  thread_local std::vector<uint8_t> pixels;
+  pixels.resize(static_cast<size_t>(width) * height * 4);
+  PixelBuffer buffer;
+  buffer.format = PixelFormat::kRGBA8;
+  buffer.planes[0] = pixels;
+  buffer.strides[0] = static_cast<size_t>(width) * 4;
+  return reader.decode_face_into(cell, face, buffer);
+}
+
+// Every face of the reader's file in cell order on `threads` threads. Returns seconds.
+Result<double> time_faces(Reader& reader, int threads, bool into_buffer) {
+  const auto& cells = reader.cells();
+  const auto t0 = Clock::now();
+  // One thread decodes in cell order, as `svc bench` does; more take the faces side by side.
+  SVC_RETURN_IF_ERROR(parallel_for(cells.size() * kFaceCount, threads, [&](size_t k) {
+    return decode_one(reader, cells[k / kFaceCount].index, kAllFaces[k % kFaceCount], into_buffer);
+  }));
+  return seconds_since(t0);
+}
+
+// Every face of the file through a fresh reader. Returns seconds; `stats` (optional)
+// receives the reader's counters.
 Result<double> decode_all(const std::string& file, int threads, ReaderStats* stats = nullptr,
                           bool into_buffer = false) {
   ReaderSettings settings;
   settings.prefetch_threads = 0;
   settings.decode_threads = threads;
   SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
-  const auto& cells = reader->cells();
-  const size_t faces = cells.size() * kFaceCount;
-  const auto t0 = Clock::now();
-  // One thread decodes in cell order, as `svc bench` does; more take the faces side by side.
-  const int width = reader->info().face_width, height = reader->info().face_height;
-  SVC_RETURN_IF_ERROR(parallel_for(faces, threads, [&](size_t k) {
-    const CellIndex& cell = cells[k / kFaceCount].index;
-    const Face face = kAllFaces[k % kFaceCount];
-    if (!into_buffer) return reader->decode_face(cell, face).status();
-    thread_local std::vector<uint8_t> pixels;
-    pixels.resize(static_cast<size_t>(width) * height * 4);
-    PixelBuffer buffer;
-    buffer.format = PixelFormat::kRGBA8;
-    buffer.planes[0] = pixels;
-    buffer.strides[0] = static_cast<size_t>(width) * 4;
-    return reader->decode_face_into(cell, face, buffer);
-  }));
-  const double seconds = seconds_since(t0);
+  SVC_ASSIGN_OR_RETURN(double seconds, time_faces(*reader, threads, into_buffer));
   if (stats != nullptr) *stats = reader->stats();
   return seconds;
+}
+
+// The output step alone: every face from a face cache that holds the whole file, out
+// both ways, `repeat` passes in alternating order. Returns faces/s {allocating, buffer}.
+Result<std::pair<std::vector<double>, std::vector<double>>> output_speed(const std::string& file, int repeat) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  settings.decode_threads = 1;
+  settings.face_cache_bytes = 1ull << 40;
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
+  const double faces = static_cast<double>(reader->cells().size() * kFaceCount);
+  SVC_RETURN_IF_ERROR(time_faces(*reader, 1, false).status());  // fills the cache
+  std::pair<std::vector<double>, std::vector<double>> speeds;
+  for (int r = 0; r < 2 * repeat; ++r) {
+    const bool into_buffer = (r % 2 == 1) != (r / 2 % 2 == 1);
+    SVC_ASSIGN_OR_RETURN(double seconds, time_faces(*reader, 1, into_buffer));
+    (into_buffer ? speeds.second : speeds.first).push_back(faces / seconds);
+  }
+  return speeds;
 }
 
 // Cold access to `count` cells spread over the file: a fresh one-thread reader each.
@@ -123,7 +149,7 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     std::printf("%s: %.0f faces, checksum %016llx\n", file.c_str(), faces, static_cast<unsigned long long>(*hash));
     return 0;
   }
-  std::vector<double> one, all, cold, into_buffer, allocating;
+  std::vector<double> one, all, cold, into_buffer, allocating, buffer_ratios;
   double cold_faces = 0;
   ReaderStats one_stats;
   for (int r = 0; r < repeat; ++r) {
@@ -138,13 +164,17 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
       all.push_back(faces / *s);
     }
     if (mode == "buffers") {
-      // Side by side in each pass: the allocating RGB8 call, then RGBA8 into a buffer.
-      auto a = decode_all(file, 1);
+      // Side by side in each pass, in alternating order: decode_face, decode_face_into.
+      const bool buffer_first = r % 2 == 1;
+      auto a = decode_all(file, 1, nullptr, buffer_first);
       if (!a.ok()) return fail(a.status());
-      allocating.push_back(faces / *a);
-      auto b = decode_all(file, 1, nullptr, true);
+      auto b = decode_all(file, 1, nullptr, !buffer_first);
       if (!b.ok()) return fail(b.status());
-      into_buffer.push_back(faces / *b);
+      const double allocating_speed = faces / (buffer_first ? *b : *a);
+      const double buffer_speed = faces / (buffer_first ? *a : *b);
+      allocating.push_back(allocating_speed);
+      into_buffer.push_back(buffer_speed);
+      buffer_ratios.push_back(buffer_speed / allocating_speed);
     }
     if (mode == "all" || mode == "cells") {
       auto c = cold_cells(file, cells);
@@ -165,8 +195,13 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
   if (!all.empty()) std::printf("  decode, %2d threads    %8.1f faces/s\n", threads, median(all));
   if (!into_buffer.empty()) {
     std::printf("  decode, 1 thread, RGB8 allocated     %8.1f faces/s\n", median(allocating));
-    std::printf("  decode, 1 thread, into RGBA8 buffer  %8.1f faces/s (%.3fx, medians of %d passes side by side)\n",
-                median(into_buffer), median(into_buffer) / median(allocating), repeat);
+    std::printf("  decode, 1 thread, into RGBA8 buffer  %8.1f faces/s (%.3fx: median of %d passes' ratios)\n",
+                median(into_buffer), median(buffer_ratios), repeat);
+    auto output = output_speed(file, repeat);
+    if (!output.ok()) return fail(output.status());
+    std::printf("  from the face cache, RGB8 allocated  %8.1f faces/s\n", median(output->first));
+    std::printf("  from the face cache, into RGBA8      %8.1f faces/s (%.3fx)\n", median(output->second),
+                median(output->second) / median(output->first));
   }
   if (!cold.empty()) {
     std::printf("  cold cell, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d cells)\n", median(cold),
