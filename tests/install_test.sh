@@ -23,6 +23,17 @@ for tool in svc svc-scene svc-walkthrough; do
   "$SVC_PREFIX/bin/$tool" --help >/dev/null || fail "the installed $tool does not run"
 done
 
+# The shared decoder is there to be loaded at run time (ctypes, plugins), exporting its
+# API alone, without the link that would make -lsvc_decoder pick it.
+shared="$SVC_PREFIX/lib/libsvc_decoder.so.0"
+[[ -f "$shared" ]] || fail "the install lacks lib/libsvc_decoder.so.0"
+[[ ! -e "$SVC_PREFIX/lib/libsvc_decoder.so" ]] || fail "the install links lib/libsvc_decoder.so"
+"$source_dir/tests/decoder_exports_test.sh" "$shared" >/dev/null || fail "the installed shared decoder's exports"
+abi=$(/usr/bin/python3 -c "import ctypes, sys; print(ctypes.CDLL(sys.argv[1]).svc_abi_version())" "$shared") ||
+  fail "ctypes cannot load $shared"
+grep -q "#define SVC_ABI_VERSION $abi\b" "$SVC_PREFIX/include/svc/svc.h" ||
+  fail "the shared decoder's ABI version $abi is not the installed header's"
+
 # The license travels with the libraries: the text, and the SPDX name in the metadata.
 cmp "$source_dir/LICENSE" "$SVC_PREFIX/share/doc/svc/LICENSE" || fail "share/doc/svc/LICENSE is not LICENSE"
 for pc in svc-decoder svc; do
@@ -47,9 +58,10 @@ fi
 embed_dir="$work/tree/build-embed"
 
 # Neither build links an image or FFmpeg library: not at run time, not on the link line.
+# Both link the static decoder: the shared one is installed for loading at run time only.
 for exe in svc-embed-example svc-embed-pc; do
   [[ -x "$embed_dir/$exe" ]] || fail "$exe was not built"
-  if ldd "$embed_dir/$exe" | grep -Ei "$image_libs"; then fail "$exe loads the libraries above"; fi
+  if ldd "$embed_dir/$exe" | grep -Ei "$image_libs|libsvc"; then fail "$exe loads the libraries above"; fi
 done
 pc_libs=$(PKG_CONFIG_PATH="$SVC_PREFIX/lib/pkgconfig" pkg-config --libs svc-decoder)
 [[ "$pc_libs" == *-lsvc_decoder* ]] || fail "pkg-config --libs svc-decoder lacks -lsvc_decoder: $pc_libs"
