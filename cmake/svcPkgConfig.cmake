@@ -1,8 +1,7 @@
 # SPDX-License-Identifier: BSD-2-Clause
 # pkg-config files svc-decoder.pc and svc.pc. Relocatable: the prefix is derived from
 # the directory the .pc file is found in. `pkg-config --libs` gives a complete link line
-# without --static: for static libraries the dependencies are listed in Libs/Requires,
-# for shared ones only in Libs.private/Requires.private.
+# without --static: the static libraries' dependencies are listed in Libs/Requires.
 set(_pc_dir "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
 if(IS_ABSOLUTE "${_pc_dir}")
   set(SVC_PC_PREFIX "${CMAKE_INSTALL_PREFIX}")
@@ -11,15 +10,9 @@ else()
   string(REGEX REPLACE "[^/]+" ".." _up "${_pc_dir}")
   set(SVC_PC_PREFIX "\${pcfiledir}/${_up}")
 endif()
-if(SVC_LIBRARY_TYPE STREQUAL "STATIC_LIBRARY")
-  # A C program links the static C++ library through the C compiler: name its runtime.
-  set(SVC_PC_DECODER_DEPS "Libs: -L\${libdir} -lsvc_decoder -pthread -lstdc++ -lm")
-  set(SVC_PC_FULL_DEPS "Requires: svc-decoder OpenImageIO OpenEXR\nLibs: -L\${libdir} -lsvc -pthread")
-else()
-  set(SVC_PC_DECODER_DEPS "Libs: -L\${libdir} -lsvc_decoder\nLibs.private: -pthread -lstdc++ -lm")
-  set(SVC_PC_FULL_DEPS
-      "Requires: svc-decoder\nRequires.private: OpenImageIO OpenEXR\nLibs: -L\${libdir} -lsvc\nLibs.private: -pthread")
-endif()
+# A C program links the static C++ library through the C compiler: name its runtime.
+set(SVC_PC_DECODER_DEPS "Libs: -L\${libdir} -lsvc_decoder -pthread -lstdc++ -lm")
+set(SVC_PC_FULL_DEPS "Requires: svc-decoder OpenImageIO OpenEXR\nLibs: -L\${libdir} -lsvc -pthread")
 foreach(_pc svc-decoder svc)
   configure_file(${CMAKE_CURRENT_LIST_DIR}/${_pc}.pc.in ${PROJECT_BINARY_DIR}/${_pc}.pc @ONLY)
   install(FILES ${PROJECT_BINARY_DIR}/${_pc}.pc DESTINATION ${_pc_dir})
