@@ -48,6 +48,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   init_cdef_c(&table);
   init_cfl_c(&table);
   init_pad_c(&table);
+  init_entropy_c(&table);
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);

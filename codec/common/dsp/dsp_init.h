@@ -18,6 +18,7 @@ void init_deblock_c(DspTable* table);
 void init_cdef_c(DspTable* table);
 void init_cfl_c(DspTable* table);
 void init_pad_c(DspTable* table);
+void init_entropy_c(DspTable* table);
 
 // Interpolation: the largest block side and the offset of stored intermediates.
 inline constexpr int kMaxInterpolationBlock = 64;
