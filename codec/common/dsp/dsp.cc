@@ -65,6 +65,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_cdef_sse41(&table);
     init_cfl_sse41(&table);
     init_quant_sse41(&table);
+    init_entropy_sse41(&table);
   }
   if ((cpu_flags & (kCpuSse2 | kCpuSse41 | kCpuAvx2)) == (kCpuSse2 | kCpuSse41 | kCpuAvx2)) {
     init_mc_avx2(&table);

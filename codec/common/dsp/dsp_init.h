@@ -77,6 +77,7 @@ void init_deblock_sse41(DspTable* table);
 void init_cdef_sse41(DspTable* table);
 void init_cfl_sse41(DspTable* table);
 void init_quant_sse41(DspTable* table);
+void init_entropy_sse41(DspTable* table);
 void init_mc_avx2(DspTable* table);
 void init_cdef_avx2(DspTable* table);
 void init_color_avx2(DspTable* table);
