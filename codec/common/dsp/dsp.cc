@@ -85,6 +85,7 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_deblock_neon(&table);
     init_cdef_neon(&table);
     init_cfl_neon(&table);
+    init_entropy_neon(&table);
   }
 #endif
   return table;

@@ -95,6 +95,7 @@ void init_intra_neon(DspTable* table);
 void init_deblock_neon(DspTable* table);
 void init_cdef_neon(DspTable* table);
 void init_cfl_neon(DspTable* table);
+void init_entropy_neon(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp
