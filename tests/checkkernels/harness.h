@@ -111,7 +111,6 @@ std::vector<Kernel> flow_kernels();
 std::vector<Kernel> intra_kernels();
 std::vector<Kernel> filter_kernels();
 std::vector<Kernel> pad_kernels();
-std::vector<Kernel> entropy_kernels();
 
 // Keeps benchmark results alive without I/O.
 inline volatile int bench_sink = 0;

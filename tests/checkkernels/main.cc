@@ -53,7 +53,7 @@ std::vector<Variant> variants_of_this_machine() {
 std::vector<Kernel> all_kernels() {
   std::vector<Kernel> kernels;
   for (auto family : {transform_kernels, intra_kernels, color_kernels, motion_kernels, flow_kernels, filter_kernels,
-                      pad_kernels, entropy_kernels}) {
+                      pad_kernels}) {
     for (const Kernel& kernel : family()) kernels.push_back(kernel);
   }
   return kernels;

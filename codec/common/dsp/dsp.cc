@@ -48,7 +48,6 @@ DspTable make_dsp_table(unsigned cpu_flags) {
   init_cdef_c(&table);
   init_cfl_c(&table);
   init_pad_c(&table);
-  init_entropy_c(&table);
 #if defined(__x86_64__) || defined(__i386__)
   if (cpu_flags & kCpuSse2) {
     init_mc_sse2(&table);
@@ -65,7 +64,6 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_cdef_sse41(&table);
     init_cfl_sse41(&table);
     init_quant_sse41(&table);
-    init_entropy_sse41(&table);
   }
   if ((cpu_flags & (kCpuSse2 | kCpuSse41 | kCpuAvx2)) == (kCpuSse2 | kCpuSse41 | kCpuAvx2)) {
     init_mc_avx2(&table);
@@ -85,7 +83,6 @@ DspTable make_dsp_table(unsigned cpu_flags) {
     init_deblock_neon(&table);
     init_cdef_neon(&table);
     init_cfl_neon(&table);
-    init_entropy_neon(&table);
   }
 #endif
   return table;

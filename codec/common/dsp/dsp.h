@@ -148,11 +148,6 @@ struct DspTable {
   // stride - 1), and index[k] + stride + 1 < 2^31. Reads stay within each block's rows.
   void (*pad_sample_run)(const uint8_t* plane, ptrdiff_t stride, const uint32_t* index,
                          const BilinearWeights* weights, int count, uint8_t* out);
-
-  // The range decoder's symbol search (docs/codec.md 2.3): the number of k in
-  // 1 .. count - 1 with scale * cumulative[k - 1] + k <= code, for count 2..16,
-  // cumulative non-decreasing and below 32768 (16 entries readable), scale below 2^17.
-  int (*find_symbol)(const uint16_t* cumulative, int count, uint32_t scale, uint32_t code);
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.

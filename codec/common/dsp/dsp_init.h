@@ -18,7 +18,6 @@ void init_deblock_c(DspTable* table);
 void init_cdef_c(DspTable* table);
 void init_cfl_c(DspTable* table);
 void init_pad_c(DspTable* table);
-void init_entropy_c(DspTable* table);
 
 // Interpolation: the largest block side and the offset of stored intermediates.
 inline constexpr int kMaxInterpolationBlock = 64;
@@ -77,7 +76,6 @@ void init_deblock_sse41(DspTable* table);
 void init_cdef_sse41(DspTable* table);
 void init_cfl_sse41(DspTable* table);
 void init_quant_sse41(DspTable* table);
-void init_entropy_sse41(DspTable* table);
 void init_mc_avx2(DspTable* table);
 void init_cdef_avx2(DspTable* table);
 void init_color_avx2(DspTable* table);
@@ -95,7 +93,6 @@ void init_intra_neon(DspTable* table);
 void init_deblock_neon(DspTable* table);
 void init_cdef_neon(DspTable* table);
 void init_cfl_neon(DspTable* table);
-void init_entropy_neon(DspTable* table);
 #endif
 
 }  // namespace svc::codec::dsp
