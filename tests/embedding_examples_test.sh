@@ -22,9 +22,7 @@ example=$(awk '/<!-- ctypes-example -->/ {found = 1; next}
 # Cell (1,0,1) of a 2x1x2 grid, a B-cube: found by the examples from its centre's position.
 "$build_dir/bin/svc-scene" "$work/db" --grid 2,1,2 --face-size 34 --quiet
 "$build_dir/bin/svc" encode "$work/db" -o "$work/db.svc" -q 60 --quiet
-grid=$("$build_dir/bin/svc" info "$work/db.svc" | grep -o 'origin [^ ]*, spacing [^ ]*,')
-IFS=', ' read -r _ ox oy oz _ sx sy sz <<<"$(echo "$grid" | tr ',' ' ')"
-position=("$(awk "BEGIN{print $ox + $sx}")" "$oy" "$(awk "BEGIN{print $oz + $sz}")")
+read -r -a position <<<"$(cell_position "$build_dir/bin/svc" "$work/db.svc" 1 0 1)"
 
 write_example() {  # FORMAT_NUMBER ROWS_NUMBER FILE
   {

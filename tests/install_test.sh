@@ -79,9 +79,7 @@ cmake -S "$source_dir/samples/embed" -B "$work/embed-no-images" -DCMAKE_PREFIX_P
 # position of its centre, from the grid origin and spacing that `svc info` prints.
 "$build_dir/bin/svc-scene" "$work/db" --grid 2,1,2 --face-size 32 --quiet
 "$build_dir/bin/svc" encode "$work/db" -o "$work/db.svc" -q 75 --quiet
-grid=$("$build_dir/bin/svc" info "$work/db.svc" | grep -o 'origin [^ ]*, spacing [^ ]*,')
-IFS=', ' read -r _ ox oy oz _ sx sy sz <<<"$(echo "$grid" | tr ',' ' ')"
-x=$(awk "BEGIN{print $ox + $sx}"); y=$oy; z=$(awk "BEGIN{print $oz + $sz}")
+read -r x y z <<<"$(cell_position "$build_dir/bin/svc" "$work/db.svc" 1 0 1)"
 for exe in svc-embed-example svc-embed-pc; do
   out=$("$embed_dir/$exe" "$work/db.svc")
   echo "$exe: $out"

@@ -65,9 +65,7 @@ std::optional<Options> parse_options(int argc, char** argv) {
 }
 
 // One face's planes, rows packed with no padding.
-struct FaceStorage {
-  std::array<std::vector<uint8_t>, 3> planes;
-};
+using FaceStorage = std::array<std::vector<uint8_t>, 3>;
 
 std::array<svc::PixelBuffer, svc::kFaceCount> make_buffers(const Options& options, int width, int height,
                                                            std::array<FaceStorage, svc::kFaceCount>& storage) {
@@ -77,8 +75,8 @@ std::array<svc::PixelBuffer, svc::kFaceCount> make_buffers(const Options& option
     buffers[f].rows = options.rows;
     for (int p = 0; p < 3; ++p) {
       const size_t row_bytes = svc::pixel_row_bytes(options.format, width, p);
-      storage[f].planes[p].resize(row_bytes * svc::pixel_plane_rows(options.format, height, p));
-      buffers[f].planes[p] = storage[f].planes[p];
+      storage[f][p].resize(row_bytes * svc::pixel_plane_rows(options.format, height, p));
+      buffers[f].planes[p] = storage[f][p];
       buffers[f].strides[p] = row_bytes;
     }
   }
@@ -88,7 +86,7 @@ std::array<svc::PixelBuffer, svc::kFaceCount> make_buffers(const Options& option
 bool write_faces(const std::string& path, const std::array<FaceStorage, svc::kFaceCount>& storage) {
   std::ofstream out(path, std::ios::binary);
   for (const FaceStorage& face : storage) {
-    for (const std::vector<uint8_t>& plane : face.planes) {
+    for (const std::vector<uint8_t>& plane : face) {
       out.write(reinterpret_cast<const char*>(plane.data()), static_cast<std::streamsize>(plane.size()));
     }
   }
@@ -130,7 +128,7 @@ int main(int argc, char** argv) {
   }
   unsigned long long checksum = 0;
   for (const FaceStorage& face : storage) {
-    for (const std::vector<uint8_t>& plane : face.planes) {
+    for (const std::vector<uint8_t>& plane : face) {
       for (uint8_t v : plane) checksum = checksum * 31 + v;
     }
   }

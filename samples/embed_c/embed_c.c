@@ -89,34 +89,32 @@ static void free_face(svc_image* image) {
   for (p = 0; p < 3; ++p) free(image->planes[p]);
 }
 
-/* Writes a plane's rows without the padding, after checking the padding untouched. */
-static int write_plane(FILE* out, const svc_image* image, int p, int width) {
+/* Writes a plane's rows without the padding, after checking the padding untouched.
+   Returns NULL, or what went wrong. */
+static const char* write_plane(FILE* out, const svc_image* image, int p, int width, int height) {
   const size_t row_bytes = svc_pixel_row_bytes(image->format, width, p);
-  const size_t stride = image->strides[p];
+  const size_t rows = svc_pixel_plane_rows(image->format, height, p);
   size_t r, b;
-  for (r = 0; stride > 0 && r < image->plane_sizes[p] / stride; ++r) {
-    const uint8_t* row = (const uint8_t*)image->planes[p] + r * stride;
-    for (b = row_bytes; b < stride; ++b) {
-      if (row[b] != kPaddingByte) return fail("decode", "the decoder wrote into a row's padding");
+  for (r = 0; r < rows; ++r) {
+    const uint8_t* row = (const uint8_t*)image->planes[p] + r * image->strides[p];
+    for (b = row_bytes; b < image->strides[p]; ++b) {
+      if (row[b] != kPaddingByte) return "the decoder wrote into a row's padding";
     }
-    if (fwrite(row, 1, row_bytes, out) != row_bytes) return 1;
+    if (fwrite(row, 1, row_bytes, out) != row_bytes) return "write failed";
   }
-  return 0;
+  return NULL;
 }
 
-static int write_faces(const char* path, const svc_image images[6], int width) {
+static int write_faces(const char* path, const svc_image images[6], int width, int height) {
+  const char* error = NULL;
   int f, p;
   FILE* out = fopen(path, "wb");
   if (out == NULL) return fail(path, "cannot create");
-  for (f = 0; f < 6; ++f) {
-    for (p = 0; p < 3; ++p) {
-      if (write_plane(out, &images[f], p, width) != 0) {
-        fclose(out);
-        return fail(path, "write failed");
-      }
-    }
+  for (f = 0; f < 6 && error == NULL; ++f) {
+    for (p = 0; p < 3 && error == NULL; ++p) error = write_plane(out, &images[f], p, width, height);
   }
-  return fclose(out) == 0 ? 0 : fail(path, "write failed");
+  if (fclose(out) != 0 && error == NULL) error = "write failed";
+  return error == NULL ? 0 : fail(path, error);
 }
 
 static int decode_cell(svc_reader* reader, const options* o) {
@@ -141,7 +139,7 @@ static int decode_cell(svc_reader* reader, const options* o) {
     fail("decode", svc_reader_last_error(reader));
     goto done;
   }
-  result = write_faces(o->output, images, info.face_width);
+  result = write_faces(o->output, images, info.face_width, info.face_height);
   if (result == 0) {
     printf("cell %d,%d,%d: 6 faces of %dx%d\n", (int)cell.index[0], (int)cell.index[1], (int)cell.index[2],
            (int)info.face_width, (int)info.face_height);

@@ -19,3 +19,12 @@ exec "$1" "\$@"
 FLAKY
   chmod +x "$work/flaky-svc"
 }
+
+# Prints "X Y Z", the world position of the centre of grid cell (I, J, K) of FILE.svc, from
+# the grid origin and spacing that `svc info` prints. Usage: cell_position SVC FILE I J K
+cell_position() {
+  local grid ox oy oz sx sy sz
+  grid=$("$1" info "$2" | grep -o 'origin [^ ]*, spacing [^ ]*,')
+  IFS=', ' read -r _ ox oy oz _ sx sy sz <<<"$(echo "$grid" | tr ',' ' ')"
+  awk "BEGIN{print $ox + $3 * $sx, $oy + $4 * $sy, $oz + $5 * $sz}"
+}
