@@ -68,7 +68,7 @@ TEST(DepthCodes, RoundTripThroughEyeDepth) {
   EXPECT_EQ(inverse_depth_code(-1.0f, 0.1), 0);
   EXPECT_EQ(inverse_depth_code(0.1f, 0.1), 65535);
   EXPECT_EQ(inverse_depth_code(0.01f, 0.1), 65535);  // nearer than the near plane: clamped
-  EXPECT_EQ(inverse_depth_code(1e9f, 0.1), 1);        // geometry never reads as background
+  EXPECT_EQ(inverse_depth_code(1e9f, 0.1), 1);       // geometry never reads as background
   EXPECT_EQ(inverse_depth_code(eye_depth_of_code(1234, 0.1), 0.1), 1234);
   EXPECT_TRUE(std::isinf(eye_depth_of_code(0, 0.1)));
   EXPECT_NEAR(eye_depth_of_code(6553, 0.1), 1.0, 1e-4);
@@ -130,16 +130,19 @@ TEST(DepthCoding, DamagedPayloadsAreRefusedOrDecodeWhole) {
   std::vector<uint16_t> codes(kSize * kSize);
   // Five bytes short or more: the decoder reads past what kImplicitZeroBytes allows.
   for (size_t size = 0; size + 5 <= coded.payload.size(); size += 7) {
-    const Status status = decode_depth(std::span(coded.payload).first(size), kSize, kSize, {}, camera, codes.data());
+    const Status status =
+        decode_depth(std::span(coded.payload).first(size), kSize, kSize, {}, camera, codes.data());
     EXPECT_EQ(status.code(), ErrorCode::kCorruptData) << size;
   }
   std::vector<uint8_t> bad = coded.payload;
   bad[0] = 2;
-  EXPECT_NE(decode_depth(bad, kSize, kSize, {}, camera, codes.data()).message().find("version 2"), std::string::npos);
+  EXPECT_NE(decode_depth(bad, kSize, kSize, {}, camera, codes.data()).message().find("version 2"),
+            std::string::npos);
   std::mt19937 random(9);
   for (int trial = 0; trial < 200; ++trial) {
     bad = coded.payload;
-    bad[kDepthHeaderBytes + random() % (bad.size() - kDepthHeaderBytes)] ^= static_cast<uint8_t>(1 + random() % 255);
+    bad[kDepthHeaderBytes + random() % (bad.size() - kDepthHeaderBytes)] ^=
+        static_cast<uint8_t>(1 + random() % 255);
     const Status status = decode_depth(bad, kSize, kSize, {}, camera, codes.data());
     if (!status.ok()) EXPECT_EQ(status.code(), ErrorCode::kCorruptData);
   }

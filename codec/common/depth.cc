@@ -50,13 +50,16 @@ EyeToEye eye_to_eye(const Camera& reference, const Camera& target) {
   const Rigid r = rigid_of(reference), t = rigid_of(target);
   EyeToEye m{};
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m.a[i][j] = ((t.r[i][0] * r.r[j][0]) + (t.r[i][1] * r.r[j][1])) + (t.r[i][2] * r.r[j][2]);
+    for (int j = 0; j < 3; ++j)
+      m.a[i][j] = ((t.r[i][0] * r.r[j][0]) + (t.r[i][1] * r.r[j][1])) + (t.r[i][2] * r.r[j][2]);
   }
-  for (int i = 0; i < 3; ++i) m.c[i] = t.t[i] - (((m.a[i][0] * r.t[0]) + (m.a[i][1] * r.t[1])) + (m.a[i][2] * r.t[2]));
+  for (int i = 0; i < 3; ++i)
+    m.c[i] = t.t[i] - (((m.a[i][0] * r.t[0]) + (m.a[i][1] * r.t[1])) + (m.a[i][2] * r.t[2]));
   return m;
 }
 
-void splat_face(const DepthReference& reference, const Camera& target, int width, int height, DepthPrediction* out) {
+void splat_face(const DepthReference& reference, const Camera& target, int width, int height,
+                DepthPrediction* out) {
   const Frustum& rf = reference.camera->frustum;
   const Frustum& tf = target.frustum;
   const EyeToEye m = eye_to_eye(*reference.camera, target);
@@ -81,7 +84,8 @@ void splat_face(const DepthReference& reference, const Camera& target, int width
       const double k = kInverseDepthScale / codes[x];
       const auto& cx = column[static_cast<size_t>(x)];
       double p[3];
-      for (int i = 0; i < 3; ++i) p[i] = (((cx[static_cast<size_t>(i)] + ry[static_cast<size_t>(i)]) + depth_term[i]) * k) + m.c[i];
+      for (int i = 0; i < 3; ++i)
+        p[i] = (((cx[static_cast<size_t>(i)] + ry[static_cast<size_t>(i)]) + depth_term[i]) * k) + m.c[i];
       const double z = -p[2];
       if (!(z > 0)) continue;
       const double q = tf.near_plane / z;

@@ -40,7 +40,8 @@ Status decode_depth(std::span<const uint8_t> payload, int width, int height,
                                                " at byte 0 is not supported (this build reads 1)");
   }
   if ((payload[1] & ~kDepthFlagInter) != 0) {
-    return Status(ErrorCode::kCorruptData, "depth flags " + std::to_string(payload[1]) + " at byte 1 set reserved bits");
+    return Status(ErrorCode::kCorruptData,
+                  "depth flags " + std::to_string(payload[1]) + " at byte 1 set reserved bits");
   }
   const bool inter = (payload[1] & kDepthFlagInter) != 0;
   if (inter && references.empty()) {
@@ -63,8 +64,8 @@ Status decode_depth(std::span<const uint8_t> payload, int width, int height,
     }
   }
   if (decoder.truncated()) {
-    return Status(ErrorCode::kCorruptData, "depth payload of " + std::to_string(payload.size()) +
-                                               " bytes ends before its last pixel");
+    return Status(ErrorCode::kCorruptData,
+                  "depth payload of " + std::to_string(payload.size()) + " bytes ends before its last pixel");
   }
   std::copy(model.codes().begin(), model.codes().end(), codes);
   return Status::Ok();

@@ -30,10 +30,17 @@ void encode_residual(RangeEncoder& encoder, DepthContexts& contexts, const Depth
 
 }  // namespace
 
+std::vector<uint16_t> inverse_depth_codes(const std::vector<float>& eye_z, double near_plane) {
+  std::vector<uint16_t> codes(eye_z.size());
+  for (size_t i = 0; i < eye_z.size(); ++i) codes[i] = inverse_depth_code(eye_z[i], near_plane);
+  return codes;
+}
+
 DepthEncodeResult encode_depth(const std::vector<uint16_t>& codes, int width, int height, int max_error,
                                const DepthPrediction* prediction) {
   DepthEncodeResult result;
-  result.payload = {kDepthSyntaxVersion, prediction ? kDepthFlagInter : uint8_t{0}, static_cast<uint8_t>(max_error)};
+  result.payload = {kDepthSyntaxVersion, prediction ? kDepthFlagInter : uint8_t{0},
+                    static_cast<uint8_t>(max_error)};
   DepthModel model(width, height, max_error, prediction);
   DepthContexts contexts;
   RangeEncoder encoder(&result.payload);

@@ -10,6 +10,9 @@
 
 namespace svc::codec {
 
+// inverse_depth_code of every eye depth of a face with near plane `near_plane`.
+std::vector<uint16_t> inverse_depth_codes(const std::vector<float>& eye_z, double near_plane);
+
 struct DepthEncodeResult {
   std::vector<uint8_t> payload;
   std::vector<uint16_t> reconstructed;  // what the decoder gets, width * height
