@@ -14,6 +14,7 @@
 #include "support/test_support.h"
 #include "svc/encoder.h"
 #include "svc/reader.h"
+#include "svc/svc.h"
 
 namespace svc {
 namespace {
@@ -170,7 +171,8 @@ TEST_F(DepthFiles, SameBytesOnAnyThreadCount) {
   const fs::path one = dir_->path() / "one-thread.svc";
   ASSERT_TRUE(encode_database(db(), one, encoder).ok());
   std::ifstream a(one, std::ios::binary), b(file(0), std::ios::binary);
-  const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}), bytes_b((std::istreambuf_iterator<char>(b)), {});
+  const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}),
+      bytes_b((std::istreambuf_iterator<char>(b)), {});
   EXPECT_EQ(bytes_a, bytes_b);
 }
 
@@ -216,6 +218,49 @@ TEST_F(DepthFiles, DamagedDepthChunkStaysLocal) {
   EXPECT_EQ(verified.code(), ErrorCode::kCorruptData);
   EXPECT_NE(verified.message().find(face_label(cell.index, Face::kPX) + " depth"), std::string::npos)
       << verified.message();
+}
+
+// The C API gives the C++ reader's depth, in both formats and row orders.
+TEST_F(DepthFiles, CApiDecodesTheSameDepth) {
+  auto reader = open_reader(file(6));
+  svc_reader* c_reader = nullptr;
+  ASSERT_EQ(svc_reader_open_file(file(6).string().c_str(), nullptr, &c_reader), SVC_OK) << svc_last_open_error();
+  svc_file_info info{};
+  ASSERT_EQ(svc_reader_info(c_reader, &info), SVC_OK);
+  EXPECT_EQ(info.has_depth, 1);
+  EXPECT_EQ(info.depth_max_error, 6);
+  EXPECT_EQ(info.depth_bytes, reader->info().depth_bytes);
+  for (const CellEntry& cell : reader->cells()) {
+    const int32_t index[3] = {cell.index.x, cell.index.y, cell.index.z};
+    for (Face face : kAllFaces) {
+      std::vector<uint16_t> codes(kFaceSize * kFaceSize);
+      svc_depth_image image{SVC_DEPTH_INVERSE_U16, SVC_ROWS_TOP_DOWN, codes.data(), kFaceSize * 2,
+                            codes.size() * 2};
+      ASSERT_EQ(svc_reader_decode_face_depth(c_reader, index, static_cast<svc_face>(face), &image), SVC_OK)
+          << svc_reader_last_error(c_reader);
+      EXPECT_EQ(codes, decode_codes(*reader, cell.index, face));
+      std::vector<float> eye(kFaceSize * kFaceSize);
+      image = {SVC_DEPTH_EYE_Z_F32, SVC_ROWS_BOTTOM_UP, eye.data(), kFaceSize * 4, eye.size() * 4};
+      ASSERT_EQ(svc_reader_decode_face_depth(c_reader, index, static_cast<svc_face>(face), &image), SVC_OK);
+      auto expected = reader->decode_face_depth(cell.index, face);
+      ASSERT_TRUE(expected.ok());
+      for (int y = 0; y < kFaceSize; ++y) {
+        EXPECT_TRUE(std::equal(expected->begin() + y * kFaceSize, expected->begin() + (y + 1) * kFaceSize,
+                               eye.begin() + (kFaceSize - 1 - y) * kFaceSize));
+      }
+    }
+  }
+  const int32_t first[3] = {reader->cells()[0].index.x, reader->cells()[0].index.y, reader->cells()[0].index.z};
+  std::vector<float> small(10);
+  const svc_depth_image too_small{SVC_DEPTH_EYE_Z_F32, SVC_ROWS_TOP_DOWN, small.data(), kFaceSize * 4, 40};
+  EXPECT_EQ(svc_reader_decode_face_depth(c_reader, first, SVC_FACE_PX, &too_small), SVC_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(svc_reader_last_error(c_reader)).find("depth buffer holds 40 bytes"), std::string::npos);
+  svc_reader_destroy(c_reader);
+  ASSERT_EQ(svc_reader_open_file((dir_->path() / "plain.svc").string().c_str(), nullptr, &c_reader), SVC_OK);
+  std::vector<float> eye(kFaceSize * kFaceSize);
+  const svc_depth_image image{SVC_DEPTH_EYE_Z_F32, SVC_ROWS_TOP_DOWN, eye.data(), kFaceSize * 4, eye.size() * 4};
+  EXPECT_EQ(svc_reader_decode_face_depth(c_reader, first, SVC_FACE_PX, &image), SVC_NOT_FOUND);
+  svc_reader_destroy(c_reader);
 }
 
 }  // namespace
