@@ -40,7 +40,7 @@ Rigid rigid_of(const Camera& camera) {
 }
 
 // Reference eye space to target eye space: p_t = A p_r + c, with A = R_t R_r^T and
-// c = t_t - A t_r (docs/codec.md 7.3).
+// c = t_t - A t_r (docs/codec.md 8.3).
 struct EyeToEye {
   double a[3][3];
   double c[3];

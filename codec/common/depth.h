@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-2-Clause
-// Depth planes (docs/codec.md section 7): the inverse-depth codes a face's depth is coded
+// Depth planes (docs/codec.md section 8): the inverse-depth codes a face's depth is coded
 // as, the prediction of a B-face's depth from its reference cubes reprojected, and the
 // per-pixel predictor and contexts that the depth encoder and decoder share.
 // Threading: plain functions and data; a DepthModel is single-threaded.
@@ -49,12 +49,12 @@ struct DepthPrediction {
 };
 
 // Reprojects every geometry pixel of `references` (the first reference's own face first)
-// into `target`'s view and keeps the nearest at each pixel (docs/codec.md 7.3). Exact
+// into `target`'s view and keeps the nearest at each pixel (docs/codec.md 8.3). Exact
 // IEEE double arithmetic in a fixed order: the same codes on every machine.
 void predict_depth(std::span<const DepthReference> references, const Camera& target, int width, int height,
                    DepthPrediction* out);
 
-// The contexts of one depth plane's coding (docs/codec.md 7.4).
+// The contexts of one depth plane's coding (docs/codec.md 8.4).
 struct DepthContexts {
   static constexpr int kActivityClasses = 12;
   static constexpr int kMagnitudeBits = 16;
@@ -88,7 +88,7 @@ class DepthModel {
   void record(int x, int y, uint16_t code, const DepthPixelPrediction& p);
 
   int step() const { return step_; }
-  // The reconstruction of quantized residual q (docs/codec.md 7.4).
+  // The reconstruction of quantized residual q (docs/codec.md 8.4).
   uint16_t reconstruct(const DepthPixelPrediction& p, int32_t q) const;
   const std::vector<uint16_t>& codes() const { return codes_; }
   std::vector<uint16_t> take_codes() { return std::move(codes_); }

@@ -10,7 +10,7 @@ namespace svc::codec {
 
 namespace {
 
-// Near-lossless quantization: |source - reconstruction| <= max_error (docs/codec.md 7.4).
+// Near-lossless quantization: |source - reconstruction| <= max_error (docs/codec.md 8.4).
 int32_t quantize_residual(int32_t residual, int max_error, int step) {
   return residual >= 0 ? (residual + max_error) / step : -((max_error - residual) / step);
 }
