@@ -194,6 +194,10 @@ DepthPixelPrediction DepthModel::predict(int x, int y) const {
     inter_score += inter_error_[at];
     activity += std::min(intra_error_[at], inter_error_[at]);
   }
+  // The errors above-left and above-right foretell an edge coming in.
+  for (const auto& [nx, ny] : {std::pair{x - 1, y - 1}, std::pair{x + 1, y - 1}}) {
+    if (geometry(nx, ny)) activity += std::min(intra_error_[index(nx, ny)], inter_error_[index(nx, ny)]);
+  }
   p.inter = p.has_inter && inter_score <= intra_score;
   p.value = p.inter ? p.inter_value : p.intra_value;
   p.activity = std::min(static_cast<int>(std::bit_width(static_cast<uint32_t>(activity / step_))),
