@@ -60,7 +60,8 @@ DepthEncodeResult encode_depth(const std::vector<uint16_t>& codes, int width, in
     }
   }
   encoder.finish();
-  result.reconstructed = model.take_codes();
+  result.reconstructed.resize(codes.size());
+  model.copy_codes(result.reconstructed.data());
   return result;
 }
 
