@@ -184,7 +184,7 @@ inline DepthPixelPrediction DepthModel::predict(int x, int y) const {
   // The errors above-left and above-right foretell an edge coming in.
   int32_t activity = 0;
   for (size_t at : {a, b, c, d}) activity += std::min(intra_error_[at], inter_error_[at]);
-  p.inter = p.has_inter && inter_score <= intra_score;
+  p.inter = p.has_inter && inter_score < intra_score;
   p.value = p.inter ? p.inter_value : p.intra_value;
   p.activity = std::min(static_cast<int>(std::bit_width(static_cast<uint32_t>(activity / step_))),
                         DepthContexts::kActivityClasses - 1);
