@@ -126,7 +126,8 @@ DepthModel::DepthModel(int width, int height, int max_error, const DepthPredicti
       stride_(static_cast<size_t>(width) + 2),
       codes_(stride_ * (static_cast<size_t>(height) + 1), 0),
       intra_error_(codes_.size(), 0),
-      inter_error_(codes_.size(), 0) {}
+      inter_error_(codes_.size(), 0),
+      residual_sign_(codes_.size(), 0) {}
 
 void DepthModel::copy_codes(uint16_t* out) const {
   for (int y = 0; y < height_; ++y) {

@@ -63,7 +63,10 @@ struct DepthContexts {
   static constexpr int kMagnitudeBits = 16;
   std::array<AdaptiveBit, 12> background{};
   // Indexed [inter][activity].
-  std::array<std::array<AdaptiveBit, kActivityClasses>, 2> zero{}, sign{};
+  // Indexed [inter][activity][residuals left and above that are not 0, 0..2].
+  std::array<std::array<std::array<AdaptiveBit, 3>, kActivityClasses>, 2> zero{};
+  // Indexed [inter][signs of the residuals left and above, 0..8].
+  std::array<std::array<AdaptiveBit, 9>, 2> sign{};
   std::array<std::array<std::array<AdaptiveBit, kMagnitudeBits>, kActivityClasses>, 2> magnitude{};
 };
 
@@ -72,6 +75,8 @@ struct DepthPixelPrediction {
   int32_t value = 0;  // 1..65535: inter_value when `inter`, else intra_value
   int inter = 0;      // predicted from the reprojected references
   int activity = 0;   // 0..kActivityClasses-1
+  int signs = 0;      // the residuals' signs left and above: 3 (left + 1) + (above + 1)
+  int moved = 0;      // how many of those residuals are not 0
   int32_t intra_value = 0;
   int32_t inter_value = 0;
   bool has_inter = false;  // the pixel has a reprojected code
@@ -111,6 +116,8 @@ class DepthModel {
   std::vector<uint16_t> codes_;
   // Errors of the two predictions at each pixel with geometry; 0 elsewhere.
   std::vector<uint16_t> intra_error_, inter_error_;
+  // The sign of each pixel's residual (-1, 0, 1); 0 without geometry.
+  std::vector<int8_t> residual_sign_;
   uint16_t last_geometry_ = 0;
 };
 
@@ -186,6 +193,8 @@ inline DepthPixelPrediction DepthModel::predict(int x, int y) const {
   for (size_t at : {a, b, c, d}) activity += std::min(intra_error_[at], inter_error_[at]);
   p.inter = p.has_inter && inter_score < intra_score;
   p.value = p.inter ? p.inter_value : p.intra_value;
+  p.signs = 3 * (residual_sign_[a] + 1) + (residual_sign_[b] + 1);
+  p.moved = (residual_sign_[a] != 0) + (residual_sign_[b] != 0);
   p.activity = std::min(static_cast<int>(std::bit_width(static_cast<uint32_t>(activity / step_))),
                         DepthContexts::kActivityClasses - 1);
   return p;
@@ -196,6 +205,7 @@ inline void DepthModel::record(int x, int y, uint16_t code, const DepthPixelPred
   codes_[at] = code;
   if (code == 0) return;
   last_geometry_ = code;
+  residual_sign_[at] = static_cast<int8_t>((code > p.value) - (code < p.value));
   intra_error_[at] = depth_internal::saturate(std::abs(int32_t{code} - p.intra_value));
   inter_error_[at] = p.has_inter ? depth_internal::saturate(std::abs(int32_t{code} - p.inter_value))
                                  : uint16_t{65535};

@@ -12,8 +12,8 @@ namespace {
 
 int32_t decode_residual(RangeDecoder& decoder, DepthContexts& contexts, const DepthPixelPrediction& p) {
   const auto inter = static_cast<size_t>(p.inter), activity = static_cast<size_t>(p.activity);
-  if (decoder.decode(contexts.zero[inter][activity]) == 0) return 0;
-  const int negative = decoder.decode(contexts.sign[inter][activity]);
+  if (decoder.decode(contexts.zero[inter][activity][static_cast<size_t>(p.moved)]) == 0) return 0;
+  const int negative = decoder.decode(contexts.sign[inter][static_cast<size_t>(p.signs)]);
   auto& magnitude = contexts.magnitude[inter][activity];
   int bits = 0;
   while (bits < DepthContexts::kMagnitudeBits - 1 && decoder.decode(magnitude[static_cast<size_t>(bits)])) ++bits;

@@ -17,9 +17,9 @@ int32_t quantize_residual(int32_t residual, int max_error, int step) {
 
 void encode_residual(RangeEncoder& encoder, DepthContexts& contexts, const DepthPixelPrediction& p, int32_t q) {
   const auto inter = static_cast<size_t>(p.inter), activity = static_cast<size_t>(p.activity);
-  encoder.encode(contexts.zero[inter][activity], q != 0);
+  encoder.encode(contexts.zero[inter][activity][static_cast<size_t>(p.moved)], q != 0);
   if (q == 0) return;
-  encoder.encode(contexts.sign[inter][activity], q < 0);
+  encoder.encode(contexts.sign[inter][static_cast<size_t>(p.signs)], q < 0);
   const auto size = static_cast<uint32_t>(std::abs(q));
   const int bits = std::bit_width(size) - 1;
   auto& magnitude = contexts.magnitude[inter][activity];
