@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: BSD-2-Clause
+#include "viewer/cell_images.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+namespace svc::viewer {
+
+FaceCamera face_camera(const Camera& camera) {
+  FaceCamera out;
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) out.world_to_camera[c][r] = camera.world_to_camera[c * 4 + r];
+  }
+  out.camera_to_world = glm::inverse(out.world_to_camera);
+  out.frustum = camera.frustum;
+  return out;
+}
+
+glm::dvec2 project_direction(const FaceCamera& camera, int width, int height, const glm::dvec3& d) {
+  const glm::dvec3 e = glm::dvec3(camera.world_to_camera * glm::dvec4(d, 0.0));
+  if (!(e.z < 0)) {
+    constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+    return {kNan, kNan};
+  }
+  const Frustum& f = camera.frustum;
+  // The point where the ray meets the near plane, in the frustum's window.
+  const double x = e.x * f.near_plane / -e.z, y = e.y * f.near_plane / -e.z;
+  return {(x - f.left) / (f.right - f.left) * width, (f.top - y) / (f.top - f.bottom) * height};
+}
+
+glm::dvec3 pixel_direction(const FaceCamera& camera, int width, int height, double x, double y) {
+  const Frustum& f = camera.frustum;
+  const double ex = f.left + (f.right - f.left) * x / width;
+  const double ey = f.top - (f.top - f.bottom) * y / height;
+  return glm::dvec3(camera.camera_to_world * glm::dvec4(ex, ey, -f.near_plane, 0.0));
+}
+
+glm::dvec3 pixel_point(const FaceCamera& camera, int width, int height, double x, double y, double z) {
+  const Frustum& f = camera.frustum;
+  const double scale = z / f.near_plane;
+  const double ex = (f.left + (f.right - f.left) * x / width) * scale;
+  const double ey = (f.top - (f.top - f.bottom) * y / height) * scale;
+  return glm::dvec3(camera.camera_to_world * glm::dvec4(ex, ey, -z, 1.0));
+}
+
+int face_for_direction(const CellImages& cell, const glm::dvec3& d) {
+  const glm::dvec3 unit = glm::normalize(d);
+  int best = 0;
+  double best_cos = -2;
+  for (int f = 0; f < kFaceCount; ++f) {
+    // The camera looks along its -z: the cosine between that axis and d.
+    const double c = -(cell.cameras[f].world_to_camera * glm::dvec4(unit, 0.0)).z;
+    if (c > best_cos) best_cos = c, best = f;
+  }
+  return best;
+}
+
+std::array<uint8_t, 4> sample_face(const CellImages& cell, int face, glm::dvec2 p) {
+  const int w = cell.width, h = cell.height;
+  const std::vector<uint8_t>& rgba = cell.rgba[face];
+  if (!std::isfinite(p.x) || !std::isfinite(p.y)) p = {w / 2.0, h / 2.0};
+  const double x = std::clamp(p.x - 0.5, 0.0, w - 1.0), y = std::clamp(p.y - 0.5, 0.0, h - 1.0);
+  const int x0 = std::min(static_cast<int>(x), w - 1), y0 = std::min(static_cast<int>(y), h - 1);
+  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const double fx = x - x0, fy = y - y0;
+  std::array<uint8_t, 4> out{};
+  for (int c = 0; c < 4; ++c) {
+    auto at = [&](int xi, int yi) { return static_cast<double>(rgba[(static_cast<size_t>(yi) * w + xi) * 4 + c]); };
+    const double top = at(x0, y0) * (1 - fx) + at(x1, y0) * fx;
+    const double bottom = at(x0, y1) * (1 - fx) + at(x1, y1) * fx;
+    out[c] = static_cast<uint8_t>(std::lround(top * (1 - fy) + bottom * fy));
+  }
+  return out;
+}
+
+glm::dvec3 cube_texel_direction(int target, double s, double t) {
+  const double sc = 2 * s - 1, tc = 2 * t - 1;
+  switch (target) {
+    case 0: return {1, -tc, -sc};   // +X: sc = -rz, tc = -ry
+    case 1: return {-1, -tc, sc};   // -X: sc = +rz, tc = -ry
+    case 2: return {sc, 1, tc};     // +Y: sc = +rx, tc = +rz
+    case 3: return {sc, -1, -tc};   // -Y: sc = +rx, tc = -rz
+    case 4: return {sc, -tc, 1};    // +Z: sc = +rx, tc = -ry
+    default: return {-sc, -tc, -1};  // -Z: sc = -rx, tc = -ry
+  }
+}
+
+std::vector<uint8_t> cube_map_face(const CellImages& cell, int target, int size) {
+  std::vector<uint8_t> texels(static_cast<size_t>(size) * size * 4);
+  for (int row = 0; row < size; ++row) {
+    for (int column = 0; column < size; ++column) {
+      const glm::dvec3 d = cube_texel_direction(target, (column + 0.5) / size, (row + 0.5) / size);
+      const int face = face_for_direction(cell, d);
+      const auto rgba = sample_face(cell, face, project_direction(cell.cameras[face], cell.width, cell.height, d));
+      std::copy(rgba.begin(), rgba.end(), texels.begin() + (static_cast<size_t>(row) * size + column) * 4);
+    }
+  }
+  return texels;
+}
+
+}  // namespace svc::viewer
