@@ -80,11 +80,11 @@ std::array<uint8_t, 4> sample_face(const CellImages& cell, int face, glm::dvec2 
 glm::dvec3 cube_texel_direction(int target, double s, double t) {
   const double sc = 2 * s - 1, tc = 2 * t - 1;
   switch (target) {
-    case 0: return {1, -tc, -sc};   // +X: sc = -rz, tc = -ry
-    case 1: return {-1, -tc, sc};   // -X: sc = +rz, tc = -ry
-    case 2: return {sc, 1, tc};     // +Y: sc = +rx, tc = +rz
-    case 3: return {sc, -1, -tc};   // -Y: sc = +rx, tc = -rz
-    case 4: return {sc, -tc, 1};    // +Z: sc = +rx, tc = -ry
+    case 0: return {1, -tc, -sc};    // +X: sc = -rz, tc = -ry
+    case 1: return {-1, -tc, sc};    // -X: sc = +rz, tc = -ry
+    case 2: return {sc, 1, tc};      // +Y: sc = +rx, tc = +rz
+    case 3: return {sc, -1, -tc};    // -Y: sc = +rx, tc = -rz
+    case 4: return {sc, -tc, 1};     // +Z: sc = +rx, tc = -ry
     default: return {-sc, -tc, -1};  // -Z: sc = -rx, tc = -ry
   }
 }

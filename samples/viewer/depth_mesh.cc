@@ -25,10 +25,10 @@ std::vector<bool> add_face_vertices(const CellImages& cell, int face, DepthMesh*
     for (int i = 0; i < w + 2; ++i) {
       const float z = depth[static_cast<size_t>(vertex_pixel(j, h)) * w + vertex_pixel(i, w)];
       const bool finite = std::isfinite(z) && z > 0;
-      const glm::dvec3 p = finite ? pixel_point(cell.cameras[face], w, h, vertex_coordinate(i, w),
-                                                vertex_coordinate(j, h), z) -
-                                        cell.centre
-                                  : glm::dvec3(0.0);
+      const glm::dvec3 p =
+          finite ? pixel_point(cell.cameras[face], w, h, vertex_coordinate(i, w), vertex_coordinate(j, h), z) -
+                       cell.centre
+                 : glm::dvec3(0.0);
       mesh->positions.insert(mesh->positions.end(),
                              {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
       solid.push_back(finite);

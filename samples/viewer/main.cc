@@ -21,7 +21,10 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+
 #include <epoxy/gl.h>
+// epoxy declares OpenGL: GLFW is to include no GL header of its own.
+#define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 #include "command_line/command_line.h"
@@ -82,7 +85,8 @@ std::optional<std::string> parse_view_options(Options* o) {
   o->width = static_cast<int>(v[0]);
   o->height = static_cast<int>(v[1]);
   if (!o->gl_info && o->input.empty()) return "an .svc file is needed (or --gl-info)";
-  if (!o->screenshot.empty() && !o->path.empty()) return "--screenshot renders one frame: --path does not go with it";
+  if (!o->screenshot.empty() && !o->path.empty())
+    return "--screenshot renders one frame: --path does not go with it";
   return std::nullopt;
 }
 

@@ -36,9 +36,9 @@ class PathWalk {
 
 // Keys held and mouse motion over one frame.
 struct FlyInput {
-  double forward = 0;  // +1 W, -1 S
-  double right = 0;    // +1 D, -1 A
-  double up = 0;       // +1 E, -1 Q
+  double forward = 0;                 // +1 W, -1 S
+  double right = 0;                   // +1 D, -1 A
+  double up = 0;                      // +1 E, -1 Q
   double mouse_dx = 0, mouse_dy = 0;  // pixels
 };
 

@@ -2,7 +2,8 @@
 #include "viewer/window.h"
 
 #include <epoxy/gl.h>
-// GLFW after epoxy, which provides the GL declarations GLFW would otherwise include.
+// epoxy declares OpenGL: GLFW is to include no GL header of its own.
+#define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 namespace svc::viewer {
