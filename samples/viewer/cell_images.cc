@@ -59,22 +59,33 @@ int face_for_direction(const CellImages& cell, const glm::dvec3& d) {
   return best;
 }
 
-std::array<uint8_t, 4> sample_face(const CellImages& cell, int face, glm::dvec2 p) {
+FaceSample locate_sample(const CellImages& cell, int face, glm::dvec2 p) {
   const int w = cell.width, h = cell.height;
-  const std::vector<uint8_t>& rgba = cell.rgba[face];
   if (!std::isfinite(p.x) || !std::isfinite(p.y)) p = {w / 2.0, h / 2.0};
   const double x = std::clamp(p.x - 0.5, 0.0, w - 1.0), y = std::clamp(p.y - 0.5, 0.0, h - 1.0);
   const int x0 = std::min(static_cast<int>(x), w - 1), y0 = std::min(static_cast<int>(y), h - 1);
   const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
-  const double fx = x - x0, fy = y - y0;
+  auto offset = [&](int xi, int yi) { return static_cast<uint32_t>((static_cast<size_t>(yi) * w + xi) * 4); };
+  return FaceSample{face, {offset(x0, y0), offset(x1, y0), offset(x0, y1), offset(x1, y1)}, x - x0, y - y0};
+}
+
+std::array<uint8_t, 4> take_sample(const CellImages& cell, const FaceSample& s) {
+  const uint8_t* rgba = cell.rgba[s.face].data();
   std::array<uint8_t, 4> out{};
   for (int c = 0; c < 4; ++c) {
-    auto at = [&](int xi, int yi) { return static_cast<double>(rgba[(static_cast<size_t>(yi) * w + xi) * 4 + c]); };
-    const double top = at(x0, y0) * (1 - fx) + at(x1, y0) * fx;
-    const double bottom = at(x0, y1) * (1 - fx) + at(x1, y1) * fx;
-    out[c] = static_cast<uint8_t>(std::lround(top * (1 - fy) + bottom * fy));
+    if (s.fx == 0 && s.fy == 0) {  // a texel centre: a copy, as for the cameras of a cube
+      out[c] = rgba[s.offsets[0] + c];
+      continue;
+    }
+    const double top = rgba[s.offsets[0] + c] * (1 - s.fx) + rgba[s.offsets[1] + c] * s.fx;
+    const double bottom = rgba[s.offsets[2] + c] * (1 - s.fx) + rgba[s.offsets[3] + c] * s.fx;
+    out[c] = static_cast<uint8_t>(std::lround(top * (1 - s.fy) + bottom * s.fy));
   }
   return out;
+}
+
+std::array<uint8_t, 4> sample_face(const CellImages& cell, int face, glm::dvec2 p) {
+  return take_sample(cell, locate_sample(cell, face, p));
 }
 
 glm::dvec3 cube_texel_direction(int target, double s, double t) {
@@ -89,17 +100,55 @@ glm::dvec3 cube_texel_direction(int target, double s, double t) {
   }
 }
 
-std::vector<uint8_t> cube_map_face(const CellImages& cell, int target, int size) {
-  std::vector<uint8_t> texels(static_cast<size_t>(size) * size * 4);
-  for (int row = 0; row < size; ++row) {
-    for (int column = 0; column < size; ++column) {
-      const glm::dvec3 d = cube_texel_direction(target, (column + 0.5) / size, (row + 0.5) / size);
-      const int face = face_for_direction(cell, d);
-      const auto rgba = sample_face(cell, face, project_direction(cell.cameras[face], cell.width, cell.height, d));
-      std::copy(rgba.begin(), rgba.end(), texels.begin() + (static_cast<size_t>(row) * size + column) * 4);
+CubeMapLayout::CubeMapLayout(const CellImages& cell, int size) : size_(size) {
+  for (int f = 0; f < kFaceCount; ++f) cameras_[f] = cell.cameras[f];
+  face_width_ = cell.width;
+  face_height_ = cell.height;
+  for (int target = 0; target < kCubeTargets; ++target) {
+    std::vector<FaceSample>& samples = samples_[target];
+    samples.reserve(static_cast<size_t>(size) * size);
+    for (int row = 0; row < size; ++row) {
+      for (int column = 0; column < size; ++column) {
+        const glm::dvec3 d = cube_texel_direction(target, (column + 0.5) / size, (row + 0.5) / size);
+        const int face = face_for_direction(cell, d);
+        samples.push_back(
+            locate_sample(cell, face, project_direction(cell.cameras[face], cell.width, cell.height, d)));
+      }
     }
   }
+}
+
+bool CubeMapLayout::fits(const CellImages& cell) const {
+  if (cell.width != face_width_ || cell.height != face_height_) return false;
+  for (int f = 0; f < kFaceCount; ++f) {
+    const FaceCamera& a = cameras_[f];
+    const FaceCamera& b = cell.cameras[f];
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        if (a.world_to_camera[c][r] != b.world_to_camera[c][r]) return false;
+      }
+    }
+    const Frustum &p = a.frustum, &q = b.frustum;
+    if (p.left != q.left || p.right != q.right || p.bottom != q.bottom || p.top != q.top ||
+        p.near_plane != q.near_plane) {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::vector<uint8_t> CubeMapLayout::face(const CellImages& cell, int target) const {
+  std::vector<uint8_t> texels(static_cast<size_t>(size_) * size_ * 4);
+  uint8_t* out = texels.data();
+  for (const FaceSample& s : samples_[target]) {
+    const auto rgba = take_sample(cell, s);
+    out = std::copy(rgba.begin(), rgba.end(), out);
+  }
   return texels;
+}
+
+std::vector<uint8_t> cube_map_face(const CellImages& cell, int target, int size) {
+  return CubeMapLayout(cell, size).face(cell, target);
 }
 
 }  // namespace svc::viewer

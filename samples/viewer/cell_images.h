@@ -54,6 +54,16 @@ int face_for_direction(const CellImages& cell, const glm::dvec3& d);
 // edges; rounds to 8 bits.
 std::array<uint8_t, 4> sample_face(const CellImages& cell, int face, glm::dvec2 p);
 
+// Where sample_face takes a sample: the byte offsets of the four texels around it in the
+// face's RGBA and the bilinear weights of the right and lower ones.
+struct FaceSample {
+  int face = 0;
+  std::array<uint32_t, 4> offsets{};  // top left, top right, bottom left, bottom right
+  double fx = 0, fy = 0;
+};
+FaceSample locate_sample(const CellImages& cell, int face, glm::dvec2 p);
+std::array<uint8_t, 4> take_sample(const CellImages& cell, const FaceSample& sample);
+
 // OpenGL's cube map faces, in the order of GL_TEXTURE_CUBE_MAP_POSITIVE_X + target.
 inline constexpr int kCubeTargets = 6;
 // The world direction of texel (s, t) of cube map face `target`, s and t in [0, 1]: the
@@ -65,5 +75,23 @@ glm::dvec3 cube_texel_direction(int target, double s, double t);
 // sample_face does (an exact copy when the cameras are a 90-degree cube of size-pixel
 // faces).
 std::vector<uint8_t> cube_map_face(const CellImages& cell, int target, int size);
+
+// cube_map_face's samples, located once and reused for every cell whose cameras differ
+// from the first's in position alone (as a grid's do): a cell then becomes a cube map
+// in a copy of its texels, where locating them again would take longer than decoding it.
+class CubeMapLayout {
+ public:
+  CubeMapLayout(const CellImages& cell, int size);
+  // Whether `cell` has faces of the same size seen through the same rotations and frusta.
+  bool fits(const CellImages& cell) const;
+  // cube_map_face(cell, target, size()) for a cell that fits.
+  std::vector<uint8_t> face(const CellImages& cell, int target) const;
+  int size() const { return size_; }
+
+ private:
+  int size_ = 0, face_width_ = 0, face_height_ = 0;
+  std::array<FaceCamera, kFaceCount> cameras_;
+  std::array<std::vector<FaceSample>, kCubeTargets> samples_;
+};
 
 }  // namespace svc::viewer

@@ -170,8 +170,9 @@ void Renderer::show_cell(const CellImages& cell, bool reproject) {
   const int size = std::max(cell.width, cell.height);
   glBindTexture(GL_TEXTURE_CUBE_MAP, cube_);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (!layout_ || layout_->size() != size || !layout_->fits(cell)) layout_.emplace(cell, size);
   for (int target = 0; target < kCubeTargets; ++target) {
-    const std::vector<uint8_t> texels = cube_map_face(cell, target, size);
+    const std::vector<uint8_t> texels = layout_->face(cell, target);
     glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + target, 0, GL_RGBA8, size, size, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                  texels.data());
   }

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 
 #include "svc/status.h"
 #include "viewer/cell_images.h"
@@ -47,6 +48,7 @@ class Renderer {
   unsigned empty_vao_ = 0, mesh_vao_ = 0, mesh_vbo_ = 0, mesh_ebo_ = 0;
   unsigned cube_ = 0, text_texture_ = 0;
   size_t mesh_indices_ = 0;
+  std::optional<CubeMapLayout> layout_;
   glm::dvec3 cell_centre_{0, 0, 0};
 };
 
