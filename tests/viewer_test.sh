@@ -87,6 +87,31 @@ echo "$summary"
 hits=$(echo "$summary" | sed -n 's/.*face cache \([0-9]*\) hits.*/\1/p')
 ((hits >= 6)) || fail "the walk found no prefetched cell in the face cache ($hits hits)"
 
+# Halfway between cells (0,0,1) and (1,0,1), the faces of the cell reprojected with their
+# depth come nearer the view from that point (svc-scene --eye, drawn at infinity by the
+# viewer, which is exact at the cube map's own centre) than the cell's plain cube map.
+if "$bin/svc" encode --help 2>&1 | grep -q -- "--depth"; then
+  "$bin/svc" encode "$work/db" -o "$work/depth.svc" --depth --quiet
+  middle=$(eye_of 0 0 1 0.25 0 0)
+  "$bin/svc-scene" "$work/truth" --kind house --grid 3,1,3 --face-size 64 --eye "$middle" --quiet
+  "$bin/svc" encode "$work/truth" -o "$work/truth.svc" -q 95 --quiet
+  for look in 0,0 90,0 180,0 270,0 45,-30; do
+    frame=(--at "$middle" --look "$look" --size 320x240 --fov 90 -y)
+    viewer "$work/truth.svc" --screenshot "$work/truth.png" --no-reprojection "${frame[@]}" >/dev/null
+    viewer "$work/depth.svc" --screenshot "$work/nearest.png" --no-reprojection "${frame[@]}" >/dev/null
+    viewer "$work/depth.svc" --screenshot "$work/reprojected.png" --reprojection "${frame[@]}" >/dev/null
+    read -r _ _ _ _ _ _ _ nearest <<<"$("$bin/svc-viewer-reference" compare "$work/nearest.png" "$work/truth.png")"
+    read -r _ _ _ _ _ _ _ reprojected <<<"$("$bin/svc-viewer-reference" compare "$work/reprojected.png" \
+      "$work/truth.png")"
+    echo "at $middle looking $look: PSNR against the view from there: reprojected $reprojected dB, nearest" \
+      "cell's cube map $nearest dB"
+    awk -v r="$reprojected" -v n="$nearest" 'BEGIN { exit !(r > n) }' ||
+      fail "looking $look between cells the reprojected frame ($reprojected dB) is no better than the cube map"
+  done
+else
+  echo "svc encode has no --depth in this tree: the reprojection check is left out"
+fi
+
 # Errors name what is wrong.
 if viewer "$work/missing.svc" --screenshot "$work/x.png" --at 0,0,0 2>"$work/err"; then fail "a missing file rendered"; fi
 grep -q "missing.svc" "$work/err" || fail "the error for a missing file does not name it: $(cat "$work/err")"
