@@ -38,7 +38,9 @@ using Vec = std::array<double, 3>;
 
 Vec add(Vec a, Vec b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 Vec scale(Vec a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-Vec cross(Vec a, Vec b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+Vec cross(Vec a, Vec b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
 Vec normalised(Vec a) { return scale(a, 1 / std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])); }
 
 struct Image {
@@ -79,7 +81,8 @@ std::array<double, 2> project(const Face& face, Vec d) {
   const Vec e = rotate(face.camera, d);
   const svc::Frustum& f = face.camera.frustum;
   const double x = e[0] * f.near_plane / -e[2], y = e[1] * f.near_plane / -e[2];
-  return {(x - f.left) / (f.right - f.left) * face.image.width, (f.top - y) / (f.top - f.bottom) * face.image.height};
+  return {(x - f.left) / (f.right - f.left) * face.image.width,
+          (f.top - y) / (f.top - f.bottom) * face.image.height};
 }
 
 Vec unproject(const Face& face, double x, double y) {
@@ -182,10 +185,11 @@ bool print_difference(const char* label, const Image& a, const Image& b, const R
 
 int compare(const char* a_path, const char* b_path, std::optional<Region> region) {
   const auto a = read_png(a_path), b = read_png(b_path);
-  if (!a || !b ||
-      !print_difference("", *a, *b, region.value_or(Region{0, 0, 1.0 * a->width, 1.0 * a->height}))) {
-    std::fprintf(stderr, "svc-viewer-reference: cannot compare %s with %s (unreadable, sizes differ, or no pixel "
-                         "in the region)\n", a_path, b_path);
+  if (!a || !b || !print_difference("", *a, *b, region.value_or(Region{0, 0, 1.0 * a->width, 1.0 * a->height}))) {
+    std::fprintf(stderr,
+                 "svc-viewer-reference: cannot compare %s with %s (unreadable, sizes differ, or no pixel "
+                 "in the region)\n",
+                 a_path, b_path);
     return 1;
   }
   return 0;
@@ -233,7 +237,8 @@ std::optional<std::vector<Face>> load_faces(const RenderArgs& r) {
   auto cube = (*reader)->decode_cube(cell.index);
   if (!cube.ok()) return std::nullopt;
   std::vector<Face> faces(6);
-  for (int f = 0; f < 6; ++f) faces[f] = {cell.cameras[f], {(*cube)[f].width, (*cube)[f].height, (*cube)[f].pixels}};
+  for (int f = 0; f < 6; ++f)
+    faces[f] = {cell.cameras[f], {(*cube)[f].width, (*cube)[f].height, (*cube)[f].pixels}};
   return faces;
 }
 
@@ -242,7 +247,8 @@ void mirror(std::vector<Face>* faces) {
     Image& image = face.image;
     for (int y = 0; y < image.height; ++y) {
       uint8_t* row = &image.rgb[static_cast<size_t>(y) * image.width * 3];
-      for (int x = 0; x < image.width / 2; ++x) std::swap_ranges(row + x * 3, row + x * 3 + 3, row + (image.width - 1 - x) * 3);
+      for (int x = 0; x < image.width / 2; ++x)
+        std::swap_ranges(row + x * 3, row + x * 3 + 3, row + (image.width - 1 - x) * 3);
     }
   }
 }
@@ -277,8 +283,9 @@ int render(int argc, char** argv) {
   RenderArgs r;
   r.input = argc > 2 ? argv[2] : nullptr;
   if (!parse_render_args(argc, argv, &r)) {
-    std::fprintf(stderr, "svc-viewer-reference: render FILE.svc --at X,Y,Z --look YAW,PITCH --size WxH --fov DEG "
-                         "[-o OUT.png] [--mirrored OUT.png] [--against FRAME.png]\n");
+    std::fprintf(stderr,
+                 "svc-viewer-reference: render FILE.svc --at X,Y,Z --look YAW,PITCH --size WxH --fov DEG "
+                 "[-o OUT.png] [--mirrored OUT.png] [--against FRAME.png]\n");
     return 2;
   }
   auto faces = load_faces(r);
