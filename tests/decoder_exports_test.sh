@@ -21,6 +21,7 @@ c++filt <"$work/mangled" >"$work/names"
 
 # Every API entry point an embedder calls is there.
 for wanted in svc_reader_open_file svc_reader_open_callbacks svc_reader_decode_face svc_reader_last_error \
+              svc_reader_decode_face_depth 'svc::Reader::decode_face_depth_into(' \
               'svc::Reader::open(std::unique_ptr<svc::ByteSource' 'svc::Reader::decode_face_into(' \
               'svc::Status::to_string' 'svc::memory_source('; do
   grep -qF "$wanted" "$work/names" || fail "the API symbol $wanted is not exported"

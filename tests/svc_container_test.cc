@@ -407,19 +407,41 @@ TEST(ContainerIndexRecords, OutOfOrderChunksAndLargeValuesRoundTrip) {
   EXPECT_NE(parsed.status().message().find("cell (0,0,0) face px"), std::string::npos) << parsed.status().message();
 }
 
+// With depth, the index is version 5 and each frame record carries its depth chunk's
+// size; that chunk lies right after the face's own.
+TEST(ContainerIndex, DepthSizesRoundTripInVersionFive) {
+  ContainerIndex index = sample_index();
+  index.depth = true;
+  for (FrameRecord& frame : index.frames) frame.depth_size = 20 + frame.cell;
+  const std::vector<uint8_t> bytes = serialize_index(index);
+  EXPECT_EQ(index_version(bytes), 5u);
+  auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  EXPECT_TRUE(parsed->depth);
+  EXPECT_EQ(parsed->frames[17].depth_size, 22u);
+  EXPECT_EQ(chunk_bytes(parsed->frames[17]), 50u + 4 + 22 + 4);
+  EXPECT_EQ(serialize_index(*parsed), bytes);
+  // A frame without depth in a file with depth is refused.
+  index.frames[3].depth_size = 0;
+  auto refused = parse_index(serialize_index(index), 1000, kFileSize, ReaderLimits{});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("cell (0,0,0) face ny has no depth chunk"), std::string::npos)
+      << refused.status().message();
+}
+
 // Index versions 1 to 3 came before the current frame syntaxes; they and any other value
-// than 4 are refused, naming the version and its offset.
-TEST(ContainerIndex, VersionsOtherThanFourAreRefused) {
+// than 4 and 5 (with depth) are refused, naming the version and its offset.
+TEST(ContainerIndex, VersionsOtherThanFourAndFiveAreRefused) {
   const std::vector<uint8_t> bytes = serialize_index(sample_index());
   ASSERT_EQ(index_version(bytes), 4u);
-  for (uint32_t version : {0u, 1u, 2u, 3u, 5u, 0xFFFFFFFFu}) {
+  for (uint32_t version : {0u, 1u, 2u, 3u, 6u, 0xFFFFFFFFu}) {
     std::vector<uint8_t> forged = bytes;
     for (int b = 0; b < 4; ++b) forged[static_cast<size_t>(b)] = static_cast<uint8_t>(version >> (8 * b));
     auto parsed = parse_index(forged, 1000, kFileSize, ReaderLimits{});
     ASSERT_FALSE(parsed.ok()) << version;
     EXPECT_EQ(parsed.status().code(), ErrorCode::kUnsupported);
     EXPECT_EQ(parsed.status().message(), "index version " + std::to_string(version) +
-                                             " is not supported (this build reads 4) at byte offset 1000");
+                                             " is not supported (this build reads 4 and 5) at byte offset 1000");
   }
 }
 
@@ -441,7 +463,7 @@ TEST(ContainerIndex, OlderCorpusFilesAreRefused) {
     ASSERT_FALSE(opened.ok());
     EXPECT_EQ(opened.status().code(), ErrorCode::kUnsupported) << opened.status().to_string();
     EXPECT_NE(opened.status().message().find("index version " + std::to_string(version) +
-                                             " is not supported (this build reads 4) at byte offset "),
+                                             " is not supported (this build reads 4 and 5) at byte offset "),
               std::string::npos)
         << opened.status().message();
   }

@@ -162,6 +162,13 @@ struct EncoderSettings {
   CubeLayout layout = CubeLayout::kVisibility;
   MotionSearch motion = MotionSearch::kDepth;
   CodingTools tools;
+  // Store every face's depth beside its color (docs/codec.md 7), so that readers can
+  // decode it (Reader::decode_face_depth). Off by default.
+  bool depth = false;
+  // With depth: the largest difference allowed between a decoded inverse-depth code and
+  // the source's (codec/common/depth.h units: 65535 near / z), 0..255; 0 is lossless in
+  // those codes. Pixels without geometry always stay exact.
+  int depth_max_error = 0;
   // Let the manifest name face files outside the database folder (absolute paths,
   // "../"). Off by default: such a manifest is refused with kBadInput naming the file.
   bool allow_outside_paths = false;

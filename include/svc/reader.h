@@ -9,6 +9,8 @@
 //     default quality). A B-face whose reference I-faces are cached skips their entropy
 //     decoding and only runs their prediction and inverse transforms.
 //   - decoded faces (YCbCr 4:2:0): a request for a cached face copies it out.
+// In a file with depth a third cache holds decoded depth planes, and prefetch decodes
+// each face's depth with its color.
 // Both are least-recently-used and bounded by byte budgets that are never exceeded.
 // After set_viewer(), worker threads decode the viewer's neighbourhood in the
 // background; a request for a face that is being decoded (by a worker or by another
@@ -86,6 +88,11 @@ struct ReaderSettings {
   // 0 disables it. Default 32 MiB: the references of about 8 cells of 256x256 faces
   // (3.8 MB each: two cubes, plain and padded), 2 of 512x512.
   uint64_t reference_cache_bytes = 32ull << 20;
+  // Byte budget of the decoded-depth cache (files with depth: 2 bytes a pixel plus a
+  // little per face): the faces decode_face_depth returned or prefetch decoded, and the
+  // reference I-faces' depth that B-faces' depth is predicted from. 0 disables it.
+  // Default 32 MiB: 250 faces of 256x256, 62 of 512x512.
+  uint64_t depth_cache_bytes = 32ull << 20;
   // Threads one decode_cube() call decodes on, the caller's among them: the reference
   // I-faces of the cell side by side, then its six faces. 0 (the default) means one per
   // core; 1 decodes on the caller's thread alone. 0..64. The faces are the same for any
@@ -192,6 +199,11 @@ struct FileInfo {
   char up_axis = 'y';
   // The encoder's statistics per face type (indexed by FaceType), as recorded in the index.
   std::array<FaceTypeStats, 2> face_type_stats{};
+  // Whether every face's depth is stored (decode_face_depth), and the largest error of a
+  // decoded inverse-depth code (svc/types.h, DepthFormat::kInverse16) against the source.
+  bool has_depth = false;
+  int depth_max_error = 0;
+  uint64_t depth_bytes = 0;  // coded depth bytes of all faces
 };
 
 // Counters of one cache. hits, misses and in_flight_waits count lookups made for a
@@ -214,6 +226,7 @@ struct ReaderStats {
   CacheCounters coefficient_cache;  // semi-decoded I-faces
   CacheCounters face_cache;         // decoded faces
   CacheCounters reference_cache;    // reference I-faces, plain and padded
+  CacheCounters depth_cache;        // decoded depth planes
   uint64_t bytes_read = 0;          // face chunk bytes read from the file (with framing)
   uint64_t chunks_read = 0;
   uint64_t intra_faces_parsed = 0;       // I-face entropy decodes
@@ -274,6 +287,17 @@ class SVC_API Reader {
   // The six faces of a cell into six buffers indexed by Face, decoded on
   // settings.decode_threads threads. Errors as decode_face_into and decode_cube.
   Status decode_cube_into(const CellIndex& cell, const std::array<PixelBuffer, kFaceCount>& out);
+
+  // Decodes one face's depth (files with depth, FileInfo::has_depth) into the caller's
+  // buffer in its format and row order, or as eye-space depth (width * height floats,
+  // row 0 at the top, +infinity where the face saw no geometry). Reads the face's depth
+  // chunk and, for a B-face, the depth of its reference cubes' faces (docs/codec.md 7.3)
+  // unless the depth cache holds them; once the face is cached this allocates nothing
+  // (the _into form). kNotFound for a file without depth or a cell not in it,
+  // kInvalidArgument when the buffer cannot hold the face (nothing is written then), other
+  // errors as decode_face.
+  Status decode_face_depth_into(const CellIndex& cell, Face face, const DepthBuffer& out);
+  Result<std::vector<float>> decode_face_depth(const CellIndex& cell, Face face);
 
   // Tells the prefetcher where the viewer is: its cell (or a world position, mapped to
   // the grid cell containing it, clamped into the grid) and optionally its velocity in

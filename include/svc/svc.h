@@ -31,7 +31,7 @@
 extern "C" {
 #endif
 
-#define SVC_ABI_VERSION 1
+#define SVC_ABI_VERSION 2
 
 /* The ABI version of the loaded library (compare with SVC_ABI_VERSION) and its release
    ("0.1.0"). Thread-safe. */
@@ -102,9 +102,11 @@ typedef struct svc_reader_settings {
   int32_t decode_threads;           /* threads of one svc_reader_decode_cube; 0: one a core */
   int32_t prefetch_threads;         /* workers after svc_reader_set_viewer_*; 0: no prefetch */
   int32_t prefetch_radius;          /* cells around the viewer prefetched, 0..8 */
+  uint64_t depth_cache_bytes;       /* decoded depth planes (files with depth); 0 disables */
 } svc_reader_settings;
 
-/* Fills `settings` with the defaults (64 MiB, 64 MiB, 32 MiB, 0, 2, 1). Thread-safe. */
+/* Fills `settings` with the defaults (64 MiB, 64 MiB, 32 MiB, 0, 2, 1, 32 MiB).
+   Thread-safe. */
 SVC_API void svc_reader_settings_default(svc_reader_settings* settings);
 
 /* The embedder's own file access. */
@@ -166,6 +168,9 @@ typedef struct svc_file_info {
   int32_t i_spacing[3];
   char up_axis; /* 'x', 'y' or 'z' */
   size_t cell_count;
+  int32_t has_depth;       /* 1 when every face's depth is stored (svc_reader_decode_face_depth) */
+  int32_t depth_max_error; /* largest error of a decoded SVC_DEPTH_INVERSE_U16 code, 0..255 */
+  uint64_t depth_bytes;    /* coded depth bytes of all faces */
 } svc_file_info;
 
 /* The camera of a face: OpenGL view matrix (column-major) and glFrustum parameters. */
@@ -202,6 +207,35 @@ SVC_API svc_status svc_reader_decode_face(svc_reader* reader, const int32_t cell
                                           const svc_image* out);
 SVC_API svc_status svc_reader_decode_cube(svc_reader* reader, const int32_t cell[3], const svc_image out[6]);
 
+typedef enum svc_depth_format {
+  /* float: eye-space depth, the distance along the face camera's view axis (positive, in
+     scene units); +infinity where the face saw no geometry */
+  SVC_DEPTH_EYE_Z_F32 = 0,
+  /* uint16_t: the coded inverse depth, round(65535 near / z) with `near` the face
+     camera's near plane, clamped to 1..65535; 0 without geometry */
+  SVC_DEPTH_INVERSE_U16 = 1
+} svc_depth_format;
+
+/* A caller's buffer for a face's depth: `size` bytes at `data`, rows `stride` bytes apart
+   (at least width * 4 for SVC_DEPTH_EYE_Z_F32, width * 2 for SVC_DEPTH_INVERSE_U16; any
+   alignment). */
+typedef struct svc_depth_image {
+  svc_depth_format format;
+  svc_row_order rows;
+  void* data;
+  size_t stride;
+  size_t size;
+} svc_depth_image;
+
+/* Decodes the depth of one face of the cell at grid index `cell` into `out` (files with
+   depth, svc_file_info.has_depth). Reads the face's depth chunk and, for a B-face, the
+   depth of its reference cubes' faces unless the depth cache holds them; once cached
+   this allocates nothing. SVC_NOT_FOUND for a file without depth or a cell not in it,
+   SVC_INVALID_ARGUMENT when the buffer cannot hold the face (nothing is written then),
+   other errors as svc_reader_decode_face. */
+SVC_API svc_status svc_reader_decode_face_depth(svc_reader* reader, const int32_t cell[3], svc_face face,
+                                                const svc_depth_image* out);
+
 /* Tells the prefetcher where the viewer is: a grid cell, or a world position (mapped to
    the grid cell containing it, clamped into the grid); velocity in world units a second
    (NULL: none; only its direction matters). Cheap when nothing changed: call it as
@@ -226,6 +260,7 @@ typedef struct svc_reader_stats {
   uint64_t intra_faces_parsed, predicted_faces_decoded;
   uint64_t prefetch_faces, prefetch_dropped;
   uint64_t thread_buffer_bytes;
+  svc_cache_counters depth_cache; /* decoded depth planes */
 } svc_reader_stats;
 
 /* A snapshot of the counters (svc/reader.h, ReaderStats). Cheap; safe at any time. */

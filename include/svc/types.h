@@ -100,6 +100,28 @@ struct PixelBuffer {
   std::array<size_t, 3> strides{};
 };
 
+// How a face's depth is decoded into a caller's buffer (Reader::decode_face_depth_into).
+enum class DepthFormat : uint8_t {
+  // float: eye-space depth, the distance along the face camera's view axis (positive, in
+  // scene units); +infinity where the face saw no geometry.
+  kEyeZ32F = 0,
+  // uint16_t: the coded inverse depth, round(65535 near / z) with `near` the face
+  // camera's near plane, clamped to 1..65535 (docs/codec.md 7.1); 0 without geometry.
+  kInverse16 = 1,
+};
+
+// A caller's buffer to decode a face's depth into: `size` bytes at `data`, rows `stride`
+// bytes apart (at least width * 4 for kEyeZ32F, width * 2 for kInverse16; any
+// alignment). The buffer is the caller's: the decoder writes into it and keeps no
+// reference.
+struct DepthBuffer {
+  DepthFormat format = DepthFormat::kEyeZ32F;
+  RowOrder rows = RowOrder::kTopDown;
+  void* data = nullptr;
+  size_t stride = 0;
+  size_t size = 0;
+};
+
 // The bytes of one row and the number of rows of plane `plane` (0..2) of a width x height
 // face in `format`; 0 for a plane the format does not have. Thread-safe.
 SVC_API size_t pixel_row_bytes(PixelFormat format, int width, int plane) noexcept;

@@ -101,6 +101,7 @@ svc::ReaderSettings reader_settings(const svc_reader_settings* given) {
   settings.decode_threads = given->decode_threads;
   settings.prefetch_threads = given->prefetch_threads;
   settings.prefetch_radius = given->prefetch_radius;
+  settings.depth_cache_bytes = given->depth_cache_bytes;
   return settings;
 }
 
@@ -219,7 +220,8 @@ void svc_reader_settings_default(svc_reader_settings* settings) {
   if (settings == nullptr) return;
   const svc::ReaderSettings d = svc::default_reader_settings();
   *settings = svc_reader_settings{d.coefficient_cache_bytes, d.face_cache_bytes, d.reference_cache_bytes,
-                                  d.decode_threads,          d.prefetch_threads, d.prefetch_radius};
+                                  d.decode_threads,          d.prefetch_threads, d.prefetch_radius,
+                                  d.depth_cache_bytes};
 }
 
 svc_status svc_reader_open_file(const char* path, const svc_reader_settings* settings, svc_reader** out) {
@@ -298,6 +300,9 @@ svc_status svc_reader_info(const svc_reader* reader, svc_file_info* out) {
     result.qindex = info.qindex;
     result.up_axis = info.up_axis;
     result.cell_count = reader->reader->cells().size();
+    result.has_depth = info.has_depth ? 1 : 0;
+    result.depth_max_error = info.depth_max_error;
+    result.depth_bytes = info.depth_bytes;
     *out = result;
     return Status::Ok();
   });
@@ -376,6 +381,26 @@ svc_status svc_reader_decode_face(svc_reader* reader, const int32_t cell[3], svc
   });
 }
 
+svc_status svc_reader_decode_face_depth(svc_reader* reader, const int32_t cell[3], svc_face face,
+                                        const svc_depth_image* out) {
+  if (reader == nullptr) return SVC_INVALID_ARGUMENT;
+  return guarded(reader, "svc_reader_decode_face_depth", [&]() -> Status {
+    if (cell == nullptr) return invalid("svc_reader_decode_face_depth", "cell");
+    if (out == nullptr) return invalid("svc_reader_decode_face_depth", "out");
+    if (static_cast<int>(face) < 0 || static_cast<int>(face) >= svc::kFaceCount) {
+      return Status(ErrorCode::kInvalidArgument, "svc_reader_decode_face_depth: face " +
+                                                     std::to_string(static_cast<int>(face)) + " outside 0..5");
+    }
+    svc::DepthBuffer buffer;
+    buffer.format = static_cast<svc::DepthFormat>(out->format);
+    buffer.rows = static_cast<svc::RowOrder>(out->rows);
+    buffer.data = out->data;
+    buffer.stride = out->stride;
+    buffer.size = out->size;
+    return reader->reader->decode_face_depth_into(cell_index(cell), static_cast<svc::Face>(face), buffer);
+  });
+}
+
 svc_status svc_reader_decode_cube(svc_reader* reader, const int32_t cell[3], const svc_image out[6]) {
   if (reader == nullptr) return SVC_INVALID_ARGUMENT;
   return guarded(reader, "svc_reader_decode_cube", [&]() -> Status {
@@ -428,6 +453,7 @@ svc_status svc_reader_get_stats(const svc_reader* reader, svc_reader_stats* out)
     result.prefetch_faces = s.prefetch_faces;
     result.prefetch_dropped = s.prefetch_dropped;
     result.thread_buffer_bytes = s.thread_buffer_bytes;
+    copy_counters(s.depth_cache, &result.depth_cache);
     *out = result;
     return Status::Ok();
   });

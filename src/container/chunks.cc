@@ -189,11 +189,23 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
 
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what) {
-  if (!frame.bare_chunk) return read_chunk(file, frame.chunk_offset, chunk_bytes(frame), kFaceChunkTag, what);
+  if (!frame.bare_chunk) {
+    return read_chunk(file, frame.chunk_offset, color_chunk_bytes(frame), kFaceChunkTag, what);
+  }
   SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
-                       read_chunk_bytes(file, frame.chunk_offset, chunk_bytes(frame), what));
+                       read_chunk_bytes(file, frame.chunk_offset, color_chunk_bytes(frame), what));
   SVC_RETURN_IF_ERROR(check_trailing_crc(bytes, frame.chunk_offset, what));
   bytes.resize(frame.payload_size);
+  return bytes;
+}
+
+Result<std::vector<uint8_t>> read_frame_depth(const ReadOnlyFile& file, const FrameRecord& frame,
+                                              const std::string& what) {
+  if (frame.depth_size == 0) return Status(ErrorCode::kNotFound, what + " has no depth");
+  const uint64_t offset = frame.chunk_offset + color_chunk_bytes(frame);
+  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, read_chunk_bytes(file, offset, depth_chunk_bytes(frame), what));
+  SVC_RETURN_IF_ERROR(check_trailing_crc(bytes, offset, what + " depth"));
+  bytes.resize(frame.depth_size);
   return bytes;
 }
 

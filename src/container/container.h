@@ -93,11 +93,14 @@ class FrameReferences {
   uint8_t size_ = 0;
 };
 
-// Packed: 32 bytes a frame, the index's cost per face besides its camera.
+// Packed: 40 bytes a frame, the index's cost per face besides its camera.
 struct FrameRecord {
-  uint64_t chunk_offset = 0;   // file offset of the face's chunk
-  uint32_t cell = 0;           // ordinal into ContainerIndex::cells
-  uint32_t payload_size = 0;   // coded bytes inside the chunk
+  uint64_t chunk_offset = 0;  // file offset of the face's chunk
+  uint32_t cell = 0;          // ordinal into ContainerIndex::cells
+  uint32_t payload_size = 0;  // coded bytes inside the chunk
+  // Coded depth bytes, in a bare chunk right after the face's chunk; 0 in a file without
+  // depth (ContainerIndex::depth).
+  uint32_t depth_size = 0;
   FrameReferences references;  // ordinals into ContainerIndex::frames
   Face face = Face::kPX;
   FaceType type = FaceType::kIntra;
@@ -108,11 +111,19 @@ struct FrameRecord {
   // them; a FACE chunk (make_chunk) in files from before.
   bool bare_chunk = true;
 };
-static_assert(sizeof(FrameRecord) <= 32);
+static_assert(sizeof(FrameRecord) <= 40);
 
-// Bytes the frame's chunk takes in the file, payload and framing.
-inline uint64_t chunk_bytes(const FrameRecord& frame) {
+// Bytes the face's own chunk takes in the file, payload and framing.
+inline uint64_t color_chunk_bytes(const FrameRecord& frame) {
   return uint64_t{frame.payload_size} + (frame.bare_chunk ? kBareChunkOverhead : kChunkOverhead);
+}
+// Bytes the depth chunk takes (0 without depth); it starts where the face's chunk ends.
+inline uint64_t depth_chunk_bytes(const FrameRecord& frame) {
+  return frame.depth_size == 0 ? 0 : uint64_t{frame.depth_size} + kBareChunkOverhead;
+}
+// Bytes the frame takes in the file: its chunk and its depth chunk.
+inline uint64_t chunk_bytes(const FrameRecord& frame) {
+  return color_chunk_bytes(frame) + depth_chunk_bytes(frame);
 }
 
 // Every frame `frame` needs decoded before it can be: its references, then, with cube
@@ -120,6 +131,10 @@ inline uint64_t chunk_bytes(const FrameRecord& frame) {
 // order). Frames lie cell-major, six per cell, so the cube's faces are found by
 // position.
 std::vector<uint32_t> frame_dependencies(const FrameRecord& frame);
+// The faces whose depth a B-face's depth is predicted from (docs/codec.md 7.3): for
+// each reference, its face and the four adjacent faces of its cube, whether or not the
+// frame has cube references; frame_dependencies' order. Empty for an I-face.
+std::vector<uint32_t> depth_dependencies(const FrameRecord& frame);
 
 struct ContainerIndex {
   uint32_t face_width = 0;
@@ -128,6 +143,10 @@ struct ContainerIndex {
   DepthMode depth_mode = DepthMode::kEyeZ;
   UpAxis up_axis = UpAxis::kY;
   CodingRecord coding;
+  // Every face has a depth chunk (FrameRecord::depth_size > 0): index version 5.
+  bool depth = false;
+  // The bound on every depth code's error (codec/common/depth.h), 0..255; 0 without depth.
+  int depth_max_error = 0;
   std::vector<CellRecord> cells;  // sorted by (y, z, x), unique
   // One per cell, as cells. Apart so that an index being built may leave it empty (an
   // encode reads cameras from its manifest, serialize_index through a CameraReader) and
@@ -137,7 +156,7 @@ struct ContainerIndex {
   std::array<FaceTypeStats, 2> stats;  // indexed by FaceType, kept for `svc info`
 };
 
-// Writes index version 4 (docs/format.md, "The index"): face cameras that a rig entry
+// Writes index version 4, or 5 for an index with depth (docs/format.md, "The index"): face cameras that a rig entry
 // reproduces bit for bit are stored as one byte, cell records of a regular grid in two,
 // frame records as varints, without the chunk offset of a chunk that follows the
 // previous one or the references a B-cube's faces share. Lossless:
@@ -150,7 +169,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index);
 // those cameras in `cameras`.
 using CameraReader = std::function<Result<CellCameras>(size_t cell)>;
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras);
-// Reads index version 4 (the one serialize_index writes) and refuses any other
+// Reads index versions 4 and 5 (those serialize_index writes) and refuses any other
 // (ErrorCode::kUnsupported, naming the version). Validates every field against `limits` before it sizes
 // anything; `file_size` bounds chunk offsets. Errors name the field and its file offset
 // (`payload_offset` is the index payload's offset in the file).
@@ -186,6 +205,11 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
 // FACE chunk's tag and size. Errors name the chunk offset and, through `what`, the face.
 Result<std::vector<uint8_t>> read_frame_payload(const ReadOnlyFile& file, const FrameRecord& frame,
                                                 const std::string& what);
+
+// Reads one face's depth chunk (bare, right after its face chunk) and checks its CRC;
+// kNotFound when the frame has none. Errors name the chunk offset and `what`.
+Result<std::vector<uint8_t>> read_frame_depth(const ReadOnlyFile& file, const FrameRecord& frame,
+                                              const std::string& what);
 
 // Reads the chunk of `chunk_size` bytes (overhead included) at `offset` and checks its
 // tag, size field and CRC-32; returns its payload. Errors name `what` and the offset.

@@ -14,7 +14,8 @@ namespace svc {
 
 namespace {
 
-constexpr uint32_t kIndexVersion = 4;  // the only version written and read
+constexpr uint32_t kIndexVersion = 4;           // written for files without depth
+constexpr uint32_t kIndexVersionWithDepth = 5;  // the same with a depth size in every frame record
 // Smallest record sizes, used to bound counts against the bytes left before allocating.
 constexpr uint64_t kFrameRecordMinBytes = 1 + 1;  // type byte, payload size
 constexpr uint64_t kCellRecordMinBytes = 1 + 1;   // raster gap, flags
@@ -307,7 +308,7 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
   const uint8_t depth_mode = r.u8();
   const uint8_t up_axis = r.u8();
   const uint8_t motion = r.u8();
-  r.u8();
+  const uint8_t reserved = r.u8();
   index.coding.quality = r.u32();
   index.coding.qindex = r.u32();
   for (int32_t& s : index.coding.i_spacing) s = r.i32();
@@ -337,6 +338,9 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
   if (depth_mode > 1 || up_axis > 2 || motion > 1) {
     return corrupt_at("depth mode, up axis or motion source has an unknown value", size_at + 68);
   }
+  // Index version 5 keeps the depth's maximum error there; version 4 a reserved 0.
+  if (!index.depth && reserved != 0) return corrupt_at("reserved index byte is not 0", size_at + 71);
+  index.depth_max_error = reserved;
   index.depth_mode = static_cast<DepthMode>(depth_mode);
   index.up_axis = static_cast<UpAxis>(up_axis);
   index.coding.motion = static_cast<MotionSearch>(motion);
@@ -552,6 +556,21 @@ Status read_listed_references(ByteReader& r, ContainerIndex& index, uint64_t i, 
   return Status::Ok();
 }
 
+// Index version 5: the size of the depth chunk after the face's own, which must be bare.
+Status read_depth_size(ByteReader& r, FrameRecord& frame, const std::string& what, uint64_t record_at,
+                       const ReaderLimits& limits) {
+  SVC_ASSIGN_OR_RETURN(const uint64_t depth_size, read_varint(r, what + " depth size"));
+  if (depth_size == 0 || !frame.bare_chunk) {
+    return corrupt_at(what + " has no depth chunk, or a face chunk that is not bare", record_at);
+  }
+  if (depth_size > limits.max_frame_bytes) {
+    return Status(ErrorCode::kLimitExceeded, what + " depth is " + std::to_string(depth_size) +
+                                                 " bytes, above the reader's limit" + at_offset(record_at));
+  }
+  frame.depth_size = static_cast<uint32_t>(depth_size);
+  return Status::Ok();
+}
+
 // Varint records (docs/format.md "Frame record").
 Status parse_frames(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
   const uint64_t frame_count = index.frames.size();
@@ -594,6 +613,7 @@ Status parse_frames(ByteReader& r, uint64_t file_size, const ReaderLimits& limit
                         record_at);
     }
     frame.payload_size = static_cast<uint32_t>(payload_size);
+    if (index.depth) SVC_RETURN_IF_ERROR(read_depth_size(r, frame, what, record_at, limits));
     SVC_RETURN_IF_ERROR(check_frame(frame, kind, ref_count, what, record_at, file_size, limits));
     frame.type = static_cast<FaceType>(kind);
     SVC_RETURN_IF_ERROR(same_references ? copy_previous_references(index, i, ref_count, what, record_at)
@@ -622,7 +642,7 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
 
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras) {
   ByteWriter w;
-  w.u32(kIndexVersion);
+  w.u32(index.depth ? kIndexVersionWithDepth : kIndexVersion);
   w.u32(index.face_width);
   w.u32(index.face_height);
   for (int32_t d : index.grid.dims) w.i32(d);
@@ -631,7 +651,7 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
   w.u8(static_cast<uint8_t>(index.depth_mode));
   w.u8(static_cast<uint8_t>(index.up_axis));
   w.u8(static_cast<uint8_t>(index.coding.motion));
-  w.u8(0);
+  w.u8(index.depth ? static_cast<uint8_t>(index.depth_max_error) : uint8_t{0});
   w.u32(index.coding.quality);
   w.u32(index.coding.qindex);
   for (int32_t s : index.coding.i_spacing) w.i32(s);
@@ -691,6 +711,7 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
     // Two's complement difference: chunks appended by `svc add` lie before earlier ones.
     if (!back_to_back) write_varint(w, zigzag_encode(static_cast<int64_t>(frame.chunk_offset - previous_end)));
     write_varint(w, frame.payload_size);
+    if (index.depth) write_varint(w, frame.depth_size);
     // References of the same face (the only ones parse_index accepts): the cell suffices.
     if (!same_references) {
       for (uint32_t ref : frame.references) {
@@ -715,11 +736,12 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   const uint64_t version_at = r.file_offset();
   const uint32_t version = r.u32();
   if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
-  if (version != kIndexVersion) {
+  if (version != kIndexVersion && version != kIndexVersionWithDepth) {
     return Status(ErrorCode::kUnsupported, "index version " + std::to_string(version) +
-                                               " is not supported (this build reads " +
-                                               std::to_string(kIndexVersion) + ")" + at_offset(version_at));
+                                               " is not supported (this build reads 4 and 5)" +
+                                               at_offset(version_at));
   }
+  index.depth = version == kIndexVersionWithDepth;
   SVC_RETURN_IF_ERROR(parse_header(r, limits, index));
   SVC_ASSIGN_OR_RETURN(const std::vector<RigEntry> rig, parse_rig_table(r));
   SVC_RETURN_IF_ERROR(parse_cells(r, rig, limits, index));
@@ -748,10 +770,11 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
                           frames_at);
       }
     }
-    for (uint32_t dependency : frame_dependencies(frame)) {
+    for (uint32_t dependency : index.depth ? depth_dependencies(frame) : frame_dependencies(frame)) {
       if (index.frames[dependency].type != FaceType::kIntra) {
-        return corrupt_at(face_label(index.cells[frame.cell].index, frame.face) + " has cube references, but " +
-                              frame_name(index, dependency) + " of its reference cube is not an I-face",
+        return corrupt_at(face_label(index.cells[frame.cell].index, frame.face) +
+                              " depends on its reference cubes, but " + frame_name(index, dependency) +
+                              " of its reference cube is not an I-face",
                           frames_at);
       }
     }
@@ -769,14 +792,24 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   return index;
 }
 
-std::vector<uint32_t> frame_dependencies(const FrameRecord& frame) {
+namespace {
+
+std::vector<uint32_t> dependencies(const FrameRecord& frame, bool cube_references) {
   std::vector<uint32_t> out(frame.references.begin(), frame.references.end());
-  if (!frame.cube_references) return out;
+  if (!cube_references) return out;
   for (uint32_t ref : frame.references) {
     const uint32_t cube = ref - ref % kFaceCount;
     for (Face g : codec::adjacent_faces(frame.face)) out.push_back(cube + static_cast<uint32_t>(g));
   }
   return out;
 }
+
+}  // namespace
+
+std::vector<uint32_t> frame_dependencies(const FrameRecord& frame) {
+  return dependencies(frame, frame.cube_references);
+}
+
+std::vector<uint32_t> depth_dependencies(const FrameRecord& frame) { return dependencies(frame, true); }
 
 }  // namespace svc

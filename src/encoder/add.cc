@@ -208,6 +208,8 @@ Result<ContainerIndex> merged_index(const ContainerIndex& old, const std::vector
   index.depth_mode = old.depth_mode;
   index.up_axis = old.up_axis;
   index.coding = old.coding;
+  index.depth = old.depth;
+  index.depth_max_error = old.depth_max_error;
   index.stats = old.stats;
   index.cells.resize(cells.size());
   index.cameras.resize(cells.size());

@@ -12,13 +12,16 @@
 #include "codec/common/cube_padding.h"
 #include "codec/common/intra_frame.h"
 #include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/depth_decoder.h"
 #include "codec/decoder/intra_decoder.h"
 #include "codec/encoder/bframe_encoder.h"
+#include "codec/encoder/depth_encoder.h"
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/rgb_to_ycbcr.h"
 #include "codec/encoder/search_planes.h"
 #include "common/parallel.h"
 #include "encoder/face_coding.h"
+#include "reader/depth_decode.h"
 #include "reader/face_decode.h"
 #include "reader/shared_cache.h"
 
@@ -30,11 +33,14 @@ struct CodedIntra {
   std::vector<uint8_t> payload;
   ImageYCbCr420 reconstruction;
   codec::SyntaxBits syntax;
+  std::vector<uint8_t> depth_payload;  // empty without depth
 };
 
 uint64_t image_bytes(const ImageYCbCr420& image) { return image.y.size() + image.cb.size() + image.cr.size(); }
+uint64_t depth_bytes(const std::vector<uint16_t>& codes) { return codes.size() * sizeof(uint16_t); }
 
 using ReferenceCache = reader_internal::SharedCache<ImageYCbCr420>;
+using DepthCache = reader_internal::SharedCache<std::vector<uint16_t>>;
 using SearchPlanesCache = reader_internal::SharedCache<codec::SearchPlanes>;
 
 uint64_t search_planes_bytes(const codec::SearchPlanes& planes) { return planes.bytes(); }
@@ -46,7 +52,8 @@ class Pipeline {
         index_(*job.index),
         references_(reference_cache_bytes(), &image_bytes),
         padded_(reference_cache_bytes(), &image_bytes),
-        search_planes_(reference_cache_bytes(), &search_planes_bytes) {
+        search_planes_(reference_cache_bytes(), &search_planes_bytes),
+        depth_references_(reference_cache_bytes(), &depth_bytes) {
     for (uint32_t frame : job.frames) {
       (index_.frames[frame].type == FaceType::kIntra ? intra_ : predicted_).push_back(frame);
     }
@@ -110,11 +117,77 @@ class Pipeline {
     CodedIntra coded;
     coded.payload = codec::encode_intra_frame(ycc, intra_params_, &coded.reconstruction, &coded.syntax);
     SVC_RETURN_IF_ERROR(check_intra_payload(coded.payload, coded.reconstruction, frame_name(frame)));
+    if (index_.depth) {
+      SVC_ASSIGN_OR_RETURN(const std::vector<uint16_t> codes, source_depth_codes(frame, data));
+      coded.depth_payload =
+          std::move(codec::encode_depth(codes, width(), height(), index_.depth_max_error, nullptr).payload);
+    }
     return coded;
   }
 
+  int width() const { return static_cast<int>(index_.face_width); }
+  int height() const { return static_cast<int>(index_.face_height); }
+
+  Result<std::vector<uint16_t>> source_depth_codes(uint32_t frame, const FaceData& data) const {
+    SVC_ASSIGN_OR_RETURN(const Camera camera, job_.camera(frame));
+    return codec::inverse_depth_codes(data.depth, camera.frustum.near_plane);
+  }
+
+  // Reads and decodes reference depth through the pipeline's cache.
+  class DepthSource : public CodedDepthSource {
+   public:
+    DepthSource(Pipeline& pipeline, const ReadOnlyFile& file)
+        : CodedDepthSource(file, pipeline.index_), pipeline_(pipeline) {}
+    Result<std::vector<uint8_t>> depth_payload(uint32_t frame) override {
+      return read_frame_depth(file_, index_.frames[frame], frame_label(index_, frame));
+    }
+    Result<DepthPointer> intra_depth(uint32_t frame) override { return pipeline_.depth_reference(frame); }
+    Result<Camera> camera(uint32_t frame) override { return pipeline_.job_.camera(frame); }
+
+   private:
+    Pipeline& pipeline_;
+  };
+
+  // A reference I-face's depth as the decoder will see it: decoded from the file when
+  // it is there, else coded again from its source (the same codes).
+  Result<DepthPointer> depth_reference(uint32_t frame) {
+    return depth_references_.get(frame, reader_internal::Origin::kCaller, [&]() -> Result<DepthPointer> {
+      if (index_.frames[frame].chunk_offset != 0) {
+        DepthSource source(*this, *written_);
+        return decode_indexed_depth(*written_, index_, frame, source);
+      }
+      SVC_ASSIGN_OR_RETURN(FaceData data, job_.load(frame));
+      SVC_ASSIGN_OR_RETURN(const std::vector<uint16_t> codes, source_depth_codes(frame, data));
+      return DepthPointer(std::make_shared<const std::vector<uint16_t>>(
+          codec::encode_depth(codes, width(), height(), index_.depth_max_error, nullptr).reconstructed));
+    });
+  }
+
+  // A B-face's depth: predicted from its reference cubes' depth, or coded on its own
+  // when that is smaller (docs/encoder.md, "Depth").
+  Result<std::vector<uint8_t>> code_predicted_depth(uint32_t frame, const FaceData& data, const Camera& camera) {
+    SVC_ASSIGN_OR_RETURN(const std::vector<uint16_t> codes, source_depth_codes(frame, data));
+    std::vector<DepthPointer> held;
+    std::vector<Camera> cameras;
+    for (uint32_t dependency : depth_dependencies(index_.frames[frame])) {
+      SVC_ASSIGN_OR_RETURN(DepthPointer plane, depth_reference(dependency));
+      SVC_ASSIGN_OR_RETURN(Camera dependency_camera, job_.camera(dependency));
+      held.push_back(std::move(plane));
+      cameras.push_back(dependency_camera);
+    }
+    std::vector<codec::DepthReference> references;
+    for (size_t i = 0; i < held.size(); ++i) references.push_back({held[i]->data(), &cameras[i]});
+    codec::DepthPrediction prediction;
+    codec::predict_depth(references, camera, width(), height(), &prediction);
+    std::vector<uint8_t> inter =
+        codec::encode_depth(codes, width(), height(), index_.depth_max_error, &prediction).payload;
+    std::vector<uint8_t> intra =
+        codec::encode_depth(codes, width(), height(), index_.depth_max_error, nullptr).payload;
+    return intra.size() < inter.size() ? intra : inter;
+  }
+
   Status store_intra(uint32_t frame, CodedIntra& coded) {
-    SVC_RETURN_IF_ERROR(store(frame, coded.payload));
+    SVC_RETURN_IF_ERROR(store(frame, coded.payload, coded.depth_payload));
     job_.syntax[0] += coded.syntax;
     const codec::BlockLayout layout =
         codec::block_layout(static_cast<int>(index_.face_width), static_cast<int>(index_.face_height));
@@ -204,12 +277,17 @@ class Pipeline {
       held_planes.push_back(planes);
       refs.push_back({image.get(), &ref_cameras[r], planes.get()});
     }
-    return code_predicted_face(data, camera, refs, index_.coding.motion == MotionSearch::kDepth, b_params_,
-                               frame_name(frame));
+    SVC_ASSIGN_OR_RETURN(CodedPredictedFace coded,
+                         code_predicted_face(data, camera, refs, index_.coding.motion == MotionSearch::kDepth,
+                                             b_params_, frame_name(frame)));
+    if (index_.depth) {
+      SVC_ASSIGN_OR_RETURN(coded.depth_payload, code_predicted_depth(frame, data, camera));
+    }
+    return coded;
   }
 
   Status store_predicted(uint32_t frame, const CodedPredictedFace& coded) {
-    SVC_RETURN_IF_ERROR(store(frame, coded.payload));
+    SVC_RETURN_IF_ERROR(store(frame, coded.payload, coded.depth_payload));
     FaceTypeStats& s = index_.stats[1];
     s.mb_intra += coded.stats.mb_intra;
     s.mb_forward += coded.stats.mb_forward;
@@ -229,12 +307,20 @@ class Pipeline {
     return Status::Ok();
   }
 
-  // Appends the chunk, fills in the frame record and reports progress.
-  Status store(uint32_t frame, const std::vector<uint8_t>& payload) {
+  // Appends the chunk and the depth chunk after it, fills in the frame record and
+  // reports progress.
+  Status store(uint32_t frame, const std::vector<uint8_t>& payload, const std::vector<uint8_t>& depth_payload) {
     SVC_ASSIGN_OR_RETURN(uint64_t offset, job_.append(payload));
     FrameRecord& record = index_.frames[frame];
     record.chunk_offset = offset;
     record.payload_size = static_cast<uint32_t>(payload.size());
+    if (index_.depth) {
+      SVC_ASSIGN_OR_RETURN(uint64_t depth_offset, job_.append(depth_payload));
+      if (depth_offset != offset + color_chunk_bytes(record)) {
+        return Status(ErrorCode::kInternal, frame_name(frame) + ": depth chunk not right after the face's");
+      }
+      record.depth_size = static_cast<uint32_t>(depth_payload.size());
+    }
     FaceTypeStats& stats = index_.stats[static_cast<int>(record.type)];
     stats.faces += 1;
     stats.bytes += payload.size();
@@ -256,6 +342,7 @@ class Pipeline {
   std::unique_ptr<ReadOnlyFile> written_;
   std::vector<uint32_t> intra_, predicted_;
   ReferenceCache padded_;            // padded reference I-faces, by frame
+  DepthCache depth_references_;      // reference I-faces' depth, by frame
   SearchPlanesCache search_planes_;  // by 2 frame + (1 when padded)
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;

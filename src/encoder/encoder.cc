@@ -15,6 +15,7 @@
 #endif
 
 #include "codec/common/bframe.h"
+#include "codec/common/depth.h"
 #include "codec/common/intra_frame.h"
 #include "codec/decoder/bframe_decoder.h"
 #include "codec/decoder/intra_decoder.h"
@@ -57,6 +58,10 @@ Status validate_settings(const EncoderSettings& settings) {
     if (s < 1 || s > 1024) {
       return Status(ErrorCode::kInvalidArgument, "I-cube spacing " + std::to_string(s) + " is outside 1..1024");
     }
+  }
+  if (settings.depth_max_error < 0 || settings.depth_max_error > codec::kMaxDepthError) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "depth maximum error " + std::to_string(settings.depth_max_error) + " is outside 0..255");
   }
   return Status::Ok();
 }
@@ -198,6 +203,8 @@ Result<EncodePlan> plan_encode(const std::filesystem::path& db_dir, const Encode
   index.coding.quality = settings.qindex >= 0 ? 0 : static_cast<uint32_t>(settings.quality);
   index.coding.qindex = static_cast<uint32_t>(qindex);
   index.coding.motion = settings.motion;
+  index.depth = settings.depth;
+  index.depth_max_error = settings.depth ? settings.depth_max_error : 0;
 
   SVC_RETURN_IF_ERROR(plan_frames(manifest, settings, index));
   return_freed_memory();

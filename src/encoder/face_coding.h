@@ -19,7 +19,8 @@ namespace svc {
 struct CodedPredictedFace {
   std::vector<uint8_t> payload;
   codec::BFrameStats stats;
-  CandidateStats candidates;  // unique depth candidates before any cap, over references
+  CandidateStats candidates;           // unique depth candidates before any cap, over references
+  std::vector<uint8_t> depth_payload;  // empty without depth
 };
 
 // One reference of a B-face: its reconstructed I-face (as the decoder will see it), the

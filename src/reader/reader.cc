@@ -23,6 +23,7 @@
 #include "common/parallel.h"
 #include "common/thread_priority.h"
 #include "container/container.h"
+#include "reader/depth_decode.h"
 #include "reader/face_decode.h"
 #include "reader/pixel_buffer.h"
 #include "reader/prefetch_order.h"
@@ -54,6 +55,10 @@ uint64_t image_bytes(const ImageYCbCr420& image) {
   return sizeof(ImageYCbCr420) + image.y.capacity() + image.cb.capacity() + image.cr.capacity();
 }
 
+uint64_t depth_plane_bytes(const std::vector<uint16_t>& codes) {
+  return sizeof(codes) + codes.capacity() * sizeof(uint16_t);
+}
+
 bool finite3(const std::array<double, 3>& v) {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
@@ -77,7 +82,8 @@ struct Reader::Impl {
       : settings(s),
         coefficients(s.coefficient_cache_bytes, &coefficient_bytes),
         faces(s.face_cache_bytes, &image_bytes),
-        references(s.reference_cache_bytes, &image_bytes) {}
+        references(s.reference_cache_bytes, &image_bytes),
+        depths(s.depth_cache_bytes, &depth_plane_bytes) {}
 
   std::unique_ptr<ReadOnlyFile> file;
   ReaderSettings settings;
@@ -93,6 +99,10 @@ struct Reader::Impl {
   // border (key: reference_key). A padded entry's computation waits on plain entries of
   // this cache, whose computations wait on nothing in it, so waits form no cycle.
   reader_internal::SharedCache<ImageYCbCr420> references;
+  // Decoded depth planes, of the faces asked for and of the reference I-faces B-faces'
+  // depth predicts from. A B-face's computation waits on I-face entries, whose
+  // computations wait on nothing in it: no cycle.
+  reader_internal::SharedCache<std::vector<uint16_t>> depths;
   // Whether every frame has its own reference keys (false only for indexes of more
   // frames than 2^32 / 5, which limits wider than the defaults can admit): without
   // them, references are computed and not cached.
@@ -120,7 +130,7 @@ struct Reader::Impl {
 
   Result<std::vector<uint8_t>> read_payload(uint32_t frame) {
     const FrameRecord& record = index.frames[frame];
-    bytes_read.fetch_add(chunk_bytes(record), std::memory_order_relaxed);
+    bytes_read.fetch_add(color_chunk_bytes(record), std::memory_order_relaxed);
     chunks_read.fetch_add(1, std::memory_order_relaxed);
     return read_frame_payload(*file, record, frame_name(frame));
   }
@@ -264,6 +274,44 @@ struct Reader::Impl {
     });
   }
 
+  // --- Depth -----------------------------------------------------------------------------
+
+  const Camera& camera_of(uint32_t frame) const { return cells[frame / kFaceCount].cameras[frame % kFaceCount]; }
+
+  class CachedDepthSource : public CodedDepthSource {
+   public:
+    CachedDepthSource(Impl& impl, Origin origin)
+        : CodedDepthSource(*impl.file, impl.index), impl_(impl), origin_(origin) {}
+    Result<std::vector<uint8_t>> depth_payload(uint32_t frame) override {
+      const FrameRecord& record = impl_.index.frames[frame];
+      impl_.bytes_read.fetch_add(depth_chunk_bytes(record), std::memory_order_relaxed);
+      impl_.chunks_read.fetch_add(1, std::memory_order_relaxed);
+      return read_frame_depth(*impl_.file, record, impl_.frame_name(frame));
+    }
+    Result<DepthPointer> intra_depth(uint32_t frame) override { return impl_.depth_of(frame, origin_); }
+    Result<Camera> camera(uint32_t frame) override { return impl_.camera_of(frame); }
+
+   private:
+    Impl& impl_;
+    Origin origin_;
+  };
+
+  Result<DepthPointer> depth_of(uint32_t frame, Origin origin, Outcome* outcome = nullptr) {
+    return depths.get(
+        frame, origin,
+        [&] {
+          CachedDepthSource source(*this, origin);
+          return decode_indexed_depth(*file, index, frame, source);
+        },
+        outcome);
+  }
+
+  Result<uint32_t> depth_frame_of(const CellIndex& cell, Face face) const {
+    if (!index.depth)
+      return Status(ErrorCode::kNotFound, file->name() + " holds no depth (encoded without --depth)");
+    return frame_of(cell, face);
+  }
+
   // --- Prefetch --------------------------------------------------------------------------
 
   uint64_t cube_bytes() const {
@@ -288,6 +336,7 @@ struct Reader::Impl {
       // Errors are not cached; the caller who asks for the face gets them.
       auto result = face_of(frame, Origin::kPrefetch, &outcome);
       if (result.ok() && outcome == Outcome::kComputed) prefetch_faces.fetch_add(1, std::memory_order_relaxed);
+      if (index.depth) (void)depth_of(frame, Origin::kPrefetch);
       lock.lock();
       --active;
       if (queue.empty() && active == 0) work_idle.notify_all();
@@ -338,6 +387,7 @@ struct Reader::Impl {
     coefficients.set_budget(0);
     faces.set_budget(0);
     references.set_budget(0);
+    depths.set_budget(0);
   }
 };
 
@@ -394,6 +444,9 @@ Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source,
   info.motion = index.coding.motion == MotionSearch::kDepth ? "depth" : "logarithmic";
   info.up_axis = "xyz"[static_cast<int>(index.up_axis)];
   info.face_type_stats = index.stats;
+  info.has_depth = index.depth;
+  info.depth_max_error = index.depth_max_error;
+  for (const FrameRecord& frame : index.frames) info.depth_bytes += frame.depth_size;
 
   impl->cells.resize(index.cells.size());
   for (size_t c = 0; c < index.cells.size(); ++c) {
@@ -505,6 +558,26 @@ Status Reader::decode_cube_into(const CellIndex& cell, const std::array<PixelBuf
   });
 }
 
+Status Reader::decode_face_depth_into(const CellIndex& cell, Face face, const DepthBuffer& out) {
+  if (impl_->closed.load()) return cancelled();
+  SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->depth_frame_of(cell, face));
+  SVC_RETURN_IF_ERROR(reader_internal::check_depth_buffer(out, impl_->info.face_width, impl_->info.face_height));
+  SVC_ASSIGN_OR_RETURN(DepthPointer codes, impl_->depth_of(frame, Origin::kCaller));
+  reader_internal::write_depth(*codes, impl_->info.face_width, impl_->info.face_height,
+                               impl_->camera_of(frame).frustum.near_plane, out);
+  return Status::Ok();
+}
+
+Result<std::vector<float>> Reader::decode_face_depth(const CellIndex& cell, Face face) {
+  std::vector<float> depth(static_cast<size_t>(impl_->info.face_width) * impl_->info.face_height);
+  DepthBuffer out;
+  out.data = depth.data();
+  out.stride = static_cast<size_t>(impl_->info.face_width) * sizeof(float);
+  out.size = depth.size() * sizeof(float);
+  SVC_RETURN_IF_ERROR(decode_face_depth_into(cell, face, out));
+  return depth;
+}
+
 Status Reader::set_viewer(const CellIndex& cell, const std::array<double, 3>& velocity) {
   if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
   const auto& dims = impl_->grid.dims;
@@ -531,6 +604,7 @@ ReaderStats Reader::stats() const {
   s.coefficient_cache = impl_->coefficients.counters();
   s.face_cache = impl_->faces.counters();
   s.reference_cache = impl_->references.counters();
+  s.depth_cache = impl_->depths.counters();
   s.bytes_read = impl_->bytes_read.load(std::memory_order_relaxed);
   s.chunks_read = impl_->chunks_read.load(std::memory_order_relaxed);
   s.intra_faces_parsed = impl_->intra_parsed.load(std::memory_order_relaxed);
@@ -571,6 +645,9 @@ Status Reader::verify(const VerifySettings& settings) {
                             ? impl_->decode_uncached(f).status()
                             : impl_->decode_through_caches(f, Origin::kCaller).status();
     }
+    if (outcomes[frame].ok() && impl_->index.depth) {
+      outcomes[frame] = impl_->depth_of(f, Origin::kCaller).status();
+    }
     if (!settings.progress) return Status::Ok();
     std::lock_guard<std::mutex> lock(progress_mutex);
     if (settings.progress(++checked, frames)) return Status::Ok();
@@ -582,7 +659,8 @@ Status Reader::verify(const VerifySettings& settings) {
   // failed: the first line names a damaged chunk, not one of the faces that use it.
   const auto fails_through_reference = [&](size_t frame) {
     if (chunk_damaged[frame] || impl_->index.frames[frame].type == FaceType::kIntra) return false;
-    for (uint32_t ref : frame_dependencies(impl_->index.frames[frame])) {
+    const FrameRecord& record = impl_->index.frames[frame];
+    for (uint32_t ref : impl_->index.depth ? depth_dependencies(record) : frame_dependencies(record)) {
       if (ref < frames && !outcomes[ref].ok()) return true;
     }
     return false;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-2-Clause
 // svc decode: an .svc file back into an svc-input database (manifest.json, a PNG per
-// face, cameras copied), written beside the destination and moved there when complete.
+// face, its depth as an EXR when the file keeps depth, cameras copied), written beside
+// the destination and moved there when complete.
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -24,26 +25,36 @@ namespace fs = std::filesystem;
 
 const char* const kDepthName = "depth-unknown.exr";
 
-// A depth image in which every pixel is background: the .svc file keeps no depth.
-Status write_unknown_depth(const fs::path& path, int width, int height) {
+// A one-channel float EXR of eye-space depth (+infinity without geometry).
+Status write_depth_exr(const fs::path& path, int width, int height, const std::vector<float>& depth) {
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out) return Status(ErrorCode::kIoError, "cannot write " + path.string());
   OIIO::ImageSpec spec(width, height, 1, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"Z"};
   spec.attribute("compression", "zip");
   spec.attribute("DateTime", "");  // no time stamp: the same file decodes to the same bytes
-  std::vector<float> depth(static_cast<size_t>(width) * height, std::numeric_limits<float>::infinity());
   if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, depth.data()) || !out->close()) {
     return Status(ErrorCode::kIoError, "cannot write " + path.string() + ": " + out->geterror());
   }
   return Status::Ok();
 }
 
-json face_json(const CellEntry& cell, Face face) {
+// A depth image in which every pixel is background, for a file that keeps no depth.
+Status write_unknown_depth(const fs::path& path, int width, int height) {
+  return write_depth_exr(path, width, height,
+                         std::vector<float>(static_cast<size_t>(width) * height,
+                                            std::numeric_limits<float>::infinity()));
+}
+
+std::string depth_file(const CellEntry& cell, Face face, bool has_depth) {
+  return has_depth ? cell_folder(cell.index) + "/" + face_name(face) + ".exr" : kDepthName;
+}
+
+json face_json(const CellEntry& cell, Face face, bool has_depth) {
   const Camera& camera = cell.cameras[static_cast<int>(face)];
   const Frustum& f = camera.frustum;
   return {{"color", cell_folder(cell.index) + "/" + face_name(face) + ".png"},
-          {"depth", kDepthName},
+          {"depth", depth_file(cell, face, has_depth)},
           {"world_to_camera", camera.world_to_camera},
           {"projection",
            {{"left", f.left},
@@ -81,7 +92,8 @@ json manifest_json(const DecodeOptions& options, const FileInfo& info, const std
     const CellEntry& cell = *cells[c];
     json faces_json = json::object();
     for (size_t f = 0; f < faces.size(); ++f) {
-      if (result.decoded[c * faces.size() + f]) faces_json[face_name(faces[f])] = face_json(cell, faces[f]);
+      if (result.decoded[c * faces.size() + f])
+        faces_json[face_name(faces[f])] = face_json(cell, faces[f], info.has_depth);
     }
     if (faces_json.empty()) continue;
     list.push_back({{"index", {cell.index.x, cell.index.y, cell.index.z}},
@@ -112,11 +124,17 @@ Result<DecodeResult> decode_faces(Reader& reader, const DecodeOptions& options,
     const CellEntry& cell = *cells[i / faces.size()];
     const Face face = faces[i % faces.size()];
     auto image = reader.decode_face(cell.index, face);
-    if (image.ok()) {
+    Result<std::vector<float>> depth = std::vector<float>{};
+    if (image.ok() && reader.info().has_depth) depth = reader.decode_face_depth(cell.index, face);
+    if (image.ok() && depth.ok()) {
       SVC_RETURN_IF_ERROR(
           write_png(folder / cell_folder(cell.index) / (std::string(face_name(face)) + ".png"), *image));
+      if (reader.info().has_depth) {
+        SVC_RETURN_IF_ERROR(write_depth_exr(folder / depth_file(cell, face, true), reader.info().face_width,
+                                            reader.info().face_height, *depth));
+      }
     } else {
-      outcomes[i] = image.status();
+      outcomes[i] = image.ok() ? depth.status() : image.status();
     }
     std::lock_guard<std::mutex> lock(progress_mutex);
     bar.update(++done, total);
@@ -155,7 +173,8 @@ Result<std::vector<const CellEntry*>> selected_cells(Reader& reader, const Decod
 Status write_database(Reader& reader, const DecodeOptions& options, const std::vector<const CellEntry*>& cells,
                       const std::vector<Face>& faces, const fs::path& folder, DecodeResult* result) {
   const FileInfo& info = reader.info();
-  SVC_RETURN_IF_ERROR(write_unknown_depth(folder / kDepthName, info.face_width, info.face_height));
+  if (!info.has_depth)
+    SVC_RETURN_IF_ERROR(write_unknown_depth(folder / kDepthName, info.face_width, info.face_height));
   SVC_ASSIGN_OR_RETURN(*result, decode_faces(reader, options, cells, faces, folder));
   std::ofstream manifest(folder / "manifest.json");
   manifest << manifest_json(options, info, cells, faces, *result).dump(2) << "\n";

@@ -56,6 +56,8 @@ json info_json(const std::filesystem::path& input, const FileInfo& info, const s
                  {"qindex", info.qindex},
                  {"i_spacing", info.i_spacing},
                  {"motion", info.motion}};
+  j["depth"] = info.has_depth ? json{{"max_error", info.depth_max_error}, {"bytes", info.depth_bytes}}
+                              : json(nullptr);
   j["face_types"] = {{"intra", face_type_stats_json(info.face_type_stats[0])},
                      {"predicted", face_type_stats_json(info.face_type_stats[1])}};
   json per_cell = json::array();
@@ -108,6 +110,12 @@ int info_command(const InfoOptions& options) {
               info.file_bytes ? static_cast<double>(raw) / info.file_bytes : 0.0);
   std::printf("  coding    %s, I-cube spacing %d,%d,%d, motion from %s\n", coding_scale_text(info).c_str(),
               info.i_spacing[0], info.i_spacing[1], info.i_spacing[2], info.motion.c_str());
+  if (info.has_depth) {
+    std::printf("  depth     %s (%.1f%% of the file), maximum error %d (inverse-depth codes)\n",
+                human_bytes(info.depth_bytes).c_str(),
+                info.file_bytes ? 100.0 * static_cast<double>(info.depth_bytes) / info.file_bytes : 0.0,
+                info.depth_max_error);
+  }
   print_face_type_stats("I-faces", info.face_type_stats[0]);
   print_face_type_stats("B-faces", info.face_type_stats[1]);
   std::printf("  per cell  %.0f bytes on average\n",

@@ -58,6 +58,12 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
       ->check(integer_in(0, 255));
   add_threads_option(cmd, &settings->threads);
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
+  cmd->add_flag("--depth", settings->depth, "Store every face's depth (readers decode it beside the color)");
+  cmd->add_option("--depth-max-error", settings->depth_max_error,
+                  "With --depth: largest error of a decoded inverse-depth code, 0 (lossless) ..255 "
+                  "(units of 1/65535 of the near plane's inverse depth; docs/codec.md 7)")
+      ->check(integer_in(0, 255))
+      ->capture_default_str();
   cmd->add_option("--i-spacing", text->i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")
       ->capture_default_str();
   int first_regular_speed = 0;
