@@ -5,6 +5,7 @@
 //   svc-viewer-reference render FILE.svc --at X,Y,Z --look YAW,PITCH --size WxH --fov DEG
 //                               [-o OUT.png] [--mirrored OUT.png] [--against FRAME.png]
 //   svc-viewer-reference compare A.png B.png [--region X,Y,W,H]
+//   svc-viewer-reference compare A.png B.png C.png D.png ...
 //
 // render: the frame of the cube map of the cell holding (X,Y,Z), seen from its centre as
 // svc-viewer draws it without depth: every output pixel's ray (samples/viewer/view.h
@@ -16,8 +17,8 @@
 // wrong orientation, which the comparison must tell apart. --against compares FRAME with
 // both, printing a line as compare does for each ("mirrored mean_abs ..." the second).
 // compare: prints "mean_abs M p99 P max X psnr S" over the RGB samples of two frames of
-// one size, or of the rectangle of them --region gives (p99: the 99th percentile of the
-// absolute differences, in 8-bit levels).
+// one size (a line for each pair of frames given), or of the rectangle --region gives (p99: the 99th percentile of
+// the absolute differences, in 8-bit levels).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -316,10 +317,13 @@ int main(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "render") == 0) return render(argc, argv);
   if (argc >= 4 && std::strcmp(argv[1], "compare") == 0) {
     std::array<double, 4> region{};
-    if (argc == 4) return compare(argv[2], argv[3], std::nullopt);
     if (argc == 6 && std::strcmp(argv[4], "--region") == 0 && parse(argv[5], 4, ',', region.data())) {
       return compare(argv[2], argv[3], region);
     }
+    for (int k = 2; argc % 2 == 0 && k < argc; k += 2) {
+      if (const int status = compare(argv[k], argv[k + 1], std::nullopt)) return status;
+    }
+    if (argc % 2 == 0) return 0;
   }
   std::fprintf(stderr, "usage: svc-viewer-reference render ... | compare A.png B.png [--region X,Y,W,H]\n");
   return 2;

@@ -16,13 +16,7 @@ Result<std::unique_ptr<CellLoader>> CellLoader::open(const std::filesystem::path
   return std::unique_ptr<CellLoader>(new CellLoader(std::move(reader), depth));
 }
 
-bool CellLoader::file_has_depth() const {
-#if SVC_VIEWER_HAS_DEPTH_API
-  return reader_->info().has_depth;
-#else
-  return false;
-#endif
-}
+bool CellLoader::file_has_depth() const { return reader_->info().has_depth; }
 
 glm::dvec3 CellLoader::cell_centre(const CellIndex& cell) const {
   const auto ordinal = reader_->find_cell(cell);
@@ -71,12 +65,10 @@ Status CellLoader::load(const CellIndex& cell, CellImages* out) {
   return Status::Ok();
 }
 
-Status CellLoader::load_depth([[maybe_unused]] const CellIndex& cell, [[maybe_unused]] CellImages* out) {
-#if SVC_VIEWER_HAS_DEPTH_API
+Status CellLoader::load_depth(const CellIndex& cell, CellImages* out) {
   for (int f = 0; f < kFaceCount; ++f) {
     SVC_ASSIGN_OR_RETURN(out->depth[f], reader_->decode_face_depth(cell, static_cast<Face>(f)));
   }
-#endif
   return Status::Ok();
 }
 
