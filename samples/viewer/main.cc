@@ -13,6 +13,7 @@
 //
 // Keys: W A S D move, Q E down and up, Shift faster, mouse with the left button held
 // looks around, R toggles reprojection, O the overlay, Escape quits.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -173,9 +174,14 @@ int screenshot(const Options& o, CellLoader* loader) {
   const svc::Status loaded = loader->load(loader->cell_for(view.pose.position), &cell);
   if (!loaded.ok()) return svc::command_line::report_failure(kProgram, loaded);
   (*renderer)->show_cell(cell, *reproject);
-  std::optional<TextImage> text;
-  if (o.overlay) text = render_text(overlay_lines(*loader, cell, **renderer, *reproject, 0.0), 1);
-  auto rgb = render_offscreen(renderer->get(), view, text ? &*text : nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  auto rgb = render_offscreen(renderer->get(), view, nullptr);
+  if (rgb.ok() && o.overlay) {
+    // The overlay's frame time is that of the frame without it, read back.
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const TextImage text = render_text(overlay_lines(*loader, cell, **renderer, *reproject, ms), 1);
+    rgb = render_offscreen(renderer->get(), view, &text);
+  }
   if (!rgb.ok()) return svc::command_line::report_failure(kProgram, rgb.status());
   const svc::Status written = write_png(o.screenshot, o.width, o.height, *rgb);
   if (!written.ok()) return svc::command_line::report_failure(kProgram, written);
