@@ -8,9 +8,9 @@
 #include <limits>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
 
 #include "viewer/cell_images.h"
 #include "viewer/depth_mesh.h"
@@ -103,7 +103,8 @@ TEST(ViewerCubeMap, LayoutIsReusedOnlyForCamerasThatDifferInPosition) {
   EXPECT_TRUE(layout.fits(moved));
   EXPECT_FALSE(layout.fits(rotated));
   EXPECT_FALSE(layout.fits(make_cell({0, 0, 0}, kUp, 6, direction_colour)));
-  for (int target = 0; target < kCubeTargets; ++target) EXPECT_EQ(layout.face(moved, target), cube_map_face(moved, target, 8));
+  for (int target = 0; target < kCubeTargets; ++target)
+    EXPECT_EQ(layout.face(moved, target), cube_map_face(moved, target, 8));
 }
 
 // Every face sees a wall 2 units away, square on: eye depth 2 everywhere; and the -z face
