@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -29,6 +30,7 @@
 #include <GLFW/glfw3.h>
 
 #include "command_line/command_line.h"
+#include "command_line/interrupt.h"
 #include "command_line/output_paths.h"
 #include "command_line/report.h"
 #include "viewer/cell_loader.h"
@@ -183,8 +185,14 @@ int screenshot(const Options& o, CellLoader* loader) {
     rgb = render_offscreen(renderer->get(), view, &text);
   }
   if (!rgb.ok()) return svc::command_line::report_failure(kProgram, rgb.status());
+  if (svc::command_line::interrupted()) return svc::command_line::report_failure(kProgram, svc::Status::Ok());
   const svc::Status written = write_png(o.screenshot, o.width, o.height, *rgb);
   if (!written.ok()) return svc::command_line::report_failure(kProgram, written);
+  if (svc::command_line::interrupted()) {  // while writing: nothing is left behind
+    std::error_code ignored;
+    std::filesystem::remove(o.screenshot, ignored);
+    return svc::command_line::report_failure(kProgram, svc::Status::Ok());
+  }
   std::printf("%s: wrote %s (%dx%d) from %s, %s\n", kProgram, o.screenshot.c_str(), o.width, o.height,
               svc::cell_label(cell.cell).c_str(),
               *reproject ? format("reprojected with depth (%zu triangles)", (*renderer)->mesh_triangles()).c_str()
@@ -272,7 +280,8 @@ svc::Status walk_loop(const Options& o, CellLoader* loader, Window* window, Rend
   double frame_ms = 0;
   const double start = glfwGetTime();
   double last = start;
-  while (!glfwWindowShouldClose(window->handle()) && glfwGetKey(window->handle(), GLFW_KEY_ESCAPE) != GLFW_PRESS) {
+  while (!glfwWindowShouldClose(window->handle()) && glfwGetKey(window->handle(), GLFW_KEY_ESCAPE) != GLFW_PRESS &&
+         !svc::command_line::interrupted()) {
     const double now = glfwGetTime(), dt = now - last;
     last = now;
     frame_ms = frame_ms == 0 ? 1000 * dt : 0.9 * frame_ms + 100 * dt;  // smoothed: readable on screen
@@ -326,7 +335,7 @@ int walk(const Options& o, CellLoader* loader) {
   glfwGetCursorPos((*window)->handle(), &state.cursor.x, &state.cursor.y);
   const svc::Status status = walk_loop(o, loader, window->get(), renderer->get(), &state);
   if (!status.ok()) return svc::command_line::report_failure(kProgram, status);
-  return 0;
+  return svc::command_line::interrupted() ? svc::command_line::interrupted_exit_code() : 0;
 }
 
 int gl_info() {
@@ -351,6 +360,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s: %s\n", kProgram, problem->c_str());
     return svc::command_line::kExitUsage;
   }
+  svc::command_line::stop_on_interrupt();
   if (o.gl_info) return gl_info();
   if (!o.screenshot.empty()) {
     const svc::Status writable =
