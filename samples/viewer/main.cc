@@ -320,7 +320,7 @@ int walk(const Options& o, CellLoader* loader) {
   }
   WalkState state;
   state.pose = Pose{o.position.value_or(default_position(*loader)), o.yaw, o.pitch};
-  state.speed = o.speed * cell_length(loader->info());
+  state.speed = o.speed * svc::walkthrough::cell_length(loader->info());
   if (!o.path.empty()) {
     auto waypoints = svc::walkthrough::read_path_file(o.path);
     if (!waypoints.ok()) return svc::command_line::report_failure(kProgram, waypoints.status());

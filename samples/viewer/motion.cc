@@ -8,16 +8,6 @@
 
 namespace svc::viewer {
 
-double cell_length(const FileInfo& info) {
-  double length = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (info.grid_dims[axis] > 1 && (length == 0 || info.grid_spacing[axis] < length)) {
-      length = info.grid_spacing[axis];
-    }
-  }
-  return length > 0 ? length : std::min({info.grid_spacing[0], info.grid_spacing[1], info.grid_spacing[2]});
-}
-
 PathWalk::PathWalk(std::vector<glm::dvec3> waypoints, double speed)
     : waypoints_(std::move(waypoints)), speed_(speed) {
   double total = 0;

@@ -7,14 +7,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "svc/reader.h"
 #include "viewer/view.h"
 
 namespace svc::viewer {
-
-// The length the viewer's speed is counted in, as svc-walkthrough counts it: the smallest
-// grid spacing among the axes the grid extends along.
-double cell_length(const FileInfo& info);
 
 // A polyline walked at a constant speed (world units per second).
 class PathWalk {
