@@ -10,7 +10,7 @@
 # viewer that orients a face wrongly fails the test. Halfway between two cells, the
 # cell's faces reprojected with their depth must come nearer the view from there than
 # its plain cube map (PSNR). Also: the overlay, a walk along a path with prefetch hits,
-# the errors for a missing file and for --reprojection without depth. Skipped (exit 77) where Xvfb or an OpenGL 3.3 context cannot start.
+# the errors for a missing or damaged file and for --reprojection without depth. Skipped (exit 77) where Xvfb or an OpenGL 3.3 context cannot start.
 # Usage: viewer_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 bin=$1/bin
@@ -117,6 +117,11 @@ done
 # Errors name what is wrong.
 if viewer "$work/missing.svc" --screenshot "$work/x.png" --at 0,0,0 2>"$work/err"; then fail "a missing file rendered"; fi
 grep -q "missing.svc" "$work/err" || fail "the error for a missing file does not name it: $(cat "$work/err")"
+head -c 3000 "$work/db.svc" >"$work/damaged.svc"
+status=0
+viewer "$work/damaged.svc" --screenshot "$work/x.png" --at 0,0,0 2>"$work/err" || status=$?
+((status == 3)) || fail "a damaged file exited $status, not 3"
+grep -q "^svc-viewer: corrupt data: .*damaged.svc" "$work/err" || fail "the error for a damaged file: $(cat "$work/err")"
 status=0
 viewer "$work/db.svc" --reprojection --screenshot "$work/x.png" 2>"$work/err" || status=$?
 ((status == 2)) || fail "--reprojection on a file without depth exited $status, not 2"
