@@ -57,12 +57,13 @@ views=()
 for look in 0,0 90,0 180,0 270,0 45,30 -30,-60 10,85; do views+=("$(eye_of 1 0 1 0 0 0) $look"); done
 views+=("$(eye_of 2 0 0 0.1 0.05 -0.1) 300,10")
 frame=(--size 160x120 --fov 90)
-for view in "${views[@]}"; do
-  read -r at look <<<"$view"
-  viewer "$work/db.svc" --no-reprojection --screenshot "$work/viewer.png" -y --at "$at" --look "$look" \
-    "${frame[@]}" >/dev/null || fail "svc-viewer failed at $at looking $look"
+for k in "${!views[@]}"; do echo "${views[$k]} $work/viewer-$k.png"; done >"$work/views.txt"
+viewer "$work/db.svc" --no-reprojection --views "$work/views.txt" "${frame[@]}" >/dev/null ||
+  fail "svc-viewer failed to render $(cat "$work/views.txt")"
+for k in "${!views[@]}"; do
+  read -r at look <<<"${views[$k]}"
   "$bin/svc-viewer-reference" render "$work/db.svc" --at "$at" --look "$look" "${frame[@]}" \
-    --against "$work/viewer.png" >"$work/differences"
+    --against "$work/viewer-$k.png" >"$work/differences"
   read -r _ mean _ p99 _ _ _ psnr <"$work/differences"
   echo "at $at looking $look: against the CPU's frame mean $mean p99 $p99 (PSNR $psnr dB)"
   within_tolerance || fail "at $at looking $look the viewer's frame differs from the CPU's: mean $mean, p99 $p99"
@@ -98,12 +99,13 @@ middle=$(eye_of 0 0 1 0.25 0 0)
 looks=(0,0 90,0 45,-30)
 pairs=()
 for look in "${looks[@]}"; do
-  frame=(--at "$middle" --look "$look" --size 320x240 --fov 90)
-  viewer "$work/truth.svc" --screenshot "$work/truth-$look.png" --no-reprojection "${frame[@]}" >/dev/null
-  viewer "$work/depth.svc" --screenshot "$work/nearest-$look.png" --no-reprojection "${frame[@]}" >/dev/null
-  viewer "$work/depth.svc" --screenshot "$work/reprojected-$look.png" --reprojection "${frame[@]}" >/dev/null
+  for kind in truth nearest reprojected; do echo "$middle $look $work/$kind-$look.png" >>"$work/$kind.txt"; done
   pairs+=("$work/reprojected-$look.png" "$work/truth-$look.png" "$work/nearest-$look.png" "$work/truth-$look.png")
 done
+frame=(--size 320x240 --fov 90)
+viewer "$work/truth.svc" --views "$work/truth.txt" --no-reprojection "${frame[@]}" >/dev/null
+viewer "$work/depth.svc" --views "$work/nearest.txt" --no-reprojection "${frame[@]}" >/dev/null
+viewer "$work/depth.svc" --views "$work/reprojected.txt" --reprojection "${frame[@]}" >/dev/null
 "$bin/svc-viewer-reference" compare "${pairs[@]}" >"$work/psnr"
 for k in "${!looks[@]}"; do
   reprojected=$(sed -n "$((2 * k + 1))s/.*psnr //p" "$work/psnr")
@@ -117,6 +119,12 @@ done
 # Errors name what is wrong.
 if viewer "$work/missing.svc" --screenshot "$work/x.png" --at 0,0,0 2>"$work/err"; then fail "a missing file rendered"; fi
 grep -q "missing.svc" "$work/err" || fail "the error for a missing file does not name it: $(cat "$work/err")"
+printf '0,1.6,0 0,0 %s\n0,1.6,0 0 %s\n' "$work/v1.png" "$work/v2.png" >"$work/bad-views.txt"
+status=0
+viewer "$work/db.svc" --views "$work/bad-views.txt" 2>"$work/err" || status=$?
+((status == 2)) || fail "a views file with a bad line exited $status, not 2"
+grep -q "bad-views.txt:2: expected" "$work/err" || fail "the error for a bad view does not name its line: $(cat "$work/err")"
+[[ ! -e "$work/v1.png" ]] || fail "a views file with a bad line rendered its first view"
 head -c 3000 "$work/db.svc" >"$work/damaged.svc"
 status=0
 viewer "$work/damaged.svc" --screenshot "$work/x.png" --at 0,0,0 2>"$work/err" || status=$?

@@ -9,6 +9,8 @@
 //                       [--frames N]
 //   svc-viewer FILE.svc --screenshot OUT.png --at X,Y,Z --look YAW,PITCH [--size WxH]
 //                       [--fov DEG] [--no-reprojection | --reprojection] [--overlay] [-y]
+//   svc-viewer FILE.svc --views FILE [--size WxH] [--fov DEG] [--no-reprojection |
+//                       --reprojection] [--overlay] [-y]
 //   svc-viewer --gl-info
 //
 // Keys: W A S D move, Q E down and up, Shift faster, mouse with the left button held
@@ -17,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -46,7 +49,7 @@ using namespace svc::viewer;
 constexpr const char* kProgram = "svc-viewer";
 
 struct Options {
-  std::string input, screenshot, path;
+  std::string input, screenshot, views, path;
   std::string at, look = "0,0", size = "640x480";
   double fov = 75, speed = 1;
   bool no_reprojection = false, reprojection = false, overlay = false, overwrite = false, gl_info = false;
@@ -88,15 +91,22 @@ std::optional<std::string> parse_view_options(Options* o) {
   o->width = static_cast<int>(v[0]);
   o->height = static_cast<int>(v[1]);
   if (!o->gl_info && o->input.empty()) return "an .svc file is needed (or --gl-info)";
-  if (!o->screenshot.empty() && !o->path.empty())
-    return "--screenshot renders one frame: --path does not go with it";
+  if ((!o->screenshot.empty() || !o->views.empty()) && !o->path.empty()) {
+    return "--screenshot and --views render still frames: --path does not go with them";
+  }
   return std::nullopt;
 }
 
 void add_options(CLI::App* app, Options* o) {
   app->add_option("input", o->input, "the .svc file")->check(CLI::ExistingFile);
-  app->add_option("--screenshot", o->screenshot, "render one frame offscreen into this PNG and exit")
-      ->check(svc::command_line::not_standard_output());
+  auto* screenshot =
+      app->add_option("--screenshot", o->screenshot, "render one frame offscreen into this PNG and exit")
+          ->check(svc::command_line::not_standard_output());
+  app->add_option("--views", o->views,
+                  "render one frame offscreen for each line \"X,Y,Z YAW,PITCH OUT.png\" of this file ('#' starts a "
+                  "comment) and exit")
+      ->check(CLI::ExistingFile)
+      ->excludes(screenshot);
   app->add_option("--at", o->at, "eye position X,Y,Z in world units (default: the middle cell's centre)");
   app->add_option("--look", o->look, "view direction YAW,PITCH in degrees: 0,0 looks along -z, yaw 90 along -x")
       ->capture_default_str();
@@ -164,39 +174,82 @@ std::vector<std::string> overlay_lines(const CellLoader& loader, const CellImage
   };
 }
 
-int screenshot(const Options& o, CellLoader* loader) {
+// One frame to render offscreen.
+struct Shot {
+  glm::dvec3 at{0, 0, 0};
+  double yaw = 0, pitch = 0;
+  std::string output;
+};
+
+// The lines "X,Y,Z YAW,PITCH OUT.png" of a --views file ('#' starts a comment).
+svc::Result<std::vector<Shot>> read_views(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return svc::Status(svc::ErrorCode::kNotFound, "cannot open views file " + path);
+  std::vector<Shot> shots;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::istringstream fields(line);
+    std::string at, look, output, extra;
+    if (!(fields >> at)) continue;  // blank
+    std::vector<double> p, l;
+    if (!(fields >> look >> output) || (fields >> extra) || !parse_numbers(at, 3, ',', &p) ||
+        !parse_numbers(look, 2, ',', &l)) {
+      return svc::Status(svc::ErrorCode::kInvalidArgument,
+                         path + ":" + std::to_string(number) + ": expected \"X,Y,Z YAW,PITCH OUT.png\"");
+    }
+    shots.push_back(Shot{{p[0], p[1], p[2]}, l[0], l[1], output});
+  }
+  if (shots.empty()) return svc::Status(svc::ErrorCode::kInvalidArgument, path + ": no views");
+  return shots;
+}
+
+// Renders one shot of the cell shown and writes it.
+svc::Status render_shot(const Options& o, const Shot& shot, const CellLoader& loader, const CellImages& cell,
+                        Renderer* renderer, bool reproject) {
+  const FrameView view{Pose{shot.at, shot.yaw, shot.pitch}, o.fov, o.width, o.height};
+  const auto start = std::chrono::steady_clock::now();
+  SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> rgb, render_offscreen(renderer, view, nullptr));
+  if (o.overlay) {
+    // The overlay's frame time is that of the frame without it, read back.
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const TextImage text = render_text(overlay_lines(loader, cell, *renderer, reproject, ms), 1);
+    SVC_ASSIGN_OR_RETURN(rgb, render_offscreen(renderer, view, &text));
+  }
+  SVC_RETURN_IF_ERROR(write_png(shot.output, o.width, o.height, rgb));
+  std::printf("%s: wrote %s (%dx%d) from %s, %s\n", kProgram, shot.output.c_str(), o.width, o.height,
+              svc::cell_label(cell.cell).c_str(),
+              reproject ? format("reprojected with depth (%zu triangles)", renderer->mesh_triangles()).c_str()
+                        : "cube map at infinity");
+  return svc::Status::Ok();
+}
+
+// Renders the shots in order, decoding a cell when a shot's eye lies in another one.
+int screenshots(const Options& o, CellLoader* loader, const std::vector<Shot>& shots) {
   auto reproject = choose_reprojection(o, *loader);
   if (!reproject.ok()) return svc::command_line::report_failure(kProgram, reproject.status());
   auto window = Window::create(64, 64, false, kProgram);
   if (!window.ok()) return svc::command_line::report_failure(kProgram, window.status());
   auto renderer = Renderer::create();
   if (!renderer.ok()) return svc::command_line::report_failure(kProgram, renderer.status());
-  FrameView view{Pose{o.position.value_or(default_position(*loader)), o.yaw, o.pitch}, o.fov, o.width, o.height};
   CellImages cell;
-  const svc::Status loaded = loader->load(loader->cell_for(view.pose.position), &cell);
-  if (!loaded.ok()) return svc::command_line::report_failure(kProgram, loaded);
-  (*renderer)->show_cell(cell, *reproject);
-  const auto start = std::chrono::steady_clock::now();
-  auto rgb = render_offscreen(renderer->get(), view, nullptr);
-  if (rgb.ok() && o.overlay) {
-    // The overlay's frame time is that of the frame without it, read back.
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    const TextImage text = render_text(overlay_lines(*loader, cell, **renderer, *reproject, ms), 1);
-    rgb = render_offscreen(renderer->get(), view, &text);
+  bool shown = false;
+  for (const Shot& shot : shots) {
+    const svc::CellIndex index = loader->cell_for(shot.at);
+    if (!shown || !(index == cell.cell)) {
+      const svc::Status loaded = loader->load(index, &cell);
+      if (!loaded.ok()) return svc::command_line::report_failure(kProgram, loaded);
+      (*renderer)->show_cell(cell, *reproject);
+      shown = true;
+    }
+    const svc::Status status = render_shot(o, shot, *loader, cell, renderer->get(), *reproject);
+    if (!status.ok()) return svc::command_line::report_failure(kProgram, status);
+    if (svc::command_line::interrupted()) {  // nothing is left behind
+      std::error_code ignored;
+      for (const Shot& written : shots) std::filesystem::remove(written.output, ignored);
+      return svc::command_line::report_failure(kProgram, svc::Status::Ok());
+    }
   }
-  if (!rgb.ok()) return svc::command_line::report_failure(kProgram, rgb.status());
-  if (svc::command_line::interrupted()) return svc::command_line::report_failure(kProgram, svc::Status::Ok());
-  const svc::Status written = write_png(o.screenshot, o.width, o.height, *rgb);
-  if (!written.ok()) return svc::command_line::report_failure(kProgram, written);
-  if (svc::command_line::interrupted()) {  // while writing: nothing is left behind
-    std::error_code ignored;
-    std::filesystem::remove(o.screenshot, ignored);
-    return svc::command_line::report_failure(kProgram, svc::Status::Ok());
-  }
-  std::printf("%s: wrote %s (%dx%d) from %s, %s\n", kProgram, o.screenshot.c_str(), o.width, o.height,
-              svc::cell_label(cell.cell).c_str(),
-              *reproject ? format("reprojected with depth (%zu triangles)", (*renderer)->mesh_triangles()).c_str()
-                         : "cube map at infinity");
   return 0;
 }
 
@@ -362,12 +415,21 @@ int main(int argc, char** argv) {
   }
   svc::command_line::stop_on_interrupt();
   if (o.gl_info) return gl_info();
-  if (!o.screenshot.empty()) {
-    const svc::Status writable =
-        svc::command_line::check_output(o.screenshot, svc::command_line::OutputKind::kFile, o.overwrite, {o.input});
-    if (!writable.ok()) return svc::command_line::report_failure(kProgram, writable);
-  }
   auto loader = CellLoader::open(o.input, !o.no_reprojection);
   if (!loader.ok()) return svc::command_line::report_failure(kProgram, loader.status());
-  return o.screenshot.empty() ? walk(o, loader->get()) : screenshot(o, loader->get());
+  if (o.screenshot.empty() && o.views.empty()) return walk(o, loader->get());
+  std::vector<Shot> shots;
+  if (!o.screenshot.empty()) {
+    shots.push_back(Shot{o.position.value_or(default_position(**loader)), o.yaw, o.pitch, o.screenshot});
+  } else if (auto read = read_views(o.views); read.ok()) {
+    shots = std::move(read).value();
+  } else {
+    return svc::command_line::report_failure(kProgram, read.status());
+  }
+  for (const Shot& shot : shots) {
+    const svc::Status writable =
+        svc::command_line::check_output(shot.output, svc::command_line::OutputKind::kFile, o.overwrite, {o.input});
+    if (!writable.ok()) return svc::command_line::report_failure(kProgram, writable);
+  }
+  return screenshots(o, loader->get(), shots);
 }
