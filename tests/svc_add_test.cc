@@ -18,6 +18,8 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include "codec/common/depth.h"
+#include "database/database.h"
 #include "output/updater.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
@@ -200,6 +202,42 @@ TEST_F(Add, AddsNewCellsAndOldCellsDecodeBitExact) {
     const ImageYCbCr420& expected = reference.at(key);
     for (size_t i = 0; i < image.y.size(); ++i) error += std::abs(int(image.y[i]) - int(expected.y[i]));
     EXPECT_LT(error / image.y.size(), 12.0) << "cell x " << key.first[0] << " z " << key.first[2];
+  }
+}
+
+// A file with depth grows with depth: the new faces' depth decodes exactly (lossless),
+// and the old faces' depth is untouched.
+TEST_F(Add, AddsDepthToAFileWithDepth) {
+  EncoderSettings encode;
+  encode.threads = 1;
+  encode.depth = true;
+  const fs::path file = dir_->path() / "depth.svc";
+  ASSERT_TRUE(encode_database(part(), file, encode).ok());
+  AddSettings settings;
+  settings.threads = 2;
+  auto summary = add_to_database(file, full(), settings);
+  ASSERT_TRUE(summary.ok()) << summary.status().to_string();
+  auto manifest = load_manifest(full());
+  ASSERT_TRUE(manifest.ok());
+  auto reader = Reader::open(file);
+  ASSERT_TRUE(reader.ok());
+  ASSERT_TRUE((*reader)->info().has_depth);
+  EXPECT_TRUE((*reader)->verify().ok());
+  for (size_t c = 0; c < manifest->cells.size(); ++c) {
+    for (Face face : kAllFaces) {
+      auto source = load_face(*manifest, c, face);
+      ASSERT_TRUE(source.ok());
+      auto depth = (*reader)->decode_face_depth(manifest->cells[c].index, face);
+      ASSERT_TRUE(depth.ok()) << depth.status().to_string();
+      const auto entry = (*reader)->find_cell(manifest->cells[c].index);
+      ASSERT_TRUE(entry.has_value());
+      const double near_plane = (*reader)->cells()[*entry].cameras[static_cast<int>(face)].frustum.near_plane;
+      for (size_t i = 0; i < depth->size(); ++i) {
+        ASSERT_EQ(codec::inverse_depth_code((*depth)[i], near_plane),
+                  codec::inverse_depth_code(source->depth[i], near_plane))
+            << face_label(manifest->cells[c].index, face) << " pixel " << i;
+      }
+    }
   }
 }
 

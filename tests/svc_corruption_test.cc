@@ -42,6 +42,9 @@ class Corruption : public ::testing::Test {
     ASSERT_TRUE(samples::generate_scene(options, dir_->path() / "db").ok());
     EncoderSettings settings;
     settings.threads = 1;
+    // With depth, so that the sweeps cover depth chunks and index version 5 too.
+    settings.depth = true;
+    settings.depth_max_error = 2;
     const fs::path file = dir_->path() / "tiny.svc";
     ASSERT_TRUE(encode_database(dir_->path() / "db", file, settings).ok());
     bytes_ = new std::vector<uint8_t>(read_bytes(file));
@@ -53,14 +56,19 @@ class Corruption : public ::testing::Test {
     auto reader = Reader::open(file, sweep_settings());
     ASSERT_TRUE(reader.ok());
     originals_ = new std::vector<ImageYCbCr420>();
+    original_depths_ = new std::vector<std::vector<float>>();
     for (const FrameRecord& frame : index_->frames) {
       auto image = (*reader)->decode_face_ycbcr(index_->cells[frame.cell].index, frame.face);
       ASSERT_TRUE(image.ok());
       originals_->push_back(*image);
+      auto depth = (*reader)->decode_face_depth(index_->cells[frame.cell].index, frame.face);
+      ASSERT_TRUE(depth.ok());
+      original_depths_->push_back(*depth);
     }
   }
   static void TearDownTestSuite() {
     delete originals_;
+    delete original_depths_;
     delete index_;
     delete bytes_;
     delete dir_;
@@ -112,24 +120,41 @@ class Corruption : public ::testing::Test {
       } else {
         ++outcome.faces_failed;
         EXPECT_TRUE(depends_on_damage) << what << ": intact frame " << f << " failed: " << image.status().message();
-        // The error names the cell, the face and a byte offset.
-        const std::string& message = image.status().message();
-        EXPECT_NE(message.find("cell ("), std::string::npos) << message;
-        EXPECT_NE(message.find("byte offset"), std::string::npos) << message;
+        expect_located(image.status());
+      }
+      auto depth = (*reader)->decode_face_depth(cell, frame.face);
+      bool depth_depends_on_damage = damaged_frame && *damaged_frame == f;
+      for (uint32_t ref : depth_dependencies(frame))
+        depth_depends_on_damage |= damaged_frame && *damaged_frame == ref;
+      if (depth.ok()) {
+        EXPECT_TRUE(*depth == (*original_depths_)[f]) << what << ": frame " << f << " decoded to other depth";
+      } else {
+        ++outcome.faces_failed;
+        EXPECT_TRUE(depth_depends_on_damage)
+            << what << ": intact frame " << f << "'s depth failed: " << depth.status().message();
+        expect_located(depth.status());
       }
     }
     return outcome;
+  }
+
+  // The error names the cell, the face and a byte offset.
+  static void expect_located(const Status& status) {
+    EXPECT_NE(status.message().find("cell ("), std::string::npos) << status.message();
+    EXPECT_NE(status.message().find("byte offset"), std::string::npos) << status.message();
   }
 
   static testing::TempDir* dir_;
   static std::vector<uint8_t>* bytes_;
   static ContainerIndex* index_;
   static std::vector<ImageYCbCr420>* originals_;
+  static std::vector<std::vector<float>>* original_depths_;
 };
 testing::TempDir* Corruption::dir_ = nullptr;
 std::vector<uint8_t>* Corruption::bytes_ = nullptr;
 ContainerIndex* Corruption::index_ = nullptr;
 std::vector<ImageYCbCr420>* Corruption::originals_ = nullptr;
+std::vector<std::vector<float>>* Corruption::original_depths_ = nullptr;
 
 TEST_F(Corruption, IntactFileVerifies) {
   ASSERT_GT(index_->frames.size(), 0u);

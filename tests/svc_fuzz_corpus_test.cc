@@ -6,9 +6,9 @@
 // ). Inputs the fuzzers found are added beside the seeds by hand.
 //
 // The container seeds seed-*.svc are what the current encoder writes (index version 4,
-// bare face chunks). Beside them, old-index-vN-*.svc are files whose index is in version
-// N = 1, 2 or 3 (FACE chunks in the version 2 and 1 files), which readers no longer read:
-// each must be refused, not crash. Generate does not write them.
+// bare face chunks; version 5 with depth chunks for the stored-depth seed). Beside them, old-index-vN-*.svc are
+// files whose index is in version N = 1, 2 or 3 (FACE chunks in the version 2 and 1 files), which readers no longer
+// read: each must be refused, not crash. Generate does not write them.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -16,6 +16,7 @@
 #include <map>
 
 #include "codec/encoder/bframe_encoder.h"
+#include "codec/encoder/depth_encoder.h"
 #include "codec/encoder/intra_encoder.h"
 #include "container/container.h"
 #include "fuzz/fuzz_entry.h"
@@ -56,11 +57,13 @@ std::map<std::string, std::vector<uint8_t>> container_seeds(const fs::path& work
     std::array<int, 3> grid;
     bool intra_only;
     MotionSearch motion;
+    bool stored_depth = false;
   };
   const Variant variants[] = {
       {"seed-2x1x2-ib-depth.svc", {2, 1, 2}, false, MotionSearch::kDepth},
       {"seed-3x1x1-ib-log.svc", {3, 1, 1}, false, MotionSearch::kLogarithmic},
       {"seed-1x1x1-intra.svc", {1, 1, 1}, true, MotionSearch::kDepth},
+      {"seed-3x1x1-ib-stored-depth.svc", {3, 1, 1}, false, MotionSearch::kDepth, true},
   };
   for (const Variant& v : variants) {
     samples::SceneOptions options;
@@ -73,6 +76,8 @@ std::map<std::string, std::vector<uint8_t>> container_seeds(const fs::path& work
     settings.intra_only = v.intra_only;
     settings.motion = v.motion;
     settings.threads = 1;
+    settings.depth = v.stored_depth;
+    settings.depth_max_error = v.stored_depth ? 3 : 0;
     const fs::path out = work / v.name;
     auto summary = encode_database(db, out, settings);
     EXPECT_TRUE(summary.ok()) << summary.status().to_string();
@@ -123,6 +128,19 @@ std::map<std::string, std::vector<uint8_t>> frame_seeds() {
       seeds["seed-b" + std::to_string(refs) + "-lines-" + size] =
           fuzz::make_frame_input(static_cast<uint8_t>(refs), w, h, lines);
     }
+    // Depth planes (docs/codec.md section 8): on their own, and predicted from the
+    // synthetic reference planes decode_depth_input gives.
+    const std::vector<uint16_t> depth = fuzz::synthetic_depth(w, h, 2);
+    seeds["seed-depth-intra-" + size] =
+        fuzz::make_frame_input(3, w, h, codec::encode_depth(depth, w, h, 0, nullptr).payload);
+    const std::vector<uint16_t> plane0 = fuzz::synthetic_depth(w, h, 0), plane1 = fuzz::synthetic_depth(w, h, 1);
+    const Camera camera0 = fuzz::synthetic_depth_camera(0), camera1 = fuzz::synthetic_depth_camera(1),
+                 target = fuzz::synthetic_depth_camera(2);
+    const codec::DepthReference references[] = {{plane0.data(), &camera0}, {plane1.data(), &camera1}};
+    codec::DepthPrediction prediction;
+    codec::predict_depth(references, target, w, h, &prediction);
+    seeds["seed-depth-inter-" + size] =
+        fuzz::make_frame_input(3, w, h, codec::encode_depth(depth, w, h, 2, &prediction).payload);
   }
   return seeds;
 }

@@ -112,6 +112,21 @@ TEST_F(Shard, MergedPartsEqualOneProcessEncodeForAnyShardCount) {
   }
 }
 
+// With depth each face's depth chunk travels with it: the merge gives the full encode's
+// bytes.
+TEST_F(Shard, DepthMergesToTheOneProcessEncode) {
+  EncoderSettings s = settings(1);
+  s.depth = true;
+  s.depth_max_error = 3;
+  const fs::path whole = out("whole-depth.svc");
+  ASSERT_TRUE(encode_database(full(), whole, s).ok());
+  const std::vector<fs::path> parts = encode_parts(full(), 3, "depth", s);
+  const fs::path merged = out("merged-depth.svc");
+  auto summary = merge_shards(parts, merged);
+  ASSERT_TRUE(summary.ok()) << summary.status().to_string();
+  EXPECT_TRUE(read_file_bytes(merged) == read_file_bytes(whole));
+}
+
 TEST_F(Shard, EveryFaceIsCodedByExactlyOneShard) {
   const std::vector<fs::path> parts = encode_parts(full(), 3, "count");
   std::vector<int> coded;

@@ -13,17 +13,6 @@ namespace svc::codec {
 
 namespace {
 
-// LOCO-I's median edge detector.
-int32_t med(int32_t a, int32_t b, int32_t c) {
-  if (c >= std::max(a, b)) return std::min(a, b);
-  if (c <= std::min(a, b)) return std::max(a, b);
-  return a + b - c;
-}
-
-int32_t clamp_code(int64_t v) { return static_cast<int32_t>(std::clamp<int64_t>(v, 1, 65535)); }
-
-uint16_t saturate(int32_t v) { return static_cast<uint16_t>(std::min(v, 65535)); }
-
 // Rotation rows and translation of a view matrix (column-major: element (i, j) at j*4+i).
 struct Rigid {
   double r[3][3];
@@ -40,7 +29,7 @@ Rigid rigid_of(const Camera& camera) {
 }
 
 // Reference eye space to target eye space: p_t = A p_r + c, with A = R_t R_r^T and
-// c = t_t - A t_r (docs/codec.md 7.3).
+// c = t_t - A t_r (docs/codec.md 8.3).
 struct EyeToEye {
   double a[3][3];
   double c[3];
@@ -134,84 +123,16 @@ DepthModel::DepthModel(int width, int height, int max_error, const DepthPredicti
       height_(height),
       step_(2 * max_error + 1),
       prediction_(prediction),
-      codes_(static_cast<size_t>(width) * height, 0),
+      stride_(static_cast<size_t>(width) + 2),
+      codes_(stride_ * (static_cast<size_t>(height) + 1), 0),
       intra_error_(codes_.size(), 0),
       inter_error_(codes_.size(), 0) {}
 
-int DepthModel::background_context(int x, int y) const {
-  const int left = x > 0 && codes_[index(x - 1, y)] == 0;
-  const int top = y > 0 && codes_[index(x, y - 1)] == 0;
-  const int hint = prediction_ ? static_cast<int>(prediction_->hints[index(x, y)]) : 0;
-  return left + 2 * top + 4 * hint;
-}
-
-int32_t DepthModel::intra_value(int x, int y) const {
-  const bool has_a = geometry(x - 1, y), has_b = geometry(x, y - 1), has_c = geometry(x - 1, y - 1);
-  const int32_t a = has_a ? codes_[index(x - 1, y)] : 0;
-  const int32_t b = has_b ? codes_[index(x, y - 1)] : 0;
-  if (has_a && has_b && has_c) return clamp_code(med(a, b, codes_[index(x - 1, y - 1)]));
-  if (has_a && has_b) return (a + b + 1) >> 1;
-  if (has_a) return a;
-  if (has_b) return b;
-  if (has_c) return codes_[index(x - 1, y - 1)];
-  return std::max<int32_t>(last_geometry_, 1);
-}
-
-// The reprojected code corrected by its neighbours' errors against it.
-bool DepthModel::inter_value(int x, int y, int32_t* value) const {
-  if (prediction_ == nullptr || prediction_->hints[index(x, y)] != DepthHint::kGeometry) return false;
-  const auto difference = [&](int nx, int ny, int32_t* d) {
-    if (!geometry(nx, ny) || prediction_->hints[index(nx, ny)] != DepthHint::kGeometry) return false;
-    *d = int32_t{codes_[index(nx, ny)]} - prediction_->predicted[index(nx, ny)];
-    return true;
-  };
-  int32_t ea = 0, eb = 0, ec = 0;
-  const bool has_a = difference(x - 1, y, &ea), has_b = difference(x, y - 1, &eb),
-             has_c = difference(x - 1, y - 1, &ec);
-  int32_t correction = 0;
-  if (has_a && has_b && has_c) {
-    correction = med(ea, eb, ec);
-  } else if (has_a && has_b) {
-    correction = (ea + eb) >> 1;
-  } else if (has_a) {
-    correction = ea;
-  } else if (has_b) {
-    correction = eb;
+void DepthModel::copy_codes(uint16_t* out) const {
+  for (int y = 0; y < height_; ++y) {
+    std::copy_n(codes_.begin() + static_cast<std::ptrdiff_t>(index(0, y)), width_,
+                out + static_cast<size_t>(y) * static_cast<size_t>(width_));
   }
-  *value = clamp_code(int64_t{prediction_->predicted[index(x, y)]} + correction);
-  return true;
-}
-
-DepthPixelPrediction DepthModel::predict(int x, int y) const {
-  DepthPixelPrediction p;
-  p.intra_value = intra_value(x, y);
-  p.has_inter = inter_value(x, y, &p.inter_value);
-  int32_t intra_score = 0, inter_score = 0, activity = 0;
-  for (const auto& [nx, ny] : {std::pair{x - 1, y}, std::pair{x, y - 1}}) {
-    if (!geometry(nx, ny)) continue;
-    const size_t at = index(nx, ny);
-    intra_score += intra_error_[at];
-    inter_score += inter_error_[at];
-    activity += std::min(intra_error_[at], inter_error_[at]);
-  }
-  p.inter = p.has_inter && inter_score <= intra_score;
-  p.value = p.inter ? p.inter_value : p.intra_value;
-  p.activity = std::min(static_cast<int>(std::bit_width(static_cast<uint32_t>(activity / step_))),
-                        DepthContexts::kActivityClasses - 1);
-  return p;
-}
-
-void DepthModel::record(int x, int y, uint16_t code, const DepthPixelPrediction& p) {
-  const size_t at = index(x, y);
-  codes_[at] = code;
-  if (code == 0) return;
-  last_geometry_ = code;
-  intra_error_[at] = saturate(std::abs(int32_t{code} - p.intra_value));
-  inter_error_[at] = p.has_inter ? saturate(std::abs(int32_t{code} - p.inter_value)) : uint16_t{65535};
-}
-
-uint16_t DepthModel::reconstruct(const DepthPixelPrediction& p, int32_t q) const {
-  return static_cast<uint16_t>(clamp_code(int64_t{p.value} + int64_t{q} * step_));
 }
 
 }  // namespace svc::codec

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: BSD-2-Clause
-// Depth planes (docs/codec.md section 7): the inverse-depth codes a face's depth is coded
+// Depth planes (docs/codec.md section 8): the inverse-depth codes a face's depth is coded
 // as, the prediction of a B-face's depth from its reference cubes reprojected, and the
 // per-pixel predictor and contexts that the depth encoder and decoder share.
 // Threading: plain functions and data; a DepthModel is single-threaded.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
+#include <cstdlib>
 #include <span>
 #include <vector>
 
@@ -49,12 +52,12 @@ struct DepthPrediction {
 };
 
 // Reprojects every geometry pixel of `references` (the first reference's own face first)
-// into `target`'s view and keeps the nearest at each pixel (docs/codec.md 7.3). Exact
+// into `target`'s view and keeps the nearest at each pixel (docs/codec.md 8.3). Exact
 // IEEE double arithmetic in a fixed order: the same codes on every machine.
 void predict_depth(std::span<const DepthReference> references, const Camera& target, int width, int height,
                    DepthPrediction* out);
 
-// The contexts of one depth plane's coding (docs/codec.md 7.4).
+// The contexts of one depth plane's coding (docs/codec.md 8.4).
 struct DepthContexts {
   static constexpr int kActivityClasses = 12;
   static constexpr int kMagnitudeBits = 16;
@@ -88,22 +91,118 @@ class DepthModel {
   void record(int x, int y, uint16_t code, const DepthPixelPrediction& p);
 
   int step() const { return step_; }
-  // The reconstruction of quantized residual q (docs/codec.md 7.4).
+  // The reconstruction of quantized residual q (docs/codec.md 8.4).
   uint16_t reconstruct(const DepthPixelPrediction& p, int32_t q) const;
-  const std::vector<uint16_t>& codes() const { return codes_; }
-  std::vector<uint16_t> take_codes() { return std::move(codes_); }
+  // The reconstructed codes, width * height.
+  void copy_codes(uint16_t* out) const;
 
  private:
   int32_t intra_value(int x, int y) const;
   bool inter_value(int x, int y, int32_t* value) const;
-  bool geometry(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && codes_[index(x, y)] != 0; }
-  size_t index(int x, int y) const { return static_cast<size_t>(y) * static_cast<size_t>(width_) + x; }
+  // The model's planes have a border of pixels without geometry: one row above, one
+  // column on each side.
+  bool geometry(int x, int y) const { return codes_[index(x, y)] != 0; }
+  size_t index(int x, int y) const { return static_cast<size_t>(y + 1) * stride_ + static_cast<size_t>(x + 1); }
+  size_t pixel(int x, int y) const { return static_cast<size_t>(y) * static_cast<size_t>(width_) + x; }
 
   int width_, height_, step_;
   const DepthPrediction* prediction_;
+  size_t stride_;
   std::vector<uint16_t> codes_;
+  // Errors of the two predictions at each pixel with geometry; 0 elsewhere.
   std::vector<uint16_t> intra_error_, inter_error_;
   uint16_t last_geometry_ = 0;
 };
+
+namespace depth_internal {
+
+// LOCO-I's median edge detector.
+inline int32_t med(int32_t a, int32_t b, int32_t c) {
+  if (c >= std::max(a, b)) return std::min(a, b);
+  if (c <= std::min(a, b)) return std::max(a, b);
+  return a + b - c;
+}
+inline int32_t clamp_code(int64_t v) { return static_cast<int32_t>(std::clamp<int64_t>(v, 1, 65535)); }
+inline uint16_t saturate(int32_t v) { return static_cast<uint16_t>(std::min(v, 65535)); }
+
+}  // namespace depth_internal
+
+// Inline: the decoder calls these once a pixel.
+inline int DepthModel::background_context(int x, int y) const {
+  const int left = x > 0 && codes_[index(x - 1, y)] == 0;
+  const int top = y > 0 && codes_[index(x, y - 1)] == 0;
+  const int hint = prediction_ ? static_cast<int>(prediction_->hints[pixel(x, y)]) : 0;
+  return left + 2 * top + 4 * hint;
+}
+
+inline int32_t DepthModel::intra_value(int x, int y) const {
+  const bool has_a = geometry(x - 1, y), has_b = geometry(x, y - 1), has_c = geometry(x - 1, y - 1);
+  const int32_t a = has_a ? codes_[index(x - 1, y)] : 0;
+  const int32_t b = has_b ? codes_[index(x, y - 1)] : 0;
+  if (has_a && has_b && has_c)
+    return depth_internal::clamp_code(depth_internal::med(a, b, codes_[index(x - 1, y - 1)]));
+  if (has_a && has_b) return (a + b + 1) >> 1;
+  if (has_a) return a;
+  if (has_b) return b;
+  if (has_c) return codes_[index(x - 1, y - 1)];
+  return std::max<int32_t>(last_geometry_, 1);
+}
+
+// The reprojected code corrected by its neighbours' errors against it.
+inline bool DepthModel::inter_value(int x, int y, int32_t* value) const {
+  if (prediction_ == nullptr || prediction_->hints[pixel(x, y)] != DepthHint::kGeometry) return false;
+  const auto difference = [&](int nx, int ny, int32_t* d) {
+    if (!geometry(nx, ny) || prediction_->hints[pixel(nx, ny)] != DepthHint::kGeometry) return false;
+    *d = int32_t{codes_[index(nx, ny)]} - prediction_->predicted[pixel(nx, ny)];
+    return true;
+  };
+  int32_t ea = 0, eb = 0, ec = 0;
+  const bool has_a = difference(x - 1, y, &ea), has_b = difference(x, y - 1, &eb),
+             has_c = difference(x - 1, y - 1, &ec);
+  int32_t correction = 0;
+  if (has_a && has_b && has_c) {
+    correction = depth_internal::med(ea, eb, ec);
+  } else if (has_a && has_b) {
+    correction = (ea + eb) >> 1;
+  } else if (has_a) {
+    correction = ea;
+  } else if (has_b) {
+    correction = eb;
+  }
+  *value = depth_internal::clamp_code(int64_t{prediction_->predicted[pixel(x, y)]} + correction);
+  return true;
+}
+
+inline DepthPixelPrediction DepthModel::predict(int x, int y) const {
+  DepthPixelPrediction p;
+  p.intra_value = intra_value(x, y);
+  p.has_inter = inter_value(x, y, &p.inter_value);
+  // Pixels without geometry (the border included) hold errors 0, so they add nothing.
+  const size_t a = index(x - 1, y), b = index(x, y - 1), c = b - 1, d = b + 1;
+  const int32_t intra_score = int32_t{intra_error_[a]} + intra_error_[b];
+  const int32_t inter_score = int32_t{inter_error_[a]} + inter_error_[b];
+  // The errors above-left and above-right foretell an edge coming in.
+  int32_t activity = 0;
+  for (size_t at : {a, b, c, d}) activity += std::min(intra_error_[at], inter_error_[at]);
+  p.inter = p.has_inter && inter_score <= intra_score;
+  p.value = p.inter ? p.inter_value : p.intra_value;
+  p.activity = std::min(static_cast<int>(std::bit_width(static_cast<uint32_t>(activity / step_))),
+                        DepthContexts::kActivityClasses - 1);
+  return p;
+}
+
+inline void DepthModel::record(int x, int y, uint16_t code, const DepthPixelPrediction& p) {
+  const size_t at = index(x, y);
+  codes_[at] = code;
+  if (code == 0) return;
+  last_geometry_ = code;
+  intra_error_[at] = depth_internal::saturate(std::abs(int32_t{code} - p.intra_value));
+  inter_error_[at] = p.has_inter ? depth_internal::saturate(std::abs(int32_t{code} - p.inter_value))
+                                 : uint16_t{65535};
+}
+
+inline uint16_t DepthModel::reconstruct(const DepthPixelPrediction& p, int32_t q) const {
+  return static_cast<uint16_t>(depth_internal::clamp_code(int64_t{p.value} + int64_t{q} * step_));
+}
 
 }  // namespace svc::codec

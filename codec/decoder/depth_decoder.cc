@@ -67,7 +67,7 @@ Status decode_depth(std::span<const uint8_t> payload, int width, int height,
     return Status(ErrorCode::kCorruptData,
                   "depth payload of " + std::to_string(payload.size()) + " bytes ends before its last pixel");
   }
-  std::copy(model.codes().begin(), model.codes().end(), codes);
+  model.copy_codes(codes);
   return Status::Ok();
 }
 

@@ -10,7 +10,7 @@ namespace svc::codec {
 
 namespace {
 
-// Near-lossless quantization: |source - reconstruction| <= max_error (docs/codec.md 7.4).
+// Near-lossless quantization: |source - reconstruction| <= max_error (docs/codec.md 8.4).
 int32_t quantize_residual(int32_t residual, int max_error, int step) {
   return residual >= 0 ? (residual + max_error) / step : -((max_error - residual) / step);
 }
@@ -60,7 +60,8 @@ DepthEncodeResult encode_depth(const std::vector<uint16_t>& codes, int width, in
     }
   }
   encoder.finish();
-  result.reconstructed = model.take_codes();
+  result.reconstructed.resize(codes.size());
+  model.copy_codes(result.reconstructed.data());
   return result;
 }
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-2-Clause
-// Coding a face's depth plane (docs/codec.md section 7, docs/encoder.md "Depth").
+// Coding a face's depth plane (docs/codec.md section 8, docs/encoder.md "Depth").
 // Threading: a plain function; calls on different planes may run at once.
 #pragma once
 

@@ -162,7 +162,7 @@ struct EncoderSettings {
   CubeLayout layout = CubeLayout::kVisibility;
   MotionSearch motion = MotionSearch::kDepth;
   CodingTools tools;
-  // Store every face's depth beside its color (docs/codec.md 7), so that readers can
+  // Store every face's depth beside its color (docs/codec.md 8), so that readers can
   // decode it (Reader::decode_face_depth). Off by default.
   bool depth = false;
   // With depth: the largest difference allowed between a decoded inverse-depth code and

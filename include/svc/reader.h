@@ -291,7 +291,7 @@ class SVC_API Reader {
   // Decodes one face's depth (files with depth, FileInfo::has_depth) into the caller's
   // buffer in its format and row order, or as eye-space depth (width * height floats,
   // row 0 at the top, +infinity where the face saw no geometry). Reads the face's depth
-  // chunk and, for a B-face, the depth of its reference cubes' faces (docs/codec.md 7.3)
+  // chunk and, for a B-face, the depth of its reference cubes' faces (docs/codec.md 8.3)
   // unless the depth cache holds them; once the face is cached this allocates nothing
   // (the _into form). kNotFound for a file without depth or a cell not in it,
   // kInvalidArgument when the buffer cannot hold the face (nothing is written then), other

@@ -106,7 +106,7 @@ enum class DepthFormat : uint8_t {
   // scene units); +infinity where the face saw no geometry.
   kEyeZ32F = 0,
   // uint16_t: the coded inverse depth, round(65535 near / z) with `near` the face
-  // camera's near plane, clamped to 1..65535 (docs/codec.md 7.1); 0 without geometry.
+  // camera's near plane, clamped to 1..65535 (docs/codec.md 8.1); 0 without geometry.
   kInverse16 = 1,
 };
 

@@ -131,7 +131,7 @@ inline uint64_t chunk_bytes(const FrameRecord& frame) {
 // order). Frames lie cell-major, six per cell, so the cube's faces are found by
 // position.
 std::vector<uint32_t> frame_dependencies(const FrameRecord& frame);
-// The faces whose depth a B-face's depth is predicted from (docs/codec.md 7.3): for
+// The faces whose depth a B-face's depth is predicted from (docs/codec.md 8.3): for
 // each reference, its face and the four adjacent faces of its cube, whether or not the
 // frame has cube references; frame_dependencies' order. Empty for an I-face.
 std::vector<uint32_t> depth_dependencies(const FrameRecord& frame);

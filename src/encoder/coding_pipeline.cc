@@ -342,8 +342,8 @@ class Pipeline {
   std::unique_ptr<ReadOnlyFile> written_;
   std::vector<uint32_t> intra_, predicted_;
   ReferenceCache padded_;            // padded reference I-faces, by frame
-  DepthCache depth_references_;      // reference I-faces' depth, by frame
   SearchPlanesCache search_planes_;  // by 2 frame + (1 when padded)
+  DepthCache depth_references_;      // reference I-faces' depth, by frame
   codec::CodingParams intra_params_;
   codec::BFrameParams b_params_;
   // The trial B-faces when they were coded at the index every B-face keeps

@@ -119,11 +119,19 @@ Status copy_faces(const std::vector<const OpenedPart*>& parts, ContainerWriter& 
       FrameRecord stored = record;
       stored.chunk_offset = face.chunk_offset;
       stored.payload_size = face.payload_size;
+      stored.depth_size = face.depth_size;
       const ReadOnlyFile& file = *sources[frame].part->file;
-      auto payload = read_frame_payload(file, stored, face_label(index.cells[record.cell].index, record.face));
+      const std::string what = face_label(index.cells[record.cell].index, record.face);
+      auto payload = read_frame_payload(file, stored, what);
       if (!payload.ok()) return payload.status().with_context("cannot merge " + file.name());
       SVC_ASSIGN_OR_RETURN(record.chunk_offset, writer.append_frame(*payload));
       record.payload_size = face.payload_size;
+      if (index.depth) {
+        auto depth = read_frame_depth(file, stored, what);
+        if (!depth.ok()) return depth.status().with_context("cannot merge " + file.name());
+        SVC_RETURN_IF_ERROR(writer.append_frame(*depth).status());
+        record.depth_size = face.depth_size;
+      }
     }
   }
   return Status::Ok();

@@ -10,14 +10,15 @@ namespace svc {
 
 namespace {
 
-constexpr uint8_t kPartFormatVersion = 2;  // 2: bare face chunks
+constexpr uint8_t kPartFormatVersion = 3;  // 2: bare face chunks; 3: depth sizes
 constexpr char kHeaderMagic[8] = {'S', 'V', 'C', 'P', 'A', 'R', 'T', kPartFormatVersion};
 constexpr char kTrailerMagic[8] = {'S', 'V', 'C', 'P', 'E', 'N', 'D', kPartFormatVersion};
-constexpr uint64_t kPartFaceRecordSize = 16;  // frame, chunk offset, payload size
+constexpr uint64_t kPartFaceRecordSize = 20;  // frame, chunk offset, payload size, depth size
 
 // parse_index wants every chunk inside a file; the plan's frames all point at one empty
-// chunk right after an imaginary prelude.
-constexpr uint64_t kPlanFileSize = kPreludeSize + kBareChunkOverhead;
+// chunk right after an imaginary prelude (and a one-byte depth chunk after it, which a
+// plan with depth needs).
+constexpr uint64_t kPlanFileSize = kPreludeSize + 2 * kBareChunkOverhead + 1;
 
 std::span<const uint8_t> magic_bytes(const char (&magic)[8]) {
   return {reinterpret_cast<const uint8_t*>(magic), sizeof magic};
@@ -27,6 +28,7 @@ std::vector<uint8_t> serialize_plan(ContainerIndex plan) {
   for (FrameRecord& frame : plan.frames) {
     frame.chunk_offset = kPreludeSize;
     frame.payload_size = 0;
+    frame.depth_size = plan.depth ? 1 : 0;
   }
   return serialize_index(plan);
 }
@@ -43,6 +45,7 @@ std::vector<uint8_t> serialize_descriptor(const PartDescriptor& d) {
     w.u32(face.frame);
     w.u64(face.chunk_offset);
     w.u32(face.payload_size);
+    w.u32(face.depth_size);
   }
   const std::vector<uint8_t> plan = serialize_plan(d.plan);
   w.u64(plan.size());
@@ -57,8 +60,10 @@ Status check_faces(const PartDescriptor& d, uint64_t faces_end) {
       return Status(ErrorCode::kCorruptData,
                     what + " lies outside the plan's " + std::to_string(d.plan.frames.size()) + " frames");
     }
+    const uint64_t bytes = uint64_t{face.payload_size} + kBareChunkOverhead +
+                           (face.depth_size ? uint64_t{face.depth_size} + kBareChunkOverhead : 0);
     if (face.chunk_offset < kPartHeaderSize || face.chunk_offset > faces_end ||
-        uint64_t{face.payload_size} + kBareChunkOverhead > faces_end - face.chunk_offset) {
+        bytes > faces_end - face.chunk_offset || (face.depth_size != 0) != d.plan.depth) {
       return corrupt_at(what + " points outside the face chunks", face.chunk_offset);
     }
   }
@@ -87,13 +92,17 @@ Result<PartDescriptor> parse_descriptor(std::span<const uint8_t> payload, uint64
     face.frame = r.u32();
     face.chunk_offset = r.u64();
     face.payload_size = r.u32();
+    face.depth_size = r.u32();
   }
   const uint64_t plan_size = r.u64();
   if (!r.ok() || plan_size != r.remaining()) {
     return corrupt_at("part descriptor's plan size does not match its chunk", r.file_offset());
   }
   SVC_ASSIGN_OR_RETURN(d.plan, parse_index(payload.subspan(r.position()), r.file_offset(), kPlanFileSize, limits));
-  for (FrameRecord& frame : d.plan.frames) frame.chunk_offset = 0;
+  for (FrameRecord& frame : d.plan.frames) {
+    frame.chunk_offset = 0;
+    frame.depth_size = 0;
+  }
   SVC_RETURN_IF_ERROR(check_faces(d, faces_end));
   return d;
 }

@@ -27,6 +27,7 @@ struct PartFace {
   uint32_t frame = 0;  // ordinal into the plan's frames
   uint64_t chunk_offset = 0;
   uint32_t payload_size = 0;
+  uint32_t depth_size = 0;  // the depth chunk right after the face's (plans with depth)
 };
 
 struct PartDescriptor {

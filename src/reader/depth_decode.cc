@@ -18,6 +18,16 @@ Status depth_error(const Status& status, const ReadOnlyFile& file, const Contain
 
 }  // namespace
 
+Result<std::vector<uint8_t>> FileCodedDepthSource::depth_payload(uint32_t frame) {
+  return read_frame_depth(file_, index_.frames[frame], frame_label(index_, frame));
+}
+
+Result<Camera> FileCodedDepthSource::camera(uint32_t frame) {
+  const size_t cell = frame / kFaceCount;
+  if (cell >= index_.cameras.size()) return Status(ErrorCode::kInternal, "the index holds no cameras");
+  return index_.cameras[cell][frame % kFaceCount];
+}
+
 Result<DepthPointer> CodedDepthSource::intra_depth(uint32_t frame) {
   return decode_indexed_depth(file_, index_, frame, *this);
 }

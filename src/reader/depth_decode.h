@@ -37,6 +37,15 @@ class CodedDepthSource {
   const ContainerIndex& index_;
 };
 
+// Reads every depth chunk from the file and keeps nothing; cameras from index.cameras
+// (an index as open_container returns it).
+class FileCodedDepthSource : public CodedDepthSource {
+ public:
+  using CodedDepthSource::CodedDepthSource;
+  Result<std::vector<uint8_t>> depth_payload(uint32_t frame) override;
+  Result<Camera> camera(uint32_t frame) override;
+};
+
 // Decodes the depth of frame `frame` of `index` (which must have depth): an I-face's on
 // its own, a B-face's from the depth of depth_dependencies(frame) through
 // source.intra_depth. Errors name the file, face and the depth chunk's offset, and for a

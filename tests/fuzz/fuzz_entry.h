@@ -23,10 +23,12 @@
 #include "codec/common/bframe.h"
 #include "codec/common/intra_frame.h"
 #include "codec/decoder/bframe_decoder.h"
+#include "codec/decoder/depth_decoder.h"
 #include "codec/decoder/intra_decoder.h"
 #include "common/bytes.h"
 #include "common/file_io.h"
 #include "container/container.h"
+#include "reader/depth_decode.h"
 #include "reader/face_decode.h"
 #include "svc/limits.h"
 #include "svc/types.h"
@@ -130,12 +132,17 @@ inline bool repair_checksums(std::vector<uint8_t>& bytes) {
       if (frame.bare_chunk) {
         changed |= put_u32(frame.chunk_offset + frame.payload_size, crc_of(frame.chunk_offset, frame.payload_size));
       }
+      if (frame.depth_size != 0) {
+        const uint64_t depth_at = frame.chunk_offset + color_chunk_bytes(frame);
+        changed |= put_u32(depth_at + frame.depth_size, crc_of(depth_at, frame.depth_size));
+      }
     }
   }
   return changed;
 }
 
-// Opens `data` as an .svc file and decodes every face; returns how many decoded.
+// Opens `data` as an .svc file and decodes every face (and its depth, in a file with
+// depth); returns how many decoded whole.
 inline int open_and_decode_all(std::span<const uint8_t> data) {
   MemoryFile memory(data);
   if (memory.path().empty()) return 0;
@@ -147,16 +154,23 @@ inline int open_and_decode_all(std::span<const uint8_t> data) {
   int decoded = 0;
   for (uint32_t frame = 0; frame < index.frames.size(); ++frame) {
     auto face = decode_indexed_face(**file, index, frame);
-    if (face.ok()) {
-      const ImageYCbCr420& image = **face;
-      // A decoded face must have the size the index promised.
-      if (image.width != static_cast<int>(index.face_width) ||
-          image.height != static_cast<int>(index.face_height)) {
-        std::fprintf(stderr, "decoded face has the wrong size\n");
+    // A decoded face must have the size the index promised.
+    if (face.ok() && ((**face).width != static_cast<int>(index.face_width) ||
+                      (**face).height != static_cast<int>(index.face_height))) {
+      std::fprintf(stderr, "decoded face has the wrong size\n");
+      std::abort();
+    }
+    bool depth_ok = true;
+    if (index.depth) {
+      FileCodedDepthSource depth_source(**file, index);
+      auto depth = decode_indexed_depth(**file, index, frame, depth_source);
+      if (depth.ok() && (*depth)->size() != size_t{index.face_width} * index.face_height) {
+        std::fprintf(stderr, "decoded depth has the wrong size\n");
         std::abort();
       }
-      ++decoded;
+      depth_ok = depth.ok();
     }
+    decoded += face.ok() && depth_ok;
   }
   return decoded;
 }
@@ -193,7 +207,8 @@ inline ImageYCbCr420 synthetic_reference(int width, int height, int seed) {
 }
 
 // Frame inputs: 3 selector bytes, then the frame payload.
-//   byte 0: kind: 0 intra, 1 B-face with one reference, 2 B-face with two
+//   byte 0: kind: 0 intra, 1 B-face with one reference, 2 B-face with two, 3 depth plane
+//           (intra or inter, from two synthetic reference planes)
 //   byte 1, 2: width and height, 1 + value % 64
 inline constexpr size_t kFrameInputHeader = 3;
 
@@ -204,14 +219,49 @@ inline std::vector<uint8_t> make_frame_input(uint8_t kind, int width, int height
   return input;
 }
 
+// A deterministic depth plane (codec/common/depth.h codes): a tilted plane with a
+// background corner, as a decoded I-face's depth might be.
+inline std::vector<uint16_t> synthetic_depth(int width, int height, int seed) {
+  std::vector<uint16_t> codes(static_cast<size_t>(width) * height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const bool background = x + y < width / 4;
+      codes[static_cast<size_t>(y) * width + x] =
+          background ? uint16_t{0} : static_cast<uint16_t>(3000 + 40 * x + 25 * y + 300 * seed);
+    }
+  }
+  return codes;
+}
+
+// The cameras synthetic depth planes are seen from: looking along -z, 90 degrees, at
+// x = 0.1 * seed.
+inline Camera synthetic_depth_camera(int seed) {
+  Camera camera;
+  camera.world_to_camera[12] = -0.1 * seed;
+  camera.frustum = {-0.1, 0.1, -0.1, 0.1, 0.1, 100};
+  return camera;
+}
+
+// Decodes a depth payload against two synthetic reference planes. True when it decoded.
+inline bool decode_depth_input(std::span<const uint8_t> payload, int width, int height) {
+  const std::vector<uint16_t> plane0 = synthetic_depth(width, height, 0),
+                              plane1 = synthetic_depth(width, height, 1);
+  const Camera camera0 = synthetic_depth_camera(0), camera1 = synthetic_depth_camera(1),
+               target = synthetic_depth_camera(2);
+  const codec::DepthReference references[] = {{plane0.data(), &camera0}, {plane1.data(), &camera1}};
+  std::vector<uint16_t> codes(static_cast<size_t>(width) * height);
+  return codec::decode_depth(payload, width, height, references, target, codes.data()).ok();
+}
+
 // Fuzz target 2: one coded frame of a small fixed size, intra or B with synthetic
 // references. Returns 1 when it decoded.
 inline int run_frame_input(std::span<const uint8_t> data) {
   if (data.size() < kFrameInputHeader) return 0;
-  const int kind = data[0] % 3;
+  const int kind = data[0] % 4;
   const int width = 1 + data[1] % 64;
   const int height = 1 + data[2] % 64;
   const std::span<const uint8_t> payload = data.subspan(kFrameInputHeader);
+  if (kind == 3) return decode_depth_input(payload, width, height) ? 1 : 0;
   ImageYCbCr420 out;
   bool ok;
   if (kind == 0) {

@@ -61,7 +61,7 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
   cmd->add_flag("--depth", settings->depth, "Store every face's depth (readers decode it beside the color)");
   cmd->add_option("--depth-max-error", settings->depth_max_error,
                   "With --depth: largest error of a decoded inverse-depth code, 0 (lossless) ..255 "
-                  "(units of 1/65535 of the near plane's inverse depth; docs/codec.md 7)")
+                  "(units of 1/65535 of the near plane's inverse depth; docs/codec.md 8)")
       ->check(integer_in(0, 255))
       ->capture_default_str();
   cmd->add_option("--i-spacing", text->i_spacing, "I-cube spacing X,Y,Z (or N for all axes)")
