@@ -14,6 +14,7 @@
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
+#include "svc/reader.h"
 
 namespace svc {
 namespace {
@@ -145,6 +146,33 @@ TEST_F(Cli, SpeedSetsTheLayoutAndAnExplicitLayoutWins) {
   ASSERT_EQ(regular.exit_code, 0) << regular.output;
   EXPECT_NE(regular.output.find(", regular layout,"), std::string::npos) << regular.output;
   EXPECT_NE(regular.output.find("tools off: cdef"), std::string::npos) << regular.output;
+}
+
+// A file with depth decodes to a database whose depth EXRs hold the decoded depth: it
+// passes svc check, and encoding it again with --depth keeps every depth code.
+TEST_F(Cli, DepthRoundTripsThroughDecodeAndEncode) {
+  const fs::path file = work("depth.svc"), decoded = work("depth-decoded"), again = work("depth-again.svc");
+  ASSERT_EQ(run_svc("encode --quiet --depth " + quoted(db()) + " -o " + quoted(file)).exit_code, 0);
+  const CliRun info = run_svc("info " + quoted(file));
+  EXPECT_NE(info.output.find("maximum error 0 (inverse-depth codes)"), std::string::npos) << info.output;
+  ASSERT_EQ(run_svc("decode --quiet " + quoted(file) + " -o " + quoted(decoded)).exit_code, 0);
+  EXPECT_TRUE(fs::exists(decoded / "cells" / "0_0_0" / "px.exr"));
+  EXPECT_FALSE(fs::exists(decoded / "depth-unknown.exr"));
+  ASSERT_EQ(run_svc("check " + quoted(decoded)).exit_code, 0);
+  ASSERT_EQ(run_svc("encode --quiet --depth " + quoted(decoded) + " -o " + quoted(again)).exit_code, 0);
+  auto first = Reader::open(file), second = Reader::open(again);
+  ASSERT_TRUE(first.ok() && second.ok());
+  for (const CellEntry& cell : (*first)->cells()) {
+    for (Face face : kAllFaces) {
+      auto a = (*first)->decode_face_depth(cell.index, face), b = (*second)->decode_face_depth(cell.index, face);
+      ASSERT_TRUE(a.ok() && b.ok());
+      EXPECT_TRUE(*a == *b) << face_label(cell.index, face);
+    }
+  }
+  const CliRun bad =
+      run_svc("encode --quiet --depth --depth-max-error 256 " + quoted(db()) + " -o " + quoted(work("bad.svc")));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("--depth-max-error"), std::string::npos) << bad.output;
 }
 
 TEST_F(Cli, OutputToStandardOutputIsRefused) {

@@ -220,6 +220,56 @@ TEST_F(DepthFiles, DamagedDepthChunkStaysLocal) {
       << verified.message();
 }
 
+// Every kind of scene the corpus is made of round-trips its depth within the bound, with
+// background exact, and a B-cube's six depths read no more than its two reference cubes'.
+TEST(DepthScenes, EverySceneKindRoundTripsWithinTheBound) {
+  testing::TempDir dir("svc-depth-kinds");
+  for (int k = 0; k < samples::kSceneKinds; ++k) {
+    const auto kind = static_cast<samples::SceneKind>(k);
+    SCOPED_TRACE(samples::scene_kind_name(kind));
+    samples::SceneOptions options;
+    options.kind = kind;
+    options.grid = {4, 1, 1};
+    options.face_size = 32;
+    const fs::path db = dir.path() / samples::scene_kind_name(kind);
+    ASSERT_TRUE(samples::generate_scene(options, db).ok());
+    auto manifest = load_manifest(db);
+    ASSERT_TRUE(manifest.ok());
+    for (int max_error : {0, 5}) {
+      EncoderSettings encoder;
+      encoder.threads = 2;
+      encoder.depth = true;
+      encoder.depth_max_error = max_error;
+      const fs::path file = dir.path() / (std::string(samples::scene_kind_name(kind)) + ".svc");
+      ASSERT_TRUE(encode_database(db, file, encoder).ok());
+      ReaderSettings settings;
+      settings.prefetch_threads = 0;
+      auto reader = Reader::open(file, settings);
+      ASSERT_TRUE(reader.ok());
+      int worst = 0;
+      for (size_t c = 0; c < manifest->cells.size(); ++c) {
+        const CellEntry& cell = (*reader)->cells()[*(*reader)->find_cell(manifest->cells[c].index)];
+        const uint64_t chunks_before = (*reader)->stats().chunks_read;
+        for (Face face : kAllFaces) {
+          auto source = load_face(*manifest, c, face);
+          ASSERT_TRUE(source.ok());
+          const double near_plane = cell.cameras[static_cast<int>(face)].frustum.near_plane;
+          auto depth = (*reader)->decode_face_depth(cell.index, face);
+          ASSERT_TRUE(depth.ok()) << depth.status().to_string();
+          for (size_t i = 0; i < depth->size(); ++i) {
+            const uint16_t got = codec::inverse_depth_code((*depth)[i], near_plane);
+            const uint16_t expected = codec::inverse_depth_code(source->depth[i], near_plane);
+            ASSERT_EQ(got == 0, expected == 0) << face_label(cell.index, face) << " pixel " << i;
+            worst = std::max(worst, std::abs(int{got} - int{expected}));
+          }
+        }
+        EXPECT_LE((*reader)->stats().chunks_read - chunks_before, 18u) << cell_label(cell.index);
+      }
+      EXPECT_LE(worst, max_error);
+    }
+  }
+}
+
 // The C API gives the C++ reader's depth, in both formats and row orders.
 TEST_F(DepthFiles, CApiDecodesTheSameDepth) {
   auto reader = open_reader(file(6));
