@@ -116,6 +116,10 @@ for k in "${!looks[@]}"; do
     fail "looking ${looks[$k]} between cells the reprojected frame ($reprojected dB) is no better than the cube map"
 done
 
+# Keyboard and mouse mode, no key pressed: the eye stays in the middle cell.
+summary=$(viewer "$work/db.svc" --frames 20 --size 160x120) || fail "the viewer failed in keyboard mode"
+[[ "$summary" == "svc-viewer: 20 frames in "*", 1 cells shown;"* ]] || fail "keyboard mode without keys: $summary"
+
 # Errors name what is wrong.
 if viewer "$work/missing.svc" --screenshot "$work/x.png" --at 0,0,0 2>"$work/err"; then fail "a missing file rendered"; fi
 grep -q "missing.svc" "$work/err" || fail "the error for a missing file does not name it: $(cat "$work/err")"
