@@ -16,6 +16,8 @@ packages=(
   python3 python3-numpy
   # Photographic sample scenes: scripts/fetch-textures.sh extracts the game textures.
   openarena-081-textures unzip
+  # svc-viewer (samples/viewer): OpenGL via GLFW and epoxy; its test renders in Xvfb with Mesa.
+  libglfw3-dev libepoxy-dev xvfb xauth libgl1-mesa-dri
 )
 # The test suite checks the AArch64 NEON kernels cross-built, under qemu
 # (scripts/check-neon.sh). Without recommends: qemu-user recommends qemu-user-binfmt,

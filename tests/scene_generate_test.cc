@@ -343,6 +343,50 @@ TEST(SceneGenerate, AnyGridShapeWorks) {
   }
 }
 
+// An eye at a cell's centre sees exactly what that cell sees: the scene is the one the
+// grid describes, not one built around a grid of one cell (which differs).
+TEST(SceneGenerate, EyeWritesOneCellOfTheGridsScene) {
+  SceneOptions options;
+  options.kind = SceneKind::kHouse;
+  options.grid = {3, 1, 3};
+  options.face_size = 16;
+  auto cells = describe_scene_cells(options);
+  ASSERT_TRUE(cells.ok());
+  const std::array<double, 3> centre = (*cells)[4].position;  // cell (1, 0, 1)
+  options.eye = centre;
+  testing::TempDir dir("svc-scene-eye");
+  ASSERT_TRUE(generate_scene(options, dir.path()).ok());
+  const nlohmann::json m = read_manifest(dir.path());
+  EXPECT_EQ(m.at("grid").at("dims"), nlohmann::json({1, 1, 1}));
+  EXPECT_EQ(m.at("grid").at("origin"), nlohmann::json(centre));
+  ASSERT_EQ(m.at("cells").size(), 1u);
+  EXPECT_EQ(m.at("cells")[0].at("position"), nlohmann::json(centre));
+  options.eye.reset();
+  for (int f = 0; f < kFaceCount; ++f) {
+    auto expected = render_scene_face(options, CellIndex{1, 0, 1}, static_cast<Face>(f));
+    ASSERT_TRUE(expected.ok());
+    const Image color =
+        read_image(dir.path() / m.at("cells")[0].at("faces").at(kFaces[f]).at("color").get<std::string>());
+    std::vector<uint8_t> written;
+    for (float v : color.pixels) written.push_back(static_cast<uint8_t>(std::lround(v * 255)));
+    EXPECT_EQ(written, expected->color.pixels) << kFaces[f];
+  }
+  // A grid of one cell at that point is another scene.
+  options.grid = {1, 1, 1};
+  options.origin = centre;
+  auto alone = render_scene_face(options, CellIndex{0, 0, 0}, Face::kPX);
+  options.grid = {3, 1, 3};
+  options.origin.reset();
+  auto in_grid = render_scene_face(options, CellIndex{1, 0, 1}, Face::kPX);
+  ASSERT_TRUE(alone.ok() && in_grid.ok());
+  EXPECT_NE(alone->color.pixels, in_grid->color.pixels);
+
+  options.eye = std::array<double, 3>{0, NAN, 0};
+  const Status bad = validate_scene_options(options);
+  EXPECT_EQ(bad.code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(bad.message().find("eye y"), std::string::npos) << bad.message();
+}
+
 TEST(SceneGenerate, RejectsBadOptionsNamingTheField) {
   testing::TempDir dir("svc-scene-bad");
   SceneOptions options;

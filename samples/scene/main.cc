@@ -2,7 +2,7 @@
 // svc-scene: writes a procedural or photographic sample scene as an svc-input database.
 //
 //   svc-scene OUT_DIR [--kind hall|house] [--grid X,Y,Z] [--spacing S | SX,SY,SZ]
-//             [--origin X,Y,Z] [--face-size N] [--seed N] [--textures DIR] [--sparse]
+//             [--origin X,Y,Z] [--eye X,Y,Z] [--face-size N] [--seed N] [--textures DIR] [--sparse]
 //             [--threads N] [--json] [--quiet] [--progress | --no-progress] [-y]
 //
 // The database is written into ".OUT_DIR.tmp-PID" beside OUT_DIR and moved into place
@@ -104,6 +104,10 @@ int main(int argc, char** argv) {
   app.add_option("--origin", origin,
                  "Centre of cell (0,0,0), X,Y,Z in metres (default: the grid centred, lowest layer at eye height); "
                  "a second database with the first one's origin and a larger grid extends it (svc add)");
+  std::string eye;
+  app.add_option("--eye", eye,
+                 "Write one cell, its cameras at X,Y,Z of the scene the grid, spacing and origin describe (a 1x1x1 "
+                 "database: the view between cells, as a ground truth)");
   app.add_option("--face-size", options.face_size, "Square face size in pixels")->capture_default_str();
   app.add_option("--seed", options.seed, "Layout and texture variation")->capture_default_str();
   int threads = 0;
@@ -173,6 +177,14 @@ int main(int argc, char** argv) {
       return svc::command_line::kExitUsage;
     }
     options.origin = std::array<double, 3>{at[0], at[1], at[2]};
+  }
+  if (!eye.empty()) {
+    std::vector<double> at;
+    if (!parse_list(eye, &at) || at.size() != 3) {
+      std::fprintf(stderr, "svc-scene: --eye wants X,Y,Z, got \"%s\"\n", eye.c_str());
+      return svc::command_line::kExitUsage;
+    }
+    options.eye = std::array<double, 3>{at[0], at[1], at[2]};
   }
   options.threads =
       threads > 0 ? threads : std::min(256, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));

@@ -85,6 +85,15 @@ std::vector<SceneCellInfo> cell_infos(const SceneOptions& options, const detail:
   return cells;
 }
 
+// The one cell of a database written with SceneOptions::eye.
+std::vector<SceneCellInfo> eye_cell(const std::array<double, 3>& eye, const detail::Scene& scene) {
+  SceneCellInfo info;
+  info.position = eye;
+  info.room = scene.room_at(eye[0], eye[2]);
+  info.inside_solid = scene.bvh.inside_any(detail::Vec3(eye[0], eye[1], eye[2]));
+  return {info};
+}
+
 detail::RenderSettings render_settings(const SceneOptions& options) {
   return {options.supersample, options.exposure_stops, options.anisotropic};
 }
@@ -150,6 +159,12 @@ Status validate_scene_options(const SceneOptions& options) {
       return Status(ErrorCode::kInvalidArgument, std::string("origin ") + axes[a] + " = " +
                                                      std::to_string((*options.origin)[a]) +
                                                      " is outside [-1e6, 1e6]");
+    }
+  }
+  for (int a = 0; options.eye && a < 3; ++a) {
+    if (!std::isfinite((*options.eye)[a]) || std::abs((*options.eye)[a]) > 1e6) {
+      return Status(ErrorCode::kInvalidArgument, std::string("eye ") + axes[a] + " = " +
+                                                     std::to_string((*options.eye)[a]) + " is outside [-1e6, 1e6]");
     }
   }
   if (cells > 1000000) {
@@ -219,7 +234,7 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
                       const SceneProgress& progress) {
   SVC_RETURN_IF_ERROR(validate_scene_options(options));
   SVC_ASSIGN_OR_RETURN(const detail::Scene scene, build_rendered_scene(options));
-  std::vector<SceneCellInfo> cells = cell_infos(options, scene);
+  std::vector<SceneCellInfo> cells = options.eye ? eye_cell(*options.eye, scene) : cell_infos(options, scene);
   if (options.sparse) {
     std::erase_if(cells, [](const SceneCellInfo& c) { return c.inside_solid; });
     if (cells.empty()) {
@@ -297,7 +312,13 @@ Status generate_scene(const SceneOptions& options, const std::filesystem::path& 
   if (options.texture_scale != 1) manifest["generator"]["texture_scale"] = options.texture_scale;
   // The images used, relative to the texture folder: where it lies does not matter.
   if (!scene.texture_names.empty()) manifest["generator"]["textures"] = scene.texture_names;
-  manifest["grid"] = {{"dims", options.grid}, {"origin", scene_grid_origin(options)}, {"spacing", options.spacing}};
+  if (options.eye) {
+    manifest["grid"] = {{"dims", {1, 1, 1}}, {"origin", *options.eye}, {"spacing", options.spacing}};
+  } else {
+    manifest["grid"] = {{"dims", options.grid},
+                        {"origin", scene_grid_origin(options)},
+                        {"spacing", options.spacing}};
+  }
   manifest["face_size"] = {n, n};
   manifest["projection"] = {{"fov_y_degrees", kSceneFovYDegrees}, {"near", kSceneNear}, {"far", kSceneFar}};
   manifest["depth"] = "eye_z";

@@ -38,6 +38,11 @@ struct SceneOptions {
   // Centre of cell (0,0,0); the scene is built around the grid wherever it lies. Unset:
   // the grid is centred on the vertical axis, its lowest layer at eye height.
   std::optional<std::array<double, 3>> origin;
+  // When set, generate_scene writes one cell (a 1x1x1 grid) whose cameras stand at this
+  // world point of the scene the grid, spacing and origin above describe: the view from
+  // between the cells of that grid, as a ground truth. A grid of one cell would describe
+  // a different scene, since each scene is built around its grid.
+  std::optional<std::array<double, 3>> eye;
   int face_size = 256;  // square faces, pixels
   uint32_t seed = 1;    // texture and layout variation
   bool sparse = false;  // drop cells that fall inside solid geometry
@@ -58,7 +63,7 @@ struct SceneOptions {
 };
 
 // Checks ranges: grid 1..1024 per axis and at most 1,000,000 cells, spacing finite in
-// (0, 100], origin finite, face_size 4..8192, threads 1..256, supersample 1..4,
+// (0, 100], origin and eye finite, face_size 4..8192, threads 1..256, supersample 1..4,
 // exposure_stops in [-4, 4], texture_scale in [0.1, 10]. kInvalidArgument naming the field.
 Status validate_scene_options(const SceneOptions& options);
 

@@ -35,16 +35,6 @@ CellIndex grid_cell(const FileInfo& info, const Position& p) {
   return CellIndex{index[0], index[1], index[2]};
 }
 
-double cell_length(const FileInfo& info) {
-  double length = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (info.grid_dims[axis] > 1 && (length == 0 || info.grid_spacing[axis] < length)) {
-      length = info.grid_spacing[axis];
-    }
-  }
-  return length > 0 ? length : std::min({info.grid_spacing[0], info.grid_spacing[1], info.grid_spacing[2]});
-}
-
 // Walks the polyline at `speed` world units per second and records each entry into a
 // present cell (sampled every 1/16 of a cell).
 std::vector<Event> cell_entries(const Reader& reader, const std::vector<Position>& path, double speed) {
@@ -88,6 +78,16 @@ double percentile(std::vector<double> values, double q) {
 }
 
 }  // namespace
+
+double cell_length(const FileInfo& info) {
+  double length = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (info.grid_dims[axis] > 1 && (length == 0 || info.grid_spacing[axis] < length)) {
+      length = info.grid_spacing[axis];
+    }
+  }
+  return length > 0 ? length : std::min({info.grid_spacing[0], info.grid_spacing[1], info.grid_spacing[2]});
+}
 
 std::vector<Position> builtin_path(const Reader& reader) {
   const FileInfo& info = reader.info();

@@ -20,6 +20,10 @@ namespace svc::walkthrough {
 
 using Position = std::array<double, 3>;
 
+// The length speeds are counted in: the smallest grid spacing among the axes the grid
+// extends along (the smallest spacing of all when it extends along none).
+double cell_length(const FileInfo& info);
+
 // The built-in path: every present cell's centre once, layer by layer (y ascending),
 // rows of z in a serpentine (x ascending on even rows, descending on odd rows; odd
 // layers walk their rows backwards), so consecutive waypoints are neighbouring cells
