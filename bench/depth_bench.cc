@@ -376,11 +376,7 @@ void print_table(const std::vector<SceneResult>& results, int max_error, bool jx
   if (max_error == 8) std::printf(" %10s %10s %10s", "PNG12", "JXL12", "AV1 gray12");
   std::printf(" | %7s %7s\n", "share 0", ("share " + std::to_string(max_error)).c_str());
   auto cell = [](bool present, uint64_t v) { return present ? std::to_string(v) : std::string("-"); };
-  SceneResult total;
-  total.name = "total";
-  bool all_ok0 = true, all_ok = true;
-  for (const SceneResult& r : results) {
-    const std::string label = r.name.substr(0, r.name.find('-'));
+  auto print_row = [&](const std::string& label, const SceneResult& r) {
     std::printf("%-12s %6zu %10llu | %10s %10llu %10s %10s | %10s", label.c_str(), r.faces,
                 static_cast<unsigned long long>(r.color.file_bytes), bytes_or_fail(r.lossless).c_str(),
                 static_cast<unsigned long long>(r.images16.png), cell(jxl, r.images16.jxl).c_str(), "n/a",
@@ -390,6 +386,12 @@ void print_table(const std::vector<SceneResult>& results, int max_error, bool jx
                   cell(jxl, r.images12.jxl).c_str(), av1_cell(r.av1).c_str());
     }
     std::printf(" | %7s %7s\n", share(r.lossless).c_str(), share(r.lossy).c_str());
+  };
+  SceneResult total;
+  total.name = "total";
+  bool all_ok0 = true, all_ok = true;
+  for (const SceneResult& r : results) {
+    print_row(r.name.substr(0, r.name.find('-')), r);
     total.faces += r.faces;
     total.color.file_bytes += r.color.file_bytes;
     total.lossless.depth_bytes += r.lossless.depth_bytes;
@@ -413,15 +415,7 @@ void print_table(const std::vector<SceneResult>& results, int max_error, bool jx
   if (results.size() > 1) {
     total.lossless.ok = all_ok0;
     total.lossy.ok = all_ok;
-    std::printf("%-12s %6zu %10llu | %10s %10llu %10s %10s | %10s", "total", total.faces,
-                static_cast<unsigned long long>(total.color.file_bytes), bytes_or_fail(total.lossless).c_str(),
-                static_cast<unsigned long long>(total.images16.png), cell(jxl, total.images16.jxl).c_str(), "n/a",
-                bytes_or_fail(total.lossy).c_str());
-    if (max_error == 8) {
-      std::printf(" %10llu %10s %10s", static_cast<unsigned long long>(total.images12.png),
-                  cell(jxl, total.images12.jxl).c_str(), av1_cell(total.av1).c_str());
-    }
-    std::printf(" | %7s %7s\n", share(total.lossless).c_str(), share(total.lossy).c_str());
+    print_row("total", total);
   }
 
   std::printf("\nAV1 n/a at E=0: lossless AV1 holds at most 12 bits a sample, the codes take 16.\n");
