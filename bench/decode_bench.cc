@@ -5,7 +5,7 @@
 // cell's reference I-faces and its six faces).
 //
 //   build/bin/svc-bench-decode FILE.svc [--repeat 5] [--threads 0] [--cells 12]
-//                              [--mode all|sequential|parallel|cells|buffers|checksum]
+//                              [--mode all|sequential|parallel|cells|buffers|depth|checksum]
 //
 // Each figure is the median over --repeat passes; the one-thread pass is the one to
 // profile (`perf record build/bin/svc-bench-decode FILE --mode sequential`). The
@@ -13,6 +13,9 @@
 // the decoder left its output as it was. `--mode buffers` times, pass by pass, the
 // allocating decode_face (RGB8) against decode_face_into an RGBA8 buffer, as engines take
 // faces, and the same from a warm face cache, where only the output step differs.
+// `--mode depth` (files with depth) times, pass by pass in alternating order, every
+// face's color and every face's depth (eye depth as floats), each through a fresh reader
+// on one thread.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -97,6 +100,25 @@ Result<std::pair<std::vector<double>, std::vector<double>>> output_speed(const s
 
 // Cold access to `count` cells spread over the file: a fresh one-thread reader each.
 // Returns the mean milliseconds and the mean faces decoded.
+// Every face's depth of the file, as eye depth into a reused buffer, through a fresh
+// reader on one thread. Returns seconds.
+Result<double> decode_all_depth(const std::string& file) {
+  ReaderSettings settings;
+  settings.prefetch_threads = 0;
+  settings.decode_threads = 1;
+  SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
+  std::vector<float> depth(static_cast<size_t>(reader->info().face_width) * reader->info().face_height);
+  DepthBuffer buffer;
+  buffer.data = depth.data();
+  buffer.stride = static_cast<size_t>(reader->info().face_width) * sizeof(float);
+  buffer.size = depth.size() * sizeof(float);
+  const auto t0 = Clock::now();
+  for (const CellEntry& cell : reader->cells()) {
+    for (Face face : kAllFaces) SVC_RETURN_IF_ERROR(reader->decode_face_depth_into(cell.index, face, buffer));
+  }
+  return seconds_since(t0);
+}
+
 Result<std::pair<double, double>> cold_cells(const std::string& file, int count) {
   ReaderSettings settings;
   settings.prefetch_threads = 0;
@@ -149,7 +171,7 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     std::printf("%s: %.0f faces, checksum %016llx\n", file.c_str(), faces, static_cast<unsigned long long>(*hash));
     return 0;
   }
-  std::vector<double> one, all, cold, into_buffer, allocating, buffer_ratios;
+  std::vector<double> one, all, cold, into_buffer, allocating, buffer_ratios, color, depth, depth_ratios;
   double cold_faces = 0;
   ReaderStats one_stats;
   for (int r = 0; r < repeat; ++r) {
@@ -175,6 +197,17 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
       allocating.push_back(allocating_speed);
       into_buffer.push_back(buffer_speed);
       buffer_ratios.push_back(buffer_speed / allocating_speed);
+    }
+    if (mode == "depth") {
+      const bool depth_first = r % 2 == 1;
+      Result<double> a = depth_first ? decode_all_depth(file) : decode_all(file, 1);
+      if (!a.ok()) return fail(a.status());
+      Result<double> b = depth_first ? decode_all(file, 1) : decode_all_depth(file);
+      if (!b.ok()) return fail(b.status());
+      const double color_speed = faces / (depth_first ? *b : *a), depth_speed = faces / (depth_first ? *a : *b);
+      color.push_back(color_speed);
+      depth.push_back(depth_speed);
+      depth_ratios.push_back(depth_speed / color_speed);
     }
     if (mode == "all" || mode == "cells") {
       auto c = cold_cells(file, cells);
@@ -203,6 +236,11 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     std::printf("  from the face cache, into RGBA8      %8.1f faces/s (%.3fx)\n", median(output->second),
                 median(output->second) / median(output->first));
   }
+  if (!depth.empty()) {
+    std::printf("  decode, 1 thread, color  %8.1f faces/s\n", median(color));
+    std::printf("  decode, 1 thread, depth  %8.1f faces/s (%.3fx: median of %d passes' ratios)\n", median(depth),
+                median(depth_ratios), repeat);
+  }
   if (!cold.empty()) {
     std::printf("  cold cell, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d cells)\n", median(cold),
                 cold_faces, cells);
@@ -221,7 +259,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "threads of the parallel pass (0: all cores)")->check(CLI::Range(0, 1024));
   app.add_option("--cells", cells, "cells of the cold-access pass")->check(CLI::Range(1, 100000));
   app.add_option("--mode", mode, "what to measure")
-      ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "buffers", "checksum"}));
+      ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "buffers", "depth", "checksum"}));
   CLI11_PARSE(app, argc, argv);
   threads = resolve_thread_count(threads);
   return run(file, repeat, threads, cells, mode);
