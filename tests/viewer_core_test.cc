@@ -14,7 +14,7 @@
 
 #include "viewer/cell_images.h"
 #include "viewer/depth_mesh.h"
-#include "viewer/motion.h"
+#include "viewer/navigation.h"
 #include "viewer/overlay_text.h"
 #include "viewer/view.h"
 

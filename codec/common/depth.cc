@@ -13,6 +13,12 @@ namespace svc::codec {
 
 namespace {
 
+// round(kInverseDepthScale n / z) in 1..65535, for finite z > 0 (docs/codec.md 8.1, 8.3).
+uint16_t code_of_depth(double z, double near_plane) {
+  const double code = std::floor((kInverseDepthScale * near_plane) / z + 0.5);
+  return static_cast<uint16_t>(std::clamp(code, 1.0, 65535.0));
+}
+
 // Rotation rows and translation of a view matrix (column-major: element (i, j) at j*4+i).
 struct Rigid {
   double r[3][3];
@@ -82,8 +88,7 @@ void splat_face(const DepthReference& reference, const Camera& target, int width
       const double v = (tf.top - (p[1] * q)) * y_scale;
       if (!(u >= 0 && u < width && v >= 0 && v < height)) continue;
       const size_t at = static_cast<size_t>(static_cast<int>(v)) * width + static_cast<size_t>(static_cast<int>(u));
-      const double code = std::floor((kInverseDepthScale * tf.near_plane) / z + 0.5);
-      const auto c = static_cast<uint16_t>(std::clamp(code, 1.0, 65535.0));
+      const uint16_t c = code_of_depth(z, tf.near_plane);
       if (out->hints[at] != DepthHint::kGeometry || c > out->predicted[at]) {
         out->predicted[at] = c;
         out->hints[at] = DepthHint::kGeometry;
@@ -96,8 +101,7 @@ void splat_face(const DepthReference& reference, const Camera& target, int width
 
 uint16_t inverse_depth_code(float eye_z, double near_plane) {
   if (!(eye_z > 0) || !std::isfinite(eye_z)) return 0;
-  const double code = std::floor((kInverseDepthScale * near_plane) / eye_z + 0.5);
-  return static_cast<uint16_t>(std::clamp(code, 1.0, 65535.0));
+  return code_of_depth(eye_z, near_plane);
 }
 
 float eye_depth_of_code(uint16_t code, double near_plane) {

@@ -61,12 +61,13 @@ void predict_depth(std::span<const DepthReference> references, const Camera& tar
 struct DepthContexts {
   static constexpr int kActivityClasses = 12;
   static constexpr int kMagnitudeBits = 16;
-  std::array<AdaptiveBit, 12> background{};
-  // Indexed [inter][activity].
+  // Indexed by DepthModel::background_context: left (2) x above (2) x DepthHint (3).
+  std::array<AdaptiveBit, 2 * 2 * 3> background{};
   // Indexed [inter][activity][residuals left and above that are not 0, 0..2].
   std::array<std::array<std::array<AdaptiveBit, 3>, kActivityClasses>, 2> zero{};
   // Indexed [inter][signs of the residuals left and above, 0..8].
   std::array<std::array<AdaptiveBit, 9>, 2> sign{};
+  // Indexed [inter][activity][unary position of the magnitude's bit width].
   std::array<std::array<std::array<AdaptiveBit, kMagnitudeBits>, kActivityClasses>, 2> magnitude{};
 };
 
@@ -144,14 +145,12 @@ inline int DepthModel::background_context(int x, int y) const {
 
 inline int32_t DepthModel::intra_value(int x, int y) const {
   const bool has_a = geometry(x - 1, y), has_b = geometry(x, y - 1), has_c = geometry(x - 1, y - 1);
-  const int32_t a = has_a ? codes_[index(x - 1, y)] : 0;
-  const int32_t b = has_b ? codes_[index(x, y - 1)] : 0;
-  if (has_a && has_b && has_c)
-    return depth_internal::clamp_code(depth_internal::med(a, b, codes_[index(x - 1, y - 1)]));
+  const int32_t a = codes_[index(x - 1, y)], b = codes_[index(x, y - 1)], c = codes_[index(x - 1, y - 1)];
+  if (has_a && has_b && has_c) return depth_internal::clamp_code(depth_internal::med(a, b, c));
   if (has_a && has_b) return (a + b + 1) >> 1;
   if (has_a) return a;
   if (has_b) return b;
-  if (has_c) return codes_[index(x - 1, y - 1)];
+  if (has_c) return c;
   return std::max<int32_t>(last_geometry_, 1);
 }
 

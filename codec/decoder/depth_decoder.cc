@@ -17,9 +17,8 @@ int32_t decode_residual(RangeDecoder& decoder, DepthContexts& contexts, const De
   auto& magnitude = contexts.magnitude[inter][activity];
   int bits = 0;
   while (bits < DepthContexts::kMagnitudeBits - 1 && decoder.decode(magnitude[static_cast<size_t>(bits)])) ++bits;
-  uint32_t value = 1;
-  for (int i = 0; i < bits; ++i) value = (value << 1) | static_cast<uint32_t>(decoder.decode_bypass());
-  const auto size = static_cast<int32_t>(value);  // |q|: value - 1 + 1
+  int32_t size = 1;  // |q|: a leading 1, then `bits` bits
+  for (int i = 0; i < bits; ++i) size = (size << 1) | decoder.decode_bypass();
   return negative ? -size : size;
 }
 

@@ -65,9 +65,17 @@ Status CellLoader::load(const CellIndex& cell, CellImages* out) {
   return Status::Ok();
 }
 
+// Into the cell's own planes, which keep their storage from cell to cell.
 Status CellLoader::load_depth(const CellIndex& cell, CellImages* out) {
+  const auto width = static_cast<size_t>(out->width), height = static_cast<size_t>(out->height);
   for (int f = 0; f < kFaceCount; ++f) {
-    SVC_ASSIGN_OR_RETURN(out->depth[f], reader_->decode_face_depth(cell, static_cast<Face>(f)));
+    std::vector<float>& plane = out->depth[f];
+    plane.resize(width * height);
+    DepthBuffer buffer;
+    buffer.data = plane.data();
+    buffer.stride = width * sizeof(float);
+    buffer.size = plane.size() * sizeof(float);
+    SVC_RETURN_IF_ERROR(reader_->decode_face_depth_into(cell, static_cast<Face>(f), buffer));
   }
   return Status::Ok();
 }

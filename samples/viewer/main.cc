@@ -38,7 +38,7 @@
 #include "command_line/report.h"
 #include "viewer/cell_loader.h"
 #include "viewer/gl_renderer.h"
-#include "viewer/motion.h"
+#include "viewer/navigation.h"
 #include "viewer/screenshot.h"
 #include "viewer/window.h"
 #include "walkthrough/replay.h"

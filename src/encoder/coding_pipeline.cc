@@ -167,23 +167,15 @@ class Pipeline {
   // when that is smaller (docs/encoder.md, "Depth").
   Result<std::vector<uint8_t>> code_predicted_depth(uint32_t frame, const FaceData& data, const Camera& camera) {
     SVC_ASSIGN_OR_RETURN(const std::vector<uint16_t> codes, source_depth_codes(frame, data));
-    std::vector<DepthPointer> held;
-    std::vector<Camera> cameras;
-    for (uint32_t dependency : depth_dependencies(index_.frames[frame])) {
-      SVC_ASSIGN_OR_RETURN(DepthPointer plane, depth_reference(dependency));
-      SVC_ASSIGN_OR_RETURN(Camera dependency_camera, job_.camera(dependency));
-      held.push_back(std::move(plane));
-      cameras.push_back(dependency_camera);
-    }
-    std::vector<codec::DepthReference> references;
-    for (size_t i = 0; i < held.size(); ++i) references.push_back({held[i]->data(), &cameras[i]});
+    DepthSource source(*this, *written_);
+    SVC_ASSIGN_OR_RETURN(const ReferenceDepths references, reference_depths(index_, frame, source));
     codec::DepthPrediction prediction;
-    codec::predict_depth(references, camera, width(), height(), &prediction);
+    codec::predict_depth(references.references, camera, width(), height(), &prediction);
     std::vector<uint8_t> inter =
         codec::encode_depth(codes, width(), height(), index_.depth_max_error, &prediction).payload;
     std::vector<uint8_t> intra =
         codec::encode_depth(codes, width(), height(), index_.depth_max_error, nullptr).payload;
-    return intra.size() < inter.size() ? intra : inter;
+    return intra.size() < inter.size() ? std::move(intra) : std::move(inter);
   }
 
   Status store_intra(uint32_t frame, CodedIntra& coded) {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-2-Clause
 #include "reader/depth_decode.h"
 
-#include <array>
+#include <utility>
 
 #include "codec/decoder/depth_decoder.h"
 #include "reader/face_decode.h"
@@ -32,32 +32,33 @@ Result<DepthPointer> CodedDepthSource::intra_depth(uint32_t frame) {
   return decode_indexed_depth(file_, index_, frame, *this);
 }
 
-Result<DepthPointer> decode_indexed_depth(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
-                                          CodedDepthSource& source) {
-  const FrameRecord& record = index.frames[frame];
-  SVC_ASSIGN_OR_RETURN(const std::vector<uint8_t> payload, source.depth_payload(frame));
-  const int width = static_cast<int>(index.face_width), height = static_cast<int>(index.face_height);
-  SVC_ASSIGN_OR_RETURN(const Camera camera, source.camera(frame));
-  // The reference planes stay held while the decoder reads them.
-  std::vector<DepthPointer> held;
-  std::vector<Camera> cameras;
-  const bool inter = codec::depth_payload_is_inter(payload);
-  const std::vector<uint32_t> dependencies = inter ? depth_dependencies(record) : std::vector<uint32_t>{};
-  cameras.reserve(dependencies.size());
-  for (uint32_t dependency : dependencies) {
+Result<ReferenceDepths> reference_depths(const ContainerIndex& index, uint32_t frame, CodedDepthSource& source) {
+  ReferenceDepths out;
+  for (uint32_t dependency : depth_dependencies(index.frames[frame])) {
     Result<DepthPointer> plane = source.intra_depth(dependency);
     if (!plane.ok()) {
       return plane.status().with_context(frame_label(index, frame) + " depth needs " +
                                          frame_label(index, dependency));
     }
-    SVC_ASSIGN_OR_RETURN(Camera dependency_camera, source.camera(dependency));
-    held.push_back(*plane);
-    cameras.push_back(dependency_camera);
+    SVC_ASSIGN_OR_RETURN(Camera camera, source.camera(dependency));
+    out.planes.push_back(*std::move(plane));
+    out.cameras.push_back(camera);
   }
-  std::vector<codec::DepthReference> references;
-  for (size_t i = 0; i < held.size(); ++i) references.push_back({held[i]->data(), &cameras[i]});
+  for (size_t i = 0; i < out.planes.size(); ++i) out.references.push_back({out.planes[i]->data(), &out.cameras[i]});
+  return out;
+}
+
+Result<DepthPointer> decode_indexed_depth(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
+                                          CodedDepthSource& source) {
+  SVC_ASSIGN_OR_RETURN(const std::vector<uint8_t> payload, source.depth_payload(frame));
+  const int width = static_cast<int>(index.face_width), height = static_cast<int>(index.face_height);
+  SVC_ASSIGN_OR_RETURN(const Camera camera, source.camera(frame));
+  ReferenceDepths references;
+  if (codec::depth_payload_is_inter(payload)) {
+    SVC_ASSIGN_OR_RETURN(references, reference_depths(index, frame, source));
+  }
   auto codes = std::make_shared<std::vector<uint16_t>>(static_cast<size_t>(width) * height);
-  const Status status = codec::decode_depth(payload, width, height, references, camera, codes->data());
+  const Status status = codec::decode_depth(payload, width, height, references.references, camera, codes->data());
   if (!status.ok()) return depth_error(status, file, index, frame);
   return DepthPointer(std::move(codes));
 }

@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "codec/common/depth.h"
 #include "common/file_io.h"
 #include "container/container.h"
 #include "svc/status.h"
@@ -45,6 +46,23 @@ class FileCodedDepthSource : public CodedDepthSource {
   Result<std::vector<uint8_t>> depth_payload(uint32_t frame) override;
   Result<Camera> camera(uint32_t frame) override;
 };
+
+// The depth planes a B-face's depth is predicted from (depth_dependencies, through
+// source.intra_depth) with their cameras; `references` points into the other two, so
+// the whole is moved, never copied, while a predict_depth reads it.
+struct ReferenceDepths {
+  ReferenceDepths() = default;
+  ReferenceDepths(ReferenceDepths&&) = default;
+  ReferenceDepths& operator=(ReferenceDepths&&) = default;
+  ReferenceDepths(const ReferenceDepths&) = delete;
+  ReferenceDepths& operator=(const ReferenceDepths&) = delete;
+
+  std::vector<DepthPointer> planes;
+  std::vector<Camera> cameras;
+  std::vector<codec::DepthReference> references;
+};
+// Errors name the face that needed a failed reference.
+Result<ReferenceDepths> reference_depths(const ContainerIndex& index, uint32_t frame, CodedDepthSource& source);
 
 // Decodes the depth of frame `frame` of `index` (which must have depth): an I-face's on
 // its own, a B-face's from the depth of depth_dependencies(frame) through

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-2-Clause
-#include "viewer/motion.h"
+#include "viewer/navigation.h"
 
 #include <algorithm>
 #include <cmath>
