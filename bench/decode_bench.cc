@@ -2,10 +2,11 @@
 // Decoding speed of one .svc file, measured as `svc bench` measures svc's (docs/bench.md):
 // every face through a fresh Reader in cell order on one thread (faces/s), the same on
 // all threads, and cold access to one whole cell (a fresh reader, one decode thread, the
-// cell's reference I-faces and its six faces).
+// cell's reference I-faces and its six faces) and to one face of a cell (`--mode face`:
+// the face and the reference faces it needs).
 //
 //   build/bin/svc-bench-decode FILE.svc [--repeat 5] [--threads 0] [--cells 12]
-//                              [--mode all|sequential|parallel|cells|buffers|depth|checksum]
+//                              [--mode all|sequential|parallel|cells|face|buffers|depth|checksum]
 //
 // Each figure is the median over --repeat passes; the one-thread pass is the one to
 // profile (`perf record build/bin/svc-bench-decode FILE --mode sequential`). The
@@ -119,10 +120,13 @@ Result<double> decode_all_depth(const std::string& file) {
   return seconds_since(t0);
 }
 
-Result<std::pair<double, double>> cold_cells(const std::string& file, int count) {
+// Cold access through a fresh reader decoding on `threads` threads (its opening
+// included) to `count` cells spread over the file: each whole cell, or one face of it
+// (the faces in turn). Returns the mean milliseconds and faces decoded per access.
+Result<std::pair<double, double>> cold_access(const std::string& file, int count, bool one_face, int threads = 1) {
   ReaderSettings settings;
   settings.prefetch_threads = 0;
-  settings.decode_threads = 1;
+  settings.decode_threads = threads;
   std::vector<CellIndex> picks;
   {
     SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
@@ -132,10 +136,15 @@ Result<std::pair<double, double>> cold_cells(const std::string& file, int count)
     }
   }
   double ms = 0, faces = 0;
-  for (const CellIndex& cell : picks) {
+  for (size_t i = 0; i < picks.size(); ++i) {
+    const CellIndex& cell = picks[i];
     const auto t0 = Clock::now();
     SVC_ASSIGN_OR_RETURN(std::unique_ptr<Reader> reader, Reader::open(file, settings));
-    SVC_RETURN_IF_ERROR(reader->decode_cube(cell).status());
+    if (one_face) {
+      SVC_RETURN_IF_ERROR(reader->decode_face(cell, kAllFaces[i % kFaceCount]).status());
+    } else {
+      SVC_RETURN_IF_ERROR(reader->decode_cube(cell).status());
+    }
     ms += seconds_since(t0) * 1e3;
     const ReaderStats stats = reader->stats();
     faces += static_cast<double>(stats.intra_faces_parsed + stats.predicted_faces_decoded);
@@ -171,8 +180,9 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     std::printf("%s: %.0f faces, checksum %016llx\n", file.c_str(), faces, static_cast<unsigned long long>(*hash));
     return 0;
   }
-  std::vector<double> one, all, cold, into_buffer, allocating, buffer_ratios, color, depth, depth_ratios;
-  double cold_faces = 0;
+  std::vector<double> one, all, cold, cold_face, cold_face_threads, into_buffer, allocating, buffer_ratios, color,
+      depth, depth_ratios;
+  double cold_faces = 0, cold_face_faces = 0;
   ReaderStats one_stats;
   for (int r = 0; r < repeat; ++r) {
     if (mode == "all" || mode == "sequential") {
@@ -210,10 +220,19 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
       depth_ratios.push_back(depth_speed / color_speed);
     }
     if (mode == "all" || mode == "cells") {
-      auto c = cold_cells(file, cells);
+      auto c = cold_access(file, cells, false);
       if (!c.ok()) return fail(c.status());
       cold.push_back(c->first);
       cold_faces = c->second;
+    }
+    if (mode == "all" || mode == "face") {
+      auto c = cold_access(file, cells, true);
+      if (!c.ok()) return fail(c.status());
+      cold_face.push_back(c->first);
+      cold_face_faces = c->second;
+      auto t = cold_access(file, cells, true, threads);
+      if (!t.ok()) return fail(t.status());
+      cold_face_threads.push_back(t->first);
     }
   }
   std::printf("%s: %.0f faces\n", file.c_str(), faces);
@@ -245,6 +264,19 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     std::printf("  cold cell, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d cells)\n", median(cold),
                 cold_faces, cells);
   }
+  if (!cold_face.empty()) {
+    std::printf("  cold face, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d faces)\n", median(cold_face),
+                cold_face_faces, cells);
+    std::printf("  cold face, %2d threads %8.2f ms\n", threads, median(cold_face_threads));
+    // The same count over every face of the file, from the index: the face and what it needs.
+    auto reader = Reader::open(file);
+    if (!reader.ok()) return fail(reader.status());
+    size_t needed = 0;
+    for (const CellEntry& cell : (*reader)->cells()) {
+      for (const FaceEntry& entry : cell.faces) needed += 1 + entry.references.size();
+    }
+    std::printf("    every face: %.2f faces decoded on average\n", static_cast<double>(needed) / faces);
+  }
   return 0;
 }
 
@@ -259,7 +291,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "threads of the parallel pass (0: all cores)")->check(CLI::Range(0, 1024));
   app.add_option("--cells", cells, "cells of the cold-access pass")->check(CLI::Range(1, 100000));
   app.add_option("--mode", mode, "what to measure")
-      ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "buffers", "depth", "checksum"}));
+      ->check(CLI::IsMember({"all", "sequential", "parallel", "cells", "face", "buffers", "depth", "checksum"}));
   CLI11_PARSE(app, argc, argv);
   threads = resolve_thread_count(threads);
   return run(file, repeat, threads, cells, mode);

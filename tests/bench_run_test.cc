@@ -121,8 +121,8 @@ TEST_F(BenchRun, ResultsJsonHasEveryCodecWithConsistentNumbers) {
   EXPECT_EQ(j["codecs"][3]["points"][0]["psnr_y"], 99.0);
   EXPECT_EQ(j["codecs"][3]["random_access"]["cold"]["max_frames_decoded"], 1);
   EXPECT_EQ(j["codecs"][2]["random_access"]["warm"]["mean_frames_decoded"], 1.0);
-  // svc: a face, at most two reference faces and, with cube references, the four
-  // adjacent faces of each reference cube.
+  // svc: a face, at most two reference faces and, with cube references, at most the
+  // four adjacent faces of each reference cube.
   EXPECT_LE(j["codecs"][0]["random_access"]["cold"]["max_frames_decoded"].get<int>(), 11);
   // A cell: its six faces and at most its two reference cubes.
   EXPECT_LE(j["codecs"][0]["random_cell_access"]["cold"]["max_frames_decoded"].get<int>(), 18);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <random>
 #include <set>
@@ -344,10 +345,10 @@ TEST(CubePadding, RejectsWhatItCannotPad) {
   EXPECT_EQ(too_wide.code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(too_wide.message().find("units"), std::string::npos) << too_wide.message();
   CubeFaces cube = pointers(faces);
-  cube[static_cast<int>(Face::kPY)] = nullptr;
+  cube[static_cast<int>(Face::kPX)] = nullptr;
   const Status missing = pad_cube_face(cube, Face::kPX, 1, &padded);
   EXPECT_EQ(missing.code(), ErrorCode::kInvalidArgument);
-  EXPECT_NE(missing.message().find("face py"), std::string::npos) << missing.message();
+  EXPECT_NE(missing.message().find("face px"), std::string::npos) << missing.message();
   faces[2] = render_face(2, 16, environment);
   EXPECT_EQ(pad_cube_face(pointers(faces), Face::kPX, 1, &padded).code(), ErrorCode::kInvalidArgument);
   ImageYCbCr420 wide = blank_face(32);
@@ -355,6 +356,70 @@ TEST(CubePadding, RejectsWhatItCannotPad) {
   faces[0] = wide;
   EXPECT_EQ(pad_cube_face(pointers(faces), Face::kPX, 1, &padded).code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(padded.width, 5);  // untouched on error
+}
+
+// An adjacent face left out leaves 0 exactly where the rule reads that face, for every
+// face, plane size (odd and even) and border; the rest is the full padding's.
+TEST(CubePadding, FacesLeftOutLeaveZerosOnlyWhereTheyWouldBeRead) {
+  for (int n : {16, 17}) {
+    std::array<ImageYCbCr420, kFaceCount> faces;
+    for (int f = 0; f < kFaceCount; ++f) faces[f] = render_face(f, n, textured_environment);
+    for (int face = 0; face < kFaceCount; ++face) {
+      ImageYCbCr420 full;
+      ASSERT_TRUE(pad_cube_face(pointers(faces), static_cast<Face>(face), 1, &full).ok());
+      for (int e = 0; e < kFaceEdgeCount; ++e) {
+        const Face left_out = face_across(static_cast<Face>(face), static_cast<FaceEdge>(e));
+        CubeFaces cube = pointers(faces);
+        cube[static_cast<int>(left_out)] = nullptr;
+        ImageYCbCr420 partial;
+        ASSERT_TRUE(pad_cube_face(cube, static_cast<Face>(face), 1, &partial).ok());
+        const int side = n + 2 * kCubeBorderUnitPixels;
+        for (int j = 0; j < side; ++j) {
+          for (int i = 0; i < side; ++i) {
+            const int u = i - kCubeBorderUnitPixels, v = j - kCubeBorderUnitPixels;
+            const bool inside = u >= 0 && v >= 0 && u < n && v < n;
+            const bool from_left_out = !inside && cube_padding_internal::border_source(face, n, u, v).face ==
+                                                      static_cast<int>(left_out);
+            const size_t at = static_cast<size_t>(j) * side + i;
+            ASSERT_EQ(partial.y[at], from_left_out ? 0 : full.y[at]) << face << " " << e << " " << i << "," << j;
+          }
+        }
+      }
+    }
+  }
+}
+
+// border_edges_in_window against the rule itself: for every window of a small padded
+// plane (odd and even sizes), the edges whose faces border_source names for some sample
+// of the clamped window.
+TEST(CubePadding, BorderEdgesInWindowMatchTheRuleSampleBySample) {
+  for (int n : {5, 6}) {
+    const int border = 3, last = n + 2 * border - 1;
+    for (int y0 = -2; y0 <= last + 2; ++y0) {
+      for (int y1 = y0; y1 <= last + 2; ++y1) {
+        for (int x0 = -2; x0 <= last + 2; ++x0) {
+          for (int x1 = x0; x1 <= last + 2; ++x1) {
+            for (int face = 0; face < kFaceCount; face += 3) {
+              uint8_t expected = 0;
+              for (int y = std::clamp(y0, 0, last); y <= std::clamp(y1, 0, last); ++y) {
+                for (int x = std::clamp(x0, 0, last); x <= std::clamp(x1, 0, last); ++x) {
+                  const int u = x - border, v = y - border;
+                  if (u >= 0 && v >= 0 && u < n && v < n) continue;
+                  const int g = cube_padding_internal::border_source(face, n, u, v).face;
+                  for (int e = 0; e < kFaceEdgeCount; ++e) {
+                    if (static_cast<int>(face_across(static_cast<Face>(face), static_cast<FaceEdge>(e))) == g)
+                      expected = static_cast<uint8_t>(expected | 1 << e);
+                  }
+                }
+              }
+              ASSERT_EQ(border_edges_in_window(n, border, x0, y0, x1, y1), expected)
+                  << n << ": " << x0 << ".." << x1 << " x " << y0 << ".." << y1;
+            }
+          }
+        }
+      }
+    }
+  }
 }
 
 // Candidate per macroblock: where the centre of the macroblock of a camera turned by
@@ -419,6 +484,36 @@ TEST(CubePadding, PaddedReferencesPredictContentFromTheAdjacentFace) {
   EXPECT_GE(psnr(padded_recon.y, source.y), psnr(plain_recon.y, source.y) - 0.5);
   // The bare face is refused for a payload coded against a padded one.
   EXPECT_EQ(decode_b_frame(with_border, n, n, faces[face], nullptr, &decoded).code(), ErrorCode::kInvalidArgument);
+
+  // The border edges read: padded from the faces across them alone, the reference decodes
+  // to the same pixels; with an edge read but not allowed, the payload is refused.
+  BorderEdges edges;
+  ASSERT_TRUE(decode_b_frame(with_border, n, n, padded, nullptr, &decoded, nullptr, nullptr, nullptr, &edges).ok());
+  ASSERT_NE(edges.read[0], 0);
+  EXPECT_EQ(edges.read[1], 0);
+  CubeFaces cube = pointers(faces);
+  for (int e = 0; e < kFaceEdgeCount; ++e) {
+    if ((edges.read[0] >> e & 1) == 0)
+      cube[static_cast<int>(face_across(Face::kPX, static_cast<FaceEdge>(e)))] = nullptr;
+  }
+  ImageYCbCr420 partly_padded, partly_decoded;
+  ASSERT_TRUE(pad_cube_face(cube, Face::kPX, 2, &partly_padded).ok());
+  BorderEdges allowed;
+  allowed.allowed = edges.read;
+  ASSERT_TRUE(decode_b_frame(with_border, n, n, partly_padded, nullptr, &partly_decoded, nullptr, nullptr, nullptr,
+                             &allowed)
+                  .ok());
+  EXPECT_EQ(partly_decoded.y, padded_recon.y);
+  EXPECT_EQ(partly_decoded.cb, padded_recon.cb);
+  EXPECT_EQ(allowed.read, edges.read);
+  const int first_read = std::countr_zero(static_cast<unsigned>(edges.read[0]));
+  allowed.allowed[0] = static_cast<uint8_t>(edges.read[0] & ~(1 << first_read));
+  const Status refused =
+      decode_b_frame(with_border, n, n, padded, nullptr, &decoded, nullptr, nullptr, nullptr, &allowed);
+  EXPECT_EQ(refused.code(), ErrorCode::kCorruptData);
+  EXPECT_NE(refused.message().find("reads the cube border across edge " + std::to_string(first_read)),
+            std::string::npos)
+      << refused.message();
 }
 
 TEST(CubePadding, HeaderRejectsBordersBeyondTheLimit) {

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: BSD-2-Clause
 // The .svc index: serialization round trip, validation of damaged fields, and the refusal
-// of index versions other than 4.
+// of index versions other than 4 to 6 and of features this build does not know.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <filesystem>
@@ -51,7 +52,7 @@ ContainerIndex sample_index() {
 
 constexpr uint64_t kFileSize = 1 << 20;
 // The rig table follows the 96-byte header.
-constexpr size_t kRigCountAt = 4 + 8 + 12 + 48 + 4 + 8 + 12;
+constexpr size_t kRigCountAt = 4 + 4 + 8 + 12 + 48 + 4 + 8 + 12;
 // A rig entry with a square frustum: packed rotation, flags, right, near and far.
 constexpr size_t kSquareRigEntryBytes = 3 + 1 + 3 * 8;
 
@@ -187,6 +188,9 @@ void expect_same_index(const ContainerIndex& a, const ContainerIndex& b) {
     EXPECT_EQ(a.frames[i].payload_size, b.frames[i].payload_size) << "frame " << i;
     EXPECT_EQ(a.frames[i].references, b.frames[i].references) << "frame " << i;
     EXPECT_EQ(a.frames[i].cube_references, b.frames[i].cube_references) << "frame " << i;
+    for (size_t r = 0; a.frames[i].cube_references && r < a.frames[i].references.size(); ++r) {
+      EXPECT_EQ(reference_border_edges(a.frames[i], r), reference_border_edges(b.frames[i], r)) << "frame " << i;
+    }
   }
   for (int k = 0; k < 2; ++k) EXPECT_EQ(stat_fields(a.stats[k]), stat_fields(b.stats[k]));
 }
@@ -266,12 +270,12 @@ uint32_t index_version(const std::vector<uint8_t>& bytes) {
 TEST(ContainerIndexRecords, CubeCamerasShareSixRigEntries) {
   const ContainerIndex index = rig_index();
   const std::vector<uint8_t> bytes = serialize_index(index);
-  EXPECT_EQ(index_version(bytes), 4u);
+  EXPECT_EQ(index_version(bytes), 6u);
   EXPECT_EQ(bytes[kRigCountAt], 6);
   // Header, rig table (square frusta), cell records (position gap, flags: the first with one source byte
   // per face, the others on the grid with the first's rig entries), then frame records:
   // type byte (chunks back to back: no offset delta) and payload size (< 128); a B-cube's
-  // first face adds its reference, the other five share it (version 4). Statistics as
+  // first face adds its reference, the other five share it. Statistics as
   // varints: 1 byte each but 1,234,567's 3.
   const size_t cell_bytes = (2 + kFaceCount) + 8 * 2;
   const size_t frame_bytes = 6 * 2 + 8 * (3 + 5 * 2);
@@ -371,6 +375,38 @@ TEST(ContainerIndexRecords, CubeReferencesRoundTripAndNeedIntraCubes) {
   index.frames[6 + 4].cube_references = false;
   EXPECT_EQ(frame_dependencies(index.frames[6 + 4]), std::vector<uint32_t>{4});
 
+  // Border edges: pz's left edge shows px, its right nx, its top py, its bottom ny
+  // (docs/codec.md 5.7); only the faces across the edges listed are dependencies.
+  index.frames[6 + 4].cube_references = true;
+  index.frames[6 + 4].border_edges = 0x05;  // left and top
+  index.frames[6 + 5].border_edges = 0x00;  // nz reads no border
+  parsed = parse_index(serialize_index(index), 0, kFileSize, ReaderLimits{});
+  ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
+  expect_same_index(*parsed, index);
+  EXPECT_EQ(frame_dependencies(parsed->frames[6 + 4]), (std::vector<uint32_t>{4, 0, 2}));
+  EXPECT_EQ(frame_dependencies(parsed->frames[6 + 5]), std::vector<uint32_t>{5});
+  // Depth still depends on the four (docs/codec.md 8.3).
+  EXPECT_EQ(depth_dependencies(parsed->frames[6 + 5]), (std::vector<uint32_t>{5, 0, 1, 2, 3}));
+  // With one reference, the bits of a second are never written, and refused: the byte is
+  // where serializing another value changes the bytes.
+  std::vector<uint8_t> forged = serialize_index(index);
+  index.frames[6 + 4].border_edges = 0x15;
+  EXPECT_EQ(serialize_index(index), forged);
+  index.frames[6 + 4].border_edges = 0x06;
+  const std::vector<uint8_t> other = serialize_index(index);
+  ASSERT_EQ(other.size(), forged.size());
+  const auto at =
+      static_cast<size_t>(std::mismatch(forged.begin(), forged.end(), other.begin()).first - forged.begin());
+  ASSERT_LT(at, forged.size());
+  forged[at] = 0x15;
+  parsed = parse_index(forged, 0, kFileSize, ReaderLimits{});
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find(
+                "cell (1,0,0) face pz has one reference but border edges 21 name a second"),
+            std::string::npos)
+      << parsed.status().message();
+  index.frames[6 + 4].border_edges = kEveryBorderEdge & 0x0F;
+
   // Cell 1 px becomes an I-face that cell 2 px predicts from, but cell 1 py stays a
   // B-face: cell 2 px cannot have cube references.
   index.frames[6].type = FaceType::kIntra;
@@ -407,14 +443,15 @@ TEST(ContainerIndexRecords, OutOfOrderChunksAndLargeValuesRoundTrip) {
   EXPECT_NE(parsed.status().message().find("cell (0,0,0) face px"), std::string::npos) << parsed.status().message();
 }
 
-// With depth, the index is version 5 and each frame record carries its depth chunk's
-// size; that chunk lies right after the face's own.
-TEST(ContainerIndex, DepthSizesRoundTripInVersionFive) {
+// With depth, the index's feature word says so and each frame record carries its depth
+// chunk's size; that chunk lies right after the face's own.
+TEST(ContainerIndex, DepthSizesRoundTrip) {
   ContainerIndex index = sample_index();
   index.depth = true;
   for (FrameRecord& frame : index.frames) frame.depth_size = 20 + frame.cell;
   const std::vector<uint8_t> bytes = serialize_index(index);
-  EXPECT_EQ(index_version(bytes), 5u);
+  EXPECT_EQ(index_version(bytes), 6u);
+  EXPECT_EQ(bytes[4], 1);  // the feature word: depth
   auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
   ASSERT_TRUE(parsed.ok()) << parsed.status().to_string();
   EXPECT_TRUE(parsed->depth);
@@ -429,19 +466,30 @@ TEST(ContainerIndex, DepthSizesRoundTripInVersionFive) {
       << refused.status().message();
 }
 
+// A feature bit this build does not know is refused by name, at the feature word.
+TEST(ContainerIndex, UnknownFeaturesAreRefused) {
+  std::vector<uint8_t> bytes = serialize_index(sample_index());
+  bytes[4] = 0x06;
+  auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_EQ(parsed.status().code(), ErrorCode::kUnsupported);
+  EXPECT_EQ(parsed.status().message(),
+            "index uses feature bits 6 that this build does not know (it knows 1, depth) at byte offset 1004");
+}
+
 // Index versions 1 to 3 came before the current frame syntaxes; they and any other value
-// than 4 and 5 (with depth) are refused, naming the version and its offset.
-TEST(ContainerIndex, VersionsOtherThanFourAndFiveAreRefused) {
+// than 4 to 6 are refused, naming the version and its offset.
+TEST(ContainerIndex, VersionsOtherThanFourToSixAreRefused) {
   const std::vector<uint8_t> bytes = serialize_index(sample_index());
-  ASSERT_EQ(index_version(bytes), 4u);
-  for (uint32_t version : {0u, 1u, 2u, 3u, 6u, 0xFFFFFFFFu}) {
+  ASSERT_EQ(index_version(bytes), 6u);
+  for (uint32_t version : {0u, 1u, 2u, 3u, 7u, 0xFFFFFFFFu}) {
     std::vector<uint8_t> forged = bytes;
     for (int b = 0; b < 4; ++b) forged[static_cast<size_t>(b)] = static_cast<uint8_t>(version >> (8 * b));
     auto parsed = parse_index(forged, 1000, kFileSize, ReaderLimits{});
     ASSERT_FALSE(parsed.ok()) << version;
     EXPECT_EQ(parsed.status().code(), ErrorCode::kUnsupported);
     EXPECT_EQ(parsed.status().message(), "index version " + std::to_string(version) +
-                                             " is not supported (this build reads 4 and 5) at byte offset 1000");
+                                             " is not supported (this build reads 4 to 6) at byte offset 1000");
   }
 }
 
@@ -463,7 +511,7 @@ TEST(ContainerIndex, OlderCorpusFilesAreRefused) {
     ASSERT_FALSE(opened.ok());
     EXPECT_EQ(opened.status().code(), ErrorCode::kUnsupported) << opened.status().to_string();
     EXPECT_NE(opened.status().message().find("index version " + std::to_string(version) +
-                                             " is not supported (this build reads 4 and 5) at byte offset "),
+                                             " is not supported (this build reads 4 to 6) at byte offset "),
               std::string::npos)
         << opened.status().message();
   }

@@ -5,10 +5,12 @@
 //   SVC_WRITE_FUZZ_CORPUS=tests/fuzz/corpus build/bin/svc_integration_tests --gtest_filter=FuzzCorpus.Generate
 // ). Inputs the fuzzers found are added beside the seeds by hand.
 //
-// The container seeds seed-*.svc are what the current encoder writes (index version 4,
-// bare face chunks; version 5 with depth chunks for the stored-depth seed). Beside them, old-index-vN-*.svc are
-// files whose index is in version N = 1, 2 or 3 (FACE chunks in the version 2 and 1 files), which readers no longer
-// read: each must be refused, not crash. Generate does not write them.
+// The container seeds seed-*.svc are what the current encoder writes (index version 6,
+// bare face chunks, depth chunks for the stored-depth seed). Beside them, index-vN-*.svc
+// are files written in index version N = 4 or 5, which readers still read (their pixels
+// are pinned in svc_pinned_output_test.cc), and old-index-vN-*.svc files whose index is in
+// version N = 1, 2 or 3 (FACE chunks in the version 2 and 1 files), which readers no
+// longer read: each must be refused, not crash. Generate writes neither.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -49,7 +51,7 @@ std::vector<fs::path> corpus_files(const std::string& target) {
 }
 
 // The seeds: named inputs, each valid (every face decodes), encoded by the current
-// encoder (index version 4).
+// encoder (index version 6).
 std::map<std::string, std::vector<uint8_t>> container_seeds(const fs::path& work) {
   std::map<std::string, std::vector<uint8_t>> seeds;
   struct Variant {

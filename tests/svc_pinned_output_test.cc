@@ -55,11 +55,23 @@ EncoderSettings with(int quality, MotionSearch motion) {
 const char kSceneInputSha256[] = "213b5a32303ab7eff13fd86e08c426a17fd7de8b4433c33078545d8bab443065";
 const PinnedEncode kPins[] = {
     {"q75-depth", with(75, MotionSearch::kDepth),
-     "bedf74ef263ce4e71b5e6df3ac894df97ace6b55bbbeef34c9e81a052480f0d5",
+     "8e74b50a7407e0f9cded8410b7f3f0e5b446e6a82fefb1ffadc8e7411d62c8a8",
      "8e7f4d9c89bae88f2032f390592ba825d567ecddcdf290af7fc7165bed1a305c"},
     {"q30-logarithmic", with(30, MotionSearch::kLogarithmic),
-     "f4a79b4b67005d19df2763b9fc36ac2699ff65cf690c0554cac267c14d7d5c9d",
+     "5b201ba5b04af3e3513ebefff0dd6fe5ae4298c3418aa1b74d02410af13ff92c",
      "bbf60cf8fa516701e4e5b1e543c8f92f9d4ddf45485565ff29e62eb938217bf6"},
+};
+
+// Files written before index version 6 (tests/fuzz/corpus/container/index-v*.svc, kept
+// as written): every later reader decodes them to these pixels.
+struct PinnedOlderFile {
+  const char* name;
+  const char* pixels_sha256;
+};
+const PinnedOlderFile kOlderFiles[] = {
+    {"index-v4-2x1x2-ib-depth.svc", "87c79131a44974135c5f4d3f5f6747ab85912aeac6a9b409231b4d673f045f59"},
+    {"index-v4-3x1x1-ib-log.svc", "253c117ad671ad11758bff40a0fdf54c6da99957e52a9139db7f81a47c56f630"},
+    {"index-v5-3x1x1-ib-stored-depth.svc", "334af393ecbce64a6b5eae59ca321f163877185913bf5df4c45ba5fa1740c830"},
 };
 
 std::string file_sha256(const fs::path& path) {
@@ -135,6 +147,13 @@ TEST(PinnedOutput, FilesAndDecodedPixelsAreUnchanged) {
     EXPECT_GT(summary->predicted.faces, 0u) << pin.name << ": B-cubes should be pinned too";
     EXPECT_EQ(file_sha256(file), pin.file_sha256) << pin.name << ": .svc bytes changed";
     EXPECT_EQ(decoded_pixels_sha256(file), pin.pixels_sha256) << pin.name << ": decoded pixels changed";
+  }
+}
+
+TEST(PinnedOutput, FilesOfEarlierIndexVersionsDecodeToTheirPixels) {
+  for (const PinnedOlderFile& older : kOlderFiles) {
+    const fs::path file = fs::path(SVC_SOURCE_DIR) / "tests/fuzz/corpus/container" / older.name;
+    EXPECT_EQ(decoded_pixels_sha256(file), older.pixels_sha256) << older.name;
   }
 }
 

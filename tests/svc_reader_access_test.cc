@@ -74,11 +74,12 @@ class ReaderAccess : public ::testing::Test {
   static std::pair<size_t, std::vector<size_t>> some_b_face(const Reader& reader, size_t skip = 0) {
     for (size_t c = 0; c < reader.cells().size(); ++c) {
       const FaceEntry& entry = reader.cells()[c].faces[0];
-      // Two reference cubes: two reference faces, plus four adjacent faces of each cube
-      // with cube references.
-      if (entry.type != FaceType::kPredicted || (entry.references.size() != 2 && entry.references.size() != 10)) {
-        continue;
-      }
+      // Two reference cubes: two reference faces (of the face's own direction), plus with
+      // cube references the adjacent faces of each cube whose border it reads.
+      const auto own_direction =
+          std::count_if(entry.references.begin(), entry.references.end(),
+                        [](const auto& dependency) { return dependency.second == Face::kPX; });
+      if (entry.type != FaceType::kPredicted || own_direction != 2) continue;
       if (skip-- > 0) continue;
       std::vector<size_t> refs;
       for (const auto& [cell, face] : entry.references) refs.push_back(cell * kFaceCount + static_cast<int>(face));
@@ -87,11 +88,21 @@ class ReaderAccess : public ::testing::Test {
     return {SIZE_MAX, {}};
   }
 
-  // Another B-face (not the first) predicted from the frames `refs`, or SIZE_MAX.
-  static size_t another_b_face(const Reader& reader, const std::vector<size_t>& refs) {
-    for (size_t skip = 1;; ++skip) {
-      auto [candidate, candidate_refs] = some_b_face(reader, skip);
-      if (candidate == SIZE_MAX || candidate_refs == refs) return candidate;
+  // Two B-faces (first, second) that need the same frames `refs` (the same references
+  // and the same border edges of each), or SIZE_MAX.
+  struct SharedDependencies {
+    size_t first = SIZE_MAX, second = SIZE_MAX;
+    std::vector<size_t> refs;
+  };
+  static SharedDependencies b_faces_sharing_dependencies(const Reader& reader) {
+    for (size_t i = 0;; ++i) {
+      auto [first, refs] = some_b_face(reader, i);
+      if (first == SIZE_MAX) return {};
+      for (size_t j = i + 1;; ++j) {
+        auto [second, second_refs] = some_b_face(reader, j);
+        if (second == SIZE_MAX) break;
+        if (second_refs == refs) return {first, second, refs};
+      }
     }
   }
 
@@ -155,18 +166,20 @@ TEST_F(ReaderAccess, RandomOrderThroughSmallCachesEqualsSequentialDecode) {
 TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads) {
   ReaderSettings settings;
   settings.prefetch_threads = 0;
+  settings.decode_threads = 1;  // the counts below are one thread's; more decode references first
   auto reader = Reader::open(file(), settings);
   ASSERT_TRUE(reader.ok());
-  const auto [first, refs] = some_b_face(**reader, 0);
-  ASSERT_NE(first, SIZE_MAX);
+  const auto [first, second, refs] = b_faces_sharing_dependencies(**reader);
+  ASSERT_NE(second, SIZE_MAX) << "no two B-faces that need the same faces";
   const auto& cells = (*reader)->cells();
 
   auto face = (*reader)->decode_face_ycbcr(cells[first / kFaceCount].index, Face::kPX);
   ASSERT_TRUE(face.ok());
   EXPECT_TRUE(same_image(*face, reference(first)));
   // Exactly the faces the index lists are read and entropy-decoded: the two reference
-  // faces and, with cube references, the four adjacent faces of both reference cubes.
-  ASSERT_EQ(refs.size(), 10u);
+  // faces and, with cube references, the adjacent faces of both reference cubes whose
+  // border the face reads.
+  ASSERT_GE(refs.size(), 2u);
   ReaderStats stats = (*reader)->stats();
   EXPECT_EQ(stats.intra_faces_parsed, refs.size());
   EXPECT_EQ(stats.predicted_faces_decoded, 1u);
@@ -178,10 +191,8 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   for (size_t ref : refs) expected_bytes += cells[ref / kFaceCount].faces[ref % kFaceCount].coded_bytes;
   EXPECT_EQ(bytes_after_first, expected_bytes);
 
-  // Another B-face predicted from the same two I-faces: only its own chunk is read and
-  // only its own bytes are entropy-decoded.
-  const size_t second = another_b_face(**reader, refs);
-  ASSERT_NE(second, SIZE_MAX) << "no second B-face with the same references";
+  // Another B-face that needs the same I-faces: only its own chunk is read and only its
+  // own bytes are entropy-decoded.
   face = (*reader)->decode_face_ycbcr(cells[second / kFaceCount].index, Face::kPX);
   ASSERT_TRUE(face.ok());
   EXPECT_TRUE(same_image(*face, reference(second)));
@@ -210,7 +221,7 @@ TEST_F(ReaderAccess, CachedReferencesSkipEntropyDecodingAndCachedFacesSkipReads)
   EXPECT_EQ((*reader)->stats().coefficient_cache.bytes_held, 0u);
 }
 
-// Without the reference cache, a second B-face on the same references reconstructs them
+// Without the reference cache, a second B-face needing the same faces reconstructs them
 // again, from the semi-decoded I-faces: no chunk is read or entropy-decoded twice.
 TEST_F(ReaderAccess, WithoutAReferenceCacheReferencesComeFromSemiDecodedIFaces) {
   ReaderSettings settings;
@@ -218,10 +229,8 @@ TEST_F(ReaderAccess, WithoutAReferenceCacheReferencesComeFromSemiDecodedIFaces) 
   settings.reference_cache_bytes = 0;
   auto reader = Reader::open(file(), settings);
   ASSERT_TRUE(reader.ok());
-  const auto [first, refs] = some_b_face(**reader, 0);
-  ASSERT_NE(first, SIZE_MAX);
-  const size_t second = another_b_face(**reader, refs);
-  ASSERT_NE(second, SIZE_MAX) << "no second B-face with the same references";
+  const auto [first, second, refs] = b_faces_sharing_dependencies(**reader);
+  ASSERT_NE(second, SIZE_MAX) << "no two B-faces that need the same faces";
   const auto& cells = (*reader)->cells();
   for (size_t frame : {first, second}) {
     auto face = (*reader)->decode_face_ycbcr(cells[frame / kFaceCount].index, Face::kPX);
@@ -387,7 +396,9 @@ TEST_F(ReaderAccess, DamagedReferenceFailsItsBFacesOnlyAndIsNotCached) {
     out.seekp(static_cast<std::streamoff>(ref_cell.faces[0].offset + 20));
     out.put('\x5a');
   }
-  auto reader = Reader::open(damaged);
+  ReaderSettings one_thread;
+  one_thread.decode_threads = 1;  // no references decoded ahead: each request reads the damaged one once
+  auto reader = Reader::open(damaged, one_thread);
   ASSERT_TRUE(reader.ok());
   const CellIndex b_cell = (*reader)->cells()[b_frame / kFaceCount].index;
   for (int attempt = 0; attempt < 2; ++attempt) {

@@ -228,6 +228,31 @@ TEST_F(ReaderThreads, CubeDecodeOnAnyThreadCountEqualsSequentialDecode) {
   EXPECT_NE(refused.status().message().find("decode_threads 65 outside 0..64"), std::string::npos);
 }
 
+// One cold B-face on one, two and five threads: its reference I-faces are decoded side
+// by side, each once, and the face is the sequential decode's.
+TEST_F(ReaderThreads, FaceDecodeOnAnyThreadCountEqualsSequentialDecode) {
+  for (int threads : {1, 2, 5}) {
+    ReaderSettings settings;
+    settings.prefetch_threads = 0;
+    settings.decode_threads = threads;
+    auto opened = Reader::open(file(), settings);
+    ASSERT_TRUE(opened.ok());
+    Reader& reader = **opened;
+    const auto& cells = reader.cells();
+    size_t b_cell = 0;
+    while (cells[b_cell].faces[2].type != FaceType::kPredicted) ++b_cell;
+    auto face = reader.decode_face_ycbcr(cells[b_cell].index, Face::kPY);
+    ASSERT_TRUE(face.ok()) << face.status().to_string();
+    const ImageYCbCr420& expected = reference(b_cell * kFaceCount + 2);
+    EXPECT_EQ(face->y, expected.y) << threads << " threads";
+    EXPECT_EQ(face->cb, expected.cb) << threads << " threads";
+    EXPECT_EQ(face->cr, expected.cr) << threads << " threads";
+    const ReaderStats stats = reader.stats();
+    EXPECT_EQ(stats.predicted_faces_decoded, 1u) << threads << " threads";
+    EXPECT_EQ(stats.intra_faces_parsed, cells[b_cell].faces[2].references.size()) << threads << " threads";
+  }
+}
+
 TEST_F(ReaderThreads, PrefetchFillsTheNeighbourhoodAndRequestsJoinItsWork) {
   ReaderSettings settings;
   settings.prefetch_threads = 3;

@@ -382,6 +382,50 @@ void build_partition_prediction(const FrameState& s, int mx, int my, const Parti
   }
 }
 
+std::array<uint8_t, 2> border_edges_read(const FrameState& s, int mx, int my, const PredictionRecord& record) {
+  std::array<uint8_t, 2> edges{};
+  if (s.border_mbs == 0 || record.mode == MacroblockMode::kIntra) return edges;
+  const int border = 16 * s.border_mbs, x = 16 * reference_mb(s, mx), y = 16 * reference_mb(s, my);
+  // Luma blocks in luma samples, chroma blocks in chroma samples, both planes alike.
+  auto read = [&](int r, PlaneKind kind, int bx, int by, int w, int h, int vx, int vy) {
+    const int padded = kind == PlaneKind::kLuma ? s.references[r]->width : (s.references[r]->width + 1) / 2;
+    const int plane_border = kind == PlaneKind::kLuma ? border : border / 2;
+    const ReadWindow window = prediction_window(kind, bx, by, w, h, vx, vy);
+    edges[r] |=
+        border_edges_in_window(padded - 2 * plane_border, plane_border, window.x0, window.y0, window.x1, window.y1);
+  };
+  auto translate = [&](int r, const PartitionRect& rect, MotionVector v) {
+    read(r, PlaneKind::kLuma, x + rect.x, y + rect.y, rect.width, rect.height, v.x, v.y);
+    read(r, PlaneKind::kChroma, (x + rect.x) / 2, (y + rect.y) / 2, rect.width / 2, rect.height / 2, v.x, v.y);
+  };
+  for (int r = 0; r < s.reference_count; ++r) {
+    if (record.motion.partition != Partition::k16x16) {
+      for (int k = 0; k < partition_count(record.motion.partition); ++k) {
+        if (uses_reference(record.motion.modes[k], r))
+          translate(r, partition_rect(record.motion.partition, k), record.motion.vectors[k][r]);
+      }
+    } else if (!uses_reference(record.mode, r)) {
+      continue;
+    } else if (!record.warp) {
+      translate(r, PartitionRect{}, record.vectors[r]);
+    } else {
+      // The sub-blocks of predict_warp_macroblock (warp_prediction.h).
+      const WarpCorners corners = macroblock_corners(s, r, mx, my);
+      for (int q = 0; q < 4; ++q) {
+        for (int p = 0; p < 4; ++p) {
+          const std::array<int, 2> v = warp_subblock_vector(corners, 8 * p + 4, 8 * q + 4);
+          read(r, PlaneKind::kLuma, x + 4 * p, y + 4 * q, 4, 4, v[0], v[1]);
+          if (p < 2 && q < 2) {
+            const std::array<int, 2> c = warp_subblock_vector(corners, 16 * p + 8, 16 * q + 8);
+            read(r, PlaneKind::kChroma, x / 2 + 4 * p, y / 2 + 4 * q, 4, 4, c[0], c[1]);
+          }
+        }
+      }
+    }
+  }
+  return edges;
+}
+
 bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode mode, bool warp,
                             const std::array<MotionVector, 2>& vectors) {
   // Sample span in 1/16 pel of the block's pixel centres displaced, plus the one sample

@@ -406,6 +406,19 @@ void build_partition_prediction(const FrameState& s, int mx, int my, const Parti
 void predict_partition(const FrameState& s, int mx, int my, const PartitionRect& rect, int reference,
                        MotionVector vector, MacroblockIntermediate* out);
 
+// What an inter or skipped macroblock's prediction is built from (mode kIntra: none).
+struct PredictionRecord {
+  MacroblockMode mode = MacroblockMode::kIntra;  // the prediction's mode, never kSkipped
+  bool warp = false;
+  std::array<MotionVector, 2> vectors{};
+  PartitionMotion motion;
+};
+
+// Per reference, the cube-border edges (FaceEdge bits, codec/common/cube_padding.h) whose
+// samples the prediction of macroblock (mx, my) reads, by the read windows of
+// motion_compensation.h (docs/codec.md 5.7); {0, 0} without a border.
+std::array<uint8_t, 2> border_edges_read(const FrameState& s, int mx, int my, const PredictionRecord& record);
+
 // Whether the luma prediction of macroblock (mx, my) with this mode reads a reference
 // sample outside the face (in the cube border or, without one, the edge extension).
 bool prediction_leaves_face(const FrameState& s, int mx, int my, MacroblockMode mode, bool warp,

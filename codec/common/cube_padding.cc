@@ -96,7 +96,9 @@ void pad_plane_reference(const FacePlanes& planes, int face, int n, int border, 
         continue;
       }
       const BorderSource source = border_source(face, n, i, j);
-      row[i] = static_cast<uint8_t>(bilinear_sample(planes[source.face]->data(), n, source.x16, source.y16));
+      const std::vector<uint8_t>* plane = planes[source.face];
+      row[i] = plane == nullptr ? 0
+                                : static_cast<uint8_t>(bilinear_sample(plane->data(), n, source.x16, source.y16));
     }
   }
 }
@@ -113,6 +115,41 @@ std::array<Face, 4> adjacent_faces(Face face) {
   return out;
 }
 
+Face face_across(Face face, FaceEdge edge) {
+  const FaceFrame& frame = kFrames[static_cast<int>(face)];
+  const int sign = edge == FaceEdge::kLeft || edge == FaceEdge::kTop ? -1 : 1;
+  const bool across_columns = edge == FaceEdge::kLeft || edge == FaceEdge::kRight;
+  return static_cast<Face>(face_looking_along(across_columns ? frame.right : frame.down, sign));
+}
+
+namespace {
+
+// Smallest |2t + 1 - size| over integers t in lo..hi: the distance from the face centre,
+// in half samples, of the window's nearest column (or row).
+long long nearest_to_centre(int lo, int hi, int size) {
+  const int below = std::clamp((size - 1) / 2, lo, hi), above = std::clamp((size - 1) / 2 + 1, lo, hi);
+  return std::min(std::llabs(2LL * below + 1 - size), std::llabs(2LL * above + 1 - size));
+}
+
+}  // namespace
+
+uint8_t border_edges_in_window(int size, int border, int x0, int y0, int x1, int y1) {
+  const int last = size + 2 * border - 1;
+  // Face coordinates of the clamped window; border_source's rule: a border sample (i, j)
+  // shows the left or right face when |2i + 1 - size| >= |2j + 1 - size|, else the top or
+  // bottom face. The window's outermost column (row) is the farthest from the centre.
+  const int i0 = std::clamp(x0, 0, last) - border, i1 = std::clamp(x1, 0, last) - border;
+  const int j0 = std::clamp(y0, 0, last) - border, j1 = std::clamp(y1, 0, last) - border;
+  if (i0 >= 0 && j0 >= 0 && i1 < size && j1 < size) return 0;
+  const long long row_nearest = nearest_to_centre(j0, j1, size), column_nearest = nearest_to_centre(i0, i1, size);
+  uint8_t edges = 0;
+  if (i0 < 0 && row_nearest <= size - 1 - 2LL * i0) edges |= 1u << static_cast<int>(FaceEdge::kLeft);
+  if (i1 >= size && row_nearest <= 2LL * i1 + 1 - size) edges |= 1u << static_cast<int>(FaceEdge::kRight);
+  if (j0 < 0 && column_nearest < size - 1 - 2LL * j0) edges |= 1u << static_cast<int>(FaceEdge::kTop);
+  if (j1 >= size && column_nearest < 2LL * j1 + 1 - size) edges |= 1u << static_cast<int>(FaceEdge::kBottom);
+  return edges;
+}
+
 Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420* out) {
   if (units < 0 || units > kMaxCubeBorderUnits) {
     return Status(ErrorCode::kInvalidArgument, "cube border of " + std::to_string(units) + " units outside 0.." +
@@ -120,7 +157,9 @@ Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420*
   }
   const int f = static_cast<int>(face);
   if (f < 0 || f >= kFaceCount || cube[f] == nullptr) {
-    return Status(ErrorCode::kInvalidArgument, "cube padding: face " + std::to_string(f) + " missing");
+    return Status(ErrorCode::kInvalidArgument,
+                  f < 0 || f >= kFaceCount ? "cube padding: face " + std::to_string(f) + " outside px..nz"
+                                           : "cube padding: face " + std::string(face_name(face)) + " missing");
   }
   const int n = cube[f]->width;
   if (!cube_padding_possible(cube[f]->width, cube[f]->height)) {
@@ -135,6 +174,7 @@ Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420*
   std::copy(adjacent.begin(), adjacent.end(), needed.begin() + 1);
   for (Face g : needed) {
     const ImageYCbCr420* image = cube[static_cast<int>(g)];
+    if (image == nullptr && g != face) continue;
     if (image == nullptr || image->width != n || image->height != n || image->y.size() != luma ||
         image->cb.size() != chroma || image->cr.size() != chroma) {
       return Status(ErrorCode::kInvalidArgument, "cube padding of face " + std::string(face_name(face)) +
@@ -146,6 +186,7 @@ Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420*
   cube_padding_internal::FacePlanes y{}, cb{}, cr{};
   for (Face g : needed) {
     const int k = static_cast<int>(g);
+    if (cube[k] == nullptr) continue;
     y[k] = &cube[k]->y;
     cb[k] = &cube[k]->cb;
     cr[k] = &cube[k]->cr;

@@ -137,6 +137,11 @@ void pad_plane(const FacePlanes& planes, int face, int n, int border, std::vecto
   const auto sample_run = dsp::get_dsp().pad_sample_run;
   size_t tap = 0;
   for (const BorderRun& run : map->runs) {
+    if (planes[run.face] == nullptr) {
+      std::memset(out->data() + run.offset, 0, run.count);
+      tap += run.count;
+      continue;
+    }
     sample_run(planes[run.face]->data(), static_cast<ptrdiff_t>(side), map->indices.data() + tap,
                map->weights.data() + tap, static_cast<int>(run.count), out->data() + run.offset);
     tap += run.count;

@@ -110,6 +110,14 @@ const std::array<int8_t, 8>& interpolation_taps(PlaneKind kind, int phase, Inter
   return luma ? kLumaTaps[index] : kChromaTaps[index];
 }
 
+ReadWindow prediction_window(PlaneKind kind, int x0, int y0, int block_width, int block_height, int vector_x,
+                             int vector_y) {
+  const int bits = fraction_bits(kind);
+  const int left = (((x0 << bits) + vector_x) >> bits) - kTapsBefore;
+  const int top = (((y0 << bits) + vector_y) >> bits) - kTapsBefore;
+  return {left, top, left + block_width - 1 + kTapExtent, top + block_height - 1 + kTapExtent};
+}
+
 void predict_block(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0, int y0,
                    int block_width, int block_height, int vector_x, int vector_y, int16_t* out, int out_stride,
                    InterpolationFilter filter) {

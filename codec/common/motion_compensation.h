@@ -56,6 +56,15 @@ inline constexpr int kMaxPredictionBlock = 64;
 void predict_block(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0, int y0,
                    int block_width, int block_height, int vector_x, int vector_y, int16_t* out, int out_stride,
                    InterpolationFilter filter = InterpolationFilter::kRegular);
+// The samples predict_block's definition reads for that block, before clamping to the
+// plane: columns x0..x1 and rows y0..y1 (inclusive), the 8-tap support (-3..4 around each
+// sample's integer position) of every predicted sample, zero taps included, for every
+// filter bank and plane kind (docs/codec.md 5.7, "Reference faces read").
+struct ReadWindow {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+};
+ReadWindow prediction_window(PlaneKind kind, int x0, int y0, int block_width, int block_height, int vector_x,
+                             int vector_y);
 // The same definition evaluated sample by sample with explicit clamping: the plain
 // reference predict_block is tested against (bit-identical output, any block size).
 void predict_block_reference(const uint8_t* plane, int plane_width, int plane_height, PlaneKind kind, int x0,

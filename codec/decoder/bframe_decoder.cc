@@ -116,7 +116,8 @@ class IntraBlockDecoder final : public intra::BlockReader {
 // Reads macroblocks in coding order and reconstructs each into the frame state.
 class MacroblockReader {
  public:
-  MacroblockReader(FrameState& s, RangeDecoder& decoder) : s_(s), c_(s.contexts), decoder_(decoder) {}
+  MacroblockReader(FrameState& s, RangeDecoder& decoder, BorderEdges& edges)
+      : s_(s), c_(s.contexts), decoder_(decoder), edges_(edges) {}
 
   // Reads and reconstructs macroblock (mx, my); `mode` receives how it was coded.
   Status read(int mx, int my, MacroblockMode* mode) {
@@ -148,6 +149,22 @@ class MacroblockReader {
  private:
   Status fail(const std::string& what) const { return corrupt(macroblock_name(mx_, my_) + ": " + what); }
 
+  // Checks a prediction's reads of the cube border against the edges allowed, before it
+  // is built, and records them.
+  Status note_border_reads(const PredictionRecord& record) {
+    const std::array<uint8_t, 2> edges = border_edges_read(s_, mx_, my_, record);
+    for (int r = 0; r < s_.reference_count; ++r) {
+      const int outside = edges[r] & ~edges_.allowed[r];
+      if (outside != 0) {
+        return fail("prediction from reference " + std::to_string(r) + " reads the cube border across edge " +
+                    std::to_string(std::countr_zero(static_cast<unsigned>(outside))) +
+                    ", whose face the frame does not depend on");
+      }
+      edges_.read[r] = static_cast<uint8_t>(edges_.read[r] | edges[r]);
+    }
+    return Status::Ok();
+  }
+
   // Reads the missing nodes of the references `mode` uses; stores the centre vectors.
   bool read_warp_nodes(MacroblockMode mode) {
     if (!warp_allowed(s_, mode)) return false;
@@ -163,11 +180,13 @@ class MacroblockReader {
     info_.mode = MacroblockMode::kSkipped;
     if (info_.inter_warp) {
       if (!read_warp_nodes(skip_mode)) return fail("invalid warp node");
+      SVC_RETURN_IF_ERROR(note_border_reads({skip_mode, true, {}, {}}));
       build_warp_prediction(s_, mx_, my_, skip_mode, &reconstruction_);
     } else {
       const int count = skip_predictor_count(predictor_lists_, skip_mode);
       const int index = decode_predictor_index(decoder_, c_.skip_predictor_index, count);
       info_.vectors = skip_vectors(predictor_lists_, skip_mode, index);
+      SVC_RETURN_IF_ERROR(note_border_reads({skip_mode, false, info_.vectors, {}}));
       build_prediction(s_, mx_, my_, skip_mode, info_.vectors, &reconstruction_);
     }
     return Status::Ok();
@@ -206,6 +225,7 @@ class MacroblockReader {
     }
     uint8_t local_coded[6] = {};
     read_coded_flags(local_coded);
+    SVC_RETURN_IF_ERROR(note_border_reads({mode, info_.inter_warp, info_.vectors, {}}));
     if (info_.inter_warp) {
       build_warp_prediction(s_, mx_, my_, mode, &prediction_);
     } else {
@@ -234,6 +254,7 @@ class MacroblockReader {
     info_.inter_warp = false;
     uint8_t local_coded[6] = {};
     read_coded_flags(local_coded);
+    SVC_RETURN_IF_ERROR(note_border_reads({info_.mode, false, {}, motion}));
     build_partition_prediction(s_, mx_, my_, motion, &prediction_);
     return read_residual(local_coded);
   }
@@ -310,6 +331,7 @@ class MacroblockReader {
   FrameState& s_;
   SyntaxContexts& c_;
   RangeDecoder& decoder_;
+  BorderEdges& edges_;
   int mx_ = 0, my_ = 0;
   MacroblockInfo info_;
   std::array<MotionVector, 2> predictors_{};  // the first of each list
@@ -401,7 +423,7 @@ std::array<uint8_t, kBFrameHeaderBytes> serialize_b_frame_header(const BFrameHea
 
 Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, const ImageYCbCr420& ref0,
                       const ImageYCbCr420* ref1, ImageYCbCr420* out, std::vector<MacroblockMode>* modes,
-                      std::vector<Partition>* partitions, std::vector<uint8_t>* warped) {
+                      std::vector<Partition>* partitions, std::vector<uint8_t>* warped, BorderEdges* border_edges) {
   if (width <= 0 || height <= 0 || width > kMaxFrameDimension || height > kMaxFrameDimension) {
     return Status(ErrorCode::kInvalidArgument, "B-face: size " + std::to_string(width) + "x" +
                                                    std::to_string(height) + " outside 1.." +
@@ -447,7 +469,10 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
       }
     }
   }
-  MacroblockReader reader(s, decoder);
+  BorderEdges every_edge;
+  BorderEdges& edges = border_edges != nullptr ? *border_edges : every_edge;
+  edges.read = {};
+  MacroblockReader reader(s, decoder, edges);
   for (int my = 0; my < s.mbs_y; ++my) {
     for (int mx = 0; mx < s.mbs_x; ++mx) {
       MacroblockMode mode = MacroblockMode::kIntra;

@@ -141,15 +141,6 @@ void count_macroblock(const MacroblockChoice& choice, BFrameStats* stats) {
   }
 }
 
-// What an inter or skipped macroblock's prediction was built from, so it can be built
-// again with another filter bank.
-struct PredictionRecord {
-  MacroblockMode mode = MacroblockMode::kIntra;  // the prediction's mode; kIntra: none
-  bool warp = false;
-  std::array<MotionVector, 2> vectors{};
-  PartitionMotion motion;
-};
-
 // A frame whose macroblocks are coded with one filter bank, before its loop filters.
 struct CodedMacroblocks {
   FrameState state;

@@ -94,9 +94,10 @@ struct ReaderSettings {
   // Default 32 MiB: 250 faces of 256x256, 62 of 512x512.
   uint64_t depth_cache_bytes = 32ull << 20;
   // Threads one decode_cube() call decodes on, the caller's among them: the reference
-  // I-faces of the cell side by side, then its six faces. 0 (the default) means one per
-  // core; 1 decodes on the caller's thread alone. 0..64. The faces are the same for any
-  // count.
+  // I-faces of the cell side by side, then its six faces; and one decode_face() (or
+  // _into, _ycbcr) call: a B-face's reference I-faces that no cache holds side by side,
+  // then the face. 0 (the default) means one per core; 1 decodes on the caller's thread
+  // alone. 0..64. The faces are the same for any count.
   int decode_threads = 0;
   // Worker threads that decode the viewer's neighbourhood after set_viewer(); 0 turns
   // prefetch off. 0..64, default 2. Threads start on the first set_viewer() call, so a
@@ -116,7 +117,7 @@ SVC_API ReaderSettings default_reader_settings();
 class FaceDependencies {
  public:
   using value_type = std::pair<uint32_t, Face>;
-  // Two references and the four adjacent faces of each reference cube.
+  // Two references and at most the four adjacent faces of each reference cube.
   static constexpr size_t kCapacity = 10;
 
   // More than kCapacity is a caller's error; the extra entry is dropped.
@@ -139,9 +140,9 @@ struct FaceEntry {
   uint64_t offset = 0;       // file offset of the face's chunk
   uint64_t coded_bytes = 0;  // coded payload size
   // Faces this one needs decoded; empty for an I-face. First the one or two faces it is
-  // predicted from (forward, backward), then, for a B-face with cube references, the four
-  // faces adjacent to its face in each of those cubes, whose content pads the references
-  // (docs/codec.md 5.7).
+  // predicted from (forward, backward), then, for a B-face with cube references, the faces
+  // adjacent to its face in each of those cubes whose content pads the references where
+  // its predictions read them (at most four a cube; docs/codec.md 5.7).
   FaceDependencies references;
 };
 

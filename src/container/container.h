@@ -93,6 +93,9 @@ class FrameReferences {
   uint8_t size_ = 0;
 };
 
+// FrameRecord::border_edges of a B-face that may read its references' whole border.
+inline constexpr uint8_t kEveryBorderEdge = 0xFF;
+
 // Packed: 40 bytes a frame, the index's cost per face besides its camera.
 struct FrameRecord {
   uint64_t chunk_offset = 0;  // file offset of the face's chunk
@@ -105,13 +108,24 @@ struct FrameRecord {
   Face face = Face::kPX;
   FaceType type = FaceType::kIntra;
   // A B-face predicting from padded references (docs/codec.md 5.7): it also depends on
-  // the four faces adjacent to its face in each reference cube (frame_dependencies).
+  // the faces adjacent to its face in each reference cube whose border it reads
+  // (frame_dependencies).
   bool cube_references = false;
+  // With cube_references: the border edges (codec::FaceEdge bits) of reference 0 its
+  // predictions read in bits 0-3, of reference 1 in bits 4-7; every edge in files
+  // written before index version 6.
+  uint8_t border_edges = kEveryBorderEdge;
   // The chunk is bare (payload and CRC-32, make_bare_chunk), as every writer now writes
   // them; a FACE chunk (make_chunk) in files from before.
   bool bare_chunk = true;
 };
 static_assert(sizeof(FrameRecord) <= 40);
+
+// The four border-edge bits (codec::FaceEdge) of reference r of a frame with cube
+// references.
+inline uint8_t reference_border_edges(const FrameRecord& frame, size_t r) {
+  return static_cast<uint8_t>(frame.border_edges >> (4 * r) & 0x0F);
+}
 
 // Bytes the face's own chunk takes in the file, payload and framing.
 inline uint64_t color_chunk_bytes(const FrameRecord& frame) {
@@ -127,9 +141,9 @@ inline uint64_t chunk_bytes(const FrameRecord& frame) {
 }
 
 // Every frame `frame` needs decoded before it can be: its references, then, with cube
-// references, the four adjacent faces of each reference cube (codec/common/cube_padding.h
-// order). Frames lie cell-major, six per cell, so the cube's faces are found by
-// position.
+// references, for each reference the adjacent faces of its cube across the border edges
+// listed (codec/common/cube_padding.h face order). Frames lie cell-major, six per cell,
+// so the cube's faces are found by position.
 std::vector<uint32_t> frame_dependencies(const FrameRecord& frame);
 // The faces whose depth a B-face's depth is predicted from (docs/codec.md 8.3): for
 // each reference, its face and the four adjacent faces of its cube, whether or not the

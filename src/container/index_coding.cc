@@ -14,8 +14,14 @@ namespace svc {
 
 namespace {
 
-constexpr uint32_t kIndexVersion = 4;           // written for files without depth
-constexpr uint32_t kIndexVersionWithDepth = 5;  // the same with a depth size in every frame record
+// Read: version 4 (no depth), 5 (depth in every frame record), 6 (features, border
+// edges); written: 6.
+constexpr uint32_t kIndexVersionWithoutDepth = 4;
+constexpr uint32_t kIndexVersionWithDepth = 5;
+constexpr uint32_t kIndexVersion = 6;
+// Version 6's feature word: the optional parts a file uses.
+constexpr uint32_t kFeatureDepth = 0x1;
+constexpr uint32_t kKnownFeatures = kFeatureDepth;
 // Smallest record sizes, used to bound counts against the bytes left before allocating.
 constexpr uint64_t kFrameRecordMinBytes = 1 + 1;  // type byte, payload size
 constexpr uint64_t kCellRecordMinBytes = 1 + 1;   // raster gap, flags
@@ -572,7 +578,21 @@ Status read_depth_size(ByteReader& r, FrameRecord& frame, const std::string& wha
 }
 
 // Varint records (docs/format.md "Frame record").
-Status parse_frames(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, ContainerIndex& index) {
+// Version 6: which border edges of each reference a B-face with cube references reads.
+Status read_border_edges(ByteReader& r, FrameRecord& frame, uint64_t ref_count, const std::string& what,
+                         uint64_t record_at) {
+  frame.border_edges = r.u8();
+  if (!r.ok()) return corrupt_at(what + " record is truncated before its border edges", record_at);
+  if (ref_count < 2 && (frame.border_edges & 0xF0) != 0) {
+    return corrupt_at(what + " has one reference but border edges " + std::to_string(frame.border_edges) +
+                          " name a second",
+                      record_at);
+  }
+  return Status::Ok();
+}
+
+Status parse_frames(ByteReader& r, uint64_t file_size, const ReaderLimits& limits, bool with_border_edges,
+                    ContainerIndex& index) {
   const uint64_t frame_count = index.frames.size();
   uint64_t previous_end = kPreludeSize;  // where the previous frame's chunk ends
   for (uint64_t i = 0; i < frame_count; ++i) {
@@ -618,6 +638,9 @@ Status parse_frames(ByteReader& r, uint64_t file_size, const ReaderLimits& limit
     frame.type = static_cast<FaceType>(kind);
     SVC_RETURN_IF_ERROR(same_references ? copy_previous_references(index, i, ref_count, what, record_at)
                                         : read_listed_references(r, index, i, ref_count, what, record_at));
+    if (with_border_edges && frame.cube_references) {
+      SVC_RETURN_IF_ERROR(read_border_edges(r, frame, ref_count, what, record_at));
+    }
     previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   return Status::Ok();
@@ -642,7 +665,8 @@ std::vector<uint8_t> serialize_index(const ContainerIndex& index) {
 
 Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const CameraReader& read_cameras) {
   ByteWriter w;
-  w.u32(index.depth ? kIndexVersionWithDepth : kIndexVersion);
+  w.u32(kIndexVersion);
+  w.u32(index.depth ? kFeatureDepth : 0);
   w.u32(index.face_width);
   w.u32(index.face_height);
   for (int32_t d : index.grid.dims) w.i32(d);
@@ -718,6 +742,8 @@ Result<std::vector<uint8_t>> serialize_index(const ContainerIndex& index, const 
         write_varint(w, zigzag_encode(static_cast<int64_t>(ref / kFaceCount) - cell));
       }
     }
+    // A second reference's bits only with a second reference: one encoding per value.
+    if (frame.cube_references) w.u8(frame.references.size() < 2 ? frame.border_edges & 0x0F : frame.border_edges);
     previous_end = frame.chunk_offset + chunk_bytes(frame);
   }
   for (const FaceTypeStats& t : index.stats) {
@@ -736,12 +762,23 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
   const uint64_t version_at = r.file_offset();
   const uint32_t version = r.u32();
   if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
-  if (version != kIndexVersion && version != kIndexVersionWithDepth) {
+  if (version < kIndexVersionWithoutDepth || version > kIndexVersion) {
     return Status(ErrorCode::kUnsupported, "index version " + std::to_string(version) +
-                                               " is not supported (this build reads 4 and 5)" +
+                                               " is not supported (this build reads 4 to 6)" +
                                                at_offset(version_at));
   }
-  index.depth = version == kIndexVersionWithDepth;
+  uint32_t features = version == kIndexVersionWithDepth ? kFeatureDepth : 0;
+  if (version == kIndexVersion) {
+    const uint64_t features_at = r.file_offset();
+    features = r.u32();
+    if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
+    if ((features & ~kKnownFeatures) != 0) {
+      return Status(ErrorCode::kUnsupported,
+                    "index uses feature bits " + std::to_string(features & ~kKnownFeatures) +
+                        " that this build does not know (it knows 1, depth)" + at_offset(features_at));
+    }
+  }
+  index.depth = (features & kFeatureDepth) != 0;
   SVC_RETURN_IF_ERROR(parse_header(r, limits, index));
   SVC_ASSIGN_OR_RETURN(const std::vector<RigEntry> rig, parse_rig_table(r));
   SVC_RETURN_IF_ERROR(parse_cells(r, rig, limits, index));
@@ -756,7 +793,7 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
     return corrupt_at("frame count " + std::to_string(frame_count) + " does not fit in the index", frames_at);
   }
   index.frames.resize(frame_count);
-  SVC_RETURN_IF_ERROR(parse_frames(r, file_size, limits, index));
+  SVC_RETURN_IF_ERROR(parse_frames(r, file_size, limits, version == kIndexVersion, index));
   // References must name existing intra frames of the same face, and cube references
   // I-faces of the same cells: then no cycle and no chain can exist, and any face
   // decodes from at most the faces of two I-cubes.
@@ -794,12 +831,24 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
 
 namespace {
 
-std::vector<uint32_t> dependencies(const FrameRecord& frame, bool cube_references) {
+// Bit e of `edges` (FaceEdge bits of one reference) set for the edge across which `g`
+// lies from `face`.
+bool edge_listed(Face face, Face g, uint8_t edges) {
+  for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
+    if ((edges >> e & 1) != 0 && codec::face_across(face, static_cast<codec::FaceEdge>(e)) == g) return true;
+  }
+  return false;
+}
+
+std::vector<uint32_t> dependencies(const FrameRecord& frame, bool cube_references, bool every_edge) {
   std::vector<uint32_t> out(frame.references.begin(), frame.references.end());
   if (!cube_references) return out;
-  for (uint32_t ref : frame.references) {
-    const uint32_t cube = ref - ref % kFaceCount;
-    for (Face g : codec::adjacent_faces(frame.face)) out.push_back(cube + static_cast<uint32_t>(g));
+  for (size_t r = 0; r < frame.references.size(); ++r) {
+    const uint32_t cube = frame.references[r] - frame.references[r] % kFaceCount;
+    const uint8_t edges = every_edge ? codec::kAllFaceEdges : reference_border_edges(frame, r);
+    for (Face g : codec::adjacent_faces(frame.face)) {
+      if (edge_listed(frame.face, g, edges)) out.push_back(cube + static_cast<uint32_t>(g));
+    }
   }
   return out;
 }
@@ -807,9 +856,9 @@ std::vector<uint32_t> dependencies(const FrameRecord& frame, bool cube_reference
 }  // namespace
 
 std::vector<uint32_t> frame_dependencies(const FrameRecord& frame) {
-  return dependencies(frame, frame.cube_references);
+  return dependencies(frame, frame.cube_references, false);
 }
 
-std::vector<uint32_t> depth_dependencies(const FrameRecord& frame) { return dependencies(frame, true); }
+std::vector<uint32_t> depth_dependencies(const FrameRecord& frame) { return dependencies(frame, true, true); }
 
 }  // namespace svc

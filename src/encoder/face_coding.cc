@@ -73,9 +73,11 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
   coded.payload =
       codec::encode_b_frame(ycc, *references[0].image, second, hints, params, &reconstruction, &coded.stats);
   if (coded.payload.empty()) return Status(ErrorCode::kInternal, what + ": B-face coding failed");
-  const Status status =
-      codec::decode_b_frame(coded.payload, ycc.width, ycc.height, *references[0].image, second, &decoded);
+  codec::BorderEdges edges;
+  const Status status = codec::decode_b_frame(coded.payload, ycc.width, ycc.height, *references[0].image, second,
+                                              &decoded, nullptr, nullptr, nullptr, &edges);
   SVC_RETURN_IF_ERROR(compare_with_reconstruction(status, decoded, reconstruction, what));
+  coded.border_edges = edges.read;
   return coded;
 }
 

@@ -21,6 +21,8 @@ struct CodedPredictedFace {
   codec::BFrameStats stats;
   CandidateStats candidates;           // unique depth candidates before any cap, over references
   std::vector<uint8_t> depth_payload;  // empty without depth
+  // Per reference, the cube-border edges its predictions read (codec::BorderEdges).
+  std::array<uint8_t, 2> border_edges{};
 };
 
 // One reference of a B-face: its reconstructed I-face (as the decoder will see it), the

@@ -45,7 +45,8 @@ Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const st
   descriptor.shard_count = static_cast<uint32_t>(shard_count);
   for (uint32_t frame : frames) {
     const FrameRecord& record = plan.index.frames[frame];
-    descriptor.faces.push_back({frame, record.chunk_offset, record.payload_size, record.depth_size});
+    descriptor.faces.push_back(
+        {frame, record.chunk_offset, record.payload_size, record.depth_size, record.border_edges});
   }
   descriptor.plan = std::move(plan.index);
   // A part carries the whole plan, cameras included, for the merge.

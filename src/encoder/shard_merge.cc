@@ -126,6 +126,7 @@ Status copy_faces(const std::vector<const OpenedPart*>& parts, ContainerWriter& 
       if (!payload.ok()) return payload.status().with_context("cannot merge " + file.name());
       SVC_ASSIGN_OR_RETURN(record.chunk_offset, writer.append_frame(*payload));
       record.payload_size = face.payload_size;
+      record.border_edges = face.border_edges;
       if (index.depth) {
         auto depth = read_frame_depth(file, stored, what);
         if (!depth.ok()) return depth.status().with_context("cannot merge " + file.name());

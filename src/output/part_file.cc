@@ -10,10 +10,10 @@ namespace svc {
 
 namespace {
 
-constexpr uint8_t kPartFormatVersion = 3;  // 2: bare face chunks; 3: depth sizes
+constexpr uint8_t kPartFormatVersion = 4;  // 2: bare face chunks; 3: depth sizes; 4: border edges
 constexpr char kHeaderMagic[8] = {'S', 'V', 'C', 'P', 'A', 'R', 'T', kPartFormatVersion};
 constexpr char kTrailerMagic[8] = {'S', 'V', 'C', 'P', 'E', 'N', 'D', kPartFormatVersion};
-constexpr uint64_t kPartFaceRecordSize = 20;  // frame, chunk offset, payload size, depth size
+constexpr uint64_t kPartFaceRecordSize = 21;  // frame, chunk offset, payload size, depth size, border edges
 
 // parse_index wants every chunk inside a file; the plan's frames all point at one empty
 // chunk right after an imaginary prelude (and a one-byte depth chunk after it, which a
@@ -29,6 +29,7 @@ std::vector<uint8_t> serialize_plan(ContainerIndex plan) {
     frame.chunk_offset = kPreludeSize;
     frame.payload_size = 0;
     frame.depth_size = plan.depth ? 1 : 0;
+    frame.border_edges = kEveryBorderEdge;  // each part's faces' own are in its face table
   }
   return serialize_index(plan);
 }
@@ -46,6 +47,7 @@ std::vector<uint8_t> serialize_descriptor(const PartDescriptor& d) {
     w.u64(face.chunk_offset);
     w.u32(face.payload_size);
     w.u32(face.depth_size);
+    w.u8(face.border_edges);
   }
   const std::vector<uint8_t> plan = serialize_plan(d.plan);
   w.u64(plan.size());
@@ -65,6 +67,11 @@ Status check_faces(const PartDescriptor& d, uint64_t faces_end) {
     if (face.chunk_offset < kPartHeaderSize || face.chunk_offset > faces_end ||
         bytes > faces_end - face.chunk_offset || (face.depth_size != 0) != d.plan.depth) {
       return corrupt_at(what + " points outside the face chunks", face.chunk_offset);
+    }
+    const FrameRecord& planned = d.plan.frames[face.frame];
+    if (planned.cube_references && planned.references.size() < 2 && (face.border_edges & 0xF0) != 0) {
+      return Status(ErrorCode::kCorruptData, what + " has border edges " + std::to_string(face.border_edges) +
+                                                 " for a second reference it does not have");
     }
   }
   return Status::Ok();
@@ -93,6 +100,7 @@ Result<PartDescriptor> parse_descriptor(std::span<const uint8_t> payload, uint64
     face.chunk_offset = r.u64();
     face.payload_size = r.u32();
     face.depth_size = r.u32();
+    face.border_edges = r.u8();
   }
   const uint64_t plan_size = r.u64();
   if (!r.ok() || plan_size != r.remaining()) {

@@ -27,7 +27,8 @@ struct PartFace {
   uint32_t frame = 0;  // ordinal into the plan's frames
   uint64_t chunk_offset = 0;
   uint32_t payload_size = 0;
-  uint32_t depth_size = 0;  // the depth chunk right after the face's (plans with depth)
+  uint32_t depth_size = 0;                  // the depth chunk right after the face's (plans with depth)
+  uint8_t border_edges = kEveryBorderEdge;  // FrameRecord::border_edges of the coded face
 };
 
 struct PartDescriptor {

@@ -32,13 +32,15 @@ Result<FacePointer> FileCodedFaceSource::intra_face(uint32_t frame) {
   return FacePointer(std::move(image));
 }
 
-Result<FacePointer> CodedFaceSource::padded_intra_face(uint32_t frame, int units) {
+Result<FacePointer> CodedFaceSource::padded_intra_face(uint32_t frame, int units, uint8_t edges) {
   const Face face = static_cast<Face>(frame % kFaceCount);
   const uint32_t cube_first = frame - frame % kFaceCount;
   std::array<FacePointer, kFaceCount> held;
   codec::CubeFaces cube{};
   SVC_ASSIGN_OR_RETURN(held[static_cast<int>(face)], intra_face(frame));
-  for (Face g : codec::adjacent_faces(face)) {
+  for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
+    if ((edges >> e & 1) == 0) continue;
+    const Face g = codec::face_across(face, static_cast<codec::FaceEdge>(e));
     SVC_ASSIGN_OR_RETURN(held[static_cast<int>(g)], intra_face(cube_first + static_cast<uint32_t>(g)));
   }
   for (int k = 0; k < kFaceCount; ++k) cube[k] = held[k].get();
@@ -64,24 +66,27 @@ Result<FacePointer> reference_face(const ReadOnlyFile& file, const ContainerInde
   return image;
 }
 
-// Reference `ref` of B-face `frame` padded with `units` of cube border: the five faces it
-// is built from must be I-faces (docs/codec.md 5.7).
+// Reference `ref` of B-face `frame` padded with `units` of cube border across `edges`:
+// the faces it is built from must be I-faces (docs/codec.md 5.7).
 Result<FacePointer> padded_reference(const ReadOnlyFile& file, const ContainerIndex& index, uint32_t frame,
-                                     uint32_t ref, int units, CodedFaceSource& source) {
+                                     uint32_t ref, int units, uint8_t edges, CodedFaceSource& source) {
   const FrameRecord& record = index.frames[frame];
   if (!codec::cube_padding_possible(static_cast<int>(index.face_width), static_cast<int>(index.face_height))) {
     return frame_error(Status(ErrorCode::kCorruptData, "cube references need square faces"), file, index, frame);
   }
   const uint32_t cube_first = ref - ref % kFaceCount;
-  std::array<uint32_t, 5> needed{ref};
-  const std::array<Face, 4> adjacent = codec::adjacent_faces(record.face);
-  for (size_t k = 0; k < adjacent.size(); ++k) needed[k + 1] = cube_first + static_cast<uint32_t>(adjacent[k]);
+  std::vector<uint32_t> needed{ref};
+  for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
+    if ((edges >> e & 1) == 0) continue;
+    needed.push_back(cube_first +
+                     static_cast<uint32_t>(codec::face_across(record.face, static_cast<codec::FaceEdge>(e))));
+  }
   for (uint32_t face : needed) {
     if (index.frames[face].type == FaceType::kIntra) continue;
     return frame_error(Status(ErrorCode::kCorruptData, "reference is not an I-face"), file, index, face)
         .with_context(frame_label(index, frame) + " cannot be decoded: its reference");
   }
-  Result<FacePointer> padded = source.padded_intra_face(ref, units);
+  Result<FacePointer> padded = source.padded_intra_face(ref, units, edges);
   if (!padded.ok()) {
     return padded.status().with_context(frame_label(index, frame) + " cannot be decoded: its reference");
   }
@@ -111,10 +116,13 @@ Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const Containe
                        file, index, frame);
   }
   std::array<FacePointer, 2> refs;
+  codec::BorderEdges edges;
   for (size_t r = 0; r < record.references.size() && r < refs.size(); ++r) {
     const uint32_t ref = record.references[r];
+    edges.allowed[r] = reference_border_edges(record, r);
     SVC_ASSIGN_OR_RETURN(refs[r], record.cube_references
-                                      ? padded_reference(file, index, frame, ref, header.border_units, source)
+                                      ? padded_reference(file, index, frame, ref, header.border_units,
+                                                         edges.allowed[r], source)
                                       : reference_face(file, index, frame, ref, source));
   }
   if (!refs[0])
@@ -122,7 +130,7 @@ Result<FacePointer> decode_indexed_face(const ReadOnlyFile& file, const Containe
   auto image = std::make_shared<ImageYCbCr420>();
   const Status status = codec::decode_b_frame(payload, static_cast<int>(index.face_width),
                                               static_cast<int>(index.face_height), *refs[0], refs[1].get(),
-                                              image.get(), modes, partitions, warped);
+                                              image.get(), modes, partitions, warped, &edges);
   if (!status.ok()) return frame_error(status, file, index, frame);
   return FacePointer(std::move(image));
 }

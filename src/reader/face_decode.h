@@ -36,10 +36,11 @@ class CodedFaceSource {
   // The decoded pixels of I-face `frame`.
   virtual Result<FacePointer> intra_face(uint32_t frame) = 0;
   // I-face `frame` padded with `units` of cube border from the adjacent faces of its cube
-  // (docs/codec.md 5.7), those faces from intra_face(). The caller has checked that the
-  // five faces are I-faces. A source with a cache overrides this to keep the result:
-  // every B-face predicting from this face of the cube needs the same padded face.
-  virtual Result<FacePointer> padded_intra_face(uint32_t frame, int units);
+  // across the border edges `edges` (codec::FaceEdge bits; docs/codec.md 5.7), those
+  // faces from intra_face(); the border across the other edges is left 0. The caller has
+  // checked that those faces are I-faces. A source with a cache overrides this to keep
+  // the result: B-faces predicting from this face of the cube need the same padded face.
+  virtual Result<FacePointer> padded_intra_face(uint32_t frame, int units, uint8_t edges);
 };
 
 // Reads every chunk from the file and keeps nothing.

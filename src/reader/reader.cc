@@ -104,7 +104,7 @@ struct Reader::Impl {
   // computations wait on nothing in it: no cycle.
   reader_internal::SharedCache<std::vector<uint16_t>> depths;
   // Whether every frame has its own reference keys (false only for indexes of more
-  // frames than 2^32 / 5, which limits wider than the defaults can admit): without
+  // frames than 2^32 / 80, which limits wider than the defaults can admit): without
   // them, references are computed and not cached.
   bool reference_keys_fit = true;
 
@@ -172,10 +172,11 @@ struct Reader::Impl {
     });
   }
 
-  // Key of I-face `frame` in the reference cache: padded with `units` of border, or
-  // plain (0); distinct for every frame when reference_keys_fit.
-  static uint32_t reference_key(uint32_t frame, int units) {
-    return frame * (codec::kMaxCubeBorderUnits + 1) + static_cast<uint32_t>(units);
+  // Key of I-face `frame` in the reference cache: padded with `units` of border across
+  // `edges`, or plain (0, 0); distinct for every frame when reference_keys_fit.
+  static constexpr uint32_t kReferenceKeysPerFrame = (codec::kMaxCubeBorderUnits + 1) << codec::kFaceEdgeCount;
+  static uint32_t reference_key(uint32_t frame, int units, uint8_t edges) {
+    return frame * kReferenceKeysPerFrame + (static_cast<uint32_t>(units) << codec::kFaceEdgeCount) + edges;
   }
 
   // Pixels of an I-face: a cache's when one holds them, else reconstructed from its
@@ -193,7 +194,7 @@ struct Reader::Impl {
       return ImagePointer(std::move(image));
     };
     if (!reference_keys_fit) return reconstruct();
-    return references.get(reference_key(frame, 0), origin, reconstruct);
+    return references.get(reference_key(frame, 0, 0), origin, reconstruct);
   }
 
   // Chunks read through the reader's counters; I-faces and padded references through the
@@ -203,11 +204,11 @@ struct Reader::Impl {
     CachedSource(Impl& impl, Origin origin) : impl_(impl), origin_(origin) {}
     Result<std::vector<uint8_t>> payload(uint32_t frame) override { return impl_.read_payload(frame); }
     Result<FacePointer> intra_face(uint32_t frame) override { return impl_.intra_image(frame, origin_); }
-    Result<FacePointer> padded_intra_face(uint32_t frame, int units) override {
+    Result<FacePointer> padded_intra_face(uint32_t frame, int units, uint8_t edges) override {
       if (units == 0) return intra_face(frame);
-      if (!impl_.reference_keys_fit) return CodedFaceSource::padded_intra_face(frame, units);
-      return impl_.references.get(reference_key(frame, units), origin_,
-                                  [&] { return CodedFaceSource::padded_intra_face(frame, units); });
+      if (!impl_.reference_keys_fit) return CodedFaceSource::padded_intra_face(frame, units, edges);
+      return impl_.references.get(reference_key(frame, units, edges), origin_,
+                                  [&] { return CodedFaceSource::padded_intra_face(frame, units, edges); });
     }
 
    private:
@@ -246,6 +247,37 @@ struct Reader::Impl {
     return decode_indexed_face(*file, index, frame, source, modes, partitions, warped);
   }
 
+  // The reference I-faces that frames first .. first + count - 1 need and neither the
+  // face cache (the frame) nor the reference cache (the I-face) holds, decoded side by
+  // side on `threads` threads into the reference cache (without one, nothing: they
+  // would be decoded twice). Errors are left to the decodes that follow, so which one
+  // comes back does not depend on the threads.
+  void decode_dependencies(uint32_t first, uint32_t count, int threads) {
+    if (!reference_keys_fit || settings.reference_cache_bytes == 0) return;
+    std::vector<uint32_t> needed;
+    for (uint32_t frame = first; frame < first + count; ++frame) {
+      if (faces.contains(frame)) continue;
+      for (uint32_t ref : frame_dependencies(index.frames[frame])) {
+        if (!references.contains(reference_key(ref, 0, 0))) needed.push_back(ref);
+      }
+    }
+    std::sort(needed.begin(), needed.end());
+    needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+    if (needed.size() < 2) return;
+    (void)parallel_for(needed.size(), threads, [&](size_t i) {
+      (void)intra_image(needed[i], Origin::kCaller);
+      return Status::Ok();
+    });
+  }
+
+  // One face for the caller: a B-face's reference I-faces first decoded side by side on
+  // settings.decode_threads threads when the caches lack it.
+  Result<ImagePointer> caller_face(uint32_t frame) {
+    const int threads = resolve_thread_count(settings.decode_threads);
+    if (threads > 1) decode_dependencies(frame, 1, threads);
+    return face_of(frame, Origin::kCaller);
+  }
+
   // The six faces from frame `first` on, decoded on settings.decode_threads threads:
   // first the reference I-faces they need, then the faces themselves, each B-face
   // padding its references from those. The second step reports any error, so which
@@ -254,19 +286,7 @@ struct Reader::Impl {
   // up to settings.decode_threads threads at once.
   Status decode_cube(uint32_t first, const std::function<void(size_t, const ImageYCbCr420&)>& emit) {
     const int threads = resolve_thread_count(settings.decode_threads);
-    if (threads > 1) {
-      std::vector<uint32_t> references;
-      for (uint32_t frame = first; frame < first + kFaceCount; ++frame) {
-        if (faces.contains(frame)) continue;
-        for (uint32_t ref : frame_dependencies(index.frames[frame])) references.push_back(ref);
-      }
-      std::sort(references.begin(), references.end());
-      references.erase(std::unique(references.begin(), references.end()), references.end());
-      (void)parallel_for(references.size(), threads, [&](size_t i) {
-        (void)intra_image(references[i], Origin::kCaller);
-        return Status::Ok();
-      });
-    }
+    if (threads > 1) decode_dependencies(first, kFaceCount, threads);
     return parallel_for(kFaceCount, threads, [&](size_t f) -> Status {
       SVC_ASSIGN_OR_RETURN(ImagePointer image, face_of(first + static_cast<uint32_t>(f), Origin::kCaller));
       emit(f, *image);
@@ -422,7 +442,7 @@ Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source,
   SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*impl->file, settings.limits));
   impl->index = std::move(opened.index);
   impl->reference_keys_fit = impl->index.frames.size() <=
-                             std::numeric_limits<uint32_t>::max() / (codec::kMaxCubeBorderUnits + 1);
+                             std::numeric_limits<uint32_t>::max() / Impl::kReferenceKeysPerFrame;
   impl->slot_damaged = opened.slot_damaged;
   const ContainerIndex& index = impl->index;
   impl->grid.dims = index.grid.dims;
@@ -491,7 +511,7 @@ std::optional<size_t> Reader::find_cell_at(const std::array<double, 3>& p) const
 Result<std::shared_ptr<const ImageYCbCr420>> Reader::acquire_face_ycbcr(const CellIndex& cell, Face face) {
   if (impl_->closed.load()) return cancelled();
   SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->frame_of(cell, face));
-  return impl_->face_of(frame, Origin::kCaller);
+  return impl_->caller_face(frame);
 }
 
 Result<ImageYCbCr420> Reader::decode_face_ycbcr(const CellIndex& cell, Face face) {
