@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <memory>
 #include <random>
 #include <set>
 #include <thread>
+#include <utility>
 
 #include "codec/common/color.h"
 #include "scene/scene.h"
@@ -60,6 +62,19 @@ class ReaderThreads : public ::testing::Test {
   static fs::path file() { return dir_->path() / "hall.svc"; }
   static const ImageYCbCr420& reference(size_t frame) { return (*reference_)[frame]; }
   static size_t frame_count() { return reference_->size(); }
+  // A reader without prefetch decoding on `threads` threads, and the first cell whose
+  // face `face` is a B-face.
+  static std::pair<std::unique_ptr<Reader>, size_t> open_decoding_on(int threads, Face face) {
+    ReaderSettings settings;
+    settings.prefetch_threads = 0;
+    settings.decode_threads = threads;
+    auto opened = Reader::open(file(), settings);
+    EXPECT_TRUE(opened.ok()) << opened.status().to_string();
+    if (!opened.ok()) return {nullptr, 0};
+    size_t b_cell = 0;
+    while ((*opened)->cells()[b_cell].faces[static_cast<int>(face)].type != FaceType::kPredicted) ++b_cell;
+    return {std::move(opened).value(), b_cell};
+  }
 
   static testing::TempDir* dir_;
   static std::vector<ImageYCbCr420>* reference_;
@@ -196,15 +211,10 @@ TEST_F(ReaderThreads, ConcurrentRequestsForOneFaceDecodeItOnce) {
 // decodes each face of the cell and each reference I-face once.
 TEST_F(ReaderThreads, CubeDecodeOnAnyThreadCountEqualsSequentialDecode) {
   for (int threads : {1, 2, 5}) {
-    ReaderSettings settings;
-    settings.prefetch_threads = 0;
-    settings.decode_threads = threads;
-    auto opened = Reader::open(file(), settings);
-    ASSERT_TRUE(opened.ok());
-    Reader& reader = **opened;
+    auto [opened, b_cell] = open_decoding_on(threads, Face::kPX);
+    ASSERT_TRUE(opened);
+    Reader& reader = *opened;
     const auto& cells = reader.cells();
-    size_t b_cell = 0;
-    while (cells[b_cell].faces[0].type != FaceType::kPredicted) ++b_cell;
     auto cube = reader.decode_cube(cells[b_cell].index);
     ASSERT_TRUE(cube.ok()) << cube.status().to_string();
     std::set<std::pair<uint32_t, Face>> references;
@@ -232,15 +242,10 @@ TEST_F(ReaderThreads, CubeDecodeOnAnyThreadCountEqualsSequentialDecode) {
 // by side, each once, and the face is the sequential decode's.
 TEST_F(ReaderThreads, FaceDecodeOnAnyThreadCountEqualsSequentialDecode) {
   for (int threads : {1, 2, 5}) {
-    ReaderSettings settings;
-    settings.prefetch_threads = 0;
-    settings.decode_threads = threads;
-    auto opened = Reader::open(file(), settings);
-    ASSERT_TRUE(opened.ok());
-    Reader& reader = **opened;
+    auto [opened, b_cell] = open_decoding_on(threads, Face::kPY);
+    ASSERT_TRUE(opened);
+    Reader& reader = *opened;
     const auto& cells = reader.cells();
-    size_t b_cell = 0;
-    while (cells[b_cell].faces[2].type != FaceType::kPredicted) ++b_cell;
     auto face = reader.decode_face_ycbcr(cells[b_cell].index, Face::kPY);
     ASSERT_TRUE(face.ok()) << face.status().to_string();
     const ImageYCbCr420& expected = reference(b_cell * kFaceCount + 2);
