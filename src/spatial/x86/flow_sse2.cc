@@ -6,9 +6,10 @@
 
 #include <cstring>
 
+#include "codec/common/dsp/x86/target.h"
 #include "spatial/flow_kernels_init.h"
 
-#pragma GCC target("sse2")
+SVC_TARGET_BEGIN("sse2")
 
 namespace svc {
 namespace {
@@ -120,3 +121,5 @@ void init_flow_sse2(FlowKernels* kernels) {
 }
 
 }  // namespace svc
+
+SVC_TARGET_END

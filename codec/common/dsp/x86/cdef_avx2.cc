@@ -11,8 +11,9 @@
 
 #include "codec/common/dsp/cdef_formulas.h"
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("avx2")
+SVC_TARGET_BEGIN("avx2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -253,3 +254,5 @@ void init_cdef_avx2(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -5,8 +5,9 @@
 #include <smmintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -57,3 +58,5 @@ void init_cfl_sse41(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

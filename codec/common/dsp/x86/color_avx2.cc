@@ -8,8 +8,9 @@
 #include <immintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("avx2")
+SVC_TARGET_BEGIN("avx2")
 
 #include "codec/common/dsp/x86/color_sse2.h"
 
@@ -158,3 +159,5 @@ void init_color_avx2(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -3,8 +3,9 @@
 #include <emmintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse2")
+SVC_TARGET_BEGIN("sse2")
 
 #include "codec/common/dsp/x86/color_sse2.h"
 
@@ -32,3 +33,5 @@ void init_color_sse2(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -8,8 +8,9 @@
 #include <tmmintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 #include "codec/common/dsp/x86/color_sse2.h"
 
@@ -158,3 +159,5 @@ void init_color_sse41(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

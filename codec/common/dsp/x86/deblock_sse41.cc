@@ -11,8 +11,9 @@
 #include <cstring>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse2,ssse3,sse4.1")
+SVC_TARGET_BEGIN("sse2,ssse3,sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -362,3 +363,5 @@ void init_deblock_sse41(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -8,8 +8,9 @@
 #include <cstring>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 #include "codec/common/dsp/x86/transpose_sse2.h"
 
@@ -228,3 +229,5 @@ void init_intra_sse41(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

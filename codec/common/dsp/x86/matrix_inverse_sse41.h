@@ -18,8 +18,9 @@
 #include <cstdint>
 #include <cstring>
 
-#pragma GCC push_options
-#pragma GCC target("sse4.1")
+#include "codec/common/dsp/x86/target.h"
+
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -163,4 +164,4 @@ void inverse_matrix_transform(const InverseMatrixPairs<W>& rows, int row_shift,
 }  // namespace
 }  // namespace svc::codec::dsp
 
-#pragma GCC pop_options
+SVC_TARGET_END

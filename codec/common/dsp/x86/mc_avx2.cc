@@ -11,8 +11,9 @@
 #include <cstring>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("avx2")
+SVC_TARGET_BEGIN("avx2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -424,3 +425,5 @@ void interpolate_8tap_avx2(const uint8_t* window, ptrdiff_t window_stride, int w
 void init_mc_avx2(DspTable* table) { table->interpolate_8tap = interpolate_8tap_avx2; }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

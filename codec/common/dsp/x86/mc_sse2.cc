@@ -6,8 +6,9 @@
 #include <cstring>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse2")
+SVC_TARGET_BEGIN("sse2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -72,3 +73,5 @@ void init_mc_sse2(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

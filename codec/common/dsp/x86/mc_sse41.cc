@@ -8,8 +8,9 @@
 #include <smmintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -107,3 +108,5 @@ void interpolate_8tap_sse41(const uint8_t* window, ptrdiff_t window_stride, int 
 void init_mc_sse41(DspTable* table) { table->interpolate_8tap = interpolate_8tap_sse41; }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

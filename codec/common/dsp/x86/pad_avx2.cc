@@ -10,8 +10,9 @@
 #include <cstring>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("avx2")
+SVC_TARGET_BEGIN("avx2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -73,3 +74,5 @@ void pad_sample_run_avx2(const uint8_t* plane, ptrdiff_t stride, const uint32_t*
 void init_pad_avx2(DspTable* table) { table->pad_sample_run = pad_sample_run_avx2; }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

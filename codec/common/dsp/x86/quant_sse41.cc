@@ -5,8 +5,9 @@
 #include <smmintrin.h>
 
 #include "codec/common/dsp/dsp_init.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -35,3 +36,5 @@ void dequantize_8x8_sse41(const int16_t* levels, const int32_t* scale, int16_t* 
 void init_quant_sse41(DspTable* table) { table->dequantize_8x8 = dequantize_8x8_sse41; }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

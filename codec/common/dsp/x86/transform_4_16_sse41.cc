@@ -8,8 +8,9 @@
 #include "codec/common/dsp/inverse_add.h"
 #include "codec/common/dsp/x86/add_clipped_sse2.h"
 #include "codec/common/dsp/x86/matrix_inverse_sse41.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -32,3 +33,5 @@ void init_transform_4_16_sse41(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -12,8 +12,9 @@
 #include "codec/common/dsp/idct_basis.h"
 #include "codec/common/dsp/inverse_add.h"
 #include "codec/common/dsp/x86/add_clipped_sse2.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse2")
+SVC_TARGET_BEGIN("sse2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -118,3 +119,5 @@ void init_transform_sse2(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

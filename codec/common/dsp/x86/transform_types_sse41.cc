@@ -9,8 +9,9 @@
 #include "codec/common/dsp/transform_type_basis.h"
 #include "codec/common/dsp/x86/add_clipped_sse2.h"
 #include "codec/common/dsp/x86/matrix_inverse_sse41.h"
+#include "codec/common/dsp/x86/target.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -44,3 +45,5 @@ void init_transform_types_sse41(DspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

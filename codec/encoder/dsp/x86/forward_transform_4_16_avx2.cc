@@ -5,11 +5,12 @@
 // SSE4.1: at eight lanes it would gain little.
 #include <immintrin.h>
 
+#include "codec/common/dsp/x86/target.h"
 #include "codec/encoder/dsp/encoder_dsp_init.h"
 #include "codec/encoder/dsp/fdct_4_16_basis.h"
 #include "codec/encoder/dsp/x86/transposed_basis.h"
 
-#pragma GCC target("avx2")
+SVC_TARGET_BEGIN("avx2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -47,3 +48,5 @@ void forward_dct_16x16_avx2(const float* samples, float* coefficients) {
 void init_forward_transform_4_16_avx2(EncoderDspTable* table) { table->forward_dct_16x16 = forward_dct_16x16_avx2; }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -4,11 +4,12 @@
 // plain code does (no fused multiply-add).
 #include <smmintrin.h>
 
+#include "codec/common/dsp/x86/target.h"
 #include "codec/encoder/dsp/encoder_dsp_init.h"
 #include "codec/encoder/dsp/fdct_4_16_basis.h"
 #include "codec/encoder/dsp/x86/transposed_basis.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -56,3 +57,5 @@ void init_forward_transform_4_16_sse41(EncoderDspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -5,10 +5,11 @@
 #include <emmintrin.h>
 #include <xmmintrin.h>
 
+#include "codec/common/dsp/x86/target.h"
 #include "codec/encoder/dsp/encoder_dsp_init.h"
 #include "codec/encoder/dsp/fdct_basis.h"
 
-#pragma GCC target("sse2")
+SVC_TARGET_BEGIN("sse2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -87,3 +88,5 @@ void forward_dct_8x8_sse2(const float* samples, float* coefficients) {
 void init_forward_transform_sse2(EncoderDspTable* table) { table->forward_dct_8x8 = forward_dct_8x8_sse2; }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

@@ -4,9 +4,10 @@
 // multiply-add).
 #include <smmintrin.h>
 
+#include "codec/common/dsp/x86/target.h"
 #include "codec/encoder/dsp/encoder_dsp_init.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 namespace svc::codec::dsp {
 namespace {
@@ -45,3 +46,5 @@ int quantize_8x8_sse41(const float* coefficients, const float* inverse_step, flo
 void init_quantize_sse41(EncoderDspTable* table) { table->quantize_8x8 = quantize_8x8_sse41; }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

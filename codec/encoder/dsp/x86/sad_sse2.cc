@@ -4,9 +4,10 @@
 // for bit.
 #include <emmintrin.h>
 
+#include "codec/common/dsp/x86/target.h"
 #include "codec/encoder/dsp/encoder_dsp_init.h"
 
-#pragma GCC target("sse2")
+SVC_TARGET_BEGIN("sse2")
 
 namespace svc::codec::dsp {
 namespace {
@@ -51,3 +52,5 @@ void init_sad_sse2(EncoderDspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END

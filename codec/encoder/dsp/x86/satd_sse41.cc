@@ -7,9 +7,10 @@
 
 #include <cstring>
 
+#include "codec/common/dsp/x86/target.h"
 #include "codec/encoder/dsp/encoder_dsp_init.h"
 
-#pragma GCC target("sse4.1")
+SVC_TARGET_BEGIN("sse4.1")
 
 #include "codec/common/dsp/x86/transpose_sse2.h"
 
@@ -87,3 +88,5 @@ void init_satd_sse41(EncoderDspTable* table) {
 }
 
 }  // namespace svc::codec::dsp
+
+SVC_TARGET_END
