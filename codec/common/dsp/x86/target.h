@@ -10,7 +10,6 @@
   _Pragma(SVC_TARGET_STRINGIFY(clang attribute push(__attribute__((target(features))), apply_to = function)))
 #define SVC_TARGET_END _Pragma("clang attribute pop")
 #else
-#define SVC_TARGET_BEGIN(features) \
-  _Pragma("GCC push_options") _Pragma(SVC_TARGET_STRINGIFY(GCC target(features)))
+#define SVC_TARGET_BEGIN(features) _Pragma("GCC push_options") _Pragma(SVC_TARGET_STRINGIFY(GCC target(features)))
 #define SVC_TARGET_END _Pragma("GCC pop_options")
 #endif
