@@ -173,6 +173,11 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
   auto opened = Reader::open(file);
   if (!opened.ok()) return fail(opened.status());
   const double faces = static_cast<double>((*opened)->cells().size() * kFaceCount);
+  // Faces a face needs decoded, itself included, summed over every face of the index.
+  size_t faces_needed = 0;
+  for (const CellEntry& cell : (*opened)->cells()) {
+    for (const FaceEntry& entry : cell.faces) faces_needed += 1 + entry.references.size();
+  }
   opened->reset();
   if (mode == "checksum") {
     auto hash = checksum(file);
@@ -268,14 +273,7 @@ int run(const std::string& file, int repeat, int threads, int cells, const std::
     std::printf("  cold face, 1 thread   %8.2f ms (%.1f faces decoded, mean over %d faces)\n", median(cold_face),
                 cold_face_faces, cells);
     std::printf("  cold face, %2d threads %8.2f ms\n", threads, median(cold_face_threads));
-    // The same count over every face of the file, from the index: the face and what it needs.
-    auto reader = Reader::open(file);
-    if (!reader.ok()) return fail(reader.status());
-    size_t needed = 0;
-    for (const CellEntry& cell : (*reader)->cells()) {
-      for (const FaceEntry& entry : cell.faces) needed += 1 + entry.references.size();
-    }
-    std::printf("    every face: %.2f faces decoded on average\n", static_cast<double>(needed) / faces);
+    std::printf("    every face: %.2f faces decoded on average\n", static_cast<double>(faces_needed) / faces);
   }
   return 0;
 }

@@ -122,6 +122,13 @@ Face face_across(Face face, FaceEdge edge) {
   return static_cast<Face>(face_looking_along(across_columns ? frame.right : frame.down, sign));
 }
 
+bool border_edges_show(Face face, uint8_t edges, Face g) {
+  for (int e = 0; e < kFaceEdgeCount; ++e) {
+    if ((edges >> e & 1) != 0 && face_across(face, static_cast<FaceEdge>(e)) == g) return true;
+  }
+  return false;
+}
+
 namespace {
 
 // Smallest |2t + 1 - size| over integers t in lo..hi: the distance from the face centre,
@@ -174,9 +181,9 @@ Status pad_cube_face(const CubeFaces& cube, Face face, int units, ImageYCbCr420*
   std::copy(adjacent.begin(), adjacent.end(), needed.begin() + 1);
   for (Face g : needed) {
     const ImageYCbCr420* image = cube[static_cast<int>(g)];
-    if (image == nullptr && g != face) continue;
-    if (image == nullptr || image->width != n || image->height != n || image->y.size() != luma ||
-        image->cb.size() != chroma || image->cr.size() != chroma) {
+    if (image == nullptr) continue;  // face `face` itself was checked above
+    if (image->width != n || image->height != n || image->y.size() != luma || image->cb.size() != chroma ||
+        image->cr.size() != chroma) {
       return Status(ErrorCode::kInvalidArgument, "cube padding of face " + std::string(face_name(face)) +
                                                      ": face " + face_name(g) + " is missing or not " +
                                                      std::to_string(n) + "x" + std::to_string(n) + " 4:2:0");

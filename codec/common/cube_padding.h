@@ -37,6 +37,10 @@ inline constexpr uint8_t kAllFaceEdges = 0xF;
 // The adjacent face whose samples fill the border across `edge` of `face`.
 Face face_across(Face face, FaceEdge edge);
 
+// Whether `edges` (FaceEdge bits of `face`) include the edge across which adjacent face
+// `g` lies: the faces a border limited to those edges is padded from.
+bool border_edges_show(Face face, uint8_t edges, Face g);
+
 // Bit e set for each FaceEdge e some of whose border samples (those taken from
 // face_across(face, e), docs/codec.md 5.7) lie in columns x0..x1 and rows y0..y1 of a
 // plane of `size` samples a side padded by `border` (padded-plane coordinates), the

@@ -116,7 +116,8 @@ class IntraBlockDecoder final : public intra::BlockReader {
 // Reads macroblocks in coding order and reconstructs each into the frame state.
 class MacroblockReader {
  public:
-  MacroblockReader(FrameState& s, RangeDecoder& decoder, BorderEdges& edges)
+  // `edges` null: every edge allowed, none recorded.
+  MacroblockReader(FrameState& s, RangeDecoder& decoder, BorderEdges* edges)
       : s_(s), c_(s.contexts), decoder_(decoder), edges_(edges) {}
 
   // Reads and reconstructs macroblock (mx, my); `mode` receives how it was coded.
@@ -152,15 +153,16 @@ class MacroblockReader {
   // Checks a prediction's reads of the cube border against the edges allowed, before it
   // is built, and records them.
   Status note_border_reads(const PredictionRecord& record) {
+    if (edges_ == nullptr) return Status::Ok();
     const std::array<uint8_t, 2> edges = border_edges_read(s_, mx_, my_, record);
     for (int r = 0; r < s_.reference_count; ++r) {
-      const int outside = edges[r] & ~edges_.allowed[r];
+      const int outside = edges[r] & ~edges_->allowed[r];
       if (outside != 0) {
         return fail("prediction from reference " + std::to_string(r) + " reads the cube border across edge " +
                     std::to_string(std::countr_zero(static_cast<unsigned>(outside))) +
                     ", whose face the frame does not depend on");
       }
-      edges_.read[r] = static_cast<uint8_t>(edges_.read[r] | edges[r]);
+      edges_->read[r] = static_cast<uint8_t>(edges_->read[r] | edges[r]);
     }
     return Status::Ok();
   }
@@ -331,7 +333,7 @@ class MacroblockReader {
   FrameState& s_;
   SyntaxContexts& c_;
   RangeDecoder& decoder_;
-  BorderEdges& edges_;
+  BorderEdges* edges_;
   int mx_ = 0, my_ = 0;
   MacroblockInfo info_;
   std::array<MotionVector, 2> predictors_{};  // the first of each list
@@ -469,10 +471,8 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
       }
     }
   }
-  BorderEdges every_edge;
-  BorderEdges& edges = border_edges != nullptr ? *border_edges : every_edge;
-  edges.read = {};
-  MacroblockReader reader(s, decoder, edges);
+  if (border_edges != nullptr) border_edges->read = {};
+  MacroblockReader reader(s, decoder, border_edges);
   for (int my = 0; my < s.mbs_y; ++my) {
     for (int mx = 0; mx < s.mbs_x; ++mx) {
       MacroblockMode mode = MacroblockMode::kIntra;

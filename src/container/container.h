@@ -122,9 +122,12 @@ struct FrameRecord {
 static_assert(sizeof(FrameRecord) <= 40);
 
 // The four border-edge bits (codec::FaceEdge) of reference r of a frame with cube
-// references.
+// references, and FrameRecord::border_edges from those of each reference.
 inline uint8_t reference_border_edges(const FrameRecord& frame, size_t r) {
   return static_cast<uint8_t>(frame.border_edges >> (4 * r) & 0x0F);
+}
+inline uint8_t pack_border_edges(const std::array<uint8_t, 2>& per_reference) {
+  return static_cast<uint8_t>((per_reference[0] & 0x0F) | (per_reference[1] & 0x0F) << 4);
 }
 
 // Bytes the face's own chunk takes in the file, payload and framing.

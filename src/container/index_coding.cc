@@ -831,15 +831,6 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
 
 namespace {
 
-// Bit e of `edges` (FaceEdge bits of one reference) set for the edge across which `g`
-// lies from `face`.
-bool edge_listed(Face face, Face g, uint8_t edges) {
-  for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
-    if ((edges >> e & 1) != 0 && codec::face_across(face, static_cast<codec::FaceEdge>(e)) == g) return true;
-  }
-  return false;
-}
-
 std::vector<uint32_t> dependencies(const FrameRecord& frame, bool cube_references, bool every_edge) {
   std::vector<uint32_t> out(frame.references.begin(), frame.references.end());
   if (!cube_references) return out;
@@ -847,7 +838,7 @@ std::vector<uint32_t> dependencies(const FrameRecord& frame, bool cube_reference
     const uint32_t cube = frame.references[r] - frame.references[r] % kFaceCount;
     const uint8_t edges = every_edge ? codec::kAllFaceEdges : reference_border_edges(frame, r);
     for (Face g : codec::adjacent_faces(frame.face)) {
-      if (edge_listed(frame.face, g, edges)) out.push_back(cube + static_cast<uint32_t>(g));
+      if (codec::border_edges_show(frame.face, edges, g)) out.push_back(cube + static_cast<uint32_t>(g));
     }
   }
   return out;

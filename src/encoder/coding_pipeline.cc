@@ -281,10 +281,7 @@ class Pipeline {
   Status store_predicted(uint32_t frame, const CodedPredictedFace& coded) {
     SVC_RETURN_IF_ERROR(store(frame, coded.payload, coded.depth_payload));
     FrameRecord& record = index_.frames[frame];
-    if (record.cube_references) {
-      record.border_edges =
-          static_cast<uint8_t>(coded.border_edges[0] | coded.border_edges[1] << codec::kFaceEdgeCount);
-    }
+    if (record.cube_references) record.border_edges = pack_border_edges(coded.border_edges);
     FaceTypeStats& s = index_.stats[1];
     s.mb_intra += coded.stats.mb_intra;
     s.mb_forward += coded.stats.mb_forward;

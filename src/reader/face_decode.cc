@@ -38,9 +38,8 @@ Result<FacePointer> CodedFaceSource::padded_intra_face(uint32_t frame, int units
   std::array<FacePointer, kFaceCount> held;
   codec::CubeFaces cube{};
   SVC_ASSIGN_OR_RETURN(held[static_cast<int>(face)], intra_face(frame));
-  for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
-    if ((edges >> e & 1) == 0) continue;
-    const Face g = codec::face_across(face, static_cast<codec::FaceEdge>(e));
+  for (Face g : codec::adjacent_faces(face)) {
+    if (!codec::border_edges_show(face, edges, g)) continue;
     SVC_ASSIGN_OR_RETURN(held[static_cast<int>(g)], intra_face(cube_first + static_cast<uint32_t>(g)));
   }
   for (int k = 0; k < kFaceCount; ++k) cube[k] = held[k].get();
@@ -76,10 +75,8 @@ Result<FacePointer> padded_reference(const ReadOnlyFile& file, const ContainerIn
   }
   const uint32_t cube_first = ref - ref % kFaceCount;
   std::vector<uint32_t> needed{ref};
-  for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
-    if ((edges >> e & 1) == 0) continue;
-    needed.push_back(cube_first +
-                     static_cast<uint32_t>(codec::face_across(record.face, static_cast<codec::FaceEdge>(e))));
+  for (Face g : codec::adjacent_faces(record.face)) {
+    if (codec::border_edges_show(record.face, edges, g)) needed.push_back(cube_first + static_cast<uint32_t>(g));
   }
   for (uint32_t face : needed) {
     if (index.frames[face].type == FaceType::kIntra) continue;
