@@ -214,20 +214,49 @@ TEST_F(Shard, ShardNumbersOutsideTheRangeAreRefused) {
   }
 }
 
-TEST_F(Shard, ASwitchedOffCodingToolIsRefused) {
-  EncoderSettings partial = settings(1);
-  ASSERT_TRUE(disable_coding_tool(&partial.tools, coding_tool_names().front()).ok());
-  auto result = encode_shard(full(), out("tools.part"), partial, 1, 2);
-  ASSERT_FALSE(result.ok());
-  EXPECT_EQ(result.status().code(), ErrorCode::kInvalidArgument);
-  EXPECT_NE(result.status().message().find("--disable-tool"), std::string::npos);
-  EXPECT_FALSE(fs::exists(out("tools.part")));
-  EncoderSettings fixed_offset = settings(1);
-  fixed_offset.b_qindex_offset = 30;
-  result = encode_shard(full(), out("offset.part"), fixed_offset, 1, 2);
-  ASSERT_FALSE(result.ok());
-  EXPECT_NE(result.status().message().find("--b-qindex-offset"), std::string::npos);
-  EXPECT_FALSE(fs::exists(out("offset.part")));
+// Every speed, switched-off tool, quantization matrix and fixed B-face offset shards:
+// the merge gives the one-process encode's bytes at the same settings.
+TEST_F(Shard, EverySpeedAndToolSettingMergesToTheOneProcessEncode) {
+  std::vector<std::pair<std::string, EncoderSettings>> variants;
+  for (int speed = 1; speed <= kMaxEncoderSpeed; ++speed) {
+    EncoderSettings s = settings(1);
+    ASSERT_TRUE(apply_encoder_speed(&s, speed).ok());
+    variants.emplace_back("speed" + std::to_string(speed), s);
+  }
+  EncoderSettings tuned = settings(1);
+  ASSERT_TRUE(disable_coding_tool(&tuned.tools, "cdef").ok());
+  tuned.tools.weighted_quant_matrix = true;
+  tuned.b_qindex_offset = 30;
+  variants.emplace_back("tuned", tuned);
+  for (const auto& [tag, s] : variants) {
+    const fs::path whole = out(tag + "-whole.svc");
+    ASSERT_TRUE(encode_database(full(), whole, s).ok());
+    const std::vector<fs::path> parts = encode_parts(full(), 2, tag, s);
+    const fs::path merged = out(tag + "-merged.svc");
+    auto summary = merge_shards(parts, merged);
+    ASSERT_TRUE(summary.ok()) << tag << ": " << summary.status().to_string();
+    EXPECT_TRUE(read_file_bytes(merged) == read_file_bytes(whole)) << tag;
+  }
+}
+
+// Parts coded with different tools, quantization matrices or B-face offsets would merge
+// into a file no single encode gives: refused, naming both settings.
+TEST_F(Shard, PartsOfDifferentToolSettingsAreRefused) {
+  const std::vector<fs::path> plain = encode_parts(full(), 2, "plain");
+  EncoderSettings fast = settings(1);
+  ASSERT_TRUE(apply_encoder_speed(&fast, 3).ok());
+  fast.layout = CubeLayout::kVisibility;  // the same plan: only the tools differ
+  const std::vector<fs::path> quick = encode_parts(full(), 2, "quick", fast);
+  expect_refused({plain[0], quick[1]}, "--disable-tool rdoq");
+  expect_refused({quick[0], plain[1]}, "the default settings");
+  EncoderSettings offset = settings(1);
+  offset.b_qindex_offset = 30;
+  const std::vector<fs::path> fixed = encode_parts(full(), 2, "fixed", offset);
+  expect_refused({plain[0], fixed[1]}, "--b-qindex-offset 30");
+  EncoderSettings weighted = settings(1);
+  weighted.tools.weighted_quant_matrix = true;
+  const std::vector<fs::path> matrix = encode_parts(full(), 2, "matrix", weighted);
+  expect_refused({matrix[0], plain[1]}, "--quant-matrix weighted");
 }
 
 }  // namespace

@@ -149,7 +149,7 @@ struct EncoderSettings {
   int qindex = -1;
   // Quantizer indices the B-faces use above the I-faces' (the sum clamped to 255):
   // -1 chooses 26..42 per database from trial B-faces (docs/encoder.md 5); 0..255 fixes
-  // it (to measure the choice; sharded encodes take the default).
+  // it (to measure the choice).
   int b_qindex_offset = -1;
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
   // depend on this.

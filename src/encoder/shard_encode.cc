@@ -21,13 +21,6 @@ Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const st
                   "shard " + std::to_string(shard) + "/" + std::to_string(shard_count) +
                       " is not one of 1/N..N/N with N in 1.." + std::to_string(kMaxShards));
   }
-  // Parts record the settings the file keeps, not the tools; a tool switched off would
-  // go unnoticed by the merge.
-  if (!(settings.tools == CodingTools{}) || settings.b_qindex_offset >= 0) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "a sharded encode uses the default coding tools; --disable-tool, --speed, --quant-matrix and "
-                  "--b-qindex-offset are for single encodes");
-  }
   SVC_ASSIGN_OR_RETURN(EncodePlan plan, plan_encode(db_dir, settings));
   SVC_ASSIGN_OR_RETURN(const uint64_t fingerprint, database_fingerprint(db_dir, plan.manifest));
   SVC_ASSIGN_OR_RETURN(auto writer, PartWriter::create(part_path));
@@ -41,6 +34,7 @@ Result<EncodeSummary> encode_shard(const std::filesystem::path& db_dir, const st
   PartDescriptor descriptor;
   descriptor.svc_version = kSvcVersion;
   descriptor.fingerprint = fingerprint;
+  descriptor.settings = shard_settings_text(settings);
   descriptor.shard = static_cast<uint32_t>(shard);
   descriptor.shard_count = static_cast<uint32_t>(shard_count);
   for (uint32_t frame : frames) {

@@ -59,4 +59,13 @@ Result<uint64_t> database_fingerprint(const std::filesystem::path& db_dir, const
   return hash.value();
 }
 
+std::string shard_settings_text(const EncoderSettings& settings) {
+  std::string text;
+  auto add = [&](const std::string& option) { text += (text.empty() ? "" : " ") + option; };
+  for (const std::string& name : disabled_coding_tools(settings.tools)) add("--disable-tool " + name);
+  if (settings.tools.weighted_quant_matrix) add("--quant-matrix weighted");
+  if (settings.b_qindex_offset >= 0) add("--b-qindex-offset " + std::to_string(settings.b_qindex_offset));
+  return text;
+}
+
 }  // namespace svc

@@ -50,6 +50,11 @@ Status check_matches(const OpenedPart& part, const OpenedPart& first, const std:
     return refuse(path, "it was encoded with " + settings_text(a) + ", " + first.file->name() + " with " +
                             settings_text(b));
   }
+  if (d.settings != f.settings) {
+    auto text = [](const std::string& settings) { return settings.empty() ? "the default settings" : settings; };
+    return refuse(path, "it was encoded with " + text(d.settings) + ", " + first.file->name() + " with " +
+                            text(f.settings));
+  }
   if (plan_bytes(d.plan) != first_plan) {
     return refuse(path, "its plan of cells and references differs from " + first.file->name());
   }

@@ -10,7 +10,9 @@ namespace svc {
 
 namespace {
 
-constexpr uint8_t kPartFormatVersion = 4;  // 2: bare face chunks; 3: depth sizes; 4: border edges
+// 2: bare face chunks; 3: depth sizes; 4: border edges; 5: encoder settings
+constexpr uint8_t kPartFormatVersion = 5;
+constexpr uint32_t kMaxSettingsText = 4096;
 constexpr char kHeaderMagic[8] = {'S', 'V', 'C', 'P', 'A', 'R', 'T', kPartFormatVersion};
 constexpr char kTrailerMagic[8] = {'S', 'V', 'C', 'P', 'E', 'N', 'D', kPartFormatVersion};
 constexpr uint64_t kPartFaceRecordSize = 21;  // frame, chunk offset, payload size, depth size, border edges
@@ -41,6 +43,8 @@ std::vector<uint8_t> serialize_descriptor(const PartDescriptor& d) {
   w.u64(d.fingerprint);
   w.u32(d.shard);
   w.u32(d.shard_count);
+  w.u32(static_cast<uint32_t>(d.settings.size()));
+  w.raw({reinterpret_cast<const uint8_t*>(d.settings.data()), d.settings.size()});
   w.u64(d.faces.size());
   for (const PartFace& face : d.faces) {
     w.u32(face.frame);
@@ -90,6 +94,12 @@ Result<PartDescriptor> parse_descriptor(std::span<const uint8_t> payload, uint64
   d.fingerprint = r.u64();
   d.shard = r.u32();
   d.shard_count = r.u32();
+  const uint32_t settings_size = r.u32();
+  if (!r.ok() || settings_size > kMaxSettingsText || settings_size > r.remaining()) {
+    return corrupt_at("part descriptor's settings text does not fit", r.file_offset());
+  }
+  d.settings.assign(reinterpret_cast<const char*>(payload.data() + r.position()), settings_size);
+  r.skip(settings_size);
   const uint64_t face_count = r.u64();
   if (!r.ok() || face_count > r.remaining() / kPartFaceRecordSize) {
     return corrupt_at("part descriptor's face table does not fit", r.file_offset());

@@ -36,6 +36,8 @@ struct PartDescriptor {
   uint64_t fingerprint = 0;  // of the database (manifest bytes, sizes of the files it names)
   uint32_t shard = 0;        // 1..shard_count
   uint32_t shard_count = 0;
+  // The encoder settings the plan does not hold (shard_settings_text): "" for defaults.
+  std::string settings;
   std::vector<PartFace> faces;  // in the order they lie in the file
   // The whole encode's index: cells, cameras, coding, every frame's type and
   // references. Chunk offsets are left unset (0); stats are this part's faces' alone.
