@@ -53,6 +53,23 @@ std::string check_satd(const Tables& reference, const Tables& variant, Random& r
   return {};
 }
 
+std::string check_satd_16x16(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  Buffer source(16 * 48), prediction(256);
+  for (int n = 0; n < iterations; ++n) {
+    const int stride = random.uniform(16, 48), offset = random.uniform(0, 15);
+    uint8_t* s = source.at(offset);
+    random.fill_with_extremes(s, static_cast<size_t>(15 * stride + 16));
+    random.fill_with_extremes(prediction.at(0), 256);
+    const int expected = reference.satd_16x16(s, stride, prediction.at(0));
+    const int actual = variant.satd_16x16(s, stride, prediction.at(0));
+    if (expected != actual) {
+      return "stride " + std::to_string(stride) + ": reference " + std::to_string(expected) + ", variant " +
+             std::to_string(actual);
+    }
+  }
+  return {};
+}
+
 // The W x H predictor of a table.
 template <int W, int H>
 auto predictor_of(const Tables& t) {
@@ -145,6 +162,20 @@ void bench_satd(const Tables& table, int iterations) {
   bench_sink = sum;
 }
 
+void bench_satd_16x16(const Tables& table, int iterations) {
+  uint8_t source[256], prediction[256];
+  for (int i = 0; i < 256; ++i) {
+    source[i] = static_cast<uint8_t>(i * 37);
+    prediction[i] = static_cast<uint8_t>(i * 11);
+  }
+  int sum = 0;
+  for (int n = 0; n < iterations; ++n) {
+    source[n & 255] ^= 1;
+    sum += table.satd_16x16(source, 16, prediction);
+  }
+  bench_sink = sum;
+}
+
 // Luma as the codec holds it: any stride from 16, random or extreme samples, sometimes
 // flat (every AC value 0).
 std::string check_cfl_luma_ac(const Tables& reference, const Tables& variant, Random& random, int iterations) {
@@ -218,6 +249,7 @@ std::vector<Kernel> intra_kernels() {
       {"intra_predict_8x8", [](const Tables& t) { return entry_of(t.intra_predict[k8x8]); }, check_intra_predict,
        bench_intra_predict},
       {"satd_8x8", [](const Tables& t) { return entry_of(t.satd_8x8); }, check_satd, bench_satd},
+      {"satd_16x16", [](const Tables& t) { return entry_of(t.satd_16x16); }, check_satd_16x16, bench_satd_16x16},
       {"intra_predict_4x4", [](const Tables& t) { return entry_of(predictor_of<4, 4>(t)); },
        check_intra_predict_n<4>, bench_intra_predict_n<4>},
       {"intra_predict_16x16", [](const Tables& t) { return entry_of(predictor_of<16, 16>(t)); },

@@ -29,6 +29,7 @@ EncoderDspTable make_encoder_dsp_table([[maybe_unused]] unsigned cpu_flags) {
   }
   if ((cpu_flags & (kCpuSse2 | kCpuSse41 | kCpuAvx2)) == (kCpuSse2 | kCpuSse41 | kCpuAvx2)) {
     init_forward_transform_4_16_avx2(&table);
+    init_satd_avx2(&table);
   }
 #elif defined(__aarch64__)
   // The float kernels have no NEON variant (docs/kernels.md).

@@ -52,9 +52,12 @@ struct EncoderDspTable {
   int (*sad_average)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* a, const uint8_t* b,
                      ptrdiff_t reference_stride, int width, int height);
   // Sum of absolute 8x8 (4x4) Hadamard coefficients (unnormalised) of source - prediction
-  // (intra mode pre-selection).
+  // (first-stage estimates: intra modes and partitions).
   int (*satd_8x8)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
   int (*satd_4x4)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
+  // The sum of the four 8x8 quadrants' SATDs of a 16x16 block, `prediction` packed 16
+  // samples a row (first-stage estimates of whole macroblocks).
+  int (*satd_16x16)(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction);
 };
 
 // The table for this machine (active_cpu_flags()), built once on first use; thread-safe.

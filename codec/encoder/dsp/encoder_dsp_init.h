@@ -23,6 +23,7 @@ void init_forward_transform_types_sse41(EncoderDspTable* table);
 void init_quantize_sse41(EncoderDspTable* table);
 void init_satd_sse41(EncoderDspTable* table);
 void init_forward_transform_4_16_avx2(EncoderDspTable* table);
+void init_satd_avx2(EncoderDspTable* table);
 #endif
 
 #if defined(__aarch64__)

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-2-Clause
-// NEON Hadamard SATDs of the encoder's intra mode pre-selection. They keep every value
+// NEON Hadamard SATDs of the encoder's first-stage estimates (16x16: four 8x8). They keep every value
 // in 16 bits (residuals of at most 255 grow by 8 per 1-D pass: |value| <= 16320), so
 // they equal the plain sums.
 #include <arm_neon.h>
@@ -26,10 +26,12 @@ void butterflies(Vector* v, Add add, Subtract subtract) {
   }
 }
 
-int satd_8x8_neon(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+int satd_8x8_strided(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction,
+                     ptrdiff_t prediction_stride) {
   int16x8_t v[8];
   for (int y = 0; y < 8; ++y) {
-    v[y] = vreinterpretq_s16_u16(vsubl_u8(vld1_u8(source + y * source_stride), vld1_u8(prediction + 8 * y)));
+    v[y] = vreinterpretq_s16_u16(
+        vsubl_u8(vld1_u8(source + y * source_stride), vld1_u8(prediction + prediction_stride * y)));
   }
   const auto add = [](int16x8_t a, int16x8_t b) { return vaddq_s16(a, b); };
   const auto subtract = [](int16x8_t a, int16x8_t b) { return vsubq_s16(a, b); };
@@ -39,6 +41,19 @@ int satd_8x8_neon(const uint8_t* source, ptrdiff_t source_stride, const uint8_t*
   uint32x4_t sum = vdupq_n_u32(0);
   for (int y = 0; y < 8; ++y) sum = vpadalq_u16(sum, vreinterpretq_u16_s16(vabsq_s16(v[y])));
   return static_cast<int>(vaddvq_u32(sum));
+}
+
+int satd_8x8_neon(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  return satd_8x8_strided(source, source_stride, prediction, 8);
+}
+
+int satd_16x16_neon(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  int sum = 0;
+  for (int q = 0; q < 4; ++q) {
+    const int x = 8 * (q & 1), y = 8 * (q >> 1);
+    sum += satd_8x8_strided(source + y * source_stride + x, source_stride, prediction + 16 * y + x, 16);
+  }
+  return sum;
 }
 
 int satd_4x4_neon(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
@@ -69,6 +84,7 @@ int satd_4x4_neon(const uint8_t* source, ptrdiff_t source_stride, const uint8_t*
 void init_satd_neon(EncoderDspTable* table) {
   table->satd_4x4 = satd_4x4_neon;
   table->satd_8x8 = satd_8x8_neon;
+  table->satd_16x16 = satd_16x16_neon;
 }
 
 }  // namespace svc::codec::dsp

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-2-Clause
-// SSE4.1 Hadamard SATDs of the encoder's intra mode pre-selection. The 8x8 transform
+// SSE4.1 Hadamard SATDs of the encoder's first-stage estimates (16x16: four 8x8). The 8x8 transform
 // keeps every value in 16 bits (residuals of at most 255 grow by 8 per 1-D pass:
 // |value| <= 16320), so it equals the plain sum; the 4x4 transforms two rows per
 // register.
@@ -29,12 +29,14 @@ void butterflies(__m128i* v) {
   }
 }
 
-int satd_8x8_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+int satd_8x8_strided(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction,
+                     ptrdiff_t prediction_stride) {
   __m128i v[8];
   for (int y = 0; y < 8; ++y) {
     const __m128i s =
         _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(source + y * source_stride)));
-    const __m128i p = _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(prediction + 8 * y)));
+    const __m128i p =
+        _mm_cvtepu8_epi16(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(prediction + prediction_stride * y)));
     v[y] = _mm_sub_epi16(s, p);
   }
   butterflies(v);
@@ -46,6 +48,19 @@ int satd_8x8_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t
   sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(1, 0, 3, 2)));
   sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(2, 3, 0, 1)));
   return _mm_cvtsi128_si32(sum);
+}
+
+int satd_8x8_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  return satd_8x8_strided(source, source_stride, prediction, 8);
+}
+
+int satd_16x16_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t* prediction) {
+  int sum = 0;
+  for (int q = 0; q < 4; ++q) {
+    const int x = 8 * (q & 1), y = 8 * (q >> 1);
+    sum += satd_8x8_strided(source + y * source_stride + x, source_stride, prediction + 16 * y + x, 16);
+  }
+  return sum;
 }
 
 // 4x4 Hadamard on two rows per register. The SATD sums the magnitudes of all sixteen
@@ -85,6 +100,7 @@ int satd_4x4_sse41(const uint8_t* source, ptrdiff_t source_stride, const uint8_t
 void init_satd_sse41(EncoderDspTable* table) {
   table->satd_4x4 = satd_4x4_sse41;
   table->satd_8x8 = satd_8x8_sse41;
+  table->satd_16x16 = satd_16x16_sse41;
 }
 
 }  // namespace svc::codec::dsp
