@@ -271,7 +271,8 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
 
 // Intra macroblocks beside inter ones predict from their reconstructed samples (docs/codec.md
 // 3.7): a face whose right part no reference holds mixes both, and decodes exactly with
-// every mode and with planar and DC only (the b-intra-prediction ablation).
+// every mode, with planar and DC only (the b-intra-prediction ablation) and with the
+// narrowed intra searches of the faster speeds.
 TEST(BFrame, IntraMacroblocksPredictFromInterNeighboursAndDecodeExactly) {
   const int w = 96, h = 80, q = 120;
   const ImageYCbCr420 reference = decoded_intra(textured_crop(w, h, 40, 40), q - 40);
@@ -280,10 +281,17 @@ TEST(BFrame, IntraMacroblocksPredictFromInterNeighboursAndDecodeExactly) {
   for (int y = 0; y < h; ++y) {
     for (int x = 40; x < w; ++x) source.y[static_cast<size_t>(y) * w + x] = other.y[static_cast<size_t>(y) * w + x];
   }
-  for (bool all_modes : {true, false}) {
+  // Every mode; planar and DC only; every mode with the narrowed partition search and
+  // the RDOQ pass in the partition chosen first.
+  for (int setting : {0, 1, 2}) {
     BFrameParams params;
     params.qindex = q;
-    params.intra_prediction = all_modes;
+    params.intra_prediction = setting != 1;
+    if (setting == 2) {
+      params.intra_rectangular_trials = 1;
+      params.intra_small_trials = 1;
+      params.keep_intra_partition = true;
+    }
     ImageYCbCr420 reconstruction;
     BFrameStats stats;
     const std::vector<uint8_t> bytes =

@@ -170,6 +170,71 @@ TEST(IntraMacroblockSearch, WithoutSmallBlocksNoEightByEightIsSplit) {
   EXPECT_GT(restricted_cost, full_cost);
 }
 
+// The first stage narrows the search: with one rectangular and one smaller partition
+// searched, the choice costs at least the full search's and is one of the partitions the
+// first stage may keep; searched again in its own partition, a choice keeps it.
+TEST(IntraMacroblockSearch, NarrowedAndKeptPartitionSearches) {
+  using namespace intra;
+  const std::vector<uint8_t> plane = plane_around_macroblock([](int x, int y) {
+    const int quadrant = (y / 8) * 2 + x / 8;
+    return quadrant == 0   ? 20 + (((y / 4) * 4 + x / 4) * 97) % 220
+           : quadrant == 1 ? (y % 4 < 2 ? 60 : 190)
+           : quadrant == 2 ? 30 + 12 * (x + y)
+                           : 100 + 9 * (y % 8);
+  });
+  struct Searched {
+    float cost = 0;
+    MacroblockChoice choice;
+    std::vector<uint8_t> recon;
+  };
+  auto run = [&](int rectangular, int small, const LumaPartition* partition) {
+    CodingParams params;
+    params.qindex = 50;
+    params.coarse_mode_search = true;
+    params.rectangular_trials = rectangular;
+    params.small_trials = small;
+    MacroblockEncoder search(params, params.qindex, 20.0f);
+    PlaneContexts contexts;
+    PlaneState state(kStride, kStride);
+    Searched out;
+    out.recon.assign(plane.size(), 128);
+    out.cost = search.choose_luma(contexts, state, plane.data(), out.recon.data(), kStride, 1, 1, &out.choice,
+                                  std::numeric_limits<float>::infinity(), partition);
+    return out;
+  };
+  const Searched full = run(4, 3, nullptr);
+  for (const auto& [rectangular, small] : {std::pair{1, 1}, {0, 0}, {2, 3}, {4, 1}}) {
+    SCOPED_TRACE(std::to_string(rectangular) + " rectangular, " + std::to_string(small) + " small");
+    const Searched narrowed = run(rectangular, small, nullptr);
+    EXPECT_GE(narrowed.cost, full.cost);
+    if (rectangular == 0) EXPECT_EQ(narrowed.choice.partition & (kHalves16x16 | kStrips), 0);
+    if (small == 0) {
+      for (int i = 0; i < 4; ++i) EXPECT_EQ(narrowed.choice.partition & (split_8x8_bit(i) | halves_8x8_bit(i)), 0);
+    }
+  }
+  for (const LumaPartition partition :
+       {full.choice.partition, LumaPartition{0}, LumaPartition{kHalves16x16 | kStrips},
+        LumaPartition{kSplit16x16 | split_8x8_bit(0)}}) {
+    SCOPED_TRACE("partition " + std::to_string(partition));
+    Searched kept;
+    kept.choice = full.choice;  // the choice searched again
+    CodingParams params;
+    params.qindex = 50;
+    params.coarse_mode_search = true;
+    MacroblockEncoder search(params, params.qindex, 20.0f);
+    PlaneContexts contexts;
+    PlaneState state(kStride, kStride);
+    kept.recon.assign(plane.size(), 128);
+    kept.cost = search.choose_luma(contexts, state, plane.data(), kept.recon.data(), kStride, 1, 1, &kept.choice,
+                                   std::numeric_limits<float>::infinity(), &partition);
+    // A split 8x8 block may come back whole where its levels vanish; nothing else moves.
+    const LumaPartition small_bits = 0xFF1E;  // every 8x8 block's split, halves and vertical bits
+    EXPECT_EQ(kept.choice.partition & ~small_bits, partition & ~small_bits);
+    EXPECT_EQ(kept.choice.partition & small_bits & ~partition, 0);
+    EXPECT_GE(kept.cost, full.cost);
+  }
+}
+
 TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
   for (auto [width, height] : {std::pair{256, 256}, {17, 9}, {1, 1}, {250, 130}, {16, 16}, {33, 70}}) {
     const ImageYCbCr420 source = synthetic_image(width, height, static_cast<uint32_t>(width + height));
@@ -198,11 +263,14 @@ TEST(CodecFrame, DecodeEqualsEncoderReconstructionForManySizesAndScales) {
 // so a wrong count of levels in any block size would put encoder and decoder out of step.
 TEST(CodecFrame, DecodeEqualsEncoderReconstructionWithEverySearchSetting) {
   const ImageYCbCr420 source = synthetic_image(96, 80, 5);
-  for (int setting = 0; setting < 8; ++setting) {
+  for (int setting = 0; setting < 16; ++setting) {
     CodingParams params{60};
     params.rdoq = (setting & 1) != 0;
     params.rd_intra_search = (setting & 2) != 0;
     params.transform_types = (setting & 4) != 0;
+    // The first stage's narrowed partition search.
+    params.rectangular_trials = (setting & 8) != 0 ? 1 : 4;
+    params.small_trials = (setting & 8) != 0 ? 1 : 3;
     SCOPED_TRACE("setting " + std::to_string(setting));
     for (int qs : {40, 100, 160}) {
       params.qindex = qs;

@@ -194,6 +194,24 @@ int64_t prediction_error(CodedMacroblocks& coded, InterpolationFilter filter) {
   return sum;
 }
 
+// The bank of least prediction error over `coded`'s motion, when below (1 -
+// kFilterScreenMargin) times the regular bank's; else the regular bank.
+InterpolationFilter screened_filter(CodedMacroblocks& coded) {
+  const int64_t regular_error = prediction_error(coded, InterpolationFilter::kRegular);
+  int64_t screened_error = regular_error;
+  InterpolationFilter candidate = InterpolationFilter::kRegular;
+  for (int f = 1; f < kInterpolationFilterCount; ++f) {
+    const int64_t error = prediction_error(coded, static_cast<InterpolationFilter>(f));
+    if (error < screened_error) {  // ties keep the earlier bank
+      screened_error = error;
+      candidate = static_cast<InterpolationFilter>(f);
+    }
+  }
+  if (static_cast<double>(screened_error) >= (1.0 - kFilterScreenMargin) * static_cast<double>(regular_error))
+    return InterpolationFilter::kRegular;
+  return candidate;
+}
+
 // Codes every macroblock with filter bank `filter` (arguments already validated).
 CodedMacroblocks code_macroblocks(const ImageYCbCr420& source, const ImageYCbCr420& ref0, const ImageYCbCr420* ref1,
                                   const std::array<ReferenceHints, 2>& hints, const BFrameParams& params,
@@ -329,35 +347,33 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
       search[r] = &built[r].emplace(*refs[r], kSearchMargin);
     }
   }
-  auto code = [&](InterpolationFilter filter) {
-    return code_macroblocks(source, ref0, ref1, hints, params, search, filter, stats != nullptr);
+  auto code = [&](const BFrameParams& pass, InterpolationFilter filter) {
+    return code_macroblocks(source, ref0, ref1, hints, pass, search, filter, stats != nullptr);
   };
-  CodedMacroblocks best = code(InterpolationFilter::kRegular);
-  if (params.switchable_filter) {
-    // Screen: the regular bank's motion predicted again through each other bank. Only the
-    // bank whose predictions come clearly closer to the source is coded in full, and it
-    // is kept when the whole frame (squared error plus bits, before the loop filters)
-    // costs less; so the loop filters' search runs once, on the winner.
-    const int64_t regular_error = prediction_error(best, InterpolationFilter::kRegular);
-    int64_t screened_error = regular_error;
-    InterpolationFilter candidate = InterpolationFilter::kRegular;
-    for (int f = 1; f < kInterpolationFilterCount; ++f) {
-      const int64_t error = prediction_error(best, static_cast<InterpolationFilter>(f));
-      if (error < screened_error) {  // ties keep the earlier bank
-        screened_error = error;
-        candidate = static_cast<InterpolationFilter>(f);
-      }
-    }
-    if (candidate != InterpolationFilter::kRegular &&
-        static_cast<double>(screened_error) < (1.0 - kFilterScreenMargin) * static_cast<double>(regular_error)) {
-      const double lambda = rd_lambda(std::clamp(params.qindex, kMinQIndex, kMaxQIndex), params.lambda_factor);
-      auto cost = [&](const CodedMacroblocks& coded) {
-        return static_cast<double>(frame_error(coded.state, coded.padded)) +
-               lambda * 8.0 * static_cast<double>(coded.bytes->size());
-      };
-      CodedMacroblocks trial = code(candidate);
-      if (cost(trial) < cost(best)) best = std::move(trial);
-    }
+  if (!params.switchable_filter) {
+    CodedMacroblocks coded = code(params, InterpolationFilter::kRegular);
+    return finish_frame(coded, params, reconstruction, stats);
+  }
+  // The regular bank's motion predicted again through each other bank: the bank whose
+  // predictions come clearly closer to the source is coded in full. With the full
+  // search the regular bank's pass is a full coding, kept when the whole frame (squared
+  // error plus bits, before the loop filters) costs less; without it, a screening pass
+  // (inter options and skips only) and the screened bank's coding alone. Either way the
+  // loop filters' search runs once, on the winner.
+  BFrameParams screening = params;
+  screening.screening_pass = !params.full_filter_search;
+  CodedMacroblocks regular = code(screening, InterpolationFilter::kRegular);
+  const InterpolationFilter chosen = screened_filter(regular);
+  if (chosen == InterpolationFilter::kRegular && params.full_filter_search)
+    return finish_frame(regular, params, reconstruction, stats);
+  CodedMacroblocks best = code(params, chosen);
+  if (params.full_filter_search) {
+    const double lambda = rd_lambda(std::clamp(params.qindex, kMinQIndex, kMaxQIndex), params.lambda_factor);
+    auto cost = [&](const CodedMacroblocks& coded) {
+      return static_cast<double>(frame_error(coded.state, coded.padded)) +
+             lambda * 8.0 * static_cast<double>(coded.bytes->size());
+    };
+    if (cost(regular) <= cost(best)) best = std::move(regular);
   }
   return finish_frame(best, params, reconstruction, stats);
 }

@@ -82,6 +82,14 @@ struct BFrameParams {
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
   int inter_evaluations = 2;
+  // Encoder: the pass that only screens the interpolation filter banks
+  // (switchable_filter): skip and the inter options, one full evaluation, no intra
+  // macroblocks, no partitions, no RDOQ. Its bytes are never kept.
+  bool screening_pass = false;
+  // With switchable_filter: the regular bank's frame coded in full and, where another
+  // bank screens clearly better, coded again with it, the cheaper kept. Off: the banks
+  // are screened on a screening pass and the frame coded once.
+  bool full_filter_search = true;
   // Offers the smooth and bilinear interpolation filter banks besides the regular one:
   // the frame is coded with the regular bank, and again with the bank whose predictions
   // of the same motion come clearly closer to the source, keeping the one of least
@@ -113,6 +121,13 @@ struct BFrameParams {
   // Intra 8x8 luma blocks may be split into 4x4, 8x4 or 4x8 blocks (with
   // intra_transform_sizes); off, the encoder never tries it.
   bool intra_small_blocks = true;
+  // Intra macroblocks: the partitions searched in full (CodingParams::rectangular_trials
+  // and small_trials).
+  int intra_rectangular_trials = 4;
+  int intra_small_trials = 3;
+  // With RDOQ: an intra winner's search with RDOQ keeps the partition it won with
+  // (its blocks' modes, types and levels searched again); off, searches every partition.
+  bool keep_intra_partition = false;
   // Chroma blocks may use CfL (codec/cfl.h; the CfL flags are still coded).
   bool intra_cfl = true;
   // Intra blocks with levels code their transform type (docs/codec.md 3.5; header byte 3

@@ -34,6 +34,8 @@ CodingParams intra_tools(const BFrameParams& params) {
   tools.rdoq = params.rdoq;
   tools.coarse_mode_search = true;
   tools.small_blocks = params.intra_small_blocks;
+  tools.rectangular_trials = params.intra_rectangular_trials;
+  tools.small_trials = params.intra_small_trials;
   return tools;
 }
 
@@ -45,12 +47,14 @@ BFrameMacroblockCoder::BFrameMacroblockCoder(FrameState& state, const PaddedSour
       search_(search),
       refine_(params.sub_pel_refinement),
       quarter_pel_(params.quarter_pel),
-      full_evaluations_(std::max(1, params.inter_evaluations)),
+      full_evaluations_(params.screening_pass ? 1 : std::max(1, params.inter_evaluations)),
       max_candidates_(std::clamp(params.max_candidates, 1, kMaxCandidates)),
-      rdoq_(params.rdoq),
-      partitions_(params.partitions),
+      rdoq_(params.rdoq && !params.screening_pass),
+      partitions_(params.partitions && !params.screening_pass),
+      intra_(!params.screening_pass),
       full_split_search_(params.full_inter_split_search),
-      vector_predictors_(params.vector_predictors) {
+      vector_predictors_(params.vector_predictors),
+      keep_intra_partition_(params.keep_intra_partition) {
   lambda_ = rd_lambda(s_.inter_quantizer.qindex, std::max(0.0, params.lambda_factor));
   lambda_sad_ = std::sqrt(lambda_);
   CodingParams tools = intra_tools(params);
@@ -167,7 +171,7 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
     consider(screened[k].mode, screened[k].warp);
   // Where skipping wins over the inter options, intra rarely wins (docs/bench.md,
   // "Figures behind code constants"): not tried.
-  if (winner.mode != MacroblockMode::kSkipped) consider(MacroblockMode::kIntra, false);
+  if (intra_ && winner.mode != MacroblockMode::kSkipped) consider(MacroblockMode::kIntra, false);
   // Split partitions are tried only where one translation may not serve the whole
   // macroblock: the depth-derived motion varies across it, or intra won.
   if (partitions_ && (winner.mode == MacroblockMode::kIntra || motion_varies(hints[0]) ||
@@ -387,8 +391,11 @@ void BFrameMacroblockCoder::evaluate_intra(MacroblockChoice* out, double budget)
   // The winner is searched again with RDOQ in every trial, as intra frames search.
   intra::MacroblockEncoder& search = quantize_rd_ ? *intra_rd_search_ : *intra_search_;
   double cost = lambda_ * mode_bits(s_, mx_, my_, MacroblockMode::kIntra);
+  // The RDOQ pass keeps the winner's partition where the speed says so.
+  const intra::LumaPartition partition = choice.luma.partition;
   cost += search.choose_luma(c.intra_luma, s_.intra_planes[0], source[0], recon[0], s_.strides[0], mx_, my_,
-                             &choice.luma, static_cast<float>(budget - cost));
+                             &choice.luma, static_cast<float>(budget - cost),
+                             quantize_rd_ && keep_intra_partition_ ? &partition : nullptr);
   if (cost >= budget) {
     out->cost = std::numeric_limits<double>::infinity();
     return;

@@ -30,6 +30,13 @@ struct CodingParams {
   // Encoder restriction: when false, 8x8 luma blocks are never split into 4x4, 8x4 or
   // 4x8 blocks (the split flags are still coded).
   bool small_blocks = true;
+  // Encoder choice, with transform sizes: how many of the four 16x16 halves and strips
+  // partitions the rate-distortion search codes (the cheapest by an open-loop SATD
+  // estimate; the 8x8 split and the 16x16 block always), and how many of the 4x4, 8x4
+  // and 4x8 partitions each coded 8x8 block tries (likewise). 4 and 3: every one
+  // (docs/encoder.md 2.2).
+  int rectangular_trials = 4;
+  int small_trials = 3;
   // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
   // the squared error against the source (the flag costs nothing else).
   bool deblocking = true;

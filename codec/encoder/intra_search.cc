@@ -56,6 +56,7 @@ int block_satd(const uint8_t* source, int stride, const uint8_t* prediction, Tra
   const dsp::EncoderDspTable& dsp = dsp::get_encoder_dsp();
   if (size == TransformSize::k4x4) return dsp.satd_4x4(source, stride, prediction);
   if (size == TransformSize::k8x8) return dsp.satd_8x8(source, stride, prediction);
+  if (size == TransformSize::k16x16) return dsp.satd_16x16(source, stride, prediction);
   const int w = transform_width(size), h = transform_height(size), t = std::min({w, h, 8});
   const auto satd = t == 8 ? dsp.satd_8x8 : dsp.satd_4x4;
   int sum = 0;
@@ -157,8 +158,38 @@ class BlockSearch {
   std::array<int, kSearchedModes> preselect(const uint8_t* source, int stride, const uint8_t* edge,
                                             TransformSize size, const IntraModeContexts& contexts,
                                             const ModeCandidates& candidates, const ModeSet* ranked) const {
-    const IntraPredictor predict = intra_predictor(size);
     std::array<std::pair<int, int>, kIntraModes> costs;
+    const int count = score_modes(source, stride, edge, size, contexts, candidates, ranked, costs);
+    // 4x4 blocks are many and each matters little: the best by SATD alone (a second
+    // mode gains little for much time: docs/bench.md, "Figures behind code constants").
+    const int kept = rd_search_ && size != TransformSize::k4x4 ? std::min(kSearchedModes, count) : 1;
+    std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + count);
+    std::array<int, kSearchedModes> searched;
+    searched.fill(-1);
+    for (int i = 0; i < kept; ++i) searched[static_cast<size_t>(i)] = costs[static_cast<size_t>(i)].second;
+    return searched;
+  }
+
+ public:
+  // The first stage alone: the least SATD + rate of the block's modes (`ranked`, else
+  // every allowed one) and that mode.
+  std::pair<int, int> estimate(const uint8_t* source, int stride, const uint8_t* edge, TransformSize size,
+                               const IntraModeContexts& contexts, const ModeCandidates& candidates,
+                               const ModeSet* ranked) const {
+    std::array<std::pair<int, int>, kIntraModes> costs;
+    const int count = score_modes(source, stride, edge, size, contexts, candidates, ranked, costs);
+    return *std::min_element(costs.begin(), costs.begin() + count);
+  }
+  // SATD units per bit.
+  int satd_lambda() const { return satd_lambda_; }
+
+ private:
+  // Scores the modes of `ranked` (else every allowed one, coarse to fine where set) by
+  // SATD + satd_lambda_ * mode bits into costs[0..count); returns count.
+  int score_modes(const uint8_t* source, int stride, const uint8_t* edge, TransformSize size,
+                  const IntraModeContexts& contexts, const ModeCandidates& candidates, const ModeSet* ranked,
+                  std::array<std::pair<int, int>, kIntraModes>& costs) const {
+    const IntraPredictor predict = intra_predictor(size);
     uint8_t prediction[kMaxTransformArea];
     int count = 0;
     auto score = [&](int mode) {
@@ -175,14 +206,7 @@ class BlockSearch {
     } else {
       for (int mode = 0; mode < modes_; ++mode) score(mode);
     }
-    // 4x4 blocks are many and each matters little: the best by SATD alone (a second
-    // mode gains little for much time: docs/bench.md, "Figures behind code constants").
-    const int kept = rd_search_ && size != TransformSize::k4x4 ? std::min(kSearchedModes, count) : 1;
-    std::partial_sort(costs.begin(), costs.begin() + kept, costs.begin() + count);
-    std::array<int, kSearchedModes> searched;
-    searched.fill(-1);
-    for (int i = 0; i < kept; ++i) searched[static_cast<size_t>(i)] = costs[static_cast<size_t>(i)].second;
-    return searched;
+    return count;
   }
 
   // Scores planar, DC, the most probable modes and every fourth angular mode, then the
@@ -342,6 +366,21 @@ class PlaneSearch {
 
   float split_bit_cost(const AdaptiveBit& bit, int value) const { return search_.lambda() * bit_cost(bit, value); }
 
+  // The first stage's cost of the block of `size` at (x0, y0) and its best mode, open
+  // loop: predicted from the source around it, since the blocks before it in the
+  // macroblock are not reconstructed yet.
+  std::pair<int, int> estimate_block(const PlaneState& state, int x0, int y0, TransformSize size,
+                                     const ModeSet* ranked) const {
+    uint8_t edge[dsp::kMaxIntraEdgeSamples];
+    build_intra_edge(source_, stride_, x0, y0, size, state.availability(x0, y0, size), edge);
+    return search_.estimate(source_ + static_cast<size_t>(y0) * stride_ + x0, stride_, edge, size, contexts_.modes,
+                            state.candidates(x0, y0), ranked);
+  }
+  // The first stage's cost of coding `value` with `bit`.
+  int estimate_bit_cost(const AdaptiveBit& bit, int value) const {
+    return static_cast<int>(search_.satd_lambda() * bit_cost(bit, value) + 0.5f);
+  }
+
   void save(int x0, int y0, int size, uint8_t* out) const {
     for (int y = 0; y < size; ++y) std::copy_n(recon_ + (y0 + y) * stride_ + x0, size, out + size * y);
   }
@@ -367,20 +406,33 @@ class PlaneSearch {
 // (try_partition), the cheapest kept.
 class MacroblockSearch {
  public:
-  MacroblockSearch(bool transform_sizes, bool small_blocks)
-      : sizes_(transform_sizes), small_blocks_(small_blocks) {}
+  MacroblockSearch(bool transform_sizes, bool small_blocks, int rectangular_trials, int small_trials)
+      : sizes_(transform_sizes),
+        small_blocks_(small_blocks),
+        rectangular_trials_(rectangular_trials),
+        small_trials_(small_trials) {}
 
   // Chooses the blocks of macroblock (mbx, mby) of `plane`; returns their cost.
-  float choose(const PlaneSearch& plane, PlaneState& state, int mbx, int mby, MacroblockChoice* out, float budget) {
+  // `partition`: search that partition alone (its blocks' modes, types and levels).
+  float choose(const PlaneSearch& plane, PlaneState& state, int mbx, int mby, MacroblockChoice* out, float budget,
+               const LumaPartition* partition) {
     plane_ = &plane;
     const int x0 = 16 * mbx, y0 = 16 * mby;
     const PlaneContexts& contexts = plane_->contexts();
     const int split_context = state.split_context(x0, y0, 16);
     state.clear(x0, y0, TransformSize::k16x16);
+    const std::array<bool, kPartitionTrials> searched =
+        partition != nullptr ? only(*partition, *out) : rank_partitions(state, x0, y0, split_context);
     split_.partition = kSplit16x16;
     float split_cost = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 1);
     bool over_budget = false;
-    for (int i = 0; i < 4 && !over_budget; ++i) {
+    if (!searched[kSplitTrial]) {
+      // The 16x16 partitions rank the modes the first stage found for the 8x8 blocks.
+      for (int i = 0; i < 4; ++i)
+        split_.blocks[static_cast<size_t>(i)].mode = estimated_mode_[static_cast<size_t>(i)];
+      split_cost = std::numeric_limits<float>::infinity();
+    }
+    for (int i = 0; i < 4 && !over_budget && searched[kSplitTrial]; ++i) {
       split_cost += choose_8x8(state, x0, y0, i);
       if (i < 3 && split_cost >= budget) {
         // The split cannot beat the budget: its other 8x8 blocks are not searched (DC
@@ -407,19 +459,26 @@ class MacroblockSearch {
     BlockChoice& whole = out->blocks[0];
     const float unsplit_bits = plane_->split_bit_cost(contexts.split_16x16[static_cast<size_t>(split_context)], 0);
     const auto& halves_bit = contexts.halves_16x16[static_cast<size_t>(split_context)];
-    float whole_cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 0) +
-                       plane_->code_block(state, x0, y0, TransformSize::k16x16, &ranked, false, &whole);
+    float whole_cost = std::numeric_limits<float>::infinity();
     out->partition = 0;
-    // Past the budget, the halves and strips are not tried either.
+    // Past the budget only the 16x16 block may still come in under it.
+    if (searched[kWholeTrial] || over_budget) {
+      whole_cost = unsplit_bits + plane_->split_bit_cost(halves_bit, 0) +
+                   plane_->code_block(state, x0, y0, TransformSize::k16x16, &ranked, false, &whole);
+    }
     for (const bool vertical : {false, true}) {
       if (over_budget) break;
       const auto halves = static_cast<LumaPartition>(kHalves16x16 | (vertical ? kVerticalHalves : 0));
       const auto& strips_bit = contexts.strips[vertical ? 1 : 0];
       const float bits = unsplit_bits + plane_->split_bit_cost(halves_bit, 1) +
                          plane_->split_bit_cost(contexts.vertical_halves, vertical ? 1 : 0);
-      try_partition(state, x0, y0, halves, bits + plane_->split_bit_cost(strips_bit, 0), &whole_cost, out);
-      try_partition(state, x0, y0, static_cast<LumaPartition>(halves | kStrips),
-                    bits + plane_->split_bit_cost(strips_bit, 1), &whole_cost, out);
+      if (searched[trial_of(halves)]) {
+        try_partition(state, x0, y0, halves, bits + plane_->split_bit_cost(strips_bit, 0), &whole_cost, out);
+      }
+      const auto strips = static_cast<LumaPartition>(halves | kStrips);
+      if (searched[trial_of(strips)]) {
+        try_partition(state, x0, y0, strips, bits + plane_->split_bit_cost(strips_bit, 1), &whole_cost, out);
+      }
     }
     if (whole_cost < split_cost) return whole_cost;
     plane_->restore(x0, y0, 16, saved);
@@ -429,6 +488,136 @@ class MacroblockSearch {
   }
 
  private:
+  // The partitions of a luma macroblock the first stage estimates.
+  enum PartitionTrial {
+    kSplitTrial,
+    kWholeTrial,
+    kHalvesTrial,
+    kStripsTrial,
+    kVerticalHalvesTrial,
+    kVerticalStripsTrial,
+    kPartitionTrials
+  };
+  static PartitionTrial trial_of(LumaPartition partition) {
+    if (partition & kSplit16x16) return kSplitTrial;
+    if (!(partition & kHalves16x16)) return kWholeTrial;
+    const bool vertical = (partition & kVerticalHalves) != 0, strips = (partition & kStrips) != 0;
+    return strips ? (vertical ? kVerticalStripsTrial : kStripsTrial)
+                  : (vertical ? kVerticalHalvesTrial : kHalvesTrial);
+  }
+
+  // The first stage, where the search is narrowed (rectangular_trials_ < 4 or
+  // small_trials_ < 3, with transform sizes): every partition's cost estimated open loop
+  // (estimate_partitions). The 8x8 split and the 16x16 block are always searched in full,
+  // of the halves and strips the rectangular_trials_ cheapest, and each coded 8x8 block
+  // of the split tries its small_trials_ cheapest smaller partitions (small_trials_mask_).
+  std::array<bool, kPartitionTrials> rank_partitions(const PlaneState& state, int x0, int y0, int split_context) {
+    std::array<bool, kPartitionTrials> searched;
+    searched.fill(true);
+    small_trials_mask_.fill(7);
+    if (!sizes_ || (rectangular_trials_ >= 4 && small_trials_ >= 3)) return searched;
+    const std::array<int, kPartitionTrials> cost = estimate_partitions(state, x0, y0, split_context);
+    std::array<int, 4> order = {kHalvesTrial, kStripsTrial, kVerticalHalvesTrial, kVerticalStripsTrial};
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cost[a] < cost[b]; });
+    for (int k = std::max(0, rectangular_trials_); k < 4; ++k) searched[static_cast<size_t>(order[k])] = false;
+    for (int i = 0; i < 4; ++i) {
+      const auto& small = small_cost_[static_cast<size_t>(i)];
+      std::array<int, 3> ranked = {0, 1, 2};
+      std::stable_sort(ranked.begin(), ranked.end(), [&](int a, int b) { return small[a] < small[b]; });
+      int mask = 0;
+      for (int k = 0; k < std::min(std::max(0, small_trials_), 3); ++k) mask |= 1 << ranked[k];
+      small_trials_mask_[static_cast<size_t>(i)] = mask;
+    }
+    return searched;
+  }
+
+  // Every partition's first-stage cost; sets estimated_mode_ and small_cost_.
+  std::array<int, kPartitionTrials> estimate_partitions(const PlaneState& state, int x0, int y0,
+                                                        int split_context) {
+    const PlaneContexts& c = plane_->contexts();
+    const auto context16 = static_cast<size_t>(split_context);
+    const auto context8 = static_cast<size_t>(state.split_context(x0, y0, 8));
+    std::array<int, kPartitionTrials> cost{};
+    cost[kSplitTrial] = plane_->estimate_bit_cost(c.split_16x16[context16], 1);
+    for (int i = 0; i < 4; ++i) {
+      const int bx = x0 + 8 * (i & 1), by = y0 + 8 * (i >> 1);
+      const auto [whole, mode] = plane_->estimate_block(state, bx, by, TransformSize::k8x8, nullptr);
+      estimated_mode_[static_cast<size_t>(i)] = mode;
+      const int unsplit = plane_->estimate_bit_cost(c.split_8x8[context8], 0);
+      int best = whole + unsplit + plane_->estimate_bit_cost(c.halves_8x8[context8], 0);
+      small_cost_[static_cast<size_t>(i)].fill(std::numeric_limits<int>::max());
+      if (small_blocks_) {
+        ModeSet ranked;
+        ranked.add(mode);
+        ranked.add(kPlanarMode);
+        ranked.add(kDcMode);
+        const int halves = unsplit + plane_->estimate_bit_cost(c.halves_8x8[context8], 1);
+        const std::pair<LumaPartition, int> trials[] = {
+            {split_8x8_bit(i), plane_->estimate_bit_cost(c.split_8x8[context8], 1)},
+            {halves_8x8_bit(i), halves + plane_->estimate_bit_cost(c.vertical_8x8, 0)},
+            {static_cast<LumaPartition>(halves_8x8_bit(i) | vertical_8x8_bit(i)),
+             halves + plane_->estimate_bit_cost(c.vertical_8x8, 1)}};
+        for (int t = 0; t < 3; ++t) {
+          int trial = trials[t].second;
+          for_each_quarter_block(static_cast<LumaPartition>(kSplit16x16 | trials[t].first), i,
+                                 [&](int x, int y, TransformSize size) {
+                                   trial += plane_->estimate_block(state, x0 + x, y0 + y, size, &ranked).first;
+                                 });
+          small_cost_[static_cast<size_t>(i)][static_cast<size_t>(t)] = trial;
+          best = std::min(best, trial);
+        }
+      }
+      cost[kSplitTrial] += best;
+    }
+    const int unsplit = plane_->estimate_bit_cost(c.split_16x16[context16], 0);
+    const auto& halves_bit = c.halves_16x16[context16];
+    for (const LumaPartition partition :
+         {LumaPartition{0}, kHalves16x16, static_cast<LumaPartition>(kHalves16x16 | kStrips),
+          static_cast<LumaPartition>(kHalves16x16 | kVerticalHalves),
+          static_cast<LumaPartition>(kHalves16x16 | kVerticalHalves | kStrips)}) {
+      int trial = unsplit + plane_->estimate_bit_cost(halves_bit, partition != 0);
+      if (partition != 0) {
+        const bool vertical = (partition & kVerticalHalves) != 0;
+        trial += plane_->estimate_bit_cost(c.vertical_halves, vertical) +
+                 plane_->estimate_bit_cost(c.strips[vertical ? 1 : 0], (partition & kStrips) != 0);
+      }
+      for_each_luma_block(partition, [&](int x, int y, TransformSize size) {
+        ModeSet ranked;
+        for (int b = 0; b < 4; ++b) {
+          if (blocks_overlap(x, y, size, 8 * (b & 1), 8 * (b >> 1), TransformSize::k8x8))
+            ranked.add(estimated_mode_[static_cast<size_t>(b)]);
+        }
+        ranked.add(kPlanarMode);
+        ranked.add(kDcMode);
+        trial += plane_->estimate_block(state, x0 + x, y0 + y, size, &ranked).first;
+      });
+      cost[trial_of(partition)] = trial;
+    }
+    return cost;
+  }
+
+  // The second stage of `partition` alone, each 8x8 block of a split tried in its own
+  // smaller partition only; the 16x16 blocks rank the modes of `previous`, the choice
+  // being searched again.
+  std::array<bool, kPartitionTrials> only(LumaPartition partition, const MacroblockChoice& previous) {
+    std::array<bool, kPartitionTrials> searched{};
+    for (int i = 0; i < 4; ++i) {
+      const int bx = 8 * (i & 1), by = 8 * (i >> 1);
+      for_each_luma_block(previous.partition, [&, n = 0](int x, int y, TransformSize size) mutable {
+        const int mode = previous.blocks[static_cast<size_t>(n++)].mode;
+        if (blocks_overlap(x, y, size, bx, by, TransformSize::k8x8)) estimated_mode_[static_cast<size_t>(i)] = mode;
+      });
+    }
+    searched[trial_of(partition)] = true;
+    for (int i = 0; i < 4; ++i) {
+      const bool halves = (partition & halves_8x8_bit(i)) != 0;
+      small_trials_mask_[static_cast<size_t>(i)] = (partition & split_8x8_bit(i)) ? 1
+                                                   : halves ? ((partition & vertical_8x8_bit(i)) ? 4 : 2)
+                                                            : 0;
+    }
+    return searched;
+  }
+
   // 8x8 block i (Z order) of the split macroblock, or its four 4x4 blocks; fills
   // split_.blocks from index 0 on and returns the cost.
   float choose_8x8(PlaneState& state, int mb_x0, int mb_y0, int i) {
@@ -452,7 +641,9 @@ class MacroblockSearch {
         {halves_8x8_bit(i), halves_bits + plane_->split_bit_cost(contexts.vertical_8x8, 0)},
         {static_cast<LumaPartition>(halves_8x8_bit(i) | vertical_8x8_bit(i)),
          halves_bits + plane_->split_bit_cost(contexts.vertical_8x8, 1)}};
-    for (const auto& [bits, flags_cost] : trials) {
+    for (int t = 0; t < 3; ++t) {
+      const auto& [bits, flags_cost] = trials[t];
+      if (!((small_trials_mask_[static_cast<size_t>(i)] >> t) & 1)) continue;
       state.clear(x0, y0, TransformSize::k8x8);
       float cost = flags_cost;
       int n = 0;
@@ -551,7 +742,12 @@ class MacroblockSearch {
 
   const PlaneSearch* plane_ = nullptr;
   bool sizes_;
-  bool small_blocks_;  // 8x8 blocks also tried as 4x4, 8x4 and 4x8 ones
+  bool small_blocks_;                                 // 8x8 blocks also tried as 4x4, 8x4 and 4x8 ones
+  int rectangular_trials_;                            // halves and strips searched in full (of 4)
+  int small_trials_;                                  // smaller partitions of an 8x8 block searched in full (of 3)
+  std::array<int, 4> estimated_mode_{};               // the first stage's mode of each 8x8 block
+  std::array<std::array<int, 3>, 4> small_cost_{};    // and of its 4x4, 8x4 and 4x8 partitions
+  std::array<int, 4> small_trials_mask_{7, 7, 7, 7};  // the smaller partitions each 8x8 tries
   MacroblockChoice split_;
   std::array<BlockChoice, 4> trial_;  // the blocks of the partition being tried
   std::array<BlockChoice, 4> kept_;   // the best blocks of the 8x8 block being chosen
@@ -571,7 +767,7 @@ struct MacroblockEncoder::Impl {
   Impl(const CodingParams& params, int qindex, float lambda)
       : quantizers(encoder_quantizers(qindex, params.residual_matrix)),
         search(quantizers, params, lambda),
-        macroblocks(params.transform_sizes, params.small_blocks),
+        macroblocks(params.transform_sizes, params.small_blocks, params.rectangular_trials, params.small_trials),
         cfl(params.cfl) {}
 
   SizedQuantizers quantizers;
@@ -588,9 +784,9 @@ MacroblockEncoder::~MacroblockEncoder() = default;
 
 float MacroblockEncoder::choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source,
                                      uint8_t* recon, int stride, int mbx, int mby, MacroblockChoice* out,
-                                     float budget) {
+                                     float budget, const LumaPartition* partition) {
   const PlaneSearch plane(impl_->search, impl_->quantizers, contexts, source, recon, stride);
-  return impl_->macroblocks.choose(plane, state, mbx, mby, out, budget);
+  return impl_->macroblocks.choose(plane, state, mbx, mby, out, budget, partition);
 }
 
 float MacroblockEncoder::choose_chroma(const PlaneContexts& contexts, PlaneState& cb_state, PlaneState& cr_state,

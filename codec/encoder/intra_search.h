@@ -42,9 +42,12 @@ class MacroblockEncoder {
   // four 8x8 blocks' running cost reaches it, the rest of them, the halves and the strips
   // are not searched: only the 16x16 block may still come in under it (mode ranking as
   // with the whole split, DC for the blocks not searched). Infinite: the full search.
+  // `partition` (optional): search only that partition, its blocks' modes, transform
+  // types and levels chosen again (a B-face's intra winner quantized by RDOQ).
   float choose_luma(const PlaneContexts& contexts, PlaneState& state, const uint8_t* source, uint8_t* recon,
                     int stride, int mbx, int mby, MacroblockChoice* out,
-                    float budget = std::numeric_limits<float>::infinity());
+                    float budget = std::numeric_limits<float>::infinity(),
+                    const LumaPartition* partition = nullptr);
   // The Cb and the Cr block at (x0, y0) of the chroma planes (`cb_*`, `cr_*`, each with
   // its own neighbour state; same stride). A Cb block's mode is chosen with its Cr
   // block's cost under it: the best regular mode with Cr in that mode, against CfL (when

@@ -107,6 +107,24 @@ struct CodingTools {
   // that quantizes to nothing as a whole rarely pays for four (docs/encoder.md 4).
   // Encoder only.
   bool full_inter_split_search = true;
+  // I-faces and B-face intra macroblocks: every 16x16 halves and strips partition and
+  // every 4x4, 8x4 and 4x8 partition of a coded 8x8 block searched by rate-distortion
+  // cost. Off: a first stage ranks them by an open-loop SATD estimate and only the
+  // cheapest halves or strips partition and the cheapest smaller partition of each 8x8
+  // block are searched (the 8x8 split and the 16x16 block always; docs/encoder.md 2.2).
+  // Encoder only.
+  bool full_intra_partition_search = true;
+  // B-faces: an intra macroblock chosen with plain quantization is searched again with
+  // RDOQ in every partition. Off: in the partition it was chosen in, its blocks' modes,
+  // transform types and levels searched again (docs/encoder.md 5). Encoder only.
+  bool rdoq_intra_partition_search = true;
+  // B-faces, with switchable-filter: the frame is coded in full with the regular bank
+  // and, where the screening of its motion through the other banks finds one clearly
+  // closer, coded in full again with that bank, the cheaper kept. Off: a first pass
+  // without intra macroblocks, partitions or RDOQ gives the motion the banks are
+  // screened by, and the frame is coded in full once, with the bank screened best
+  // (docs/encoder.md 5). Encoder only.
+  bool full_filter_search = true;
 
   bool operator==(const CodingTools&) const = default;
 };

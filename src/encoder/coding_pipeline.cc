@@ -78,6 +78,7 @@ class Pipeline {
     intra_params_.cdef = b_params_.cdef = job.tools.cdef;
     intra_params_.full_cdef_search = b_params_.full_cdef_search = job.tools.full_cdef_search;
     b_params_.switchable_filter = job.tools.switchable_filter;
+    b_params_.full_filter_search = job.tools.full_filter_search;
     b_params_.partitions = job.tools.partitions;
     b_params_.vector_predictors = job.tools.vector_predictors;
     b_params_.epipolar_lines = job.tools.epipolar_lines;
@@ -89,6 +90,11 @@ class Pipeline {
     b_params_.intra_small_blocks = job.tools.b_intra_small_blocks;
     b_params_.intra_cfl = job.tools.cfl;
     b_params_.intra_transform_types = job.tools.transform_types;
+    // Narrowed: the first stage's cheapest halves or strips and smaller partition only.
+    const bool full = job.tools.full_intra_partition_search;
+    intra_params_.rectangular_trials = b_params_.intra_rectangular_trials = full ? 4 : 1;
+    intra_params_.small_trials = b_params_.intra_small_trials = full ? 3 : 1;
+    b_params_.keep_intra_partition = !job.tools.rdoq_intra_partition_search;
   }
 
   Status run() {

@@ -40,6 +40,9 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"b-intra-small-blocks", &CodingTools::b_intra_small_blocks},
     CodingToolEntry{"full-cdef-search", &CodingTools::full_cdef_search},
     CodingToolEntry{"full-inter-split-search", &CodingTools::full_inter_split_search},
+    CodingToolEntry{"full-intra-partition-search", &CodingTools::full_intra_partition_search},
+    CodingToolEntry{"rdoq-intra-partition-search", &CodingTools::rdoq_intra_partition_search},
+    CodingToolEntry{"full-filter-search", &CodingTools::full_filter_search},
 };
 
 }  // namespace
@@ -81,21 +84,22 @@ struct EncoderSpeedStep {
 };
 
 // The order of the cuts, cheapest in bytes per time saved first (docs/encoder.md 4 and
-// docs/bench.md): the intra searches' rate-distortion step over modes and transform
-// types, the B-faces' second pass with another filter bank and the I-faces' ranking of
-// all 35 modes first, then the B-faces' partitions, then rate-distortion optimized
-// quantization (levels as quantized), then the visibility layout's planning, which reads
-// every depth file before coding, with the references it chooses; last the B-faces'
-// intra blocks under 8x8, half the CDEF search and the inter 4x4 trials of blocks
-// without levels.
+// docs/bench.md, "Speed settings"): the B-faces' second full pass with another filter
+// bank (screened by a cheaper first pass instead), the I-faces' ranking of all 35 modes,
+// half the CDEF search and the inter 4x4 trials of blocks without levels; then the
+// intra searches' rate-distortion step over modes and transform types and the other
+// filter banks; then the visibility layout's planning (it reads every depth file before
+// coding) with the references it chooses, and the RDOQ pass of B-face intra macroblocks
+// in every partition; then rate-distortion optimized quantization and the B-faces'
+// intra blocks under 8x8; last the B-faces' inter partitions.
 const std::array<EncoderSpeedStep, kMaxEncoderSpeed + 1> kSpeedSteps = {{
     {{}, CubeLayout::kVisibility},
-    {{"intra-rd-search", "transform-types", "switchable-filter", "full-intra-mode-search"},
+    {{"full-filter-search", "full-intra-mode-search", "full-cdef-search", "full-inter-split-search"},
      CubeLayout::kVisibility},
-    {{"partitions"}, CubeLayout::kVisibility},
-    {{"rdoq"}, CubeLayout::kVisibility},
-    {{"visibility-references"}, CubeLayout::kRegular},
-    {{"b-intra-small-blocks", "full-cdef-search", "full-inter-split-search"}, CubeLayout::kRegular},
+    {{"intra-rd-search", "transform-types", "switchable-filter"}, CubeLayout::kVisibility},
+    {{"visibility-references", "rdoq-intra-partition-search"}, CubeLayout::kRegular},
+    {{"rdoq", "b-intra-small-blocks"}, CubeLayout::kRegular},
+    {{"partitions"}, CubeLayout::kRegular},
 }};
 
 }  // namespace

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: BSD-2-Clause
 // svc: encode, decode, check, inspect and verify spatial video databases.
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cstdio>
 #include <string>
@@ -22,6 +24,15 @@ namespace {
 using namespace svc;
 using namespace svc::cli;
 using namespace svc::command_line;
+
+// What each encoder speed costs against speed 0 on the quick corpus (the range over its
+// seven scenes; docs/bench.md, "Speed settings").
+constexpr std::array<const char*, kMaxEncoderSpeed + 1> kSpeedCosts = {"",
+                                                                       "+0.0 to +1.8 % bytes, 1.2-1.3x as fast",
+                                                                       "+3.0 to +5.2 % bytes, 1.9-2.9x as fast",
+                                                                       "+1.1 to +10.4 % bytes, 2.1-3.8x as fast",
+                                                                       "+5.3 to +12.8 % bytes, 2.5-5.2x as fast",
+                                                                       "+9.4 to +20.1 % bytes, 3.6-8.0x as fast"};
 
 // Encoder options given as text, checked after parsing.
 struct EncoderOptionText {
@@ -89,11 +100,19 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
                       comma_list(coding_tool_names()));
   std::string speeds;
   for (int speed = 1; speed <= kMaxEncoderSpeed; ++speed) {
-    speeds += "; " + std::to_string(speed) + ": without " + comma_list(speed_disabled_tools(speed));
-    if (speed_layout(speed) == CubeLayout::kRegular) speeds += ", regular layout";
+    const std::vector<std::string> before = speed_disabled_tools(speed - 1);
+    std::vector<std::string> added;
+    for (const std::string& name : speed_disabled_tools(speed)) {
+      if (std::find(before.begin(), before.end(), name) == before.end()) added.push_back(name);
+    }
+    speeds += "; " + std::to_string(speed) + " (" + kSpeedCosts[static_cast<size_t>(speed)] +
+              "): " + (speed > 1 ? "also " : "") + "without " + comma_list(added);
+    if (speed_layout(speed) != speed_layout(speed - 1)) speeds += ", regular layout";
   }
   cmd->add_option("--speed", text->speed,
-                  "Encoder speed: 0 every coding tool (smallest files)" + speeds + " (docs/encoder.md 4)")
+                  "Encoder speed: 0 every coding tool (smallest files)" + speeds +
+                      " (BD-rate of PSNR-Y against 0 and processor time, on the quick corpus; docs/bench.md, "
+                      "\"Speed settings\")")
       ->check(integer_in(0, kMaxEncoderSpeed))
       ->capture_default_str();
 }

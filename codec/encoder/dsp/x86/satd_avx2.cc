@@ -49,8 +49,8 @@ int satd_16x16_avx2(const uint8_t* source, ptrdiff_t source_stride, const uint8_
     __m256i v[8];
     for (int y = 0; y < 8; ++y) {
       const int row = 8 * half + y;
-      const __m256i s = _mm256_cvtepu8_epi16(
-          _mm_loadu_si128(reinterpret_cast<const __m128i*>(source + row * source_stride)));
+      const __m256i s =
+          _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(source + row * source_stride)));
       const __m256i p =
           _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(prediction + 16 * row)));
       v[y] = _mm256_sub_epi16(s, p);
