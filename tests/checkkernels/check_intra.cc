@@ -36,32 +36,28 @@ std::string check_intra_predict(const Tables& reference, const Tables& variant, 
   return {};
 }
 
-std::string check_satd(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  Buffer source(8 * 40), prediction(64);
-  for (int n = 0; n < iterations; ++n) {
-    const int stride = random.uniform(8, 40), offset = random.uniform(0, 7);
-    uint8_t* s = source.at(offset);
-    random.fill_with_extremes(s, static_cast<size_t>(7 * stride + 8));
-    random.fill_with_extremes(prediction.at(0), 64);
-    const int expected = reference.satd_8x8(s, stride, prediction.at(0));
-    const int actual = variant.satd_8x8(s, stride, prediction.at(0));
-    if (expected != actual) {
-      return "stride " + std::to_string(stride) + ": reference " + std::to_string(expected) + ", variant " +
-             std::to_string(actual);
-    }
-  }
-  return {};
+// The N x N SATD of a table.
+template <int N>
+auto satd_of(const Tables& t) {
+  if constexpr (N == 4)
+    return t.satd_4x4;
+  else if constexpr (N == 8)
+    return t.satd_8x8;
+  else
+    return t.satd_16x16;
 }
 
-std::string check_satd_16x16(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  Buffer source(16 * 48), prediction(256);
+// Any source stride and alignment, random or extreme samples.
+template <int N>
+std::string check_satd(const Tables& reference, const Tables& variant, Random& random, int iterations) {
+  Buffer source(N * (N + 32) + 16), prediction(N * N);
   for (int n = 0; n < iterations; ++n) {
-    const int stride = random.uniform(16, 48), offset = random.uniform(0, 15);
+    const int stride = random.uniform(N, N + 32), offset = random.uniform(0, 15);
     uint8_t* s = source.at(offset);
-    random.fill_with_extremes(s, static_cast<size_t>(15 * stride + 16));
-    random.fill_with_extremes(prediction.at(0), 256);
-    const int expected = reference.satd_16x16(s, stride, prediction.at(0));
-    const int actual = variant.satd_16x16(s, stride, prediction.at(0));
+    random.fill_with_extremes(s, static_cast<size_t>((N - 1) * stride + N));
+    random.fill_with_extremes(prediction.at(0), N * N);
+    const int expected = satd_of<N>(reference)(s, stride, prediction.at(0));
+    const int actual = satd_of<N>(variant)(s, stride, prediction.at(0));
     if (expected != actual) {
       return "stride " + std::to_string(stride) + ": reference " + std::to_string(expected) + ", variant " +
              std::to_string(actual);
@@ -96,23 +92,6 @@ std::string check_intra_predict_n(const Tables& reference, const Tables& variant
       if (auto diff = first_difference(expected, actual, W * H, W); !diff.empty()) {
         return "mode " + std::to_string(mode) + ": " + diff;
       }
-    }
-  }
-  return {};
-}
-
-std::string check_satd_4x4(const Tables& reference, const Tables& variant, Random& random, int iterations) {
-  Buffer source(4 * 40), prediction(16);
-  for (int n = 0; n < iterations; ++n) {
-    const int stride = random.uniform(4, 40), offset = random.uniform(0, 7);
-    uint8_t* s = source.at(offset);
-    random.fill_with_extremes(s, static_cast<size_t>(3 * stride + 4));
-    random.fill_with_extremes(prediction.at(0), 16);
-    const int expected = reference.satd_4x4(s, stride, prediction.at(0));
-    const int actual = variant.satd_4x4(s, stride, prediction.at(0));
-    if (expected != actual) {
-      return "stride " + std::to_string(stride) + ": reference " + std::to_string(expected) + ", variant " +
-             std::to_string(actual);
     }
   }
   return {};
@@ -248,8 +227,8 @@ std::vector<Kernel> intra_kernels() {
   return {
       {"intra_predict_8x8", [](const Tables& t) { return entry_of(t.intra_predict[k8x8]); }, check_intra_predict,
        bench_intra_predict},
-      {"satd_8x8", [](const Tables& t) { return entry_of(t.satd_8x8); }, check_satd, bench_satd},
-      {"satd_16x16", [](const Tables& t) { return entry_of(t.satd_16x16); }, check_satd_16x16, bench_satd_16x16},
+      {"satd_8x8", [](const Tables& t) { return entry_of(t.satd_8x8); }, check_satd<8>, bench_satd},
+      {"satd_16x16", [](const Tables& t) { return entry_of(t.satd_16x16); }, check_satd<16>, bench_satd_16x16},
       {"intra_predict_4x4", [](const Tables& t) { return entry_of(predictor_of<4, 4>(t)); },
        check_intra_predict_n<4>, bench_intra_predict_n<4>},
       {"intra_predict_16x16", [](const Tables& t) { return entry_of(predictor_of<16, 16>(t)); },
@@ -266,7 +245,7 @@ std::vector<Kernel> intra_kernels() {
        check_intra_predict_n<8, 4>, bench_intra_predict_n<8, 4>},
       {"intra_predict_4x8", [](const Tables& t) { return entry_of(predictor_of<4, 8>(t)); },
        check_intra_predict_n<4, 8>, bench_intra_predict_n<4, 8>},
-      {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd_4x4, bench_satd_4x4},
+      {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd<4>, bench_satd_4x4},
       {"cfl_luma_ac_8x8", [](const Tables& t) { return entry_of(t.cfl_luma_ac_8x8); }, check_cfl_luma_ac,
        bench_cfl_luma_ac},
       {"cfl_predict_8x8", [](const Tables& t) { return entry_of(t.cfl_predict_8x8); }, check_cfl_predict,
