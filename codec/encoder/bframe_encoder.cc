@@ -361,7 +361,12 @@ std::vector<uint8_t> encode_b_frame(const ImageYCbCr420& source, const ImageYCbC
   // (inter options and skips only) and the screened bank's coding alone. Either way the
   // loop filters' search runs once, on the winner.
   BFrameParams screening = params;
-  screening.screening_pass = !params.full_filter_search;
+  if (!params.full_filter_search) {
+    screening.intra_macroblocks = false;
+    screening.partitions = false;
+    screening.rdoq = false;
+    screening.inter_evaluations = 1;
+  }
   CodedMacroblocks regular = code(screening, InterpolationFilter::kRegular);
   const InterpolationFilter chosen = screened_filter(regular);
   if (chosen == InterpolationFilter::kRegular && params.full_filter_search)

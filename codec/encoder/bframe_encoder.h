@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "codec/common/bframe.h"
+#include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/syntax_account.h"
 #include "svc/types.h"
 
@@ -82,10 +83,8 @@ struct BFrameParams {
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
   int inter_evaluations = 2;
-  // Encoder: the pass that only screens the interpolation filter banks
-  // (switchable_filter): skip and the inter options, one full evaluation, no intra
-  // macroblocks, no partitions, no RDOQ. Its bytes are never kept.
-  bool screening_pass = false;
+  // Intra macroblocks are tried (off in the pass that only screens the filter banks).
+  bool intra_macroblocks = true;
   // With switchable_filter: the regular bank's frame coded in full and, where another
   // bank screens clearly better, coded again with it, the cheaper kept. Off: the banks
   // are screened on a screening pass and the frame coded once.
@@ -123,8 +122,8 @@ struct BFrameParams {
   bool intra_small_blocks = true;
   // Intra macroblocks: the partitions searched in full (CodingParams::rectangular_trials
   // and small_trials).
-  int intra_rectangular_trials = 4;
-  int intra_small_trials = 3;
+  int intra_rectangular_trials = kRectangularPartitions;
+  int intra_small_trials = kSmallPartitions;
   // With RDOQ: an intra winner's search with RDOQ keeps the partition it won with
   // (its blocks' modes, types and levels searched again); off, searches every partition.
   bool keep_intra_partition = false;

@@ -295,7 +295,7 @@ class BFrameMacroblockCoder {
   // mode decision (made with plain quantization) is over.
   bool quantize_rd_ = false;
   const bool partitions_;
-  const bool intra_;              // intra macroblocks tried (not in a screening pass)
+  const bool intra_;              // intra macroblocks tried
   const bool full_split_search_;  // 4x4 trials also where the 8x8 transform keeps no level
   const bool vector_predictors_;
   const bool keep_intra_partition_;  // the RDOQ pass of an intra winner keeps its partition

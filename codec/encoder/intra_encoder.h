@@ -13,6 +13,12 @@
 
 namespace svc::codec {
 
+// The 16x16 halves and strips partitions of a luma macroblock (two each way), and the
+// 4x4, 8x4 and 4x8 partitions of an 8x8 block: what CodingParams::rectangular_trials and
+// small_trials count.
+inline constexpr int kRectangularPartitions = 4;
+inline constexpr int kSmallPartitions = 3;
+
 struct CodingParams {
   int qindex = 96;  // quantizer index, kMinQIndex..kMaxQIndex (codec/quant.h)
   // Encoder restriction: when false, every block uses the planar or DC mode only.
@@ -33,10 +39,10 @@ struct CodingParams {
   // Encoder choice, with transform sizes: how many of the four 16x16 halves and strips
   // partitions the rate-distortion search codes (the cheapest by an open-loop SATD
   // estimate; the 8x8 split and the 16x16 block always), and how many of the 4x4, 8x4
-  // and 4x8 partitions each coded 8x8 block tries (likewise). 4 and 3: every one
+  // and 4x8 partitions each coded 8x8 block tries (likewise). The defaults: every one
   // (docs/encoder.md 2.2).
-  int rectangular_trials = 4;
-  int small_trials = 3;
+  int rectangular_trials = kRectangularPartitions;
+  int small_trials = kSmallPartitions;
   // Offers the deblocking filter; the encoder switches it on for the frame where it lowers
   // the squared error against the source (the flag costs nothing else).
   bool deblocking = true;

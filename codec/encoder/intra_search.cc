@@ -86,6 +86,18 @@ class BlockSearch {
         lambda_(lambda) {}
 
   float lambda() const { return lambda_; }
+  // SATD units per bit.
+  int satd_lambda() const { return satd_lambda_; }
+
+  // The first stage alone: the least SATD + rate of the block's modes (`ranked`, else
+  // every allowed one) and that mode.
+  std::pair<int, int> estimate(const uint8_t* source, int stride, const uint8_t* edge, TransformSize size,
+                               const IntraModeContexts& contexts, const ModeCandidates& candidates,
+                               const ModeSet* ranked) const {
+    std::array<std::pair<int, int>, kIntraModes> costs;
+    const int count = score_modes(source, stride, edge, size, contexts, candidates, ranked, costs);
+    return *std::min_element(costs.begin(), costs.begin() + count);
+  }
 
   // Chooses the mode and levels of a block of `size` and returns its cost.
   // `candidates` null: the mode is fixed (a Cr block takes its Cb block's). `ranked`: the
@@ -170,20 +182,6 @@ class BlockSearch {
     return searched;
   }
 
- public:
-  // The first stage alone: the least SATD + rate of the block's modes (`ranked`, else
-  // every allowed one) and that mode.
-  std::pair<int, int> estimate(const uint8_t* source, int stride, const uint8_t* edge, TransformSize size,
-                               const IntraModeContexts& contexts, const ModeCandidates& candidates,
-                               const ModeSet* ranked) const {
-    std::array<std::pair<int, int>, kIntraModes> costs;
-    const int count = score_modes(source, stride, edge, size, contexts, candidates, ranked, costs);
-    return *std::min_element(costs.begin(), costs.begin() + count);
-  }
-  // SATD units per bit.
-  int satd_lambda() const { return satd_lambda_; }
-
- private:
   // Scores the modes of `ranked` (else every allowed one, coarse to fine where set) by
   // SATD + satd_lambda_ * mode bits into costs[0..count); returns count.
   int score_modes(const uint8_t* source, int stride, const uint8_t* edge, TransformSize size,
@@ -506,6 +504,19 @@ class MacroblockSearch {
                   : (vertical ? kVerticalHalvesTrial : kHalvesTrial);
   }
 
+  // The smaller partitions of 8x8 block i, in the order of small_trials_mask_'s bits
+  // (4x4, 8x4, 4x8), each with the cost of its flags at split context `context`, `price`
+  // giving one flag's cost in the caller's units.
+  template <class Price>
+  static auto small_partitions(const PlaneContexts& c, size_t context, int i, Price price) {
+    using Cost = decltype(price(c.split_8x8[context], 0));
+    const Cost halves = price(c.split_8x8[context], 0) + price(c.halves_8x8[context], 1);
+    return std::array<std::pair<LumaPartition, Cost>, kSmallPartitions>{
+        {{split_8x8_bit(i), price(c.split_8x8[context], 1)},
+         {halves_8x8_bit(i), halves + price(c.vertical_8x8, 0)},
+         {static_cast<LumaPartition>(halves_8x8_bit(i) | vertical_8x8_bit(i)), halves + price(c.vertical_8x8, 1)}}};
+  }
+
   // The first stage, where the search is narrowed (rectangular_trials_ < 4 or
   // small_trials_ < 3, with transform sizes): every partition's cost estimated open loop
   // (estimate_partitions). The 8x8 split and the 16x16 block are always searched in full,
@@ -515,17 +526,20 @@ class MacroblockSearch {
     std::array<bool, kPartitionTrials> searched;
     searched.fill(true);
     small_trials_mask_.fill(7);
-    if (!sizes_ || (rectangular_trials_ >= 4 && small_trials_ >= 3)) return searched;
+    if (!sizes_ || (rectangular_trials_ >= kRectangularPartitions && small_trials_ >= kSmallPartitions))
+      return searched;
     const std::array<int, kPartitionTrials> cost = estimate_partitions(state, x0, y0, split_context);
-    std::array<int, 4> order = {kHalvesTrial, kStripsTrial, kVerticalHalvesTrial, kVerticalStripsTrial};
+    std::array<int, kRectangularPartitions> order = {kHalvesTrial, kStripsTrial, kVerticalHalvesTrial,
+                                                     kVerticalStripsTrial};
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return cost[a] < cost[b]; });
-    for (int k = std::max(0, rectangular_trials_); k < 4; ++k) searched[static_cast<size_t>(order[k])] = false;
+    for (int k = std::max(0, rectangular_trials_); k < kRectangularPartitions; ++k)
+      searched[static_cast<size_t>(order[k])] = false;
     for (int i = 0; i < 4; ++i) {
       const auto& small = small_cost_[static_cast<size_t>(i)];
-      std::array<int, 3> ranked = {0, 1, 2};
+      std::array<int, kSmallPartitions> ranked = {0, 1, 2};
       std::stable_sort(ranked.begin(), ranked.end(), [&](int a, int b) { return small[a] < small[b]; });
       int mask = 0;
-      for (int k = 0; k < std::min(std::max(0, small_trials_), 3); ++k) mask |= 1 << ranked[k];
+      for (int k = 0; k < std::clamp(small_trials_, 0, kSmallPartitions); ++k) mask |= 1 << ranked[k];
       small_trials_mask_[static_cast<size_t>(i)] = mask;
     }
     return searched;
@@ -539,25 +553,25 @@ class MacroblockSearch {
     const auto context8 = static_cast<size_t>(state.split_context(x0, y0, 8));
     std::array<int, kPartitionTrials> cost{};
     cost[kSplitTrial] = plane_->estimate_bit_cost(c.split_16x16[context16], 1);
+    // Every 8x8 block takes the macroblock's split context: its neighbours inside the
+    // macroblock are not coded yet.
+    const int whole_flags =
+        plane_->estimate_bit_cost(c.split_8x8[context8], 0) + plane_->estimate_bit_cost(c.halves_8x8[context8], 0);
     for (int i = 0; i < 4; ++i) {
       const int bx = x0 + 8 * (i & 1), by = y0 + 8 * (i >> 1);
       const auto [whole, mode] = plane_->estimate_block(state, bx, by, TransformSize::k8x8, nullptr);
       estimated_mode_[static_cast<size_t>(i)] = mode;
-      const int unsplit = plane_->estimate_bit_cost(c.split_8x8[context8], 0);
-      int best = whole + unsplit + plane_->estimate_bit_cost(c.halves_8x8[context8], 0);
+      int best = whole + whole_flags;
       small_cost_[static_cast<size_t>(i)].fill(std::numeric_limits<int>::max());
       if (small_blocks_) {
         ModeSet ranked;
         ranked.add(mode);
         ranked.add(kPlanarMode);
         ranked.add(kDcMode);
-        const int halves = unsplit + plane_->estimate_bit_cost(c.halves_8x8[context8], 1);
-        const std::pair<LumaPartition, int> trials[] = {
-            {split_8x8_bit(i), plane_->estimate_bit_cost(c.split_8x8[context8], 1)},
-            {halves_8x8_bit(i), halves + plane_->estimate_bit_cost(c.vertical_8x8, 0)},
-            {static_cast<LumaPartition>(halves_8x8_bit(i) | vertical_8x8_bit(i)),
-             halves + plane_->estimate_bit_cost(c.vertical_8x8, 1)}};
-        for (int t = 0; t < 3; ++t) {
+        const auto trials = small_partitions(c, context8, i, [&](const AdaptiveBit& bit, int value) {
+          return plane_->estimate_bit_cost(bit, value);
+        });
+        for (int t = 0; t < kSmallPartitions; ++t) {
           int trial = trials[t].second;
           for_each_quarter_block(static_cast<LumaPartition>(kSplit16x16 | trials[t].first), i,
                                  [&](int x, int y, TransformSize size) {
@@ -625,7 +639,6 @@ class MacroblockSearch {
     const PlaneContexts& contexts = plane_->contexts();
     const auto context = static_cast<size_t>(state.split_context(x0, y0, 8));
     const float unsplit_bits = plane_->split_bit_cost(contexts.split_8x8[context], 0);
-    const float halves_bits = unsplit_bits + plane_->split_bit_cost(contexts.halves_8x8[context], 1);
     const int first = block_index(i);
     BlockChoice& whole = split_.blocks[static_cast<size_t>(first)];
     float best_cost = unsplit_bits + plane_->split_bit_cost(contexts.halves_8x8[context], 0) +
@@ -636,12 +649,10 @@ class MacroblockSearch {
     LumaPartition best = 0;
     uint8_t best_samples[64];
     plane_->save(x0, y0, 8, best_samples);
-    const std::pair<LumaPartition, float> trials[] = {
-        {split_8x8_bit(i), plane_->split_bit_cost(contexts.split_8x8[context], 1)},
-        {halves_8x8_bit(i), halves_bits + plane_->split_bit_cost(contexts.vertical_8x8, 0)},
-        {static_cast<LumaPartition>(halves_8x8_bit(i) | vertical_8x8_bit(i)),
-         halves_bits + plane_->split_bit_cost(contexts.vertical_8x8, 1)}};
-    for (int t = 0; t < 3; ++t) {
+    const auto trials = small_partitions(contexts, context, i, [&](const AdaptiveBit& bit, int value) {
+      return plane_->split_bit_cost(bit, value);
+    });
+    for (int t = 0; t < kSmallPartitions; ++t) {
       const auto& [bits, flags_cost] = trials[t];
       if (!((small_trials_mask_[static_cast<size_t>(i)] >> t) & 1)) continue;
       state.clear(x0, y0, TransformSize::k8x8);
@@ -742,12 +753,12 @@ class MacroblockSearch {
 
   const PlaneSearch* plane_ = nullptr;
   bool sizes_;
-  bool small_blocks_;                                 // 8x8 blocks also tried as 4x4, 8x4 and 4x8 ones
-  int rectangular_trials_;                            // halves and strips searched in full (of 4)
-  int small_trials_;                                  // smaller partitions of an 8x8 block searched in full (of 3)
-  std::array<int, 4> estimated_mode_{};               // the first stage's mode of each 8x8 block
-  std::array<std::array<int, 3>, 4> small_cost_{};    // and of its 4x4, 8x4 and 4x8 partitions
-  std::array<int, 4> small_trials_mask_{7, 7, 7, 7};  // the smaller partitions each 8x8 tries
+  bool small_blocks_;                    // 8x8 blocks also tried as 4x4, 8x4 and 4x8 ones
+  int rectangular_trials_;               // halves and strips searched in full (of 4)
+  int small_trials_;                     // smaller partitions of an 8x8 block searched in full (of 3)
+  std::array<int, 4> estimated_mode_{};  // the first stage's mode of each 8x8 block
+  std::array<std::array<int, kSmallPartitions>, 4> small_cost_{};  // and of its smaller partitions
+  std::array<int, 4> small_trials_mask_{7, 7, 7, 7};               // the smaller partitions each 8x8 tries
   MacroblockChoice split_;
   std::array<BlockChoice, 4> trial_;  // the blocks of the partition being tried
   std::array<BlockChoice, 4> kept_;   // the best blocks of the 8x8 block being chosen

@@ -92,8 +92,9 @@ class Pipeline {
     b_params_.intra_transform_types = job.tools.transform_types;
     // Narrowed: the first stage's cheapest halves or strips and smaller partition only.
     const bool full = job.tools.full_intra_partition_search;
-    intra_params_.rectangular_trials = b_params_.intra_rectangular_trials = full ? 4 : 1;
-    intra_params_.small_trials = b_params_.intra_small_trials = full ? 3 : 1;
+    intra_params_.rectangular_trials = b_params_.intra_rectangular_trials = full ? codec::kRectangularPartitions
+                                                                                 : 1;
+    intra_params_.small_trials = b_params_.intra_small_trials = full ? codec::kSmallPartitions : 1;
     b_params_.keep_intra_partition = !job.tools.rdoq_intra_partition_search;
   }
 

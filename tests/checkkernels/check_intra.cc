@@ -106,20 +106,6 @@ void bench_intra_predict_n(const Tables& table, int iterations) {
   bench_sink = out[0];
 }
 
-void bench_satd_4x4(const Tables& table, int iterations) {
-  uint8_t source[16], prediction[16];
-  for (int i = 0; i < 16; ++i) {
-    source[i] = static_cast<uint8_t>(i * 37);
-    prediction[i] = static_cast<uint8_t>(i * 11);
-  }
-  int sum = 0;
-  for (int n = 0; n < iterations; ++n) {
-    source[n & 15] ^= 1;
-    sum += table.satd_4x4(source, 4, prediction);
-  }
-  bench_sink = sum;
-}
-
 void bench_intra_predict(const Tables& table, int iterations) {
   uint8_t edge[codec::dsp::kIntraEdgeSamples], out[64];
   for (int i = 0; i < codec::dsp::kIntraEdgeSamples; ++i) edge[i] = static_cast<uint8_t>(i * 7);
@@ -127,30 +113,17 @@ void bench_intra_predict(const Tables& table, int iterations) {
   bench_sink = out[0];
 }
 
+template <int N>
 void bench_satd(const Tables& table, int iterations) {
-  uint8_t source[64], prediction[64];
-  for (int i = 0; i < 64; ++i) {
+  uint8_t source[N * N], prediction[N * N];
+  for (int i = 0; i < N * N; ++i) {
     source[i] = static_cast<uint8_t>(i * 37);
     prediction[i] = static_cast<uint8_t>(i * 11);
   }
   int sum = 0;
   for (int n = 0; n < iterations; ++n) {
-    source[n & 63] ^= 1;
-    sum += table.satd_8x8(source, 8, prediction);
-  }
-  bench_sink = sum;
-}
-
-void bench_satd_16x16(const Tables& table, int iterations) {
-  uint8_t source[256], prediction[256];
-  for (int i = 0; i < 256; ++i) {
-    source[i] = static_cast<uint8_t>(i * 37);
-    prediction[i] = static_cast<uint8_t>(i * 11);
-  }
-  int sum = 0;
-  for (int n = 0; n < iterations; ++n) {
-    source[n & 255] ^= 1;
-    sum += table.satd_16x16(source, 16, prediction);
+    source[n % (N * N)] ^= 1;
+    sum += satd_of<N>(table)(source, N, prediction);
   }
   bench_sink = sum;
 }
@@ -227,8 +200,8 @@ std::vector<Kernel> intra_kernels() {
   return {
       {"intra_predict_8x8", [](const Tables& t) { return entry_of(t.intra_predict[k8x8]); }, check_intra_predict,
        bench_intra_predict},
-      {"satd_8x8", [](const Tables& t) { return entry_of(t.satd_8x8); }, check_satd<8>, bench_satd},
-      {"satd_16x16", [](const Tables& t) { return entry_of(t.satd_16x16); }, check_satd<16>, bench_satd_16x16},
+      {"satd_8x8", [](const Tables& t) { return entry_of(satd_of<8>(t)); }, check_satd<8>, bench_satd<8>},
+      {"satd_16x16", [](const Tables& t) { return entry_of(satd_of<16>(t)); }, check_satd<16>, bench_satd<16>},
       {"intra_predict_4x4", [](const Tables& t) { return entry_of(predictor_of<4, 4>(t)); },
        check_intra_predict_n<4>, bench_intra_predict_n<4>},
       {"intra_predict_16x16", [](const Tables& t) { return entry_of(predictor_of<16, 16>(t)); },
@@ -245,7 +218,7 @@ std::vector<Kernel> intra_kernels() {
        check_intra_predict_n<8, 4>, bench_intra_predict_n<8, 4>},
       {"intra_predict_4x8", [](const Tables& t) { return entry_of(predictor_of<4, 8>(t)); },
        check_intra_predict_n<4, 8>, bench_intra_predict_n<4, 8>},
-      {"satd_4x4", [](const Tables& t) { return entry_of(t.satd_4x4); }, check_satd<4>, bench_satd_4x4},
+      {"satd_4x4", [](const Tables& t) { return entry_of(satd_of<4>(t)); }, check_satd<4>, bench_satd<4>},
       {"cfl_luma_ac_8x8", [](const Tables& t) { return entry_of(t.cfl_luma_ac_8x8); }, check_cfl_luma_ac,
        bench_cfl_luma_ac},
       {"cfl_predict_8x8", [](const Tables& t) { return entry_of(t.cfl_predict_8x8); }, check_cfl_predict,
