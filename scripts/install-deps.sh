@@ -5,6 +5,8 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
+  # The conformance suite records MD5s of decoded streams (tests/conformance).
+  nettle-dev
   libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev

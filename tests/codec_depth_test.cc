@@ -135,9 +135,13 @@ TEST(DepthCoding, DamagedPayloadsAreRefusedOrDecodeWhole) {
     EXPECT_EQ(status.code(), ErrorCode::kCorruptData) << size;
   }
   std::vector<uint8_t> bad = coded.payload;
-  bad[0] = 2;
-  EXPECT_NE(decode_depth(bad, kSize, kSize, {}, camera, codes.data()).message().find("version 2"),
-            std::string::npos);
+  bad[0] = 2;  // a later depth syntax: unsupported, not damaged
+  const Status newer = decode_depth(bad, kSize, kSize, {}, camera, codes.data());
+  EXPECT_EQ(newer.code(), ErrorCode::kUnsupported);
+  EXPECT_NE(newer.message().find(
+                "depth: byte 0: syntax version 2 is newer than this build knows (this build reads 1)"),
+            std::string::npos)
+      << newer.message();
   std::mt19937 random(9);
   for (int trial = 0; trial < 200; ++trial) {
     bad = coded.payload;

@@ -470,8 +470,14 @@ TEST(CodecFrame, RejectsBadHeadersAndSizes) {
   EXPECT_EQ(with(0, kIntraSyntaxVersion + 1).code(), ErrorCode::kUnsupported);                      // future syntax
   EXPECT_EQ(with(0, kIntraSyntaxVersion - 1).code(), ErrorCode::kUnsupported);  // older entropy coding
   EXPECT_EQ(with(0, 0).code(), ErrorCode::kUnsupported);  // before byte 0 held the version: type 0, version 8
-  EXPECT_TRUE(with(kQIndexByte, 0).ok());                 // every qindex is valid: the finest
-  EXPECT_TRUE(with(kQIndexByte, 255).ok());               // and the coarsest
+  // The message says which side to update (docs/codec.md 1.1).
+  const std::string newer = std::to_string(kIntraSyntaxVersion + 1), older = std::to_string(kIntraSyntaxFirst - 1);
+  EXPECT_NE(with(0, kIntraSyntaxVersion + 1).message().find("version " + newer + " is newer than this build knows"),
+            std::string::npos);
+  EXPECT_NE(with(0, kIntraSyntaxFirst - 1).message().find("version " + older + " predates format 1.0"),
+            std::string::npos);
+  EXPECT_TRUE(with(kQIndexByte, 0).ok());                        // every qindex is valid: the finest
+  EXPECT_TRUE(with(kQIndexByte, 255).ok());                      // and the coarsest
   EXPECT_TRUE(with(kIntraFlagsByte, kTransformTypesFlag).ok());  // loop filters off: other pixels, still valid
   // CDEF without its syntax reads it from the final zeros left out, or runs out.
   const Status cdef_without_syntax = with(kIntraFlagsByte, 2 | kTransformTypesFlag);

@@ -473,8 +473,15 @@ TEST(ContainerIndex, UnknownFeaturesAreRefused) {
   auto parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
   ASSERT_FALSE(parsed.ok());
   EXPECT_EQ(parsed.status().code(), ErrorCode::kUnsupported);
+  EXPECT_EQ(
+      parsed.status().message(),
+      "index uses feature bits 1, 2 that this build does not know (it knows bit 0, depth) at byte offset 1004");
+  bytes[4] = 0x01;
+  bytes[7] = 0x80;
+  parsed = parse_index(bytes, 1000, kFileSize, ReaderLimits{});
+  ASSERT_FALSE(parsed.ok());
   EXPECT_EQ(parsed.status().message(),
-            "index uses feature bits 6 that this build does not know (it knows 1, depth) at byte offset 1004");
+            "index uses feature bit 31 that this build does not know (it knows bit 0, depth) at byte offset 1004");
 }
 
 // Index versions 1 to 3 came before the current frame syntaxes; they and any other value

@@ -20,7 +20,10 @@
 
 namespace svc::codec {
 
+// The B-face syntax the encoder writes, and the first a decoder reads: format 1.0's
+// (docs/codec.md 1.1).
 inline constexpr uint8_t kBFrameSyntaxVersion = 24;
+inline constexpr uint8_t kBFrameSyntaxFirst = 24;
 // Flags byte bit 4: coded inter macroblocks code whether their luma residual is one
 // 16x16 transform block instead of four 8x8 ones, and each coded luma 8x8 block whether
 // it is four 4x4 blocks (docs/codec.md 3.7).

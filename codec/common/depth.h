@@ -18,7 +18,10 @@
 
 namespace svc::codec {
 
+// The depth syntax the encoder writes, and the first a decoder reads: format 1.0's
+// (docs/codec.md 1.1).
 inline constexpr uint8_t kDepthSyntaxVersion = 1;
+inline constexpr uint8_t kDepthSyntaxFirst = 1;
 inline constexpr size_t kDepthHeaderBytes = 3;  // version, flags, maximum error
 inline constexpr uint8_t kDepthFlagInter = 1;   // predicted from the reference cubes
 inline constexpr int kMaxDepthError = 255;      // in inverse-depth code units

@@ -36,7 +36,10 @@ inline constexpr uint8_t kSyntaxVersionMask = 0x7F;
 inline constexpr int kQIndexByte = 1;
 inline constexpr int kIntraFlagsByte = 2;
 inline constexpr int kFrameHeaderBytes = 3;
+// The intra syntax the encoder writes, and the first a decoder reads: format 1.0's
+// (docs/codec.md 1.1).
 inline constexpr uint8_t kIntraSyntaxVersion = 16;
+inline constexpr uint8_t kIntraSyntaxFirst = 16;
 // Largest width or height parse_intra_frame accepts (a cap for untrusted input).
 inline constexpr int kMaxFrameDimension = 16384;
 

@@ -18,6 +18,7 @@
 #include "codec/decoder/coefficient_reader.h"
 #include "codec/decoder/intra_syntax_reader.h"
 #include "codec/decoder/range_decoder.h"
+#include "codec/decoder/syntax_version.h"
 
 namespace svc::codec {
 namespace {
@@ -377,11 +378,8 @@ Status parse_b_frame_header(std::span<const uint8_t> bytes, BFrameHeader* out) {
                    std::to_string(kBFrameHeaderBytes) + "-byte header");
   }
   if (!(bytes[0] & kBidirectionalTypeBit)) return corrupt("byte 0: frame type bit says intra, not bidirectional");
-  const int version = bytes[0] & kSyntaxVersionMask;
-  if (version != kBFrameSyntaxVersion) {
-    return Status(ErrorCode::kUnsupported, "B-face: byte 0: syntax version " + std::to_string(version) +
-                                               " (this build reads " + std::to_string(kBFrameSyntaxVersion) + ")");
-  }
+  SVC_RETURN_IF_ERROR(
+      check_syntax_version("B-face", bytes[0] & kSyntaxVersionMask, kBFrameSyntaxFirst, kBFrameSyntaxVersion));
   const uint8_t references = bytes[kBFrameReferencesByte], flags = bytes[kBFrameFlagsByte];
   const int border_units = references & kBorderMask, filter = (references >> kFilterShift) & kFilterMask;
   const int reference_count = 1 + ((references >> kSecondReferenceShift) & 1);

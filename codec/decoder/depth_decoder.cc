@@ -5,6 +5,7 @@
 #include <string>
 
 #include "codec/decoder/range_decoder.h"
+#include "codec/decoder/syntax_version.h"
 
 namespace svc::codec {
 
@@ -34,10 +35,7 @@ Status decode_depth(std::span<const uint8_t> payload, int width, int height,
     return Status(ErrorCode::kCorruptData, "depth payload of " + std::to_string(payload.size()) +
                                                " bytes is shorter than its 3-byte header");
   }
-  if (payload[0] != kDepthSyntaxVersion) {
-    return Status(ErrorCode::kCorruptData, "depth syntax version " + std::to_string(payload[0]) +
-                                               " at byte 0 is not supported (this build reads 1)");
-  }
+  SVC_RETURN_IF_ERROR(check_syntax_version("depth", payload[0], kDepthSyntaxFirst, kDepthSyntaxVersion));
   if ((payload[1] & ~kDepthFlagInter) != 0) {
     return Status(ErrorCode::kCorruptData,
                   "depth flags " + std::to_string(payload[1]) + " at byte 1 set reserved bits");

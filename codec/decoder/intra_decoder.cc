@@ -12,6 +12,7 @@
 #include "codec/decoder/cdef_syntax.h"
 #include "codec/decoder/intra_syntax_reader.h"
 #include "codec/decoder/range_decoder.h"
+#include "codec/decoder/syntax_version.h"
 
 namespace svc::codec {
 namespace {
@@ -75,10 +76,7 @@ Status parse_intra_frame(std::span<const uint8_t> bytes, int width, int height, 
                    std::to_string(kFrameHeaderBytes) + "-byte header");
   }
   if (bytes[0] & kBidirectionalTypeBit) return corrupt("byte 0: frame type bit says bidirectional, not intra");
-  if (bytes[0] != kIntraSyntaxVersion) {
-    return Status(ErrorCode::kUnsupported, "intra frame: byte 0: syntax version " + std::to_string(bytes[0]) +
-                                               " (this build reads " + std::to_string(kIntraSyntaxVersion) + ")");
-  }
+  SVC_RETURN_IF_ERROR(check_syntax_version("intra frame", bytes[0], kIntraSyntaxFirst, kIntraSyntaxVersion));
   const int qindex = bytes[kQIndexByte];  // every byte value is a valid index
   const uint8_t flags = bytes[kIntraFlagsByte];
   if ((flags & ~(kLoopFilterKnownBits | kIntraWeightedMatrix | kTransformTypesFlag)) != 0) {

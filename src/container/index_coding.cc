@@ -19,6 +19,16 @@ namespace {
 constexpr uint32_t kIndexVersionWithoutDepth = 4;
 constexpr uint32_t kIndexVersionWithDepth = 5;
 constexpr uint32_t kIndexVersion = 6;
+
+// "bit 3" or "bits 1, 2": the feature bits of `features`, for errors.
+std::string feature_bit_names(uint32_t features) {
+  std::string names;
+  int count = 0;
+  for (int bit = 0; bit < 32; ++bit) {
+    if (features & (1u << bit)) names += (count++ ? ", " : "") + std::to_string(bit);
+  }
+  return (count == 1 ? "bit " : "bits ") + names;
+}
 // Version 6's feature word: the optional parts a file uses.
 constexpr uint32_t kFeatureDepth = 0x1;
 constexpr uint32_t kKnownFeatures = kFeatureDepth;
@@ -773,9 +783,9 @@ Result<ContainerIndex> parse_index(std::span<const uint8_t> payload, uint64_t pa
     features = r.u32();
     if (!r.ok()) return corrupt_at("index is truncated", r.failed_at());
     if ((features & ~kKnownFeatures) != 0) {
-      return Status(ErrorCode::kUnsupported,
-                    "index uses feature bits " + std::to_string(features & ~kKnownFeatures) +
-                        " that this build does not know (it knows 1, depth)" + at_offset(features_at));
+      return Status(ErrorCode::kUnsupported, "index uses feature " + feature_bit_names(features & ~kKnownFeatures) +
+                                                 " that this build does not know (it knows bit 0, depth)" +
+                                                 at_offset(features_at));
     }
   }
   index.depth = (features & kFeatureDepth) != 0;
