@@ -79,8 +79,8 @@ TEST(AllocationFailure, EveryFailedAllocationIsAnErrorAndTheNextCallsWork) {
         if (persistent && (n - 1) / stride % 8 != 0) continue;  // every eighth point alone
         const int64_t live = fuzz::g_live_allocations.load();
         std::thread([&] { out_of_memory += fuzz::check_allocation_failure(file, clean, n, persistent); }).join();
-        EXPECT_EQ(fuzz::g_live_allocations.load(), live) << "allocation " << n << (persistent ? " on" : "")
-                                                         << " leaked";
+        EXPECT_EQ(fuzz::g_live_allocations.load(), live)
+            << "allocation " << n << (persistent ? " on" : "") << " leaked";
         ++runs;
       }
     }

@@ -21,9 +21,9 @@ struct FailingAllocatorState {
   uint64_t countdown = 0;
   // After the first failure, fail every allocation too (until disarmed).
   bool persistent = false;
-  bool failing = false;     // the countdown has run out (and persistent is set)
-  uint64_t counted = 0;     // allocations made in calls since reset_allocation_count()
-  uint64_t failures = 0;    // allocations failed on purpose since then
+  bool failing = false;   // the countdown has run out (and persistent is set)
+  uint64_t counted = 0;   // allocations made in calls since reset_allocation_count()
+  uint64_t failures = 0;  // allocations failed on purpose since then
 };
 
 inline thread_local FailingAllocatorState t_allocator;

@@ -12,9 +12,9 @@
 #pragma once
 
 #include <algorithm>
-#include <chrono>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -205,8 +205,8 @@ inline int check_allocation_failure(const std::vector<uint8_t>& file, const Deco
         ++out_of_memory;
       } else if (!(got == clean.calls[i])) {
         report_failure(where + "call " + std::to_string(i) + " gave " + error_code_name(got.code) +
-                       (got.code == clean.calls[i].code ? " with other bytes" : "") + " instead of the clean run's " +
-                       error_code_name(clean.calls[i].code));
+                       (got.code == clean.calls[i].code ? " with other bytes" : "") +
+                       " instead of the clean run's " + error_code_name(clean.calls[i].code));
       }
     }
   }
@@ -264,7 +264,8 @@ inline int run_threads_input(std::span<const uint8_t> data) {
   plain.limits = fuzz_limits();
   plain.prefetch_threads = 0;
   plain.decode_threads = 1;
-  plain.coefficient_cache_bytes = plain.face_cache_bytes = plain.reference_cache_bytes = plain.depth_cache_bytes = 0;
+  plain.coefficient_cache_bytes = plain.face_cache_bytes = plain.reference_cache_bytes = plain.depth_cache_bytes =
+      0;
   auto sequential_reader = Reader::open(memory_source(file), plain);
   if (!sequential_reader.ok()) return 0;
   const SequentialDecode expected = sequential_decode(**sequential_reader);
@@ -281,7 +282,8 @@ inline int run_threads_input(std::span<const uint8_t> data) {
   settings.depth_cache_bytes = 4 << 10;
   auto opened = Reader::open(memory_source(file), settings);
   if (!opened.ok()) {
-    report_failure("the threaded reader refused a file the sequential reader opened: " + opened.status().to_string());
+    report_failure("the threaded reader refused a file the sequential reader opened: " +
+                   opened.status().to_string());
     return 0;
   }
   Reader& reader = **opened;
@@ -302,7 +304,8 @@ inline int run_threads_input(std::span<const uint8_t> data) {
   auto check_face = [&](const Result<std::shared_ptr<const ImageYCbCr420>>& got, size_t frame) {
     if (!got.ok()) return check_error(got.status().code(), frame, "acquire_face_ycbcr");
     if (expected.faces[frame].code != ErrorCode::kOk || !same_pixels(**got, expected.images[frame])) {
-      report_failure("acquire_face_ycbcr of frame " + std::to_string(frame) + " differs from the sequential decode");
+      report_failure("acquire_face_ycbcr of frame " + std::to_string(frame) +
+                     " differs from the sequential decode");
     }
     ++succeeded;
   };
@@ -313,14 +316,16 @@ inline int run_threads_input(std::span<const uint8_t> data) {
       want.resize(static_cast<size_t>(w) * h * 3);
       codec::ycbcr420_to_rgb(expected.images[frame], want.data());
       for (size_t p = 0; p < static_cast<size_t>(w) * h; ++p) {
-        if (rgba[p * 4] != want[p * 3] || rgba[p * 4 + 1] != want[p * 3 + 1] || rgba[p * 4 + 2] != want[p * 3 + 2] ||
-            rgba[p * 4 + 3] != 255) {
-          report_failure("decode_face_into of frame " + std::to_string(frame) + " differs from the sequential decode");
+        if (rgba[p * 4] != want[p * 3] || rgba[p * 4 + 1] != want[p * 3 + 1] ||
+            rgba[p * 4 + 2] != want[p * 3 + 2] || rgba[p * 4 + 3] != 255) {
+          report_failure("decode_face_into of frame " + std::to_string(frame) +
+                         " differs from the sequential decode");
           return;
         }
       }
     } else {
-      report_failure("decode_face_into of frame " + std::to_string(frame) + " succeeded, the sequential decode failed");
+      report_failure("decode_face_into of frame " + std::to_string(frame) +
+                     " succeeded, the sequential decode failed");
     }
     ++succeeded;
   };
