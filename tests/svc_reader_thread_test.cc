@@ -421,11 +421,13 @@ TEST_F(ReaderThreads, EveryCallFromManyThreadsWithCloseInTheMiddle) {
     auto caller = [&](int t) {
       std::mt19937 rng(1000 * round + t);
       std::vector<uint8_t> buffer_bytes(pixel_buffer_bytes(PixelFormat::kYCbCr420, 32, 32) + 32 * 32 * 4);
-      for (int i = 0; i < 80; ++i) {
+      // 80 calls, and on until five were made after close returned.
+      for (int i = 0, after = 0; i < 80 || after < 5; ++i) {
         const size_t c = rng() % cells.size();
         const int f = static_cast<int>(rng() % kFaceCount);
         const size_t frame = c * kFaceCount + f;
         const bool started_closed = closed.load();
+        after += started_closed;
         switch ((t + i) % 6) {
           case 0: {
             auto image = reader.decode_face(cells[c].index, kAllFaces[f]);

@@ -4,6 +4,7 @@
 // of a program: replacement functions may not be inline.
 #pragma once
 
+#include <cstddef>
 #include <cstdlib>
 #include <new>
 
