@@ -70,8 +70,8 @@ TEST(AllocationFailure, EveryFailedAllocationIsAnErrorAndTheNextCallsWork) {
     }).join();
     ASSERT_EQ(clean.open_code, ErrorCode::kOk);
     ASSERT_GT(allocations, 0u);
-    // At most ~400 failure points a file, spread over the whole count.
-    const uint64_t stride = std::max<uint64_t>(1, allocations / 400);
+    // At most ~250 failure points a file, spread over the whole count.
+    const uint64_t stride = std::max<uint64_t>(1, allocations / 250);
     int runs = 0, out_of_memory = 0;
     const auto start = std::chrono::steady_clock::now();
     for (uint64_t n = 1; n <= allocations; n += stride) {
