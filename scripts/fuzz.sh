@@ -5,7 +5,18 @@
 # the seed corpus in tests/fuzz/corpus. Needs clang: SVC_WITH_CLANG=1 scripts/install-deps.sh
 #
 #   scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET ...]
-#   targets: container frame (default both, one after the other)
+#   targets (default all, one after the other):
+#     container      an .svc file: open, then decode every face (container and frame parsers)
+#     frame          one coded frame (I, B or depth) of a small size against synthetic references
+#     alloc_failure  an .svc file decoded through svc::Reader while one allocation fails
+#                    (or every one from some point on): errors, no leak, the next calls work
+#     threads        an .svc file decoded by a reader with prefetch and small caches from
+#                    four threads at once, one closing it part-way: the sequential decode's
+#                    results, kCancelled after close, no hang
+#
+# The targets that take whole .svc files (container, alloc_failure, threads) are seeded
+# with tests/fuzz/corpus/container and, when present, the conformance streams
+# (tests/conformance/streams/*.svc); each target also with tests/fuzz/corpus/<target>.
 #
 # New inputs found go to build-fuzz/corpus/<target> (the seed corpus is not modified);
 # crashes to build-fuzz/findings/<target>/. Any finding fails the run; add the input
@@ -18,7 +29,13 @@ build="${SVC_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-if ((${#targets[@]} == 0)); then targets=(container frame); fi
+if ((${#targets[@]} == 0)); then targets=(container frame alloc_failure threads); fi
+for t in "${targets[@]}"; do
+  case "$t" in
+    container | frame | alloc_failure | threads) ;;
+    *) echo "fuzz.sh: unknown target $t (container, frame, alloc_failure, threads)" >&2; exit 2 ;;
+  esac
+done
 
 if ! command -v clang++ >/dev/null; then
   echo "fuzz.sh: clang++ not found; run SVC_WITH_CLANG=1 scripts/install-deps.sh" >&2
@@ -49,8 +66,14 @@ for t in "${targets[@]}"; do
   # into a finding; -timeout does the same for a hang.
   parallel=()
   if (("${SVC_FUZZ_JOBS:-1}" > 1)); then parallel=(-jobs="$SVC_FUZZ_JOBS" -workers="$SVC_FUZZ_JOBS"); fi
+  seeds=()
+  if [[ -d "$root/tests/fuzz/corpus/$t" ]]; then seeds+=("$root/tests/fuzz/corpus/$t"); fi
+  if [[ "$t" != frame ]]; then
+    if [[ "$t" != container ]]; then seeds+=("$root/tests/fuzz/corpus/container"); fi
+    if [[ -d "$root/tests/conformance/streams" ]]; then seeds+=("$root/tests/conformance/streams"); fi
+  fi
   rc=0
-  "$build/bin/svc_${t}_fuzzer" "$work" "$root/tests/fuzz/corpus/$t" \
+  "$build/bin/svc_${t}_fuzzer" "$work" "${seeds[@]}" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=512 -max_len=65536 \
     -artifact_prefix="$findings/" -print_final_stats=1 "${parallel[@]}" >"$build/fuzz-$t.log" 2>&1 || rc=$?
   grep -E "ERROR|SUMMARY|stat::number_of_executed_units|stat::peak_rss|Done [0-9]+ runs" "$build/fuzz-$t.log" || true

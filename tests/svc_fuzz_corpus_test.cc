@@ -13,6 +13,7 @@
 // longer read: each must be refused, not crash. Generate writes neither.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -22,6 +23,7 @@
 #include "codec/encoder/intra_encoder.h"
 #include "container/container.h"
 #include "fuzz/fuzz_entry.h"
+#include "fuzz/reader_entry.h"
 #include "scene/scene.h"
 #include "support/reference_hints.h"
 #include "support/test_support.h"
@@ -188,6 +190,25 @@ TEST(FuzzCorpus, ReplaysContainerCorpus) {
     if (name.rfind("seed-", 0) == 0) EXPECT_GT(decoded, 0);
     if (name.rfind("old-index-v", 0) == 0) EXPECT_EQ(decoded, 0);
   }
+}
+
+// The threads target's check (tests/fuzz/reader_entry.h) on every container seed: four
+// threads, prefetch, small caches and a close part-way, against the sequential decode.
+std::atomic<int> g_thread_failures{0};
+void count_thread_failure(const std::string& what) {
+  if (g_thread_failures++ < 10) ADD_FAILURE() << what;
+}
+
+TEST(FuzzCorpus, ReplaysContainerCorpusThroughTheThreadsEntry) {
+  fuzz::g_failure_handler = &count_thread_failure;
+  int succeeded = 0;
+  for (const fs::path& path : corpus_files("container")) {
+    SCOPED_TRACE(path.string());
+    succeeded += fuzz::run_threads_input(read_bytes(path));
+  }
+  fuzz::g_failure_handler = nullptr;
+  EXPECT_EQ(g_thread_failures.load(), 0);
+  EXPECT_GT(succeeded, 0);
 }
 
 TEST(FuzzCorpus, ReplaysFrameCorpus) {

@@ -5,13 +5,20 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <random>
 #include <set>
+#include <span>
+#include <stdexcept>
 #include <thread>
 #include <utility>
 
 #include "codec/common/color.h"
+#include "reader/pixel_buffer.h"
+#include "reader/shared_cache.h"
 #include "scene/scene.h"
 #include "support/test_support.h"
 #include "svc/encoder.h"
@@ -350,6 +357,280 @@ TEST_F(ReaderThreads, CloseDuringPrefetchIsPromptAndClean) {
     ASSERT_TRUE(opened.ok());
     ASSERT_TRUE((*opened)->set_viewer(std::array<double, 3>{0.5 * round, 0, 1.0}, {0, 0, 1}).ok());
   }
+}
+
+size_t pixel_buffer_bytes(PixelFormat format, int w, int h) {
+  const size_t pixels = static_cast<size_t>(w) * h;
+  if (format == PixelFormat::kYCbCr420) return pixels + 2 * static_cast<size_t>((w + 1) / 2) * ((h + 1) / 2);
+  return pixels * (format == PixelFormat::kRGB8 ? 3 : 4);
+}
+
+// A top-down buffer of `format` for a w x h face over the start of `bytes` (planes one
+// after the other), which holds at least pixel_buffer_bytes(format, w, h).
+PixelBuffer pixel_buffer(PixelFormat format, int w, int h, std::span<uint8_t> bytes) {
+  PixelBuffer buffer;
+  buffer.format = format;
+  if (format != PixelFormat::kYCbCr420) {
+    buffer.planes[0] = bytes.first(pixel_buffer_bytes(format, w, h));
+    buffer.strides[0] = static_cast<size_t>(w) * (format == PixelFormat::kRGB8 ? 3 : 4);
+    return buffer;
+  }
+  const size_t cw = (w + 1) / 2, ch = (h + 1) / 2, luma = static_cast<size_t>(w) * h;
+  buffer.planes = {bytes.subspan(0, luma), bytes.subspan(luma, cw * ch), bytes.subspan(luma + cw * ch, cw * ch)};
+  buffer.strides = {static_cast<size_t>(w), cw, cw};
+  return buffer;
+}
+
+// What decode_face_into writes for the sequential decode's face in `format` (top-down).
+std::vector<uint8_t> expected_pixels(const ImageYCbCr420& face, PixelFormat format) {
+  std::vector<uint8_t> bytes(pixel_buffer_bytes(format, face.width, face.height));
+  reader_internal::write_pixels(face, pixel_buffer(format, face.width, face.height, bytes));
+  return bytes;
+}
+
+// Several threads call every kind of method at once on one reader with prefetch workers
+// and small budgets, and one closes it in the middle: every call made before close
+// returns gives the sequential decode's pixels (or kCancelled, once close has begun),
+// every call made after it is cancelled, and nothing hangs (scripts/test-tsan.sh runs
+// it under ThreadSanitizer).
+TEST_F(ReaderThreads, EveryCallFromManyThreadsWithCloseInTheMiddle) {
+  for (int round = 0; round < 3; ++round) {
+    ReaderSettings settings;
+    settings.prefetch_threads = 2;
+    settings.decode_threads = 2;
+    settings.face_cache_bytes = 20 * (32 * 32 + 2 * 16 * 16 + 200);
+    settings.coefficient_cache_bytes = 6000;
+    settings.reference_cache_bytes = 30000;
+    auto opened = Reader::open(file(), settings);
+    ASSERT_TRUE(opened.ok());
+    Reader& reader = **opened;
+    const auto& cells = reader.cells();
+    std::atomic<int> calls{0}, wrong{0}, after_close{0};
+    std::atomic<bool> closing{false}, closed{false};
+    // An outcome is right when ok with the right pixels, or cancelled once close began;
+    // a call that started after close returned must be cancelled.
+    auto judge = [&](bool started_closed, ErrorCode code, bool right_pixels) {
+      ++calls;
+      if (started_closed) {
+        ++after_close;
+        if (code != ErrorCode::kCancelled) ++wrong;
+      } else if (code == ErrorCode::kOk ? !right_pixels : !(code == ErrorCode::kCancelled && closing.load())) {
+        ++wrong;
+      }
+    };
+    auto caller = [&](int t) {
+      std::mt19937 rng(1000 * round + t);
+      std::vector<uint8_t> buffer_bytes(pixel_buffer_bytes(PixelFormat::kYCbCr420, 32, 32) + 32 * 32 * 4);
+      // 80 calls, and on until five were made after close returned.
+      for (int i = 0, after = 0; i < 80 || after < 5; ++i) {
+        const size_t c = rng() % cells.size();
+        const int f = static_cast<int>(rng() % kFaceCount);
+        const size_t frame = c * kFaceCount + f;
+        const bool started_closed = closed.load();
+        after += started_closed;
+        switch ((t + i) % 6) {
+          case 0: {
+            auto image = reader.decode_face(cells[c].index, kAllFaces[f]);
+            judge(started_closed, image.status().code(),
+                  image.ok() && image->pixels == expected_pixels(reference(frame), PixelFormat::kRGB8));
+            break;
+          }
+          case 1: {
+            const auto format = static_cast<PixelFormat>(rng() % 4);
+            const PixelBuffer out = pixel_buffer(format, 32, 32, buffer_bytes);
+            const Status status = reader.decode_face_into(cells[c].index, kAllFaces[f], out);
+            const std::vector<uint8_t> want = expected_pixels(reference(frame), format);
+            judge(started_closed, status.code(),
+                  status.ok() && std::equal(want.begin(), want.end(), buffer_bytes.begin()));
+            break;
+          }
+          case 2: {
+            auto cube = reader.decode_cube(cells[c].index);
+            bool right = cube.ok();
+            for (int g = 0; right && g < kFaceCount; ++g) {
+              right = (*cube)[g].pixels == expected_pixels(reference(c * kFaceCount + g), PixelFormat::kRGB8);
+            }
+            judge(started_closed, cube.status().code(), right);
+            break;
+          }
+          case 3: {
+            auto image = reader.acquire_face_ycbcr(cells[c].index, kAllFaces[f]);
+            judge(started_closed, image.status().code(), image.ok() && same_image(**image, reference(frame)));
+            break;
+          }
+          case 4:
+            judge(started_closed, reader.set_viewer(cells[c].index, {1.0 * (rng() % 3) - 1, 0, 0}).code(), true);
+            break;
+          default: {
+            const auto& p = cells[c].position;
+            judge(started_closed, reader.set_viewer(std::array<double, 3>{p[0] + 0.2, p[1], p[2] - 0.3}).code(),
+                  true);
+            const ReaderStats stats = reader.stats();
+            if (stats.face_cache.bytes_held > settings.face_cache_bytes) ++wrong;
+          }
+        }
+      }
+    };
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 5; ++t) threads.emplace_back(caller, t);
+    std::thread closer([&] {
+      while (calls.load() < 120 + 60 * round) std::this_thread::yield();
+      closing = true;
+      reader.close();
+      closed = true;
+    });
+    for (auto& thread : threads) thread.join();
+    closer.join();
+    EXPECT_EQ(wrong.load(), 0) << "round " << round;
+    EXPECT_GT(after_close.load(), 0) << "round " << round;
+    EXPECT_TRUE(reader.wait_for_prefetch(std::chrono::milliseconds(0)));
+    EXPECT_EQ(reader.stats().face_cache.bytes_held, 0u);
+    EXPECT_EQ(reader.decode_cube(cells[0].index).status().code(), ErrorCode::kCancelled);
+    std::vector<uint8_t> rgba(32 * 32 * 4);
+    EXPECT_EQ(
+        reader.decode_face_into(cells[0].index, Face::kPX, pixel_buffer(PixelFormat::kRGBA8, 32, 32, rgba)).code(),
+        ErrorCode::kCancelled);
+  }
+}
+
+// Seek stress: eight readers of one file, each on its own thread with its own seed, ask
+// for random faces and cubes in random order and in random pixel formats; some with
+// prefetch following a moving viewer, some with caches too small to hold a cube. Every
+// result is the sequential decode's.
+TEST_F(ReaderThreads, SeekStressManyReadersOnOneFileEqualSequentialDecode) {
+  constexpr int kReaders = 8;
+  std::atomic<int> wrong{0}, failed{0}, faces{0};
+  auto run = [&](int r) {
+    ReaderSettings settings;
+    settings.decode_threads = 1 + r % 3;
+    settings.prefetch_threads = r % 2 ? 2 : 0;
+    if (r % 4 >= 2) {  // tiny caches: almost every request decodes again
+      settings.face_cache_bytes = 3 * (32 * 32 + 2 * 16 * 16 + 200);
+      settings.coefficient_cache_bytes = 2000;
+      settings.reference_cache_bytes = 5000;
+    }
+    auto opened = Reader::open(file(), settings);
+    if (!opened.ok()) {
+      ++failed;
+      return;
+    }
+    Reader& reader = **opened;
+    const auto& cells = reader.cells();
+    std::mt19937 rng(7000 + r);
+    std::vector<uint8_t> bytes(pixel_buffer_bytes(PixelFormat::kRGBA8, 32, 32));
+    for (int i = 0; i < 150; ++i) {
+      const size_t c = rng() % cells.size();
+      const int f = static_cast<int>(rng() % kFaceCount);
+      const size_t frame = c * kFaceCount + f;
+      if (settings.prefetch_threads > 0 && i % 10 == 0) {
+        if (!reader.set_viewer(cells[c].index, {1.0 * (rng() % 3) - 1, 0, 1.0 * (rng() % 3) - 1}).ok()) ++failed;
+      }
+      switch (rng() % 3) {
+        case 0: {
+          auto image = reader.decode_face(cells[c].index, kAllFaces[f]);
+          if (!image.ok())
+            ++failed;
+          else if (image->pixels != expected_pixels(reference(frame), PixelFormat::kRGB8))
+            ++wrong;
+          ++faces;
+          break;
+        }
+        case 1: {
+          const auto format = static_cast<PixelFormat>(rng() % 4);
+          const auto rows = rng() % 2 ? RowOrder::kBottomUp : RowOrder::kTopDown;
+          std::fill(bytes.begin(), bytes.end(), 0x5a);
+          PixelBuffer out = pixel_buffer(format, 32, 32, bytes);
+          out.rows = rows;
+          if (!reader.decode_face_into(cells[c].index, kAllFaces[f], out).ok()) {
+            ++failed;
+            break;
+          }
+          std::vector<uint8_t> want(bytes.size(), 0x5a);
+          PixelBuffer expected = pixel_buffer(format, 32, 32, want);
+          expected.rows = rows;
+          reader_internal::write_pixels(reference(frame), expected);
+          if (want != bytes) ++wrong;
+          ++faces;
+          break;
+        }
+        default: {
+          auto cube = reader.decode_cube(cells[c].index);
+          if (!cube.ok()) {
+            ++failed;
+            break;
+          }
+          for (int g = 0; g < kFaceCount; ++g) {
+            if ((*cube)[g].pixels != expected_pixels(reference(c * kFaceCount + g), PixelFormat::kRGB8)) ++wrong;
+          }
+          faces += kFaceCount;
+        }
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int r = 0; r < kReaders; ++r) threads.emplace_back(run, r);
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(failed.load(), 0);
+  EXPECT_EQ(wrong.load(), 0);
+  std::printf("seek stress: %d faces from %d readers\n", faces.load(), kReaders);
+}
+
+// A cache computation that throws (an allocation failure) releases its in-flight entry:
+// the thread waiting for it gets the error, and the next request computes again.
+TEST(SharedCache, AThrowingComputationWakesItsWaitersAndIsRetried) {
+  using reader_internal::Origin;
+  using reader_internal::Outcome;
+  reader_internal::SharedCache<int> cache(1 << 20, [](const int&) -> uint64_t { return sizeof(int); });
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool release = false;
+  ErrorCode owner_code = ErrorCode::kOk, waiter_code = ErrorCode::kOk;
+  std::thread owner([&] {
+    owner_code = cache
+                     .get(7, Origin::kCaller,
+                          [&]() -> Result<std::shared_ptr<const int>> {
+                            std::unique_lock<std::mutex> lock(mutex);
+                            cv.wait(lock, [&] { return release; });
+                            throw std::bad_alloc();
+                          })
+                     .status()
+                     .code();
+  });
+  while (cache.counters().misses == 0) std::this_thread::yield();
+  std::thread waiter([&] {
+    waiter_code = cache
+                      .get(7, Origin::kCaller,
+                           [&]() -> Result<std::shared_ptr<const int>> {
+                             ADD_FAILURE() << "the waiter computed";
+                             return std::make_shared<const int>(0);
+                           })
+                      .status()
+                      .code();
+  });
+  while (cache.counters().in_flight_waits == 0) std::this_thread::yield();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    release = true;
+  }
+  cv.notify_all();
+  owner.join();
+  waiter.join();
+  EXPECT_EQ(owner_code, ErrorCode::kOutOfMemory);
+  EXPECT_EQ(waiter_code, ErrorCode::kOutOfMemory);
+  EXPECT_EQ(cache.counters().entries, 0u);
+  Outcome outcome = Outcome::kHit;
+  auto again = cache.get(
+      7, Origin::kCaller, [] { return Result<std::shared_ptr<const int>>(std::make_shared<const int>(5)); },
+      &outcome);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(**again, 5);
+  EXPECT_EQ(outcome, Outcome::kComputed);
+  // Anything else thrown is an internal error, reported the same way.
+  auto internal = cache.get(8, Origin::kCaller, []() -> Result<std::shared_ptr<const int>> {
+    throw std::runtime_error("broken invariant");
+  });
+  EXPECT_EQ(internal.status().code(), ErrorCode::kInternal);
+  EXPECT_NE(internal.status().message().find("broken invariant"), std::string::npos);
 }
 
 }  // namespace

@@ -28,7 +28,10 @@
 // Errors: no call throws; failures come back as Status / Result with a message naming
 // the file, cell, face and byte offset at fault. A damaged face yields an error for
 // that face (and the B-faces that reference it) while every other face stays readable.
-// Errors are not cached: asking again reads the file again.
+// Errors are not cached: asking again reads the file again. An allocation that fails
+// anywhere in the decoder (on the caller's thread, a prefetch worker or a decode_cube
+// helper) comes back as kOutOfMemory naming the call, file, cell and face; nothing of the
+// failed work is cached and the reader stays usable (asking again decodes again).
 //
 // Threading: after open() returns, every const and non-const method of Reader may be
 // called from any number of threads at once (close() included). Results are

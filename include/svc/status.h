@@ -22,6 +22,7 @@ enum class ErrorCode : int {
   kUnsupported,      // a valid file using a feature this build cannot decode
   kCancelled,        // the operation was cancelled (reader closed, callback asked)
   kInternal,         // a broken invariant inside svc; please report it
+  kOutOfMemory,      // an allocation failed; the object that reports it stays usable
 };
 
 SVC_API const char* error_code_name(ErrorCode code) noexcept;

@@ -30,6 +30,9 @@ using svc::Status;
 
 thread_local std::string g_open_error;
 
+static_assert(static_cast<int>(ErrorCode::kOutOfMemory) == SVC_OUT_OF_MEMORY &&
+              static_cast<int>(ErrorCode::kInternal) == SVC_INTERNAL);
+
 svc_status status_code(ErrorCode code) {
   switch (code) {
     case ErrorCode::kOk: return SVC_OK;
@@ -42,6 +45,7 @@ svc_status status_code(ErrorCode code) {
     case ErrorCode::kUnsupported: return SVC_UNSUPPORTED;
     case ErrorCode::kCancelled: return SVC_CANCELLED;
     case ErrorCode::kInternal: return SVC_INTERNAL;
+    case ErrorCode::kOutOfMemory: return SVC_OUT_OF_MEMORY;
   }
   return SVC_INTERNAL;
 }

@@ -13,9 +13,11 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
+#include "common/exception_status.h"
 #include "svc/status.h"
 
 namespace svc {
@@ -28,7 +30,10 @@ inline int resolve_thread_count(int requested) {
 
 // Runs body(i) for every i in [0, count) on up to `threads` threads (the caller's among
 // them). After an error no new item starts; the error of the lowest failed index is
-// returned, so which error comes back does not depend on timing either.
+// returned, so which error comes back does not depend on timing either. An exception
+// thrown by body(i) is item i's error (svc/common/exception_status.h: kOutOfMemory for a
+// failed allocation), on a helper thread as on the caller's. When a helper thread cannot
+// be started, the items run on the threads that did start.
 inline Status parallel_for(size_t count, int threads, const std::function<Status(size_t)>& body) {
   std::atomic<size_t> next{0};
   std::mutex mutex;
@@ -36,7 +41,7 @@ inline Status parallel_for(size_t count, int threads, const std::function<Status
   Status first_error;
   auto worker = [&] {
     for (size_t i = next++; i < count; i = next++) {
-      Status status = body(i);
+      Status status = status_guarded([&] { return "item " + std::to_string(i); }, [&] { return body(i); });
       if (status.ok()) continue;
       std::lock_guard<std::mutex> lock(mutex);
       if (i < failed_index) {
@@ -48,7 +53,12 @@ inline Status parallel_for(size_t count, int threads, const std::function<Status
   };
   const int n = std::max(1, std::min<int>(threads, static_cast<int>(std::min<size_t>(count, 1024))));
   std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+  try {
+    pool.reserve(static_cast<size_t>(n - 1));
+    for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+  } catch (...) {
+    // No memory or no thread left: the threads started (maybe none) do the work.
+  }
   worker();
   for (auto& thread : pool) thread.join();
   return first_error;

@@ -159,8 +159,11 @@ Result<OpenedContainer> open_container(const ReadOnlyFile& file, const ReaderLim
     if (!slot[k].valid) continue;
     const CommitSlot& s = slot[k];
     if (s.index_chunk_size > limits.max_index_bytes + kChunkOverhead) {
-      first_error = Status(ErrorCode::kLimitExceeded, name + ": index of " + std::to_string(s.index_chunk_size) +
-                                                          " bytes is above the reader's limit");
+      first_error =
+          Status(ErrorCode::kLimitExceeded, name + ": index of " + std::to_string(s.index_chunk_size) +
+                                                " bytes is above the reader's limit (its size in commit slot " +
+                                                std::to_string(k) + ", at byte offset " +
+                                                std::to_string(kFileHeaderSize + k * kCommitSlotSize + 16) + ")");
       continue;
     }
     auto payload = read_chunk(file, s.index_offset, s.index_chunk_size, kIndexChunkTag, "index");

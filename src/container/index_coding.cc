@@ -338,10 +338,15 @@ Status parse_header(ByteReader& r, const ReaderLimits& limits, ContainerIndex& i
                                                  " is zero or above the reader's limits" + at_offset(size_at));
   }
   for (int axis = 0; axis < 3; ++axis) {
-    if (index.grid.dims[axis] <= 0 || index.grid.dims[axis] > limits.max_grid_dimension) {
-      return Status(ErrorCode::kCorruptData, "grid dimension " + std::to_string(index.grid.dims[axis]) +
-                                                 " on axis " + std::to_string(axis) + " is out of range" +
-                                                 at_offset(size_at + 8 + 4 * axis));
+    if (index.grid.dims[axis] <= 0) {
+      return corrupt_at("grid dimension " + std::to_string(index.grid.dims[axis]) + " on axis " +
+                            std::to_string(axis) + " is not positive",
+                        size_at + 8 + 4 * axis);
+    }
+    if (index.grid.dims[axis] > limits.max_grid_dimension) {
+      return Status(ErrorCode::kLimitExceeded,
+                    "grid dimension " + std::to_string(index.grid.dims[axis]) + " on axis " + std::to_string(axis) +
+                        " is above the reader's limit" + at_offset(size_at + 8 + 4 * axis));
     }
     if (!std::isfinite(index.grid.origin[axis]) || !std::isfinite(index.grid.spacing[axis]) ||
         index.grid.spacing[axis] <= 0) {

@@ -19,6 +19,7 @@
 #include "codec/common/thread_buffers.h"
 #include "codec/decoder/bframe_decoder.h"
 #include "codec/decoder/intra_decoder.h"
+#include "common/exception_status.h"
 #include "common/file_io.h"
 #include "common/parallel.h"
 #include "common/thread_priority.h"
@@ -128,6 +129,27 @@ struct Reader::Impl {
     return svc::frame_error(status, *file, index, frame);
   }
 
+  // `compute` (a cache's computation for face `frame`) with any exception it throws,
+  // such as a failed allocation, turned into an error naming the face. (The caches turn
+  // one into an error too, but know no face.)
+  template <typename Compute>
+  auto naming(uint32_t frame, Compute compute) {
+    return [this, frame, compute]() {
+      return status_guarded([&] { return file->name() + ": decoding " + frame_name(frame); }, compute);
+    };
+  }
+
+  // body(), the work of public call `call`, with any exception it throws turned into an
+  // error naming the call, the file and, where given, the cell and face.
+  template <typename Body>
+  auto guarded(const char* call, std::optional<CellIndex> cell, std::optional<Face> face, Body&& body) noexcept {
+    const auto context = [&] {
+      std::string subject = cell ? (face ? face_label(*cell, *face) : cell_label(*cell)) : std::string();
+      return std::string(call) + (subject.empty() ? "" : " of " + subject) + " in " + file->name();
+    };
+    return status_guarded(context, std::forward<Body>(body));
+  }
+
   Result<std::vector<uint8_t>> read_payload(uint32_t frame) {
     const FrameRecord& record = index.frames[frame];
     bytes_read.fetch_add(color_chunk_bytes(record), std::memory_order_relaxed);
@@ -158,18 +180,19 @@ struct Reader::Impl {
   // When this call parses it, `decoded` (optional) receives its levels unpacked too.
   Result<CoefficientPointer> coefficients_of(uint32_t frame, Origin origin,
                                              codec::DecodedLevels* decoded = nullptr) {
-    return coefficients.get(frame, origin, [&]() -> Result<CoefficientPointer> {
-      SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
-      auto parsed = std::make_shared<codec::CoefficientFrame>();
-      Status status = codec::parse_intra_frame(payload, static_cast<int>(index.face_width),
-                                               static_cast<int>(index.face_height), parsed.get(), decoded);
-      if (!status.ok()) return frame_error(status, frame);
-      // Parsing grows the vectors by doubling; the cache is charged for what is held.
-      parsed->levels.shrink_to_fit();
-      parsed->block_counts.shrink_to_fit();
-      intra_parsed.fetch_add(1, std::memory_order_relaxed);
-      return CoefficientPointer(std::move(parsed));
-    });
+    return coefficients.get(frame, origin, naming(frame, [&]() -> Result<CoefficientPointer> {
+                              SVC_ASSIGN_OR_RETURN(std::vector<uint8_t> payload, read_payload(frame));
+                              auto parsed = std::make_shared<codec::CoefficientFrame>();
+                              Status status = codec::parse_intra_frame(payload, static_cast<int>(index.face_width),
+                                                                       static_cast<int>(index.face_height),
+                                                                       parsed.get(), decoded);
+                              if (!status.ok()) return frame_error(status, frame);
+                              // Parsing grows the vectors by doubling; the cache is charged for what is held.
+                              parsed->levels.shrink_to_fit();
+                              parsed->block_counts.shrink_to_fit();
+                              intra_parsed.fetch_add(1, std::memory_order_relaxed);
+                              return CoefficientPointer(std::move(parsed));
+                            }));
   }
 
   // Key of I-face `frame` in the reference cache: padded with `units` of border across
@@ -194,7 +217,7 @@ struct Reader::Impl {
       return ImagePointer(std::move(image));
     };
     if (!reference_keys_fit) return reconstruct();
-    return references.get(reference_key(frame, 0, 0), origin, reconstruct);
+    return references.get(reference_key(frame, 0, 0), origin, naming(frame, reconstruct));
   }
 
   // Chunks read through the reader's counters; I-faces and padded references through the
@@ -207,8 +230,9 @@ struct Reader::Impl {
     Result<FacePointer> padded_intra_face(uint32_t frame, int units, uint8_t edges) override {
       if (units == 0) return intra_face(frame);
       if (!impl_.reference_keys_fit) return CodedFaceSource::padded_intra_face(frame, units, edges);
-      return impl_.references.get(reference_key(frame, units, edges), origin_,
-                                  [&] { return CodedFaceSource::padded_intra_face(frame, units, edges); });
+      return impl_.references.get(reference_key(frame, units, edges), origin_, impl_.naming(frame, [&] {
+        return CodedFaceSource::padded_intra_face(frame, units, edges);
+      }));
     }
 
    private:
@@ -236,8 +260,7 @@ struct Reader::Impl {
   }
 
   Result<ImagePointer> face_of(uint32_t frame, Origin origin, Outcome* outcome = nullptr) {
-    return faces.get(
-        frame, origin, [&] { return decode_through_caches(frame, origin); }, outcome);
+    return faces.get(frame, origin, naming(frame, [&] { return decode_through_caches(frame, origin); }), outcome);
   }
 
   Result<ImagePointer> decode_uncached(uint32_t frame, std::vector<codec::MacroblockMode>* modes = nullptr,
@@ -288,10 +311,20 @@ struct Reader::Impl {
     const int threads = resolve_thread_count(settings.decode_threads);
     if (threads > 1) decode_dependencies(first, kFaceCount, threads);
     return parallel_for(kFaceCount, threads, [&](size_t f) -> Status {
-      SVC_ASSIGN_OR_RETURN(ImagePointer image, face_of(first + static_cast<uint32_t>(f), Origin::kCaller));
-      emit(f, *image);
-      return Status::Ok();
+      const auto frame = first + static_cast<uint32_t>(f);
+      return naming(frame, [&]() -> Status {
+        SVC_ASSIGN_OR_RETURN(ImagePointer image, face_of(frame, Origin::kCaller));
+        emit(f, *image);
+        return Status::Ok();
+      })();
     });
+  }
+
+  // The face for a caller, through the caches.
+  Result<ImagePointer> acquire(const CellIndex& cell, Face face) {
+    if (closed.load()) return cancelled();
+    SVC_ASSIGN_OR_RETURN(uint32_t frame, frame_of(cell, face));
+    return caller_face(frame);
   }
 
   // --- Depth -----------------------------------------------------------------------------
@@ -317,13 +350,13 @@ struct Reader::Impl {
   };
 
   Result<DepthPointer> depth_of(uint32_t frame, Origin origin, Outcome* outcome = nullptr) {
-    return depths.get(
-        frame, origin,
-        [&] {
-          CachedDepthSource source(*this, origin);
-          return decode_indexed_depth(*file, index, frame, source);
-        },
-        outcome);
+    return depths.get(frame, origin,
+                      naming(frame,
+                             [&] {
+                               CachedDepthSource source(*this, origin);
+                               return decode_indexed_depth(*file, index, frame, source);
+                             }),
+                      outcome);
   }
 
   Result<uint32_t> depth_frame_of(const CellIndex& cell, Face face) const {
@@ -352,15 +385,21 @@ struct Reader::Impl {
       queue.pop_front();
       ++active;
       lock.unlock();
-      Outcome outcome = Outcome::kHit;
-      // Errors are not cached; the caller who asks for the face gets them.
-      auto result = face_of(frame, Origin::kPrefetch, &outcome);
-      if (result.ok() && outcome == Outcome::kComputed) prefetch_faces.fetch_add(1, std::memory_order_relaxed);
-      if (index.depth) (void)depth_of(frame, Origin::kPrefetch);
+      // Errors (an allocation failure among them) are not cached; the caller who asks for
+      // the face gets them.
+      (void)status_guarded([] { return std::string("prefetch"); }, [&] { return prefetch(frame); });
       lock.lock();
       --active;
       if (queue.empty() && active == 0) work_idle.notify_all();
     }
+  }
+
+  Status prefetch(uint32_t frame) {
+    Outcome outcome = Outcome::kHit;
+    auto result = face_of(frame, Origin::kPrefetch, &outcome);
+    if (result.ok() && outcome == Outcome::kComputed) prefetch_faces.fetch_add(1, std::memory_order_relaxed);
+    if (index.depth) (void)depth_of(frame, Origin::kPrefetch);
+    return Status::Ok();
   }
 
   Status schedule(const CellIndex& viewer_cell, const std::array<double, 3>& position,
@@ -375,15 +414,16 @@ struct Reader::Impl {
     std::lock_guard<std::mutex> lock(prefetch_mutex);
     if (stopping) return cancelled();
     if (order == scheduled_cells) return Status::Ok();
-    scheduled_cells = std::move(order);
     prefetch_dropped.fetch_add(queue.size(), std::memory_order_relaxed);
     queue.clear();
-    for (size_t cell : scheduled_cells) {
+    for (size_t cell : order) {
       for (int f = 0; f < kFaceCount; ++f) {
         const uint32_t frame = static_cast<uint32_t>(cell * kFaceCount + f);
         if (!faces.contains(frame)) queue.push_back(frame);
       }
     }
+    // Only once queued: after an allocation failure above, the same viewer queues again.
+    scheduled_cells = std::move(order);
     if (workers.empty()) {
       for (int t = 0; t < settings.prefetch_threads; ++t) workers.emplace_back([this] { worker_loop(); });
     }
@@ -411,20 +451,9 @@ struct Reader::Impl {
   }
 };
 
-ReaderSettings default_reader_settings() { return ReaderSettings{}; }
+namespace {
 
-Reader::Reader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Reader::~Reader() {
-  if (impl_) impl_->close();
-}
-
-Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, const ReaderSettings& settings) {
-  SVC_ASSIGN_OR_RETURN(std::unique_ptr<ByteSource> source, open_file_source(path));
-  return open(std::move(source), settings);
-}
-
-Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source, const ReaderSettings& settings) {
-  if (source == nullptr) return Status(ErrorCode::kInvalidArgument, "no byte source to read");
+Status check_settings(const ReaderSettings& settings) {
   if (settings.prefetch_threads < 0 || settings.prefetch_threads > 64) {
     return Status(ErrorCode::kInvalidArgument, "reader settings: prefetch_threads " +
                                                    std::to_string(settings.prefetch_threads) + " outside 0..64");
@@ -437,22 +466,15 @@ Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source,
     return Status(ErrorCode::kInvalidArgument,
                   "reader settings: prefetch_radius " + std::to_string(settings.prefetch_radius) + " outside 0..8");
   }
-  auto impl = std::make_unique<Impl>(settings);
-  impl->file = std::make_unique<ReadOnlyFile>(std::move(source));
-  SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*impl->file, settings.limits));
-  impl->index = std::move(opened.index);
-  impl->reference_keys_fit = impl->index.frames.size() <=
-                             std::numeric_limits<uint32_t>::max() / Impl::kReferenceKeysPerFrame;
-  impl->slot_damaged = opened.slot_damaged;
-  const ContainerIndex& index = impl->index;
-  impl->grid.dims = index.grid.dims;
-  impl->grid.origin = index.grid.origin;
-  impl->grid.spacing = index.grid.spacing;
+  return Status::Ok();
+}
 
-  FileInfo& info = impl->info;
+void fill_info(Reader::Impl& impl) {
+  const ContainerIndex& index = impl.index;
+  FileInfo& info = impl.info;
   info.format_major = kFormatMajor;
   info.format_minor = kFormatMinor;
-  info.file_bytes = impl->file->size();
+  info.file_bytes = impl.file->size();
   info.face_width = static_cast<int>(index.face_width);
   info.face_height = static_cast<int>(index.face_height);
   info.grid_dims = index.grid.dims;
@@ -467,10 +489,14 @@ Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source,
   info.has_depth = index.depth;
   info.depth_max_error = index.depth_max_error;
   for (const FrameRecord& frame : index.frames) info.depth_bytes += frame.depth_size;
+}
 
-  impl->cells.resize(index.cells.size());
+// The cells' entries, which take over the index's cameras.
+void fill_cells(Reader::Impl& impl) {
+  const ContainerIndex& index = impl.index;
+  impl.cells.resize(index.cells.size());
   for (size_t c = 0; c < index.cells.size(); ++c) {
-    CellEntry& entry = impl->cells[c];
+    CellEntry& entry = impl.cells[c];
     entry.index = index.cells[c].index;
     entry.position = index.cells[c].position;
     entry.cameras = index.cameras[c];
@@ -486,8 +512,147 @@ Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source,
     }
   }
   // The entries hold the cameras now; decoding never needs them.
-  impl->index.cameras = {};
-  return std::unique_ptr<Reader>(new Reader(std::move(impl)));
+  impl.index.cameras = {};
+}
+
+// The reader's state for `source`: its header and index read and checked.
+Result<std::unique_ptr<Reader::Impl>> load(std::unique_ptr<ByteSource> source, const ReaderSettings& settings) {
+  auto impl = std::make_unique<Reader::Impl>(settings);
+  impl->file = std::make_unique<ReadOnlyFile>(std::move(source));
+  SVC_ASSIGN_OR_RETURN(OpenedContainer opened, open_container(*impl->file, settings.limits));
+  impl->index = std::move(opened.index);
+  impl->reference_keys_fit = impl->index.frames.size() <=
+                             std::numeric_limits<uint32_t>::max() / Reader::Impl::kReferenceKeysPerFrame;
+  impl->slot_damaged = opened.slot_damaged;
+  impl->grid.dims = impl->index.grid.dims;
+  impl->grid.origin = impl->index.grid.origin;
+  impl->grid.spacing = impl->index.grid.spacing;
+  fill_info(*impl);
+  fill_cells(*impl);
+  return impl;
+}
+
+// inspect_face's work.
+Result<InspectedFace> inspect(Reader::Impl& impl, const CellIndex& cell, Face face) {
+  if (impl.closed.load()) return cancelled();
+  SVC_ASSIGN_OR_RETURN(uint32_t frame, impl.frame_of(cell, face));
+  std::vector<codec::MacroblockMode> modes;
+  std::vector<codec::Partition> partitions;
+  std::vector<uint8_t> warped;
+  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl.decode_uncached(frame, &modes, &partitions, &warped));
+  InspectedFace out;
+  out.type = impl.index.frames[frame].type;
+  out.image = to_rgb(*ycc);
+  out.macroblocks_x = (ycc->width + codec::kMacroblockSize - 1) / codec::kMacroblockSize;
+  out.macroblocks_y = (ycc->height + codec::kMacroblockSize - 1) / codec::kMacroblockSize;
+  out.modes.assign(static_cast<size_t>(out.macroblocks_x) * out.macroblocks_y, MacroblockCoding::kIntra);
+  for (size_t i = 0; i < modes.size() && i < out.modes.size(); ++i) {
+    out.modes[i] = static_cast<MacroblockCoding>(modes[i]);
+  }
+  out.partitions.assign(out.modes.size(), MacroblockPartition::k16x16);
+  for (size_t i = 0; i < partitions.size() && i < out.partitions.size(); ++i) {
+    out.partitions[i] = static_cast<MacroblockPartition>(partitions[i]);
+  }
+  out.warped.assign(out.modes.size(), 0);
+  std::copy_n(warped.begin(), std::min(warped.size(), out.warped.size()), out.warped.begin());
+  return out;
+}
+
+// verify's work.
+Status verify_all(Reader::Impl& impl, const VerifySettings& settings) {
+  std::vector<std::string> problems;
+  for (int slot = 0; slot < 2; ++slot) {
+    if (impl.slot_damaged[slot]) {
+      problems.push_back(impl.file->name() + ": commit slot " + std::to_string(slot) + " (bytes " +
+                         std::to_string(kFileHeaderSize + slot * kCommitSlotSize) + "-" +
+                         std::to_string(kFileHeaderSize + (slot + 1) * kCommitSlotSize - 1) +
+                         ") fails its CRC-32 check; the other slot's index is in use");
+    }
+  }
+  const size_t frames = impl.index.frames.size();
+  // Every face's outcome is kept and reported in frame order, whatever the threads did.
+  std::vector<Status> outcomes(frames);
+  std::vector<uint8_t> chunk_damaged(frames, 0);
+  std::mutex progress_mutex;
+  uint64_t checked = 0;
+  const Status run = parallel_for(frames, resolve_thread_count(settings.threads), [&](size_t frame) -> Status {
+    auto payload = impl.read_payload(static_cast<uint32_t>(frame));
+    outcomes[frame] = payload.status();
+    chunk_damaged[frame] = payload.ok() ? 0 : 1;
+    // An I-face is decoded on its own; a B-face from its references as the caches hold
+    // them, so the I-faces around it are reconstructed and padded once, not once a face.
+    const auto f = static_cast<uint32_t>(frame);
+    if (outcomes[frame].ok()) {
+      outcomes[frame] = impl.index.frames[f].type == FaceType::kIntra
+                            ? impl.decode_uncached(f).status()
+                            : impl.decode_through_caches(f, Origin::kCaller).status();
+    }
+    if (outcomes[frame].ok() && impl.index.depth) {
+      outcomes[frame] = impl.depth_of(f, Origin::kCaller).status();
+    }
+    if (!settings.progress) return Status::Ok();
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    if (settings.progress(++checked, frames)) return Status::Ok();
+    return Status(ErrorCode::kCancelled, "verify of " + impl.file->name() + " cancelled");
+  });
+  if (settings.problems != nullptr) settings.problems->clear();
+  if (!run.ok()) return run;
+  // The damaged faces first, then those that fail only because a reference they need
+  // failed: the first line names a damaged chunk, not one of the faces that use it.
+  const auto fails_through_reference = [&](size_t frame) {
+    if (chunk_damaged[frame] || impl.index.frames[frame].type == FaceType::kIntra) return false;
+    const FrameRecord& record = impl.index.frames[frame];
+    for (uint32_t ref : impl.index.depth ? depth_dependencies(record) : frame_dependencies(record)) {
+      if (ref < frames && !outcomes[ref].ok()) return true;
+    }
+    return false;
+  };
+  for (bool dependent : {false, true}) {
+    for (size_t frame = 0; frame < frames; ++frame) {
+      if (!outcomes[frame].ok() && fails_through_reference(frame) == dependent) {
+        problems.push_back(outcomes[frame].message());
+      }
+    }
+  }
+  if (settings.problems != nullptr) *settings.problems = problems;
+  if (problems.empty()) return Status::Ok();
+  constexpr size_t kReported = 20;
+  std::string message;
+  for (size_t i = 0; i < problems.size() && i < kReported; ++i) message += (i ? "\n" : "") + problems[i];
+  if (problems.size() > kReported) {
+    message += "\n... and " + std::to_string(problems.size() - kReported) + " more damaged faces";
+  }
+  return Status(ErrorCode::kCorruptData, message);
+}
+
+}  // namespace
+
+ReaderSettings default_reader_settings() { return ReaderSettings{}; }
+
+Reader::Reader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Reader::~Reader() {
+  if (impl_) impl_->close();
+}
+
+Result<std::unique_ptr<Reader>> Reader::open(const std::filesystem::path& path, const ReaderSettings& settings) {
+  return status_guarded([&] { return "Reader::open of " + path.string(); },
+                        [&]() -> Result<std::unique_ptr<Reader>> {
+                          SVC_ASSIGN_OR_RETURN(std::unique_ptr<ByteSource> source, open_file_source(path));
+                          return open(std::move(source), settings);
+                        });
+}
+
+Result<std::unique_ptr<Reader>> Reader::open(std::unique_ptr<ByteSource> source, const ReaderSettings& settings) {
+  std::string name;
+  return status_guarded([&] { return "Reader::open of " + (name.empty() ? std::string("a byte source") : name); },
+                        [&]() -> Result<std::unique_ptr<Reader>> {
+                          if (source == nullptr)
+                            return Status(ErrorCode::kInvalidArgument, "no byte source to read");
+                          name = source->name();
+                          SVC_RETURN_IF_ERROR(check_settings(settings));
+                          SVC_ASSIGN_OR_RETURN(std::unique_ptr<Impl> impl, load(std::move(source), settings));
+                          return std::unique_ptr<Reader>(new Reader(std::move(impl)));
+                        });
 }
 
 const FileInfo& Reader::info() const { return impl_->info; }
@@ -509,108 +674,103 @@ std::optional<size_t> Reader::find_cell_at(const std::array<double, 3>& p) const
 }
 
 Result<std::shared_ptr<const ImageYCbCr420>> Reader::acquire_face_ycbcr(const CellIndex& cell, Face face) {
-  if (impl_->closed.load()) return cancelled();
-  SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->frame_of(cell, face));
-  return impl_->caller_face(frame);
+  return impl_->guarded("acquire_face_ycbcr", cell, face, [&] { return impl_->acquire(cell, face); });
 }
 
 Result<ImageYCbCr420> Reader::decode_face_ycbcr(const CellIndex& cell, Face face) {
-  SVC_ASSIGN_OR_RETURN(ImagePointer image, acquire_face_ycbcr(cell, face));
-  return *image;
+  return impl_->guarded("decode_face_ycbcr", cell, face, [&]() -> Result<ImageYCbCr420> {
+    SVC_ASSIGN_OR_RETURN(ImagePointer image, impl_->acquire(cell, face));
+    return *image;
+  });
 }
 
 Result<ImageRGB8> Reader::decode_face(const CellIndex& cell, Face face) {
-  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, acquire_face_ycbcr(cell, face));
-  return to_rgb(*ycc);
+  return impl_->guarded("decode_face", cell, face, [&]() -> Result<ImageRGB8> {
+    SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->acquire(cell, face));
+    return to_rgb(*ycc);
+  });
 }
 
 Result<InspectedFace> Reader::inspect_face(const CellIndex& cell, Face face) {
-  if (impl_->closed.load()) return cancelled();
-  SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->frame_of(cell, face));
-  std::vector<codec::MacroblockMode> modes;
-  std::vector<codec::Partition> partitions;
-  std::vector<uint8_t> warped;
-  SVC_ASSIGN_OR_RETURN(ImagePointer ycc, impl_->decode_uncached(frame, &modes, &partitions, &warped));
-  InspectedFace out;
-  out.type = impl_->index.frames[frame].type;
-  out.image = to_rgb(*ycc);
-  out.macroblocks_x = (ycc->width + codec::kMacroblockSize - 1) / codec::kMacroblockSize;
-  out.macroblocks_y = (ycc->height + codec::kMacroblockSize - 1) / codec::kMacroblockSize;
-  out.modes.assign(static_cast<size_t>(out.macroblocks_x) * out.macroblocks_y, MacroblockCoding::kIntra);
-  for (size_t i = 0; i < modes.size() && i < out.modes.size(); ++i) {
-    out.modes[i] = static_cast<MacroblockCoding>(modes[i]);
-  }
-  out.partitions.assign(out.modes.size(), MacroblockPartition::k16x16);
-  for (size_t i = 0; i < partitions.size() && i < out.partitions.size(); ++i) {
-    out.partitions[i] = static_cast<MacroblockPartition>(partitions[i]);
-  }
-  out.warped.assign(out.modes.size(), 0);
-  std::copy_n(warped.begin(), std::min(warped.size(), out.warped.size()), out.warped.begin());
-  return out;
+  return impl_->guarded("inspect_face", cell, face, [&] { return inspect(*impl_, cell, face); });
 }
 
 Result<std::array<ImageRGB8, kFaceCount>> Reader::decode_cube(const CellIndex& cell) {
-  if (impl_->closed.load()) return cancelled();
-  SVC_ASSIGN_OR_RETURN(uint32_t first, impl_->frame_of(cell, Face::kPX));
-  std::array<ImageRGB8, kFaceCount> cube;
-  SVC_RETURN_IF_ERROR(
-      impl_->decode_cube(first, [&](size_t f, const ImageYCbCr420& image) { cube[f] = to_rgb(image); }));
-  return cube;
+  return impl_->guarded("decode_cube", cell, std::nullopt, [&]() -> Result<std::array<ImageRGB8, kFaceCount>> {
+    if (impl_->closed.load()) return cancelled();
+    SVC_ASSIGN_OR_RETURN(uint32_t first, impl_->frame_of(cell, Face::kPX));
+    std::array<ImageRGB8, kFaceCount> cube;
+    SVC_RETURN_IF_ERROR(
+        impl_->decode_cube(first, [&](size_t f, const ImageYCbCr420& image) { cube[f] = to_rgb(image); }));
+    return cube;
+  });
 }
 
 Status Reader::decode_face_into(const CellIndex& cell, Face face, const PixelBuffer& out) {
-  SVC_RETURN_IF_ERROR(reader_internal::check_pixel_buffer(out, impl_->info.face_width, impl_->info.face_height));
-  SVC_ASSIGN_OR_RETURN(ImagePointer image, acquire_face_ycbcr(cell, face));
-  reader_internal::write_pixels(*image, out);
-  return Status::Ok();
+  return impl_->guarded("decode_face_into", cell, face, [&]() -> Status {
+    SVC_RETURN_IF_ERROR(reader_internal::check_pixel_buffer(out, impl_->info.face_width, impl_->info.face_height));
+    SVC_ASSIGN_OR_RETURN(ImagePointer image, impl_->acquire(cell, face));
+    reader_internal::write_pixels(*image, out);
+    return Status::Ok();
+  });
 }
 
 Status Reader::decode_cube_into(const CellIndex& cell, const std::array<PixelBuffer, kFaceCount>& out) {
-  for (size_t f = 0; f < kFaceCount; ++f) {
-    const Status checked =
-        reader_internal::check_pixel_buffer(out[f], impl_->info.face_width, impl_->info.face_height);
-    if (!checked.ok()) return checked.with_context(std::string("face ") + face_name(kAllFaces[f]));
-  }
-  if (impl_->closed.load()) return cancelled();
-  SVC_ASSIGN_OR_RETURN(uint32_t first, impl_->frame_of(cell, Face::kPX));
-  return impl_->decode_cube(first, [&](size_t f, const ImageYCbCr420& image) {
-    reader_internal::write_pixels(image, out[f]);
+  return impl_->guarded("decode_cube_into", cell, std::nullopt, [&]() -> Status {
+    for (size_t f = 0; f < kFaceCount; ++f) {
+      const Status checked =
+          reader_internal::check_pixel_buffer(out[f], impl_->info.face_width, impl_->info.face_height);
+      if (!checked.ok()) return checked.with_context(std::string("face ") + face_name(kAllFaces[f]));
+    }
+    if (impl_->closed.load()) return cancelled();
+    SVC_ASSIGN_OR_RETURN(uint32_t first, impl_->frame_of(cell, Face::kPX));
+    return impl_->decode_cube(first, [&](size_t f, const ImageYCbCr420& image) {
+      reader_internal::write_pixels(image, out[f]);
+    });
   });
 }
 
 Status Reader::decode_face_depth_into(const CellIndex& cell, Face face, const DepthBuffer& out) {
-  if (impl_->closed.load()) return cancelled();
-  SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->depth_frame_of(cell, face));
-  SVC_RETURN_IF_ERROR(reader_internal::check_depth_buffer(out, impl_->info.face_width, impl_->info.face_height));
-  SVC_ASSIGN_OR_RETURN(DepthPointer codes, impl_->depth_of(frame, Origin::kCaller));
-  reader_internal::write_depth(*codes, impl_->info.face_width, impl_->info.face_height,
-                               impl_->camera_of(frame).frustum.near_plane, out);
-  return Status::Ok();
+  return impl_->guarded("decode_face_depth_into", cell, face, [&]() -> Status {
+    if (impl_->closed.load()) return cancelled();
+    SVC_ASSIGN_OR_RETURN(uint32_t frame, impl_->depth_frame_of(cell, face));
+    SVC_RETURN_IF_ERROR(reader_internal::check_depth_buffer(out, impl_->info.face_width, impl_->info.face_height));
+    SVC_ASSIGN_OR_RETURN(DepthPointer codes, impl_->depth_of(frame, Origin::kCaller));
+    reader_internal::write_depth(*codes, impl_->info.face_width, impl_->info.face_height,
+                                 impl_->camera_of(frame).frustum.near_plane, out);
+    return Status::Ok();
+  });
 }
 
 Result<std::vector<float>> Reader::decode_face_depth(const CellIndex& cell, Face face) {
-  std::vector<float> depth(static_cast<size_t>(impl_->info.face_width) * impl_->info.face_height);
-  DepthBuffer out;
-  out.data = depth.data();
-  out.stride = static_cast<size_t>(impl_->info.face_width) * sizeof(float);
-  out.size = depth.size() * sizeof(float);
-  SVC_RETURN_IF_ERROR(decode_face_depth_into(cell, face, out));
-  return depth;
+  return impl_->guarded("decode_face_depth", cell, face, [&]() -> Result<std::vector<float>> {
+    std::vector<float> depth(static_cast<size_t>(impl_->info.face_width) * impl_->info.face_height);
+    DepthBuffer out;
+    out.data = depth.data();
+    out.stride = static_cast<size_t>(impl_->info.face_width) * sizeof(float);
+    out.size = depth.size() * sizeof(float);
+    SVC_RETURN_IF_ERROR(decode_face_depth_into(cell, face, out));
+    return depth;
+  });
 }
 
 Status Reader::set_viewer(const CellIndex& cell, const std::array<double, 3>& velocity) {
-  if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
-  const auto& dims = impl_->grid.dims;
-  if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= dims[0] || cell.y >= dims[1] || cell.z >= dims[2]) {
-    return Status(ErrorCode::kInvalidArgument, "set_viewer: " + cell_label(cell) + " lies outside the grid");
-  }
-  return impl_->schedule(cell, impl_->grid.centre(cell), velocity);
+  return impl_->guarded("set_viewer", cell, std::nullopt, [&]() -> Status {
+    if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
+    const auto& dims = impl_->grid.dims;
+    if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x >= dims[0] || cell.y >= dims[1] || cell.z >= dims[2]) {
+      return Status(ErrorCode::kInvalidArgument, "set_viewer: " + cell_label(cell) + " lies outside the grid");
+    }
+    return impl_->schedule(cell, impl_->grid.centre(cell), velocity);
+  });
 }
 
 Status Reader::set_viewer(const std::array<double, 3>& position, const std::array<double, 3>& velocity) {
-  if (!finite3(position)) return Status(ErrorCode::kInvalidArgument, "set_viewer: position is not finite");
-  if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
-  return impl_->schedule(impl_->grid.cell_at(position), position, velocity);
+  return impl_->guarded("set_viewer", std::nullopt, std::nullopt, [&]() -> Status {
+    if (!finite3(position)) return Status(ErrorCode::kInvalidArgument, "set_viewer: position is not finite");
+    if (!finite3(velocity)) return Status(ErrorCode::kInvalidArgument, "set_viewer: velocity is not finite");
+    return impl_->schedule(impl_->grid.cell_at(position), position, velocity);
+  });
 }
 
 bool Reader::wait_for_prefetch(std::chrono::milliseconds timeout) {
@@ -638,69 +798,7 @@ ReaderStats Reader::stats() const {
 void Reader::close() { impl_->close(); }
 
 Status Reader::verify(const VerifySettings& settings) {
-  std::vector<std::string> problems;
-  for (int slot = 0; slot < 2; ++slot) {
-    if (impl_->slot_damaged[slot]) {
-      problems.push_back(impl_->file->name() + ": commit slot " + std::to_string(slot) + " (bytes " +
-                         std::to_string(kFileHeaderSize + slot * kCommitSlotSize) + "-" +
-                         std::to_string(kFileHeaderSize + (slot + 1) * kCommitSlotSize - 1) +
-                         ") fails its CRC-32 check; the other slot's index is in use");
-    }
-  }
-  const size_t frames = impl_->index.frames.size();
-  // Every face's outcome is kept and reported in frame order, whatever the threads did.
-  std::vector<Status> outcomes(frames);
-  std::vector<uint8_t> chunk_damaged(frames, 0);
-  std::mutex progress_mutex;
-  uint64_t checked = 0;
-  const Status run = parallel_for(frames, resolve_thread_count(settings.threads), [&](size_t frame) -> Status {
-    auto payload = impl_->read_payload(static_cast<uint32_t>(frame));
-    outcomes[frame] = payload.status();
-    chunk_damaged[frame] = payload.ok() ? 0 : 1;
-    // An I-face is decoded on its own; a B-face from its references as the caches hold
-    // them, so the I-faces around it are reconstructed and padded once, not once a face.
-    const auto f = static_cast<uint32_t>(frame);
-    if (outcomes[frame].ok()) {
-      outcomes[frame] = impl_->index.frames[f].type == FaceType::kIntra
-                            ? impl_->decode_uncached(f).status()
-                            : impl_->decode_through_caches(f, Origin::kCaller).status();
-    }
-    if (outcomes[frame].ok() && impl_->index.depth) {
-      outcomes[frame] = impl_->depth_of(f, Origin::kCaller).status();
-    }
-    if (!settings.progress) return Status::Ok();
-    std::lock_guard<std::mutex> lock(progress_mutex);
-    if (settings.progress(++checked, frames)) return Status::Ok();
-    return Status(ErrorCode::kCancelled, "verify of " + impl_->file->name() + " cancelled");
-  });
-  if (settings.problems != nullptr) settings.problems->clear();
-  if (!run.ok()) return run;
-  // The damaged faces first, then those that fail only because a reference they need
-  // failed: the first line names a damaged chunk, not one of the faces that use it.
-  const auto fails_through_reference = [&](size_t frame) {
-    if (chunk_damaged[frame] || impl_->index.frames[frame].type == FaceType::kIntra) return false;
-    const FrameRecord& record = impl_->index.frames[frame];
-    for (uint32_t ref : impl_->index.depth ? depth_dependencies(record) : frame_dependencies(record)) {
-      if (ref < frames && !outcomes[ref].ok()) return true;
-    }
-    return false;
-  };
-  for (bool dependent : {false, true}) {
-    for (size_t frame = 0; frame < frames; ++frame) {
-      if (!outcomes[frame].ok() && fails_through_reference(frame) == dependent) {
-        problems.push_back(outcomes[frame].message());
-      }
-    }
-  }
-  if (settings.problems != nullptr) *settings.problems = problems;
-  if (problems.empty()) return Status::Ok();
-  constexpr size_t kReported = 20;
-  std::string message;
-  for (size_t i = 0; i < problems.size() && i < kReported; ++i) message += (i ? "\n" : "") + problems[i];
-  if (problems.size() > kReported) {
-    message += "\n... and " + std::to_string(problems.size() - kReported) + " more damaged faces";
-  }
-  return Status(ErrorCode::kCorruptData, message);
+  return impl_->guarded("verify", std::nullopt, std::nullopt, [&] { return verify_all(*impl_, settings); });
 }
 
 }  // namespace svc

@@ -7,7 +7,9 @@
 // function runs without the cache's lock held, so it may use other caches (it must not
 // wait on a key of this same cache, which could deadlock). Values are handed out as
 // shared_ptr<const V>: eviction never invalidates a value a caller still holds.
-// Errors from compute are passed to every waiter and not cached.
+// Errors from compute are passed to every waiter and not cached; so is an exception it
+// throws (as kOutOfMemory for a failed allocation, else kInternal), after which the key
+// is computed again on the next request.
 #pragma once
 
 #include <condition_variable>
@@ -16,9 +18,11 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
+#include "common/exception_status.h"
 #include "svc/reader.h"
 #include "svc/status.h"
 
@@ -62,23 +66,28 @@ class SharedCache {
       return pending->value;
     }
     if (origin == Origin::kCaller) ++counters_.misses;
+    // Nothing is registered if this throws (out of memory): the caller's guard reports it.
     auto pending = std::make_shared<InFlight>();
     in_flight_.emplace(key, pending);
     lock.unlock();
 
-    Result<Pointer> computed = Status(ErrorCode::kInternal, "cache computation did not run");
-    try {
-      computed = compute();
-    } catch (const std::bad_alloc&) {
-      computed = Status(ErrorCode::kLimitExceeded, "out of memory while decoding");
-    }
+    // From here every path publishes an outcome and releases the in-flight entry, so that
+    // waiters wake and a later call computes again: an exception thrown by `compute` is
+    // its error, and a value that cannot be inserted is returned uncached.
+    Result<Pointer> computed =
+        status_guarded([] { return std::string("decoding"); }, [&]() -> Result<Pointer> { return compute(); });
+    Status published = computed.ok() ? Status::Ok() : copy_or_code(computed.status());
 
     lock.lock();
     if (computed.ok()) {
       pending->value = *computed;
-      insert_locked(key, *computed);
+      try {
+        insert_locked(key, *computed);
+      } catch (...) {
+        // No memory for the entry's bookkeeping: the value is handed out, not cached.
+      }
     } else {
-      pending->status = computed.status();
+      pending->status = std::move(published);
     }
     pending->done = true;
     in_flight_.erase(key);
@@ -133,12 +142,28 @@ class SharedCache {
     Pointer value;
   };
 
+  // A copy of `status` for the waiters; its code alone when the message cannot be copied.
+  static Status copy_or_code(const Status& status) noexcept {
+    try {
+      return status;
+    } catch (...) {
+      return Status(status.code(), std::string());
+    }
+  }
+
+  // Strong guarantee: when an allocation fails (an exception), the cache is as before
+  // but for the entries evicted to make room.
   void insert_locked(uint32_t key, const Pointer& value) {
     const uint64_t bytes = entry_bytes(*value);
     if (bytes > budget_ || entries_.count(key) != 0) return;
     evict_to_locked(budget_ - bytes);
     lru_.push_front(key);
-    entries_.emplace(key, Entry{value, bytes, lru_.begin()});
+    try {
+      entries_.emplace(key, Entry{value, bytes, lru_.begin()});
+    } catch (...) {
+      lru_.pop_front();
+      throw;
+    }
     bytes_held_ += bytes;
     ++counters_.insertions;
     if (bytes_held_ > counters_.peak_bytes) counters_.peak_bytes = bytes_held_;
