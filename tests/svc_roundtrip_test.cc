@@ -149,6 +149,31 @@ TEST_F(RoundTrip, EveryCodingToolCanBeSwitchedOff) {
   for (const std::string& name : names) EXPECT_NE(unknown.message().find(name), std::string::npos) << name;
 }
 
+// Every cube border width writes what decodes to the encoder's quality, each its own
+// bytes (the border is coded in every B-face header); widths outside 1..4 are refused.
+TEST_F(RoundTrip, EveryCubeBorderWidthDecodes) {
+  std::vector<std::vector<uint8_t>> files;
+  for (int units = 1; units <= 4; ++units) {
+    EncoderSettings settings;
+    settings.cube_border_units = units;
+    const std::string name = "border-" + std::to_string(units) + ".svc";
+    ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, name, name, small_db()));
+    files.push_back(file_bytes(out(name)));
+  }
+  ASSERT_TRUE(encode_database(small_db(), out("border-default.svc"), EncoderSettings{}).ok());
+  EXPECT_EQ(files[3], file_bytes(out("border-default.svc")));
+  for (size_t i = 0; i + 1 < files.size(); ++i) EXPECT_NE(files[i], files[i + 1]) << i;
+  for (int units : {0, 5}) {
+    EncoderSettings settings;
+    settings.cube_border_units = units;
+    auto refused = encode_database(small_db(), out("border-refused.svc"), settings);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.status().code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(refused.status().message().find("cube border of " + std::to_string(units) + " units"),
+              std::string::npos);
+  }
+}
+
 // Switches interact (a search without its rate-distortion step keeps what quantization
 // without one gave it): pairs of tools switched off still write a stream that verifies,
 // each face decoded and checked against its chunk. The default run takes a fixed sample

@@ -214,7 +214,7 @@ TEST_F(Shard, ShardNumbersOutsideTheRangeAreRefused) {
   }
 }
 
-// Every speed, switched-off tool, quantization matrix and fixed B-face offset shards:
+// Every speed, switched-off tool, quantization matrix, fixed B-face offset and cube border shards:
 // the merge gives the one-process encode's bytes at the same settings.
 TEST_F(Shard, EverySpeedAndToolSettingMergesToTheOneProcessEncode) {
   std::vector<std::pair<std::string, EncoderSettings>> variants;
@@ -227,6 +227,7 @@ TEST_F(Shard, EverySpeedAndToolSettingMergesToTheOneProcessEncode) {
   ASSERT_TRUE(disable_coding_tool(&tuned.tools, "cdef").ok());
   tuned.tools.weighted_quant_matrix = true;
   tuned.b_qindex_offset = 30;
+  tuned.cube_border_units = 2;
   variants.emplace_back("tuned", tuned);
   for (const auto& [tag, s] : variants) {
     const fs::path whole = out(tag + "-whole.svc");
@@ -239,7 +240,7 @@ TEST_F(Shard, EverySpeedAndToolSettingMergesToTheOneProcessEncode) {
   }
 }
 
-// Parts coded with different tools, quantization matrices or B-face offsets would merge
+// Parts coded with different tools, quantization matrices, B-face offsets or cube borders would merge
 // into a file no single encode gives: refused, naming both settings.
 TEST_F(Shard, PartsOfDifferentToolSettingsAreRefused) {
   const std::vector<fs::path> plain = encode_parts(full(), 2, "plain");
@@ -257,6 +258,10 @@ TEST_F(Shard, PartsOfDifferentToolSettingsAreRefused) {
   weighted.tools.weighted_quant_matrix = true;
   const std::vector<fs::path> matrix = encode_parts(full(), 2, "matrix", weighted);
   expect_refused({matrix[0], plain[1]}, "--quant-matrix weighted");
+  EncoderSettings narrow = settings(1);
+  narrow.cube_border_units = 1;
+  const std::vector<fs::path> border = encode_parts(full(), 2, "border", narrow);
+  expect_refused({plain[0], border[1]}, "--cube-border 1");
 }
 
 }  // namespace

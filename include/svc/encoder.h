@@ -169,6 +169,10 @@ struct EncoderSettings {
   // -1 chooses 26..42 per database from trial B-faces (docs/encoder.md 5); 0..255 fixes
   // it (to measure the choice).
   int b_qindex_offset = -1;
+  // Width of the cube-map border of B-faces' padded references (cube-references), in
+  // units of 16 luma samples, 1..4 (docs/codec.md 5.7). 4 lets vectors reach furthest
+  // past a face's edge; a narrower border pads less per reference (docs/encoder.md 7).
+  int cube_border_units = 4;
   // Worker threads; 0 uses the machine's hardware concurrency. Output bytes do not
   // depend on this.
   int threads = 0;

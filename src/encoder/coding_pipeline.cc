@@ -220,7 +220,7 @@ class Pipeline {
         held.push_back(std::move(face));
       }
       auto padded = std::make_shared<ImageYCbCr420>();
-      const Status status = codec::pad_cube_face(cube, record.face, kCubeBorderUnits, padded.get());
+      const Status status = codec::pad_cube_face(cube, record.face, job_.cube_border_units, padded.get());
       if (!status.ok()) return Status(ErrorCode::kInternal, frame_name(ref) + ": " + status.message());
       return FacePointer(std::move(padded));
     });

@@ -23,6 +23,10 @@ namespace svc {
 // the faces in flight (4 per thread) and the index. docs/format.md, "Memory".
 inline constexpr uint64_t kReferenceCacheBytes = 64ull << 20;
 
+// Default width of the cube-map border of padded references, in units of 16 luma samples
+// (codec/common/cube_padding.h; EncoderSettings::cube_border_units, docs/encoder.md 7).
+inline constexpr int kCubeBorderUnits = 4;
+
 // The budget each of a coding run's three reference caches (decoded, padded, search planes) gets:
 // kReferenceCacheBytes, or the environment's SVC_REFERENCE_CACHE_BYTES when that is a whole number of bytes from 1
 // to kReferenceCacheBytes (a smaller budget makes a small database reach it, as the memory test does). The coded
@@ -64,6 +68,8 @@ struct CodingJob {
   // 0..255: the B-faces' quantizer index is the I-faces' plus this (clamped to 255),
   // and trial_frames is ignored.
   int b_qindex_offset = -1;
+  // Border of padded references in units of 16 luma samples (EncoderSettings).
+  int cube_border_units = kCubeBorderUnits;
   // Filled by coding: the B-faces' quantizer index (-1 when no B-face was coded).
   int b_qindex = -1;
   // Filled by coding: how the B-faces' macroblocks were predicted (EncodeSummary::prediction).
@@ -80,10 +86,6 @@ inline constexpr size_t kTrialCubes = 3;
 // B-cubes spread evenly over the B-cubes `frames` holds whole, ordered by the distance to
 // their nearest reference cube, then by cell (all of them when fewer).
 std::vector<uint32_t> trial_frames(const ContainerIndex& index, std::span<const uint32_t> frames);
-
-// Width of the cube-map border of padded references, in units of 16 luma samples
-// (codec/common/cube_padding.h). Encoder's choice (docs/encoder.md 5).
-inline constexpr int kCubeBorderUnits = 4;
 
 // Whether B-faces of `index` are coded from padded references with `tools`: the tool is
 // on and the faces are square (cube faces).

@@ -15,6 +15,7 @@
 #endif
 
 #include "codec/common/bframe.h"
+#include "codec/common/cube_padding.h"
 #include "codec/common/depth.h"
 #include "codec/common/intra_frame.h"
 #include "codec/decoder/bframe_decoder.h"
@@ -49,6 +50,11 @@ Status validate_settings(const EncoderSettings& settings) {
     return Status(ErrorCode::kInvalidArgument,
                   "B-face quantizer offset " + std::to_string(settings.b_qindex_offset) + " is outside 0.." +
                       std::to_string(codec::kMaxQIndex) + " (or -1 to choose it per database)");
+  }
+  if (settings.cube_border_units < 1 || settings.cube_border_units > codec::kMaxCubeBorderUnits) {
+    return Status(ErrorCode::kInvalidArgument, "cube border of " + std::to_string(settings.cube_border_units) +
+                                                   " units is outside 1.." +
+                                                   std::to_string(codec::kMaxCubeBorderUnits));
   }
   if (settings.threads < 0 || settings.threads > 1024) {
     return Status(ErrorCode::kInvalidArgument,
@@ -221,6 +227,7 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   std::iota(all.begin(), all.end(), 0u);
   job.trial_frames = trial_frames(plan.index, all);
   job.b_qindex_offset = settings.b_qindex_offset;
+  job.cube_border_units = settings.cube_border_units;
   job.load = [&](uint32_t frame) {
     return load_face(plan.manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
   };

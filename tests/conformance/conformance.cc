@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: BSD-2-Clause
-// svc-conformance MANIFEST [--threads N] [--prefetch] [--no-face-caches]: decodes every stream the manifest
-// lists (tests/conformance/streams.txt: "NAME MD5 what it exercises", streams in
-// streams/NAME.svc beside it) and compares the MD5 of its decoded output
-// (stream_digest.h) with the recorded one. Prints one line a stream and exits 1 on any
-// mismatch or error. Exits 77 (skipped) when SVC_CPU_MASK asks for a kernel variant
-// this machine does not have, so that a test per variant skips where it cannot run.
+// svc-conformance MANIFEST [--threads N] [--prefetch] [--no-face-caches] [--values]: decodes every stream the
+// manifest lists (tests/conformance/streams.txt: "NAME MD5 what it exercises", streams in streams/NAME.svc beside
+// it) and compares the MD5 of its decoded output (stream_digest.h) with the recorded one. Prints one line a stream
+// and exits 1 on any mismatch or error. Exits 77 (skipped) when SVC_CPU_MASK asks for a kernel variant this machine
+// does not have, so that a test per variant skips where it cannot run.
+// --values also prints which values the streams give the main syntax elements
+// (value_report.h).
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -14,6 +15,7 @@
 
 #include "codec/common/dsp/dsp.h"
 #include "conformance/stream_digest.h"
+#include "conformance/value_report.h"
 
 namespace svc::conformance {
 namespace {
@@ -28,7 +30,8 @@ struct Entry {
 std::string flag_names(unsigned flags) {
   using namespace codec::dsp;
   std::string names;
-  for (auto [flag, name] : {std::pair{kCpuSse2, "sse2"}, {kCpuSse41, "sse4.1"}, {kCpuAvx2, "avx2"}, {kCpuNeon, "neon"}}) {
+  for (auto [flag, name] :
+       {std::pair{kCpuSse2, "sse2"}, {kCpuSse41, "sse4.1"}, {kCpuAvx2, "avx2"}, {kCpuNeon, "neon"}}) {
     if (flags & flag) names += std::string(names.empty() ? "" : " ") + name;
   }
   return names.empty() ? "plain references" : names;
@@ -61,13 +64,15 @@ bool read_manifest(const fs::path& path, std::vector<Entry>* entries) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: svc-conformance MANIFEST [--threads N] [--prefetch] [--no-face-caches]\n");
+  std::fprintf(stderr,
+               "usage: svc-conformance MANIFEST [--threads N] [--prefetch] [--no-face-caches] [--values]\n");
   return 2;
 }
 
 int run(int argc, char** argv) {
   DecodeSettings settings;
   fs::path manifest;
+  bool values = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--threads" && i + 1 < argc) {
@@ -76,6 +81,8 @@ int run(int argc, char** argv) {
       settings.prefetch = true;
     } else if (arg == "--no-face-caches") {
       settings.face_caches = false;
+    } else if (arg == "--values") {
+      values = true;
     } else if (manifest.empty() && arg[0] != '-') {
       manifest = arg;
     } else {
@@ -97,10 +104,13 @@ int run(int argc, char** argv) {
               settings.threads, settings.prefetch ? ", prefetch" : "",
               settings.face_caches ? "" : ", references rebuilt from semi-decoded I-faces");
   int failures = 0;
+  ValueTally tally;
   for (const Entry& entry : entries) {
     const fs::path stream = manifest.parent_path() / "streams" / (entry.name + ".svc");
     const Result<std::string> md5 = stream_md5(stream, settings);
-    if (!md5.ok()) {
+    if (Status tallied = values ? tally_values(stream, &tally) : Status(); !tallied.ok()) {
+      std::printf("FAIL %s: %s\n", entry.name.c_str(), tallied.to_string().c_str());
+    } else if (!md5.ok()) {
       std::printf("FAIL %s: %s\n", entry.name.c_str(), md5.status().to_string().c_str());
     } else if (*md5 != entry.md5) {
       std::printf("FAIL %s: MD5 %s, expected %s\n", entry.name.c_str(), md5->c_str(), entry.md5.c_str());
@@ -111,6 +121,7 @@ int run(int argc, char** argv) {
     ++failures;
   }
   std::printf("%zu streams, %d failed\n", entries.size(), failures);
+  if (values) print_values(tally);
   return failures == 0 && !entries.empty() ? 0 : 1;
 }
 

@@ -5,6 +5,8 @@
 // are frozen, and this program only adds to them (docs/conformance.md). Each stream is a
 // small scene encoded with the settings, and where needed the face pixels, that drive
 // the encoder into the syntax it is there to cover.
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -27,8 +29,10 @@ namespace {
 namespace fs = std::filesystem;
 using samples::SceneKind;
 
-// What replaces the rendered colour of every face.
-enum class Pixels { kRendered, kBlack, kWhite, kNoise, kStripes };
+// What replaces the rendered colour of every face. kChromaFromLuma: a texture whose
+// chroma varies with its luma by a factor that steps from -2 to 2 in 1/8 from one
+// macroblock to the next, which drives CfL through its whole range of alphas.
+enum class Pixels { kRendered, kBlack, kWhite, kNoise, kStripes, kChromaFromLuma };
 
 struct StreamSpec {
   std::string name;
@@ -36,7 +40,7 @@ struct StreamSpec {
   samples::SceneOptions scene;
   std::function<void(EncoderSettings&)> settings = [](EncoderSettings&) {};
   Pixels pixels = Pixels::kRendered;
-  std::string depth_mode;   // "radial" rewrites the manifest's depth mode
+  std::string depth_mode;    // "radial" rewrites the manifest's depth mode
   int add_cells_from_x = 0;  // > 0: cells from this x on are added to the file by add_to_database
 };
 
@@ -46,6 +50,13 @@ samples::SceneOptions scene(SceneKind kind, std::array<int, 3> grid, int face_si
   options.grid = grid;
   options.face_size = face_size;
   options.seed = seed;
+  return options;
+}
+
+// A plaza whose cells stand 3 units apart: vectors reach far past the faces' edges.
+samples::SceneOptions far_cells(int face_size) {
+  samples::SceneOptions options = scene(SceneKind::kPlaza, {3, 1, 1}, face_size);
+  options.spacing = {3.0, 1.0, 3.0};
   return options;
 }
 
@@ -67,15 +78,28 @@ auto without(std::vector<std::string> tools, std::function<void(EncoderSettings&
 
 std::vector<StreamSpec> stream_table();
 
-uint8_t pixel_value(Pixels pixels, int x, int y, int channel, std::mt19937& rng) {
-  switch (pixels) {
-    case Pixels::kBlack: return 0;
-    case Pixels::kWhite: return 255;
-    case Pixels::kNoise: return static_cast<uint8_t>(rng());
-    case Pixels::kStripes: return ((x / 2 + y / 3 + channel) % 2) ? 255 : 0;
-    case Pixels::kRendered: break;
+std::array<uint8_t, 3> chroma_from_luma(int block, int x, int y) {
+  const double alpha = (block % 33 - 16) / 8.0;
+  const double texture = ((x * 7 + y * 13) % 17 - 8) * 5.0;
+  const double luma = 128 + texture, cb = alpha * texture, cr = -alpha * texture;
+  auto byte = [](double v) { return static_cast<uint8_t>(std::clamp(v + 0.5, 0.0, 255.0)); };
+  return {byte(luma + 1.402 * cr), byte(luma - 0.344 * cb - 0.714 * cr), byte(luma + 1.772 * cb)};
+}
+
+// The colour of pixel (x, y) of the `face`-th face of the database (manifest order).
+std::array<uint8_t, 3> pixel_rgb(Pixels pixels, int face, int x, int y, int blocks_x, std::mt19937& rng) {
+  std::array<uint8_t, 3> rgb{};
+  for (int c = 0; c < 3; ++c) {
+    switch (pixels) {
+      case Pixels::kBlack: rgb[c] = 0; break;
+      case Pixels::kWhite: rgb[c] = 255; break;
+      case Pixels::kNoise: rgb[c] = static_cast<uint8_t>(rng()); break;
+      case Pixels::kStripes: rgb[c] = ((x / 2 + y / 3 + c) % 2) ? 255 : 0; break;
+      case Pixels::kChromaFromLuma: return chroma_from_luma(face * 7 + (y / 16) * blocks_x + x / 16, x, y);
+      case Pixels::kRendered: break;
+    }
   }
-  return 0;
+  return rgb;
 }
 
 Status rewrite_pixels(const fs::path& db, Pixels pixels) {
@@ -83,15 +107,18 @@ Status rewrite_pixels(const fs::path& db, Pixels pixels) {
   const nlohmann::json manifest = nlohmann::json::parse(std::ifstream(db / "manifest.json"));
   const int w = manifest.at("face_size")[0], h = manifest.at("face_size")[1];
   std::mt19937 rng(7);
+  int ordinal = 0;
   for (const auto& cell : manifest.at("cells")) {
     for (Face face : kAllFaces) {
       const fs::path path = db / cell.at("faces").at(face_name(face)).at("color").get<std::string>();
       std::vector<uint8_t> rgb(static_cast<size_t>(w) * h * 3);
       for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-          for (int c = 0; c < 3; ++c) rgb[(static_cast<size_t>(y) * w + x) * 3 + c] = pixel_value(pixels, x, y, c, rng);
+          const auto value = pixel_rgb(pixels, ordinal, x, y, (w + 15) / 16, rng);
+          std::copy(value.begin(), value.end(), rgb.begin() + (static_cast<ptrdiff_t>(y) * w + x) * 3);
         }
       }
+      ++ordinal;
       auto out = OIIO::ImageOutput::create(path.string());
       if (!out || !out->open(path.string(), OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::UINT8)) ||
           !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) || !out->close()) {
@@ -176,44 +203,60 @@ int run(int argc, char** argv) {
 std::vector<StreamSpec> stream_table() {
   std::vector<StreamSpec> t;
   t.push_back({"intra-q0", "I-faces only at quantizer index 0: the largest levels and their Exp-Golomb escapes",
-               scene(SceneKind::kHall, {2, 1, 1}, 32), [](EncoderSettings& s) { s.intra_only = true; s.qindex = 0; }});
-  t.push_back({"intra-q255", "I-faces only at quantizer index 255: the coarsest steps, nearly every block without levels",
-               scene(SceneKind::kHall, {2, 1, 1}, 32), [](EncoderSettings& s) { s.intra_only = true; s.qindex = 255; }});
-  t.push_back({"hall-default", "the default settings on a 3x1x3 hall: I- and B-cubes, visibility references, every tool",
+               scene(SceneKind::kHall, {2, 1, 1}, 32), [](EncoderSettings& s) {
+                 s.intra_only = true;
+                 s.qindex = 0;
+               }});
+  t.push_back({"intra-q255",
+               "I-faces only at quantizer index 255: the coarsest steps, nearly every block without levels",
+               scene(SceneKind::kHall, {2, 1, 1}, 32), [](EncoderSettings& s) {
+                 s.intra_only = true;
+                 s.qindex = 255;
+               }});
+  t.push_back({"hall-default",
+               "the default settings on a 3x1x3 hall: I- and B-cubes, visibility references, every tool",
                scene(SceneKind::kHall, {3, 1, 3}, 32)});
-  t.push_back({"street-q20", "a fine quantizer (index 20) on a street of 48-pixel faces: many coded inter residuals",
+  t.push_back({"street-q20",
+               "a fine quantizer (index 20) on a street of 48-pixel faces: many coded inter residuals",
                scene(SceneKind::kStreet, {3, 1, 2}, 48), with_qindex(20)});
   t.push_back({"plaza-q200", "a coarse quantizer (index 200) on a 64-pixel plaza: skips, large blocks",
                scene(SceneKind::kPlaza, {3, 1, 2}, 64), with_qindex(200)});
-  t.push_back({"interior-36px", "36-pixel faces (not a multiple of 16): partial macroblocks at the right and bottom edges",
+  t.push_back({"interior-36px",
+               "36-pixel faces (not a multiple of 16): partial macroblocks at the right and bottom edges",
                scene(SceneKind::kInterior, {3, 1, 2}, 36)});
   t.push_back({"colonnade-20px", "20-pixel faces: one full and one 4-pixel macroblock column; chroma of 10",
                scene(SceneKind::kColonnade, {3, 1, 1}, 20)});
-  t.push_back({"house-sparse", "a sparse grid (cells inside walls dropped) of rooms behind walls",
-               [] { auto o = scene(SceneKind::kHouse, {5, 1, 4}, 24); o.sparse = true; return o; }()});
+  t.push_back({"house-sparse", "a sparse grid (cells inside walls dropped) of rooms behind walls", [] {
+                 auto o = scene(SceneKind::kHouse, {5, 1, 4}, 24);
+                 o.sparse = true;
+                 return o;
+               }()});
   t.push_back({"hall-regular-layout", "the regular I-cube lattice with i-spacing 2x1x2 and the nearest references",
                scene(SceneKind::kHall, {4, 1, 3}, 32), [](EncoderSettings& s) {
                  s.layout = CubeLayout::kRegular;
                  s.i_spacing = {2, 1, 2};
                }});
   t.push_back({"street-log-search", "motion by logarithmic search instead of depth reprojection",
-               scene(SceneKind::kStreet, {3, 1, 1}, 32), [](EncoderSettings& s) { s.motion = MotionSearch::kLogarithmic; }});
+               scene(SceneKind::kStreet, {3, 1, 1}, 32),
+               [](EncoderSettings& s) { s.motion = MotionSearch::kLogarithmic; }});
   t.push_back({"hall-two-layers", "a grid two cells high: references above and below",
                scene(SceneKind::kHall, {2, 2, 2}, 32)});
-  t.push_back({"plaza-far-cells", "cells 3 units apart on 64-pixel faces: the largest vectors and cube-padding reaches",
-               [] { auto o = scene(SceneKind::kPlaza, {3, 1, 1}, 64); o.spacing = {3.0, 1.0, 3.0}; return o; }()});
+  t.push_back({"plaza-far-cells",
+               "cells 3 units apart on 64-pixel faces: the largest vectors and cube-padding reaches",
+               far_cells(64)});
   t.push_back({"black", "every pixel 0", scene(SceneKind::kHall, {3, 1, 1}, 32), {}, Pixels::kBlack});
   t.push_back({"white", "every pixel 255", scene(SceneKind::kHall, {3, 1, 1}, 32), {}, Pixels::kWhite});
   t.push_back({"noise-q0", "uniform noise at quantizer index 0: the largest residuals and clamps",
                scene(SceneKind::kHall, {2, 1, 1}, 16), with_qindex(0), Pixels::kNoise});
-  t.push_back({"noise-q96", "uniform noise at quantizer index 96", scene(SceneKind::kHall, {3, 1, 1}, 16), with_qindex(96),
-               Pixels::kNoise});
+  t.push_back({"noise-q96", "uniform noise at quantizer index 96", scene(SceneKind::kHall, {3, 1, 1}, 16),
+               with_qindex(96), Pixels::kNoise});
   t.push_back({"stripes", "full-contrast stripes: extreme edges for deblocking and CDEF",
                scene(SceneKind::kHall, {3, 1, 1}, 32), with_qindex(60), Pixels::kStripes});
-  t.push_back({"depth-exact", "depth planes coded without error (maximum error 0)", scene(SceneKind::kHouse, {3, 1, 1}, 32),
-               [](EncoderSettings& s) { s.depth = true; }});
+  t.push_back({"depth-exact", "depth planes coded without error (maximum error 0)",
+               scene(SceneKind::kHouse, {3, 1, 1}, 32), [](EncoderSettings& s) { s.depth = true; }});
   t.push_back({"depth-e12-radial", "depth planes with maximum error 12 from radial source depth",
-               scene(SceneKind::kStreet, {3, 1, 2}, 32), [](EncoderSettings& s) {
+               scene(SceneKind::kStreet, {3, 1, 2}, 32),
+               [](EncoderSettings& s) {
                  s.depth = true;
                  s.depth_max_error = 12;
                },
@@ -237,21 +280,30 @@ std::vector<StreamSpec> stream_table() {
                "no warped prediction, one filter bank, half-pel, no cube references, median vector predictors, "
                "x/y vector differences",
                scene(SceneKind::kColonnade, {3, 1, 2}, 32),
-               without({"warped-prediction", "switchable-filter", "quarter-pel", "cube-references", "vector-predictors",
-                        "epipolar-lines"})});
+               without({"warped-prediction", "switchable-filter", "quarter-pel", "cube-references",
+                        "vector-predictors", "epipolar-lines"})});
   t.push_back({"no-intra-tools", "planar and DC only, in I-faces and B-face intra macroblocks",
                scene(SceneKind::kPlaza, {3, 1, 1}, 32), without({"intra-directional", "b-intra-prediction"})});
   t.push_back({"speed5", "the fastest speed's choices", scene(SceneKind::kStreet, {3, 1, 2}, 32),
                [](EncoderSettings& s) { (void)apply_encoder_speed(&s, kMaxEncoderSpeed); }});
-  t.push_back({"daylight-antialiased", "a supersampled daylight render: antialiased edges, bright detail",
-               [] {
+  t.push_back({"daylight-antialiased", "a supersampled daylight render: antialiased edges, bright detail", [] {
                  auto o = scene(SceneKind::kStreet, {3, 1, 2}, 48, 3);
                  o.supersample = 2;
                  o.exposure_stops = 1.0;
                  return o;
                }()});
+  t.push_back({"chroma-from-luma", "chroma that follows luma by factors from -2 to 2: CfL at every alpha",
+               scene(SceneKind::kHall, {2, 1, 1}, 64), with_qindex(30), Pixels::kChromaFromLuma});
+  for (int units = 1; units <= 3; ++units) {
+    t.push_back({"cube-border-" + std::to_string(units),
+                 "B-faces' references padded by " + std::to_string(units) +
+                     " border unit(s) (--cube-border; the encoder's default is 4)",
+                 scene(SceneKind::kHall, {3, 1, 2}, 32),
+                 [units](EncoderSettings& s) { s.cube_border_units = units; }});
+  }
   {
-    StreamSpec added{"added-cells", "cells appended by svc add: a second index, old I-cubes as new cells' references",
+    StreamSpec added{"added-cells",
+                     "cells appended by svc add: a second index, old I-cubes as new cells' references",
                      scene(SceneKind::kHall, {4, 1, 1}, 32)};
     added.add_cells_from_x = 2;
     t.push_back(added);

@@ -66,7 +66,8 @@ Result<std::string> stream_md5(const std::filesystem::path& stream, const Decode
   for (const CellEntry& cell : reader->cells()) {
     if (settings.prefetch) SVC_RETURN_IF_ERROR(reader->set_viewer(cell.index));
     for (Face face : kAllFaces) {
-      SVC_ASSIGN_OR_RETURN(std::shared_ptr<const ImageYCbCr420> image, reader->acquire_face_ycbcr(cell.index, face));
+      SVC_ASSIGN_OR_RETURN(std::shared_ptr<const ImageYCbCr420> image,
+                           reader->acquire_face_ycbcr(cell.index, face));
       md5.update(image->y);
       md5.update(image->cb);
       md5.update(image->cr);

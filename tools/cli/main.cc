@@ -67,6 +67,10 @@ void add_encoder_options(CLI::App* cmd, EncoderSettings* settings, EncoderOption
                   "Quantizer indices the B-faces use above the I-faces' (default: 26..42, chosen per database "
                   "from trial B-faces)")
       ->check(integer_in(0, 255));
+  cmd->add_option("--cube-border", settings->cube_border_units,
+                  "Border of B-faces' padded references in units of 16 luma samples, 1..4 (default 4: vectors "
+                  "reach furthest past a face's edge)")
+      ->check(integer_in(1, 4));
   add_threads_option(cmd, &settings->threads);
   cmd->add_flag("--intra-only", settings->intra_only, "Code every cell as an I-cube");
   cmd->add_flag("--depth", settings->depth, "Store every face's depth (readers decode it beside the color)");
