@@ -16,16 +16,12 @@
 
 #include "fuzz/failing_allocator_new.h"
 #include "fuzz/reader_entry.h"
+#include "support/test_support.h"
 
 namespace svc {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::vector<uint8_t> read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
 
 std::vector<fs::path> test_files() {
   const fs::path source(SVC_SOURCE_DIR);
@@ -59,7 +55,7 @@ TEST(AllocationFailure, EveryFailedAllocationIsAnErrorAndTheNextCallsWork) {
   fuzz::g_failure_handler = &collect;
   for (const fs::path& path : test_files()) {
     SCOPED_TRACE(path.string());
-    const std::vector<uint8_t> file = read_bytes(path);
+    const std::vector<uint8_t> file = testing::read_file_data(path);
     ASSERT_FALSE(file.empty());
     // Warm up once (one-time statics), then count the clean run's allocations.
     fuzz::DecodeRun clean;

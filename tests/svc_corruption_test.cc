@@ -21,11 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<uint8_t> read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
-
 ReaderSettings sweep_settings() {
   ReaderSettings settings;
   settings.prefetch_threads = 0;
@@ -47,7 +42,7 @@ class Corruption : public ::testing::Test {
     settings.depth_max_error = 2;
     const fs::path file = dir_->path() / "tiny.svc";
     ASSERT_TRUE(encode_database(dir_->path() / "db", file, settings).ok());
-    bytes_ = new std::vector<uint8_t>(read_bytes(file));
+    bytes_ = new std::vector<uint8_t>(testing::read_file_data(file));
     auto read = ReadOnlyFile::open(file);
     ASSERT_TRUE(read.ok());
     auto opened = open_container(**read, ReaderLimits{});

@@ -34,11 +34,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<uint8_t> read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
-
 fs::path corpus_dir(const std::string& target) {
   return fs::path(SVC_SOURCE_DIR) / "tests" / "fuzz" / "corpus" / target;
 }
@@ -85,7 +80,7 @@ std::map<std::string, std::vector<uint8_t>> container_seeds(const fs::path& work
     const fs::path out = work / v.name;
     auto summary = encode_database(db, out, settings);
     EXPECT_TRUE(summary.ok()) << summary.status().to_string();
-    seeds[v.name] = read_bytes(out);
+    seeds[v.name] = testing::read_file_data(out);
   }
   return seeds;
 }
@@ -183,7 +178,7 @@ TEST(FuzzCorpus, ReplaysContainerCorpus) {
   ASSERT_FALSE(files.empty());
   for (const fs::path& path : files) {
     SCOPED_TRACE(path.string());
-    const std::vector<uint8_t> bytes = read_bytes(path);
+    const std::vector<uint8_t> bytes = testing::read_file_data(path);
     const int decoded = fuzz::run_container_input(bytes);
     // Seeds are intact files: every face decodes. Files with an older index are refused.
     const std::string name = path.filename().string();
@@ -204,7 +199,7 @@ TEST(FuzzCorpus, ReplaysContainerCorpusThroughTheThreadsEntry) {
   int succeeded = 0;
   for (const fs::path& path : corpus_files("container")) {
     SCOPED_TRACE(path.string());
-    succeeded += fuzz::run_threads_input(read_bytes(path));
+    succeeded += fuzz::run_threads_input(testing::read_file_data(path));
   }
   fuzz::g_failure_handler = nullptr;
   EXPECT_EQ(g_thread_failures.load(), 0);
@@ -216,7 +211,7 @@ TEST(FuzzCorpus, ReplaysFrameCorpus) {
   ASSERT_FALSE(files.empty());
   for (const fs::path& path : files) {
     SCOPED_TRACE(path.string());
-    const int decoded = fuzz::run_frame_input(read_bytes(path));
+    const int decoded = fuzz::run_frame_input(testing::read_file_data(path));
     if (path.filename().string().rfind("seed-", 0) == 0) EXPECT_EQ(decoded, 1);
   }
 }

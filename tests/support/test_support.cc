@@ -39,6 +39,11 @@ std::string read_file_bytes(const std::filesystem::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+std::vector<uint8_t> read_file_data(const std::filesystem::path& path) {
+  const std::string bytes = read_file_bytes(path);
+  return std::vector<uint8_t>(bytes.begin(), bytes.end());
+}
+
 int expect_identical_trees(const std::filesystem::path& first, const std::filesystem::path& second) {
   int files = 0;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(first)) {

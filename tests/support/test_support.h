@@ -2,8 +2,10 @@
 // Helpers shared by the test programs.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace svc::testing {
 
@@ -22,6 +24,7 @@ class TempDir {
 
 // The whole file as bytes; empty when it cannot be read.
 std::string read_file_bytes(const std::filesystem::path& path);
+std::vector<uint8_t> read_file_data(const std::filesystem::path& path);
 
 // Fails the running test for every regular file of `first` that is missing from `second`
 // or differs in a byte; returns the number of files compared.
