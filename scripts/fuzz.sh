@@ -65,7 +65,9 @@ for t in "${targets[@]}"; do
   # -rss_limit_mb and -malloc_limit_mb turn an allocation the caps should have stopped
   # into a finding; -timeout does the same for a hang. A whole seed file of a few dozen
   # faces decodes in about 1.5 s under the sanitizers, and several times slower on a
-  # loaded machine: SVC_FUZZ_TIMEOUT (default 60 s) leaves room for that.
+  # loaded machine: SVC_FUZZ_TIMEOUT (default 60 s) leaves room for that, and only a unit
+  # that slow is reported as slow (-report_slow_units), so that slow valid seeds are not
+  # findings.
   parallel=()
   if (("${SVC_FUZZ_JOBS:-1}" > 1)); then parallel=(-jobs="$SVC_FUZZ_JOBS" -workers="$SVC_FUZZ_JOBS"); fi
   seeds=()
@@ -76,7 +78,7 @@ for t in "${targets[@]}"; do
   fi
   rc=0
   "$build/bin/svc_${t}_fuzzer" "$work" "${seeds[@]}" \
-    -max_total_time="$seconds" -timeout="${SVC_FUZZ_TIMEOUT:-60}" -rss_limit_mb=2048 -malloc_limit_mb=512 -max_len=65536 \
+    -max_total_time="$seconds" -timeout="${SVC_FUZZ_TIMEOUT:-60}" -report_slow_units="${SVC_FUZZ_TIMEOUT:-60}" -rss_limit_mb=2048 -malloc_limit_mb=512 -max_len=65536 \
     -artifact_prefix="$findings/" -print_final_stats=1 "${parallel[@]}" >"$build/fuzz-$t.log" 2>&1 || rc=$?
   grep -E "ERROR|SUMMARY|stat::number_of_executed_units|stat::peak_rss|Done [0-9]+ runs" "$build/fuzz-$t.log" || true
   echo "$t: corpus $(ls "$work" | wc -l) inputs; exit status $rc"
