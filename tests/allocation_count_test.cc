@@ -120,11 +120,6 @@ TEST(Allocations, DecodingACachedFaceIntoTheCallersBufferAllocatesNothing) {
 
 namespace fs = std::filesystem;
 
-std::vector<uint8_t> read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
-
 uint64_t get_u64(const std::vector<uint8_t>& bytes, size_t at) {
   uint64_t v = 0;
   for (int i = 0; i < 8; ++i) v |= uint64_t{bytes[at + i]} << (8 * i);
@@ -176,7 +171,7 @@ TEST(MemoryCaps, HugeSizesInTheIndexAreRefusedBeforeAllocating) {
   EncoderSettings encoder;
   encoder.threads = 1;
   ASSERT_TRUE(encode_database(dir.path() / "db", dir.path() / "small.svc", encoder).ok());
-  const std::vector<uint8_t> intact = read_bytes(dir.path() / "small.svc");
+  const std::vector<uint8_t> intact = testing::read_file_data(dir.path() / "small.svc");
   auto file = ReadOnlyFile::open(dir.path() / "small.svc");
   ASSERT_TRUE(file.ok());
   auto opened = open_container(**file, ReaderLimits{});
@@ -289,11 +284,11 @@ TEST(MemoryCaps, PeakHeapOfDecodingEveryCorpusFileIsBounded) {
     return bound;
   };
   // Once first, unmeasured: the process's one-time tables (about 1.3 MB) are no file's.
-  for (const fs::path& path : files) (void)decode_all(read_bytes(path), path.filename().string());
+  for (const fs::path& path : files) (void)decode_all(testing::read_file_data(path), path.filename().string());
   double largest_share = 0;
   for (const fs::path& path : files) {
     SCOPED_TRACE(path.string());
-    const std::vector<uint8_t> bytes = read_bytes(path);
+    const std::vector<uint8_t> bytes = testing::read_file_data(path);
     PeakHeap peak;
     const int64_t bound = decode_all(bytes, path.filename().string());
     const int64_t measured = peak.above_start();

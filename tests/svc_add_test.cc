@@ -34,11 +34,6 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-std::vector<uint8_t> read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
-
 void write_bytes(const fs::path& path, const std::vector<uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary);
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
@@ -243,12 +238,12 @@ TEST_F(Add, AddsDepthToAFileWithDepth) {
 
 TEST_F(Add, NothingNewLeavesTheFileUntouched) {
   const fs::path file = copy_of_base("same.svc");
-  const std::vector<uint8_t> before = read_bytes(file);
+  const std::vector<uint8_t> before = testing::read_file_data(file);
   auto summary = add_to_database(file, part());
   ASSERT_TRUE(summary.ok()) << summary.status().to_string();
   EXPECT_EQ(summary->cells_added, 0u);
   EXPECT_EQ(summary->cells_present, 6u);
-  EXPECT_EQ(read_bytes(file), before);
+  EXPECT_EQ(testing::read_file_data(file), before);
 }
 
 TEST_F(Add, TwoAddsInARowUseBothCommitSlots) {
@@ -273,7 +268,7 @@ TEST_F(Add, TwoAddsInARowUseBothCommitSlots) {
 
 TEST_F(Add, RejectsIncompatibleDatabases) {
   const fs::path file = copy_of_base("mismatch.svc");
-  const std::vector<uint8_t> before = read_bytes(file);
+  const std::vector<uint8_t> before = testing::read_file_data(file);
   // Other face size.
   samples::SceneOptions options;
   options.grid = {1, 1, 1};
@@ -303,7 +298,7 @@ TEST_F(Add, RejectsIncompatibleDatabases) {
   // Not an .svc file, a missing database.
   EXPECT_FALSE(add_to_database(part() / "manifest.json", full()).ok());
   EXPECT_EQ(add_to_database(file, dir_->path() / "missing").status().code(), ErrorCode::kNotFound);
-  EXPECT_EQ(read_bytes(file), before);
+  EXPECT_EQ(testing::read_file_data(file), before);
 }
 
 TEST_F(Add, ASecondUpdaterIsRefusedWhileOneHoldsTheFile) {
@@ -314,12 +309,12 @@ TEST_F(Add, ASecondUpdaterIsRefusedWhileOneHoldsTheFile) {
   ASSERT_FALSE(second.ok());
   EXPECT_NE(second.status().message().find("another process"), std::string::npos);
   // Appending without a commit leaves the file as it was once the updater goes away.
-  const std::vector<uint8_t> before = read_bytes(file);
+  const std::vector<uint8_t> before = testing::read_file_data(file);
   const std::vector<uint8_t> payload(100, 7);
   ASSERT_TRUE((*first)->append_frame(payload).ok());
   EXPECT_GT(fs::file_size(file), before.size());
   first->reset();
-  EXPECT_EQ(read_bytes(file), before);
+  EXPECT_EQ(testing::read_file_data(file), before);
 }
 
 // --- Crash safety ---------------------------------------------------------------------
@@ -379,7 +374,7 @@ TEST_F(Add, KilledAtAnyPointLeavesTheOldDatabase) {
   const fs::path clean = copy_of_base("clean.svc");
   auto clean_summary = add_to_database(clean, full());
   ASSERT_TRUE(clean_summary.ok());
-  const std::vector<uint8_t> clean_bytes = read_bytes(clean);
+  const std::vector<uint8_t> clean_bytes = testing::read_file_data(clean);
   const int64_t total_written = static_cast<int64_t>(clean_summary->bytes_appended + kCommitSlotSize);
 
   auto expect_old_database = [&](const fs::path& file, const std::string& when) {
@@ -413,7 +408,7 @@ TEST_F(Add, KilledAtAnyPointLeavesTheOldDatabase) {
       // A retry after the crash cuts the leftovers off and writes what a clean add writes.
       auto retry = add_to_database(file, full());
       ASSERT_TRUE(retry.ok()) << retry.status().to_string();
-      EXPECT_EQ(read_bytes(file), clean_bytes) << "retry after a kill at " << n;
+      EXPECT_EQ(testing::read_file_data(file), clean_bytes) << "retry after a kill at " << n;
     }
   }
   EXPECT_EQ(killed, static_cast<int>(kill_points.size()));
@@ -427,7 +422,7 @@ TEST_F(Add, KilledAtAnyPointLeavesTheOldDatabase) {
   ASSERT_TRUE(WIFEXITED(wait_child(spawn_add_child(file, full(), -1))));
   const auto run_time =
       std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - started);
-  EXPECT_EQ(read_bytes(file), clean_bytes);
+  EXPECT_EQ(testing::read_file_data(file), clean_bytes);
   std::mt19937 random(7);
   int finished = 0, interrupted = 0;
   for (int round = 0; round < 6; ++round) {
@@ -441,11 +436,11 @@ TEST_F(Add, KilledAtAnyPointLeavesTheOldDatabase) {
     ASSERT_TRUE(reader.ok()) << reader.status().to_string();
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
       ++finished;
-      EXPECT_EQ(read_bytes(file), clean_bytes);
+      EXPECT_EQ(testing::read_file_data(file), clean_bytes);
     } else {
       ++interrupted;
       if ((*reader)->cells().size() == 12u) {
-        EXPECT_EQ(read_bytes(file), clean_bytes);  // killed after the commit landed
+        EXPECT_EQ(testing::read_file_data(file), clean_bytes);  // killed after the commit landed
       } else {
         expect_old_database(file, "random kill in round " + std::to_string(round));
       }
