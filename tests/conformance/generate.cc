@@ -88,15 +88,14 @@ std::array<uint8_t, 3> chroma_from_luma(int block, int x, int y) {
 
 // The colour of pixel (x, y) of the `face`-th face of the database (manifest order).
 std::array<uint8_t, 3> pixel_rgb(Pixels pixels, int face, int x, int y, int blocks_x, std::mt19937& rng) {
+  if (pixels == Pixels::kChromaFromLuma) return chroma_from_luma(face * 7 + (y / 16) * blocks_x + x / 16, x, y);
   std::array<uint8_t, 3> rgb{};
   for (int c = 0; c < 3; ++c) {
     switch (pixels) {
-      case Pixels::kBlack: rgb[c] = 0; break;
       case Pixels::kWhite: rgb[c] = 255; break;
       case Pixels::kNoise: rgb[c] = static_cast<uint8_t>(rng()); break;
       case Pixels::kStripes: rgb[c] = ((x / 2 + y / 3 + c) % 2) ? 255 : 0; break;
-      case Pixels::kChromaFromLuma: return chroma_from_luma(face * 7 + (y / 16) * blocks_x + x / 16, x, y);
-      case Pixels::kRendered: break;
+      default: break;  // kBlack; kRendered is never rewritten
     }
   }
   return rgb;
@@ -129,38 +128,39 @@ Status rewrite_pixels(const fs::path& db, Pixels pixels) {
   return Status();
 }
 
-Status set_depth_mode(const fs::path& db, const std::string& mode) {
-  if (mode.empty()) return Status();
+// Rewrites the manifest of database `db` through `edit` (file errors throw, ending the run).
+void edit_manifest(const fs::path& db, const std::function<void(nlohmann::json&)>& edit) {
   nlohmann::json manifest = nlohmann::json::parse(std::ifstream(db / "manifest.json"));
-  manifest["depth"] = mode;
+  edit(manifest);
   std::ofstream(db / "manifest.json") << manifest.dump(2);
-  return Status();
 }
 
-// The database of cells with x < limit, for a first encode that add_to_database extends.
-Status keep_cells_below(const fs::path& db, const fs::path& part, int limit) {
+// A copy of `db` holding its cells with x < limit, for a first encode that
+// add_to_database extends.
+void copy_cells_below(const fs::path& db, const fs::path& part, int limit) {
   fs::copy(db, part, fs::copy_options::recursive);
-  nlohmann::json manifest = nlohmann::json::parse(std::ifstream(part / "manifest.json"));
-  nlohmann::json kept = nlohmann::json::array();
-  for (const auto& cell : manifest.at("cells")) {
-    if (cell.at("index")[0].get<int>() < limit) kept.push_back(cell);
-  }
-  manifest["cells"] = kept;
-  std::ofstream(part / "manifest.json") << manifest.dump(2);
-  return Status();
+  edit_manifest(part, [limit](nlohmann::json& manifest) {
+    nlohmann::json kept = nlohmann::json::array();
+    for (const auto& cell : manifest.at("cells")) {
+      if (cell.at("index")[0].get<int>() < limit) kept.push_back(cell);
+    }
+    manifest["cells"] = kept;
+  });
 }
 
 Status make_stream(const StreamSpec& spec, const fs::path& work, const fs::path& out) {
   const fs::path db = work / "db";
   SVC_RETURN_IF_ERROR(samples::generate_scene(spec.scene, db));
   SVC_RETURN_IF_ERROR(rewrite_pixels(db, spec.pixels));
-  SVC_RETURN_IF_ERROR(set_depth_mode(db, spec.depth_mode));
+  if (!spec.depth_mode.empty()) {
+    edit_manifest(db, [&](nlohmann::json& manifest) { manifest["depth"] = spec.depth_mode; });
+  }
   EncoderSettings settings = default_encoder_settings();
   settings.threads = 2;
   if (spec.settings) spec.settings(settings);
   const fs::path file = work / "stream.svc";
   if (spec.add_cells_from_x > 0) {
-    SVC_RETURN_IF_ERROR(keep_cells_below(db, work / "first", spec.add_cells_from_x));
+    copy_cells_below(db, work / "first", spec.add_cells_from_x);
     SVC_RETURN_IF_ERROR(encode_database(work / "first", file, settings).status());
     SVC_RETURN_IF_ERROR(add_to_database(file, db).status());
   } else {
