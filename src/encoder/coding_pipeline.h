@@ -23,10 +23,6 @@ namespace svc {
 // the faces in flight (4 per thread) and the index. docs/format.md, "Memory".
 inline constexpr uint64_t kReferenceCacheBytes = 64ull << 20;
 
-// Default width of the cube-map border of padded references, in units of 16 luma samples
-// (codec/common/cube_padding.h; EncoderSettings::cube_border_units, docs/encoder.md 7).
-inline constexpr int kCubeBorderUnits = 4;
-
 // The budget each of a coding run's three reference caches (decoded, padded, search planes) gets:
 // kReferenceCacheBytes, or the environment's SVC_REFERENCE_CACHE_BYTES when that is a whole number of bytes from 1
 // to kReferenceCacheBytes (a smaller budget makes a small database reach it, as the memory test does). The coded
@@ -69,7 +65,7 @@ struct CodingJob {
   // and trial_frames is ignored.
   int b_qindex_offset = -1;
   // Border of padded references in units of 16 luma samples (EncoderSettings).
-  int cube_border_units = kCubeBorderUnits;
+  int cube_border_units = EncoderSettings{}.cube_border_units;
   // Filled by coding: the B-faces' quantizer index (-1 when no B-face was coded).
   int b_qindex = -1;
   // Filled by coding: how the B-faces' macroblocks were predicted (EncodeSummary::prediction).

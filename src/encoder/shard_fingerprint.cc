@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "common/file_io.h"
-#include "encoder/coding_pipeline.h"
 
 namespace svc {
 
@@ -66,7 +65,7 @@ std::string shard_settings_text(const EncoderSettings& settings) {
   for (const std::string& name : disabled_coding_tools(settings.tools)) add("--disable-tool " + name);
   if (settings.tools.weighted_quant_matrix) add("--quant-matrix weighted");
   if (settings.b_qindex_offset >= 0) add("--b-qindex-offset " + std::to_string(settings.b_qindex_offset));
-  if (settings.cube_border_units != kCubeBorderUnits) {
+  if (settings.cube_border_units != EncoderSettings{}.cube_border_units) {
     add("--cube-border " + std::to_string(settings.cube_border_units));
   }
   return text;
