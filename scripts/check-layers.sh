@@ -23,6 +23,9 @@
 # An include is resolved as the compiler would: beside the including file, then under
 # the include roots the build uses (include, the tree's root, src, samples, tools, bench,
 # tests). An include that resolves nowhere is an error too.
+# The libraries (include, codec, src) declare no thread_local: with MinGW-w64's emulated
+# TLS a thread_local's storage is freed before its destructor runs at thread exit; a
+# per-thread object lives in a codec/common/thread_slot.h slot instead.
 # Usage: scripts/check-layers.sh [TREE_ROOT]   (default: this tree)
 set -euo pipefail
 root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
@@ -130,13 +133,24 @@ while IFS= read -r file; do
              sed -E 's/^([0-9]+):[^<]*<([^>]*)>.*/\1:\2/')
 done < <(find include codec src -type f \( -name '*.h' -o -name '*.cc' \) 2>/dev/null | sort)
 
+# thread_local declarations in the libraries (a comment mentioning the word is fine).
+thread_local_violations=0
+while IFS=: read -r file line _; do
+  echo "$file:$line: thread_local in a library (use codec/common/thread_slot.h)"
+  thread_local_violations=$((thread_local_violations + 1))
+done < <(find include codec src -type f \( -name '*.h' -o -name '*.cc' \) -print0 2>/dev/null | sort -z |
+           xargs -0 -r grep -n -E '^[^/]*\bthread_local\b' || true)
+
 if ((violations > 0)); then
   echo "check-layers: $violations include(s) point up a layer"
 fi
 if ((platform_violations > 0)); then
   echo "check-layers: $platform_violations operating system header(s) in the decoder library outside its platform files"
 fi
-if ((violations + platform_violations > 0)); then
+if ((thread_local_violations > 0)); then
+  echo "check-layers: $thread_local_violations thread_local declaration(s) in the libraries"
+fi
+if ((violations + platform_violations + thread_local_violations > 0)); then
   exit 1
 fi
 echo "check-layers: $checked includes, all point down or across"

@@ -5,7 +5,7 @@
 # embedding sample into the full library, src into the samples, the codec's decoder part
 # into its encoder part, its common part into its decoder part, and the reader into the
 # codec's encoder part; and an operating system header in the decoder library outside a
-# platform file.
+# platform file, and a thread_local in a library.
 set -euo pipefail
 script=$1
 tree=$(mktemp -d)
@@ -23,7 +23,7 @@ printf '#include "codec/decoder/intra_decoder.h"\n' >"$tree/src/reader/face_deco
 printf '#include "common/bytes.h"\n#include "svc/encoder.h"\n' >"$tree/src/encoder/encoder.cc"
 printf '#include "svc/status.h"\n' >"$tree/samples/embed/main.cc"
 printf '#include <unistd.h>\n#include "common/bytes.h"\n' >"$tree/src/common/file_source_posix.cc"
-printf '#include <unistd.h>\n' >"$tree/src/encoder/shard_encode.cc"
+printf '#include <unistd.h>\n// no thread_local here: codec/common/thread_slot.h\n' >"$tree/src/encoder/shard_encode.cc"
 "$script" "$tree" >/dev/null || { echo "a clean tree was refused"; exit 1; }
 
 printf '#include "common/bytes.h"\n' >>"$tree/codec/dct.cc"
@@ -34,6 +34,7 @@ printf '#include "codec/encoder/intra_search.h"\n' >>"$tree/codec/decoder/intra_
 printf '#include "codec/decoder/intra_decoder.h"\n' >>"$tree/codec/common/quant.h"
 printf '#include "codec/encoder/intra_search.h"\n' >>"$tree/src/reader/face_decode.cc"
 printf '#include <sys/syscall.h>\n' >>"$tree/src/reader/face_decode.cc"
+printf 'int& counter() {\n  static thread_local int n = 0;\n  return n;\n}\n' >>"$tree/codec/common/quant.h"
 if out=$("$script" "$tree"); then
   echo "planted upward includes passed the check"
   exit 1
@@ -42,7 +43,8 @@ echo "$out"
 for expected in "codec/dct.cc:3:" "src/reader/reader.cc:2:" "samples/embed/main.cc:2:" "src/common/bytes.h:1:" \
                 "codec/decoder/intra_decoder.cc:2:" "codec/common/quant.h:1:" "src/reader/face_decode.cc:2:" \
                 "7 include(s) point up" "src/reader/face_decode.cc:3: #include <sys/syscall.h>" \
-                "1 operating system header(s)"; do
+                "1 operating system header(s)" "codec/common/quant.h:3: thread_local in a library" \
+                "1 thread_local declaration(s)"; do
   grep -qF "$expected" <<<"$out" || { echo "not reported: $expected"; exit 1; }
 done
 echo "check-layers reports every planted upward include"

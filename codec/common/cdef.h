@@ -102,26 +102,22 @@ inline bool planes_fit(const std::array<PlaneView, 3>& planes) {
 // fresh allocation of this size costs page faults on every frame.
 class WidenedPlanes {
  public:
-  explicit WidenedPlanes(const std::array<PlaneView, 3>& planes) {
+  explicit WidenedPlanes(const std::array<PlaneView, 3>& planes)
+      : thread_(thread_buffers<std::array<std::vector<uint16_t>, 3>>()) {
     for (int p = 0; p < 3; ++p) widen(planes[p], p);
-    thread_local ThreadBufferShare share;  // codec/common/thread_buffers.h
-    share.set(capacity_bytes(buffers()[0]) + capacity_bytes(buffers()[1]) + capacity_bytes(buffers()[2]));
+    thread_.share.set(capacity_bytes(thread_.buffers[0]) + capacity_bytes(thread_.buffers[1]) +
+                      capacity_bytes(thread_.buffers[2]));
   }
   WidenedPlanes(const WidenedPlanes&) = delete;
   WidenedPlanes& operator=(const WidenedPlanes&) = delete;
-  const uint16_t* at(int p, int x, int y) const { return buffers()[p].data() + index(p, x, y); }
+  const uint16_t* at(int p, int x, int y) const { return thread_.buffers[p].data() + index(p, x, y); }
   int stride(int p) const { return strides_[p]; }
 
  private:
-  // One set per thread; a thread holds one WidenedPlanes at a time.
-  static std::array<std::vector<uint16_t>, 3>& buffers() {
-    thread_local std::array<std::vector<uint16_t>, 3> samples;
-    return samples;
-  }
   void widen(const PlaneView& plane, int p) {
     const int stride = plane.width + 2 * kBorder, rows = plane.height + 2 * kBorder;
     strides_[p] = stride;
-    std::vector<uint16_t>& buffer = buffers()[p];
+    std::vector<uint16_t>& buffer = thread_.buffers[p];
     if (buffer.size() < static_cast<size_t>(stride) * rows) buffer.resize(static_cast<size_t>(stride) * rows);
     uint16_t* data = buffer.data();
     std::fill_n(data, static_cast<size_t>(stride) * kBorder, dsp::kCdefUnavailable);
@@ -138,6 +134,9 @@ class WidenedPlanes {
     return static_cast<size_t>(y + kBorder) * static_cast<size_t>(strides_[p]) + static_cast<size_t>(x + kBorder);
   }
 
+  // One set per thread (codec/common/thread_buffers.h); a thread holds one WidenedPlanes
+  // at a time.
+  ThreadBuffers<std::array<std::vector<uint16_t>, 3>>& thread_;
   std::array<int, 3> strides_{};
 };
 

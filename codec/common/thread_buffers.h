@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "codec/common/thread_slot.h"
+
 namespace svc::codec {
 
 // Bytes held by the working buffers of every live thread of the process.
@@ -36,6 +38,19 @@ class ThreadBufferShare {
  private:
   int64_t bytes_ = 0;
 };
+
+// One kind of working buffers of the calling thread, with their share of the total; both
+// go when the thread ends.
+template <class Buffers>
+struct ThreadBuffers {
+  Buffers buffers{};
+  ThreadBufferShare share;
+};
+
+template <class Buffers>
+ThreadBuffers<Buffers>& thread_buffers() {
+  return thread_object<ThreadBuffers<Buffers>>();
+}
 
 template <class T>
 uint64_t capacity_bytes(const std::vector<T>& v) {

@@ -446,10 +446,10 @@ Status decode_b_frame(std::span<const uint8_t> bytes, int width, int height, con
   }
   // The calling thread's state, reset for each frame: its buffers outlive the call, so
   // that decoding face after face allocates (and page-faults) nothing for them.
-  thread_local FrameState s;
+  ThreadBuffers<FrameState>& thread = thread_buffers<FrameState>();  // codec/common/thread_buffers.h
+  FrameState& s = thread.buffers;
   init_state(s, width, height, header.qindex, &ref0, ref1, header.border_units);
-  thread_local ThreadBufferShare share;  // codec/common/thread_buffers.h
-  share.set(state_buffer_bytes(s));
+  thread.share.set(state_buffer_bytes(s));
   s.warp_mask = header.warp_mask;
   s.filter = header.filter;
   s.inter_transform_sizes = header.inter_transform_sizes;

@@ -14,6 +14,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "codec/common/thread_slot.h"
 #include "svc/byte_source.h"
 #include "svc/reader.h"
 
@@ -28,7 +29,36 @@ namespace {
 using svc::ErrorCode;
 using svc::Status;
 
-thread_local std::string g_open_error;
+// The calling thread's last open error (svc_last_open_error), kept until the thread ends.
+struct OpenError {
+  std::string message;
+  bool lost = false;  // the last failure's message could not be stored
+};
+
+constexpr const char* kOpenErrorLost = "out of memory: the open call's error message could not be kept";
+
+// Keeps "CALL: DETAIL" (or CALL alone when DETAIL is empty) as the thread's open error.
+void set_open_error(std::string_view call, std::string_view detail = {}) noexcept {
+  OpenError* error = nullptr;
+  try {
+    error = &svc::codec::thread_object<OpenError>();
+    error->message.assign(call);
+    if (!detail.empty()) error->message.append(": ").append(detail);
+    error->lost = false;
+  } catch (...) {
+    if (error != nullptr) error->lost = true;
+  }
+}
+
+void clear_open_error() noexcept {
+  try {
+    OpenError& error = svc::codec::thread_object<OpenError>();
+    error.message.clear();
+    error.lost = false;
+  } catch (...) {
+    // svc_last_open_error makes the thread's record again or says it could not.
+  }
+}
 
 static_assert(static_cast<int>(ErrorCode::kOutOfMemory) == SVC_OUT_OF_MEMORY &&
               static_cast<int>(ErrorCode::kInternal) == SVC_INTERNAL);
@@ -144,9 +174,9 @@ class CallbackSource final : public svc::ByteSource {
 // Opens a reader on the source `make` returns and fills *out; keeps the open error.
 template <class MakeSource>
 svc_status open_reader(const svc_reader_settings* settings, svc_reader** out, const char* call, MakeSource&& make) {
-  g_open_error.clear();
+  clear_open_error();
   if (out == nullptr) {
-    g_open_error = std::string(call) + ": out is NULL";
+    set_open_error(call, "out is NULL");
     return SVC_INVALID_ARGUMENT;
   }
   *out = nullptr;
@@ -164,13 +194,13 @@ svc_status open_reader(const svc_reader_settings* settings, svc_reader** out, co
         return SVC_OK;
       }
     }
-    g_open_error = status.message();
+    set_open_error(status.message());
     return status_code(status.code());
   } catch (const std::bad_alloc&) {
-    g_open_error = std::string(call) + ": out of memory";
+    set_open_error(call, "out of memory");
     return SVC_OUT_OF_MEMORY;
   } catch (...) {
-    g_open_error = std::string(call) + ": unknown failure";
+    set_open_error(call, "unknown failure");
     return SVC_INTERNAL;
   }
 }
@@ -254,7 +284,7 @@ svc_status svc_reader_open_callbacks(const svc_read_callbacks* callbacks, const 
       taken = std::make_unique<CallbackSource>(*callbacks);
     } catch (...) {
       if (callbacks->release != nullptr) callbacks->release(callbacks->user);
-      g_open_error = "svc_reader_open_callbacks: out of memory";
+      set_open_error("svc_reader_open_callbacks", "out of memory");
       return SVC_OUT_OF_MEMORY;
     }
   } else if (callbacks != nullptr && callbacks->release != nullptr) {
@@ -268,7 +298,14 @@ svc_status svc_reader_open_callbacks(const svc_read_callbacks* callbacks, const 
                      });
 }
 
-const char* svc_last_open_error(void) { return g_open_error.c_str(); }
+const char* svc_last_open_error(void) {
+  try {
+    const OpenError& error = svc::codec::thread_object<OpenError>();
+    return error.lost ? kOpenErrorLost : error.message.c_str();
+  } catch (...) {
+    return kOpenErrorLost;
+  }
+}
 
 void svc_reader_destroy(svc_reader* reader) { delete reader; }
 

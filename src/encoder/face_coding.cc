@@ -2,6 +2,7 @@
 #include "encoder/face_coding.h"
 
 #include "codec/common/intra_frame.h"
+#include "codec/common/thread_slot.h"
 #include "codec/decoder/intra_decoder.h"
 #include "codec/encoder/intra_encoder.h"
 #include "codec/encoder/log_search.h"
@@ -49,7 +50,7 @@ Result<CodedPredictedFace> code_predicted_face(const FaceData& data, const Camer
   CodedPredictedFace coded;
   // One field for both references, kept by the thread from face to face: compute_flow
   // reuses its storage, which spares the pages a fresh field would fault in.
-  thread_local FlowField flow;
+  FlowField& flow = codec::thread_object<FlowField>();
   for (size_t r = 0; r < references.size(); ++r) {
     if (motion_from_depth) {
       compute_flow(camera, *references[r].camera, data.color.width, data.color.height, data.depth, &flow);
