@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <new>
+#include <stdexcept>
 #include <vector>
 
 namespace svc {
@@ -48,6 +50,40 @@ TEST(Parallel, OrderedMapConsumesInIndexOrder) {
   ASSERT_TRUE(status.ok());
   ASSERT_EQ(consumed.size(), 100u);
   for (size_t i = 0; i < consumed.size(); ++i) EXPECT_EQ(consumed[i], i);
+}
+
+TEST(Parallel, OrderedMapTurnsExceptionsIntoTheLowestItemsError) {
+  for (int threads : {1, 4}) {
+    std::vector<size_t> consumed;
+    const Status status = ordered_parallel_map<size_t>(
+        100, threads,
+        [](size_t i) -> Result<size_t> {
+          if (i == 37 || i == 80) throw std::bad_alloc();
+          if (i == 60) throw std::runtime_error("broken");
+          return i;
+        },
+        [&](size_t i, size_t&) {
+          consumed.push_back(i);
+          return Status::Ok();
+        });
+    EXPECT_EQ(status.code(), ErrorCode::kOutOfMemory) << threads;
+    EXPECT_EQ(status.message(), "item 37: out of memory") << threads;
+    ASSERT_EQ(consumed.size(), 37u) << threads;  // every item before the failed one, in order
+    for (size_t i = 0; i < consumed.size(); ++i) EXPECT_EQ(consumed[i], i);
+  }
+}
+
+TEST(Parallel, OrderedMapTurnsAConsumersExceptionIntoItsError) {
+  for (int threads : {1, 3}) {
+    const Status status = ordered_parallel_map<size_t>(
+        50, threads, [](size_t i) -> Result<size_t> { return i; },
+        [](size_t i, size_t&) -> Status {
+          if (i == 12) throw std::runtime_error("no room");
+          return Status::Ok();
+        });
+    EXPECT_EQ(status.code(), ErrorCode::kInternal) << threads;
+    EXPECT_EQ(status.message(), "item 12: no room") << threads;
+  }
 }
 
 }  // namespace

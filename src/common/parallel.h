@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <string>
 #include <thread>
@@ -66,25 +67,37 @@ inline Status parallel_for(size_t count, int threads, const std::function<Status
 
 // produce(i) runs on a worker; consume(i, value) runs on the caller's thread in order
 // 0..count-1. At most `window` produced values wait to be consumed. The first error
-// (from produce or consume, lowest index first) stops the work and is returned.
+// (from produce or consume, lowest index first) stops the work and is returned. An
+// exception thrown by produce(i) or consume(i, ...) is item i's error, as in
+// parallel_for; so is a value that cannot be kept for want of memory. When no helper
+// thread can be started, the items run on the caller's thread.
 template <typename T>
 Status ordered_parallel_map(size_t count, int threads, const std::function<Result<T>(size_t)>& produce,
                             const std::function<Status(size_t, T&)>& consume) {
-  threads = std::max(1, std::min<int>(threads, static_cast<int>(std::max<size_t>(count, 1))));
-  if (threads == 1) {
+  auto item = [](size_t i) { return "item " + std::to_string(i); };
+  auto produce_guarded = [&](size_t i) {
+    return status_guarded([&] { return item(i); }, [&] { return produce(i); });
+  };
+  auto consume_guarded = [&](size_t i, T& value) {
+    return status_guarded([&] { return item(i); }, [&] { return consume(i, value); });
+  };
+  auto serial = [&] {
     for (size_t i = 0; i < count; ++i) {
-      Result<T> value = produce(i);
+      Result<T> value = produce_guarded(i);
       if (!value.ok()) return value.status();
-      SVC_RETURN_IF_ERROR(consume(i, *value));
+      SVC_RETURN_IF_ERROR(consume_guarded(i, *value));
     }
     return Status::Ok();
-  }
+  };
+  threads = std::max(1, std::min<int>(threads, static_cast<int>(std::max<size_t>(count, 1))));
+  if (threads == 1) return serial();
   const size_t window = static_cast<size_t>(threads) * 4;
   std::mutex mutex;
   std::condition_variable cv;
   std::map<size_t, Result<T>> ready;
   size_t next_to_claim = 0;
   size_t next_to_consume = 0;
+  size_t lost = count;  // the lowest item whose value could not be kept
   bool stop = false;
 
   auto worker = [&] {
@@ -96,28 +109,43 @@ Status ordered_parallel_map(size_t count, int threads, const std::function<Resul
         if (stop || next_to_claim >= count) return;
         i = next_to_claim++;
       }
-      Result<T> value = produce(i);
+      Result<T> value = produce_guarded(i);
       {
         std::lock_guard lock(mutex);
-        ready.emplace(i, std::move(value));
+        try {
+          ready.emplace(i, std::move(value));
+        } catch (...) {
+          lost = std::min(lost, i);
+          stop = true;
+        }
       }
       cv.notify_all();
     }
   };
   std::vector<std::thread> pool;
-  pool.reserve(threads);
-  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+  try {
+    pool.reserve(static_cast<size_t>(threads));
+    for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+  } catch (...) {
+    // No memory or no thread left: the threads started do the work.
+  }
+  if (pool.empty()) return serial();
 
   Status result;
   while (next_to_consume < count) {
     std::optional<Result<T>> value;
     {
       std::unique_lock lock(mutex);
-      cv.wait(lock, [&] { return ready.count(next_to_consume) != 0; });
-      auto node = ready.extract(next_to_consume);
-      value.emplace(std::move(node.mapped()));
+      cv.wait(lock, [&] { return ready.count(next_to_consume) != 0 || lost <= next_to_consume; });
+      if (ready.count(next_to_consume) != 0) value.emplace(std::move(ready.extract(next_to_consume).mapped()));
     }
-    Status status = value->ok() ? consume(next_to_consume, **value) : value->status();
+    Status status;
+    if (!value.has_value()) {
+      status = status_guarded([&] { return item(next_to_consume) + ": its value could not be kept"; },
+                              []() -> Status { throw std::bad_alloc(); });
+    } else {
+      status = value->ok() ? consume_guarded(next_to_consume, **value) : value->status();
+    }
     {
       std::lock_guard lock(mutex);
       ++next_to_consume;
@@ -125,7 +153,7 @@ Status ordered_parallel_map(size_t count, int threads, const std::function<Resul
     }
     cv.notify_all();
     if (!status.ok()) {
-      result = status;
+      result = std::move(status);
       break;
     }
   }
