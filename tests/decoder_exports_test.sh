@@ -3,7 +3,8 @@
 # The shared decoder library exports its public API alone: the C API's svc_* functions
 # and the C++ API of svc/ (svc::Reader, svc::Status, ...), besides the instantiations of
 # standard-library templates that libstdc++ keeps visible; no internal namespace
-# (svc::codec, svc::reader_internal), no encoder, image-library or FFmpeg symbol.
+# (svc::codec, svc::reader_internal), no encoder, image-library or FFmpeg symbol. And it
+# is marked never to be unloaded: threads that decoded call back into it when they end.
 # Usage: decoder_exports_test.sh SHARED_DECODER_LIBRARY
 set -euo pipefail
 library=$1
@@ -14,6 +15,9 @@ fail() {
   echo "$test_name: $*" >&2
   exit 1
 }
+
+readelf -d "$library" | grep -q 'Flags:.*NODELETE' ||
+  fail "$library can be unloaded by dlclose (link it with -z nodelete)"
 
 nm -D --defined-only "$library" | awk 'NF >= 3 {print $3}' | sort -u >"$work/mangled"
 c++filt <"$work/mangled" >"$work/names"

@@ -18,6 +18,10 @@ VOID NTAPI delete_thread_owned(PVOID object) { delete static_cast<ThreadOwned*>(
 }  // namespace
 
 ThreadSlot::ThreadSlot() {
+  // Pinned, when built into a DLL: the callback must outlive every thread that used it.
+  HMODULE module = nullptr;
+  (void)GetModuleHandleExW(GET_MODULE_HANDLE_EX_FLAG_FROM_ADDRESS | GET_MODULE_HANDLE_EX_FLAG_PIN,
+                           reinterpret_cast<LPCWSTR>(&delete_thread_owned), &module);
   const DWORD index = FlsAlloc(delete_thread_owned);
   if (index == FLS_OUT_OF_INDEXES) {
     throw std::system_error(static_cast<int>(GetLastError()), std::system_category(), "fiber-local storage index");
