@@ -31,8 +31,7 @@ class CApi : public ::testing::Test {
     EncoderSettings encoder;
     encoder.threads = 1;
     ASSERT_TRUE(encode_database(dir_->path() / "db", path(), encoder).ok());
-    std::ifstream in(path(), std::ios::binary);
-    bytes_ = new std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    bytes_ = new std::vector<uint8_t>(testing::read_file_data(path()));
   }
   static void TearDownTestSuite() {
     delete bytes_;
@@ -328,11 +327,6 @@ TEST_F(CApi, ViewerPrefetchAndStats) {
   svc_reader_destroy(reader);
 }
 
-std::vector<uint8_t> read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // samples/embed_c, built as strict C99, writes the cube it decodes through read
 // callbacks into padded RGBA8 rows: the C++ reader's pixels, cell by position too.
 TEST_F(CApi, TheCExampleDecodesACellAsTheCppReader) {
@@ -355,7 +349,7 @@ TEST_F(CApi, TheCExampleDecodesACellAsTheCppReader) {
       const std::vector<uint8_t> pixels = cpp_face(**cpp, cell.index, face, SVC_PIXEL_RGBA8);
       expected.insert(expected.end(), pixels.begin(), pixels.end());
     }
-    EXPECT_EQ(read_file(out), expected) << face_label(cell.index, Face::kPX);
+    EXPECT_EQ(testing::read_file_data(out), expected) << face_label(cell.index, Face::kPX);
   }
   const testing::CliRun missing = testing::run_program("svc-embed-c", "absent.svc out.rgba", dir_->path());
   EXPECT_EQ(missing.exit_code, 1);

@@ -74,11 +74,7 @@ const PinnedOlderFile kOlderFiles[] = {
     {"index-v5-3x1x1-ib-stored-depth.svc", "334af393ecbce64a6b5eae59ca321f163877185913bf5df4c45ba5fa1740c830"},
 };
 
-std::string file_sha256(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
-  return testing::sha256_hex(bytes);
-}
+std::string file_sha256(const fs::path& path) { return testing::sha256_hex(testing::read_file_data(path)); }
 
 // Every face's RGB in the reader's cell order (y, z, x), faces in Face order, each
 // preceded by its cell index, face and size so a moved face changes the digest too.

@@ -208,15 +208,10 @@ TEST_F(ReaderBuffers, ABufferTooSmallIsRefusedAndLeftUntouched) {
   }
 }
 
-std::vector<uint8_t> file_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 TEST_F(ReaderBuffers, AMemorySourceDecodesAsTheFile) {
   auto from_file = open_reader();
   ASSERT_NE(from_file, nullptr);
-  const std::vector<uint8_t> bytes = file_bytes(file());
+  const std::vector<uint8_t> bytes = testing::read_file_data(file());
   auto from_memory = Reader::open(memory_source(bytes, "scene in memory"));
   ASSERT_TRUE(from_memory.ok()) << from_memory.status().to_string();
   EXPECT_EQ((*from_memory)->info().file_bytes, bytes.size());
@@ -258,7 +253,7 @@ class FailingSource final : public ByteSource {
 };
 
 TEST_F(ReaderBuffers, TheEmbeddersReadErrorsComeBackNamedAndAreNotKept) {
-  auto source = std::make_unique<FailingSource>(file_bytes(file()));
+  auto source = std::make_unique<FailingSource>(testing::read_file_data(file()));
   FailingSource& reads = *source;
   ReaderSettings settings;
   settings.face_cache_bytes = 0;

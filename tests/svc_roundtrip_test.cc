@@ -82,11 +82,6 @@ class RoundTrip : public ::testing::Test {
     return total.psnr();
   }
 
-  static std::vector<uint8_t> file_bytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-  }
-
   static testing::TempDir* dir_;
 };
 testing::TempDir* RoundTrip::dir_ = nullptr;
@@ -141,7 +136,7 @@ TEST_F(RoundTrip, EveryCodingToolCanBeSwitchedOff) {
   // All off together too: switches that interact (quantization without its
   // rate-distortion step under a mode search without one) still write what decodes.
   ASSERT_NO_FATAL_FAILURE(expect_sound_encode(all_off, "tools-off.svc", "every tool off", small_db()));
-  EXPECT_NE(file_bytes(out("tools-on.svc")), file_bytes(out("tools-off.svc")));
+  EXPECT_NE(testing::read_file_data(out("tools-on.svc")), testing::read_file_data(out("tools-off.svc")));
 
   const Status unknown = disable_coding_tool(&all_off.tools, "no-such-tool");
   EXPECT_EQ(unknown.code(), ErrorCode::kInvalidArgument);
@@ -158,10 +153,10 @@ TEST_F(RoundTrip, EveryCubeBorderWidthDecodes) {
     settings.cube_border_units = units;
     const std::string name = "border-" + std::to_string(units) + ".svc";
     ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, name, name, small_db()));
-    files.push_back(file_bytes(out(name)));
+    files.push_back(testing::read_file_data(out(name)));
   }
   ASSERT_TRUE(encode_database(small_db(), out("border-default.svc"), EncoderSettings{}).ok());
-  EXPECT_EQ(files[3], file_bytes(out("border-default.svc")));
+  EXPECT_EQ(files[3], testing::read_file_data(out("border-default.svc")));
   for (size_t i = 0; i + 1 < files.size(); ++i) EXPECT_NE(files[i], files[i + 1]) << i;
   for (int units : {0, 5}) {
     EncoderSettings settings;
@@ -250,7 +245,8 @@ TEST_F(RoundTrip, SpeedSettingsSwitchOffTheirTools) {
     ASSERT_NO_FATAL_FAILURE(expect_sound_encode(settings, "speed-" + std::to_string(speed) + "-no-rdoq.svc",
                                                 "speed " + std::to_string(speed) + " without rdoq", small_db()));
   }
-  EXPECT_NE(file_bytes(out("speed-0.svc")), file_bytes(out("speed-" + std::to_string(kMaxEncoderSpeed) + ".svc")));
+  EXPECT_NE(testing::read_file_data(out("speed-0.svc")),
+            testing::read_file_data(out("speed-" + std::to_string(kMaxEncoderSpeed) + ".svc")));
   for (int speed : {-1, kMaxEncoderSpeed + 1}) {
     EncoderSettings settings;
     settings.layout = CubeLayout::kRegular;
@@ -281,7 +277,7 @@ TEST_F(RoundTrip, BytesDoNotDependOnThreadCount) {
   four.threads = 4;
   ASSERT_TRUE(encode_database(db(), out("t1.svc"), one).ok());
   ASSERT_TRUE(encode_database(db(), out("t4.svc"), four).ok());
-  EXPECT_EQ(file_bytes(out("t1.svc")), file_bytes(out("t4.svc")));
+  EXPECT_EQ(testing::read_file_data(out("t1.svc")), testing::read_file_data(out("t4.svc")));
 }
 
 TEST_F(RoundTrip, RandomAccessEqualsSequentialDecode) {
@@ -330,7 +326,7 @@ TEST_F(RoundTrip, FindsCellsByIndexAndWorldPosition) {
 TEST_F(RoundTrip, FlippedBytesAreReportedAndNeverCrashTheDecoder) {
   const fs::path file = out("flip.svc");
   ASSERT_TRUE(encode_database(small_db(), file, intra_settings(60)).ok());
-  const std::vector<uint8_t> original = file_bytes(file);
+  const std::vector<uint8_t> original = testing::read_file_data(file);
   auto clean_reader = Reader::open(file);
   ASSERT_TRUE(clean_reader.ok());
   std::vector<std::vector<uint8_t>> clean;
@@ -374,7 +370,7 @@ TEST_F(RoundTrip, FailedEncodeLeavesNothingAtTheOutputPath) {
   auto cancelled =
       encode_database(db(), file, EncoderSettings{}, [](uint64_t done, uint64_t) { return done < 10; });
   EXPECT_EQ(cancelled.status().code(), ErrorCode::kCancelled);
-  EXPECT_EQ(file_bytes(file), (std::vector<uint8_t>{'p', 'r', 'e', 'v', 'i', 'o', 'u', 's'}));
+  EXPECT_EQ(testing::read_file_data(file), (std::vector<uint8_t>{'p', 'r', 'e', 'v', 'i', 'o', 'u', 's'}));
   for (const auto& entry : fs::directory_iterator(dir_->path())) {
     EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
   }

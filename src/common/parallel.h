@@ -12,7 +12,6 @@
 #include <functional>
 #include <map>
 #include <mutex>
-#include <new>
 #include <optional>
 #include <string>
 #include <thread>
@@ -141,8 +140,12 @@ Status ordered_parallel_map(size_t count, int threads, const std::function<Resul
     }
     Status status;
     if (!value.has_value()) {
-      status = status_guarded([&] { return item(next_to_consume) + ": its value could not be kept"; },
-                              []() -> Status { throw std::bad_alloc(); });
+      status =
+          status_guarded([&] { return item(next_to_consume); },
+                         [&] {
+                           return Status(ErrorCode::kOutOfMemory,
+                                         item(next_to_consume) + ": out of memory (its value could not be kept)");
+                         });
     } else {
       status = value->ok() ? consume_guarded(next_to_consume, **value) : value->status();
     }

@@ -4,7 +4,7 @@
 // indices, flags, luma transform sizes (TransformSize: 0 8x8, 1 4x4, 2 16x16, 3 16x8,
 // 4 8x16, 5 16x4, 6 4x16, 7 8x4, 8 4x8), luma and chroma modes, CfL alphas; B-face headers
 // (quantizer, filter bank, references, cube border, warp mask, flags) and macroblock
-// modes, partitions and warps; the container's index versions and features.
+// modes, partitions and warps; the index's depth feature.
 #pragma once
 
 #include <filesystem>
