@@ -269,6 +269,65 @@ TEST(BFrame, WrongCandidatesFallBackToIntra) {
   expect_same_image(decoded, reconstruction);
 }
 
+// A cheap skip ends a macroblock's search (BFrameParams::skip_exit_bits): where the
+// reference shows the source the macroblocks are skipped without a motion search, where
+// it shows another texture they are searched and coded as before; every setting decodes
+// exactly, and a threshold no skip can miss skips every macroblock without a search.
+TEST(BFrame, EarlySkipEndsTheSearchOnlyWhereSkipIsCheap) {
+  const int w = 128, h = 64, q = 128;
+  const ImageYCbCr420 source = decoded_intra(textured_crop(w, h, 20, 20), q - 40);
+  const ImageYCbCr420 other = textured_crop(w, h, 20, 20, 1234);
+  ImageYCbCr420 reference = source;
+  for (int y = 0; y < h; ++y) {
+    for (int x = w / 2; x < w; ++x)
+      reference.y[static_cast<size_t>(y) * w + x] = other.y[static_cast<size_t>(y) * w + x];
+  }
+  const FaceCandidates zero = uniform_candidates(w, h, {MotionVector{0, 0}, MotionVector{4, 0}});
+  struct Run {
+    BFrameStats stats;
+    std::vector<uint8_t> bytes;
+  };
+  auto encode = [&](double skip_exit_bits) {
+    BFrameParams params;
+    params.qindex = q;
+    params.skip_exit_bits = skip_exit_bits;
+    Run run;
+    ImageYCbCr420 reconstruction, decoded;
+    run.bytes =
+        encode_b_frame(source, reference, nullptr, candidate_hints(zero, {}), params, &reconstruction, &run.stats);
+    std::vector<MacroblockMode> modes;
+    EXPECT_TRUE(decode_b_frame(run.bytes, w, h, reference, nullptr, &decoded, &modes).ok()) << skip_exit_bits;
+    expect_same_image(decoded, reconstruction);
+    EXPECT_EQ(modes, run.stats.modes) << skip_exit_bits;
+    EXPECT_EQ(run.stats.screened_prediction_pixels[0] + run.stats.screened_prediction_pixels[1], w * h);
+    return run;
+  };
+  const Run full = encode(0), early = encode(kEarlySkipBits), all = encode(1e12);
+  const int mbs_x = w / 16;
+  for (size_t m = 0; m < early.stats.modes.size(); ++m) {
+    if (static_cast<int>(m) % mbs_x < mbs_x / 2) {
+      EXPECT_EQ(early.stats.modes[m], MacroblockMode::kSkipped) << m;
+      EXPECT_EQ(full.stats.modes[m], MacroblockMode::kSkipped) << m;
+    }
+  }
+  EXPECT_GT(early.stats.mb_intra, 0);
+  EXPECT_GT(early.stats.sad_evaluations, 0);
+  // The left half's macroblocks searched no vector: at least one SAD each fewer.
+  EXPECT_GE(full.stats.sad_evaluations - early.stats.sad_evaluations, w / 32 * h / 16);
+  EXPECT_EQ(all.stats.mb_skipped, all.stats.macroblocks);
+  EXPECT_EQ(all.stats.sad_evaluations, 0);
+  EXPECT_LT(all.bytes.size(), early.bytes.size());
+
+  // Where the reference shows the whole face, no macroblock searches and the choices
+  // (every one a skip) and bytes are the full search's.
+  reference = source;
+  const Run same_full = encode(0), same_early = encode(kEarlySkipBits);
+  EXPECT_EQ(same_full.stats.mb_skipped, same_full.stats.macroblocks);
+  EXPECT_GT(same_full.stats.sad_evaluations, 0);
+  EXPECT_EQ(same_early.stats.sad_evaluations, 0);
+  EXPECT_EQ(same_early.bytes, same_full.bytes);
+}
+
 // Intra macroblocks beside inter ones predict from their reconstructed samples (docs/codec.md
 // 3.7): a face whose right part no reference holds mixes both, and decodes exactly with
 // every mode, with planar and DC only (the b-intra-prediction ablation) and with the

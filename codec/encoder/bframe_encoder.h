@@ -41,6 +41,10 @@ int b_qindex_for_offset(int intra_qindex, int offset);
 inline constexpr int kMinBQIndexOffset = 26;
 int adapted_b_qindex(int intra_qindex, double intra_share);
 
+// BFrameParams::skip_exit_bits with the early-skip tool: chosen on the tune scenes,
+// no cost in bytes on any corpus scene (docs/bench.md, "Early skip").
+inline constexpr double kEarlySkipBits = 20;
+
 struct BFrameParams {
   // qindex of the whole B-face (residual and intra macroblocks), 0..255.
   int qindex = 138;
@@ -79,6 +83,11 @@ struct BFrameParams {
   // Encoder choice: every inter luma 8x8 residual block also tried as four 4x4 blocks;
   // off, only where its 8x8 transform keeps a level (inter_transform_sizes on).
   bool full_inter_split_search = true;
+  // Encoder choice: a macroblock whose skip costs less than this many bits' worth of
+  // squared error and side bits (lambda as above) per 256 visible luma samples is coded
+  // skipped without searching motion, inter, intra or partitions; 0 searches every
+  // macroblock (docs/encoder.md 5).
+  double skip_exit_bits = 0;
   // Inter options (forward, backward, bidirectional, each translational or warped) are
   // screened by luma SAD plus side bits; this many of the best get the full
   // rate-distortion evaluation beside skip and intra.
@@ -162,8 +171,9 @@ struct BFrameStats {
   int64_t sad_evaluations = 0;
   // Luma squared error against the source of the whole-macroblock inter prediction of
   // the lowest SAD the screening found (forward, backward or both, warped or not), and the
-  // luma pixels it covers: [0] over macroblocks coded intra, [1] over the others. How well
-  // the references see the face, whatever was coded.
+  // luma pixels it covers: [0] over macroblocks coded intra, [1] over the others (the
+  // skip's prediction where a cheap skip ended the search). How well the references see
+  // the face, whatever was coded.
   std::array<int64_t, 2> screened_prediction_sse{};
   std::array<int64_t, 2> screened_prediction_pixels{};
   // Per macroblock, row-major (the encoder's choice; the decoder returns the same map).

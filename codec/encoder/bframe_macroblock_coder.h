@@ -236,6 +236,10 @@ class BFrameMacroblockCoder {
 
   // A translational skip tries each predictor index.
   void evaluate_skip(MacroblockMode mode, bool warp, MacroblockChoice* out);
+  // Whether a skip this cheap ends the macroblock's search (BFrameParams::skip_exit_bits).
+  bool skip_ends_search(double skip_cost) const;
+  // The statistics' screened prediction of a macroblock that ended at skip: its skip.
+  void count_screened_skip(const MacroblockChoice& skip, BFrameStats* stats) const;
 
   int64_t prediction_error(const MacroblockPrediction& prediction) const;
 
@@ -299,6 +303,7 @@ class BFrameMacroblockCoder {
   const bool full_split_search_;  // 4x4 trials also where the 8x8 transform keeps no level
   const bool vector_predictors_;
   const bool keep_intra_partition_;  // the RDOQ pass of an intra winner keeps its partition
+  const double skip_exit_bits_;      // BFrameParams::skip_exit_bits
   int mx_ = 0, my_ = 0;
   std::array<MotionVector, 2> predictors_{};  // the first of each list
   std::array<VectorPredictors, 2> predictor_lists_{};

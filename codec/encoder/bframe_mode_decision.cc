@@ -54,7 +54,8 @@ BFrameMacroblockCoder::BFrameMacroblockCoder(FrameState& state, const PaddedSour
       intra_(params.intra_macroblocks),
       full_split_search_(params.full_inter_split_search),
       vector_predictors_(params.vector_predictors),
-      keep_intra_partition_(params.keep_intra_partition) {
+      keep_intra_partition_(params.keep_intra_partition),
+      skip_exit_bits_(params.skip_exit_bits) {
   lambda_ = rd_lambda(s_.inter_quantizer.qindex, std::max(0.0, params.lambda_factor));
   lambda_sad_ = std::sqrt(lambda_);
   CodingParams tools = intra_tools(params);
@@ -80,6 +81,12 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
   }
   predictors_ = predictors;
   const MacroblockMode skip_mode = predicted_mode(s_, mx, my);
+  MacroblockChoice winner, option;
+  evaluate_skip(skip_mode, predicted_warp(s_, mx, my), &winner);
+  if (skip_ends_search(winner.cost)) {
+    if (stats != nullptr) count_screened_skip(winner, stats);
+    return winner;
+  }
 
   std::array<MotionVector, 2> best = predictors;
   for (int r = 0; r < s_.reference_count; ++r) {
@@ -87,9 +94,6 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
     if (hints[r].macroblock != nullptr) list = *hints[r].macroblock;
     best[r] = search_reference(r, kWholeMacroblock, predictor_lists_[r], list, stats);
   }
-
-  MacroblockChoice winner, option;
-  evaluate_skip(skip_mode, predicted_warp(s_, mx, my), &winner);
   auto consider = [&](MacroblockMode mode, bool warp) {
     if (mode == MacroblockMode::kIntra) {
       evaluate_intra(&option, winner.cost);
@@ -190,6 +194,18 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
     stats->screened_prediction_pixels[coded_inter] += width * height;
   }
   return winner;
+}
+
+void BFrameMacroblockCoder::count_screened_skip(const MacroblockChoice& skip, BFrameStats* stats) const {
+  for (int b = 0; b < 4; ++b) {
+    stats->screened_prediction_sse[1] += block_error(b, block_samples(skip.reconstruction, b));
+    stats->screened_prediction_pixels[1] += visible_w_[b] * visible_h_[b];
+  }
+}
+
+bool BFrameMacroblockCoder::skip_ends_search(double skip_cost) const {
+  const int pixels = (visible_w_[0] + visible_w_[1]) * (visible_h_[0] + visible_h_[2]);
+  return skip_cost * 256 < skip_exit_bits_ * lambda_ * pixels;
 }
 
 const MacroblockIntermediate& BFrameMacroblockCoder::warped_prediction(int reference, bool with_chroma) {

@@ -79,6 +79,7 @@ class Pipeline {
     intra_params_.full_cdef_search = b_params_.full_cdef_search = job.tools.full_cdef_search;
     b_params_.switchable_filter = job.tools.switchable_filter;
     b_params_.full_filter_search = job.tools.full_filter_search;
+    b_params_.skip_exit_bits = job.tools.early_skip ? codec::kEarlySkipBits : 0;
     b_params_.partitions = job.tools.partitions;
     b_params_.vector_predictors = job.tools.vector_predictors;
     b_params_.epipolar_lines = job.tools.epipolar_lines;

@@ -43,6 +43,7 @@ constexpr std::array kCodingTools{
     CodingToolEntry{"full-intra-partition-search", &CodingTools::full_intra_partition_search},
     CodingToolEntry{"rdoq-intra-partition-search", &CodingTools::rdoq_intra_partition_search},
     CodingToolEntry{"full-filter-search", &CodingTools::full_filter_search},
+    CodingToolEntry{"early-skip", &CodingTools::early_skip},
 };
 
 }  // namespace
