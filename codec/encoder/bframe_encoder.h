@@ -41,8 +41,8 @@ int b_qindex_for_offset(int intra_qindex, int offset);
 inline constexpr int kMinBQIndexOffset = 26;
 int adapted_b_qindex(int intra_qindex, double intra_share);
 
-// BFrameParams::skip_exit_bits with the early-skip tool: chosen on the tune scenes,
-// no cost in bytes on any corpus scene (docs/bench.md, "Early skip").
+// BFrameParams::skip_exit_bits with the early-skip tool (chosen on the tune scenes;
+// docs/bench.md, "Early skip").
 inline constexpr double kEarlySkipBits = 20;
 
 struct BFrameParams {

@@ -128,7 +128,7 @@ struct CodingTools {
   // B-faces: a macroblock whose skip costs less than 20 bits' worth of squared error and
   // side bits per 256 visible luma samples is coded skipped without searching its
   // motion, inter, intra or partition options. Off: every macroblock searched in full,
-  // for ablation (it costs no bytes on the corpus; docs/encoder.md 5). Encoder only.
+  // for ablation (docs/encoder.md 5). Encoder only.
   bool early_skip = true;
 
   bool operator==(const CodingTools&) const = default;
