@@ -238,8 +238,9 @@ class BFrameMacroblockCoder {
   void evaluate_skip(MacroblockMode mode, bool warp, MacroblockChoice* out);
   // Whether a skip this cheap ends the macroblock's search (BFrameParams::skip_exit_bits).
   bool skip_ends_search(double skip_cost) const;
-  // The statistics' screened prediction of a macroblock that ended at skip: its skip.
-  void count_screened_skip(const MacroblockChoice& skip, BFrameStats* stats) const;
+  // Adds a 16x16 luma prediction's error and pixels to the statistics' screened
+  // prediction of intra (coded_inter false) or other macroblocks.
+  void count_screened_prediction(const uint8_t* prediction, bool coded_inter, BFrameStats* stats) const;
 
   int64_t prediction_error(const MacroblockPrediction& prediction) const;
 
@@ -308,6 +309,8 @@ class BFrameMacroblockCoder {
   std::array<MotionVector, 2> predictors_{};  // the first of each list
   std::array<VectorPredictors, 2> predictor_lists_{};
   std::array<int, 6> visible_w_{}, visible_h_{};
+  int visible_luma_width() const { return visible_w_[0] + visible_w_[1]; }
+  int visible_luma_height() const { return visible_h_[0] + visible_h_[2]; }
   VectorSet tried_;
   VectorSet partition_listed_;             // partition_candidates' duplicates check
   std::array<MvdCostTable, 2> mvd_costs_;  // per component, for the current macroblock

@@ -84,7 +84,7 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
   MacroblockChoice winner, option;
   evaluate_skip(skip_mode, predicted_warp(s_, mx, my), &winner);
   if (skip_ends_search(winner.cost)) {
-    if (stats != nullptr) count_screened_skip(winner, stats);
+    if (stats != nullptr) count_screened_prediction(winner.reconstruction.y.data(), true, stats);
     return winner;
   }
 
@@ -118,7 +118,7 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
   std::array<uint8_t, 256> closest{};
   int closest_sad = std::numeric_limits<int>::max();
   int screened_count = 0;
-  const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my) * source_.strides[0] + 16 * mx;
+  const uint8_t* source = source_block(0);
   std::array<std::array<int16_t, 256>, 2> luma{}, warped{};
   // Warping is screened only towards references whose corner nodes differ: with four
   // (nearly) equal corners it predicts what a translation does, at a higher price.
@@ -186,26 +186,22 @@ MacroblockChoice BFrameMacroblockCoder::choose(int mx, int my, const std::array<
     }
   }
   if (rdoq_) requantize(&winner);
-  if (stats != nullptr && screened_count > 0) {
-    const size_t coded_inter = winner.mode != MacroblockMode::kIntra;
-    const int width = visible_w_[0] + visible_w_[1], height = visible_h_[0] + visible_h_[2];
-    stats->screened_prediction_sse[coded_inter] +=
-        squared_error(source, source_.strides[0], closest.data(), 16, width, height);
-    stats->screened_prediction_pixels[coded_inter] += width * height;
-  }
+  if (stats != nullptr && screened_count > 0)
+    count_screened_prediction(closest.data(), winner.mode != MacroblockMode::kIntra, stats);
   return winner;
 }
 
-void BFrameMacroblockCoder::count_screened_skip(const MacroblockChoice& skip, BFrameStats* stats) const {
-  for (int b = 0; b < 4; ++b) {
-    stats->screened_prediction_sse[1] += block_error(b, block_samples(skip.reconstruction, b));
-    stats->screened_prediction_pixels[1] += visible_w_[b] * visible_h_[b];
-  }
+void BFrameMacroblockCoder::count_screened_prediction(const uint8_t* prediction, bool coded_inter,
+                                                      BFrameStats* stats) const {
+  const uint8_t* source = source_block(0);
+  const int width = visible_luma_width(), height = visible_luma_height();
+  stats->screened_prediction_sse[coded_inter] +=
+      squared_error(source, source_.strides[0], prediction, 16, width, height);
+  stats->screened_prediction_pixels[coded_inter] += width * height;
 }
 
 bool BFrameMacroblockCoder::skip_ends_search(double skip_cost) const {
-  const int pixels = (visible_w_[0] + visible_w_[1]) * (visible_h_[0] + visible_h_[2]);
-  return skip_cost * 256 < skip_exit_bits_ * lambda_ * pixels;
+  return skip_cost * 256 < skip_exit_bits_ * lambda_ * visible_luma_width() * visible_luma_height();
 }
 
 const MacroblockIntermediate& BFrameMacroblockCoder::warped_prediction(int reference, bool with_chroma) {
@@ -332,7 +328,7 @@ void BFrameMacroblockCoder::evaluate_partitioned(Partition partition, const std:
   float bits = bit_cost(s_.contexts.skip[skip_context(s_, mx_, my_)], 0) +
                bit_cost(s_.contexts.intra[intra_context(s_, mx_, my_)], 0) +
                partition_bits(s_, mx_, my_, partition);
-  const uint8_t* source = source_.planes[0].data() + static_cast<size_t>(16 * my_) * source_.strides[0] + 16 * mx_;
+  const uint8_t* source = source_block(0);
   double sad = 0;
   for (int k = 0; k < partition_count(partition); ++k) {
     const PartitionRect rect = partition_rect(partition, k);

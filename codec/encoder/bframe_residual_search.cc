@@ -75,7 +75,7 @@ bool BFrameMacroblockCoder::code_luma_16x16(const MacroblockPrediction& predicti
   const AdaptiveBit& cbp_model = c.cbp_luma[coded_context(s_, no_local, 0, mx_, my_, 2 * mx_, 2 * my_)];
   int16_t residual[256];
   subtract_prediction(src, source_stride, prediction.y.data(), 16, 16, residual);
-  const int visible_w = visible_w_[0] + visible_w_[1], visible_h = visible_h_[0] + visible_h_[2];
+  const int visible_w = visible_luma_width(), visible_h = visible_luma_height();
   const int64_t uncoded_error = squared_error(src, source_stride, prediction.y.data(), 16, visible_w, visible_h);
   int16_t* levels = out->luma_levels.data();
   float levels_bits = 0;
