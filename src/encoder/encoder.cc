@@ -161,15 +161,21 @@ void return_freed_memory() {
 #endif
 }
 
-// The cameras of the cells coded lately, in the pipeline's cache type. A B-face needs
-// its own camera and its references', and each is a parse of the cell's manifest entry:
-// reading them again for every request parsed each cell's entry some 18 times an
-// encode. 32 cells hold a B-cube and its two reference cubes for a few cubes coded side
-// by side.
-using CameraCache = reader_internal::SharedCache<CellCameras>;
-constexpr uint64_t kCachedCameraCells = 32;
+// The manifest entries (face files and cameras) of the cells coded lately, in the
+// pipeline's cache type. A face's loading and a B-face's cameras (its own and its
+// references') each need its cell's entry: parsing it for every request parsed each
+// entry some 24 times an encode. 32 cells hold a B-cube and its two reference cubes for
+// a few cubes coded side by side.
+using CellSourceCache = reader_internal::SharedCache<CellSource>;
+// Its budget: 32 cells, each path counted at 128 bytes.
+constexpr uint64_t kCachedCellBytes =
+    32 * (sizeof(CellSource) + 2 * kFaceCount * 128 + reader_internal::SharedCache<CellSource>::kEntryOverhead);
 
-uint64_t cell_cameras_bytes(const CellCameras&) { return sizeof(CellCameras); }
+uint64_t cell_source_bytes(const CellSource& cell) {
+  uint64_t bytes = sizeof(CellSource);
+  for (const FaceSource& face : cell.faces) bytes += face.color_path.capacity() + face.depth_path.capacity();
+  return bytes;
+}
 
 }  // namespace
 
@@ -228,19 +234,21 @@ Status code_planned_frames(EncodePlan& plan, std::vector<uint32_t> frames, const
   job.trial_frames = trial_frames(plan.index, all);
   job.b_qindex_offset = settings.b_qindex_offset;
   job.cube_border_units = settings.cube_border_units;
-  job.load = [&](uint32_t frame) {
-    return load_face(plan.manifest, frame / kFaceCount, static_cast<Face>(frame % kFaceCount));
-  };
-  CameraCache cameras(kCachedCameraCells * (sizeof(CellCameras) + CameraCache::kEntryOverhead),
-                      &cell_cameras_bytes);
-  job.camera = [&](uint32_t frame) -> Result<Camera> {
+  CellSourceCache cells(kCachedCellBytes, &cell_source_bytes);
+  const auto cell_of = [&](uint32_t frame) {
     const uint32_t cell = frame / kFaceCount;
-    SVC_ASSIGN_OR_RETURN(const CameraCache::Pointer cached,
-                         cameras.get(cell, reader_internal::Origin::kCaller, [&]() -> Result<CameraCache::Pointer> {
-                           SVC_ASSIGN_OR_RETURN(CellCameras parsed, cell_cameras(plan.manifest, cell));
-                           return std::make_shared<const CellCameras>(parsed);
-                         }));
-    return (*cached)[frame % kFaceCount];
+    return cells.get(cell, reader_internal::Origin::kCaller, [&]() -> Result<CellSourceCache::Pointer> {
+      SVC_ASSIGN_OR_RETURN(CellSource parsed, read_cell(plan.manifest, cell));
+      return std::make_shared<const CellSource>(std::move(parsed));
+    });
+  };
+  job.load = [&](uint32_t frame) -> Result<FaceData> {
+    SVC_ASSIGN_OR_RETURN(const CellSourceCache::Pointer cell, cell_of(frame));
+    return load_face(plan.manifest, *cell, static_cast<Face>(frame % kFaceCount));
+  };
+  job.camera = [&](uint32_t frame) -> Result<Camera> {
+    SVC_ASSIGN_OR_RETURN(const CellSourceCache::Pointer cell, cell_of(frame));
+    return cell->faces[frame % kFaceCount].camera;
   };
   job.tools = settings.tools;
   job.append = sink.append;
