@@ -87,7 +87,9 @@ struct ReaderSettings {
   uint64_t face_cache_bytes = 64ull << 20;
   // Byte budget of the reference cache: I-faces reconstructed for the B-faces that
   // predict from them, and padded with their cube's border as cube references are
-  // (docs/codec.md 5.7), so the cells around one I-cube reconstruct and pad it once.
+  // (docs/codec.md 5.7), so the cells around one I-cube reconstruct it once and pad
+  // each face once or twice (a face padded across more edges serves B-faces that read
+  // fewer).
   // 0 disables it. Default 32 MiB: the references of about 8 cells of 256x256 faces
   // (3.8 MB each: two cubes, plain and padded), 2 of 512x512.
   uint64_t reference_cache_bytes = 32ull << 20;

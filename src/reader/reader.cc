@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <tuple>
 
@@ -202,6 +203,29 @@ struct Reader::Impl {
     return frame * kReferenceKeysPerFrame + (static_cast<uint32_t>(units) << codec::kFaceEdgeCount) + edges;
   }
 
+  // The edges of the reference cache's entry of I-face `frame` padded with `units`
+  // across `edges` or a superset of them (`edges` itself first), if it has one.
+  std::optional<uint8_t> cached_padded_edges(uint32_t frame, int units, uint8_t edges) const {
+    for (unsigned wider = edges; wider <= codec::kAllFaceEdges; ++wider) {
+      const auto mask = static_cast<uint8_t>(wider);
+      if ((mask & edges) == edges && references.contains(reference_key(frame, units, mask))) return mask;
+    }
+    return std::nullopt;
+  }
+
+  // The edges of I-face `frame` whose faces across are decoded already (in either cache).
+  uint8_t decoded_edges(uint32_t frame) const {
+    const Face face = static_cast<Face>(frame % kFaceCount);
+    const uint32_t cube_first = frame - frame % kFaceCount;
+    uint8_t edges = 0;
+    for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
+      const auto across =
+          cube_first + static_cast<uint32_t>(codec::face_across(face, static_cast<codec::FaceEdge>(e)));
+      if (faces.contains(across) || references.contains(reference_key(across, 0, 0))) edges |= uint8_t(1u << e);
+    }
+    return edges;
+  }
+
   // Pixels of an I-face: a cache's when one holds them, else reconstructed from its
   // (cached) coefficients and kept as a reference.
   Result<ImagePointer> intra_image(uint32_t frame, Origin origin) {
@@ -230,8 +254,15 @@ struct Reader::Impl {
     Result<FacePointer> padded_intra_face(uint32_t frame, int units, uint8_t edges) override {
       if (units == 0) return intra_face(frame);
       if (!impl_.reference_keys_fit) return CodedFaceSource::padded_intra_face(frame, units, edges);
-      return impl_.references.get(reference_key(frame, units, edges), origin_, impl_.naming(frame, [&] {
-        return CodedFaceSource::padded_intra_face(frame, units, edges);
+      // Samples across edges a B-face may not read never reach its output (docs/codec.md
+      // 5.7), so a face padded across more edges serves it as well. B-faces list
+      // different edges of the same reference, so an entry is found among the supersets
+      // of `edges`, and one computed is padded across every edge whose face is decoded
+      // already: later B-faces find it instead of padding the face again.
+      const uint8_t padded_edges =
+          impl_.cached_padded_edges(frame, units, edges).value_or(edges | impl_.decoded_edges(frame));
+      return impl_.references.get(reference_key(frame, units, padded_edges), origin_, impl_.naming(frame, [&] {
+        return CodedFaceSource::padded_intra_face(frame, units, padded_edges);
       }));
     }
 
