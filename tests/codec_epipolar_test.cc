@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "codec/common/bframe.h"
+#include "codec/common/integer_division.h"
 #include "codec/decoder/bframe_decoder.h"
 #include "codec/decoder/bframe_syntax_reader.h"
 #include "codec/decoder/range_decoder.h"
@@ -18,6 +19,45 @@
 
 namespace svc::codec {
 namespace {
+
+// The double-precision floor division equals the integer one bit for bit: at the
+// boundaries of its exact range, around every multiple (where a rounded quotient could
+// land on the next integer), and on random operands of every magnitude.
+TEST(CodecEpipolar, FloorDivisionEqualsTheIntegerReference) {
+  constexpr int64_t kExact = int64_t{1} << 52;
+  std::vector<int64_t> numerators = {
+      0, 1, -1, kExact - 1, -(kExact - 1), kExact, -kExact, INT64_MAX / 2, INT64_MIN / 2};
+  std::vector<int64_t> divisors = {1, 2, 3, 7, 1 << 20, kExact - 1, kExact, kExact + 1, INT64_MAX / 4};
+  std::mt19937_64 rng(11);
+  for (int bits = 1; bits <= 62; ++bits) {
+    for (int k = 0; k < 200; ++k) {
+      const int64_t magnitude = static_cast<int64_t>(rng() >> (64 - bits));
+      numerators.push_back(k % 2 ? magnitude : -magnitude);
+      divisors.push_back(std::max<int64_t>(1, static_cast<int64_t>(rng() >> (64 - bits))));
+    }
+  }
+  int64_t checked = 0;
+  for (size_t i = 0; i < divisors.size(); ++i) {
+    const int64_t b = divisors[i];
+    for (int64_t a : {numerators[i % numerators.size()], numerators[(i * 7 + 3) % numerators.size()]}) {
+      ASSERT_EQ(floor_divide(a, b), floor_divide_reference(a, b)) << a << " / " << b;
+      ++checked;
+    }
+    // Around multiples of b, where the quotient is an integer or just below one.
+    for (const int64_t q : {int64_t{0}, int64_t{1}, int64_t{-1}, int64_t{12345}, int64_t{-98765}}) {
+      if (b > kExact / 100000) break;
+      for (int64_t d = -2; d <= 2; ++d) {
+        const int64_t a = q * b + d;
+        ASSERT_EQ(floor_divide(a, b), floor_divide_reference(a, b)) << a << " / " << b;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 50000);
+  EXPECT_EQ(floor_divide(-7, 2), -4);
+  EXPECT_EQ(floor_divide(7, 2), 3);
+  EXPECT_EQ(floor_divide(-6, 3), -2);
+}
 
 TEST(CodecEpipolar, LineCoordinatesAreABijectionOnIntegerVectors) {
   std::mt19937 rng(5);

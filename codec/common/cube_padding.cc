@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "codec/common/cube_padding_map.h"
+#include "codec/common/integer_division.h"
 
 namespace svc::codec {
 
@@ -41,15 +42,11 @@ int face_looking_along(const Axis& axis, int sign) {
   return 0;  // unreachable: every signed axis is some face's forward direction
 }
 
-long long floor_div(long long num, long long den) {
-  const long long q = num / den;
-  return (num % den != 0 && ((num < 0) != (den < 0))) ? q - 1 : q;
-}
-
 // 1/16-sample position along one axis of an n-sample face for face coordinate p / c
-// (-1 .. 1 across the face): 16 ((p / c + 1) n / 2 - 1/2), rounded half up.
+// (-1 .. 1 across the face; c > 0, the depth of a border sample along the face it
+// shows): 16 ((p / c + 1) n / 2 - 1/2), rounded half up.
 int sixteenth_position(long long p, long long c, int n) {
-  return static_cast<int>(floor_div(16 * (p * n + (n - 1) * c) + c, 2 * c));
+  return static_cast<int>(floor_divide(16 * (p * n + (n - 1) * c) + c, 2 * c));
 }
 
 // Bilinear sample at 1/16 position (x16, y16) of an n x n plane, edge-clamped.

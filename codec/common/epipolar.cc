@@ -5,15 +5,13 @@
 #include <bit>
 #include <cstdlib>
 
+#include "codec/common/integer_division.h"
+
 namespace svc::codec {
 namespace {
 
 // floor((2 n + m) / (2 m)) for m > 0: n / m rounded to nearest, halves up.
-int64_t divide_rounded(int64_t n, int64_t m) {
-  const int64_t numerator = 2 * n + m, denominator = 2 * m;
-  const int64_t q = numerator / denominator;
-  return (numerator % denominator != 0 && numerator < 0) ? q - 1 : q;
-}
+int64_t divide_rounded(int64_t n, int64_t m) { return floor_divide(2 * n + m, 2 * m); }
 
 int64_t shifted_toward_zero(int64_t value, int shift) { return value < 0 ? -(-value >> shift) : value >> shift; }
 
