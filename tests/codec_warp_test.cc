@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-2-Clause
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -134,16 +135,19 @@ FaceCandidates exact_candidates(int width, int height, const Homography& h) {
 // It maps the whole current face inside the reference face.
 const Homography kPlane = {{0.9, 0.04, 5.0, 0.01, 0.95, 3.0, 0.0003, 0.0008, 1.0}};
 
+// The fast path predicts runs of sub-blocks with equal vectors as one block; the small
+// spreads make such runs common, the large ones rare.
 TEST(WarpPrediction, FastMatchesReferenceOnRandomData) {
   std::mt19937 rng(11);
   const int sizes[][2] = {{48, 32}, {37, 21}, {16, 16}, {5, 3}};
+  int trials_with_runs = 0;
   for (const auto& size : sizes) {
     const int w = size[0], h = size[1];
     const ImageYCbCr420 reference = random_image(w, h, static_cast<uint32_t>(w * 31 + h));
     for (int trial = 0; trial < 300; ++trial) {
       const int mx = static_cast<int>(rng() % ((w + 15) / 16)), my = static_cast<int>(rng() % ((h + 15) / 16));
       WarpCorners corners;
-      const int spread = trial % 3 == 0 ? 40 : (trial % 3 == 1 ? 400 : 4000);
+      const int spread = std::array{4, 40, 400, 4000}[static_cast<size_t>(trial % 4)];
       const int base_x = static_cast<int>(rng() % 801) - 400, base_y = static_cast<int>(rng() % 801) - 400;
       for (WarpNode& node : corners) {
         node.x = base_x + static_cast<int>(rng() % (2 * spread + 1)) - spread;
@@ -158,8 +162,14 @@ TEST(WarpPrediction, FastMatchesReferenceOnRandomData) {
       int16_t luma[256];
       predict_warp_macroblock_luma(reference, mx, my, corners, luma);
       ASSERT_TRUE(std::equal(luma, luma + 256, plain.y.begin()));
+      bool run = false;
+      for (int b = 4; b < 32; b += 8) {
+        run = run || warp_subblock_vector(corners, 4, b) == warp_subblock_vector(corners, 12, b);
+      }
+      trials_with_runs += run;
     }
   }
+  EXPECT_GT(trials_with_runs, 200);  // of 1,200
 }
 
 TEST(WarpPrediction, UniformNodesEqualTranslation) {
