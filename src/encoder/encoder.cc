@@ -162,10 +162,10 @@ void return_freed_memory() {
 }
 
 // The manifest entries (face files and cameras) of the cells coded lately, in the
-// pipeline's cache type. A face's loading and a B-face's cameras (its own and its
-// references') each need its cell's entry: parsing it for every request parsed each
-// entry some 24 times an encode. 32 cells hold a B-cube and its two reference cubes for
-// a few cubes coded side by side.
+// pipeline's cache type. Each of a cell's faces, as it loads, and every B-face using its
+// cameras (its own and its references') needs the cell's entry, which was otherwise
+// parsed again for each. 32 cells hold a B-cube and its two reference cubes for a few
+// cubes coded side by side.
 using CellSourceCache = reader_internal::SharedCache<CellSource>;
 // Its budget: 32 cells, each path counted at 128 bytes.
 constexpr uint64_t kCachedCellBytes =

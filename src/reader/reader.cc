@@ -213,7 +213,8 @@ struct Reader::Impl {
     return std::nullopt;
   }
 
-  // The edges of I-face `frame` whose faces across are decoded already (in either cache).
+  // The edges of I-face `frame` whose faces across are I-faces decoded already (in
+  // either cache).
   uint8_t decoded_edges(uint32_t frame) const {
     const Face face = static_cast<Face>(frame % kFaceCount);
     const uint32_t cube_first = frame - frame % kFaceCount;
@@ -221,7 +222,8 @@ struct Reader::Impl {
     for (int e = 0; e < codec::kFaceEdgeCount; ++e) {
       const auto across =
           cube_first + static_cast<uint32_t>(codec::face_across(face, static_cast<codec::FaceEdge>(e)));
-      if (faces.contains(across) || references.contains(reference_key(across, 0, 0))) edges |= uint8_t(1u << e);
+      const bool decoded = faces.contains(across) || references.contains(reference_key(across, 0, 0));
+      if (decoded && index.frames[across].type == FaceType::kIntra) edges |= uint8_t(1u << e);
     }
     return edges;
   }
