@@ -82,9 +82,9 @@ uint64_t high_water_bytes(pid_t pid) {
   return 0;
 }
 
-// Runs `svc encode db -o out --threads 2` with the regular layout, without the two
-// slowest coding tools (the filter bank's three passes and the partition search change
-// the time a face takes, not how many faces are held) and with kCacheBudget; returns its
+// Runs `svc encode db -o out --threads 2` with the regular layout, at the fastest speed
+// and without the slowest coding tools (the mode decision's searches change the time a
+// face takes, not how many faces are held) and with kCacheBudget; returns its
 // peak resident bytes, or 0 when it failed. The child's own high-water mark is sampled
 // every 20 ms while it runs (ru_maxrss would start from the peak of this process, which
 // the child inherits until exec).
@@ -98,6 +98,8 @@ uint64_t encode_peak_bytes(const fs::path& db, const fs::path& out) {
                                    "--threads",
                                    "2",
                                    "--quiet",
+                                   "--speed",
+                                   "5",
                                    "--allow-outside-paths",
                                    "--layout",
                                    "regular",
