@@ -22,12 +22,11 @@ void warp_plane(const WarpCorners& n, int blocks, int size, int span, int16_t* o
                 Predict predict) {
   for (int q = 0; q < blocks; ++q) {
     int16_t* row = out + q * size * out_stride;
-    int first = 0;
-    std::array<int, 2> v = warp_subblock_vector(n, span / 2, span * q + span / 2);
-    for (int p = 1; p <= blocks; ++p) {
-      const std::array<int, 2> next = p < blocks ? warp_subblock_vector(n, span * p + span / 2, span * q + span / 2)
-                                                 : std::array<int, 2>{};
-      if (p < blocks && next == v) continue;
+    const auto vector = [&](int p) { return warp_subblock_vector(n, span * p + span / 2, span * q + span / 2); };
+    std::array<int, 2> v = vector(0);
+    for (int first = 0, p = 1; p <= blocks; ++p) {
+      std::array<int, 2> next{};
+      if (p < blocks && (next = vector(p)) == v) continue;
       predict(first * size, q * size, (p - first) * size, v[0], v[1], row + first * size);
       first = p;
       v = next;

@@ -169,7 +169,7 @@ void return_freed_memory() {
 using CellSourceCache = reader_internal::SharedCache<CellSource>;
 // Its budget: 32 cells, each path counted at 128 bytes.
 constexpr uint64_t kCachedCellBytes =
-    32 * (sizeof(CellSource) + 2 * kFaceCount * 128 + reader_internal::SharedCache<CellSource>::kEntryOverhead);
+    32 * (sizeof(CellSource) + 2 * kFaceCount * 128 + CellSourceCache::kEntryOverhead);
 
 uint64_t cell_source_bytes(const CellSource& cell) {
   uint64_t bytes = sizeof(CellSource);
