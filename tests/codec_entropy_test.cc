@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-2-Clause
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdlib>
 #include <random>
 #include <span>
@@ -288,6 +290,43 @@ TEST(CodecBlockCoder, BitEstimateMatchesTheCodedSize) {
   // within it (a few percent on these level-heavy blocks); a binarization that differs
   // would be off by far more.
   EXPECT_NEAR(estimated, coded, coded * 0.04) << "estimated " << estimated << " bits, coded " << coded;
+}
+
+TEST(CodecBlockCoder, NeighbourContextsEqualTheTemplateOverTheMagnitudesSet) {
+  // The running template sums against docs/codec.md 3.4's derivation from the
+  // magnitudes themselves, at every position of every size, as a coder visits them
+  // (reverse scan, each set once), with zeros, small and large magnitudes.
+  std::mt19937 rng(17);
+  for (int s = 0; s < kTransformSizes; ++s) {
+    const ScanOrder& order = scan_order(static_cast<TransformSize>(s));
+    const int w = order.width, h = order.height;
+    for (int trial = 0; trial < 40; ++trial) {
+      std::array<int, kMaxTransformArea> magnitude{};  // set so far
+      auto a = [&](int r, int c) { return r < h && c < w ? magnitude[static_cast<size_t>(r * w + c)] : 0; };
+      NeighbourMagnitudes neighbours(order);
+      for (int i = order.count - 1; i >= 0; --i) {
+        const int p = order.scan[i], r = p / w, c = p % w;
+        const PositionContext& entry = order.scanned[i];
+        ASSERT_EQ(entry.position, p);
+        const int diagonal = r + c, position_class = diagonal == 0 ? 0 : diagonal <= 2 ? 1 : diagonal <= 5 ? 2 : 3;
+        const std::array<int, 5> t = {a(r, c + 1), a(r + 1, c), a(r + 1, c + 1), a(r, c + 2), a(r + 2, c)};
+        int m5 = 0, sum = 0;
+        for (const int v : t) m5 += std::min(v, 3), sum += v;
+        const int m3 = std::min(t[0], 15) + std::min(t[1], 15) + std::min(t[2], 15);
+        const int group = p == 0 ? 0 : r < 2 && c < 2 ? 1 : 2;
+        ASSERT_EQ(neighbours.significance_context(entry), 5 * position_class + std::min((m5 + 1) >> 1, 4))
+            << "size " << s << " position " << p;
+        ASSERT_EQ(order.positions[p].grid, entry.grid);
+        ASSERT_EQ(neighbours.range_context(entry), 7 * group + std::min((m3 + 1) >> 1, 6));
+        ASSERT_EQ(neighbours.rice_parameter(entry),
+                  std::min(4, static_cast<int>(std::bit_width(static_cast<unsigned>(sum) >> 6))));
+        const int draw = static_cast<int>(rng() % 8);
+        const int value = draw < 4 ? 0 : draw < 7 ? draw - 3 : static_cast<int>(rng() % 400);
+        magnitude[static_cast<size_t>(p)] = value;
+        neighbours.set(entry, value);
+      }
+    }
+  }
 }
 
 TEST(CodecBlockCoder, AnEndOfBlockAtTheLastPositionOfEverySizeRoundTrips) {

@@ -7,7 +7,7 @@
 
 namespace svc::codec {
 
-const std::array<uint8_t, 64> kZigZag = {
+constexpr std::array<uint8_t, 64> kZigZag = {
     0,  1,  8,  16, 9,  2,  3,  10, 17, 24, 32, 25, 18, 11, 4,  5,   //
     12, 19, 26, 33, 40, 48, 41, 34, 27, 20, 13, 6,  7,  14, 21, 28,  //
     35, 42, 49, 56, 57, 50, 43, 36, 29, 22, 15, 23, 30, 37, 44, 51,  //
@@ -53,8 +53,17 @@ constexpr std::array<PositionContext, W * H> position_contexts() {
       entry.grid = static_cast<uint16_t>(row * (W + 2) + column);
       entry.position_class = static_cast<uint8_t>(diagonal_class(row, column));
       entry.range_group = static_cast<uint8_t>(row + column == 0 ? 0 : (row < 2 && column < 2 ? 1 : 2));
+      entry.position = static_cast<uint8_t>(row * W + column);
     }
   }
+  return table;
+}
+
+template <size_t N>
+constexpr std::array<PositionContext, N> in_scan_order(const std::array<uint8_t, N>& scan,
+                                                       const std::array<PositionContext, N>& positions) {
+  std::array<PositionContext, N> table{};
+  for (size_t i = 0; i < N; ++i) table[i] = positions[scan[i]];
   return table;
 }
 constexpr std::array<PositionContext, 16> kPositions4x4 = position_contexts<4>();
@@ -67,15 +76,24 @@ constexpr std::array<PositionContext, 64> kPositions4x16 = position_contexts<4, 
 constexpr std::array<PositionContext, 32> kPositions8x4 = position_contexts<8, 4>();
 constexpr std::array<PositionContext, 32> kPositions4x8 = position_contexts<4, 8>();
 
-constexpr ScanOrder kScan8x8{8, 8, 64, kZigZag.data(), kPositions8x8.data()};
-constexpr ScanOrder kScan4x4{4, 4, 16, kZigZag4x4.data(), kPositions4x4.data()};
-constexpr ScanOrder kScan16x16{16, 16, 256, kZigZag16x16.data(), kPositions16x16.data()};
-constexpr ScanOrder kScan16x8{16, 8, 128, kZigZag16x8.data(), kPositions16x8.data()};
-constexpr ScanOrder kScan8x16{8, 16, 128, kZigZag8x16.data(), kPositions8x16.data()};
-constexpr ScanOrder kScan16x4{16, 4, 64, kZigZag16x4.data(), kPositions16x4.data()};
-constexpr ScanOrder kScan4x16{4, 16, 64, kZigZag4x16.data(), kPositions4x16.data()};
-constexpr ScanOrder kScan8x4{8, 4, 32, kZigZag8x4.data(), kPositions8x4.data()};
-constexpr ScanOrder kScan4x8{4, 8, 32, kZigZag4x8.data(), kPositions4x8.data()};
+constexpr std::array<PositionContext, 64> kScanned8x8 = in_scan_order(kZigZag, kPositions8x8);
+constexpr ScanOrder kScan8x8{8, 8, 64, kZigZag.data(), kPositions8x8.data(), kScanned8x8.data()};
+constexpr std::array<PositionContext, 16> kScanned4x4 = in_scan_order(kZigZag4x4, kPositions4x4);
+constexpr ScanOrder kScan4x4{4, 4, 16, kZigZag4x4.data(), kPositions4x4.data(), kScanned4x4.data()};
+constexpr std::array<PositionContext, 256> kScanned16x16 = in_scan_order(kZigZag16x16, kPositions16x16);
+constexpr ScanOrder kScan16x16{16, 16, 256, kZigZag16x16.data(), kPositions16x16.data(), kScanned16x16.data()};
+constexpr std::array<PositionContext, 128> kScanned16x8 = in_scan_order(kZigZag16x8, kPositions16x8);
+constexpr ScanOrder kScan16x8{16, 8, 128, kZigZag16x8.data(), kPositions16x8.data(), kScanned16x8.data()};
+constexpr std::array<PositionContext, 128> kScanned8x16 = in_scan_order(kZigZag8x16, kPositions8x16);
+constexpr ScanOrder kScan8x16{8, 16, 128, kZigZag8x16.data(), kPositions8x16.data(), kScanned8x16.data()};
+constexpr std::array<PositionContext, 64> kScanned16x4 = in_scan_order(kZigZag16x4, kPositions16x4);
+constexpr ScanOrder kScan16x4{16, 4, 64, kZigZag16x4.data(), kPositions16x4.data(), kScanned16x4.data()};
+constexpr std::array<PositionContext, 64> kScanned4x16 = in_scan_order(kZigZag4x16, kPositions4x16);
+constexpr ScanOrder kScan4x16{4, 16, 64, kZigZag4x16.data(), kPositions4x16.data(), kScanned4x16.data()};
+constexpr std::array<PositionContext, 32> kScanned8x4 = in_scan_order(kZigZag8x4, kPositions8x4);
+constexpr ScanOrder kScan8x4{8, 4, 32, kZigZag8x4.data(), kPositions8x4.data(), kScanned8x4.data()};
+constexpr std::array<PositionContext, 32> kScanned4x8 = in_scan_order(kZigZag4x8, kPositions4x8);
+constexpr ScanOrder kScan4x8{4, 8, 32, kZigZag4x8.data(), kPositions4x8.data(), kScanned4x8.data()};
 
 }  // namespace
 
@@ -93,15 +111,15 @@ const ScanOrder& scan_order(TransformSize size) {
   }
 }
 
-int NeighbourMagnitudes::range_context(int position) const {
-  const uint16_t* a = grid_.data() + positions_[position].grid;
+int NeighbourMagnitudes::range_context(const PositionContext& p) const {
+  const uint16_t* a = grid_.data() + p.grid;
   const int s = stride_;
   const int magnitude = std::min<int>(a[1], 15) + std::min<int>(a[s], 15) + std::min<int>(a[s + 1], 15);
-  return positions_[position].range_group * 7 + std::min((magnitude + 1) >> 1, 6);
+  return p.range_group * 7 + std::min((magnitude + 1) >> 1, 6);
 }
 
-int NeighbourMagnitudes::rice_parameter(int position) const {
-  const uint16_t* a = grid_.data() + positions_[position].grid;
+int NeighbourMagnitudes::rice_parameter(const PositionContext& p) const {
+  const uint16_t* a = grid_.data() + p.grid;
   const int s = stride_;
   const unsigned sum = unsigned{a[1]} + a[s] + a[s + 1] + a[2] + a[2 * s];
   return std::min(kMaxRiceParameter, static_cast<int>(std::bit_width(sum >> 6)));

@@ -32,6 +32,7 @@ struct PositionContext {
   uint16_t grid;           // index in NeighbourMagnitudes' bordered grid
   uint8_t position_class;  // 0 for the DC, 1 for row + column <= 2, 2 up to 5, 3 beyond
   uint8_t range_group;     // 0 for the DC, 1 for row and column < 2, 2 beyond
+  uint8_t position;        // the natural position itself
 };
 
 // A size's scan: every position comes after its left and upper neighbours (the zig-zag
@@ -42,6 +43,9 @@ struct ScanOrder {
   int count;                         // width * height
   const uint8_t* scan;               // scan index -> natural position (row * width + column)
   const PositionContext* positions;  // natural position -> its contexts' inputs
+  // scan index -> its position's contexts' inputs: one load where the coefficient loops
+  // would otherwise chain scan and positions.
+  const PositionContext* scanned;
 };
 const ScanOrder& scan_order(TransformSize size);
 
@@ -91,42 +95,55 @@ struct BlockLevel {
 };
 
 // Magnitudes of the coefficients coded so far, in natural order with a zero border two
-// wide to the right and below, so the context templates need no bounds checks.
+// wide to the right and below, so the context templates need no bounds checks. Each
+// position's significance template (docs/codec.md 3.4) is kept as a running sum: setting
+// a magnitude adds it to the positions whose template holds it, so a significance
+// context, needed at every coefficient, is one load, and the work falls on the non-zero
+// ones. set() is called at most once per position.
 class NeighbourMagnitudes {
  public:
-  explicit NeighbourMagnitudes(const ScanOrder& order) : positions_(order.positions), stride_(order.width + 2) {
+  explicit NeighbourMagnitudes(const ScanOrder& order) : stride_(order.width + 2), sum_lead_(2 * stride_ + 2) {
     std::fill_n(grid_.begin(), stride_ * (order.height + 2), uint16_t{0});
-    std::fill_n(capped_.begin(), stride_ * (order.height + 2), uint8_t{0});
+    std::fill_n(sum_storage_.begin(), stride_ * (order.height + 2) + 2, uint8_t{0});
   }
-  void set(int position, int magnitude) {
-    const int cell = positions_[position].grid;
+  void set(const PositionContext& p, int magnitude) {
+    const int cell = p.grid, s = stride_;
     grid_[cell] = static_cast<uint16_t>(magnitude);
-    capped_[cell] = static_cast<uint8_t>(std::min(magnitude, 3));
+    // The positions left of and above this one, whose templates reach it; those outside
+    // the block land in the storage's lead or its unread border column.
+    const auto capped = static_cast<uint8_t>(std::min(magnitude, 3));
+    uint8_t* sums = sum_storage_.data() + sum_lead_ + cell;
+    sums[-1] += capped;
+    sums[-2] += capped;
+    sums[-s] += capped;
+    sums[-s - 1] += capped;
+    sums[-2 * s] += capped;
   }
-  // Contexts of natural position `position` (docs/codec.md 3.4).
-  int significance_context(int position) const {
-    const uint8_t* a = capped_.data() + positions_[position].grid;
-    const int s = stride_;
-    const int magnitude = a[1] + a[s] + a[s + 1] + a[2] + a[2 * s];
-    return positions_[position].position_class * kNeighbourhoods +
-           std::min((magnitude + 1) >> 1, kNeighbourhoods - 1);
+  // Contexts of a position (docs/codec.md 3.4).
+  int significance_context(const PositionContext& p) const {
+    return p.position_class * kNeighbourhoods +
+           std::min((sum_storage_[static_cast<size_t>(sum_lead_ + p.grid)] + 1) >> 1, kNeighbourhoods - 1);
   }
-  int range_context(int position) const;
-  int rice_parameter(int position) const;
+  int range_context(const PositionContext& p) const;
+  int rice_parameter(const PositionContext& p) const;
 
  private:
-  const PositionContext* positions_;
+  static constexpr int kMaxStride = kMaxTransformWidth + 2;
+
   int stride_;
-  std::array<uint16_t, (kMaxTransformWidth + 2) * (kMaxTransformWidth + 2)> grid_;
-  // min(magnitude, 3), all the significance contexts read: no clamp per neighbour.
-  std::array<uint8_t, (kMaxTransformWidth + 2) * (kMaxTransformWidth + 2)> capped_;
+  int sum_lead_;
+  std::array<uint16_t, kMaxStride * kMaxStride> grid_;
+  // Per cell of grid_, the sum of min(magnitude, 3) over its template (at most 15),
+  // after a lead of two rows and two cells that set() writes into and nothing reads.
+  std::array<uint8_t, kMaxStride*(kMaxStride + 2) + 2> sum_storage_;
 };
 
 // The greater-than-1/2 context of the last significant coefficient (its neighbours to the
 // right and below are all zero, and its significance is implied): one per position class
 // (0 for the DC, 1 for row + column <= 2, 2 up to 5, 3 beyond).
+inline int last_level_context(const PositionContext& p) { return kSignificanceContexts + p.position_class; }
 inline int last_level_context(const ScanOrder& order, int position) {
-  return kSignificanceContexts + order.positions[position].position_class;
+  return last_level_context(order.positions[position]);
 }
 
 // The end-of-block class of eob in [1, 256]: 0 for 1, 1 for 2, then c for

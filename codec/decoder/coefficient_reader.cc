@@ -38,7 +38,7 @@ int read_end_of_block(RangeDecoder& decoder, BlockContextSet& contexts, const Sc
 }
 
 bool read_magnitude(RangeDecoder& decoder, BlockContextSet& contexts, const NeighbourMagnitudes& neighbours,
-                    int position, int base_context, int* magnitude) {
+                    const PositionContext& position, int base_context, int* magnitude) {
   *magnitude = 1;
   if (!decoder.decode(contexts.greater_than_one[base_context])) return true;
   *magnitude = 2;
@@ -70,17 +70,17 @@ bool read_magnitude(RangeDecoder& decoder, BlockContextSet& contexts, const Neig
   NeighbourMagnitudes neighbours(order);
   int n = 0;
   for (int i = last_scan; i >= 0; --i) {
-    const int position = order.scan[i];
-    int base_context = last_level_context(order, position);
+    const PositionContext& entry = order.scanned[i];
+    int base_context = last_level_context(entry);
     if (i != last_scan) {
-      base_context = neighbours.significance_context(position);
+      base_context = neighbours.significance_context(entry);
       if (!decoder.decode(contexts.significant[base_context])) continue;
     }
     int magnitude = 0;
-    if (!read_magnitude(decoder, contexts, neighbours, position, base_context, &magnitude)) return false;
+    if (!read_magnitude(decoder, contexts, neighbours, entry, base_context, &magnitude)) return false;
     const int negative = decoder.decode_bypass();
-    out[n++] = {static_cast<uint8_t>(position), static_cast<int16_t>(negative ? -magnitude : magnitude)};
-    neighbours.set(position, magnitude);
+    out[n++] = {entry.position, static_cast<int16_t>(negative ? -magnitude : magnitude)};
+    neighbours.set(entry, magnitude);
   }
   std::reverse(out, out + n);
   *count = n;

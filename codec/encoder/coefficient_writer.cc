@@ -46,8 +46,8 @@ void write_end_of_block(Sink& sink, Set& contexts, const ScanOrder& order, Trans
 }
 
 template <class Sink, class Set>
-void write_magnitude(Sink& sink, Set& contexts, const NeighbourMagnitudes& neighbours, int position,
-                     int base_context, int magnitude) {
+void write_magnitude(Sink& sink, Set& contexts, const NeighbourMagnitudes& neighbours,
+                     const PositionContext& position, int base_context, int magnitude) {
   sink.bit(contexts.greater_than_one[base_context], magnitude > 1);
   if (magnitude == 1) return;
   sink.bit(contexts.greater_than_two[base_context], magnitude > 2);
@@ -72,16 +72,17 @@ void write_levels(Sink& sink, Set& contexts, const int16_t* levels, int coded_bl
   write_end_of_block(sink, contexts, order, size, last_scan);
   NeighbourMagnitudes neighbours(order);
   for (int i = last_scan; i >= 0; --i) {
-    const int position = order.scan[i], level = levels[position], magnitude = std::abs(level);
-    int base_context = last_level_context(order, position);
+    const PositionContext& entry = order.scanned[i];
+    const int position = entry.position, level = levels[position], magnitude = std::abs(level);
+    int base_context = last_level_context(entry);
     if (i != last_scan) {
-      base_context = neighbours.significance_context(position);
+      base_context = neighbours.significance_context(entry);
       sink.bit(contexts.significant[base_context], magnitude != 0);
       if (magnitude == 0) continue;
     }
-    write_magnitude(sink, contexts, neighbours, position, base_context, magnitude);
+    write_magnitude(sink, contexts, neighbours, entry, base_context, magnitude);
     sink.bypass(level < 0);
-    neighbours.set(position, magnitude);
+    neighbours.set(entry, magnitude);
   }
 }
 }  // namespace
@@ -138,8 +139,8 @@ float EndOfBlockPricer::bits(int last_scan) const {
   return bits;
 }
 
-float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours, int position,
-                     int base_context, int magnitude) {
+float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours,
+                     const PositionContext& position, int base_context, int magnitude) {
   CostSink sink;
   write_magnitude(sink, contexts, neighbours, position, base_context, magnitude);
   return sink.bits + 1;  // sign

@@ -42,11 +42,11 @@ class EndOfBlockPricer {
   std::array<float, kMaxEobClasses + 1> class_bits_{};
 };
 
-// Encoder only: bits of one non-zero magnitude with its sign at natural `position`, given
+// Encoder only: bits of one non-zero magnitude with its sign at `position`, given
 // the magnitudes coded before it and its `base_context` (significance context, or
 // last_level_context at the end of block), without the significance flag.
-float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours, int position,
-                     int base_context, int magnitude);
+float magnitude_bits(const BlockContextSet& contexts, const NeighbourMagnitudes& neighbours,
+                     const PositionContext& position, int base_context, int magnitude);
 
 // Exp-Golomb order 0 with bypass bits, for values below 2^17 - 1 (prefix <= 16).
 void encode_exp_golomb_bypass(RangeEncoder& encoder, uint32_t value);

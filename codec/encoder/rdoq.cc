@@ -44,10 +44,11 @@ class RdoqSearch {
     NeighbourMagnitudes neighbours(order);
     const NeighbourMagnitudes alone(order);
     for (int i = last_scan; i >= 0; --i) {
-      const int position = order.scan[i], upper = rounded[position];
+      const PositionContext& entry = order.scanned[i];
+      const int position = entry.position, upper = rounded[position];
       Decision& d = decisions_[static_cast<size_t>(i)];
       d.zero_cost = squared_error(quantizer_, coefficients_, position, 0);
-      const int context = neighbours.significance_context(position);
+      const int context = neighbours.significance_context(entry);
       d.level = 0;
       d.cost = d.zero_cost + lambda_ * bit_cost(contexts_.significant[context], 0);
       d.last_cost = kInfinity;
@@ -56,20 +57,20 @@ class RdoqSearch {
       const int sign = upper < 0 ? -1 : 1;
       for (int magnitude = std::abs(upper); magnitude >= std::max(1, std::abs(upper) - 1); --magnitude) {
         const float error = squared_error(quantizer_, coefficients_, position, sign * magnitude);
-        const float cost = error + lambda_ * (significant_bits +
-                                              magnitude_bits(contexts_, neighbours, position, context, magnitude));
+        const float cost =
+            error + lambda_ * (significant_bits + magnitude_bits(contexts_, neighbours, entry, context, magnitude));
         if (cost < d.cost) {
           d.cost = cost;
           d.level = sign * magnitude;
         }
-        const float last_cost = error + lambda_ * magnitude_bits(contexts_, alone, position,
-                                                                 last_level_context(order, position), magnitude);
+        const float last_cost =
+            error + lambda_ * magnitude_bits(contexts_, alone, entry, last_level_context(entry), magnitude);
         if (last_cost < d.last_cost) {
           d.last_cost = last_cost;
           d.last_level = sign * magnitude;
         }
       }
-      neighbours.set(position, std::abs(d.level));
+      neighbours.set(entry, std::abs(d.level));
     }
   }
 
