@@ -30,14 +30,6 @@ constexpr std::array<uint8_t, W * H> zig_zag() {
   }
   return scan;
 }
-constexpr std::array<uint8_t, 16> kZigZag4x4 = zig_zag<4>();
-constexpr std::array<uint8_t, 256> kZigZag16x16 = zig_zag<16>();
-constexpr std::array<uint8_t, 128> kZigZag16x8 = zig_zag<16, 8>();
-constexpr std::array<uint8_t, 128> kZigZag8x16 = zig_zag<8, 16>();
-constexpr std::array<uint8_t, 64> kZigZag16x4 = zig_zag<16, 4>();
-constexpr std::array<uint8_t, 64> kZigZag4x16 = zig_zag<4, 16>();
-constexpr std::array<uint8_t, 32> kZigZag8x4 = zig_zag<8, 4>();
-constexpr std::array<uint8_t, 32> kZigZag4x8 = zig_zag<4, 8>();
 
 constexpr int diagonal_class(int row, int column) {
   const int diagonal = row + column;
@@ -66,48 +58,30 @@ constexpr std::array<PositionContext, N> in_scan_order(const std::array<uint8_t,
   for (size_t i = 0; i < N; ++i) table[i] = positions[scan[i]];
   return table;
 }
-constexpr std::array<PositionContext, 16> kPositions4x4 = position_contexts<4>();
-constexpr std::array<PositionContext, 64> kPositions8x8 = position_contexts<8>();
-constexpr std::array<PositionContext, 256> kPositions16x16 = position_contexts<16>();
-constexpr std::array<PositionContext, 128> kPositions16x8 = position_contexts<16, 8>();
-constexpr std::array<PositionContext, 128> kPositions8x16 = position_contexts<8, 16>();
-constexpr std::array<PositionContext, 64> kPositions16x4 = position_contexts<16, 4>();
-constexpr std::array<PositionContext, 64> kPositions4x16 = position_contexts<4, 16>();
-constexpr std::array<PositionContext, 32> kPositions8x4 = position_contexts<8, 4>();
-constexpr std::array<PositionContext, 32> kPositions4x8 = position_contexts<4, 8>();
 
-constexpr std::array<PositionContext, 64> kScanned8x8 = in_scan_order(kZigZag, kPositions8x8);
-constexpr ScanOrder kScan8x8{8, 8, 64, kZigZag.data(), kPositions8x8.data(), kScanned8x8.data()};
-constexpr std::array<PositionContext, 16> kScanned4x4 = in_scan_order(kZigZag4x4, kPositions4x4);
-constexpr ScanOrder kScan4x4{4, 4, 16, kZigZag4x4.data(), kPositions4x4.data(), kScanned4x4.data()};
-constexpr std::array<PositionContext, 256> kScanned16x16 = in_scan_order(kZigZag16x16, kPositions16x16);
-constexpr ScanOrder kScan16x16{16, 16, 256, kZigZag16x16.data(), kPositions16x16.data(), kScanned16x16.data()};
-constexpr std::array<PositionContext, 128> kScanned16x8 = in_scan_order(kZigZag16x8, kPositions16x8);
-constexpr ScanOrder kScan16x8{16, 8, 128, kZigZag16x8.data(), kPositions16x8.data(), kScanned16x8.data()};
-constexpr std::array<PositionContext, 128> kScanned8x16 = in_scan_order(kZigZag8x16, kPositions8x16);
-constexpr ScanOrder kScan8x16{8, 16, 128, kZigZag8x16.data(), kPositions8x16.data(), kScanned8x16.data()};
-constexpr std::array<PositionContext, 64> kScanned16x4 = in_scan_order(kZigZag16x4, kPositions16x4);
-constexpr ScanOrder kScan16x4{16, 4, 64, kZigZag16x4.data(), kPositions16x4.data(), kScanned16x4.data()};
-constexpr std::array<PositionContext, 64> kScanned4x16 = in_scan_order(kZigZag4x16, kPositions4x16);
-constexpr ScanOrder kScan4x16{4, 16, 64, kZigZag4x16.data(), kPositions4x16.data(), kScanned4x16.data()};
-constexpr std::array<PositionContext, 32> kScanned8x4 = in_scan_order(kZigZag8x4, kPositions8x4);
-constexpr ScanOrder kScan8x4{8, 4, 32, kZigZag8x4.data(), kPositions8x4.data(), kScanned8x4.data()};
-constexpr std::array<PositionContext, 32> kScanned4x8 = in_scan_order(kZigZag4x8, kPositions4x8);
-constexpr ScanOrder kScan4x8{4, 8, 32, kZigZag4x8.data(), kPositions4x8.data(), kScanned4x8.data()};
+// One size's scan, its positions' context inputs by natural position and by scan index.
+template <int W, int H = W>
+struct SizeTables {
+  static constexpr std::array<uint8_t, W* H> scan = zig_zag<W, H>();
+  static constexpr std::array<PositionContext, W* H> positions = position_contexts<W, H>();
+  static constexpr std::array<PositionContext, W* H> scanned = in_scan_order(scan, positions);
+  static constexpr ScanOrder order{W, H, W* H, scan.data(), positions.data(), scanned.data()};
+};
+static_assert(SizeTables<8>::scan == kZigZag, "the 8x8 scan is MPEG-2's zig-zag");
 
 }  // namespace
 
 const ScanOrder& scan_order(TransformSize size) {
   switch (size) {
-    case TransformSize::k4x4: return kScan4x4;
-    case TransformSize::k16x16: return kScan16x16;
-    case TransformSize::k16x8: return kScan16x8;
-    case TransformSize::k8x16: return kScan8x16;
-    case TransformSize::k16x4: return kScan16x4;
-    case TransformSize::k4x16: return kScan4x16;
-    case TransformSize::k8x4: return kScan8x4;
-    case TransformSize::k4x8: return kScan4x8;
-    default: return kScan8x8;
+    case TransformSize::k4x4: return SizeTables<4>::order;
+    case TransformSize::k16x16: return SizeTables<16>::order;
+    case TransformSize::k16x8: return SizeTables<16, 8>::order;
+    case TransformSize::k8x16: return SizeTables<8, 16>::order;
+    case TransformSize::k16x4: return SizeTables<16, 4>::order;
+    case TransformSize::k4x16: return SizeTables<4, 16>::order;
+    case TransformSize::k8x4: return SizeTables<8, 4>::order;
+    case TransformSize::k4x8: return SizeTables<4, 8>::order;
+    default: return SizeTables<8>::order;
   }
 }
 
