@@ -34,13 +34,26 @@ long long dot(const Axis& axis, long long x, long long y, long long z) {
   return axis[0] * x + axis[1] * y + axis[2] * z;
 }
 
-int face_looking_along(const Axis& axis, int sign) {
+constexpr int face_looking_along(const Axis& axis, int sign) {
   for (int g = 0; g < kFaceCount; ++g) {
     const Axis& f = kFrames[g].forward;
     if (f[0] == sign * axis[0] && f[1] == sign * axis[1] && f[2] == sign * axis[2]) return g;
   }
   return 0;  // unreachable: every signed axis is some face's forward direction
 }
+
+// The face across each edge: [face][0 across columns, 1 across rows][0 towards minus, 1
+// towards plus], tabulated for the border map's every sample.
+constexpr std::array<std::array<std::array<int, 2>, 2>, kFaceCount> kFaceAcross = [] {
+  std::array<std::array<std::array<int, 2>, 2>, kFaceCount> table{};
+  for (int face = 0; face < kFaceCount; ++face) {
+    for (int sign = 0; sign < 2; ++sign) {
+      table[face][0][sign] = face_looking_along(kFrames[face].right, 2 * sign - 1);
+      table[face][1][sign] = face_looking_along(kFrames[face].down, 2 * sign - 1);
+    }
+  }
+  return table;
+}();
 
 // 1/16-sample position along one axis of an n-sample face for face coordinate p / c
 // (-1 .. 1 across the face; c > 0, the depth of a border sample along the face it
@@ -73,8 +86,7 @@ BorderSource border_source(int face, int n, int i, int j) {
   const long long z = a * frame.right[2] + b * frame.down[2] + c * frame.forward[2];
   // The direction leaves through the face whose axis dominates; on a diagonal, the
   // neighbour across the left or right edge.
-  const int g = std::llabs(a) >= std::llabs(b) ? face_looking_along(frame.right, a > 0 ? 1 : -1)
-                                               : face_looking_along(frame.down, b > 0 ? 1 : -1);
+  const int g = std::llabs(a) >= std::llabs(b) ? kFaceAcross[face][0][a > 0] : kFaceAcross[face][1][b > 0];
   const FaceFrame& target = kFrames[g];
   const long long depth = dot(target.forward, x, y, z);
   return {g, sixteenth_position(dot(target.right, x, y, z), depth, n),
@@ -113,10 +125,9 @@ std::array<Face, 4> adjacent_faces(Face face) {
 }
 
 Face face_across(Face face, FaceEdge edge) {
-  const FaceFrame& frame = kFrames[static_cast<int>(face)];
-  const int sign = edge == FaceEdge::kLeft || edge == FaceEdge::kTop ? -1 : 1;
+  const bool plus = edge == FaceEdge::kRight || edge == FaceEdge::kBottom;
   const bool across_columns = edge == FaceEdge::kLeft || edge == FaceEdge::kRight;
-  return static_cast<Face>(face_looking_along(across_columns ? frame.right : frame.down, sign));
+  return static_cast<Face>(kFaceAcross[static_cast<int>(face)][across_columns ? 0 : 1][plus ? 1 : 0]);
 }
 
 bool border_edges_show(Face face, uint8_t edges, Face g) {

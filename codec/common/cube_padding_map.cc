@@ -23,10 +23,10 @@ struct AxisTaps {
 AxisTaps axis_taps(int p16, int n) {
   const int i = p16 >> 4, f = p16 & 15;
   const int i0 = std::clamp(i, 0, n - 1), i1 = std::clamp(i + 1, 0, n - 1);
-  AxisTaps taps{std::min(i0, n - 2), {0, 0}};
-  taps.weights[i0 - taps.first] += 16 - f;
-  taps.weights[i1 - taps.first] += f;
-  return taps;
+  const int first = std::min(i0, n - 2);
+  // i0 and i1 are each first or first + 1, so the two weights add up to 16.
+  const int weight_first = (i0 == first ? 16 - f : 0) + (i1 == first ? f : 0);
+  return {first, {weight_first, 16 - weight_first}};
 }
 
 // Appends border sample `offset` of the padded plane, read from `face` at `source`, to
