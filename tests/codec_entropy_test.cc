@@ -316,7 +316,7 @@ TEST(CodecBlockCoder, NeighbourContextsEqualTheTemplateOverTheMagnitudesSet) {
         const int group = p == 0 ? 0 : r < 2 && c < 2 ? 1 : 2;
         ASSERT_EQ(neighbours.significance_context(entry), 5 * position_class + std::min((m5 + 1) >> 1, 4))
             << "size " << s << " position " << p;
-        ASSERT_EQ(order.positions[p].grid, entry.grid);
+        ASSERT_EQ(entry.grid, r * (w + 2) + c);  // its cell of the bordered grid
         ASSERT_EQ(neighbours.range_context(entry), 7 * group + std::min((m3 + 1) >> 1, 6));
         ASSERT_EQ(neighbours.rice_parameter(entry),
                   std::min(4, static_cast<int>(std::bit_width(static_cast<unsigned>(sum) >> 6))));
@@ -361,8 +361,8 @@ TEST(CodecBlockCoder, RejectsALevelBeyondTheMaximum) {
     BlockContextSet written;
     encoder.encode(written.coded_block[0], 1);
     encoder.encode(written.eob_class[0][0], 0);
-    encoder.encode(written.greater_than_one[last_level_context(scan_order(TransformSize::k8x8), 0)], 1);
-    encoder.encode(written.greater_than_two[last_level_context(scan_order(TransformSize::k8x8), 0)], 1);
+    encoder.encode(written.greater_than_one[last_level_context(scan_order(TransformSize::k8x8).scanned[0])], 1);
+    encoder.encode(written.greater_than_two[last_level_context(scan_order(TransformSize::k8x8).scanned[0])], 1);
     for (int k = 3; k < kRangeLevel; ++k) encoder.encode(written.level_range[0], 1);
     encode_exp_golomb_bypass(encoder, quotient);
     encoder.encode_bypass(0);

@@ -59,13 +59,12 @@ constexpr std::array<PositionContext, N> in_scan_order(const std::array<uint8_t,
   return table;
 }
 
-// One size's scan, its positions' context inputs by natural position and by scan index.
+// One size's scan and its positions' context inputs by scan index.
 template <int W, int H = W>
 struct SizeTables {
   static constexpr std::array<uint8_t, W* H> scan = zig_zag<W, H>();
-  static constexpr std::array<PositionContext, W* H> positions = position_contexts<W, H>();
-  static constexpr std::array<PositionContext, W* H> scanned = in_scan_order(scan, positions);
-  static constexpr ScanOrder order{W, H, W* H, scan.data(), positions.data(), scanned.data()};
+  static constexpr std::array<PositionContext, W* H> scanned = in_scan_order(scan, position_contexts<W, H>());
+  static constexpr ScanOrder order{W, H, W* H, scan.data(), scanned.data()};
 };
 static_assert(SizeTables<8>::scan == kZigZag, "the 8x8 scan is MPEG-2's zig-zag");
 

@@ -38,13 +38,12 @@ struct PositionContext {
 // A size's scan: every position comes after its left and upper neighbours (the zig-zag
 // over anti-diagonals), so the reverse scan codes right and lower neighbours first.
 struct ScanOrder {
-  int width;                         // coefficients per row
-  int height;                        // rows
-  int count;                         // width * height
-  const uint8_t* scan;               // scan index -> natural position (row * width + column)
-  const PositionContext* positions;  // natural position -> its contexts' inputs
-  // scan index -> its position's contexts' inputs: one load where the coefficient loops
-  // would otherwise chain scan and positions.
+  int width;            // coefficients per row
+  int height;           // rows
+  int count;            // width * height
+  const uint8_t* scan;  // scan index -> natural position (row * width + column)
+  // scan index -> its position's contexts' inputs (the position too), so that the
+  // coefficient loops start a coefficient from one load.
   const PositionContext* scanned;
 };
 const ScanOrder& scan_order(TransformSize size);
@@ -142,9 +141,6 @@ class NeighbourMagnitudes {
 // right and below are all zero, and its significance is implied): one per position class
 // (0 for the DC, 1 for row + column <= 2, 2 up to 5, 3 beyond).
 inline int last_level_context(const PositionContext& p) { return kSignificanceContexts + p.position_class; }
-inline int last_level_context(const ScanOrder& order, int position) {
-  return last_level_context(order.positions[position]);
-}
 
 // The end-of-block class of eob in [1, 256]: 0 for 1, 1 for 2, then c for
 // 2^(c-1) < eob <= 2^c; and the first eob of a class.
